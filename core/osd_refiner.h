@@ -1,0 +1,21 @@
+// Conversion of a Cage to OpenSubdiv's Far::TopologyRefiner, the reference for the limit
+// surface and the engine behind subdivision plans.
+#pragma once
+
+#include <memory>
+
+#include <opensubdiv/far/topologyRefiner.h>
+#include <opensubdiv/sdc/options.h>
+
+#include "cage.h"
+
+namespace qp {
+
+OpenSubdiv::Sdc::Options toSdcOptions(const SubdivisionOptions& options);
+
+// Builds a Catmull-Clark refiner with the cage's topology, creases, corners, holes and UVs
+// (as face-varying channel 0). OpenSubdiv's own topology complaints become the error message.
+Result<std::unique_ptr<OpenSubdiv::Far::TopologyRefiner>> createRefiner(const Cage& cage,
+                                                                         const std::string& source);
+
+}  // namespace qp

@@ -1,0 +1,149 @@
+#include "topology.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace qp {
+
+namespace {
+
+uint64_t edgeKey(uint32_t a, uint32_t b) {
+    return (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+}
+
+// Builds CSR arrays from (key, value) pairs whose keys are < keyCount.
+void buildCsr(uint32_t keyCount, const std::vector<std::pair<uint32_t, uint32_t>>& pairs,
+              std::vector<uint32_t>& offsets, std::vector<uint32_t>& values) {
+    offsets.assign(keyCount + 1, 0);
+    for (const auto& [key, value] : pairs) ++offsets[key + 1];
+    std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
+    values.resize(pairs.size());
+    std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
+    for (const auto& [key, value] : pairs) values[cursor[key]++] = value;
+}
+
+// Smallest representative of x in a union-find forest.
+uint32_t findRoot(std::vector<uint32_t>& parent, uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+}
+
+}  // namespace
+
+uint32_t Topology::findEdge(uint32_t a, uint32_t b) const {
+    if (a == b || a + 1 >= vertexEdgeOffsets.size()) return UINT32_MAX;
+    for (uint32_t i = vertexEdgeOffsets[a]; i < vertexEdgeOffsets[a + 1]; ++i) {
+        uint32_t e = vertexEdges[i];
+        if (edgeVertices[2 * e] + edgeVertices[2 * e + 1] - a == b) return e;
+    }
+    return UINT32_MAX;
+}
+
+Topology buildTopology(const Cage& cage) {
+    Topology t;
+    const uint32_t faceVertexCount = uint32_t(cage.faceVertices.size());
+
+    // Sort face-edge slots by vertex pair; equal runs are one edge.
+    std::vector<std::pair<uint64_t, uint32_t>> slots(faceVertexCount);
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+        uint32_t n = cage.faceSize(f), base = cage.faceOffsets[f];
+        for (uint32_t i = 0; i < n; ++i)
+            slots[base + i] = {edgeKey(cage.faceVertices[base + i], cage.faceVertices[base + (i + 1) % n]), base + i};
+    }
+    std::sort(slots.begin(), slots.end());
+
+    t.faceEdges.resize(faceVertexCount);
+    for (size_t i = 0; i < slots.size(); ++i) {
+        if (i == 0 || slots[i].first != slots[i - 1].first) {
+            t.edgeVertices.push_back(uint32_t(slots[i].first >> 32));
+            t.edgeVertices.push_back(uint32_t(slots[i].first));
+        }
+        t.faceEdges[slots[i].second] = t.edgeCount() - 1;
+    }
+
+    std::vector<std::pair<uint32_t, uint32_t>> edgeFace, vertexFace, vertexEdge;
+    for (uint32_t f = 0; f < cage.faceCount(); ++f)
+        for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i) {
+            edgeFace.push_back({t.faceEdges[i], f});
+            vertexFace.push_back({cage.faceVertices[i], f});
+        }
+    for (uint32_t e = 0; e < t.edgeCount(); ++e) {
+        vertexEdge.push_back({t.edgeVertices[2 * e], e});
+        vertexEdge.push_back({t.edgeVertices[2 * e + 1], e});
+    }
+    buildCsr(t.edgeCount(), edgeFace, t.edgeFaceOffsets, t.edgeFaces);
+    buildCsr(cage.vertexCount(), vertexFace, t.vertexFaceOffsets, t.vertexFaces);
+    buildCsr(cage.vertexCount(), vertexEdge, t.vertexEdgeOffsets, t.vertexEdges);
+    return t;
+}
+
+CageStats computeStats(const Cage& cage, const Topology& t) {
+    CageStats s;
+    s.vertices = cage.vertexCount();
+    s.faces = cage.faceCount();
+    s.edges = t.edgeCount();
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) ++s.faceSizeHistogram[cage.faceSize(f)];
+
+    // An edge is manifold when it has at most two faces that traverse it in opposite directions.
+    std::vector<bool> manifoldEdge(t.edgeCount(), true);
+    for (uint32_t e = 0; e < t.edgeCount(); ++e) {
+        uint32_t count = t.edgeFaceCount(e);
+        if (count == 1) ++s.boundaryEdges;
+        if (count > 2) manifoldEdge[e] = false;
+        if (count == 2) {
+            int direction = 0;  // +1 per face running first->second, -1 per face running back
+            for (uint32_t k = t.edgeFaceOffsets[e]; k < t.edgeFaceOffsets[e + 1]; ++k) {
+                uint32_t f = t.edgeFaces[k], n = cage.faceSize(f);
+                const uint32_t* fv = cage.faceBegin(f);
+                for (uint32_t i = 0; i < n; ++i)
+                    if (t.faceEdges[cage.faceOffsets[f] + i] == e)
+                        direction += fv[i] == t.edgeVertices[2 * e] ? 1 : -1;
+            }
+            if (direction != 0) manifoldEdge[e] = false;
+        }
+        if (!manifoldEdge[e]) ++s.nonManifoldEdges;
+    }
+
+    // A vertex is manifold when its faces, joined across manifold edges at it, form one fan.
+    std::vector<uint32_t> parent;
+    for (uint32_t v = 0; v < cage.vertexCount(); ++v) {
+        uint32_t valence = t.vertexEdgeCount(v);
+        ++s.valenceHistogram[valence];
+        uint32_t faceCount = t.vertexFaceCount(v);
+        if (faceCount == 0) {
+            ++s.isolatedVertices;
+            continue;
+        }
+        bool manifold = true, boundary = false;
+        const uint32_t* faces = &t.vertexFaces[t.vertexFaceOffsets[v]];
+        parent.resize(faceCount);
+        std::iota(parent.begin(), parent.end(), 0u);
+        uint32_t components = faceCount;
+        for (uint32_t k = t.vertexEdgeOffsets[v]; k < t.vertexEdgeOffsets[v + 1]; ++k) {
+            uint32_t e = t.vertexEdges[k];
+            if (!manifoldEdge[e]) manifold = false;
+            if (t.edgeFaceCount(e) == 1) boundary = true;
+            if (t.edgeFaceCount(e) != 2) continue;
+            uint32_t f0 = t.edgeFaces[t.edgeFaceOffsets[e]], f1 = t.edgeFaces[t.edgeFaceOffsets[e] + 1];
+            uint32_t i0 = uint32_t(std::find(faces, faces + faceCount, f0) - faces);
+            uint32_t i1 = uint32_t(std::find(faces, faces + faceCount, f1) - faces);
+            uint32_t r0 = findRoot(parent, i0), r1 = findRoot(parent, i1);
+            if (r0 != r1) {
+                parent[r0] = r1;
+                --components;
+            }
+        }
+        if (components != 1) manifold = false;
+        if (!manifold) ++s.nonManifoldVertices;
+        if (manifold && valence != (boundary ? 3u : 4u) && !(boundary && valence == 2)) ++s.extraordinaryVertices;
+    }
+
+    s.creasedEdges = uint32_t(cage.creases.size());
+    for (const EdgeCrease& c : cage.creases)
+        if (c.sharpness >= kInfiniteSharpness) ++s.infinitelySharpEdges;
+    s.cornerVertices = uint32_t(cage.corners.size());
+    s.holes = uint32_t(cage.holes.size());
+    return s;
+}
+
+}  // namespace qp

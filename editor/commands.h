@@ -1,0 +1,20 @@
+// Subcommands of the `quadplan` executable. Each registers its options on the CLI11 app and,
+// when run, stores the process exit status in `exitCode`; messages for the user go to stderr.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+namespace qp::cli {
+
+// `quadplan info CAGE_OR_SCENE [--json]`
+void registerInfo(CLI::App& app, int& exitCode);
+
+
+
+// `quadplan edit [SCENE]`: the interactive editor; also what a bare `quadplan` runs.
+void registerEdit(CLI::App& app, int& exitCode);
+int runEditor(const std::string& scenePath);
+
+}  // namespace qp::cli
