@@ -11,7 +11,11 @@ namespace qp::cli {
 // `quadplan info CAGE_OR_SCENE [--json]`
 void registerInfo(CLI::App& app, int& exitCode);
 
+// `quadplan check-limit CAGE [--samples N] [--depth D] [--json]`
+void registerCheckLimit(CLI::App& app, int& exitCode);
 
+// `quadplan plan-stats CAGE [--depth D] [--json]`
+void registerPlanStats(CLI::App& app, int& exitCode);
 
 // `quadplan edit [SCENE]`: the interactive editor; also what a bare `quadplan` runs.
 void registerEdit(CLI::App& app, int& exitCode);

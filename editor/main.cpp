@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
     int exitCode = 0;
     qp::cli::registerEdit(app, exitCode);
     qp::cli::registerInfo(app, exitCode);
+    qp::cli::registerCheckLimit(app, exitCode);
+    qp::cli::registerPlanStats(app, exitCode);
 
     try {
         app.parse(argc, argv);

@@ -8,3 +8,22 @@ set_tests_properties(cli.info_missing_file PROPERTIES WILL_FAIL TRUE)
 
 add_test(NAME cli.info_default_scene COMMAND quadplan info --json ${CMAKE_SOURCE_DIR}/scenes/default.json)
 set_tests_properties(cli.info_default_scene PROPERTIES PASS_REGULAR_EXPRESSION "\"faces\"")
+
+# check-limit over every Catmull-Clark cage OpenSubdiv ships for its regression (../shared).
+# Exclusions are listed with their reason in docs/plan-engine.md.
+set(QP_SHARED_SHAPES ${CMAKE_SOURCE_DIR}/../shared/shapes)
+set(QP_CHECK_LIMIT_EXCLUDED catmark_chaikin1)
+if(IS_DIRECTORY ${QP_SHARED_SHAPES})
+  file(GLOB QP_CATMARK_SHAPES ${QP_SHARED_SHAPES}/catmark_*.obj)
+  foreach(shape ${QP_CATMARK_SHAPES})
+    get_filename_component(name ${shape} NAME_WE)
+    if(name IN_LIST QP_CHECK_LIMIT_EXCLUDED)
+      continue()
+    endif()
+    add_test(NAME check_limit.${name} COMMAND quadplan check-limit ${shape})
+  endforeach()
+else()
+  add_test(NAME check_limit.shared_shapes
+           COMMAND ${CMAKE_COMMAND} -E echo "SKIPPED: ../shared/shapes is not beside the project")
+  set_tests_properties(check_limit.shared_shapes PROPERTIES SKIP_REGULAR_EXPRESSION "SKIPPED")
+endif()

@@ -1,0 +1,211 @@
+#include "plan_database.h"
+
+#include <cstring>
+
+#include "file_io.h"
+#include "plan_builder.h"
+
+namespace qp {
+
+namespace {
+
+constexpr char kMagic[8] = {'Q', 'P', 'P', 'L', 'A', 'N', 'D', 'B'};
+// Bump when the plan layout or the builder's output changes: older files are then stale.
+constexpr uint32_t kFileVersion = 1;
+
+void putWords(std::string& out, const uint32_t* words, size_t count) {
+    out.append(reinterpret_cast<const char*>(words), count * sizeof(uint32_t));
+}
+void putWord(std::string& out, uint32_t word) { putWords(out, &word, 1); }
+
+template <class T>
+void putArray(std::string& out, const std::vector<T>& values) {
+    static_assert(sizeof(T) % sizeof(uint32_t) == 0);
+    putWord(out, uint32_t(values.size()));
+    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+uint64_t checksum(const char* data, size_t size) {
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < size; ++i) {
+        h ^= uint8_t(data[i]);
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+// Bounds-checked reader over the file contents.
+struct Reader {
+    const char* data;
+    size_t size, at = 0;
+    bool ok = true;
+
+    uint32_t word() {
+        uint32_t w = 0;
+        if (at + 4 > size) { ok = false; return 0; }
+        std::memcpy(&w, data + at, 4);
+        at += 4;
+        return w;
+    }
+    template <class T>
+    void array(std::vector<T>& values, size_t maxCount) {
+        uint32_t count = word();
+        if (!ok || count > maxCount || at + size_t(count) * sizeof(T) > size) { ok = false; return; }
+        values.resize(count);
+        std::memcpy(values.data(), data + at, count * sizeof(T));
+        at += count * sizeof(T);
+    }
+};
+
+// A plan read from disk must be safe to evaluate: every index in range.
+bool planIsConsistent(const Plan& plan) {
+    if (plan.nodes.empty()) return plan.points.empty() && plan.stencilWeights.empty();
+    if (plan.ringSize == 0 || plan.maxDepth > kMaxPlanDepth) return false;
+    if (plan.stencilWeights.size() % plan.ringSize != 0) return false;
+    uint32_t stencils = plan.stencilCount();
+    for (uint32_t p : plan.points)
+        if (p >= stencils) return false;
+    for (uint32_t n = 0; n <= kMaxPlanDepth; ++n)
+        if (plan.stencilCountByLevel[n] > stencils || (n > 0 && plan.stencilCountByLevel[n] < plan.stencilCountByLevel[n - 1]))
+            return false;
+    for (size_t i = 0; i < plan.nodes.size(); ++i) {
+        const PlanNode& node = plan.nodes[i];
+        size_t needed = 0;
+        switch (node.kind) {
+        case NodeKind::Internal:
+            if (node.first <= i || node.first + 4 > plan.nodes.size()) return false;
+            continue;
+        case NodeKind::Regular:
+        case NodeKind::Crease: needed = 16; break;
+        case NodeKind::Terminal: needed = size_t(kTerminalPointsPerLevel) * node.levels + kGregoryPoints; break;
+        case NodeKind::Extraordinary: needed = kGregoryPoints; break;
+        default: return false;
+        }
+        if (size_t(node.first) + needed > plan.points.size()) return false;
+    }
+    return true;
+}
+
+}  // namespace
+
+uint32_t PlanDatabase::findLocked(const FaceConfig& config) const {
+    auto [begin, end] = byHash_.equal_range(config.hash);
+    for (auto it = begin; it != end; ++it)
+        if (keys_[it->second] == config.key) return it->second;
+    return UINT32_MAX;
+}
+
+uint32_t PlanDatabase::find(const FaceConfig& config) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return findLocked(config);
+}
+
+Result<uint32_t> PlanDatabase::findOrBuild(const FaceConfig& config) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        uint32_t id = findLocked(config);
+        if (id != UINT32_MAX) {
+            ++hits_;
+            return id;
+        }
+    }
+    // Build outside the lock so several threads can build different plans at once.
+    Result<Plan> plan = buildPlan(config.key);
+    if (!plan) return plan.error();
+    std::lock_guard<std::mutex> lock(mutex_);
+    uint32_t id = findLocked(config);  // another thread may have built it meanwhile
+    if (id != UINT32_MAX) {
+        ++hits_;
+        return id;
+    }
+    ++misses_;
+    id = uint32_t(plans_.size());
+    plans_.push_back(std::move(plan).value());
+    keys_.push_back(config.key);
+    byHash_.emplace(config.hash, id);
+    return id;
+}
+
+PlanDatabaseStats PlanDatabase::stats() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    PlanDatabaseStats s;
+    s.plans = uint32_t(plans_.size());
+    for (size_t i = 0; i < plans_.size(); ++i) {
+        auto counts = countNodes(plans_[i]);
+        for (uint32_t k = 0; k < kNodeKindCount; ++k) s.nodesByKind[k] += counts[k];
+        s.stencils += plans_[i].stencilCount();
+        s.bytes += plans_[i].byteSize() + keys_[i].size() * sizeof(uint32_t);
+    }
+    s.hits = hits_;
+    s.misses = misses_;
+    return s;
+}
+
+Status PlanDatabase::save(const std::string& path) const {
+    std::string out(kMagic, sizeof(kMagic));
+    std::lock_guard<std::mutex> lock(mutex_);
+    putWord(out, kFileVersion);
+    putWord(out, uint32_t(plans_.size()));
+    for (size_t i = 0; i < plans_.size(); ++i) {
+        const Plan& plan = plans_[i];
+        putArray(out, keys_[i]);
+        putWord(out, plan.ringSize);
+        putWord(out, plan.maxDepth);
+        putArray(out, plan.nodes);
+        putArray(out, plan.points);
+        putArray(out, plan.stencilWeights);
+        putWords(out, plan.stencilCountByLevel.data(), plan.stencilCountByLevel.size());
+    }
+    uint64_t sum = checksum(out.data(), out.size());
+    out.append(reinterpret_cast<const char*>(&sum), sizeof(sum));
+    return writeFileAtomically(path, out);
+}
+
+Status PlanDatabase::load(const std::string& path) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    byHash_.clear();
+    keys_.clear();
+    plans_.clear();
+
+    Result<std::string> file = readFile(path);
+    if (!file) return file.error();
+    const std::string& bytes = *file;
+    auto corrupt = [&](const std::string& why) {
+        byHash_.clear();
+        keys_.clear();
+        plans_.clear();
+        return Error{"plan database '" + path + "' " + why + "; plans will be rebuilt"};
+    };
+    if (bytes.size() < sizeof(kMagic) + 8 + sizeof(uint64_t) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
+        return corrupt("is not a Quadplan plan database");
+    uint64_t stored;
+    std::memcpy(&stored, bytes.data() + bytes.size() - sizeof(stored), sizeof(stored));
+    if (stored != checksum(bytes.data(), bytes.size() - sizeof(stored))) return corrupt("is damaged (checksum mismatch)");
+
+    Reader in{bytes.data(), bytes.size() - sizeof(stored), sizeof(kMagic)};
+    uint32_t version = in.word();
+    if (version != kFileVersion)
+        return corrupt("was written by another version (" + std::to_string(version) + ", expected " +
+                       std::to_string(kFileVersion) + ")");
+    uint32_t count = in.word();
+    const size_t limit = bytes.size() / 4;
+    for (uint32_t i = 0; i < count && in.ok; ++i) {
+        std::vector<uint32_t> key;
+        Plan plan;
+        in.array(key, limit);
+        plan.ringSize = in.word();
+        plan.maxDepth = in.word();
+        in.array(plan.nodes, limit);
+        in.array(plan.points, limit);
+        in.array(plan.stencilWeights, limit);
+        for (uint32_t& c : plan.stencilCountByLevel) c = in.word();
+        if (!in.ok || !planIsConsistent(plan)) return corrupt("has an invalid plan (entry " + std::to_string(i) + ")");
+        byHash_.emplace(hashKey(key), uint32_t(plans_.size()));
+        keys_.push_back(std::move(key));
+        plans_.push_back(std::move(plan));
+    }
+    if (!in.ok || in.at != in.size) return corrupt("is truncated or has trailing data");
+    return success();
+}
+
+}  // namespace qp

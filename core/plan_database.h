@@ -1,0 +1,57 @@
+// PlanDatabase: plans shared by every face with the same configuration (B16 §4.4).
+//
+// Keys are FaceConfig keys; lookup is by hash, then by whole-key comparison, so two different
+// configurations never share a plan. The database persists to a versioned binary file with a
+// checksum; a missing, corrupt or stale file is reported as a warning and the database starts
+// empty (plans are rebuilt as faces ask for them), never a crash.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "face_config.h"
+#include "plan.h"
+#include "result.h"
+
+namespace qp {
+
+struct PlanDatabaseStats {
+    uint32_t plans = 0;
+    std::array<uint64_t, kNodeKindCount> nodesByKind{};
+    uint64_t stencils = 0;
+    uint64_t bytes = 0;  // plans (nodes, points, stencil weights) and keys
+    uint64_t hits = 0, misses = 0;
+};
+
+class PlanDatabase {
+public:
+    // Plan id for the configuration, building the plan on a miss. Thread-safe.
+    Result<uint32_t> findOrBuild(const FaceConfig& config);
+    // Plan id, or UINT32_MAX when the configuration has no plan yet. Thread-safe.
+    uint32_t find(const FaceConfig& config) const;
+
+    const Plan& plan(uint32_t id) const { return plans_[id]; }
+    uint32_t size() const { return uint32_t(plans_.size()); }
+    PlanDatabaseStats stats() const;
+
+    Status save(const std::string& path) const;
+    // Replaces the contents with the file's. On failure the database is left empty and the
+    // error says why (the caller reports it as a warning and carries on).
+    Status load(const std::string& path);
+
+private:
+    uint32_t findLocked(const FaceConfig& config) const;
+
+    mutable std::mutex mutex_;
+    std::unordered_multimap<uint64_t, uint32_t> byHash_;
+    std::vector<std::vector<uint32_t>> keys_;
+    std::deque<Plan> plans_;  // deque: references stay valid while other threads insert
+    uint64_t hits_ = 0, misses_ = 0;
+};
+
+}  // namespace qp

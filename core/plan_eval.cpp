@@ -1,0 +1,171 @@
+// Evaluation of a plan: quadtree descent, then one basis per leaf kind.
+#include <algorithm>
+#include <cassert>
+
+#include "patch_basis.h"
+#include "plan.h"
+
+namespace qp {
+
+namespace {
+
+struct Combined {
+    glm::vec3 p{0.0f}, ds{0.0f}, dt{0.0f};
+};
+
+// Sums weighted control points; points[k] indexes controlPoints.
+Combined combine(const BasisWeights& w, const uint32_t* points, uint32_t count, const glm::vec3* controlPoints) {
+    Combined c;
+    for (uint32_t k = 0; k < count; ++k) {
+        const glm::vec3& cp = controlPoints[points[k]];
+        c.p += w.w[k] * cp;
+        c.ds += w.du[k] * cp;
+        c.dt += w.dv[k] * cp;
+    }
+    return c;
+}
+
+// Semi-sharp crease along patch edge `edge`: evaluate in the frame where the crease is the
+// v=0 edge, then move the weights back onto the patch's own 4x4 grid.
+BasisWeights creasePatchWeights(float s, float t, float sharpness, uint32_t edge) {
+    float sc = s, tc = t;
+    switch (edge) {
+    case 1: sc = t; tc = 1.0f - s; break;
+    case 2: sc = 1.0f - s; tc = 1.0f - t; break;
+    case 3: sc = 1.0f - t; tc = s; break;
+    default: break;
+    }
+    BasisWeights canonical;
+    creaseWeights(sc, tc, sharpness, canonical);
+    BasisWeights out{};
+    for (uint32_t j = 0; j < 4; ++j)
+        for (uint32_t i = 0; i < 4; ++i) {
+            uint32_t col = i, row = j;
+            float ds = 0.0f, dt = 0.0f;
+            const uint32_t k = 4 * j + i;
+            const float dsc = canonical.du[k], dtc = canonical.dv[k];
+            switch (edge) {
+            case 1: col = 3 - j; row = i; ds = -dtc; dt = dsc; break;
+            case 2: col = 3 - i; row = 3 - j; ds = -dsc; dt = -dtc; break;
+            case 3: col = j; row = 3 - i; ds = dtc; dt = -dsc; break;
+            default: ds = dsc; dt = dtc; break;
+            }
+            out.w[4 * row + col] = canonical.w[k];
+            out.du[4 * row + col] = ds;
+            out.dv[4 * row + col] = dt;
+        }
+    return out;
+}
+
+// Terminal node: find the level whose regular quadrant holds (s, t), or the Gregory patch at
+// the bottom of the chain. Returns derivatives with respect to the node's own (s, t).
+Combined evaluateTerminal(const Plan& plan, const PlanNode& node, const glm::vec3* controlPoints, float s, float t) {
+    const bool mirrorU = node.edge == 1 || node.edge == 2, mirrorV = node.edge == 2 || node.edge == 3;
+    float a = mirrorU ? 1.0f - s : s, b = mirrorV ? 1.0f - t : t;
+    float scale = 1.0f;  // d(a at this level) / d(a at the node)
+    const uint32_t* points = &plan.points[node.first];
+    for (uint32_t level = 0; level < node.levels; ++level) {
+        if (std::max(a, b) >= 0.5f) {
+            const uint32_t qx = a >= 0.5f, qy = b >= 0.5f;
+            BasisWeights w;
+            bsplineWeights(2.0f * a - float(qx), 2.0f * b - float(qy), w);
+            uint32_t gathered[16];
+            for (uint32_t k = 0; k < 16; ++k) {
+                uint32_t gx = qx + k % 4, gy = qy + k / 4;  // 0..4 on the 5x5 grid
+                gathered[k] = points[kTerminalPointsPerLevel * level + gy * 5 + gx - 1];
+            }
+            Combined c = combine(w, gathered, 16, controlPoints);
+            float d = 2.0f * scale;
+            c.ds *= mirrorU ? -d : d;
+            c.dt *= mirrorV ? -d : d;
+            return c;
+        }
+        a *= 2.0f;
+        b *= 2.0f;
+        scale *= 2.0f;
+    }
+    BasisWeights w;
+    gregoryWeights(mirrorU ? 1.0f - a : a, mirrorV ? 1.0f - b : b, w);
+    Combined c = combine(w, points + kTerminalPointsPerLevel * node.levels, kGregoryPoints, controlPoints);
+    c.ds *= scale;
+    c.dt *= scale;
+    return c;
+}
+
+}  // namespace
+
+const char* nodeKindName(NodeKind kind) {
+    switch (kind) {
+    case NodeKind::Internal: return "internal";
+    case NodeKind::Regular: return "regular";
+    case NodeKind::Crease: return "crease";
+    case NodeKind::Terminal: return "terminal";
+    case NodeKind::Extraordinary: return "extraordinary";
+    }
+    return "?";
+}
+
+std::array<uint32_t, kNodeKindCount> countNodes(const Plan& plan) {
+    std::array<uint32_t, kNodeKindCount> counts{};
+    for (const PlanNode& node : plan.nodes) ++counts[uint32_t(node.kind)];
+    return counts;
+}
+
+void applyStencils(const Plan& plan, const glm::vec3* ringPositions, uint32_t count, glm::vec3* controlPoints) {
+    assert(count <= plan.stencilCount());
+    const float* w = plan.stencilWeights.data();
+    for (uint32_t i = 0; i < count; ++i, w += plan.ringSize) {
+        glm::vec3 sum(0.0f);
+        for (uint32_t j = 0; j < plan.ringSize; ++j) sum += w[j] * ringPositions[j];
+        controlPoints[i] = sum;
+    }
+}
+
+LimitSample evaluatePlan(const Plan& plan, const glm::vec3* controlPoints, float u, float v) {
+    u = std::clamp(u, 0.0f, 1.0f);
+    v = std::clamp(v, 0.0f, 1.0f);
+    // Descend; on a split line take the side towards the face centre (matches the level
+    // assignment of stencils, see nodeNeededLevel).
+    uint32_t index = 0;
+    float u0 = 0.0f, v0 = 0.0f, size = 1.0f;
+    while (plan.nodes[index].kind == NodeKind::Internal) {
+        size *= 0.5f;
+        float midU = u0 + size, midV = v0 + size;
+        bool highU = u > midU || (u == midU && midU < 0.5f);
+        bool highV = v > midV || (v == midV && midV < 0.5f);
+        index = plan.nodes[index].first + uint32_t(highU) + 2 * uint32_t(highV);
+        if (highU) u0 = midU;
+        if (highV) v0 = midV;
+    }
+    const PlanNode& node = plan.nodes[index];
+    const float s = std::clamp((u - u0) / size, 0.0f, 1.0f), t = std::clamp((v - v0) / size, 0.0f, 1.0f);
+    const uint32_t* points = &plan.points[node.first];
+
+    Combined c;
+    BasisWeights w;
+    switch (node.kind) {
+    case NodeKind::Regular:
+        bsplineWeights(s, t, w);
+        foldBoundaryWeights(node.boundaryMask, w);
+        c = combine(w, points, 16, controlPoints);
+        break;
+    case NodeKind::Crease:
+        w = creasePatchWeights(s, t, node.sharpness, node.edge);
+        foldBoundaryWeights(node.boundaryMask, w);
+        c = combine(w, points, 16, controlPoints);
+        break;
+    case NodeKind::Terminal:
+        c = evaluateTerminal(plan, node, controlPoints, s, t);
+        break;
+    case NodeKind::Extraordinary:
+        gregoryWeights(s, t, w);
+        c = combine(w, points, kGregoryPoints, controlPoints);
+        break;
+    case NodeKind::Internal:
+        assert(false);
+        break;
+    }
+    return LimitSample{c.p, c.ds / size, c.dt / size};
+}
+
+}  // namespace qp
