@@ -52,82 +52,101 @@ uint32_t optionWord(const SubdivisionOptions& o) {
     return uint32_t(o.boundary) | uint32_t(o.creaseMethod) << 4 | uint32_t(o.triangleSubdivision) << 8;
 }
 
-// Key and ring for one choice of start corner.
-void gatherFromCorner(const Cage& cage, const Topology& t, uint32_t face, uint32_t start, const PlanOptions& options,
-                      FaceConfig& out) {
+// What gathering needs from each corner of the face, computed once for all start corners.
+struct CornerInfo {
+    uint32_t vertex;
+    std::vector<uint32_t> orbit;                    // faces around it, starting at the face
+    std::vector<std::pair<uint32_t, float>> sharp;  // (other end, sharpness) of creased edges at it
+    float cornerSharpness;
+};
+
+void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, std::vector<CornerInfo>& corners) {
     const uint32_t n = cage.faceSize(face);
     const uint32_t* fv = cage.faceBegin(face);
+    corners.resize(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        CornerInfo& c = corners[i];
+        c.vertex = fv[i];
+        facesAroundVertex(cage, t, c.vertex, face, c.orbit);
+        c.sharp.clear();
+        if (!cage.creases.empty())
+            for (uint32_t k = t.vertexEdgeOffsets[c.vertex]; k < t.vertexEdgeOffsets[c.vertex + 1]; ++k) {
+                uint32_t e = t.vertexEdges[k], a = t.edgeVertices[2 * e], b = t.edgeVertices[2 * e + 1];
+                float sharpness = cage.edgeSharpness(a, b);
+                if (sharpness > 0.0f) c.sharp.push_back({a + b - c.vertex, sharpness});
+            }
+        c.cornerSharpness = cage.vertexSharpness(c.vertex);
+    }
+}
+
+// Key and ring for one choice of start corner.
+void gatherFromCorner(const Cage& cage, const std::vector<CornerInfo>& corners, uint32_t face, uint32_t start,
+                      const PlanOptions& options, FaceConfig& out) {
+    const uint32_t n = uint32_t(corners.size());
     std::vector<uint32_t>& ring = out.ring;
     ring.clear();
-    std::vector<uint32_t> localFaces;  // faces in local order
-    std::vector<uint32_t> localStart;  // the corner each local face starts at
-
     auto localIndex = [&](uint32_t v) -> uint32_t {
-        auto it = std::find(ring.begin(), ring.end(), v);
-        if (it != ring.end()) return uint32_t(it - ring.begin());
+        for (uint32_t i = 0; i < ring.size(); ++i)
+            if (ring[i] == v) return i;
         ring.push_back(v);
         return uint32_t(ring.size() - 1);
     };
-
-    for (uint32_t i = 0; i < n; ++i) localIndex(fv[(start + i) % n]);
-    localFaces.push_back(face);
-    localStart.push_back(fv[start]);
-
-    std::vector<uint32_t> around;
-    for (uint32_t i = 0; i < n; ++i) {
-        uint32_t corner = fv[(start + i) % n];
-        facesAroundVertex(cage, t, corner, face, around);
-        for (uint32_t g : around) {
-            if (std::find(localFaces.begin(), localFaces.end(), g) != localFaces.end()) continue;
-            localFaces.push_back(g);
-            localStart.push_back(corner);
-        }
-    }
+    for (uint32_t i = 0; i < n; ++i) localIndex(corners[(start + i) % n].vertex);
 
     std::vector<uint32_t>& key = out.key;
-    key = {kKeyVersion, options.maxDepth, options.useCreaseNodes ? 1u : 0u, optionWord(cage.options), 0,
-           uint32_t(localFaces.size())};
-    for (size_t k = 0; k < localFaces.size(); ++k) {
-        uint32_t g = localFaces[k], m = cage.faceSize(g);
+    key = {kKeyVersion, options.maxDepth, options.useCreaseNodes ? 1u : 0u, optionWord(cage.options), 0, 0};
+    uint32_t faceCount = 0;
+    auto appendFace = [&](uint32_t g, uint32_t from) {
+        const uint32_t m = cage.faceSize(g);
         const uint32_t* gv = cage.faceBegin(g);
-        uint32_t offset = uint32_t(std::find(gv, gv + m, localStart[k]) - gv);
+        const uint32_t offset = uint32_t(std::find(gv, gv + m, from) - gv);
         key.push_back(m);
         for (uint32_t j = 0; j < m; ++j) key.push_back(localIndex(gv[(offset + j) % m]));
+        ++faceCount;
+    };
+    appendFace(face, corners[start].vertex);
+    std::vector<uint32_t> added{face};
+    for (uint32_t i = 0; i < n; ++i) {
+        const CornerInfo& c = corners[(start + i) % n];
+        for (uint32_t g : c.orbit) {
+            if (std::find(added.begin(), added.end(), g) != added.end()) continue;
+            added.push_back(g);
+            appendFace(g, c.vertex);
+        }
     }
     key[4] = uint32_t(ring.size());
+    key[5] = faceCount;
 
-    // Sharpness of the edges at the face's corners (local indices 0..n-1), sorted by local pair.
+    // Sharpness of the edges at the face's corners, by local vertex pair.
     std::vector<std::pair<uint64_t, float>> creases;
     for (uint32_t i = 0; i < n; ++i) {
-        uint32_t corner = fv[(start + i) % n];
-        for (uint32_t k = t.vertexEdgeOffsets[corner]; k < t.vertexEdgeOffsets[corner + 1]; ++k) {
-            uint32_t e = t.vertexEdges[k];
-            float s = cage.edgeSharpness(t.edgeVertices[2 * e], t.edgeVertices[2 * e + 1]);
-            if (s <= 0.0f) continue;
-            uint32_t a = localIndex(t.edgeVertices[2 * e]), b = localIndex(t.edgeVertices[2 * e + 1]);
-            creases.push_back({uint64_t(std::min(a, b)) << 32 | std::max(a, b), s});
+        const CornerInfo& c = corners[(start + i) % n];
+        for (const auto& [other, sharpness] : c.sharp) {
+            uint32_t a = localIndex(c.vertex), b = localIndex(other);
+            creases.push_back({uint64_t(std::min(a, b)) << 32 | std::max(a, b), sharpness});
         }
     }
     std::sort(creases.begin(), creases.end(), [](auto& x, auto& y) { return x.first < y.first; });
     creases.erase(std::unique(creases.begin(), creases.end(), [](auto& x, auto& y) { return x.first == y.first; }),
                   creases.end());
     key.push_back(uint32_t(creases.size()));
-    for (const auto& [pair, s] : creases) {
+    for (const auto& [pair, sharpness] : creases) {
         key.push_back(uint32_t(pair >> 32));
         key.push_back(uint32_t(pair));
-        pushFloat(key, s);
+        pushFloat(key, sharpness);
     }
 
-    std::vector<std::pair<uint32_t, float>> corners;
+    uint32_t cornerCount = 0;
+    size_t countAt = key.size();
+    key.push_back(0);
     for (uint32_t i = 0; i < n; ++i) {
-        float s = cage.vertexSharpness(fv[(start + i) % n]);
-        if (s > 0.0f) corners.push_back({i, s});
+        float sharpness = corners[(start + i) % n].cornerSharpness;
+        if (sharpness <= 0.0f) continue;
+        key.push_back(i);
+        pushFloat(key, sharpness);
+        ++cornerCount;
     }
-    key.push_back(uint32_t(corners.size()));
-    for (const auto& [local, s] : corners) {
-        key.push_back(local);
-        pushFloat(key, s);
-    }
+    key[countAt] = cornerCount;
     out.rotation = start;
 }
 
@@ -145,15 +164,16 @@ uint64_t hashKey(const std::vector<uint32_t>& key) {
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
                             const PlanOptions& options) {
     assert(!cage.isHole(face));
+    thread_local std::vector<CornerInfo> corners;
+    gatherCorners(cage, topology, face, corners);
     FaceConfig best;
-    const uint32_t n = cage.faceSize(face);
-    if (n != 4) {
-        gatherFromCorner(cage, topology, face, subface, options, best);
+    if (cage.faceSize(face) != 4) {
+        gatherFromCorner(cage, corners, face, subface, options, best);
         best.rotation = 0;
     } else {
         FaceConfig candidate;
         for (uint32_t start = 0; start < 4; ++start) {
-            gatherFromCorner(cage, topology, face, start, options, start == 0 ? best : candidate);
+            gatherFromCorner(cage, corners, face, start, options, start == 0 ? best : candidate);
             if (start > 0 && candidate.key < best.key) std::swap(best, candidate);
         }
     }

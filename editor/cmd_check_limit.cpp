@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "plan_db_option.h"
 #include "limit_check.h"
 #include "scene.h"
 
@@ -17,6 +18,7 @@ struct CheckLimitArgs {
     uint32_t depth = 6;
     bool noCreaseNodes = false;
     bool json = false;
+    std::string planDatabase;
 };
 
 // Base face that owns a sub-face (for messages users can map back to their cage).
@@ -35,6 +37,7 @@ int runCheckLimit(const CheckLimitArgs& args) {
         return 1;
     }
     PlanDatabase database;
+    loadPlanDatabase(database, args.planDatabase);
     PlanOptions options;
     options.maxDepth = args.depth;
     options.useCreaseNodes = !args.noCreaseNodes;
@@ -44,6 +47,7 @@ int runCheckLimit(const CheckLimitArgs& args) {
         std::fprintf(stderr, "error: %s\n", planned.error().message.c_str());
         return 1;
     }
+    savePlanDatabase(database, args.planDatabase);
     double planMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     Result<LimitReference> reference = LimitReference::create(scene->cage, args.depth, args.path);
     if (!reference) {
@@ -95,6 +99,7 @@ void registerCheckLimit(CLI::App& app, int& exitCode) {
     cmd->add_option("--depth", args->depth, "Plan and reference depth")->check(CLI::Range(1u, kMaxPlanDepth));
     cmd->add_flag("--no-crease-nodes", args->noCreaseNodes, "Isolate semi-sharp creases instead of crease nodes");
     cmd->add_flag("--json", args->json, "Print one JSON object");
+    addPlanDatabaseOption(cmd, args->planDatabase);
     cmd->callback([args, &exitCode] { exitCode = runCheckLimit(*args); });
 }
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "plan_db_option.h"
 #include "planned_cage.h"
 #include "scene.h"
 
@@ -16,6 +17,7 @@ struct PlanStatsArgs {
     uint32_t depth = 6;
     bool noCreaseNodes = false;
     bool json = false;
+    std::string planDatabase;
 };
 
 int runPlanStats(const PlanStatsArgs& args) {
@@ -27,6 +29,7 @@ int runPlanStats(const PlanStatsArgs& args) {
         return 1;
     }
     PlanDatabase database;
+    loadPlanDatabase(database, args.planDatabase);
     PlanOptions options{args.depth, !args.noCreaseNodes};
     auto start = std::chrono::steady_clock::now();
     Result<PlannedCage> planned = PlannedCage::create(scene->cage, database, options, args.path);
@@ -35,6 +38,7 @@ int runPlanStats(const PlanStatsArgs& args) {
         std::fprintf(stderr, "error: %s\n", planned.error().message.c_str());
         return 1;
     }
+    savePlanDatabase(database, args.planDatabase);
     PlanDatabaseStats stats = database.stats();
     uint64_t controlPoints = 0;
     for (uint32_t s = 0; s < planned->subfaceCount(); ++s) controlPoints += planned->subfaceControlPoints(s).size();
@@ -60,6 +64,8 @@ int runPlanStats(const PlanStatsArgs& args) {
             {"control_points", controlPoints},
             {"control_point_bytes", controlPoints * sizeof(glm::vec3)},
             {"build_ms", buildMs},
+            {"database_hits", stats.hits},
+            {"database_misses", stats.misses},
         };
         std::printf("%s\n", out.dump(2).c_str());
         return 0;
@@ -74,7 +80,8 @@ int runPlanStats(const PlanStatsArgs& args) {
     std::printf("  plan bytes     %llu\n", (unsigned long long)stats.bytes);
     std::printf("  control points %llu (%llu bytes)\n", (unsigned long long)controlPoints,
                 (unsigned long long)(controlPoints * sizeof(glm::vec3)));
-    std::printf("  build          %.1f ms\n", buildMs);
+    std::printf("  build          %.1f ms (database: %llu hits, %llu misses)\n", buildMs,
+                (unsigned long long)stats.hits, (unsigned long long)stats.misses);
     return 0;
 }
 
@@ -87,6 +94,7 @@ void registerPlanStats(CLI::App& app, int& exitCode) {
     cmd->add_option("--depth", args->depth, "Maximum quadtree depth")->check(CLI::Range(1u, kMaxPlanDepth));
     cmd->add_flag("--no-crease-nodes", args->noCreaseNodes, "Isolate semi-sharp creases instead of crease nodes");
     cmd->add_flag("--json", args->json, "Print one JSON object");
+    addPlanDatabaseOption(cmd, args->planDatabase);
     cmd->callback([args, &exitCode] { exitCode = runPlanStats(*args); });
 }
 

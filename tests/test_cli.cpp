@@ -1,11 +1,14 @@
 // Runs the real `quadplan` executable and checks what it prints and its exit status.
 #include <array>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "test_support.h"
 
@@ -85,4 +88,44 @@ TEST(CliInfo, BadInputExitsNonZeroWithMessageOnStderr) {
 
     CommandRun wrongKind = runQuadplan("info " + qp::test::dataPath("README.md"), true);
     EXPECT_NE(wrongKind.status, 0);
+}
+
+TEST(CliPlans, CheckLimitJsonOnDefaultScene) {
+    CommandRun run = runQuadplan(std::string("check-limit --json ") + QUADPLAN_SCENES_DIR + "/default.json");
+    ASSERT_EQ(run.status, 0) << run.out;
+    auto json = nlohmann::json::parse(run.out);
+    for (const char* key : {"faces", "samples", "max_rel_error_position", "max_rel_error_derivative", "pass"})
+        EXPECT_TRUE(json.contains(key)) << key;
+    EXPECT_TRUE(json["pass"].get<bool>());
+    EXPECT_LE(json["max_rel_error_position"].get<double>(), 5e-5);
+    EXPECT_EQ(json["samples"].get<int>() % 81, 0);
+}
+
+TEST(CliPlans, CheckLimitFailsOnBadInput) {
+    CommandRun run = runQuadplan("check-limit /nonexistent.obj", true);
+    EXPECT_NE(run.status, 0);
+    EXPECT_NE(run.out.find("/nonexistent.obj"), std::string::npos);
+    EXPECT_NE(runQuadplan(std::string("check-limit --depth 0 ") + QUADPLAN_SCENES_DIR + "/default.json").status, 0);
+}
+
+TEST(CliPlans, PlanStatsJsonAndPersistentDatabase) {
+    std::string db = (std::filesystem::temp_directory_path() / ("qp-cli-" + std::to_string(::getpid()) + ".db")).string();
+    std::filesystem::remove(db);
+    std::string cmd = std::string("plan-stats --json --plan-db ") + db + " " + QUADPLAN_SCENES_DIR + "/default.json";
+
+    auto first = nlohmann::json::parse(runQuadplan(cmd).out);
+    for (const char* key : {"faces", "subfaces", "unique_plans", "nodes", "stencils", "bytes", "build_ms"})
+        EXPECT_TRUE(first.contains(key)) << key;
+    EXPECT_GT(first["database_misses"].get<int>(), 0);
+    EXPECT_TRUE(std::filesystem::exists(db));
+
+    auto second = nlohmann::json::parse(runQuadplan(cmd).out);
+    EXPECT_EQ(second["database_misses"].get<int>(), 0);  // every plan came from the file
+    EXPECT_EQ(second["unique_plans"], first["unique_plans"]);
+
+    std::ofstream(db, std::ios::trunc) << "damaged";
+    CommandRun damaged = runQuadplan(cmd, true);
+    EXPECT_EQ(damaged.status, 0);
+    EXPECT_NE(damaged.out.find("plans will be rebuilt"), std::string::npos);
+    std::filesystem::remove(db);
 }

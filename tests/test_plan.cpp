@@ -12,6 +12,7 @@
 
 #include "limit_check.h"
 #include "plan_builder.h"
+#include "plan_evaluator.h"
 #include "planned_cage.h"
 #include "test_cages.h"
 
@@ -272,4 +273,20 @@ TEST(PlanDatabase, PersistsAndRejectsDamagedFiles) {
     EXPECT_FALSE(writeAndLoad("").ok());
     std::filesystem::remove(path);
     EXPECT_FALSE(PlanDatabase().load(path.string()).ok());  // missing file
+}
+
+TEST(PlanEvaluator, BatchEqualsOneByOne) {
+    PlanDatabase db;
+    PlannedCage planned = plan(qp::test::makeMixedGrid(), db);
+    std::vector<qp::SampleRequest> requests;
+    for (uint32_t s = 0; s < planned.subfaceCount(); ++s)
+        for (uint32_t k = 0; k < 50; ++k) requests.push_back({s, float(k % 7) / 6.0f, float(k / 7) / 7.0f});
+    std::vector<qp::LimitSample> out(requests.size());
+    qp::evaluateBatch(planned, requests, out);
+    for (size_t i = 0; i < requests.size(); ++i) {
+        qp::LimitSample one = planned.evaluate(requests[i].subface, requests[i].u, requests[i].v);
+        ASSERT_EQ(out[i].position, one.position);
+        ASSERT_EQ(out[i].du, one.du);
+        ASSERT_EQ(out[i].dv, one.dv);
+    }
 }
