@@ -7,8 +7,10 @@
 //
 // Normals (`vn`) are not kept: a subdivision surface derives its own.
 // Repeated consecutive face vertices (OpenSubdiv writes `f 4 3 5 5` for a triangle) are
-// collapsed, and faces left with fewer than 3 vertices dropped, with a warning; any other
-// repeated vertex is an error, as the Cage cannot hold it.
+// collapsed, and faces left with fewer than 3 vertices dropped, with a warning; a face that
+// visits a vertex twice non-consecutively is kept (non-manifold, as OpenSubdiv keeps it).
+// `t interpolateboundary` uses OpenSubdiv's regression numbering: 0 none, 1 edges and corners,
+// 2 edges only; without the tag a file means edges only, as OpenSubdiv reads it.
 // Hierarchical edits (`vertexedit`, `edgeedit`, `faceedit`) and other unknown tags are
 // skipped with a warning.
 #pragma once
