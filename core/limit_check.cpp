@@ -31,6 +31,7 @@ LimitCheck compareWithReference(const PlannedCage& planned, const LimitReference
     });
 
     LimitCheck check;
+    check.depth = planned.options().maxDepth;
     for (uint32_t s = 0; s < errors.size(); ++s) {
         if (errors[s].samples == 0) continue;
         ++check.subfaces;

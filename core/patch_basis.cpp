@@ -1,9 +1,8 @@
 #include "patch_basis.h"
 
-#include <iterator>
-
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace qp {
 
@@ -59,6 +58,77 @@ void fold(BasisWeights& b, int ph, int p1, int p2) {
 
 }  // namespace
 
+Basis1D bsplineBasis1D(float x) {
+    double b[4], d[4];
+    cubicBSpline(x, b, d);
+    Basis1D out;
+    for (int i = 0; i < 4; ++i) {
+        out.b[i] = float(b[i]);
+        out.d[i] = float(d[i]);
+    }
+    return out;
+}
+
+Basis1D creaseBasis1D(float x, float sharpness) {
+    double bx[4], dx[4];
+    cubicBSpline(x, bx, dx);
+    // c(x) and c'(x): the weight of d = p0 - 2 p1 + p2 on top of the infinitely sharp curve
+    // (derivation in the header). s <= 0 gives c = B0(x), the plain B-spline.
+    double c = bx[0], dc = dx[0];
+    if (sharpness >= 10.0f) {
+        c = dc = 0.0;
+    } else if (sharpness > 0.0f) {
+        double n = std::floor(double(sharpness)), f = double(sharpness) - n;
+        double h = std::ldexp(1.0, -int(n) - 1);      // span length after n + 1 steps
+        double a0 = h, a1 = (1.0 - f) * h * 0.25;      // offsets at index -1 and at the crease
+        double t = double(x) / h, b[4], d[4];
+        c = dc = 0.0;
+        if (t < 1.0) {
+            cubicBSpline(t, b, d);
+            c = a0 * b[0] + a1 * b[1];
+            dc = (a0 * d[0] + a1 * d[1]) / h;
+        } else if (t < 2.0) {
+            cubicBSpline(t - 1.0, b, d);
+            c = a1 * b[0];
+            dc = a1 * d[0] / h;
+        }
+    }
+    // Sharp basis (point 0 replaced by the phantom 2 p1 - p2) plus c * (p0 - 2 p1 + p2).
+    const double sb[4] = {c, bx[1] + 2.0 * bx[0] - 2.0 * c, bx[2] - bx[0] + c, bx[3]};
+    const double sd[4] = {dc, dx[1] + 2.0 * dx[0] - 2.0 * dc, dx[2] - dx[0] + dc, dx[3]};
+    Basis1D out;
+    for (int i = 0; i < 4; ++i) {
+        out.b[i] = float(sb[i]);
+        out.d[i] = float(sd[i]);
+    }
+    return out;
+}
+
+Basis1D creaseBasis1DFar(float x, float sharpness) {
+    Basis1D near = creaseBasis1D(1.0f - x, sharpness), out;
+    for (int i = 0; i < 4; ++i) {
+        out.b[i] = near.b[3 - i];
+        out.d[i] = -near.d[3 - i];
+    }
+    return out;
+}
+
+void foldNear(Basis1D& basis) {
+    for (float* a : {basis.b, basis.d}) {
+        a[1] += 2.0f * a[0];
+        a[2] -= a[0];
+        a[0] = 0.0f;
+    }
+}
+
+void foldFar(Basis1D& basis) {
+    for (float* a : {basis.b, basis.d}) {
+        a[2] += 2.0f * a[3];
+        a[1] -= a[3];
+        a[3] = 0.0f;
+    }
+}
+
 void bsplineWeights(float u, float v, BasisWeights& out) {
     double bu[4], du[4], bv[4], dv[4];
     cubicBSpline(u, bu, du);
@@ -67,35 +137,15 @@ void bsplineWeights(float u, float v, BasisWeights& out) {
 }
 
 void creaseWeights(float u, float v, float sharpness, BasisWeights& out) {
-    double bu[4], du[4], bv[4], dv[4];
+    double bu[4], du[4];
     cubicBSpline(u, bu, du);
-    cubicBSpline(v, bv, dv);
-
-    // c(v) and c'(v): the weight of d = row0 - 2 row1 + row2 on top of the infinitely sharp
-    // surface (derivation in the header). s <= 0 gives c = B0(v), the plain B-spline.
-    double c = bv[0], dc = dv[0];
-    if (sharpness >= 10.0f) {
-        c = dc = 0.0;
-    } else if (sharpness > 0.0f) {
-        double n = std::floor(double(sharpness)), f = double(sharpness) - n;
-        double h = std::ldexp(1.0, -int(n) - 1);      // span length after n + 1 steps
-        double a0 = h, a1 = (1.0 - f) * h * 0.25;      // offsets at index -1 and at the crease
-        double x = double(v) / h, b[4], d[4];
-        c = dc = 0.0;
-        if (x < 1.0) {
-            cubicBSpline(x, b, d);
-            c = a0 * b[0] + a1 * b[1];
-            dc = (a0 * d[0] + a1 * d[1]) / h;
-        } else if (x < 2.0) {
-            cubicBSpline(x - 1.0, b, d);
-            c = a1 * b[0];
-            dc = a1 * d[0] / h;
-        }
+    Basis1D across = creaseBasis1D(v, sharpness);
+    double sb[4], sd[4];
+    for (int i = 0; i < 4; ++i) {
+        sb[i] = across.b[i];
+        sd[i] = across.d[i];
     }
-    // Sharp v-basis (row 0 replaced by the phantom 2 row1 - row2) plus c * (row0 - 2 row1 + row2).
-    double sv[4] = {c, bv[1] + 2.0 * bv[0] - 2.0 * c, bv[2] - bv[0] + c, bv[3]};
-    double sd[4] = {dc, dv[1] + 2.0 * dv[0] - 2.0 * dc, dv[2] - dv[0] + dc, dv[3]};
-    tensor(bu, du, sv, sd, out);
+    tensor(bu, du, sb, sd, out);
 }
 
 void foldBoundaryWeights(int boundaryMask, BasisWeights& inOut) {

@@ -12,6 +12,22 @@ struct BasisWeights {
     float w[20], du[20], dv[20];
 };
 
+// One direction of a tensor-product patch: 4 basis values and their derivatives. Boundary
+// folding and semi-sharp creases change only the basis across the edge they lie on, so the plan
+// evaluator works on these instead of on 16 weights (render/shaders/plan_eval.glsl does the same).
+struct Basis1D {
+    float b[4], d[4];
+};
+
+Basis1D bsplineBasis1D(float x);
+// Across a semi-sharp crease through point 1 (point 0 beyond it), as in creaseWeights below.
+Basis1D creaseBasis1D(float x, float sharpness);
+// The same crease on the far side: through point 2, point 3 beyond it.
+Basis1D creaseBasis1DFar(float x, float sharpness);
+// Phantom point 0 = 2 p1 - p2 (boundary at the near edge) or 3 = 2 p2 - p1 (far edge).
+void foldNear(Basis1D& basis);
+void foldFar(Basis1D& basis);
+
 // Uniform bicubic B-spline over [0,1]^2. 16 control points, row-major 4x4: index = 4*row + col,
 // row along v, col along u. Point (col,row) = (1,1) is the patch corner at (u,v) = (0,0) and
 // (2,2) the corner at (1,1). This is OpenSubdiv's REGULAR patch order.

@@ -126,6 +126,11 @@ Result<uint32_t> PlanDatabase::findOrBuild(const FaceConfig& config) {
     return id;
 }
 
+uint64_t PlanDatabase::misses() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return misses_;
+}
+
 PlanDatabaseStats PlanDatabase::stats() const {
     std::lock_guard<std::mutex> lock(mutex_);
     PlanDatabaseStats s;

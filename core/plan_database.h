@@ -37,7 +37,8 @@ public:
 
     const Plan& plan(uint32_t id) const { return plans_[id]; }
     uint32_t size() const { return uint32_t(plans_.size()); }
-    PlanDatabaseStats stats() const;
+    PlanDatabaseStats stats() const;  // walks every plan: not for hot paths
+    uint64_t misses() const;
 
     Status save(const std::string& path) const;
     // Replaces the contents with the file's. On failure the database is left empty and the

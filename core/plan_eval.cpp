@@ -25,36 +25,40 @@ Combined combine(const BasisWeights& w, const uint32_t* points, uint32_t count, 
     return c;
 }
 
-// Semi-sharp crease along patch edge `edge`: evaluate in the frame where the crease is the
-// v=0 edge, then move the weights back onto the patch's own 4x4 grid.
-BasisWeights creasePatchWeights(float s, float t, float sharpness, uint32_t edge) {
-    float sc = s, tc = t;
-    switch (edge) {
-    case 1: sc = t; tc = 1.0f - s; break;
-    case 2: sc = 1.0f - s; tc = 1.0f - t; break;
-    case 3: sc = 1.0f - t; tc = s; break;
-    default: break;
-    }
-    BasisWeights canonical;
-    creaseWeights(sc, tc, sharpness, canonical);
-    BasisWeights out{};
-    for (uint32_t j = 0; j < 4; ++j)
-        for (uint32_t i = 0; i < 4; ++i) {
-            uint32_t col = i, row = j;
-            float ds = 0.0f, dt = 0.0f;
-            const uint32_t k = 4 * j + i;
-            const float dsc = canonical.du[k], dtc = canonical.dv[k];
-            switch (edge) {
-            case 1: col = 3 - j; row = i; ds = -dtc; dt = dsc; break;
-            case 2: col = 3 - i; row = 3 - j; ds = -dsc; dt = -dtc; break;
-            case 3: col = j; row = 3 - i; ds = dtc; dt = -dsc; break;
-            default: ds = dsc; dt = dtc; break;
-            }
-            out.w[4 * row + col] = canonical.w[k];
-            out.du[4 * row + col] = ds;
-            out.dv[4 * row + col] = dt;
+// Bicubic patch from its 1D bases: rows combine along u first, then along v.
+Combined tensorPatch(const Basis1D& bu, const Basis1D& bv, const uint32_t* points, const glm::vec3* controlPoints) {
+    Combined c;
+    for (uint32_t row = 0; row < 4; ++row) {
+        glm::vec3 along(0.0f), alongDu(0.0f);
+        for (uint32_t col = 0; col < 4; ++col) {
+            const glm::vec3& cp = controlPoints[points[4 * row + col]];
+            along += bu.b[col] * cp;
+            alongDu += bu.d[col] * cp;
         }
-    return out;
+        c.p += bv.b[row] * along;
+        c.ds += bv.b[row] * alongDu;
+        c.dt += bv.d[row] * along;
+    }
+    return c;
+}
+
+// Regular or crease leaf: the crease and any boundary edges change only the 1D basis across
+// them (see patch_basis.h).
+Combined regularPatch(const PlanNode& node, const uint32_t* points, const glm::vec3* controlPoints, float s, float t) {
+    Basis1D bu = bsplineBasis1D(s), bv = bsplineBasis1D(t);
+    if (node.kind == NodeKind::Crease) {
+        switch (node.edge) {
+        case 0: bv = creaseBasis1D(t, node.sharpness); break;
+        case 1: bu = creaseBasis1DFar(s, node.sharpness); break;
+        case 2: bv = creaseBasis1DFar(t, node.sharpness); break;
+        default: bu = creaseBasis1D(s, node.sharpness); break;
+        }
+    }
+    if (node.boundaryMask & 1) foldNear(bv);
+    if (node.boundaryMask & 4) foldFar(bv);
+    if (node.boundaryMask & 8) foldNear(bu);
+    if (node.boundaryMask & 2) foldFar(bu);
+    return tensorPatch(bu, bv, points, controlPoints);
 }
 
 // Terminal node: find the level whose regular quadrant holds (s, t), or the Gregory patch at
@@ -67,14 +71,13 @@ Combined evaluateTerminal(const Plan& plan, const PlanNode& node, const glm::vec
     for (uint32_t level = 0; level < node.levels; ++level) {
         if (std::max(a, b) >= 0.5f) {
             const uint32_t qx = a >= 0.5f, qy = b >= 0.5f;
-            BasisWeights w;
-            bsplineWeights(2.0f * a - float(qx), 2.0f * b - float(qy), w);
             uint32_t gathered[16];
             for (uint32_t k = 0; k < 16; ++k) {
                 uint32_t gx = qx + k % 4, gy = qy + k / 4;  // 0..4 on the 5x5 grid
                 gathered[k] = points[kTerminalPointsPerLevel * level + gy * 5 + gx - 1];
             }
-            Combined c = combine(w, gathered, 16, controlPoints);
+            Combined c = tensorPatch(bsplineBasis1D(2.0f * a - float(qx)), bsplineBasis1D(2.0f * b - float(qy)),
+                                     gathered, controlPoints);
             float d = 2.0f * scale;
             c.ds *= mirrorU ? -d : d;
             c.dt *= mirrorV ? -d : d;
@@ -145,14 +148,8 @@ LimitSample evaluatePlan(const Plan& plan, const glm::vec3* controlPoints, float
     BasisWeights w;
     switch (node.kind) {
     case NodeKind::Regular:
-        bsplineWeights(s, t, w);
-        foldBoundaryWeights(node.boundaryMask, w);
-        c = combine(w, points, 16, controlPoints);
-        break;
     case NodeKind::Crease:
-        w = creasePatchWeights(s, t, node.sharpness, node.edge);
-        foldBoundaryWeights(node.boundaryMask, w);
-        c = combine(w, points, 16, controlPoints);
+        c = regularPatch(node, points, controlPoints, s, t);
         break;
     case NodeKind::Terminal:
         c = evaluateTerminal(plan, node, controlPoints, s, t);

@@ -99,7 +99,7 @@ Status PlannedCage::replanFaces(const std::vector<uint32_t>& faces, EditReport& 
     for (uint32_t f : faces)
         for (uint32_t s = faceFirstSubface_[f]; s < faceFirstSubface_[f + 1]; ++s) subfaces.push_back(s);
 
-    const uint32_t missesBefore = uint32_t(database_->stats().misses);
+    const uint64_t missesBefore = database_->misses();
     std::vector<std::string> errors(subfaces.size());
     tbb::parallel_for(size_t(0), subfaces.size(), [&](size_t i) {
         uint32_t s = subfaces[i];
@@ -124,7 +124,7 @@ Status PlannedCage::replanFaces(const std::vector<uint32_t>& faces, EditReport& 
     for (const std::string& e : errors)
         if (!e.empty()) return Error{e};
     report.replannedFaces += uint32_t(faces.size());
-    report.newPlans += uint32_t(database_->stats().misses) - missesBefore;
+    report.newPlans += uint32_t(database_->misses() - missesBefore);
     updateControlPoints(subfaces);
     report.updatedSubfaces += uint32_t(subfaces.size());
     return success();

@@ -70,7 +70,7 @@ int runCheckLimit(const CheckLimitArgs& args) {
             {"worst_face_position", worstFace + 1},
             {"worst_face_derivative", worstDerivativeFace + 1},
             {"tolerance_position", kPositionTolerance},
-            {"tolerance_derivative", kDerivativeTolerance},
+            {"tolerance_derivative", derivativeTolerance(args.depth)},
             {"unique_plans", database.size()},
             {"plan_ms", planMs},
             {"pass", check.pass()},
@@ -82,7 +82,7 @@ int runCheckLimit(const CheckLimitArgs& args) {
         std::printf("  max position error   %.3g of the diagonal (face %u; tolerance %.1g)\n", check.maxPositionError,
                     worstFace + 1, kPositionTolerance);
         std::printf("  max derivative error %.3g of the diagonal (face %u; tolerance %.1g)\n",
-                    check.maxDerivativeError, worstDerivativeFace + 1, kDerivativeTolerance);
+                    check.maxDerivativeError, worstDerivativeFace + 1, derivativeTolerance(args.depth));
         std::printf("  %s\n", check.pass() ? "PASS" : "FAIL");
     }
     return check.pass() ? 0 : 3;

@@ -17,6 +17,9 @@ void registerCheckLimit(CLI::App& app, int& exitCode);
 // `quadplan plan-stats CAGE [--depth D] [--json]`
 void registerPlanStats(CLI::App& app, int& exitCode);
 
+// `quadplan bench SUITE [--repeats R] [--out DIR] ...`: benchmarks against OpenSubdiv
+void registerBench(CLI::App& app, int& exitCode);
+
 // `quadplan edit [SCENE]`: the interactive editor; also what a bare `quadplan` runs.
 void registerEdit(CLI::App& app, int& exitCode);
 int runEditor(const std::string& scenePath);

@@ -25,7 +25,7 @@ inline void loadPlanDatabase(PlanDatabase& database, const std::string& path) {
 }
 
 inline void savePlanDatabase(const PlanDatabase& database, const std::string& path) {
-    if (path.empty() || database.stats().misses == 0) return;
+    if (path.empty() || database.misses() == 0) return;
     if (Status saved = database.save(path); !saved)
         std::fprintf(stderr, "warning: could not save the plan database: %s\n", saved.error().message.c_str());
 }

@@ -41,7 +41,7 @@ void expectMatchesOpenSubdiv(const Cage& cage, PlanOptions options = {}) {
     qp::LimitCheck c = check(cage, options);
     EXPECT_GT(c.samples, 0u);
     EXPECT_LE(c.maxPositionError, qp::kPositionTolerance) << "worst sub-face " << c.worstPositionSubface;
-    EXPECT_LE(c.maxDerivativeError, qp::kDerivativeTolerance) << "worst sub-face " << c.worstDerivativeSubface;
+    EXPECT_LE(c.maxDerivativeError, qp::derivativeTolerance(options.maxDepth)) << "worst sub-face " << c.worstDerivativeSubface;
 }
 
 }  // namespace
