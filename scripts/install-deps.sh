@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config git
   libosd-dev libglm-dev libtbb-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libglfw3-dev libimgui-dev libstb-dev
-  libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers glslc spirv-tools
+  libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers vulkan-validationlayers-dev glslc spirv-tools
   libgtest-dev libgmock-dev libbenchmark-dev
   xvfb xauth xdotool imagemagick
 )

@@ -1,0 +1,271 @@
+#include "mesh_pass.h"
+
+#include <cassert>
+#include <cmath>
+
+#include "shader_code.h"
+#include "vk_check.h"
+
+namespace qp {
+
+namespace {
+
+// Mirrors shaders/mesh_push.glsl.
+struct MeshPush {
+    glm::mat4 viewProj;
+    glm::vec4 eye;
+    glm::vec4 color;
+    glm::vec4 params;
+};
+static_assert(sizeof(MeshPush) == 112 && sizeof(MeshPush) <= 128, "push constants: 128 bytes guaranteed");
+
+// How far (in NDC depth) the wireframe is pulled toward the eye; ~1e-3 of the framed radius
+// with frameBounds' near/far planes.
+constexpr float kWireDepthPull = 2e-4f;
+
+VkShaderModule loadShader(const VulkanContext& ctx, const char* name) {
+    std::span<const uint32_t> code = shaderCode(name);
+    assert(!code.empty() && "shader not embedded: is it in render/shaders/?");
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = code.size_bytes();
+    info.pCode = code.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
+    return module;
+}
+
+Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cache, const MeshPass& pass,
+                                  VkShaderModule vert, VkShaderModule frag, bool wireframe) {
+    VkPipelineShaderStageCreateInfo stages[2] = {};
+    stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vert, "main"};
+    stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, frag, "main"};
+
+    const VkVertexInputBindingDescription binding{0, sizeof(MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputAttributeDescription attributes[2] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)},
+        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, normal)},
+    };
+    VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    vertexInput.vertexBindingDescriptionCount = 1;
+    vertexInput.pVertexBindingDescriptions = &binding;
+    vertexInput.vertexAttributeDescriptionCount = 2;
+    vertexInput.pVertexAttributeDescriptions = attributes;
+
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = wireframe ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;  // subdivision surfaces may be open: draw both sides
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = wireframe ? VK_FALSE : VK_TRUE;
+    depth.depthCompareOp = wireframe ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_LESS;
+
+    VkPipelineColorBlendAttachmentState blendAttachment{};
+    blendAttachment.colorWriteMask =
+        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blendAttachment;
+
+    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamicStates;
+
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &pass.colorFormat;
+    rendering.depthAttachmentFormat = pass.depthFormat;
+
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
+    info.stageCount = 2;
+    info.pStages = stages;
+    info.pVertexInputState = &vertexInput;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = pass.layout;
+
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateGraphicsPipelines(ctx.device, cache, 1, &info, nullptr, &pipeline));
+    return pipeline;
+}
+
+Status initPass(const VulkanContext& ctx, VkPipelineCache cache, MeshPass& pass) {
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof(MeshPush)};
+    VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layoutInfo.pushConstantRangeCount = 1;
+    layoutInfo.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &pass.layout));
+
+    // Modules are only needed while the pipelines are created.
+    VkShaderModule vert = loadShader(ctx, "mesh.vert");
+    VkShaderModule frag = loadShader(ctx, "mesh.frag");
+    Result<VkPipeline> solid = createPipeline(ctx, cache, pass, vert, frag, false);
+    Result<VkPipeline> wire = VK_NULL_HANDLE;
+    if (solid && ctx.features.fillModeNonSolid) wire = createPipeline(ctx, cache, pass, vert, frag, true);
+    vkDestroyShaderModule(ctx.device, vert, nullptr);
+    vkDestroyShaderModule(ctx.device, frag, nullptr);
+    if (!solid) return solid.error();
+    pass.solid = *solid;
+    if (!wire) return wire.error();
+    pass.wireframe = *wire;
+    return success();
+}
+
+float linearToSrgb(float c) {
+    c = std::fmin(std::fmax(c, 0.0f), 1.0f);
+    return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
+}
+
+bool isSrgb(VkFormat format) { return format == VK_FORMAT_R8G8B8A8_SRGB || format == VK_FORMAT_B8G8R8A8_SRGB; }
+
+}  // namespace
+
+Result<GpuMesh> uploadMesh(const VulkanContext& ctx, std::span<const MeshVertex> vertices,
+                           std::span<const uint32_t> indices) {
+    assert(!vertices.empty() && !indices.empty() && indices.size() % 3 == 0);
+    GpuMesh mesh;
+    Result<Buffer> vb = createBuffer(ctx, vertices.size_bytes(),
+                                     VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    if (!vb) return vb.error();
+    mesh.vertices = *vb;
+    Result<Buffer> ib = createBuffer(ctx, indices.size_bytes(), VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
+    if (!ib) {
+        destroyMesh(ctx, mesh);
+        return ib.error();
+    }
+    mesh.indices = *ib;
+    uploadBuffer(mesh.vertices, vertices.data(), vertices.size_bytes());
+    uploadBuffer(mesh.indices, indices.data(), indices.size_bytes());
+    mesh.indexCount = uint32_t(indices.size());
+    return mesh;
+}
+
+void destroyMesh(const VulkanContext& ctx, GpuMesh& mesh) {
+    destroyBuffer(ctx, mesh.vertices);
+    destroyBuffer(ctx, mesh.indices);
+    mesh.indexCount = 0;
+}
+
+Result<MeshPass> createMeshPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
+                                VkFormat depthFormat) {
+    MeshPass pass;
+    pass.colorFormat = colorFormat;
+    pass.depthFormat = depthFormat;
+    if (Status s = initPass(ctx, cache, pass); !s) {
+        destroyMeshPass(ctx, pass);
+        return s.error();
+    }
+    return pass;
+}
+
+void destroyMeshPass(const VulkanContext& ctx, MeshPass& pass) {
+    if (pass.solid) vkDestroyPipeline(ctx.device, pass.solid, nullptr);
+    if (pass.wireframe) vkDestroyPipeline(ctx.device, pass.wireframe, nullptr);
+    if (pass.layout) vkDestroyPipelineLayout(ctx.device, pass.layout, nullptr);
+    pass = MeshPass{};
+}
+
+void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const OffscreenTarget& target, const MeshView& view,
+                    std::span<const MeshDraw> draws) {
+    assert(pass.colorFormat == target.color.format && pass.depthFormat == target.depth.format);
+    const bool srgb = isSrgb(pass.colorFormat);
+
+    // Both attachments are cleared, so their old contents are discarded (UNDEFINED), but earlier
+    // writes (a previous pass) and reads (readPixels' copy) must be finished first.
+    VkImageMemoryBarrier2 barriers[2] = {{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2}, {VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2}};
+    barriers[0].srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT;
+    barriers[0].srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+    barriers[0].dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    barriers[0].dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT;
+    barriers[0].oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    barriers[0].newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    barriers[0].image = target.color.image;
+    barriers[0].subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    const VkPipelineStageFlags2 depthStages =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    barriers[1].srcStageMask = depthStages;
+    barriers[1].srcAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    barriers[1].dstStageMask = depthStages;
+    barriers[1].dstAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    barriers[1].oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    barriers[1].newLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    barriers[1].image = target.depth.image;
+    barriers[1].subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
+    for (auto& b : barriers) b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dependency.imageMemoryBarrierCount = 2;
+    dependency.pImageMemoryBarriers = barriers;
+    vkCmdPipelineBarrier2(cmd, &dependency);
+
+    // A clear value is stored as given: an SRGB attachment encodes it, a UNORM one needs it encoded.
+    glm::vec3 clear = view.background;
+    if (!srgb) clear = {linearToSrgb(clear.r), linearToSrgb(clear.g), linearToSrgb(clear.b)};
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = target.color.view;
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color.clearValue.color = {{clear.r, clear.g, clear.b, 1.0f}};
+    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth.imageView = target.depth.view;
+    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    depth.clearValue.depthStencil = {1.0f, 0};
+
+    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    rendering.renderArea = {{0, 0}, {target.width, target.height}};
+    rendering.layerCount = 1;
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachments = &color;
+    rendering.pDepthAttachment = &depth;
+    vkCmdBeginRendering(cmd, &rendering);
+
+    const VkViewport viewport{0.0f, 0.0f, float(target.width), float(target.height), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, {target.width, target.height}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+
+    auto draw = [&](const MeshDraw& d, bool wire) {
+        MeshPush push;
+        push.viewProj = view.viewProjection;
+        push.eye = glm::vec4(view.eye, 1.0f);
+        push.color = glm::vec4(wire ? d.wireColor : d.color, 1.0f);
+        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, (wire || !d.lit) ? 1.0f : 0.0f, srgb ? 0.0f : 1.0f, 0.0f);
+        vkCmdPushConstants(cmd, pass.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
+                           sizeof push, &push);
+        const VkDeviceSize offset = 0;
+        vkCmdBindVertexBuffers(cmd, 0, 1, &d.mesh->vertices.buffer, &offset);
+        vkCmdBindIndexBuffer(cmd, d.mesh->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
+        vkCmdDrawIndexed(cmd, d.mesh->indexCount, 1, 0, 0, 0);
+    };
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.solid);
+    for (const MeshDraw& d : draws) draw(d, false);
+    // Overlays after every solid draw, so that lines are hidden by any nearer surface.
+    if (pass.wireframe) {
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.wireframe);
+        for (const MeshDraw& d : draws)
+            if (d.wireframe) draw(d, true);
+    }
+    vkCmdEndRendering(cmd);
+}
+
+}  // namespace qp

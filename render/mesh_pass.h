@@ -1,0 +1,68 @@
+// MeshPass: draws indexed triangle meshes (float3 position + float3 normal per vertex) with a
+// lit, gamma-correct shader and depth test into an OffscreenTarget with dynamic rendering,
+// plus an optional wireframe overlay (polygon mode LINE, width 1).
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include <glm/glm.hpp>
+#include <vulkan/vulkan.h>
+
+#include "offscreen_target.h"
+#include "result.h"
+#include "vk_buffer.h"
+#include "vk_context.h"
+
+namespace qp {
+
+struct MeshVertex {
+    glm::vec3 position;
+    glm::vec3 normal;
+};
+static_assert(sizeof(MeshVertex) == 24);
+
+struct GpuMesh {
+    Buffer vertices;  // MeshVertex[]; also usable as a storage buffer
+    Buffer indices;   // uint32_t[], three per triangle
+    uint32_t indexCount = 0;
+};
+
+Result<GpuMesh> uploadMesh(const VulkanContext& context, std::span<const MeshVertex> vertices,
+                           std::span<const uint32_t> indices);
+void destroyMesh(const VulkanContext& context, GpuMesh& mesh);
+
+struct MeshPass {
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkPipeline solid = VK_NULL_HANDLE;
+    VkPipeline wireframe = VK_NULL_HANDLE;  // null when the device lacks fillModeNonSolid
+    VkFormat colorFormat = VK_FORMAT_UNDEFINED;
+    VkFormat depthFormat = VK_FORMAT_UNDEFINED;
+};
+
+// Builds the pipelines for targets of the given formats through `cache` (may be null).
+Result<MeshPass> createMeshPass(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat,
+                                VkFormat depthFormat = VK_FORMAT_D32_SFLOAT);
+void destroyMeshPass(const VulkanContext& context, MeshPass& pass);
+
+struct MeshView {
+    glm::mat4 viewProjection{1.0f};  // Vulkan clip space (see camera.h)
+    glm::vec3 eye{0.0f};             // world-space camera position, for the headlight
+    glm::vec3 background{0.0f};      // linear colour the target is cleared to
+};
+
+struct MeshDraw {
+    const GpuMesh* mesh = nullptr;
+    glm::vec3 color{0.8f};  // linear base colour
+    bool lit = true;        // false: flat `color`, exactly
+    bool wireframe = false;
+    glm::vec3 wireColor{0.02f};
+};
+
+// Records one pass: clears `target`, draws every mesh (solid, then the wireframe overlays on
+// top) and leaves the colour image in COLOR_ATTACHMENT_OPTIMAL (offscreen_target.h), ready for
+// readPixels once submitted. The pass's formats must match the target's.
+void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const OffscreenTarget& target, const MeshView& view,
+                    std::span<const MeshDraw> draws);
+
+}  // namespace qp

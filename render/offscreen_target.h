@@ -1,0 +1,49 @@
+// OffscreenTarget: a colour + depth image pair to render into with dynamic rendering, without a
+// window; its pixels can be read back and written as PNG.
+//
+// Layout contract: between passes the colour image is in COLOR_ATTACHMENT_OPTIMAL (passes may
+// start from UNDEFINED and discard it); readPixels expects that layout and restores it. The
+// depth image's contents do not outlive a pass.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <vulkan/vulkan.h>
+
+#include "result.h"
+#include "vk_context.h"
+
+namespace qp {
+
+struct Image {
+    VkImage image = VK_NULL_HANDLE;
+    VkDeviceMemory memory = VK_NULL_HANDLE;
+    VkImageView view = VK_NULL_HANDLE;
+    VkFormat format = VK_FORMAT_UNDEFINED;
+};
+
+struct OffscreenTarget {
+    Image color;  // R8G8B8A8_SRGB (shaders write linear colour) or R8G8B8A8_UNORM
+    Image depth;  // D32_SFLOAT
+    uint32_t width = 0;
+    uint32_t height = 0;
+};
+
+// Creates the images (colour also usable as a copy source) and moves the colour image into
+// COLOR_ATTACHMENT_OPTIMAL. `colorFormat` must be R8G8B8A8_SRGB or R8G8B8A8_UNORM.
+Result<OffscreenTarget> createOffscreenTarget(const VulkanContext& context, uint32_t width, uint32_t height,
+                                              VkFormat colorFormat = VK_FORMAT_R8G8B8A8_SRGB);
+void destroyOffscreenTarget(const VulkanContext& context, OffscreenTarget& target);
+
+// Copies the colour image to the host and waits: width * height RGBA8 pixels, rows top to
+// bottom, as stored (sRGB-encoded for an SRGB target). Call after the rendering was submitted;
+// it is ordered after everything already submitted to the context's queue.
+Result<std::vector<uint8_t>> readPixels(const VulkanContext& context, const OffscreenTarget& target);
+
+// Encodes RGBA8 pixels (rows top to bottom) as PNG and writes the file atomically.
+Status writePng(const std::string& path, uint32_t width, uint32_t height, std::span<const uint8_t> rgba);
+
+}  // namespace qp

@@ -1,0 +1,30 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+#include "mesh_push.glsl"
+
+layout(location = 0) in vec3 inNormal;
+layout(location = 1) in vec3 inWorld;
+
+layout(location = 0) out vec4 outColor;
+
+// Lighting happens in linear space; an SRGB target encodes on store, a UNORM one needs it here.
+vec3 linearToSrgb(vec3 c) {
+    return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
+}
+
+void main() {
+    vec3 color = pc.color.rgb;
+    if (pc.params.y < 0.5) {
+        vec3 n = normalize(inNormal);
+        vec3 toEye = normalize(pc.eye.xyz - inWorld);
+        if (dot(n, toEye) < 0.0) n = -n;  // two-sided: open surfaces show their inside lit too
+        // A headlight at the eye, plus a dimmer fill light from the upper left and behind, so
+        // that silhouettes keep some shape.
+        float head = max(dot(n, toEye), 0.0);
+        float fill = max(dot(n, normalize(vec3(-0.6, 0.7, -0.4))), 0.0);
+        float specular = pow(head, 48.0);
+        color = color * (0.06 + 0.75 * head + 0.25 * fill) + vec3(0.15 * specular);
+    }
+    if (pc.params.z > 0.5) color = linearToSrgb(clamp(color, 0.0, 1.0));
+    outColor = vec4(color, 1.0);
+}

@@ -1,0 +1,7 @@
+// Push constants of mesh.vert / mesh.frag; mirrors MeshPush in render/mesh_pass.cpp.
+layout(push_constant) uniform MeshPush {
+    mat4 viewProj;
+    vec4 eye;     // xyz: camera position, world space
+    vec4 color;   // rgb: base colour, linear
+    vec4 params;  // x: depth pull toward the eye (NDC units), y: 1 = unlit, z: 1 = encode sRGB here
+} pc;
