@@ -104,8 +104,8 @@ std::string examine(VkPhysicalDevice device, const ContextOptions& options, Cand
     VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
     vkGetPhysicalDeviceFeatures2(device, &features2);
     c.features = features2.features;
-    if (!features13.dynamicRendering || !features13.synchronization2)
-        return "it lacks dynamic rendering or synchronization2";
+    if (!features13.dynamicRendering || !features13.synchronization2 || !features13.maintenance4)
+        return "it lacks dynamic rendering, synchronization2 or maintenance4";
     for (size_t i = 0; i < kFeatureCount; ++i)
         if (featureArray(options.requiredFeatures)[i] && !featureArray(c.features)[i])
             return "it lacks a required feature (VkPhysicalDeviceFeatures member " + std::to_string(i) + ")";
@@ -215,6 +215,8 @@ Status createDevice(VulkanContext& ctx, const ContextOptions& options, const Can
     VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
     features13.dynamicRendering = VK_TRUE;
     features13.synchronization2 = VK_TRUE;
+    // SPIR-V 1.6 compute shaders (glslc --target-env=vulkan1.3) declare LocalSizeId.
+    features13.maintenance4 = VK_TRUE;
     VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
     features2.features = ctx.features;
 

@@ -24,39 +24,20 @@
 #include "vk_check.h"
 #include "vk_commands.h"
 #include "vk_context.h"
+#include "render_test_support.h"
 
 namespace fs = std::filesystem;
 using namespace qp;
+using qp::test::createTestContext;
+using qp::test::describeMessages;
+using qp::test::testOutputDir;
 
 namespace {
 
-constexpr const char* kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
 constexpr uint32_t kSize = 256;
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// Lavapipe unless QUADPLAN_VK_DEVICE names another device; validation always on.
-Result<VulkanContext> createTestContext() {
-    ContextOptions options;
-    options.validation = true;
-    if (const char* device = std::getenv("QUADPLAN_VK_DEVICE"); device && device[0]) {
-        options.forceDevice = device;
-    } else {
-        if (!fs::exists(kLavapipeIcd))
-            return Error{std::string(kLavapipeIcd) + " is missing: install mesa-vulkan-drivers (lavapipe)"};
-        // Must happen before the loader looks for drivers, i.e. before the instance exists.
-        setenv("VK_ICD_FILENAMES", kLavapipeIcd, 1);
-        setenv("VK_DRIVER_FILES", kLavapipeIcd, 1);  // newer loaders prefer this name
-    }
-    return createContext(options);
-}
-
-std::string describeMessages(const VulkanContext& ctx) {
-    std::string text;
-    for (const std::string& m : validationMessages(ctx)) text += "\n  " + m;
-    return text;
 }
 
 // A UV sphere: smooth normals, 32 segments around, 16 rings.
@@ -101,12 +82,6 @@ uint8_t srgbByte(float linear) {
 
 bool near(uint8_t a, uint8_t b, int tolerance = 1) { return std::abs(int(a) - int(b)) <= tolerance; }
 
-// Where a person can look at the images: <build dir>/test-output (the binary is in <build>/bin).
-fs::path testOutputDir() {
-    fs::path dir = fs::read_symlink("/proc/self/exe").parent_path().parent_path() / "test-output";
-    fs::create_directories(dir);
-    return dir;
-}
 
 // One validated context per test; TearDown destroys it and asserts that the validation layer
 // stayed silent throughout, teardown included.

@@ -1,0 +1,171 @@
+#include "gpu_plans.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+#include <glm/geometric.hpp>
+
+namespace qp {
+
+namespace {
+
+constexpr uint32_t kReversed = 1, kSplit = 2, kHalf = 4;
+constexpr uint32_t kFirstHalf = 1 << 2, kSecondHalf = 2 << 2;  // GpuSegment::ownerEdge
+
+// Sub-face edge e runs from corner kEdgeStart[e] to corner kEdgeEnd[e].
+constexpr uint32_t kEdgeStart[4] = {0, 1, 3, 0};
+constexpr uint32_t kEdgeEnd[4] = {1, 2, 2, 3};
+
+struct BoundaryBuilder {
+    const Cage& cage;
+    const Topology& topology;
+    GpuPlanData& gpu;
+    std::unordered_map<uint64_t, uint32_t> segmentIndex;
+
+    uint32_t vertexPoint(uint32_t v) const { return v; }
+    uint32_t midpoint(uint32_t edge) const { return cage.vertexCount() + edge; }
+    uint32_t centre(uint32_t face) const { return cage.vertexCount() + topology.edgeCount() + face; }
+
+    bool edgeIsSplit(uint32_t edge) const {
+        for (uint32_t k = topology.edgeFaceOffsets[edge]; k < topology.edgeFaceOffsets[edge + 1]; ++k)
+            if (cage.faceSize(topology.edgeFaces[k]) != 4) return true;
+        return false;
+    }
+
+    // Segment a -> b as seen from `drawn`'s edge `edge`; registers the first user as owner.
+    uint32_t segment(uint32_t a, uint32_t b, uint32_t drawn, uint32_t edge) {
+        uint64_t key = uint64_t(std::min(a, b)) << 32 | std::max(a, b);
+        auto [it, inserted] = segmentIndex.emplace(key, uint32_t(gpu.segments.size()));
+        if (inserted) gpu.segments.push_back(GpuSegment{drawn, edge, a > b ? 1u : 0u, 0});
+        return it->second;
+    }
+
+    void point(uint32_t id, uint32_t drawn, uint32_t corner) {
+        if (gpu.boundaryPoints[id].owner == UINT32_MAX) gpu.boundaryPoints[id] = GpuPoint{drawn, corner};
+    }
+
+    GpuSubfaceBoundary build(uint32_t drawn, uint32_t face, uint32_t k) {
+        const uint32_t n = cage.faceSize(face);
+        const uint32_t* fv = cage.faceBegin(face);
+        GpuSubfaceBoundary b{};
+        if (n == 4) {
+            for (uint32_t i = 0; i < 4; ++i) b.corners[i] = vertexPoint(fv[i]);
+            for (uint32_t e = 0; e < 4; ++e) {
+                uint32_t a = fv[kEdgeStart[e]], z = fv[kEdgeEnd[e]];
+                uint32_t cageEdge = topology.findEdge(a, z);
+                GpuEdgeRef& ref = b.edges[e];
+                if (edgeIsSplit(cageEdge)) {
+                    ref.midpoint = midpoint(cageEdge);
+                    ref.segment = segment(a, ref.midpoint, drawn, e | kFirstHalf);
+                    ref.secondHalf = segment(ref.midpoint, z, drawn, e | kSecondHalf);
+                    ref.flags = kSplit;
+                } else {
+                    ref.segment = segment(a, z, drawn, e);
+                    ref.flags = a > z ? kReversed : 0;
+                }
+            }
+        } else {
+            uint32_t next = topology.findEdge(fv[k], fv[(k + 1) % n]);
+            uint32_t prev = topology.findEdge(fv[(k + n - 1) % n], fv[k]);
+            b.corners[0] = vertexPoint(fv[k]);
+            b.corners[1] = midpoint(next);
+            b.corners[2] = centre(face);
+            b.corners[3] = midpoint(prev);
+            for (uint32_t e = 0; e < 4; ++e) {
+                uint32_t a = b.corners[kEdgeStart[e]], z = b.corners[kEdgeEnd[e]];
+                b.edges[e].segment = segment(a, z, drawn, e);
+                b.edges[e].flags = a > z ? kReversed : 0;
+            }
+            // Edges 0 and 3 are halves of cage edges: their factor comes from the whole edge.
+            b.edges[0].flags |= kHalf;
+            b.edges[0].midpoint = b.corners[1];
+            b.edges[3].flags |= kHalf;
+            b.edges[3].midpoint = b.corners[3];
+        }
+        for (uint32_t c = 0; c < 4; ++c) point(b.corners[c], drawn, c);
+        return b;
+    }
+};
+
+}  // namespace
+
+GpuPlanData packPlans(const PlannedCage& planned) {
+    GpuPlanData gpu;
+    const PlanDatabase& database = planned.database();
+    for (uint32_t id = 0; id < database.size(); ++id) {
+        const Plan& plan = database.plan(id);
+        GpuPlanHeader header{};
+        header.rootNode = uint32_t(gpu.nodes.size());
+        header.weightOffset = uint32_t(gpu.weights.size());
+        header.ringSize = plan.ringSize;
+        header.maxDepth = plan.maxDepth;
+        std::copy(plan.stencilCountByLevel.begin(), plan.stencilCountByLevel.end(), header.stencilCountByLevel);
+        const uint32_t pointBase = uint32_t(gpu.points.size());
+        for (const PlanNode& node : plan.nodes) {
+            GpuNode g{};
+            g.kind_mask_edge_levels = uint32_t(node.kind) | uint32_t(node.boundaryMask) << 8 |
+                                      uint32_t(node.edge) << 16 | uint32_t(node.levels) << 24;
+            g.first = node.first + (node.kind == NodeKind::Internal ? header.rootNode : pointBase);
+            g.sharpness = node.sharpness;
+            gpu.nodes.push_back(g);
+        }
+        gpu.points.insert(gpu.points.end(), plan.points.begin(), plan.points.end());
+        gpu.weights.insert(gpu.weights.end(), plan.stencilWeights.begin(), plan.stencilWeights.end());
+        gpu.plans.push_back(header);
+    }
+
+    const Cage& cage = planned.cage();
+    const Topology& topology = planned.topology();
+    std::vector<std::pair<uint32_t, uint32_t>> faceAndCorner;  // per drawn sub-face
+    for (uint32_t face = 0; face < cage.faceCount(); ++face) {
+        for (uint32_t s = planned.firstSubface(face); s < planned.firstSubface(face + 1); ++s) {
+            if (!planned.hasSurface(s)) continue;
+            GpuSubface g{};
+            g.plan = planned.subfacePlan(s);
+            g.rotation = planned.subfaceRotation(s);
+            g.ringOffset = uint32_t(gpu.rings.size());
+            g.cpOffset = gpu.controlPointCount;
+            g.subface = s;
+            auto ring = planned.subfaceRing(s);
+            gpu.rings.insert(gpu.rings.end(), ring.begin(), ring.end());
+            gpu.controlPointCount += database.plan(g.plan).stencilCount();
+            gpu.subfaces.push_back(g);
+            faceAndCorner.push_back({face, s - planned.firstSubface(face)});
+        }
+    }
+
+    // Non-quads first, so half segments are owned by the n-gon sub-face that has exactly that
+    // edge; a quad owns half of its edge only when no such sub-face is drawn (e.g. a hole).
+    gpu.boundaryPoints.assign(cage.vertexCount() + topology.edgeCount() + cage.faceCount(), GpuPoint{UINT32_MAX, 0});
+    gpu.boundaries.resize(gpu.subfaces.size());
+    BoundaryBuilder builder{cage, topology, gpu, {}};
+    for (bool quads : {false, true})
+        for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
+            auto [face, corner] = faceAndCorner[d];
+            if ((cage.faceSize(face) == 4) == quads) gpu.boundaries[d] = builder.build(d, face, corner);
+        }
+    return gpu;
+}
+
+std::vector<glm::vec4> boundaryPointPositions(const PlannedCage& planned) {
+    const Cage& cage = planned.cage();
+    const Topology& topology = planned.topology();
+    std::vector<glm::vec4> points;
+    points.reserve(cage.vertexCount() + topology.edgeCount() + cage.faceCount());
+    for (const glm::vec3& p : cage.positions) points.push_back(glm::vec4(p, 1.0f));
+    // A midpoint carries the radius of its whole edge's bounding sphere in w, so both sides of
+    // a split edge size it from the same numbers.
+    for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
+        const glm::vec3& a = cage.positions[topology.edgeVertices[2 * e]];
+        const glm::vec3& b = cage.positions[topology.edgeVertices[2 * e + 1]];
+        points.push_back(glm::vec4(0.5f * (a + b), 0.5f * glm::length(b - a)));
+    }
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+        glm::vec3 sum(0.0f);
+        for (uint32_t i = 0; i < cage.faceSize(f); ++i) sum += cage.positions[cage.faceBegin(f)[i]];
+        points.push_back(glm::vec4(sum / float(cage.faceSize(f)), 1.0f));
+    }
+    return points;
+}
+
+}  // namespace qp

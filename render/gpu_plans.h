@@ -1,0 +1,108 @@
+// GpuPlans: the plan database and a cage's sub-face table flattened into the std430 arrays
+// the plan shaders read (render/shaders/plan_eval.glsl documents the same layout).
+//
+// Node `first` fields are made absolute here: an internal node's children index `nodes`
+// directly and a leaf's points index `points` directly, so the shaders need no per-plan
+// offsets while descending. Point values are stencil indices relative to the sub-face's
+// control-point base (GpuSubface::cpOffset).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec4.hpp>
+
+#include "planned_cage.h"
+
+namespace qp {
+
+struct GpuPlanHeader {
+    uint32_t rootNode;       // index into nodes
+    uint32_t weightOffset;   // index into weights of stencil 0
+    uint32_t ringSize;
+    uint32_t maxDepth;
+    uint32_t stencilCountByLevel[12];  // [n] stencils serve factors <= 2^n; [11] unused
+};
+static_assert(sizeof(GpuPlanHeader) == 64);
+
+struct GpuNode {
+    uint32_t kind_mask_edge_levels;  // kind | boundaryMask << 8 | edge << 16 | levels << 24
+    uint32_t first;
+    float sharpness;
+    uint32_t unused;
+};
+static_assert(sizeof(GpuNode) == 16);
+
+struct GpuSubface {
+    uint32_t plan;
+    uint32_t rotation;
+    uint32_t ringOffset;  // index into rings
+    uint32_t cpOffset;    // index into the control-point buffer
+    uint32_t subface;     // PlannedCage sub-face (Ptex face) index
+    uint32_t unused[3];
+};
+static_assert(sizeof(GpuSubface) == 32);
+
+// Watertightness by ownership. A tessellation vertex on a sub-face's boundary is evaluated by
+// the one sub-face that owns that boundary point or segment, at a parameter rebuilt from the
+// integer tessellation index, so every face sharing it computes the same bits.
+//
+// Boundary points: cage vertices, midpoints of cage edges next to a non-quad, face centres of
+// non-quads (ids: vertex v; edge e -> V + e; face f -> V + E + f). Segments join two points:
+// a cage edge between two quads is one segment; a cage edge next to a non-quad is split at its
+// midpoint into two (a quad on it sees two half segments); an n-gon's spokes are segments.
+// Sub-face edges: 0 is v=0 (corner 0 -> 1), 1 is u=1 (1 -> 2), 2 is v=1 (3 -> 2), 3 is u=0
+// (0 -> 3). Quad sub-face corners are the face's corners; n-gon sub-face k has corners
+// (vertex k, midpoint of edge k, centre, midpoint of edge k-1).
+// A split edge's first half runs from its start to the midpoint (always along the half's
+// canonical direction, as midpoint ids are higher than vertex ids) and its second half from
+// the midpoint to its end (always against it).
+struct GpuEdgeRef {
+    uint32_t segment;   // the only segment, or the first half of a split edge
+    uint32_t flags;     // bit 0: runs against the segment's canonical direction; bit 1: split;
+                        // bit 2: this edge is half of a cage edge (n-gon sub-face edges 0, 3)
+    uint32_t midpoint;  // split and half edges: the cage edge's midpoint
+    uint32_t secondHalf;  // split edges: the second half's segment
+};
+
+struct GpuSubfaceBoundary {
+    GpuEdgeRef edges[4];
+    uint32_t corners[4];  // boundary point at each corner
+};
+static_assert(sizeof(GpuSubfaceBoundary) == 80);
+
+// Canonical direction: from the lower point id to the higher.
+struct GpuSegment {
+    uint32_t owner;      // drawn sub-face that evaluates it
+    uint32_t ownerEdge;  // bits 0-1: the owner's edge; bits 2-3: 0 the whole edge, 1 its first
+                         // half, 2 its second half (a quad owning half of a split edge)
+    uint32_t ownerReversed;  // the owner's edge (or half) runs against the canonical direction
+    uint32_t unused;
+};
+
+struct GpuPoint {
+    uint32_t owner;
+    uint32_t ownerCorner;
+};
+
+struct GpuPlanData {
+    std::vector<GpuPlanHeader> plans;
+    std::vector<GpuNode> nodes;
+    std::vector<uint32_t> points;
+    std::vector<float> weights;
+    std::vector<GpuSubface> subfaces;  // only sub-faces with a surface: one primitive each
+    std::vector<uint32_t> rings;
+    uint32_t controlPointCount = 0;    // all stencils of all drawn sub-faces
+
+    std::vector<GpuSubfaceBoundary> boundaries;  // parallels subfaces
+    std::vector<GpuSegment> segments;
+    std::vector<GpuPoint> boundaryPoints;        // indexed by boundary point id
+};
+
+// Positions of every boundary point (for tessellation factors), from the cage positions; a
+// cage-edge midpoint has the radius of that edge's bounding sphere in w.
+std::vector<glm::vec4> boundaryPointPositions(const PlannedCage& planned);
+
+GpuPlanData packPlans(const PlannedCage& planned);
+
+}  // namespace qp

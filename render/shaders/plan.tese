@@ -1,0 +1,50 @@
+#version 450
+// Evaluates the limit surface at each tessellation vertex; boundary vertices go through
+// their owner so neighbouring faces produce bit-identical positions and normals.
+#include "plan_eval.glsl"
+#include "plan_boundary.glsl"
+#include "plan_draw.glsl"
+
+layout(quads, equal_spacing, ccw) in;
+layout(location = 0) patch in uint drawn;
+layout(location = 1) patch in uvec4 edgeFactor;
+
+struct CaptureRecord {
+    float u, v;
+    uint drawn;
+    uint edgeAndFactor;  // edge (0..3, 4 inside) | segments along it << 8
+    float x, y, z;
+    uint edgeIndex;
+};
+layout(std430, set = 0, binding = 14) buffer Capture {
+    uint captureCount;
+    uint captureCapacity;
+    uint captureUnused0, captureUnused1;
+    CaptureRecord records[];
+};
+
+layout(location = 1) out vec3 outNormal;
+layout(location = 2) flat out uint outDrawn;
+layout(location = 3) out vec2 outUV;
+
+void main() {
+    vec2 uv = gl_TessCoord.xy;
+    LimitSample s = evaluateTessVertex(drawn, uv, edgeFactor);
+    vec3 n = cross(s.du, s.dv);
+    float len = length(n);
+    outNormal = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+    outDrawn = drawn;
+    outUV = uv;
+    gl_Position = draw.viewProjection * vec4(s.position, 1.0);
+    if (draw.capture != 0u) {
+        uint edge = 4u, n = 0u;
+        if (uv.y == 0.0) { edge = 0u; n = edgeFactor.x; }
+        else if (uv.x == 1.0) { edge = 1u; n = edgeFactor.y; }
+        else if (uv.y == 1.0) { edge = 2u; n = edgeFactor.z; }
+        else if (uv.x == 0.0) { edge = 3u; n = edgeFactor.w; }
+        uint index = uint(round((edge == 1u || edge == 3u ? uv.y : uv.x) * float(n)));
+        uint slot = atomicAdd(captureCount, 1u);
+        if (slot < captureCapacity)
+            records[slot] = CaptureRecord(uv.x, uv.y, drawn, edge | (n << 8), s.position.x, s.position.y, s.position.z, index);
+    }
+}

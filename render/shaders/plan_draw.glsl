@@ -1,0 +1,20 @@
+// Push constants shared by the plan drawing stages (128 bytes at most on lavapipe).
+layout(push_constant) uniform DrawPush {
+    mat4 viewProjection;
+    float uniformFactor;      // > 0: every quad edge gets this factor; 0: adaptive
+    float pixelsPerSegment;   // adaptive: target screen length of one tessellated segment
+    float pixelsPerUnit;      // projection scale: pixels per unit at w = 1 (viewport height / 2 * P[1][1])
+    uint colorMode;           // see plan.frag
+    uint capture;             // tessellated path: 1 records every evaluated vertex
+    uint gridStride;          // grid path: vertices reserved per sub-face
+} draw;
+
+layout(std430, set = 0, binding = 13) readonly buffer PointPositions { vec4 pointPositions[]; };
+
+// Segments needed for a sphere (centre, radius) to be pixelsPerSegment long on screen:
+// rotation-invariant and the same from both faces of an edge.
+float sphereFactor(vec3 centre, float radius) {
+    if (draw.uniformFactor > 0.0) return draw.uniformFactor;
+    float w = max((draw.viewProjection * vec4(centre, 1.0)).w, 1e-4);
+    return clamp(2.0 * radius * draw.pixelsPerUnit / w / draw.pixelsPerSegment, 1.0, 64.0);
+}

@@ -1,0 +1,24 @@
+#version 450
+// Applies the stencil prefix of every drawn sub-face: control points for tessellation level
+// `level` (factors <= 2^level). One workgroup per sub-face, threads stride over its stencils.
+#define QP_WRITE_CONTROL_POINTS
+#include "plan_eval.glsl"
+
+// Literal sizes: with gl_WorkGroupSize or a constant in the layout, glslc emits LocalSizeId,
+// which needs maintenance4.
+const uint kGroupSize = 64u;
+layout(local_size_x = 64) in;  // = kGroupSize
+layout(push_constant) uniform Push {
+    uint subfaceCount;
+    uint level;
+    uint groupsPerRow;  // dispatch is 2D when there are more sub-faces than one row allows
+} push;
+
+void main() {
+    uint drawn = gl_WorkGroupID.y * push.groupsPerRow + gl_WorkGroupID.x;
+    if (drawn >= push.subfaceCount) return;
+    Subface f = subfaces[drawn];
+    uint count = planHeaders[f.plan].stencilCountByLevel[push.level];
+    for (uint i = gl_LocalInvocationID.x; i < count; i += kGroupSize)
+        controlPoints[f.cpOffset + i] = vec4(applyStencil(drawn, i), 1.0);
+}

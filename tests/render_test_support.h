@@ -1,0 +1,48 @@
+// Vulkan set-up shared by the rendering tests: lavapipe with validation on.
+//
+// Vulkan is a declared dependency (mesa-vulkan-drivers provides lavapipe): when it cannot be
+// initialised the tests fail, they never skip. QUADPLAN_VK_DEVICE=<name part> runs them on
+// another device instead of lavapipe.
+#pragma once
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "vk_context.h"
+
+namespace qp::test {
+
+constexpr const char* kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
+
+inline Result<VulkanContext> createTestContext() {
+    ContextOptions options;
+    options.validation = true;
+    if (const char* device = std::getenv("QUADPLAN_VK_DEVICE"); device && device[0]) {
+        options.forceDevice = device;
+    } else {
+        if (!std::filesystem::exists(kLavapipeIcd))
+            return Error{std::string(kLavapipeIcd) + " is missing: install mesa-vulkan-drivers (lavapipe)"};
+        // Must happen before the loader looks for drivers, i.e. before the instance exists.
+        setenv("VK_ICD_FILENAMES", kLavapipeIcd, 1);
+        setenv("VK_DRIVER_FILES", kLavapipeIcd, 1);  // newer loaders prefer this name
+    }
+    return createContext(options);
+}
+
+inline std::string describeMessages(const VulkanContext& ctx) {
+    std::string text;
+    for (const std::string& m : validationMessages(ctx)) text += "\n  " + m;
+    return text;
+}
+
+// Where tests leave pictures for a person to look at: <build>/test-output (the binary is in
+// <build>/bin).
+inline std::filesystem::path testOutputDir() {
+    std::filesystem::path dir =
+        std::filesystem::read_symlink("/proc/self/exe").parent_path().parent_path() / "test-output";
+    std::filesystem::create_directories(dir);
+    return dir;
+}
+
+}  // namespace qp::test
