@@ -20,6 +20,9 @@ void registerPlanStats(CLI::App& app, int& exitCode);
 // `quadplan bench SUITE [--repeats R] [--out DIR] ...`: benchmarks against OpenSubdiv
 void registerBench(CLI::App& app, int& exitCode);
 
+// `quadplan render CAGE_OR_SCENE --out FILE.png [...]`
+void registerRender(CLI::App& app, int& exitCode);
+
 // `quadplan edit [SCENE]`: the interactive editor; also what a bare `quadplan` runs.
 void registerEdit(CLI::App& app, int& exitCode);
 int runEditor(const std::string& scenePath);

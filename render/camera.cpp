@@ -7,8 +7,8 @@
 
 namespace qp {
 
-Camera frameBounds(const glm::vec3& min, const glm::vec3& max, float aspect) {
-    Camera c;
+RenderCamera frameBounds(const glm::vec3& min, const glm::vec3& max, float aspect) {
+    RenderCamera c;
     c.aspect = aspect;
     c.target = 0.5f * (min + max);
     // The bounding sphere must fit inside the narrower of the two fields of view.
@@ -26,10 +26,12 @@ Camera frameBounds(const glm::vec3& min, const glm::vec3& max, float aspect) {
     return c;
 }
 
-glm::mat4 viewMatrix(const Camera& c) { return glm::lookAt(c.eye, c.target, c.up); }
+glm::mat4 viewMatrix(const RenderCamera& c) { return glm::lookAt(c.eye, c.target, c.up); }
 
-glm::mat4 projectionMatrix(const Camera& c) {
-    glm::mat4 p = glm::perspective(c.fovY, c.aspect, c.nearZ, c.farZ);
+glm::mat4 projectionMatrix(const RenderCamera& c) {
+    const float halfHeight = 0.5f * c.orthoHeight, halfWidth = halfHeight * c.aspect;
+    glm::mat4 p = c.orthographic ? glm::ortho(-halfWidth, halfWidth, -halfHeight, halfHeight, c.nearZ, c.farZ)
+                                 : glm::perspective(c.fovY, c.aspect, c.nearZ, c.farZ);
     p[1][1] *= -1.0f;  // Vulkan's framebuffer Y points down
     return p;
 }

@@ -1,5 +1,6 @@
 // Runs the real `quadplan` executable and checks what it prints and its exit status.
 #include <array>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -11,6 +12,10 @@
 #include <unistd.h>
 
 #include "test_support.h"
+
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
 
 namespace {
 
@@ -128,4 +133,71 @@ TEST(CliPlans, PlanStatsJsonAndPersistentDatabase) {
     EXPECT_EQ(damaged.status, 0);
     EXPECT_NE(damaged.out.find("plans will be rebuilt"), std::string::npos);
     std::filesystem::remove(db);
+}
+
+namespace {
+
+// Fraction of pixels that differ from the top-left (background) pixel of a PNG.
+double pngCoverage(const std::string& path, int& width, int& height) {
+    int channels = 0;
+    unsigned char* pixels = stbi_load(path.c_str(), &width, &height, &channels, 4);
+    if (!pixels) return -1.0;
+    size_t covered = 0;
+    for (int i = 0; i < width * height; ++i) covered += std::memcmp(pixels + 4 * i, pixels, 3) != 0;
+    stbi_image_free(pixels);
+    return double(covered) / double(width * height);
+}
+
+std::string tempPng(const std::string& name) {
+    return (std::filesystem::temp_directory_path() / ("qp-" + std::to_string(::getpid()) + "-" + name + ".png")).string();
+}
+
+}  // namespace
+
+TEST(CliRender, DefaultSceneHeadlessWithSilentValidation) {
+    std::string out = tempPng("default");
+    CommandRun run = runQuadplan(std::string("render ") + QUADPLAN_SCENES_DIR + "/default.json --validate --size 320x240 --out " + out, true);
+    ASSERT_EQ(run.status, 0) << run.out;
+    EXPECT_EQ(run.out.find("validation:"), std::string::npos) << run.out;
+    int w = 0, h = 0;
+    double coverage = pngCoverage(out, w, h);
+    EXPECT_EQ(w, 320);
+    EXPECT_EQ(h, 240);
+    EXPECT_GT(coverage, 0.15);  // the surface fills a good part of the framed view
+    EXPECT_LT(coverage, 0.95);
+    std::filesystem::remove(out);
+}
+
+TEST(CliRender, BothPathsColourModesAndCamera) {
+    std::string scene = std::string(QUADPLAN_SCENES_DIR) + "/creased_box.json";
+    for (std::string options : {"--path tess --tess 4 --wire", "--path grid --tess 6 --color-by depth",
+                                "--path tess --adaptive 5 --color-by node-kind --no-cage",
+                                "--camera 4,3,5,0,0,0,35 --color-by sharpness"}) {
+        std::string out = tempPng("box");
+        CommandRun run = runQuadplan("render " + scene + " --validate --size 200x200 " + options + " --out " + out, true);
+        ASSERT_EQ(run.status, 0) << options << "\n" << run.out;
+        int w = 0, h = 0;
+        EXPECT_GT(pngCoverage(out, w, h), 0.05) << options;
+        std::filesystem::remove(out);
+    }
+}
+
+TEST(CliRender, BadRequestsFailWithAMessage) {
+    std::string scene = std::string(QUADPLAN_SCENES_DIR) + "/default.json";
+    struct Case {
+        std::string options, expected;
+    };
+    for (const Case& c : {Case{"--scheme acc9 --out /tmp/x.png", "unknown scheme"},
+                          Case{"--tess 4 --adaptive 3 --out /tmp/x.png", "either --tess or --adaptive"},
+                          Case{"--camera 1,2,3 --out /tmp/x.png", "--camera"},
+                          Case{"--size 12x9000 --out /tmp/x.png", "--size"},
+                          Case{"--color-by rainbow --out /tmp/x.png", "--color-by"},
+                          Case{"--out /nonexistent-dir/x.png", "/nonexistent-dir/x.png"}}) {
+        CommandRun run = runQuadplan("render " + scene + " " + c.options, true);
+        EXPECT_NE(run.status, 0) << c.options;
+        EXPECT_NE(run.out.find(c.expected), std::string::npos) << c.options << "\n" << run.out;
+    }
+    CommandRun missing = runQuadplan("render /nonexistent/cage.obj --out /tmp/x.png", true);
+    EXPECT_NE(missing.status, 0);
+    EXPECT_NE(missing.out.find("/nonexistent/cage.obj"), std::string::npos);
 }

@@ -190,7 +190,7 @@ TEST_F(RenderMesh, LitSphereWithWireframe) {
     Result<MeshPass> pass = createMeshPass(ctx_, VK_NULL_HANDLE, target->color.format);
     ASSERT_TRUE(pass.ok()) << pass.error().message;
 
-    const Camera camera = frameBounds(glm::vec3(-1.0f), glm::vec3(1.0f), 1.0f);
+    const RenderCamera camera = frameBounds(glm::vec3(-1.0f), glm::vec3(1.0f), 1.0f);
     MeshView view{viewProjection(camera), camera.eye, glm::vec3(0.60f, 0.65f, 0.70f)};
     MeshDraw draw;
     draw.mesh = &*mesh;
@@ -257,7 +257,7 @@ TEST_F(RenderMesh, DepthTestHidesFartherQuadInEitherOrder) {
     Result<MeshPass> pass = createMeshPass(ctx_, VK_NULL_HANDLE, target->color.format);
     ASSERT_TRUE(pass.ok()) << pass.error().message;
 
-    Camera camera;  // straight down -Z from z = 3
+    RenderCamera camera;  // straight down -Z from z = 3
     camera.eye = glm::vec3(0, 0, 3);
     camera.nearZ = 0.5f;
     camera.farZ = 10.0f;
@@ -313,7 +313,7 @@ FirstDrawTiming timeFirstDraw(const VulkanContext& ctx, VkPipelineCache cache) {
     Result<OffscreenTarget> target = createOffscreenTarget(ctx, 16, 16);
     EXPECT_TRUE(mesh.ok() && target.ok());
     if (mesh && target) {
-        Camera camera;
+        RenderCamera camera;
         camera.eye = glm::vec3(0, 0, 2);
         MeshDraw draw;
         draw.mesh = &*mesh;

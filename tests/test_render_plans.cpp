@@ -82,7 +82,7 @@ struct Fixture : ::testing::Test {
 
     PlanView frame(const PlannedCage& planned) {
         Bounds bounds = computeBounds(planned.cage());
-        Camera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+        RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
         PlanView view;
         view.viewProjection = viewProjection(camera);
         view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kImageSize);

@@ -1,0 +1,181 @@
+#include "line_pass.h"
+
+#include <algorithm>
+#include <cassert>
+
+#include "shader_code.h"
+#include "topology.h"
+#include "vk_check.h"
+
+namespace qp {
+
+namespace {
+
+VkShaderModule loadShader(const VulkanContext& ctx, const char* name) {
+    std::span<const uint32_t> code = shaderCode(name);
+    assert(!code.empty() && "shader not embedded: is it in render/shaders/?");
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = code.size_bytes();
+    info.pCode = code.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
+    return module;
+}
+
+Status initPass(const VulkanContext& ctx, VkPipelineCache cache, LinePass& pass) {
+    VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
+    VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layoutInfo.pushConstantRangeCount = 1;
+    layoutInfo.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &pass.layout));
+
+    VkShaderModule vert = loadShader(ctx, "line.vert"), frag = loadShader(ctx, "line.frag");
+    VkPipelineShaderStageCreateInfo stages[2] = {
+        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vert, "main"},
+        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, frag, "main"}};
+    const VkVertexInputBindingDescription binding{0, sizeof(LineVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputAttributeDescription attributes[2] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(LineVertex, position)},
+        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(LineVertex, color)}};
+    VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    vertexInput.vertexBindingDescriptionCount = 1;
+    vertexInput.pVertexBindingDescriptions = &binding;
+    vertexInput.vertexAttributeDescriptionCount = 2;
+    vertexInput.pVertexAttributeDescriptions = attributes;
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;
+    raster.lineWidth = ctx.features.wideLines ? 2.0f : 1.0f;
+    // The cage floats around the surface; a small pull keeps edges lying on it visible.
+    raster.depthBiasEnable = VK_TRUE;
+    raster.depthBiasConstantFactor = -2.0f;
+    raster.depthBiasSlopeFactor = -2.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = VK_FALSE;
+    depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+    VkPipelineColorBlendAttachmentState blendAttachment{};
+    blendAttachment.colorWriteMask =
+        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blendAttachment;
+    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamicStates;
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &pass.colorFormat;
+    rendering.depthAttachmentFormat = pass.depthFormat;
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
+    info.stageCount = 2;
+    info.pStages = stages;
+    info.pVertexInputState = &vertexInput;
+    info.pInputAssemblyState = &assembly;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = pass.layout;
+    VkResult result = vkCreateGraphicsPipelines(ctx.device, cache, 1, &info, nullptr, &pass.pipeline);
+    vkDestroyShaderModule(ctx.device, vert, nullptr);
+    vkDestroyShaderModule(ctx.device, frag, nullptr);
+    VK_CHECK(result);
+    return success();
+}
+
+glm::vec3 sharpnessColor(float sharpness) {
+    float t = std::min(sharpness / kInfiniteSharpness, 1.0f);
+    return glm::mix(glm::vec3(1.0f, 0.85f, 0.1f), glm::vec3(0.9f, 0.05f, 0.02f), t);
+}
+
+}  // namespace
+
+std::vector<LineVertex> cageLines(const Cage& cage) {
+    const Topology topology = buildTopology(cage);
+    std::vector<LineVertex> lines;
+    lines.reserve(topology.edgeCount() * 2);
+    for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
+        uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
+        float sharpness = cage.edgeSharpness(a, b);
+        glm::vec3 color = sharpness > 0.0f                  ? sharpnessColor(sharpness)
+                          : topology.edgeFaceCount(e) == 1 ? glm::vec3(0.05f, 0.25f, 0.8f)
+                                                           : glm::vec3(0.06f);
+        lines.push_back({cage.positions[a], color});
+        lines.push_back({cage.positions[b], color});
+    }
+    return lines;
+}
+
+Result<LinePass> createLinePass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
+                                VkFormat depthFormat) {
+    LinePass pass;
+    pass.colorFormat = colorFormat;
+    pass.depthFormat = depthFormat;
+    if (Status s = initPass(ctx, cache, pass); !s) {
+        destroyLinePass(ctx, pass);
+        return s.error();
+    }
+    return pass;
+}
+
+void destroyLinePass(const VulkanContext& ctx, LinePass& pass) {
+    if (pass.pipeline) vkDestroyPipeline(ctx.device, pass.pipeline, nullptr);
+    if (pass.layout) vkDestroyPipelineLayout(ctx.device, pass.layout, nullptr);
+    pass = LinePass{};
+}
+
+void recordLines(VkCommandBuffer cmd, const LinePass& pass, const OffscreenTarget& target, const glm::mat4& viewProjection,
+                 const Buffer& lines, uint32_t vertexCount) {
+    // The previous pass's colour and depth writes must land before these lines test and blend.
+    VkMemoryBarrier2 memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    memory.srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    memory.srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    memory.dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT;
+    memory.dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT |
+                           VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT;
+    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dependency.memoryBarrierCount = 1;
+    dependency.pMemoryBarriers = &memory;
+    vkCmdPipelineBarrier2(cmd, &dependency);
+
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = target.color.view;
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depth.imageView = target.depth.view;
+    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depth.loadOp = VK_ATTACHMENT_LOAD_OP_LOAD;
+    depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    rendering.renderArea = {{0, 0}, {target.width, target.height}};
+    rendering.layerCount = 1;
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachments = &color;
+    rendering.pDepthAttachment = &depth;
+    vkCmdBeginRendering(cmd, &rendering);
+    const VkViewport viewport{0.0f, 0.0f, float(target.width), float(target.height), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, {target.width, target.height}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.pipeline);
+    vkCmdPushConstants(cmd, pass.layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4), &viewProjection);
+    VkDeviceSize offset = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &lines.buffer, &offset);
+    vkCmdDraw(cmd, vertexCount, 1, 0, 0);
+    vkCmdEndRendering(cmd);
+}
+
+}  // namespace qp
