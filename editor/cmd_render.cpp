@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "draw_path.h"
 #include "line_pass.h"
+#include "pipeline_cache.h"
 #include "plan_pass.h"
 #include "planned_cage.h"
 #include "scene.h"
@@ -152,10 +153,14 @@ int runRender(const RenderArgs& args) {
     VulkanContext& ctx = *context;
 
     int status = 0;
+    std::vector<std::string> cacheWarnings;
+    Result<PipelineCache> cache = loadPipelineCache(ctx, defaultPipelineCachePath(), &cacheWarnings);
+    for (const std::string& w : cacheWarnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    const VkPipelineCache vkCache = cache ? cache->cache : VK_NULL_HANDLE;
     const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
     Result<OffscreenTarget> target = createOffscreenTarget(ctx, width, height, format);
-    Result<PlanPass> pass = target ? createPlanPass(ctx, VK_NULL_HANDLE, format) : Result<PlanPass>(target.error());
-    Result<LinePass> lines = pass ? createLinePass(ctx, VK_NULL_HANDLE, format) : Result<LinePass>(pass.error());
+    Result<PlanPass> pass = target ? createPlanPass(ctx, vkCache, format) : Result<PlanPass>(target.error());
+    Result<LinePass> lines = pass ? createLinePass(ctx, vkCache, format) : Result<LinePass>(pass.error());
     Result<PlanBuffers> buffers = lines ? uploadPlans(ctx, *planned) : Result<PlanBuffers>(lines.error());
     std::vector<LineVertex> cageVertices = cageLines(planned->cage());
     Result<Buffer> lineBuffer = buffers ? createBuffer(ctx, std::max<size_t>(cageVertices.size(), 2) * sizeof(LineVertex),
@@ -187,6 +192,11 @@ int runRender(const RenderArgs& args) {
         else
             std::fprintf(stderr, "wrote %s (%ux%u, %s path on %s, %u sub-faces)\n", args.out.c_str(), width, height,
                          drawPathName(path), ctx.deviceName.c_str(), uint32_t(buffers->data.subfaces.size()));
+    }
+    if (cache) {
+        if (Status saved = savePipelineCache(ctx, *cache); !saved)
+            std::fprintf(stderr, "warning: pipeline cache not saved: %s\n", saved.error().message.c_str());
+        destroyPipelineCache(ctx, *cache);
     }
     if (lineBuffer) destroyBuffer(ctx, *lineBuffer);
     if (buffers) destroyPlanBuffers(ctx, *buffers);
