@@ -257,8 +257,8 @@ TEST_F(Fixture, SplitDrawsMatchTheGridPathOnALargeCage) {
     }
     EXPECT_GT(coverage(grid, background), 0.15);
     EXPECT_LT(double(differ) / double(grid.size() / 4), 0.003);
-    (void)writePng((test::testOutputDir() / "plans_car_tessellated.png").string(), kImageSize, kImageSize, tessellated);
-    (void)writePng((test::testOutputDir() / "plans_car_grid.png").string(), kImageSize, kImageSize, grid);
+    EXPECT_TRUE(writePng((test::testOutputDir() / "plans_car_tessellated.png").string(), kImageSize, kImageSize, tessellated).ok());
+    EXPECT_TRUE(writePng((test::testOutputDir() / "plans_car_grid.png").string(), kImageSize, kImageSize, grid).ok());
     destroyPlanBuffers(ctx, buffers);
 }
 
@@ -279,8 +279,8 @@ TEST_F(Fixture, ColourModesAndWireframeDraw) {
         EXPECT_GT(coverage(image, background), 0.1) << "mode " << uint32_t(mode);
         if (mode == ColorBy::Shading) shaded = image;
         else EXPECT_NE(image, shaded) << "mode " << uint32_t(mode) << " looks like plain shading";
-        writePng((test::testOutputDir() / ("plans_features_mode" + std::to_string(uint32_t(mode)) + ".png")).string(),
-                 kImageSize, kImageSize, image);
+        EXPECT_TRUE(writePng((test::testOutputDir() / ("plans_features_mode" + std::to_string(uint32_t(mode)) + ".png")).string(),
+                             kImageSize, kImageSize, image).ok());
     }
     destroyPlanBuffers(ctx, buffers);
 }
