@@ -4,32 +4,13 @@
 
 #include "cage.h"
 #include "osd_refiner.h"
+#include "test_cages.h"
 #include "topology.h"
 
 namespace {
 
-// A grid of n x n quads in the xy-plane.
-qp::Cage makeGrid(uint32_t n) {
-    qp::Cage cage;
-    for (uint32_t y = 0; y <= n; ++y)
-        for (uint32_t x = 0; x <= n; ++x) cage.positions.push_back({float(x), float(y), 0.0f});
-    for (uint32_t y = 0; y < n; ++y)
-        for (uint32_t x = 0; x < n; ++x) {
-            uint32_t v = y * (n + 1) + x;
-            uint32_t quad[4] = {v, v + 1, v + n + 2, v + n + 1};
-            cage.addFace(quad, 4);
-        }
-    return cage;
-}
-
-qp::Cage makeCube() {
-    qp::Cage cage;
-    cage.positions = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                      {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-    uint32_t faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-    for (auto& f : faces) cage.addFace(f, 4);
-    return cage;
-}
+using qp::test::makeCube;
+using qp::test::makeGrid;
 
 }  // namespace
 

@@ -24,8 +24,9 @@ void main() {
     vec3 albedo = vec3(0.72, 0.74, 0.78);
     if (draw.colorMode != COLOR_LIT) {
         Subface f = subfaces[inDrawn];
-        uint depth;
-        uvec4 leaf = findLeaf(f.plan, toPlanFrame(f.rotation, inUV), depth);
+        Leaf found = findLeaf(f.plan, clamp(toPlanFrame(f.rotation, inUV), 0.0, 1.0));
+        uvec4 leaf = found.node;
+        uint depth = found.depth;
         uint kind = leaf.x & 0xffu;
         if (draw.colorMode == COLOR_NODE_KIND) {
             const vec3 kinds[5] = vec3[5](vec3(1.0), vec3(0.55, 0.75, 0.95), vec3(0.95, 0.55, 0.35),

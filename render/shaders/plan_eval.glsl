@@ -131,24 +131,30 @@ LimitSample gregoryPatch(uint pointBase, uint cpBase, float u, float v) {
     return r;
 }
 
-// The leaf holding (u, v) in the plan's frame: its node and its depth.
-uvec4 findLeaf(uint plan, vec2 uv, out uint depth) {
-    float u = clamp(uv.x, 0.0, 1.0), v = clamp(uv.y, 0.0, 1.0);
-    float u0 = 0.0, v0 = 0.0, size = 1.0;
-    uvec4 node = nodes[planHeaders[plan].rootNode];
-    depth = 0u;
-    // Bounded by the deepest possible plan, so damaged data cannot hang the device.
-    while ((node.x & 0xffu) == NODE_INTERNAL && depth < 16u) {
-        size *= 0.5;
-        float midU = u0 + size, midV = v0 + size;
-        bool highU = u > midU || (u == midU && midU < 0.5);
-        bool highV = v > midV || (v == midV && midV < 0.5);
-        node = nodes[node.y + (highU ? 1u : 0u) + (highV ? 2u : 0u)];
-        if (highU) u0 = midU;
-        if (highV) v0 = midV;
-        ++depth;
+// Descent to the leaf holding (u, v) in the plan's frame; on a split line take the side towards
+// the face centre (matches the stencils' level assignment, core/plan_builder.cpp). Returns the
+// leaf and its domain's origin and size; bounded by the deepest possible plan, so damaged data
+// cannot hang the device.
+struct Leaf {
+    uvec4 node;
+    vec2 origin;
+    float size;
+    uint depth;
+};
+
+Leaf findLeaf(uint plan, vec2 uv) {
+    Leaf leaf = Leaf(nodes[planHeaders[plan].rootNode], vec2(0.0), 1.0, 0u);
+    while ((leaf.node.x & 0xffu) == NODE_INTERNAL && leaf.depth < 16u) {
+        leaf.size *= 0.5;
+        vec2 mid = leaf.origin + leaf.size;
+        bool highU = uv.x > mid.x || (uv.x == mid.x && mid.x < 0.5);
+        bool highV = uv.y > mid.y || (uv.y == mid.y && mid.y < 0.5);
+        leaf.node = nodes[leaf.node.y + (highU ? 1u : 0u) + (highV ? 2u : 0u)];
+        if (highU) leaf.origin.x = mid.x;
+        if (highV) leaf.origin.y = mid.y;
+        ++leaf.depth;
     }
-    return node;
+    return leaf;
 }
 
 vec2 toPlanFrame(uint rotation, vec2 uv) {
@@ -161,19 +167,11 @@ vec2 toPlanFrame(uint rotation, vec2 uv) {
 // (u, v) in the plan's own frame. Every leaf kind funnels into one bicubic B-spline path or one
 // Gregory path (B16 §6), so each basis appears once in the compiled shader.
 LimitSample evaluatePlan(uint plan, uint cpBase, vec2 uv) {
-    float u = clamp(uv.x, 0.0, 1.0), v = clamp(uv.y, 0.0, 1.0);
-    float u0 = 0.0, v0 = 0.0, size = 1.0;
-    uvec4 node = nodes[planHeaders[plan].rootNode];
-    for (uint depth = 0u; (node.x & 0xffu) == NODE_INTERNAL && depth < 16u; ++depth) {
-        size *= 0.5;
-        float midU = u0 + size, midV = v0 + size;
-        bool highU = u > midU || (u == midU && midU < 0.5);
-        bool highV = v > midV || (v == midV && midV < 0.5);
-        node = nodes[node.y + (highU ? 1u : 0u) + (highV ? 2u : 0u)];
-        if (highU) u0 = midU;
-        if (highV) v0 = midV;
-    }
-    float s = clamp((u - u0) / size, 0.0, 1.0), t = clamp((v - v0) / size, 0.0, 1.0);
+    Leaf leaf = findLeaf(plan, clamp(uv, 0.0, 1.0));
+    uvec4 node = leaf.node;
+    float size = leaf.size;
+    float s = clamp((clamp(uv.x, 0.0, 1.0) - leaf.origin.x) / size, 0.0, 1.0);
+    float t = clamp((clamp(uv.y, 0.0, 1.0) - leaf.origin.y) / size, 0.0, 1.0);
     uint kind = node.x & 0xffu;
     vec2 scale = vec2(1.0 / size);  // d(patch coordinate) / d(u, v), sign included
     uint pointBase = node.y;
