@@ -1,11 +1,13 @@
 // `quadplan bench SUITE`: benchmarks of our engine against OpenSubdiv measured in the same run,
 // so ratios stay meaningful on a noisy machine. Every figure is the median of R repeats.
 // Suites are a table (kSuites); `all` runs them in order. This is a measurement, not a test:
-// it exits 0 when targets are missed, and the result column says so.
+// it exits 0 when targets are missed, and the result column says so. The render suite times
+// the GPU paths instead (frame time on the device, against pre-tessellated triangles).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <sched.h>
 #include <filesystem>
@@ -19,11 +21,18 @@
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/stencilTableFactory.h>
 
+#include "bspline_pass.h"
+#include "camera.h"
 #include "commands.h"
+#include "draw_path.h"
 #include "generated_cage.h"
+#include "gpu_timer.h"
+#include "mesh_pass.h"
 #include "obj_io.h"
 #include "osd_refiner.h"
+#include "plan_pass.h"
 #include "planned_cage.h"
+#include "vk_commands.h"
 #if __has_include("plan_evaluator.h")
 #include "plan_evaluator.h"
 #define QP_HAVE_PLAN_EVALUATOR 1
@@ -46,7 +55,8 @@ struct BenchArgs {
     std::string suite;
     uint32_t repeats = 5;
     std::string outDir;
-    uint32_t generatedFaces = 100000;
+    std::optional<uint32_t> generatedFaces;  // unset: the suite's own size (Suite::generatedFaces)
+    std::vector<uint32_t> factors{1, 2, 4, 8, 16};  // render suite: uniform tessellation factors
     uint32_t seed = 1;
     bool noShared = false;
     std::vector<std::string> cages;
@@ -96,6 +106,7 @@ struct Report {
     std::string suite;
     std::vector<std::string> notes;
     std::vector<Row> rows;
+    std::string appendix;  // Markdown after the table (the render suite's full measurements)
 };
 
 double msSince(Clock::time_point start) {
@@ -416,6 +427,238 @@ void benchPlans(const BenchCage& bench, const BenchArgs& args, Report& report) {
     if (sink == 0.123) std::fprintf(stderr, " ");
 }
 
+// ---- the render suite -------------------------------------------------------------------
+// Frame time of PlanPass's two paths (plan_pass.h) against the same surface pre-tessellated
+// into a triangle buffer (the fastest this device can draw it) and against plain B-spline
+// patches through the tessellator (bspline_pass.h), at uniform factors, into an offscreen
+// target. Wall = the submitAndWait round trip; GPU = timestamps around the recorded commands.
+
+// ~10k faces: at factor 16 the 100k cage would need ~50 M triangles a frame (seconds each on
+// lavapipe, minutes for the suite) and a grid buffer of ~700 MB, over lavapipe's 128 MiB
+// storage-buffer range; 20k faces is just over it too.
+constexpr uint32_t kRenderGeneratedFaces = 10000;
+constexpr uint32_t kRenderSize = 512;
+constexpr uint32_t kRenderWarmups = 2;
+constexpr uint32_t kRenderTargetFactor = 8;
+constexpr double kRenderTargetRatio = 1.5;  // issue: default path within 1.5x of pre-tessellated
+
+struct FrameTime {
+    double wallMs = NAN, gpuMs = NAN;
+    uint32_t coveredPixels = 0;  // not the background in the last frame: a sanity check
+};
+
+// Lavapipe unless QUADPLAN_VK_DEVICE names a device (as the render tests). Validation stays
+// off: it would dominate the timings.
+Result<VulkanContext> createBenchContext() {
+    ContextOptions options;
+    if (const char* device = std::getenv("QUADPLAN_VK_DEVICE"); device && device[0]) {
+        options.forceDevice = device;
+    } else if (const char* icd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json"; std::filesystem::exists(icd)) {
+        setenv("VK_ICD_FILENAMES", icd, 1);  // before the loader looks for drivers
+        setenv("VK_DRIVER_FILES", icd, 1);
+    }
+    return createContext(options);
+}
+
+// Median wall and GPU time of `repeats` frames after the warm-up ones (pipeline JIT, caches).
+Result<FrameTime> timeFrames(const VulkanContext& ctx, const GpuTimer& timer, const OffscreenTarget& target,
+                             uint32_t repeats, const std::function<void(VkCommandBuffer)>& record) {
+    std::vector<double> wall, gpu;
+    for (uint32_t i = 0; i < kRenderWarmups + repeats; ++i) {
+        auto start = Clock::now();
+        Status status = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            beginGpuTimer(cmd, timer);
+            record(cmd);
+            endGpuTimer(cmd, timer);
+        });
+        const double ms = msSince(start);
+        if (!status) return status.error();
+        Result<double> gpuMs = readGpuTimerMs(ctx, timer);
+        if (!gpuMs) return gpuMs.error();
+        if (i >= kRenderWarmups) wall.push_back(ms), gpu.push_back(*gpuMs);
+    }
+    FrameTime time{median(wall), median(gpu), 0};
+    Result<std::vector<uint8_t>> pixels = readPixels(ctx, target);
+    if (!pixels) return pixels.error();
+    const uint32_t* rgba = reinterpret_cast<const uint32_t*>(pixels->data());
+    for (size_t p = 0; p < pixels->size() / 4; ++p) time.coveredPixels += rgba[p] != rgba[0];  // corner: background
+    return time;
+}
+
+std::string msCell(const FrameTime& t) { return number(t.wallMs) + " / " + number(t.gpuMs); }
+std::string ratioCell(const FrameTime& t, const FrameTime& base) {
+    return number(t.wallMs / base.wallMs) + " / " + number(t.gpuMs / base.gpuMs);
+}
+
+void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) {
+    const std::string& name = bench.name;
+    std::fprintf(stderr, "bench render: %s (%u faces)\n", name.c_str(), bench.cage.faceCount());
+    auto skip = [&](const std::string& why) { report.notes.push_back(name + ": skipped, " + why); };
+    if (report.appendix.empty()) {  // first cage: other work on the machine skews a CPU device's timings
+        std::string one, five, fifteen;
+        std::ifstream("/proc/loadavg") >> one >> five >> fifteen;
+        report.notes.push_back("load average at the start (1, 5, 15 min): " + one + " " + five + " " + fifteen);
+    }
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(bench.cage, database, PlanOptions{}, name);
+    if (!planned) return skip(planned.error().message);
+    Result<VulkanContext> created = createBenchContext();
+    if (!created) return skip(created.error().message);
+    VulkanContext ctx = std::move(created).value();
+
+    // Everything below is destroyed at the end, whatever failed on the way.
+    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
+    OffscreenTarget target;
+    PlanPass pass;
+    MeshPass meshPass;
+    BSplinePass bspline;
+    GpuTimer timer;
+    PlanBuffers buffers;
+    std::string error;
+    auto take = [&](auto result, auto& out) {
+        if (result) out = std::move(result).value();
+        else if (error.empty()) error = result.error().message;
+        return bool(result);
+    };
+    take(createOffscreenTarget(ctx, kRenderSize, kRenderSize, format), target) &&
+        take(createPlanPass(ctx, VK_NULL_HANDLE, format), pass) &&
+        take(createMeshPass(ctx, VK_NULL_HANDLE, format), meshPass) &&
+        take(createBSplinePass(ctx, VK_NULL_HANDLE, pass), bspline) && take(createGpuTimer(ctx), timer) &&
+        take(uploadPlans(ctx, *planned), buffers);
+
+    const DrawPath picked = resolveDrawPath(DrawPath::Auto, ctx);
+    const uint32_t subfaces = uint32_t(buffers.data.subfaces.size());
+    std::string table = "### render: " + name + " (" + std::to_string(bench.cage.faceCount()) + " faces, " +
+                        std::to_string(subfaces) + " drawn sub-faces)\n\n"
+                        "| factor | grid factor | triangles | pre-tessellated ms | tess path ms | tess / pre | "
+                        "grid path ms | grid / pre | B-spline ms | B-spline / pre |\n"
+                        "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    std::optional<FrameTime> tessAtTarget, gridAtTarget, preAtTarget;
+    bool coverageDiffers = false;
+    if (error.empty()) {
+        bindPlanBuffers(ctx, pass, buffers);
+        const Bounds bounds = computeBounds(bench.cage);
+        const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+        PlanView view;
+        view.viewProjection = viewProjection(camera);
+        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kRenderSize);
+        const MeshView meshView{view.viewProjection, camera.eye, view.background};
+        bool anyNgon = false;  // prepareGrid rounds odd factors up to even ones then
+        for (uint32_t i = 0; i < subfaces; ++i) anyNgon |= gridFactorOf(buffers.data, i, 2) == 1;
+
+        for (uint32_t factor : args.factors) {
+            const TessellationSettings settings{factor, 8.0f};
+            auto measure = [&](const std::function<void(VkCommandBuffer)>& record) {
+                Result<FrameTime> t = timeFrames(ctx, timer, target, args.repeats, record);
+                if (!t && error.empty()) error = t.error().message;
+                return t ? *t : FrameTime{};
+            };
+            // (1) tessellated path, stencil compute pass included.
+            FrameTime tess = measure([&](VkCommandBuffer cmd) { recordTessellated(cmd, pass, buffers, target, view, settings); });
+            // (2) grid path, if its vertex buffer fits the device's storage-buffer range.
+            const uint32_t gridFactor = anyNgon && factor % 2 ? factor + 1 : factor;
+            const VkDeviceSize gridBytes = VkDeviceSize(gridVerticesPerSubface(gridFactor)) * subfaces * sizeof(GridVertex);
+            FrameTime grid, pre;
+            uint32_t triangles = 0;
+            if (gridBytes + 16 > ctx.properties.limits.maxStorageBufferRange) {
+                report.notes.push_back(name + ", factor " + std::to_string(factor) + ": no grid or pre-tessellated rows, the grid (" +
+                                       std::to_string(gridBytes >> 20) + " MiB) exceeds maxStorageBufferRange");
+            } else if (Status prepared = prepareGrid(ctx, pass, buffers, factor); !prepared) {
+                if (error.empty()) error = prepared.error().message;
+            } else {
+                grid = measure([&](VkCommandBuffer cmd) { recordGrid(cmd, pass, buffers, target, view); });
+                // (3) the grid evaluated once, copied into an ordinary vertex buffer (the grid
+                // buffer is storage-only) with its index buffer: then only the drawing is timed.
+                (void)submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordGridEvaluation(cmd, pass, buffers); });
+                const auto* vertices = static_cast<const MeshVertex*>(buffers.grid.data);
+                const auto* indices = static_cast<const uint32_t*>(pass.gridIndices.data);
+                const size_t indexCount = pass.gridIndices.size / sizeof(uint32_t);
+                triangles = uint32_t(indexCount / 3);
+                Result<GpuMesh> mesh = uploadMesh(ctx, {vertices, gridBytes / sizeof(MeshVertex)}, {indices, indexCount});
+                if (mesh) {
+                    const MeshDraw draw{&*mesh};
+                    pre = measure([&](VkCommandBuffer cmd) { recordMeshPass(cmd, meshPass, target, meshView, {&draw, 1}); });
+                    destroyMesh(ctx, *mesh);
+                } else if (error.empty()) {
+                    error = mesh.error().message;
+                }
+            }
+            // (4) plain B-spline patches; the control points are those the grid evaluation (or
+            // the tessellated path) just computed for this factor.
+            FrameTime plain = measure([&](VkCommandBuffer cmd) {
+                recordBSplinePatches(cmd, bspline, pass, buffers, target, view, settings);
+            });
+            if (!error.empty()) break;
+
+            // The grid (and so the pre-tessellated mesh) is coarser than factor 1 on cages with
+            // non-quads: compare only like with like.
+            for (const FrameTime* t : {&tess, &grid})
+                if (gridFactor == factor && pre.coveredPixels && std::abs(double(t->coveredPixels) - pre.coveredPixels) > 0.02 * pre.coveredPixels)
+                    coverageDiffers = true;
+            table += "| " + std::to_string(factor) + " | " + (triangles ? std::to_string(gridFactor) : "") + " | " +
+                     (triangles ? std::to_string(triangles) : "") + " | " + msCell(pre) + " | " + msCell(tess) + " | " +
+                     ratioCell(tess, pre) + " | " + msCell(grid) + " | " + ratioCell(grid, pre) + " | " + msCell(plain) +
+                     " | " + ratioCell(plain, pre) + " |\n";
+            std::fprintf(stderr, "  factor %u: pre %s, tess %s, grid %s, B-spline %s ms (wall / GPU); covered pixels %u %u %u %u\n",
+                         factor, msCell(pre).c_str(), msCell(tess).c_str(), msCell(grid).c_str(), msCell(plain).c_str(),
+                         pre.coveredPixels, tess.coveredPixels, grid.coveredPixels, plain.coveredPixels);
+            if (factor == kRenderTargetFactor) tessAtTarget = tess, gridAtTarget = grid, preAtTarget = pre;
+        }
+    }
+    if (!error.empty()) report.notes.push_back(name + ": stopped, " + error);
+
+    if (tessAtTarget && preAtTarget && !std::isnan(preAtTarget->wallMs)) {
+        // The issue's target: the default path within 1.5x of pre-tessellated triangles.
+        const FrameTime& chosen = picked == DrawPath::Grid ? *gridAtTarget : *tessAtTarget;
+        const FrameTime& other = picked == DrawPath::Grid ? *tessAtTarget : *gridAtTarget;
+        const DrawPath otherPath = picked == DrawPath::Grid ? DrawPath::Tessellated : DrawPath::Grid;
+        for (bool wall : {true, false}) {
+            Row r;
+            r.cage = name;
+            r.faces = bench.cage.faceCount();
+            r.benchmark = std::string("frame at factor 8, ") + (wall ? "wall" : "GPU") + ": default path (" +
+                          drawPathName(picked) + ", what auto picks) vs pre-tessellated triangles; 2nd: the " +
+                          drawPathName(otherPath) + " path";
+            r.repeats = args.repeats;
+            r.unit = "ms";
+            r.ours = wall ? chosen.wallMs : chosen.gpuMs;
+            r.baseline = wall ? preAtTarget->wallMs : preAtTarget->gpuMs;
+            r.baseline2 = wall ? other.wallMs : other.gpuMs;
+            r.targetValue = kRenderTargetRatio;
+            report.rows.push_back(r);
+        }
+        const bool faster = chosen.wallMs <= other.wallMs;
+        report.notes.push_back(name + ": auto picks " + drawPathName(picked) + " on '" + ctx.deviceName + "'; at factor 8 it is " +
+                               (faster ? "the faster path" : "NOT the faster path") + " (" + drawPathName(picked) + " " +
+                               number(chosen.wallMs) + " ms vs " + drawPathName(otherPath) + " " + number(other.wallMs) +
+                               " ms, wall)");
+    } else if (error.empty()) {
+        report.notes.push_back(name + ": factor 8 not measured (--factors): no target rows");
+    }
+    if (coverageDiffers)
+        report.notes.push_back(name + ": WARNING: a plans path covers more than 2% more or fewer pixels than the "
+                                      "pre-tessellated triangles: the paths may not draw the same surface");
+    if (report.appendix.empty())
+        report.appendix = "Render suite: " + std::to_string(kRenderSize) + "x" + std::to_string(kRenderSize) +
+                          " offscreen target, camera framing the cage, uniform factors; median of R frames after " +
+                          std::to_string(kRenderWarmups) + " warm-up frames. Cells: wall / GPU ms (wall = "
+                          "submitAndWait round trip, GPU = timestamps); ratios are each path / pre-tessellated "
+                          "triangles, wall / GPU. Pre-tessellated = the grid path's vertices evaluated once, drawn by "
+                          "MeshPass. B-spline = one bicubic patch per sub-face through the tessellator (a cost "
+                          "baseline, not the exact surface). Grid factor: the grid path rounds odd factors up on "
+                          "cages with non-quads.\n\n";
+    report.appendix += table + "\n";
+
+    vkDeviceWaitIdle(ctx.device);
+    destroyPlanBuffers(ctx, buffers);
+    destroyGpuTimer(ctx, timer);
+    destroyBSplinePass(ctx, bspline);
+    destroyMeshPass(ctx, meshPass);
+    destroyPlanPass(ctx, pass);
+    destroyOffscreenTarget(ctx, target);
+    destroyContext(ctx);
+}
+
 std::string benchSharedDir() {
 #ifdef QUADPLAN_SHARED_DIR
     return QUADPLAN_SHARED_DIR;
@@ -426,7 +669,7 @@ std::string benchSharedDir() {
 
 // The suite's cages: catmark_car from ../shared, the generated cage, then --cage files.
 // Missing shared files are a note; a --cage that does not load is an error.
-Result<std::vector<BenchCage>> loadBenchCages(const BenchArgs& args, Report& report) {
+Result<std::vector<BenchCage>> loadBenchCages(const BenchArgs& args, uint32_t defaultFaces, Report& report) {
     std::vector<BenchCage> cages;
     if (args.noShared) {
         report.notes.push_back("catmark_car: skipped (--no-shared)");
@@ -437,9 +680,9 @@ Result<std::vector<BenchCage>> loadBenchCages(const BenchArgs& args, Report& rep
         else
             report.notes.push_back("catmark_car: skipped, " + car.error().message);
     }
-    if (args.generatedFaces > 0) {
-        cages.push_back({"generated (" + std::to_string(args.generatedFaces) + ", seed " + std::to_string(args.seed) + ")",
-                         makeBenchmarkCage(args.generatedFaces, args.seed)});
+    if (const uint32_t faces = args.generatedFaces.value_or(defaultFaces); faces > 0) {
+        cages.push_back({"generated (" + std::to_string(faces) + ", seed " + std::to_string(args.seed) + ")",
+                         makeBenchmarkCage(faces, args.seed)});
     }
     for (const std::string& path : args.cages) {
         Result<Cage> cage = loadObj(path);
@@ -461,10 +704,12 @@ std::string markdown(const Report& report, const BenchArgs& args) {
 #else
     md += "- build: ASSERTIONS ON (not a Release build): timings are pessimistic\n";
 #endif
-    md += "- medians of R repeats (--repeats " + std::to_string(args.repeats) + "; cages over " +
-          std::to_string(kLargeCageFaces) + " faces run (a) and (d) " + std::to_string(kLargeCageRepeats) +
-          " times at most); ratio = ours / baseline\n";
-    md += "- ours plans faces on all cores (TBB); OpenSubdiv and Bfr run on one thread\n";
+    if (report.suite == "plans") {
+        md += "- medians of R repeats (--repeats " + std::to_string(args.repeats) + "; cages over " +
+              std::to_string(kLargeCageFaces) + " faces run (a) and (d) " + std::to_string(kLargeCageRepeats) +
+              " times at most); ratio = ours / baseline\n";
+        md += "- ours plans faces on all cores (TBB); OpenSubdiv and Bfr run on one thread\n";
+    }
     for (const std::string& note : report.notes) md += "- " + note + "\n";
     md += "\n| cage | faces | benchmark | R | ours | baseline | ratio | target | result | 2nd baseline | 2nd ratio |\n";
     md += "|---|---:|---|---:|---:|---:|---:|---|---|---:|---:|\n";
@@ -474,6 +719,7 @@ std::string markdown(const Report& report, const BenchArgs& args) {
               number(r.ratio()) + " | " + r.targetText() + " | " + (r.pass() ? "pass" : "**miss**") + " | " +
               (std::isnan(r.baseline2) ? "" : number(r.baseline2) + " " + r.unit) + " | " + number(r.ratio2()) + " |\n";
     }
+    if (!report.appendix.empty()) md += "\n" + report.appendix;
     return md;
 }
 
@@ -499,16 +745,18 @@ std::string csv(const Report& report) {
 struct Suite {
     const char* name;
     void (*benchCage)(const BenchCage&, const BenchArgs&, Report&);
+    uint32_t generatedFaces;  // size of the generated cage unless --generated-faces says otherwise
 };
 
 constexpr Suite kSuites[] = {
-    {"plans", benchPlans},
+    {"plans", benchPlans, 100000},
+    {"render", benchRender, kRenderGeneratedFaces},
 };
 
 int runSuite(const Suite& suite, const BenchArgs& args) {
     Report report;
     report.suite = suite.name;
-    Result<std::vector<BenchCage>> cages = loadBenchCages(args, report);
+    Result<std::vector<BenchCage>> cages = loadBenchCages(args, suite.generatedFaces, report);
     if (!cages) {
         std::fprintf(stderr, "error: %s\n", cages.error().message.c_str());
         return 1;
@@ -551,7 +799,12 @@ void registerBench(CLI::App& app, int& exitCode) {
     cmd->add_option("--repeats", args->repeats, "Repeats per measurement (the median is reported)")
         ->check(CLI::Range(1u, 1000u));
     cmd->add_option("--out", args->outDir, "Also write SUITE.md and SUITE.csv into this directory");
-    cmd->add_option("--generated-faces", args->generatedFaces, "Faces of the generated torus cage (0: none)");
+    cmd->add_option("--generated-faces", args->generatedFaces,
+                    "Faces of the generated torus cage (0: none; default: plans 100000, render " +
+                        std::to_string(kRenderGeneratedFaces) + ")");
+    cmd->add_option("--factors", args->factors, "render: uniform tessellation factors (default 1,2,4,8,16)")
+        ->delimiter(',')
+        ->check(CLI::Range(1u, 64u));
     cmd->add_option("--seed", args->seed, "Seed of the generated cage");
     cmd->add_flag("--no-shared", args->noShared, "Skip catmark_car from ../shared/shapes");
     cmd->add_option("--cage", args->cages, "Also benchmark this cage (.obj); with --no-shared --generated-faces 0 "

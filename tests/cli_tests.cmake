@@ -32,3 +32,8 @@ endif()
 add_test(NAME cli.bench_plans_smoke
          COMMAND quadplan bench plans --repeats 1 --generated-faces 2000 --no-shared)
 set_tests_properties(cli.bench_plans_smoke PROPERTIES PASS_REGULAR_EXPRESSION "\\(d\\) evaluate" TIMEOUT 60)
+
+# The render suite on a tiny cage at one factor: Vulkan (lavapipe), all four paths, the table.
+add_test(NAME cli.bench_render_smoke
+         COMMAND quadplan bench render --repeats 1 --generated-faces 500 --no-shared --factors 2)
+set_tests_properties(cli.bench_render_smoke PROPERTIES PASS_REGULAR_EXPRESSION "\\| 2 \\| 2 \\| [0-9]+ \\|" TIMEOUT 60)

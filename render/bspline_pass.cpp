@@ -1,0 +1,190 @@
+#include "bspline_pass.h"
+
+#include <algorithm>
+#include <cassert>
+#include <vector>
+
+#include <glm/exponential.hpp>
+
+#include "shader_code.h"
+#include "vk_check.h"
+
+namespace qp {
+
+namespace {
+
+// Mirrors DrawPush in shaders/plan_draw.glsl (and plan_pass.cpp, which keeps its copy private).
+struct DrawPush {
+    glm::mat4 viewProjection;
+    float uniformFactor;
+    float pixelsPerSegment;
+    float pixelsPerUnit;
+    uint32_t colorMode;
+    uint32_t capture;
+    uint32_t gridStride;
+};
+
+// PlanPass's drawLayout declares its push range for every drawing stage.
+constexpr VkShaderStageFlags kDrawStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
+                                           VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+
+VkShaderModule loadShader(const VulkanContext& ctx, const char* name) {
+    std::span<const uint32_t> code = shaderCode(name);
+    assert(!code.empty() && "shader not embedded: is it in render/shaders/?");
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = code.size_bytes();
+    info.pCode = code.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
+    return module;
+}
+
+}  // namespace
+
+Result<BSplinePass> createBSplinePass(const VulkanContext& ctx, VkPipelineCache cache, const PlanPass& plans) {
+    if (!ctx.features.tessellationShader)
+        return Error{"the Vulkan device '" + ctx.deviceName + "' has no tessellation shaders"};
+    // The same fixed-function state as PlanPass's solid tessellated pipeline, so only the
+    // evaluation stage differs.
+    const std::pair<const char*, VkShaderStageFlagBits> names[] = {
+        {"plan.vert", VK_SHADER_STAGE_VERTEX_BIT},
+        {"plan.tesc", VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT},
+        {"bspline.tese", VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT},
+        {"plan.frag", VK_SHADER_STAGE_FRAGMENT_BIT}};
+    std::vector<VkPipelineShaderStageCreateInfo> stages;
+    for (auto [name, stage] : names)
+        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, loadShader(ctx, name), "main"});
+
+    VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
+    VkPipelineTessellationStateCreateInfo tessellation{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
+    tessellation.patchControlPoints = 1;
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = VK_TRUE;
+    depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
+    VkPipelineColorBlendAttachmentState blendAttachment{};
+    blendAttachment.colorWriteMask =
+        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blendAttachment;
+    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamicStates;
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &plans.colorFormat;
+    rendering.depthAttachmentFormat = plans.depthFormat;
+
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
+    info.stageCount = uint32_t(stages.size());
+    info.pStages = stages.data();
+    info.pVertexInputState = &vertexInput;
+    info.pInputAssemblyState = &assembly;
+    info.pTessellationState = &tessellation;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = plans.drawLayout;
+    BSplinePass pass;
+    VkResult result = vkCreateGraphicsPipelines(ctx.device, cache, 1, &info, nullptr, &pass.pipeline);
+    for (const auto& stage : stages) vkDestroyShaderModule(ctx.device, stage.module, nullptr);
+    VK_CHECK(result);
+    return pass;
+}
+
+void destroyBSplinePass(const VulkanContext& ctx, BSplinePass& pass) {
+    if (pass.pipeline) vkDestroyPipeline(ctx.device, pass.pipeline, nullptr);
+    pass = BSplinePass{};
+}
+
+void recordBSplinePatches(VkCommandBuffer cmd, const BSplinePass& pass, const PlanPass& plans,
+                          const PlanBuffers& buffers, const OffscreenTarget& target, const PlanView& view,
+                          const TessellationSettings& settings) {
+    assert(settings.uniformFactor > 0 && plans.colorFormat == target.color.format);
+    // Both attachments are cleared; earlier writes (a previous frame, readPixels' copy) first.
+    VkImageMemoryBarrier2 barriers[2] = {{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2}, {VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2}};
+    barriers[0].srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT;
+    barriers[0].srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+    barriers[0].dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+    barriers[0].dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT;
+    barriers[0].newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    barriers[0].image = target.color.image;
+    barriers[0].subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    barriers[1].srcStageMask = barriers[1].dstStageMask =
+        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+    barriers[1].srcAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    barriers[1].dstAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+    barriers[1].newLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    barriers[1].image = target.depth.image;
+    barriers[1].subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
+    for (auto& b : barriers) {
+        b.oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+        b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    }
+    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dependency.imageMemoryBarrierCount = 2;
+    dependency.pImageMemoryBarriers = barriers;
+    vkCmdPipelineBarrier2(cmd, &dependency);
+
+    // plan.frag writes gamma-encoded colour: clear to the encoded background, as PlanPass does.
+    glm::vec3 clearColor = target.color.format == VK_FORMAT_R8G8B8A8_SRGB
+                               ? view.background
+                               : glm::pow(view.background, glm::vec3(1.0f / 2.2f));
+    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    color.imageView = target.color.view;
+    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
+    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+    color.clearValue.color = {{clearColor.r, clearColor.g, clearColor.b, 1.0f}};
+    VkRenderingAttachmentInfo depthAttachment{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+    depthAttachment.imageView = target.depth.view;
+    depthAttachment.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+    depthAttachment.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+    depthAttachment.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+    depthAttachment.clearValue.depthStencil = {1.0f, 0};
+    VkRenderingInfo renderingInfo{VK_STRUCTURE_TYPE_RENDERING_INFO};
+    renderingInfo.renderArea = {{0, 0}, {target.width, target.height}};
+    renderingInfo.layerCount = 1;
+    renderingInfo.colorAttachmentCount = 1;
+    renderingInfo.pColorAttachments = &color;
+    renderingInfo.pDepthAttachment = &depthAttachment;
+    vkCmdBeginRendering(cmd, &renderingInfo);
+    const VkViewport viewport{0.0f, 0.0f, float(target.width), float(target.height), 0.0f, 1.0f};
+    const VkRect2D scissor{{0, 0}, {target.width, target.height}};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+
+    DrawPush push{};
+    push.viewProjection = view.viewProjection;
+    push.uniformFactor = float(settings.uniformFactor);
+    push.pixelsPerSegment = settings.pixelsPerSegment;
+    push.pixelsPerUnit = view.pixelsPerUnit;
+    push.colorMode = 0;  // lit: the colour modes would walk the plan in plan.frag
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.pipeline);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, plans.drawLayout, 0, 1, &plans.set, 0, nullptr);
+    vkCmdPushConstants(cmd, plans.drawLayout, kDrawStages, 0, sizeof push, &push);
+    // The same split as PlanPass: lavapipe corrupts draws over 65,535 tessellated vertices.
+    const uint32_t count = uint32_t(buffers.data.subfaces.size());
+    const uint32_t perDraw = patchesPerDraw(std::min(settings.uniformFactor, 64u));
+    for (uint32_t first = 0; first < count; first += perDraw) vkCmdDraw(cmd, std::min(perDraw, count - first), 1, first, 0);
+    vkCmdEndRendering(cmd);
+}
+
+}  // namespace qp
