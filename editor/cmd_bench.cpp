@@ -28,6 +28,7 @@
 #include "generated_cage.h"
 #include "gpu_timer.h"
 #include "mesh_pass.h"
+#include "offscreen_target.h"
 #include "obj_io.h"
 #include "osd_refiner.h"
 #include "plan_pass.h"
@@ -554,7 +555,7 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                 return t ? *t : FrameTime{};
             };
             // (1) tessellated path, stencil compute pass included.
-            FrameTime tess = measure([&](VkCommandBuffer cmd) { recordTessellated(cmd, pass, buffers, target, view, settings); });
+            FrameTime tess = measure([&](VkCommandBuffer cmd) { recordTessellated(cmd, pass, buffers, renderTarget(target), view, settings); });
             // (2) grid path, if its vertex buffer fits the device's storage-buffer range.
             const uint32_t gridFactor = anyNgon && factor % 2 ? factor + 1 : factor;
             const VkDeviceSize gridBytes = VkDeviceSize(gridVerticesPerSubface(gridFactor)) * subfaces * sizeof(GridVertex);
@@ -566,7 +567,7 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
             } else if (Status prepared = prepareGrid(ctx, pass, buffers, factor); !prepared) {
                 if (error.empty()) error = prepared.error().message;
             } else {
-                grid = measure([&](VkCommandBuffer cmd) { recordGrid(cmd, pass, buffers, target, view); });
+                grid = measure([&](VkCommandBuffer cmd) { recordGrid(cmd, pass, buffers, renderTarget(target), view); });
                 // (3) the grid evaluated once, copied into an ordinary vertex buffer (the grid
                 // buffer is storage-only) with its index buffer: then only the drawing is timed.
                 (void)submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordGridEvaluation(cmd, pass, buffers); });
@@ -577,7 +578,7 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                 Result<GpuMesh> mesh = uploadMesh(ctx, {vertices, gridBytes / sizeof(MeshVertex)}, {indices, indexCount});
                 if (mesh) {
                     const MeshDraw draw{&*mesh};
-                    pre = measure([&](VkCommandBuffer cmd) { recordMeshPass(cmd, meshPass, target, meshView, {&draw, 1}); });
+                    pre = measure([&](VkCommandBuffer cmd) { recordMeshPass(cmd, meshPass, renderTarget(target), meshView, {&draw, 1}); });
                     destroyMesh(ctx, *mesh);
                 } else if (error.empty()) {
                     error = mesh.error().message;
@@ -586,7 +587,7 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
             // (4) plain B-spline patches; the control points are those the grid evaluation (or
             // the tessellated path) just computed for this factor.
             FrameTime plain = measure([&](VkCommandBuffer cmd) {
-                recordBSplinePatches(cmd, bspline, pass, buffers, target, view, settings);
+                recordBSplinePatches(cmd, bspline, pass, buffers, renderTarget(target), view, settings);
             });
             if (!error.empty()) break;
 

@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "draw_path.h"
 #include "line_pass.h"
+#include "offscreen_target.h"
 #include "pipeline_cache.h"
 #include "plan_pass.h"
 #include "planned_cage.h"
@@ -181,10 +182,10 @@ int runRender(const RenderArgs& args) {
                               ? prepareGrid(ctx, *pass, *buffers, tessellation.uniformFactor ? tessellation.uniformFactor : 16)
                               : success();
         Status drawn = prepared ? submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            if (path == DrawPath::Grid) recordGrid(cmd, *pass, *buffers, *target, view);
-            else recordTessellated(cmd, *pass, *buffers, *target, view, tessellation);
+            if (path == DrawPath::Grid) recordGrid(cmd, *pass, *buffers, renderTarget(*target), view);
+            else recordTessellated(cmd, *pass, *buffers, renderTarget(*target), view, tessellation);
             if (showCage && !cageVertices.empty())
-                recordLines(cmd, *lines, *target, view.viewProjection, *lineBuffer, uint32_t(cageVertices.size()));
+                recordLines(cmd, *lines, renderTarget(*target), view.viewProjection, *lineBuffer, uint32_t(cageVertices.size()));
         }) : prepared;
         Result<std::vector<uint8_t>> pixels = drawn ? readPixels(ctx, *target) : Result<std::vector<uint8_t>>(drawn.error());
         Status written = pixels ? writePng(args.out, width, height, *pixels) : Status(pixels.error());

@@ -15,7 +15,7 @@
 
 #include <vulkan/vulkan.h>
 
-#include "offscreen_target.h"
+#include "render_target.h"
 #include "plan_pass.h"
 #include "result.h"
 #include "vk_context.h"
@@ -32,7 +32,7 @@ void destroyBSplinePass(const VulkanContext& context, BSplinePass& pass);
 
 // Clears `target` and draws every sub-face at the uniform factor settings.uniformFactor (> 0).
 void recordBSplinePatches(VkCommandBuffer cmd, const BSplinePass& pass, const PlanPass& plans,
-                          const PlanBuffers& buffers, const OffscreenTarget& target, const PlanView& view,
+                          const PlanBuffers& buffers, const RenderTarget& target, const PlanView& view,
                           const TessellationSettings& settings);
 
 }  // namespace qp

@@ -9,7 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "cage.h"
-#include "offscreen_target.h"
+#include "render_target.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
 
@@ -36,7 +36,7 @@ void destroyLinePass(const VulkanContext& context, LinePass& pass);
 
 // Draws `lines` (a vertex buffer of LineVertex pairs) into `target`, keeping its colour and
 // depth (written by a previous pass in the same command buffer, e.g. recordTessellated).
-void recordLines(VkCommandBuffer cmd, const LinePass& pass, const OffscreenTarget& target, const glm::mat4& viewProjection,
+void recordLines(VkCommandBuffer cmd, const LinePass& pass, const RenderTarget& target, const glm::mat4& viewProjection,
                  const Buffer& lines, uint32_t vertexCount);
 
 }  // namespace qp

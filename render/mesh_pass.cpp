@@ -129,13 +129,6 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, MeshPass& pass)
     return success();
 }
 
-float linearToSrgb(float c) {
-    c = std::fmin(std::fmax(c, 0.0f), 1.0f);
-    return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
-
-bool isSrgb(VkFormat format) { return format == VK_FORMAT_R8G8B8A8_SRGB || format == VK_FORMAT_B8G8R8A8_SRGB; }
-
 }  // namespace
 
 Result<GpuMesh> uploadMesh(const VulkanContext& ctx, std::span<const MeshVertex> vertices,
@@ -183,66 +176,11 @@ void destroyMeshPass(const VulkanContext& ctx, MeshPass& pass) {
     pass = MeshPass{};
 }
 
-void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const OffscreenTarget& target, const MeshView& view,
+void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarget& target, const MeshView& view,
                     std::span<const MeshDraw> draws) {
-    assert(pass.colorFormat == target.color.format && pass.depthFormat == target.depth.format);
-    const bool srgb = isSrgb(pass.colorFormat);
-
-    // Both attachments are cleared, so their old contents are discarded (UNDEFINED), but earlier
-    // writes (a previous pass) and reads (readPixels' copy) must be finished first.
-    VkImageMemoryBarrier2 barriers[2] = {{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2}, {VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2}};
-    barriers[0].srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT;
-    barriers[0].srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
-    barriers[0].dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-    barriers[0].dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT;
-    barriers[0].oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    barriers[0].newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    barriers[0].image = target.color.image;
-    barriers[0].subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    const VkPipelineStageFlags2 depthStages =
-        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-    barriers[1].srcStageMask = depthStages;
-    barriers[1].srcAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    barriers[1].dstStageMask = depthStages;
-    barriers[1].dstAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    barriers[1].oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    barriers[1].newLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    barriers[1].image = target.depth.image;
-    barriers[1].subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
-    for (auto& b : barriers) b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dependency.imageMemoryBarrierCount = 2;
-    dependency.pImageMemoryBarriers = barriers;
-    vkCmdPipelineBarrier2(cmd, &dependency);
-
-    // A clear value is stored as given: an SRGB attachment encodes it, a UNORM one needs it encoded.
-    glm::vec3 clear = view.background;
-    if (!srgb) clear = {linearToSrgb(clear.r), linearToSrgb(clear.g), linearToSrgb(clear.b)};
-    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    color.imageView = target.color.view;
-    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    color.clearValue.color = {{clear.r, clear.g, clear.b, 1.0f}};
-    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    depth.imageView = target.depth.view;
-    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-    depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-    depth.clearValue.depthStencil = {1.0f, 0};
-
-    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    rendering.renderArea = {{0, 0}, {target.width, target.height}};
-    rendering.layerCount = 1;
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachments = &color;
-    rendering.pDepthAttachment = &depth;
-    vkCmdBeginRendering(cmd, &rendering);
-
-    const VkViewport viewport{0.0f, 0.0f, float(target.width), float(target.height), 0.0f, 1.0f};
-    const VkRect2D scissor{{0, 0}, {target.width, target.height}};
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
+    const bool srgb = isSrgbFormat(pass.colorFormat);
+    beginRendering(cmd, target, true, view.background);
 
     auto draw = [&](const MeshDraw& d, bool wire) {
         MeshPush push;

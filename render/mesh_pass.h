@@ -1,5 +1,5 @@
 // MeshPass: draws indexed triangle meshes (float3 position + float3 normal per vertex) with a
-// lit, gamma-correct shader and depth test into an OffscreenTarget with dynamic rendering,
+// lit, gamma-correct shader and depth test into a RenderTarget with dynamic rendering,
 // plus an optional wireframe overlay (polygon mode LINE, width 1).
 #pragma once
 
@@ -9,7 +9,7 @@
 #include <glm/glm.hpp>
 #include <vulkan/vulkan.h>
 
-#include "offscreen_target.h"
+#include "render_target.h"
 #include "result.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
@@ -59,10 +59,9 @@ struct MeshDraw {
     glm::vec3 wireColor{0.02f};
 };
 
-// Records one pass: clears `target`, draws every mesh (solid, then the wireframe overlays on
-// top) and leaves the colour image in COLOR_ATTACHMENT_OPTIMAL (offscreen_target.h), ready for
-// readPixels once submitted. The pass's formats must match the target's.
-void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const OffscreenTarget& target, const MeshView& view,
+// Records one pass: clears the target's area, draws every mesh (solid, then the wireframe
+// overlays on top); the layout contract of render_target.h holds afterwards. The pass's formats must match the target's.
+void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarget& target, const MeshView& view,
                     std::span<const MeshDraw> draws);
 
 }  // namespace qp

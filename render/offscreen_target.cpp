@@ -97,11 +97,19 @@ Status initTarget(const VulkanContext& ctx, OffscreenTarget& t, VkFormat colorFo
         return s;
     // Establish the layout contract (see the header) from the start.
     return submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-        VkImageMemoryBarrier2 b = colorBarrier(t.color.image, VK_IMAGE_LAYOUT_UNDEFINED,
-                                               VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
-        b.dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-        b.dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
-        pipelineBarrier(cmd, &b, nullptr);
+        VkImageMemoryBarrier2 b[2] = {colorBarrier(t.color.image, VK_IMAGE_LAYOUT_UNDEFINED,
+                                                   VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL),
+                                      colorBarrier(t.depth.image, VK_IMAGE_LAYOUT_UNDEFINED,
+                                                   VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL)};
+        b[0].dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+        b[0].dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+        b[1].subresourceRange.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
+        b[1].dstStageMask = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+        b[1].dstAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+        VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+        dependency.imageMemoryBarrierCount = 2;
+        dependency.pImageMemoryBarriers = b;
+        vkCmdPipelineBarrier2(cmd, &dependency);
     });
 }
 
@@ -125,6 +133,20 @@ void destroyOffscreenTarget(const VulkanContext& ctx, OffscreenTarget& t) {
     destroyImage(ctx, t.color);
     destroyImage(ctx, t.depth);
     t = OffscreenTarget{};
+}
+
+RenderTarget renderTarget(const OffscreenTarget& t) {
+    RenderTarget r;
+    r.colorImage = t.color.image;
+    r.colorView = t.color.view;
+    r.colorFormat = t.color.format;
+    r.depthImage = t.depth.image;
+    r.depthView = t.depth.view;
+    r.depthFormat = t.depth.format;
+    r.width = t.width;
+    r.height = t.height;
+    r.area = {{0, 0}, {t.width, t.height}};
+    return r;
 }
 
 Result<std::vector<uint8_t>> readPixels(const VulkanContext& ctx, const OffscreenTarget& t) {

@@ -1,9 +1,8 @@
 // OffscreenTarget: a colour + depth image pair to render into with dynamic rendering, without a
 // window; its pixels can be read back and written as PNG.
 //
-// Layout contract: between passes the colour image is in COLOR_ATTACHMENT_OPTIMAL (passes may
-// start from UNDEFINED and discard it); readPixels expects that layout and restores it. The
-// depth image's contents do not outlive a pass.
+// Passes draw into it through renderTarget(); it keeps RenderTarget's layout contract
+// (render_target.h) from creation on, and readPixels restores it after its copy.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +12,7 @@
 
 #include <vulkan/vulkan.h>
 
+#include "render_target.h"
 #include "result.h"
 #include "vk_context.h"
 
@@ -32,11 +32,13 @@ struct OffscreenTarget {
     uint32_t height = 0;
 };
 
-// Creates the images (colour also usable as a copy source) and moves the colour image into
-// COLOR_ATTACHMENT_OPTIMAL. `colorFormat` must be R8G8B8A8_SRGB or R8G8B8A8_UNORM.
+// Creates the images (colour also usable as a copy source) in the contract's layouts. `colorFormat` must be R8G8B8A8_SRGB or R8G8B8A8_UNORM.
 Result<OffscreenTarget> createOffscreenTarget(const VulkanContext& context, uint32_t width, uint32_t height,
                                               VkFormat colorFormat = VK_FORMAT_R8G8B8A8_SRGB);
 void destroyOffscreenTarget(const VulkanContext& context, OffscreenTarget& target);
+
+// The whole target as a RenderTarget.
+RenderTarget renderTarget(const OffscreenTarget& target);
 
 // Copies the colour image to the host and waits: width * height RGBA8 pixels, rows top to
 // bottom, as stored (sRGB-encoded for an SRGB target). Call after the rendering was submitted;

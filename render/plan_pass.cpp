@@ -254,61 +254,6 @@ uint32_t levelFor(uint32_t factor) {
     return level;
 }
 
-// Starts rendering into `target`, clearing it, or keeping what earlier chunks drew.
-void beginPass(VkCommandBuffer cmd, const OffscreenTarget& target, const glm::vec3& background, bool clear) {
-    VkImageMemoryBarrier2 barriers[2] = {{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2}, {VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2}};
-    barriers[0].srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT | VK_PIPELINE_STAGE_2_COPY_BIT;
-    barriers[0].srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
-    barriers[0].dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-    barriers[0].dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT;
-    barriers[0].oldLayout = clear ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    barriers[0].newLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    barriers[0].image = target.color.image;
-    barriers[0].subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    const VkPipelineStageFlags2 depthStages =
-        VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-    barriers[1].srcStageMask = depthStages;
-    barriers[1].srcAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    barriers[1].dstStageMask = depthStages;
-    barriers[1].dstAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-    barriers[1].oldLayout = clear ? VK_IMAGE_LAYOUT_UNDEFINED : VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    barriers[1].newLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    barriers[1].image = target.depth.image;
-    barriers[1].subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
-    for (auto& b : barriers) b.srcQueueFamilyIndex = b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dependency.imageMemoryBarrierCount = 2;
-    dependency.pImageMemoryBarriers = barriers;
-    vkCmdPipelineBarrier2(cmd, &dependency);
-
-    // The surface shader writes gamma-encoded colour: clear to the encoded background too.
-    glm::vec3 clearColor = glm::pow(background, glm::vec3(1.0f / 2.2f));
-    if (target.color.format == VK_FORMAT_R8G8B8A8_SRGB) clearColor = background;
-    VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    color.imageView = target.color.view;
-    color.imageLayout = VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL;
-    color.loadOp = clear ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
-    color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    color.clearValue.color = {{clearColor.r, clearColor.g, clearColor.b, 1.0f}};
-    VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
-    depth.imageView = target.depth.view;
-    depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
-    depth.loadOp = clear ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;
-    depth.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-    depth.clearValue.depthStencil = {1.0f, 0};
-    VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-    rendering.renderArea = {{0, 0}, {target.width, target.height}};
-    rendering.layerCount = 1;
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachments = &color;
-    rendering.pDepthAttachment = &depth;
-    vkCmdBeginRendering(cmd, &rendering);
-    const VkViewport viewport{0.0f, 0.0f, float(target.width), float(target.height), 0.0f, 1.0f};
-    const VkRect2D scissor{{0, 0}, {target.width, target.height}};
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
-}
-
 DrawPush drawPush(const PlanView& view, const TessellationSettings* settings, uint32_t gridStride) {
     DrawPush push{};
     push.viewProjection = view.viewProjection;
@@ -428,8 +373,8 @@ uint32_t patchesPerDraw(uint32_t maxFactor) {
 }
 
 void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers,
-                       const OffscreenTarget& target, const PlanView& view, const TessellationSettings& settings) {
-    assert(pass.colorFormat == target.color.format && pass.depthFormat == target.depth.format);
+                       const RenderTarget& target, const PlanView& view, const TessellationSettings& settings) {
+    assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
     if (view.capture) {
         vkCmdFillBuffer(cmd, buffers.capture.buffer, 0, 4, 0);
         barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -437,7 +382,7 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuff
                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     }
     recordStencils(cmd, pass, buffers, maxTessellationLevel(settings));
-    beginPass(cmd, target, view.background, true);
+    beginRendering(cmd, target, true, view.background);
     const DrawPush push = drawPush(view, &settings, 0);
     const uint32_t count = uint32_t(buffers.data.subfaces.size());
     const uint32_t perDraw = patchesPerDraw(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
@@ -457,7 +402,7 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuff
                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
                         VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-                beginPass(cmd, target, view.background, false);
+                beginRendering(cmd, target, false, view.background);
             }
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.drawLayout, 0, 1, &pass.set, 0, nullptr);
@@ -526,10 +471,10 @@ void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, const PlanB
             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
 }
 
-void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const OffscreenTarget& target,
+void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
                 const PlanView& view) {
     recordGridEvaluation(cmd, pass, buffers);
-    beginPass(cmd, target, view.background, true);
+    beginRendering(cmd, target, true, view.background);
     DrawPush push = drawPush(view, nullptr, gridVerticesPerSubface(buffers.gridFactor));
     push.capture = 0;
     const uint32_t indexCount = uint32_t(pass.gridIndices.size / sizeof(uint32_t));

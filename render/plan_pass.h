@@ -22,7 +22,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "gpu_plans.h"
-#include "offscreen_target.h"
+#include "render_target.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
 
@@ -90,11 +90,11 @@ uint32_t patchesPerDraw(uint32_t maxFactor);
 
 // Tessellated path: stencils for the needed level, then the patches, into `target` (cleared).
 void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers,
-                       const OffscreenTarget& target, const PlanView& view, const TessellationSettings& settings);
+                       const RenderTarget& target, const PlanView& view, const TessellationSettings& settings);
 
 // Grid path: makes sure the grid buffer and indices fit `factor`, then evaluates and draws.
 Status prepareGrid(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, uint32_t factor);
-void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const OffscreenTarget& target,
+void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
                 const PlanView& view);
 // Only the evaluation part of the grid path (for tests and read-backs).
 void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers);

@@ -104,7 +104,7 @@ protected:
     // Renders `draws` into `target` and reads it back.
     std::vector<uint8_t> render(const MeshPass& pass, const OffscreenTarget& target, const MeshView& view,
                                 std::span<const MeshDraw> draws) {
-        Status drawn = submitAndWait(ctx_, [&](VkCommandBuffer cmd) { recordMeshPass(cmd, pass, target, view, draws); });
+        Status drawn = submitAndWait(ctx_, [&](VkCommandBuffer cmd) { recordMeshPass(cmd, pass, renderTarget(target), view, draws); });
         EXPECT_TRUE(drawn.ok()) << (drawn ? "" : drawn.error().message);
         Result<std::vector<uint8_t>> pixels = readPixels(ctx_, target);
         EXPECT_TRUE(pixels.ok()) << (pixels ? "" : pixels.error().message);
@@ -319,7 +319,7 @@ FirstDrawTiming timeFirstDraw(const VulkanContext& ctx, VkPipelineCache cache) {
         draw.mesh = &*mesh;
         draw.wireframe = true;
         Status drawn = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            recordMeshPass(cmd, *pass, *target, MeshView{viewProjection(camera), camera.eye}, {&draw, 1});
+            recordMeshPass(cmd, *pass, renderTarget(*target), MeshView{viewProjection(camera), camera.eye}, {&draw, 1});
         });
         EXPECT_TRUE(drawn.ok());
     }

@@ -188,7 +188,7 @@ TEST_F(Fixture, TessellatedPathMatchesCpuAndIsWatertight) {
             PlanView view = frame(planned);
             view.capture = true;
             ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-                recordTessellated(cmd, pass, buffers, target, view, settings);
+                recordTessellated(cmd, pass, buffers, renderTarget(target), view, settings);
             }).ok());
             uint32_t overflow = 0;
             std::vector<CaptureRecord> records = readCapture(buffers, &overflow);
@@ -243,10 +243,10 @@ TEST_F(Fixture, SplitDrawsMatchTheGridPathOnALargeCage) {
     ASSERT_GT(buffers.data.subfaces.size(), patchesPerDraw(16));
     PlanView view = frame(planned);
     TessellationSettings settings{16, 0};
-    ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordTessellated(cmd, pass, buffers, target, view, settings); }).ok());
+    ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordTessellated(cmd, pass, buffers, renderTarget(target), view, settings); }).ok());
     std::vector<uint8_t> tessellated = pixels();
     ASSERT_TRUE(prepareGrid(ctx, pass, buffers, 16).ok());
-    ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordGrid(cmd, pass, buffers, target, view); }).ok());
+    ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordGrid(cmd, pass, buffers, renderTarget(target), view); }).ok());
     std::vector<uint8_t> grid = pixels();
     std::vector<uint8_t> background(tessellated.begin(), tessellated.begin() + 4);  // corner pixel
     // Same surface, same camera: the silhouettes agree; stray triangles would not.
@@ -272,7 +272,7 @@ TEST_F(Fixture, ColourModesAndWireframeDraw) {
         view.colorBy = mode;
         view.wireframe = mode == ColorBy::NodeKind;
         ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            recordTessellated(cmd, pass, buffers, target, view, TessellationSettings{0, 6.0f});
+            recordTessellated(cmd, pass, buffers, renderTarget(target), view, TessellationSettings{0, 6.0f});
         }).ok());
         std::vector<uint8_t> image = pixels();
         std::vector<uint8_t> background(image.begin(), image.begin() + 4);
