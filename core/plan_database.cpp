@@ -1,5 +1,6 @@
 #include "plan_database.h"
 
+#include <cmath>
 #include <cstring>
 
 #include "file_io.h"
@@ -25,15 +26,6 @@ void putArray(std::string& out, const std::vector<T>& values) {
     out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
 }
 
-uint64_t checksum(const char* data, size_t size) {
-    uint64_t h = 1469598103934665603ull;
-    for (size_t i = 0; i < size; ++i) {
-        h ^= uint8_t(data[i]);
-        h *= 1099511628211ull;
-    }
-    return h;
-}
-
 // Bounds-checked reader over the file contents.
 struct Reader {
     const char* data;
@@ -52,7 +44,7 @@ struct Reader {
         uint32_t count = word();
         if (!ok || count > maxCount || at + size_t(count) * sizeof(T) > size) { ok = false; return; }
         values.resize(count);
-        std::memcpy(values.data(), data + at, count * sizeof(T));
+        if (count > 0) std::memcpy(values.data(), data + at, count * sizeof(T));  // data() may be null
         at += count * sizeof(T);
     }
 };
@@ -62,6 +54,8 @@ bool planIsConsistent(const Plan& plan) {
     if (plan.nodes.empty()) return plan.points.empty() && plan.stencilWeights.empty();
     if (plan.ringSize == 0 || plan.maxDepth > kMaxPlanDepth) return false;
     if (plan.stencilWeights.size() % plan.ringSize != 0) return false;
+    for (float w : plan.stencilWeights)
+        if (!std::isfinite(w)) return false;
     uint32_t stencils = plan.stencilCount();
     for (uint32_t p : plan.points)
         if (p >= stencils) return false;
@@ -75,9 +69,14 @@ bool planIsConsistent(const Plan& plan) {
         case NodeKind::Internal:
             if (node.first <= i || node.first + 4 > plan.nodes.size()) return false;
             continue;
-        case NodeKind::Regular:
-        case NodeKind::Crease: needed = 16; break;
-        case NodeKind::Terminal: needed = size_t(kTerminalPointsPerLevel) * node.levels + kGregoryPoints; break;
+        case NodeKind::Regular: needed = 16; break;
+        case NodeKind::Crease:
+            if (!(node.sharpness > 0.0f && node.sharpness <= kInfiniteSharpness) || node.edge > 3) return false;
+            needed = 16;
+            break;
+        case NodeKind::Terminal:
+            if (node.edge > 3) return false;
+            needed = size_t(kTerminalPointsPerLevel) * node.levels + kGregoryPoints; break;
         case NodeKind::Extraordinary: needed = kGregoryPoints; break;
         default: return false;
         }
@@ -87,6 +86,15 @@ bool planIsConsistent(const Plan& plan) {
 }
 
 }  // namespace
+
+uint64_t planDatabaseChecksum(const char* data, size_t size) {
+    uint64_t h = 1469598103934665603ull;
+    for (size_t i = 0; i < size; ++i) {
+        h ^= uint8_t(data[i]);
+        h *= 1099511628211ull;
+    }
+    return h;
+}
 
 uint32_t PlanDatabase::findLocked(const FaceConfig& config) const {
     auto [begin, end] = byHash_.equal_range(config.hash);
@@ -161,20 +169,29 @@ Status PlanDatabase::save(const std::string& path) const {
         putArray(out, plan.stencilWeights);
         putWords(out, plan.stencilCountByLevel.data(), plan.stencilCountByLevel.size());
     }
-    uint64_t sum = checksum(out.data(), out.size());
+    uint64_t sum = planDatabaseChecksum(out.data(), out.size());
     out.append(reinterpret_cast<const char*>(&sum), sizeof(sum));
     return writeFileAtomically(path, out);
 }
 
 Status PlanDatabase::load(const std::string& path) {
+    Result<std::string> file = readFile(path);
+    if (!file) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        byHash_.clear();
+        keys_.clear();
+        plans_.clear();
+        return file.error();
+    }
+    return loadFromBytes(*file, path);
+}
+
+Status PlanDatabase::loadFromBytes(const std::string& bytes, const std::string& path) {
     std::lock_guard<std::mutex> lock(mutex_);
     byHash_.clear();
     keys_.clear();
     plans_.clear();
 
-    Result<std::string> file = readFile(path);
-    if (!file) return file.error();
-    const std::string& bytes = *file;
     auto corrupt = [&](const std::string& why) {
         byHash_.clear();
         keys_.clear();
@@ -185,7 +202,7 @@ Status PlanDatabase::load(const std::string& path) {
         return corrupt("is not a Quadplan plan database");
     uint64_t stored;
     std::memcpy(&stored, bytes.data() + bytes.size() - sizeof(stored), sizeof(stored));
-    if (stored != checksum(bytes.data(), bytes.size() - sizeof(stored))) return corrupt("is damaged (checksum mismatch)");
+    if (stored != planDatabaseChecksum(bytes.data(), bytes.size() - sizeof(stored))) return corrupt("is damaged (checksum mismatch)");
 
     Reader in{bytes.data(), bytes.size() - sizeof(stored), sizeof(kMagic)};
     uint32_t version = in.word();
@@ -204,7 +221,11 @@ Status PlanDatabase::load(const std::string& path) {
         in.array(plan.points, limit);
         in.array(plan.stencilWeights, limit);
         for (uint32_t& c : plan.stencilCountByLevel) c = in.word();
-        if (!in.ok || !planIsConsistent(plan)) return corrupt("has an invalid plan (entry " + std::to_string(i) + ")");
+        // Word 4 of a key is its local vertex count (face_config.h): the columns the plan's
+        // stencils must have, or applying them would read past the face's 1-ring.
+        const bool matchesKey = key.size() > 5 && (plan.nodes.empty() || plan.ringSize == key[4]);
+        if (!in.ok || !matchesKey || !planIsConsistent(plan))
+            return corrupt("has an invalid plan (entry " + std::to_string(i) + ")");
         byHash_.emplace(hashKey(key), uint32_t(plans_.size()));
         keys_.push_back(std::move(key));
         plans_.push_back(std::move(plan));

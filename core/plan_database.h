@@ -28,6 +28,10 @@ struct PlanDatabaseStats {
     uint64_t hits = 0, misses = 0;
 };
 
+// The checksum a plan database file ends with (64-bit FNV-1a of everything before it). Public
+// so tools that forge files on purpose (the fuzzer) can reach the parser behind it.
+uint64_t planDatabaseChecksum(const char* data, size_t size);
+
 class PlanDatabase {
 public:
     // Plan id for the configuration, building the plan on a miss. Thread-safe.
@@ -44,6 +48,8 @@ public:
     // Replaces the contents with the file's. On failure the database is left empty and the
     // error says why (the caller reports it as a warning and carries on).
     Status load(const std::string& path);
+    // load() on bytes already read; `source` names them in the message.
+    Status loadFromBytes(const std::string& bytes, const std::string& source);
 
 private:
     uint32_t findLocked(const FaceConfig& config) const;

@@ -1,5 +1,6 @@
 // The plan engine against OpenSubdiv, and its own invariants.
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -273,6 +274,64 @@ TEST(PlanDatabase, PersistsAndRejectsDamagedFiles) {
     EXPECT_FALSE(writeAndLoad("").ok());
     std::filesystem::remove(path);
     EXPECT_FALSE(PlanDatabase().load(path.string()).ok());  // missing file
+}
+
+// Files with a valid checksum but unsafe contents (a forged or buggy writer): each must be
+// refused, since a plan that loads is applied to 1-rings without further checks. Found by
+// tests/fuzz/fuzz_plan_db (an empty key array reached memcpy with a null pointer).
+TEST(PlanDatabase, RejectsChecksumValidFilesWithUnsafePlans) {
+    PlanDatabase db;
+    PlannedCage planned = plan(qp::test::makeMixedGrid(), db);
+    auto path = std::filesystem::temp_directory_path() / ("qp-forged-" + std::to_string(::getpid()) + ".db");
+    ASSERT_TRUE(db.save(path.string()).ok());
+    std::string bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    std::filesystem::remove(path);
+    bytes.resize(bytes.size() - sizeof(uint64_t));  // the body, without its checksum
+    auto word = [&](size_t at) {
+        uint32_t w;
+        std::memcpy(&w, bytes.data() + at, 4);
+        return w;
+    };
+    auto setWord = [](std::string& b, size_t at, uint32_t w) { std::memcpy(b.data() + at, &w, 4); };
+    auto load = [](std::string body) {
+        const uint64_t sum = qp::planDatabaseChecksum(body.data(), body.size());
+        body.append(reinterpret_cast<const char*>(&sum), sizeof(sum));
+        PlanDatabase forged;
+        qp::Status status = forged.loadFromBytes(body, "forged.db");
+        if (!status) EXPECT_EQ(forged.size(), 0u);
+        return status;
+    };
+    // Layout of the first entry (plan_database.cpp): magic 8 B, version, count, then key count
+    // and key words, ring size, depth, node count and 12-byte nodes, point count and points,
+    // weight count and weights, 11 per-level counts.
+    const size_t keyAt = 16, keyWords = word(keyAt);
+    const size_t ringAt = keyAt + 4 + 4 * keyWords;
+    const size_t nodesAt = ringAt + 8, pointsAt = nodesAt + 4 + 12 * word(nodesAt);
+    const size_t weightsAt = pointsAt + 4 + 4 * word(pointsAt);
+    ASSERT_TRUE(load(bytes).ok());  // the unmodified body loads
+
+    // A key whose 1-ring is one vertex smaller than the plan's stencils are wide: a face with
+    // that key would have its stencils read past its 1-ring.
+    std::string wrongRing = bytes;
+    setWord(wrongRing, keyAt + 4 + 4 * 4, word(keyAt + 4 + 4 * 4) - 1);
+    EXPECT_FALSE(load(wrongRing).ok());
+
+    std::string emptyKey = bytes.substr(0, keyAt);
+    setWord(emptyKey, 12, 1);
+    emptyKey += std::string(4, '\0');                 // key count 0
+    emptyKey += bytes.substr(ringAt, weightsAt - ringAt);  // ring size .. points
+    emptyKey += std::string(4, '\0');                 // no weights
+    emptyKey += std::string(4 * (qp::kMaxPlanDepth + 1), '\0');
+    EXPECT_FALSE(load(emptyKey).ok());
+
+    std::string nanWeight = bytes;
+    ASSERT_GT(word(weightsAt), 0u);
+    setWord(nanWeight, weightsAt + 4, 0x7fc00000u);  // quiet NaN
+    EXPECT_FALSE(load(nanWeight).ok());
 }
 
 TEST(PlanEvaluator, BatchEqualsOneByOne) {
