@@ -53,7 +53,7 @@ int runSchemes(const SchemesArgs& args) {
                 if (!args.json) {
                     for (const std::string& a : report->approximations) std::printf("             approximates: %s\n", a.c_str());
                     for (const std::string& r : report->refusals) std::printf("             cannot draw: %s\n", r.c_str());
-                    if (report->approximations.empty() && report->refusals.empty()) std::printf("             exact on this cage\n");
+                    if (report->approximations.empty() && report->refusals.empty()) std::printf("             nothing to approximate or refuse on this cage\n");
                 }
             }
         }
