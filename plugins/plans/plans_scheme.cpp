@@ -5,11 +5,16 @@
 // checked against the CPU one in tests/test_render_plans.cpp. It draws every cage the plans
 // accept (creases of any sharpness, corners, boundaries, holes, non-quads, non-manifold).
 //
-// Options: path=auto|tess|grid (render/draw_path.h: auto is grid on a CPU device).
+// Options: path=auto|tess|grid|cpu. auto, tess and grid are the renderer's GPU paths
+// (render/draw_path.h: auto is grid on a CPU device); cpu evaluates the plans on a grid with
+// the CPU evaluator (all cores) in update() and draws triangles with MeshPass, the fast path on
+// lavapipe, where compute and tessellation shaders are slow.
 #include <algorithm>
 #include <cstdio>
 
 #include "draw_path.h"
+#include "mesh_pass.h"
+#include "plan_evaluator.h"
 #include "plan_pass.h"
 #include "scheme_api.h"
 #include "scheme_support.h"
@@ -36,16 +41,25 @@ public:
         planned_ = &planned;
         settings_ = settings;
         requestedPath_ = DrawPath::Auto;
+        cpuPath_ = false;
         if (const std::string* path = settings.option("path")) {
             std::optional<DrawPath> parsed = parseDrawPath(*path);
-            if (!parsed) return Error{"plans: unknown path '" + *path + "'; use auto, tess or grid"};
-            requestedPath_ = *parsed;
+            cpuPath_ = *path == "cpu";
+            if (!parsed && !cpuPath_) return Error{"plans: unknown path '" + *path + "'; use auto, tess, grid or cpu"};
+            if (parsed) requestedPath_ = *parsed;
         }
+        if (cpuPath_) grid_ = buildSubfaceGrid(planned, gridFactor());
         return success();
     }
 
     Status createGpu(const GpuContext& gpu) override {
         ctx_ = gpu.vulkan;
+        if (cpuPath_) {
+            Result<MeshPass> pass = createMeshPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
+            if (!pass) return pass.error();
+            meshPass_ = *pass;
+            return success();
+        }
         path_ = resolveDrawPath(requestedPath_, *ctx_);
         Result<PlanPass> pass = createPlanPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
         if (!pass) return pass.error();
@@ -56,9 +70,7 @@ public:
         haveBuffers_ = true;
         bindPlanBuffers(*ctx_, pass_, buffers_);
         if (path_ == DrawPath::Grid) {
-            // The grid path has no screen-adaptive mode: a fixed factor for adaptive requests.
-            const uint32_t factor = settings_.adaptivePixels > 0.0f ? 16u : settings_.tessFactor;
-            if (Status s = prepareGrid(*ctx_, pass_, buffers_, factor); !s) return s;
+            if (Status s = prepareGrid(*ctx_, pass_, buffers_, gridFactor()); !s) return s;
             bindPlanBuffers(*ctx_, pass_, buffers_);
         }
         return success();
@@ -66,10 +78,25 @@ public:
 
     Status update() override {
         if (haveBuffers_) updatePositions(buffers_, *planned_);  // the CPU evaluation reads planned_ itself
+        if (!cpuPath_ || !ctx_ || grid_.samples.empty()) return success();
+        std::vector<LimitSample> samples(grid_.samples.size());
+        evaluateBatch(*planned_, grid_.samples, samples);
+        std::vector<MeshVertex> vertices(samples.size());
+        for (size_t i = 0; i < samples.size(); ++i) vertices[i] = {samples[i].position, normalOf(samples[i].du, samples[i].dv)};
+        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        Result<GpuMesh> mesh = uploadMesh(*ctx_, vertices, grid_.indices);
+        if (!mesh) return mesh.error();
+        mesh_ = *mesh;
         return success();
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+        if (cpuPath_) {
+            MeshDraw draw{&mesh_, glm::vec3(0.8f), true, view.wireframe};
+            recordMeshPass(cmd, meshPass_, target, MeshView{view.viewProjection, view.eye, view.background},
+                           mesh_.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
+            return DrawStats{grid_.subfaces.size(), grid_.indices.size() / 3};
+        }
         PlanView planView;
         planView.viewProjection = view.viewProjection;
         planView.pixelsPerUnit = view.pixelsPerUnit;
@@ -102,6 +129,7 @@ public:
 
     SchemeStats stats() const override {
         SchemeStats stats;
+        if (cpuPath_) return SchemeStats{grid_.subfaces.size(), 0, mesh_.vertices.size + mesh_.indices.size};
         const uint32_t level = levelOf(settings_.adaptivePixels > 0.0f ? 64u : std::max(1u, settings_.tessFactor));
         if (haveBuffers_) {
             stats.patches = buffers_.data.subfaces.size();
@@ -116,10 +144,15 @@ public:
         return stats;
     }
 
-    std::vector<std::string> colorModes() const override { return {"shading", "node-kind", "depth", "sharpness"}; }
+    std::vector<std::string> colorModes() const override {
+        if (cpuPath_) return {"shading"};
+        return {"shading", "node-kind", "depth", "sharpness"};
+    }
 
     void destroyGpu() override {
         if (!ctx_) return;
+        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        if (meshPass_.layout) destroyMeshPass(*ctx_, meshPass_);
         if (haveBuffers_) destroyPlanBuffers(*ctx_, buffers_);
         haveBuffers_ = false;
         destroyPlanPass(*ctx_, pass_);
@@ -127,6 +160,9 @@ public:
     }
 
 private:
+    // The grid paths have no screen-adaptive mode: a fixed factor for adaptive requests.
+    uint32_t gridFactor() const { return settings_.adaptivePixels > 0.0f ? 16u : settings_.tessFactor; }
+
     static ColorBy colorBy(const std::string& name) {
         if (name == "node-kind") return ColorBy::NodeKind;
         if (name == "depth") return ColorBy::PlanDepth;
@@ -141,6 +177,11 @@ private:
     PlanPass pass_;
     PlanBuffers buffers_;
     bool haveBuffers_ = false;
+    // path=cpu
+    bool cpuPath_ = false;
+    SubfaceGrid grid_;
+    MeshPass meshPass_;
+    GpuMesh mesh_;
 };
 
 }  // namespace
