@@ -107,7 +107,7 @@ struct Layout {
     }
 };
 
-int nameScale(const Layout& layout) { return layout.tileWidth >= 280 ? 2 : 1; }
+int nameScale(const Layout& layout) { return layout.tileWidth >= 200 ? 2 : 1; }
 
 void drawLegend(RgbaImage& image, const Layout& layout) {
     const int top = int(layout.rows * layout.cellHeight());
@@ -132,7 +132,9 @@ void drawLegend(RgbaImage& image, const Layout& layout) {
     }
     drawText(image, x0, y0 + barHeight + 22,
              "error / bounding-box diagonal at the same (sub-face, u, v) vs the exact limit surface (log scale)", 1, ink);
-    drawText(image, x0, y0 + barHeight + 36, "top: the scheme's own rendering   bottom: its error (CPU evaluation)", 1, ink);
+    drawText(image, x0, y0 + barHeight + 36,
+             "top: the scheme's own rendering   bottom: its error (CPU evaluation)   label: max / rms error, max normal deviation",
+             1, ink);
 }
 
 void drawLabels(RgbaImage& image, const Layout& layout, const std::vector<SchemeResult>& results) {
@@ -148,6 +150,9 @@ void drawLabels(RgbaImage& image, const Layout& layout, const std::vector<Scheme
             char text[160];
             std::snprintf(text, sizeof text, "max %s  rms %s  normal %.3g deg", sci(r.error.maxRelError).c_str(),
                           sci(r.error.rmsRelError).c_str(), r.error.maxNormalDegrees);
+            if (layout.tileWidth < 300)  // narrow tiles: the short form, in every column alike
+                std::snprintf(text, sizeof text, "%.1e / %.1e / %.2g deg", r.error.maxRelError, r.error.rmsRelError,
+                              r.error.maxNormalDegrees);
             drawText(image, x + 6, line2, text, 1, {40, 40, 40});
             // Approximations at the bottom of the rendering, so nobody misses them.
             const VkRect2D tile = layout.tile(i, false);
