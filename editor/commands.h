@@ -23,6 +23,13 @@ void registerBench(CLI::App& app, int& exitCode);
 // `quadplan render CAGE_OR_SCENE --out FILE.png [...]`
 void registerRender(CLI::App& app, int& exitCode);
 
+// `quadplan compare CAGE_OR_SCENE --schemes a,b,... --out FILE.png [--json]`: schemes side by
+// side with their error against the exact limit surface
+void registerCompare(CLI::App& app, int& exitCode);
+
+// `quadplan schemes [CAGE] [--json]`: the scheme plugins found (and what they do with a cage)
+void registerSchemes(CLI::App& app, int& exitCode);
+
 // `quadplan edit [SCENE]`: the interactive editor; also what a bare `quadplan` runs.
 void registerEdit(CLI::App& app, int& exitCode);
 int runEditor(const std::string& scenePath);

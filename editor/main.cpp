@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
     qp::cli::registerPlanStats(app, exitCode);
     qp::cli::registerRender(app, exitCode);
     qp::cli::registerBench(app, exitCode);
+    qp::cli::registerCompare(app, exitCode);
+    qp::cli::registerSchemes(app, exitCode);
 
     try {
         app.parse(argc, argv);

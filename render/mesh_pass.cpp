@@ -35,20 +35,24 @@ VkShaderModule loadShader(const VulkanContext& ctx, const char* name) {
 }
 
 Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cache, const MeshPass& pass,
-                                  VkShaderModule vert, VkShaderModule frag, bool wireframe) {
+                                  VkShaderModule vert, VkShaderModule frag, bool wireframe, bool colorStream) {
     VkPipelineShaderStageCreateInfo stages[2] = {};
     stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vert, "main"};
     stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, frag, "main"};
 
-    const VkVertexInputBindingDescription binding{0, sizeof(MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX};
-    const VkVertexInputAttributeDescription attributes[2] = {
+    const VkVertexInputBindingDescription bindings[2] = {
+        {0, sizeof(MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX},
+        {1, sizeof(glm::vec3), VK_VERTEX_INPUT_RATE_VERTEX},
+    };
+    const VkVertexInputAttributeDescription attributes[3] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, position)},
         {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(MeshVertex, normal)},
+        {2, 1, VK_FORMAT_R32G32B32_SFLOAT, 0},
     };
     VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vertexInput.vertexBindingDescriptionCount = 1;
-    vertexInput.pVertexBindingDescriptions = &binding;
-    vertexInput.vertexAttributeDescriptionCount = 2;
+    vertexInput.vertexBindingDescriptionCount = colorStream ? 2 : 1;
+    vertexInput.pVertexBindingDescriptions = bindings;
+    vertexInput.vertexAttributeDescriptionCount = colorStream ? 3 : 2;
     vertexInput.pVertexAttributeDescriptions = attributes;
 
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
@@ -116,14 +120,18 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, MeshPass& pass)
 
     // Modules are only needed while the pipelines are created.
     VkShaderModule vert = loadShader(ctx, "mesh.vert");
+    VkShaderModule coloredVert = loadShader(ctx, "mesh_colored.vert");
     VkShaderModule frag = loadShader(ctx, "mesh.frag");
-    Result<VkPipeline> solid = createPipeline(ctx, cache, pass, vert, frag, false);
+    Result<VkPipeline> solid = createPipeline(ctx, cache, pass, vert, frag, false, false);
+    Result<VkPipeline> colored = solid ? createPipeline(ctx, cache, pass, coloredVert, frag, false, true) : solid;
     Result<VkPipeline> wire = VK_NULL_HANDLE;
-    if (solid && ctx.features.fillModeNonSolid) wire = createPipeline(ctx, cache, pass, vert, frag, true);
+    if (colored && ctx.features.fillModeNonSolid) wire = createPipeline(ctx, cache, pass, vert, frag, true, false);
     vkDestroyShaderModule(ctx.device, vert, nullptr);
+    vkDestroyShaderModule(ctx.device, coloredVert, nullptr);
     vkDestroyShaderModule(ctx.device, frag, nullptr);
-    if (!solid) return solid.error();
-    pass.solid = *solid;
+    if (solid) pass.solid = *solid;
+    if (colored && solid) pass.solidColored = *colored;
+    if (!colored) return colored.error();
     if (!wire) return wire.error();
     pass.wireframe = *wire;
     return success();
@@ -132,8 +140,9 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, MeshPass& pass)
 }  // namespace
 
 Result<GpuMesh> uploadMesh(const VulkanContext& ctx, std::span<const MeshVertex> vertices,
-                           std::span<const uint32_t> indices) {
+                           std::span<const uint32_t> indices, std::span<const glm::vec3> colors) {
     assert(!vertices.empty() && !indices.empty() && indices.size() % 3 == 0);
+    assert(colors.empty() || colors.size() == vertices.size());
     GpuMesh mesh;
     Result<Buffer> vb = createBuffer(ctx, vertices.size_bytes(),
                                      VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
@@ -145,6 +154,15 @@ Result<GpuMesh> uploadMesh(const VulkanContext& ctx, std::span<const MeshVertex>
         return ib.error();
     }
     mesh.indices = *ib;
+    if (!colors.empty()) {
+        Result<Buffer> cb = createBuffer(ctx, colors.size_bytes(), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        if (!cb) {
+            destroyMesh(ctx, mesh);
+            return cb.error();
+        }
+        mesh.colors = *cb;
+        uploadBuffer(mesh.colors, colors.data(), colors.size_bytes());
+    }
     uploadBuffer(mesh.vertices, vertices.data(), vertices.size_bytes());
     uploadBuffer(mesh.indices, indices.data(), indices.size_bytes());
     mesh.indexCount = uint32_t(indices.size());
@@ -154,6 +172,7 @@ Result<GpuMesh> uploadMesh(const VulkanContext& ctx, std::span<const MeshVertex>
 void destroyMesh(const VulkanContext& ctx, GpuMesh& mesh) {
     destroyBuffer(ctx, mesh.vertices);
     destroyBuffer(ctx, mesh.indices);
+    if (mesh.colors.buffer) destroyBuffer(ctx, mesh.colors);
     mesh.indexCount = 0;
 }
 
@@ -171,6 +190,7 @@ Result<MeshPass> createMeshPass(const VulkanContext& ctx, VkPipelineCache cache,
 
 void destroyMeshPass(const VulkanContext& ctx, MeshPass& pass) {
     if (pass.solid) vkDestroyPipeline(ctx.device, pass.solid, nullptr);
+    if (pass.solidColored) vkDestroyPipeline(ctx.device, pass.solidColored, nullptr);
     if (pass.wireframe) vkDestroyPipeline(ctx.device, pass.wireframe, nullptr);
     if (pass.layout) vkDestroyPipelineLayout(ctx.device, pass.layout, nullptr);
     pass = MeshPass{};
@@ -183,20 +203,31 @@ void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarge
     beginRendering(cmd, target, true, view.background);
 
     auto draw = [&](const MeshDraw& d, bool wire) {
+        const bool colorStream = !wire && d.mesh->colors.buffer != VK_NULL_HANDLE;
         MeshPush push;
         push.viewProj = view.viewProjection;
         push.eye = glm::vec4(view.eye, 1.0f);
         push.color = glm::vec4(wire ? d.wireColor : d.color, 1.0f);
-        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, (wire || !d.lit) ? 1.0f : 0.0f, srgb ? 0.0f : 1.0f, 0.0f);
+        const float lighting = (wire || !d.lit) ? 1.0f : colorStream ? 2.0f : 0.0f;
+        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, lighting, srgb ? 0.0f : 1.0f, 0.0f);
         vkCmdPushConstants(cmd, pass.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                            sizeof push, &push);
-        const VkDeviceSize offset = 0;
-        vkCmdBindVertexBuffers(cmd, 0, 1, &d.mesh->vertices.buffer, &offset);
+        const VkBuffer buffers[2] = {d.mesh->vertices.buffer, d.mesh->colors.buffer};
+        const VkDeviceSize offsets[2] = {0, 0};
+        vkCmdBindVertexBuffers(cmd, 0, colorStream ? 2 : 1, buffers, offsets);
         vkCmdBindIndexBuffer(cmd, d.mesh->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
         vkCmdDrawIndexed(cmd, d.mesh->indexCount, 1, 0, 0, 0);
     };
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.solid);
-    for (const MeshDraw& d : draws) draw(d, false);
+    // Plain meshes first, then meshes with a colour stream (one pipeline switch at most).
+    for (bool colored : {false, true}) {
+        bool bound = false;
+        for (const MeshDraw& d : draws) {
+            if ((d.mesh->colors.buffer != VK_NULL_HANDLE) != colored) continue;
+            if (!bound) vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, colored ? pass.solidColored : pass.solid);
+            bound = true;
+            draw(d, false);
+        }
+    }
     // Overlays after every solid draw, so that lines are hidden by any nearer surface.
     if (pass.wireframe) {
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.wireframe);

@@ -1,6 +1,10 @@
 // MeshPass: draws indexed triangle meshes (float3 position + float3 normal per vertex) with a
 // lit, gamma-correct shader and depth test into a RenderTarget with dynamic rendering,
 // plus an optional wireframe overlay (polygon mode LINE, width 1).
+//
+// A mesh may carry a second vertex stream of linear colours (one float3 per vertex, e.g. an
+// error heat map); it is drawn with those colours under a soft light that keeps them readable
+// against a colour scale (MeshPass::solidColored).
 #pragma once
 
 #include <cstdint>
@@ -25,16 +29,19 @@ static_assert(sizeof(MeshVertex) == 24);
 struct GpuMesh {
     Buffer vertices;  // MeshVertex[]; also usable as a storage buffer
     Buffer indices;   // uint32_t[], three per triangle
+    Buffer colors;    // optional: glm::vec3 linear colour per vertex (null buffer when absent)
     uint32_t indexCount = 0;
 };
 
+// `colors` is empty or has one entry per vertex.
 Result<GpuMesh> uploadMesh(const VulkanContext& context, std::span<const MeshVertex> vertices,
-                           std::span<const uint32_t> indices);
+                           std::span<const uint32_t> indices, std::span<const glm::vec3> colors = {});
 void destroyMesh(const VulkanContext& context, GpuMesh& mesh);
 
 struct MeshPass {
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline solid = VK_NULL_HANDLE;
+    VkPipeline solidColored = VK_NULL_HANDLE;  // meshes with a colour stream
     VkPipeline wireframe = VK_NULL_HANDLE;  // null when the device lacks fillModeNonSolid
     VkFormat colorFormat = VK_FORMAT_UNDEFINED;
     VkFormat depthFormat = VK_FORMAT_UNDEFINED;
@@ -53,8 +60,8 @@ struct MeshView {
 
 struct MeshDraw {
     const GpuMesh* mesh = nullptr;
-    glm::vec3 color{0.8f};  // linear base colour
-    bool lit = true;        // false: flat `color`, exactly
+    glm::vec3 color{0.8f};  // linear base colour; ignored for meshes with a colour stream
+    bool lit = true;        // false: flat colour, exactly
     bool wireframe = false;
     glm::vec3 wireColor{0.02f};
 };

@@ -37,3 +37,12 @@ set_tests_properties(cli.bench_plans_smoke PROPERTIES PASS_REGULAR_EXPRESSION "\
 add_test(NAME cli.bench_render_smoke
          COMMAND quadplan bench render --repeats 1 --generated-faces 500 --no-shared --factors 2)
 set_tests_properties(cli.bench_render_smoke PROPERTIES PASS_REGULAR_EXPRESSION "\\| 2 \\| 2 \\| [0-9]+ \\|" TIMEOUT 60)
+
+# Scheme plugins: the comparison of the built-in schemes on the default scene, as JSON.
+file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/test-output)
+add_test(NAME cli.compare_smoke
+         COMMAND quadplan compare ${CMAKE_SOURCE_DIR}/scenes/default.json --schemes plans,osd-fas,uniform --json
+                 --size 160x120 --tess 2 --samples 4 --repeats 1 --out ${CMAKE_BINARY_DIR}/test-output/compare_smoke.png)
+set_tests_properties(cli.compare_smoke PROPERTIES PASS_REGULAR_EXPRESSION "\"max_rel_error\"" TIMEOUT 120)
+add_test(NAME cli.schemes COMMAND quadplan schemes)
+set_tests_properties(cli.schemes PROPERTIES PASS_REGULAR_EXPRESSION "osd-fas.*plans.*uniform")

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <vector>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -200,4 +202,182 @@ TEST(CliRender, BadRequestsFailWithAMessage) {
     CommandRun missing = runQuadplan("render /nonexistent/cage.obj --out /tmp/x.png", true);
     EXPECT_NE(missing.status, 0);
     EXPECT_NE(missing.out.find("/nonexistent/cage.obj"), std::string::npos);
+}
+
+namespace {
+
+struct Png {
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgba;
+    const uint8_t* at(int x, int y) const { return &rgba[(size_t(y) * size_t(width) + size_t(x)) * 4]; }
+};
+
+Png loadPng(const std::string& path) {
+    Png png;
+    int channels = 0;
+    unsigned char* pixels = stbi_load(path.c_str(), &png.width, &png.height, &channels, 4);
+    if (pixels) png.rgba.assign(pixels, pixels + size_t(png.width) * size_t(png.height) * 4);
+    stbi_image_free(pixels);
+    return png;
+}
+
+// Fraction of a rectangle's pixels that differ from its top-left (background) pixel.
+double coverage(const Png& png, int x0, int y0, int w, int h) {
+    size_t covered = 0;
+    for (int y = y0; y < y0 + h; ++y)
+        for (int x = x0; x < x0 + w; ++x) covered += std::memcmp(png.at(x, y), png.at(x0, y0), 3) != 0;
+    return double(covered) / double(w * h);
+}
+
+// Pixels of a rectangle that are clearly green (a heat colour of 1e-5 .. 1e-3), not the pale background.
+size_t greenPixels(const Png& png, int x0, int y0, int w, int h) {
+    size_t count = 0;
+    for (int y = y0; y < y0 + h; ++y)
+        for (int x = x0; x < x0 + w; ++x) {
+            const uint8_t* p = png.at(x, y);
+            count += p[1] > 120 && p[1] > p[0] + 40 && p[2] < 200;
+        }
+    return count;
+}
+
+constexpr int kTileW = 200, kTileH = 160, kLegendHeight = 78;  // kLegendHeight: editor/cmd_compare.cpp
+
+}  // namespace
+
+TEST(CliCompare, JsonTableAndOneTilePairPerScheme) {
+    const std::string out = tempPng("compare");
+    CommandRun run = runQuadplan(std::string("compare ") + QUADPLAN_SCENES_DIR +
+                                 "/default.json --schemes plans,osd-fas,uniform --json --validate --size 200x160 --tess 4 "
+                                 "--samples 8 --repeats 1 --out " + out);
+    ASSERT_EQ(run.status, 0) << run.out;  // 4 would mean validation messages
+    auto json = nlohmann::json::parse(run.out);
+    ASSERT_EQ(json["schemes"].size(), 3u);
+    EXPECT_TRUE(json["skipped"].empty());
+    std::map<std::string, nlohmann::json> byName;
+    for (const auto& s : json["schemes"]) {
+        for (const char* key : {"name", "max_rel_error", "rms_rel_error", "max_normal_deg", "patches", "triangles", "frame_ms"})
+            EXPECT_TRUE(s.contains(key)) << key;
+        EXPECT_GT(s["triangles"].get<double>(), 0.0);
+        EXPECT_GT(s["frame_ms"].get<double>(), 0.0);
+        byName[s["name"]] = s;
+    }
+    EXPECT_EQ(byName["plans"]["max_rel_error"].get<double>(), 0.0);
+    EXPECT_EQ(byName["plans"]["patches"].get<int>(), 180);  // one primitive per sub-face
+    EXPECT_LT(byName["osd-fas"]["max_rel_error"].get<double>(), 5e-5);
+    EXPECT_GT(byName["osd-fas"]["patches"].get<int>(), 180);  // feature-adaptive: many patches near creases
+    EXPECT_GT(byName["uniform"]["max_rel_error"].get<double>(), 1e-4);
+    EXPECT_EQ(byName["uniform"]["patches"].get<int>(), 0);
+
+    // Three columns, each with the scheme's rendering over its heat map, then the legend.
+    const Png png = loadPng(out);
+    ASSERT_EQ(png.width, 3 * kTileW);
+    const int label = png.height - kLegendHeight - 2 * kTileH;
+    ASSERT_GT(label, 20);
+    ASSERT_LT(label, 60);
+    for (int column = 0; column < 3; ++column) {
+        const int x = column * kTileW + 2;  // clear of the column separator
+        EXPECT_GT(coverage(png, x, label, kTileW - 4, kTileH), 0.1) << "rendering of column " << column;
+        EXPECT_GT(coverage(png, x, label + kTileH, kTileW - 4, kTileH), 0.1) << "heat map of column " << column;
+    }
+    // Order as requested: plans (exact: all dark blue), osd-fas (exact), uniform (visible error).
+    EXPECT_EQ(greenPixels(png, 0, label + kTileH, kTileW, kTileH), 0u);
+    EXPECT_EQ(greenPixels(png, kTileW, label + kTileH, kTileW, kTileH), 0u);
+    EXPECT_GT(greenPixels(png, 2 * kTileW, label + kTileH, kTileW, kTileH), 500u);
+    // The legend's colour bar runs from dark blue to red.
+    const uint8_t* low = png.at(20, png.height - kLegendHeight + 16);
+    const uint8_t* high = png.at(3 * kTileW - 20, png.height - kLegendHeight + 16);
+    EXPECT_GT(low[2], low[0]);
+    EXPECT_GT(high[0], high[2]);
+    std::filesystem::remove(out);
+
+    CommandRun table = runQuadplan(std::string("compare ") + QUADPLAN_SCENES_DIR +
+                                   "/default.json --schemes osd-fas --size 100x100 --tess 2 --samples 4 --repeats 1 --out " + out);
+    EXPECT_EQ(table.status, 0);
+    EXPECT_NE(table.out.find("| scheme | max rel error | rms rel error | max normal (deg) | patches | triangles | frame ms"),
+              std::string::npos)
+        << table.out;
+    EXPECT_NE(table.out.find("| osd-fas |"), std::string::npos);
+    std::filesystem::remove(out);
+}
+
+TEST(CliCompare, UnknownAndRefusedSchemesAreReportedAndTheOthersDrawn) {
+    const std::string out = tempPng("compare-partial");
+    const std::string args = std::string("compare ") + QUADPLAN_SCENES_DIR +
+                             "/default.json --schemes plans,acc9,uniform --option uniform:level=12 --json --size 100x100 "
+                             "--tess 2 --samples 4 --repeats 1 --out " + out;
+    CommandRun run = runQuadplan(args);
+    EXPECT_EQ(run.status, 2);  // partial: some drawn, some not
+    auto json = nlohmann::json::parse(run.out);
+    ASSERT_EQ(json["schemes"].size(), 1u);
+    EXPECT_EQ(json["schemes"][0]["name"], "plans");
+    ASSERT_EQ(json["skipped"].size(), 2u);
+    EXPECT_EQ(json["skipped"][0]["name"], "acc9");
+    EXPECT_NE(json["skipped"][0]["reason"].get<std::string>().find("unknown scheme 'acc9'; available schemes:"), std::string::npos);
+    EXPECT_NE(json["skipped"][1]["reason"].get<std::string>().find("level must be 1..8"), std::string::npos);
+    EXPECT_TRUE(std::filesystem::exists(out));
+    CommandRun messages = runQuadplan(args, true);
+    EXPECT_NE(messages.out.find("error: unknown scheme 'acc9'"), std::string::npos) << messages.out;
+    std::filesystem::remove(out);
+
+    CommandRun none = runQuadplan(std::string("compare ") + QUADPLAN_SCENES_DIR + "/default.json --schemes acc9 --out " + out, true);
+    EXPECT_EQ(none.status, 1);
+    std::filesystem::remove(out);
+}
+
+TEST(CliCompare, BrokenPluginsWarnAndTheRestWorks) {
+    // The test modules: a good one, one that throws in build, and several that cannot load.
+    const std::string out = tempPng("compare-broken");
+    setenv("QUADPLAN_PLUGIN_DIR", QUADPLAN_TEST_PLUGIN_DIR, 1);
+    CommandRun run = runQuadplan(std::string("compare ") + QUADPLAN_SCENES_DIR +
+                                 "/default.json --schemes test-flat,test-throws --size 100x100 --tess 2 --samples 4 "
+                                 "--repeats 1 --out " + out, true);
+    // --plugin-dir wins over the environment.
+    CommandRun flag = runQuadplan(std::string("compare ") + QUADPLAN_SCENES_DIR + "/default.json --plugin-dir " +
+                                  QUADPLAN_PLUGIN_DIR + " --schemes uniform --size 100x100 --tess 2 --samples 4 "
+                                  "--repeats 1 --out " + out, true);
+    unsetenv("QUADPLAN_PLUGIN_DIR");
+    EXPECT_EQ(run.status, 2) << run.out;
+    EXPECT_NE(run.out.find("warning: scheme plugin"), std::string::npos) << run.out;
+    EXPECT_NE(run.out.find("interface version"), std::string::npos);
+    EXPECT_NE(run.out.find("scheme 'test-throws' threw during build: deliberate failure in build"), std::string::npos);
+    EXPECT_NE(run.out.find("| test-flat |"), std::string::npos) << run.out;
+    EXPECT_EQ(flag.status, 0) << flag.out;
+    EXPECT_EQ(flag.out.find("warning: scheme plugin"), std::string::npos) << flag.out;
+    std::filesystem::remove(out);
+}
+
+TEST(CliRender, OtherSchemesDrawThroughTheirPlugins) {
+    for (const char* scheme : {"osd-fas", "uniform", "plans --path cpu"}) {
+        const std::string out = tempPng("scheme");
+        CommandRun run = runQuadplan(std::string("render ") + QUADPLAN_SCENES_DIR + "/default.json --validate --size 240x180 "
+                                     "--tess 4 --wire --scheme " + scheme + " --out " + out, true);
+        ASSERT_EQ(run.status, 0) << scheme << "\n" << run.out;
+        EXPECT_NE(run.out.find(std::string("scheme ") + std::string(scheme).substr(0, std::string(scheme).find(' '))),
+                  std::string::npos)
+            << run.out;
+        int w = 0, h = 0;
+        EXPECT_GT(pngCoverage(out, w, h), 0.15) << scheme;
+        std::filesystem::remove(out);
+    }
+    CommandRun mode = runQuadplan(std::string("render ") + QUADPLAN_SCENES_DIR +
+                                  "/default.json --scheme uniform --color-by depth --out /tmp/x.png", true);
+    EXPECT_NE(mode.status, 0);
+    EXPECT_NE(mode.out.find("unknown --color-by 'depth' for scheme uniform; use shading"), std::string::npos) << mode.out;
+}
+
+TEST(CliSchemes, ListsPluginsAndWhatTheyDoWithACage) {
+    CommandRun run = runQuadplan("schemes --json");
+    ASSERT_EQ(run.status, 0);
+    auto json = nlohmann::json::parse(run.out);
+    EXPECT_EQ(json["schemes"].size(), 3u);
+    EXPECT_TRUE(json["problems"].empty());
+    CommandRun cage = runQuadplan(std::string("schemes ") + QUADPLAN_SCENES_DIR + "/default.json --json");
+    ASSERT_EQ(cage.status, 0);
+    for (const auto& s : nlohmann::json::parse(cage.out)["schemes"]) {
+        EXPECT_TRUE(s.contains("approximations")) << s;
+        EXPECT_TRUE(s["refusals"].empty()) << s;
+    }
+    CommandRun broken = runQuadplan(std::string("schemes --plugin-dir ") + QUADPLAN_TEST_PLUGIN_DIR);
+    EXPECT_EQ(broken.status, 0);  // the good test module loads
+    EXPECT_NE(broken.out.find("not loaded:"), std::string::npos) << broken.out;
 }

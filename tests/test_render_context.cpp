@@ -286,6 +286,44 @@ TEST_F(RenderMesh, DepthTestHidesFartherQuadInEitherOrder) {
     destroyMesh(ctx_, *farQuad);
 }
 
+// A colour stream replaces the draw's colour per vertex (heat maps); a plain mesh drawn in the
+// same pass keeps its own colour.
+TEST_F(RenderMesh, ColourStreamGivesPerVertexColours) {
+    std::vector<MeshVertex> vertices;
+    std::vector<uint32_t> indices;
+    makeQuad(1.0f, 0.0f, vertices, indices);
+    // Left edge red, right edge green: the centre is the mix, each side its own colour.
+    const std::vector<glm::vec3> colors = {{1, 0, 0}, {0, 1, 0}, {0, 1, 0}, {1, 0, 0}};
+    Result<GpuMesh> colored = uploadMesh(ctx_, vertices, indices, colors);
+    makeQuad(0.1f, 0.5f, vertices, indices);
+    Result<GpuMesh> plain = uploadMesh(ctx_, vertices, indices);
+    ASSERT_TRUE(colored.ok() && plain.ok());
+    Result<OffscreenTarget> target = createOffscreenTarget(ctx_, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(target.ok()) << target.error().message;
+    Result<MeshPass> pass = createMeshPass(ctx_, VK_NULL_HANDLE, target->color.format);
+    ASSERT_TRUE(pass.ok()) << pass.error().message;
+    ASSERT_NE(pass->solidColored, VK_NULL_HANDLE);
+
+    RenderCamera camera;
+    camera.eye = glm::vec3(0, 0, 3);
+    camera.nearZ = 0.5f;
+    camera.farZ = 10.0f;
+    const MeshView view{viewProjection(camera), camera.eye, glm::vec3(0.0f, 0.0f, 1.0f)};
+    const MeshDraw draws[2] = {MeshDraw{&*colored, glm::vec3(1.0f), false}, MeshDraw{&*plain, glm::vec3(0, 0, 1), false}};
+    std::vector<uint8_t> pixels = render(*pass, *target, view, draws);
+    const Rgba left = pixelAt(pixels, kSize / 2 - 60, kSize / 2);
+    const Rgba right = pixelAt(pixels, kSize / 2 + 60, kSize / 2);
+    const Rgba centre = pixelAt(pixels, kSize / 2, kSize / 2);
+    EXPECT_TRUE(left.r > 200 && left.g < 160 && left.b == 0) << int(left.r) << "," << int(left.g);
+    EXPECT_TRUE(right.g > 200 && right.r < 160 && right.b == 0) << int(right.r) << "," << int(right.g);
+    EXPECT_TRUE(centre.r == 0 && centre.g == 0 && centre.b == 255) << "the plain quad in front keeps its colour";
+
+    destroyMeshPass(ctx_, *pass);
+    destroyOffscreenTarget(ctx_, *target);
+    destroyMesh(ctx_, *colored);
+    destroyMesh(ctx_, *plain);
+}
+
 uint64_t fnv1a(const std::string& data, size_t from) {
     uint64_t hash = 0xcbf29ce484222325ull;
     for (size_t i = from; i < data.size(); ++i) hash = (hash ^ uint8_t(data[i])) * 0x100000001b3ull;

@@ -7,6 +7,7 @@ layout(location = 1) in vec3 inNormal;
 
 layout(location = 0) out vec3 outNormal;
 layout(location = 1) out vec3 outWorld;
+layout(location = 2) out vec3 outColor;
 
 void main() {
     gl_Position = pc.viewProj * vec4(inPosition, 1.0);
@@ -15,4 +16,5 @@ void main() {
     gl_Position.z -= pc.params.x * gl_Position.w;
     outNormal = inNormal;
     outWorld = inPosition;
+    outColor = pc.color.rgb;
 }

@@ -1,0 +1,34 @@
+// What the headless drawing commands (render, compare) share: image size and camera options,
+// the Vulkan context, and the scheme plugins' settings.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "camera.h"
+#include "cage.h"
+#include "result.h"
+#include "scene.h"
+#include "scheme_api.h"
+#include "vk_context.h"
+
+namespace qp::cli {
+
+// "WIDTHxHEIGHT", each side 16..8192.
+bool parseSize(const std::string& text, uint32_t& width, uint32_t& height);
+
+// The camera for a view of `aspect`: `cameraText` ("EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES]") when
+// given, else the scene's, else framed on the bounds; near and far planes hold the whole cage.
+Result<RenderCamera> chooseCamera(const Scene& scene, const Bounds& bounds, float aspect, const std::string& cameraText);
+
+// A headless context: lavapipe unless a GPU is present or QUADPLAN_VK_DEVICE names a device.
+Result<VulkanContext> createHeadlessContext(bool validation);
+
+// Prints validation messages; true when there were any.
+bool reportValidation(const VulkanContext& context);
+
+// "key=value" scheme options, as given to --option; fails with a message naming the text.
+Result<std::pair<std::string, std::string>> parseOption(const std::string& text);
+
+}  // namespace qp::cli

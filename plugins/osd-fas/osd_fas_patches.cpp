@@ -1,0 +1,159 @@
+#include "osd_fas_patches.h"
+
+#include <algorithm>
+
+#include <opensubdiv/far/patchTableFactory.h>
+#include <opensubdiv/far/stencilTableFactory.h>
+#include <tbb/parallel_for.h>
+
+#include <glm/geometric.hpp>
+
+#include "osd_refiner.h"
+
+namespace qp {
+
+using namespace OpenSubdiv;
+
+namespace {
+
+FasSample evaluatePatch(const FasPatches& patches, const Far::PatchTable::PatchHandle& handle, float u, float v) {
+    float w[20], wu[20], wv[20];
+    patches.table->EvaluateBasis(handle, u, v, w, wu, wv);
+    const Far::ConstIndexArray cvs = patches.table->GetPatchVertices(handle);
+    FasSample s;
+    for (int k = 0; k < cvs.size(); ++k) {
+        const glm::vec3& c = patches.points[size_t(cvs[k])];
+        s.position += w[k] * c;
+        s.du += wu[k] * c;
+        s.dv += wv[k] * c;
+    }
+    // EvaluateBasis differentiates an n-gon's sub-face in the parent's parameterisation, where
+    // it spans 1/2 (core/limit_reference.cpp): back to the sub-face's own frame.
+    if (patches.table->GetPatchParam(handle).NonQuadRoot()) {
+        s.du *= 0.5f;
+        s.dv *= 0.5f;
+    }
+    return s;
+}
+
+// Domain points and triangles of one patch.
+void layoutPatch(FasPatches& patches, const FasPatchLayout& p) {
+    glm::vec2* domain = &patches.domain[p.firstVertex];
+    uint32_t* index = &patches.indices[p.firstIndex];
+    const uint32_t base = p.firstVertex;
+    if (!p.transitions) {
+        const uint32_t n = p.factor, side = n + 1;
+        for (uint32_t y = 0; y <= n; ++y)
+            for (uint32_t x = 0; x <= n; ++x) *domain++ = {float(x) / float(n), float(y) / float(n)};
+        for (uint32_t y = 0; y < n; ++y)
+            for (uint32_t x = 0; x < n; ++x) {
+                const uint32_t a = base + y * side + x, b = a + 1, c = a + side + 1, d = a + side;
+                for (uint32_t i : {a, b, c, a, c, d}) *index++ = i;
+            }
+        return;
+    }
+    // One cell: a fan around the centre over the corners and the midpoints of transition edges,
+    // counter-clockwise. Edge e runs from corner e to corner e + 1.
+    static const glm::vec2 corners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    domain[0] = {0.5f, 0.5f};
+    uint32_t ring[8], count = 0, next = 1;
+    for (uint32_t e = 0; e < 4; ++e) {
+        domain[next] = corners[e];
+        ring[count++] = base + next++;
+        if (p.transitions & (1u << e)) {
+            domain[next] = 0.5f * (corners[e] + corners[(e + 1) % 4]);
+            ring[count++] = base + next++;
+        }
+    }
+    for (uint32_t i = 0; i < count; ++i)
+        for (uint32_t k : {base, ring[i], ring[(i + 1) % count]}) *index++ = k;
+}
+
+}  // namespace
+
+Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t tessFactor) {
+    FasPatches patches;
+    while (patches.factor * 2 <= std::max(1u, tessFactor)) patches.factor *= 2;
+
+    auto refiner = createRefiner(cage, "osd-fas");
+    if (!refiner) return refiner.error();
+    Far::TopologyRefiner& r = **refiner;
+    Far::PatchTableFactory::Options options{depth};
+    options.useInfSharpPatch = true;
+    options.useSingleCreasePatch = false;
+    options.generateLegacySharpCornerPatches = false;
+    options.generateVaryingTables = false;
+    options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
+    r.RefineAdaptive(options.GetRefineAdaptiveOptions());
+    patches.table.reset(Far::PatchTableFactory::Create(r, options));
+    patches.map = std::make_unique<Far::PatchMap>(*patches.table);
+
+    Far::StencilTableFactory::Options stencilOptions;
+    stencilOptions.generateIntermediateLevels = true;
+    stencilOptions.generateControlVerts = true;
+    stencilOptions.generateOffsets = true;
+    patches.stencils.reset(Far::StencilTableFactory::Create(r, stencilOptions));
+    if (const Far::StencilTable* local = patches.table->GetLocalPointStencilTable(); local && local->GetNumStencils() > 0)
+        patches.stencils.reset(Far::StencilTableFactory::AppendLocalPointStencilTable(r, patches.stencils.get(), local, true));
+
+    uint32_t vertices = 0, indices = 0;
+    int patchIndex = 0;
+    for (int array = 0; array < patches.table->GetNumPatchArrays(); ++array) {
+        const int cvsPerPatch = patches.table->GetPatchArrayDescriptor(array).GetNumControlVertices();
+        for (int patch = 0; patch < patches.table->GetNumPatches(array); ++patch, ++patchIndex) {
+            const Far::PatchParam param = patches.table->GetPatchParam(array, patch);
+            FasPatchLayout p;
+            p.handle.arrayIndex = array;
+            p.handle.patchIndex = patchIndex;
+            p.handle.vertIndex = patch * cvsPerPatch;  // relative to the array's first control vertex
+            p.factor = std::max(1u, patches.factor >> param.GetDepth());
+            p.transitions = p.factor == 1 ? param.GetTransition() : 0u;
+            const uint32_t midpoints = uint32_t(__builtin_popcount(p.transitions));
+            p.firstVertex = vertices;
+            p.firstIndex = indices;
+            p.vertexCount = p.transitions ? 5 + midpoints : (p.factor + 1) * (p.factor + 1);
+            p.indexCount = p.transitions ? 3 * (4 + midpoints) : 6 * p.factor * p.factor;
+            vertices += p.vertexCount;
+            indices += p.indexCount;
+            patches.layout.push_back(p);
+        }
+    }
+    patches.indices.assign(indices, 0);
+    patches.domain.resize(vertices);
+    tbb::parallel_for(size_t(0), patches.layout.size(), [&](size_t i) { layoutPatch(patches, patches.layout[i]); });
+    return patches;
+}
+
+void updateFasPoints(FasPatches& patches, std::span<const glm::vec3> cagePositions) {
+    patches.points.resize(size_t(patches.stencils->GetNumStencils()));
+    tbb::parallel_for(size_t(0), patches.points.size(), [&](size_t i) {
+        const Far::Stencil s = patches.stencils->GetStencil(Far::Index(i));
+        glm::vec3 p(0.0f);
+        for (int k = 0; k < s.GetSize(); ++k) p += s.GetWeights()[k] * cagePositions[size_t(s.GetVertexIndices()[k])];
+        patches.points[i] = p;
+    });
+}
+
+FasSample evaluateFas(const FasPatches& patches, uint32_t subface, float u, float v) {
+    const Far::PatchTable::PatchHandle* handle = patches.map->FindPatch(int(subface), u, v);
+    return handle ? evaluatePatch(patches, *handle, u, v) : FasSample{};
+}
+
+void tessellateFas(const FasPatches& patches, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals) {
+    positions.resize(patches.domain.size());
+    normals.resize(patches.domain.size());
+    tbb::parallel_for(size_t(0), patches.layout.size(), [&](size_t i) {
+        const FasPatchLayout& p = patches.layout[i];
+        const Far::PatchParam param = patches.table->GetPatchParam(p.handle);
+        for (uint32_t k = p.firstVertex; k < p.firstVertex + p.vertexCount; ++k) {
+            float u = patches.domain[k].x, v = patches.domain[k].y;
+            param.Unnormalize(u, v);  // patch-local -> the sub-face's frame
+            const FasSample s = evaluatePatch(patches, p.handle, u, v);
+            positions[k] = s.position;
+            const glm::vec3 n = glm::cross(s.du, s.dv);
+            normals[k] = glm::length(n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f);
+        }
+    });
+}
+
+}  // namespace qp

@@ -1,0 +1,67 @@
+// OpenSubdiv's feature-adaptive patches (Nießner et al. 2012) and their CPU tessellation, the
+// math behind `osd-fas` (osd_fas_scheme.cpp is the plugin glue).
+//
+// Far refines adaptively to `depth` around extraordinary vertices and creases and builds a
+// PatchTable: bicubic B-spline patches (boundary and infinitely sharp variants) where the
+// surface is regular, Gregory-basis end caps at the deepest level. Single-crease patches stay
+// off: Far::PatchTable::EvaluateBasis ignores their sharpness (platform notes), so semi-sharp
+// creases are isolated by refinement instead, exact up to `depth` and paid for in patches.
+//
+// Tessellation, as OpenSubdiv's uniform tessellation does it: a patch at depth d gets
+// F / 2^d segments per side (at least 1; F the factor rounded down to a power of two), so the
+// density matches the plans' grid; a one-segment patch whose edge borders a finer patch
+// (PatchParam transition bit, edges 0: v=0, 1: u=1, 2: v=1, 3: u=0) gets that patch's
+// midpoint on the edge and is fanned around its centre, so triangles meet without T-junctions.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <opensubdiv/far/patchMap.h>
+#include <opensubdiv/far/patchTable.h>
+#include <opensubdiv/far/stencilTable.h>
+
+#include "cage.h"
+#include "result.h"
+
+namespace qp {
+
+struct FasPatchLayout {
+    OpenSubdiv::Far::PatchTable::PatchHandle handle;
+    uint32_t firstVertex, vertexCount, firstIndex, indexCount;
+    uint32_t factor, transitions;  // transitions only on one-segment patches
+};
+
+struct FasPatches {
+    std::unique_ptr<OpenSubdiv::Far::PatchTable> table;
+    std::unique_ptr<OpenSubdiv::Far::PatchMap> map;
+    std::unique_ptr<const OpenSubdiv::Far::StencilTable> stencils;  // cage -> every point patches read
+    uint32_t factor = 1;                  // F, a power of two
+    std::vector<FasPatchLayout> layout;   // one per patch
+    std::vector<glm::vec2> domain;        // patch-local (u, v) of every tessellation vertex
+    std::vector<uint32_t> indices;        // three per triangle, into domain
+    std::vector<glm::vec3> points;        // stencils applied to the current positions
+};
+
+struct FasSample {
+    glm::vec3 position{0.0f}, du{0.0f}, dv{0.0f};
+};
+
+// Topology-dependent work: refinement, patch table, stencils, tessellation layout.
+Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t tessFactor);
+
+// Applies the stencils to new cage positions (parallel).
+void updateFasPoints(FasPatches& patches, std::span<const glm::vec3> cagePositions);
+
+// Position and derivatives at (u, v) of sub-face `subface` (its own frame); zero when no patch
+// covers it.
+FasSample evaluateFas(const FasPatches& patches, uint32_t subface, float u, float v);
+
+// Every tessellation vertex (parallel over patches): positions and unit normals.
+void tessellateFas(const FasPatches& patches, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals);
+
+}  // namespace qp

@@ -1,0 +1,99 @@
+// `osd-fas`: OpenSubdiv's feature-adaptive patches, the baseline B16 compares against: one
+// primitive per patch, tessellated on the CPU (all cores) and drawn with MeshPass
+// (osd_fas_patches.h has the math). The refinement stencils and the patch evaluation run on
+// every update(), as they would when the cage's vertices move.
+#include "mesh_pass.h"
+#include "osd_fas_patches.h"
+#include "scheme_api.h"
+#include "scheme_support.h"
+
+namespace qp {
+namespace {
+
+class OsdFasScheme final : public Scheme {
+public:
+    SupportReport support(const CageFeatures&, const SchemeSettings& settings) const override {
+        SupportReport report;
+        if (settings.adaptivePixels > 0.0f)
+            report.approximations.push_back("osd-fas has no screen-adaptive tessellation: it uses factor 16");
+        for (const auto& [key, value] : settings.options)
+            report.approximations.push_back("osd-fas ignores the unknown option '" + key + "'");
+        return report;
+    }
+
+    Status build(const PlannedCage& planned, const SchemeSettings& settings) override {
+        planned_ = &planned;
+        Result<FasPatches> patches =
+            buildFasPatches(planned.cage(), settings.planDepth, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
+        if (!patches) return patches.error();
+        patches_ = std::move(*patches);
+        return success();
+    }
+
+    Status createGpu(const GpuContext& gpu) override {
+        ctx_ = gpu.vulkan;
+        Result<MeshPass> pass = createMeshPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
+        if (!pass) return pass.error();
+        pass_ = *pass;
+        return success();
+    }
+
+    Status update() override {
+        updateFasPoints(patches_, planned_->cage().positions);
+        if (!ctx_) return success();
+        std::vector<glm::vec3> positions, normals;
+        tessellateFas(patches_, positions, normals);
+        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        if (positions.empty()) return success();
+        std::vector<MeshVertex> vertices(positions.size());
+        for (size_t i = 0; i < positions.size(); ++i) vertices[i] = {positions[i], normals[i]};
+        Result<GpuMesh> mesh = uploadMesh(*ctx_, vertices, patches_.indices);
+        if (!mesh) return mesh.error();
+        mesh_ = *mesh;
+        return success();
+    }
+
+    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+        MeshDraw draw{&mesh_, glm::vec3(0.8f), true, view.wireframe};
+        recordMeshPass(cmd, pass_, target, MeshView{view.viewProjection, view.eye, view.background},
+                       mesh_.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
+        return DrawStats{patches_.layout.size(), patches_.indices.size() / 3};
+    }
+
+    void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
+        for (size_t i = 0; i < requests.size(); ++i) {
+            const FasSample s = evaluateFas(patches_, requests[i].subface, requests[i].u, requests[i].v);
+            out[i] = surfacePoint(s.position, s.du, s.dv);
+        }
+    }
+
+    SchemeStats stats() const override {
+        SchemeStats stats;
+        stats.patches = patches_.layout.size();
+        stats.controlPoints = patches_.points.size() - planned_->cage().vertexCount();
+        stats.gpuBytes = mesh_.vertices.size + mesh_.indices.size;
+        return stats;
+    }
+
+    void destroyGpu() override {
+        if (!ctx_) return;
+        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        destroyMeshPass(*ctx_, pass_);
+        ctx_ = nullptr;
+    }
+
+private:
+    const PlannedCage* planned_ = nullptr;
+    FasPatches patches_;
+    const VulkanContext* ctx_ = nullptr;
+    MeshPass pass_;
+    GpuMesh mesh_;
+};
+
+}  // namespace
+}  // namespace qp
+
+QUADPLAN_EXPORT_SCHEME("osd-fas",
+                       "OpenSubdiv feature-adaptive patches: B-spline patches, Gregory-basis end caps, one primitive "
+                       "per patch",
+                       qp::OsdFasScheme)

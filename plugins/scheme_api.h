@@ -1,0 +1,217 @@
+// The patching-scheme plugin interface: everything a scheme module implements and exports.
+//
+// A scheme is a shared module (plugins/<name>/, built by quadplan_add_scheme into
+// <build>/plugins/quadplan-scheme-<name>.so) that the host loads at run time with dlopen
+// (scheme_loader.h). It exports one C symbol, `quadplan_scheme_module`, returning a
+// SchemeModule; QUADPLAN_EXPORT_SCHEME below writes it. plugins/README.md walks through
+// wrapping a scheme.
+//
+// Life of a scheme instance, as the host drives it (every call may fail with a message; the
+// host also catches exceptions, so a throwing scheme is reported, never fatal):
+//   support(features)   can it draw this cage? what does it approximate or refuse? (no build)
+//   build(planned)      topology-dependent work on the CPU: tables, patches, stencils
+//   createGpu(gpu)      pipelines and buffers for targets of the given formats
+//   update()            positions changed (and once after createGpu): CPU work that depends
+//                       on positions, uploads; after it, evaluate() and record() see them
+//   record(cmd, ...)    clears target.area and draws the surface there; records only
+//   evaluate(...)       the surface on the CPU, for error measurement (thread-safe, const)
+//   destroyGpu()        before the Vulkan context goes away
+//
+// Parameter domain: every scheme evaluates in the plans' sub-face frame. Sub-faces are
+// OpenSubdiv's Ptex faces (PlannedCage, core/face_config.h): a quad is one sub-face with u from
+// corner 0 to 1 and v from corner 0 to 3; an n-gon is n sub-faces, sub-face k having corners
+// (vertex k, midpoint of edge k, centre, midpoint of edge k-1). The host compares a scheme
+// with the exact limit surface (PlannedCage::evaluate) at the same (sub-face, u, v).
+//
+// Binary compatibility: modules pass C++ types (Cage, PlannedCage, VulkanContext, std::string)
+// across the boundary, so they must come from the same build as the host: the loader checks
+// kSchemeApiVersion, the compiler and standard-library tag and a layout fingerprint of the
+// shared types, and refuses a module that differs, with a message saying to rebuild it.
+// Bump kSchemeApiVersion on any change to this header.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+#include <vulkan/vulkan.h>
+
+#include "cage.h"
+#include "plan_evaluator.h"  // SampleRequest
+#include "planned_cage.h"
+#include "render_target.h"
+#include "result.h"
+#include "vk_context.h"
+
+namespace qp {
+
+inline constexpr uint32_t kSchemeApiVersion = 1;
+
+// ---- What a cage asks of a scheme ---------------------------------------------------------
+
+enum class CageFeature : uint32_t {
+    NonQuadFaces,              // faces with 3 or more than 4 vertices
+    Triangles,                 // faces with 3 vertices
+    Boundaries,                // edges with one face
+    Holes,                     // faces tagged as holes
+    InfinitelySharpCreases,    // edges with sharpness >= 10
+    SemiSharpCreases,          // edges with 0 < sharpness < 10
+    InfinitelySharpCorners,    // vertices with sharpness >= 10
+    SemiSharpCorners,          // vertices with 0 < sharpness < 10
+    NonManifold,               // non-manifold edges or vertices
+    ExtraordinaryVertices,     // interior valence != 4, boundary valence != 3
+    AdjacentExtraordinary,     // faces with more than one extraordinary vertex
+    ChaikinCreases,            // semi-sharp creases under the Chaikin crease method
+    SmoothTriangleRule,        // triangles under the "smooth" triangle subdivision option
+    NoBoundaryInterpolation,   // boundaries under the rule "none" (no surface along them)
+    EdgeOnlyBoundaries,        // boundaries under "edges only" (smooth boundary corners)
+};
+inline constexpr uint32_t kCageFeatureCount = 15;
+const char* cageFeatureName(CageFeature feature);  // "semi-sharp creases", ...
+
+// How many elements (faces, edges or vertices) of a cage have each feature.
+struct CageFeatures {
+    std::array<uint32_t, kCageFeatureCount> count{};
+    uint32_t maxValence = 0;
+    bool has(CageFeature f) const { return count[uint32_t(f)] > 0; }
+    uint32_t operator[](CageFeature f) const { return count[uint32_t(f)]; }
+};
+CageFeatures analyzeCage(const Cage& cage, const Topology& topology);
+
+// What a scheme does with a feature. Features a scheme does not list are handled exactly.
+enum class Handling : uint8_t {
+    Exact,         // represented like the limit surface
+    Approximated,  // drawn, but not as the limit surface would be: the text says how
+    Unsupported,   // the scheme cannot draw such a cage at all: the text says why
+};
+struct FeatureRule {
+    CageFeature feature;
+    Handling handling;
+    const char* text;  // for the user, e.g. "semi-sharp creases are drawn smooth"
+};
+
+struct SupportReport {
+    std::vector<std::string> approximations;  // shown as warnings; the scheme still draws
+    std::vector<std::string> refusals;        // non-empty: the scheme is skipped with these
+    bool usable() const { return refusals.empty(); }
+};
+// The usual support(): each listed feature the cage has adds its text (with the element count).
+SupportReport assessSupport(std::span<const FeatureRule> rules, const CageFeatures& features);
+
+// ---- Settings, views, statistics ------------------------------------------------------------
+
+struct SchemeSettings {
+    uint32_t tessFactor = 8;        // segments along a quad sub-face edge (n-gon sub-faces: half)
+    float adaptivePixels = 0.0f;    // > 0: screen-adaptive, target pixels per segment (if supported)
+    uint32_t planDepth = 6;         // depth of the reference plans; exact schemes isolate to it
+    // Scheme-specific `--option key=value` pairs; a scheme warns about keys it does not know.
+    std::vector<std::pair<std::string, std::string>> options;
+    const std::string* option(const std::string& key) const {
+        for (const auto& [k, v] : options)
+            if (k == key) return &v;
+        return nullptr;
+    }
+};
+
+struct GpuContext {
+    const VulkanContext* vulkan = nullptr;
+    VkPipelineCache cache = VK_NULL_HANDLE;  // may be null
+    VkFormat colorFormat = VK_FORMAT_R8G8B8A8_UNORM;
+    VkFormat depthFormat = VK_FORMAT_D32_SFLOAT;
+};
+
+struct DrawView {
+    glm::mat4 viewProjection{1.0f};  // Vulkan clip space (render/camera.h)
+    glm::vec3 eye{0.0f};
+    glm::vec3 background{0.9f, 0.92f, 0.95f};  // linear; record() clears target.area to it
+    float pixelsPerUnit = 1.0f;       // for screen-adaptive factors (render/plan_pass.h)
+    bool wireframe = false;           // tessellation wireframe over the surface, if supported
+    std::string colorBy = "shading";  // one of Scheme::colorModes()
+};
+
+// What the last record() submitted.
+struct DrawStats {
+    uint64_t patches = 0;    // primitives through the tessellator, or patches drawn as grids
+    uint64_t triangles = 0;  // 0 when unknown (screen-adaptive tessellation)
+};
+
+struct SchemeStats {
+    uint64_t patches = 0;        // patches built (0: the scheme draws no patches)
+    uint64_t controlPoints = 0;  // points computed per update (stencils applied, refined vertices)
+    uint64_t gpuBytes = 0;       // buffers it keeps on the device
+};
+
+// A point of a scheme's surface. `normal` is what the scheme shades with (a separate normal
+// field for schemes that have one, else the unit normal of du x dv).
+struct SurfacePoint {
+    glm::vec3 position{0.0f};
+    glm::vec3 normal{0.0f};
+    glm::vec3 du{0.0f}, dv{0.0f};  // zero when hasDerivatives is false
+    bool hasDerivatives = false;
+};
+
+// ---- The scheme ----------------------------------------------------------------------------
+
+class Scheme {
+public:
+    virtual ~Scheme() = default;
+
+    virtual SupportReport support(const CageFeatures& features, const SchemeSettings& settings) const = 0;
+    // `planned` (cage, topology, tags, positions, plans) outlives the scheme instance, and its
+    // positions may change between update() calls; its topology does not (a new topology gets
+    // a new instance).
+    virtual Status build(const PlannedCage& planned, const SchemeSettings& settings) = 0;
+    virtual Status createGpu(const GpuContext& gpu) = 0;
+    virtual Status update() = 0;
+    virtual DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) = 0;
+    // out[i] = the surface at requests[i]; requests name sub-faces with a surface only. Called
+    // concurrently from several threads on disjoint spans.
+    virtual void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const = 0;
+    virtual SchemeStats stats() const = 0;
+    // Colour modes record() understands; the first is the default ("shading").
+    virtual std::vector<std::string> colorModes() const { return {"shading"}; }
+    virtual void destroyGpu() = 0;
+};
+
+// ---- The module entry point ----------------------------------------------------------------
+
+// Compiler and standard library the module was built with (must equal the host's).
+#define QUADPLAN_SCHEME_ABI_TAG "gcc-compatible " __VERSION__ " libstdc++ cxx11-abi " QP_STRINGIFY(_GLIBCXX_USE_CXX11_ABI)
+#define QP_STRINGIFY_(x) #x
+#define QP_STRINGIFY(x) QP_STRINGIFY_(x)
+
+// Sizes of the types that cross the boundary: a module built against different core or
+// render headers (without an API bump) differs here and is refused.
+inline constexpr uint64_t kSchemeLayoutFingerprint =
+    (((((uint64_t(sizeof(Cage)) * 1009 + sizeof(PlannedCage)) * 1009 + sizeof(Topology)) * 1009 +
+       sizeof(VulkanContext)) * 1009 + sizeof(RenderTarget)) * 1009 + sizeof(SchemeSettings)) * 1009 +
+    sizeof(DrawView) * 31 + sizeof(SurfacePoint) * 7 + sizeof(SampleRequest);
+
+struct SchemeModule {
+    uint32_t apiVersion;  // kSchemeApiVersion; stays the first member in every version
+    const char* abiTag;   // QUADPLAN_SCHEME_ABI_TAG; stays the second
+    uint64_t layoutFingerprint;
+    const char* name;     // what --schemes names: lower case, digits and '-'
+    const char* summary;  // one line for `quadplan schemes`
+    Scheme* (*create)();  // a new instance, or nullptr; the host deletes it
+};
+
+// The C symbol the loader looks up.
+#define QUADPLAN_SCHEME_ENTRY "quadplan_scheme_module"
+using SchemeEntryFunction = const SchemeModule* (*)();
+
+// In exactly one .cpp of a module: QUADPLAN_EXPORT_SCHEME("acc1", "one-line summary", Acc1Scheme)
+#define QUADPLAN_EXPORT_SCHEME(NAME, SUMMARY, CLASS)                                                 \
+    extern "C" __attribute__((visibility("default"))) const ::qp::SchemeModule* quadplan_scheme_module() { \
+        static const ::qp::SchemeModule module{::qp::kSchemeApiVersion, QUADPLAN_SCHEME_ABI_TAG,     \
+                                               ::qp::kSchemeLayoutFingerprint, NAME, SUMMARY,        \
+                                               []() -> ::qp::Scheme* { return new CLASS(); }};       \
+        return &module;                                                                              \
+    }
+
+}  // namespace qp

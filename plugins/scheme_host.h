@@ -1,0 +1,29 @@
+// Taking a scheme from its plugin to a drawable instance for one planned cage: the steps every
+// host (render, compare, the editor) runs, with one message per way it can fail.
+#pragma once
+
+#include <string>
+
+#include "scheme_loader.h"
+
+namespace qp {
+
+struct PreparedScheme {
+    SchemeInstance instance;
+    SupportReport support;             // approximations: warnings the host shows
+    double buildMs = 0.0, gpuMs = 0.0, updateMs = 0.0;  // setup, measured by the host
+    double setupMs() const { return buildMs + gpuMs + updateMs; }
+};
+
+// Finds `name` in the catalog, asks it whether it can draw the cage, builds it, creates its GPU
+// part and runs the first update. Errors name the scheme and the cage (`source`): an unknown
+// scheme lists the available ones, a refusal lists the scheme's reasons. On failure nothing is
+// left on the GPU.
+Result<PreparedScheme> prepareScheme(const PluginCatalog& catalog, const std::string& name, const PlannedCage& planned,
+                                     const CageFeatures& features, const SchemeSettings& settings,
+                                     const GpuContext& gpu, const std::string& source);
+
+// "unknown scheme 'x'; available schemes: a, b (and what failed to load, if anything)".
+std::string unknownSchemeMessage(const PluginCatalog& catalog, const std::string& name);
+
+}  // namespace qp

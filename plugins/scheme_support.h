@@ -1,0 +1,52 @@
+// Helpers for scheme modules and the host: uniform sample grids over sub-faces and the
+// triangle meshes made from them.
+//
+// The CPU grid is a first-class way for a scheme to draw: evaluate the surface on a grid per
+// sub-face (in parallel), upload the triangles once per update and draw them with MeshPass. On
+// lavapipe the tessellator runs on one core while the CPU path uses all of them
+// (/work/shared/notes/platform-notes.md); the host's error heat map is built the same way.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "mesh_pass.h"
+#include "scheme_api.h"
+
+namespace qp {
+
+// Samples on a uniform grid over every sub-face that has a surface: a quad sub-face gets
+// `factor` segments per side, an n-gon sub-face (half the size) max(1, factor / 2), as the
+// plans' grid path does. Vertices of one sub-face are consecutive, rows of constant v, u
+// fastest; triangles follow the sub-face's winding.
+struct SubfaceGrid {
+    std::vector<SampleRequest> samples;
+    std::vector<uint32_t> indices;        // three per triangle, into samples
+    std::vector<uint32_t> subfaces;       // the sub-faces gridded, in order
+    std::vector<uint32_t> firstSample;    // parallels subfaces, plus the total at the end
+    uint32_t factor = 0;
+};
+SubfaceGrid buildSubfaceGrid(const PlannedCage& planned, uint32_t factor);
+
+// The face a sub-face belongs to.
+uint32_t faceOfSubface(const PlannedCage& planned, uint32_t subface);
+
+// Segments per side of sub-face `subface` in a grid of `factor` (quad or n-gon sub-face).
+uint32_t subfaceGridFactor(const PlannedCage& planned, uint32_t subface, uint32_t factor);
+
+// Unit normal of du x dv (zero when degenerate).
+glm::vec3 normalOf(const glm::vec3& du, const glm::vec3& dv);
+
+// A SurfacePoint from position and derivatives, its normal from them.
+SurfacePoint surfacePoint(const glm::vec3& position, const glm::vec3& du, const glm::vec3& dv);
+
+// Evaluates `scheme` at every request, spread over all cores in chunks (Scheme::evaluate is
+// thread-safe by contract).
+void evaluateParallel(const Scheme& scheme, std::span<const SampleRequest> requests, std::span<SurfacePoint> out);
+
+std::vector<MeshVertex> meshVertices(std::span<const SurfacePoint> points);
+
+}  // namespace qp

@@ -1,0 +1,48 @@
+// How far a scheme's surface is from the exact limit surface, and the heat-map colours.
+//
+// Error at a sample = |scheme(sub-face, u, v) - exact(sub-face, u, v)| / bounding-box diagonal
+// of the cage, with exact = PlannedCage::evaluate (checked against OpenSubdiv to 5e-5 by
+// `quadplan check-limit`). It is a parametric distance: a scheme whose surface is right but
+// parameterised differently (uniform refinement) is charged for that too. Normal deviation is
+// the angle between the scheme's shading normal and du x dv of the exact surface, left out
+// where the exact du and dv are within 0.06 degrees of parallel (folds of degenerate cages,
+// where no normal is defined).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "scheme_api.h"
+
+namespace qp {
+
+struct ErrorStats {
+    double maxRelError = 0.0;
+    double rmsRelError = 0.0;
+    double maxNormalDegrees = 0.0;
+    uint64_t samples = 0;
+    uint64_t normalSamples = 0;  // samples where both normals are defined
+};
+
+struct SurfaceError {
+    std::vector<float> relError;  // per sample
+    ErrorStats stats;
+};
+
+// `points` are the scheme's values at `samples`; `diagonal` is the scale (> 0).
+SurfaceError measureSurfaceError(const PlannedCage& exact, std::span<const SampleRequest> samples,
+                                 std::span<const SurfacePoint> points, double diagonal);
+
+// The heat map's one fixed scale, logarithmic, so tiles and runs compare at a glance: one hue
+// per decade from kHeatLow (dark blue) to kHeatHigh (red); below and above clamp.
+inline constexpr double kHeatLow = 1e-7;
+inline constexpr double kHeatHigh = 1e-1;
+// Colour of a relative error, sRGB-encoded components in [0, 1] (for the legend on the image).
+glm::vec3 heatColorSrgb(double relError);
+// The same colour as linear components (what the shaders take).
+glm::vec3 heatColorLinear(double relError);
+
+}  // namespace qp

@@ -1,0 +1,83 @@
+// Table-driven uniform Catmull-Clark refinement (Loop 2010 §3), the math behind `uniform`.
+//
+// Topology is refined once (OpenSubdiv's Far::TopologyRefiner gives each level's adjacency
+// and the crease sharpness Sdc assigns to it); from it we build, per level, the subdivision
+// tables of Loop 2010: a face table (offset, valence, old vertices), an edge table (two old
+// vertices and two new face points each; a boundary edge lists its ends twice) and a vertex
+// table. Applying them is three data-parallel kernels per level over one vertex buffer that
+// holds every level, one output vertex per work item; only positions are touched when the
+// cage's vertices move.
+//
+// Beyond Loop 2010's smooth, boundary and corner rules the tables carry OpenSubdiv's
+// sharpness rules (Sdc, DeRose et al. 1998): an edge point blends smooth and sharp by the
+// edge's sharpness when it is below 1; a vertex point uses the crease or corner mask while its
+// edges are sharp and blends parent and child masks by Sdc's fractional weight where
+// sharpness runs out. The vertex table therefore stores weights (a dense mask per vertex)
+// instead of Loop's valence-driven kernel. Not reproduced: the "smooth triangle" option.
+//
+// The surface of the scheme at (sub-face, u, v) is the finest level's mesh, drawn as two
+// triangles per quad (diagonal from the quad's vertex 0 to 2), linearly interpolated there.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "planned_cage.h"
+#include "result.h"
+
+namespace qp {
+
+// Tables that produce level l + 1 from level l; indices address the shared vertex buffer.
+struct RefinementLevelTables {
+    std::vector<uint32_t> faceChild, faceOffsets, faceVertices;  // face points: averages
+    std::vector<uint32_t> edgeChild;
+    std::vector<uint32_t> edgePoints;   // 4 per edge: v0, v1, f0, f1 (boundary: v0, v1, v0, v1)
+    std::vector<float> edgeSharpWeight; // 0 smooth, 1 sharp (midpoint), between: blend
+    std::vector<uint32_t> vertexChild, vertexOffsets, vertexIndices;  // vertex points: masks
+    std::vector<float> vertexWeights;
+};
+
+// One quad of the finest level: its vertices (indices into the finest level) and where its
+// corners sit in its sub-face's (u, v) domain.
+struct RefinedQuad {
+    uint32_t vertices[4];
+    glm::vec2 domain[4];
+    uint32_t subface;
+};
+
+struct UniformRefinement {
+    uint32_t levels = 0;
+    std::vector<uint32_t> levelOffset;  // first vertex of each level in the buffer; levels + 2 entries
+    std::vector<RefinementLevelTables> tables;  // levels entries
+    std::vector<RefinedQuad> quads;     // finest level, drawable ones only (no holes, has a surface)
+    // Per sub-face, the quads covering it as a (2^m)^2 grid, row-major over (u, v) cells:
+    // subfaceCellBase[s] indexes cellQuad; subfaceSide[s] = 2^m (0 when the sub-face has none).
+    std::vector<uint32_t> subfaceCellBase, subfaceSide, cellQuad;
+
+    uint32_t finestVertexCount() const { return levelOffset[levels + 1] - levelOffset[levels]; }
+};
+
+// Refines `planned`'s cage `levels` times (1..8) and builds the tables.
+Result<UniformRefinement> buildUniformRefinement(const PlannedCage& planned, uint32_t levels);
+
+// Runs the kernels: `buffer` gets every level's positions (resized to levelOffset.back()),
+// starting from the cage's. Parallel over each table.
+void applyUniformRefinement(const UniformRefinement& refinement, std::span<const glm::vec3> cagePositions,
+                            std::vector<glm::vec3>& buffer);
+
+// Area-weighted vertex normals of the finest level's drawable quads.
+std::vector<glm::vec3> refinedNormals(const UniformRefinement& refinement, std::span<const glm::vec3> finest);
+
+// The drawn (triangulated) mesh at (sub-face, u, v): position, interpolated normal, and the
+// triangle's derivatives in the sub-face's frame. The sub-face must have quads.
+struct RefinedSample {
+    glm::vec3 position, normal, du, dv;
+};
+RefinedSample sampleRefined(const UniformRefinement& refinement, std::span<const glm::vec3> finest,
+                            std::span<const glm::vec3> normals, uint32_t subface, float u, float v);
+
+}  // namespace qp

@@ -1,0 +1,132 @@
+// `uniform`: table-driven uniform Catmull-Clark refinement (Loop 2010 §3) drawn as triangles
+// (uniform_refinement.h). Every base quad becomes (2^L)^2 quads, two triangles each, with
+// L = round(log2 of the tessellation factor), so the triangle density matches the plans' grid
+// at the same factor. The refined vertices are not pushed to the limit: the surface is the
+// refined mesh, and its error shrinks about fourfold per level.
+//
+// Options: level=L (1..8) overrides the level derived from the factor.
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "mesh_pass.h"
+#include "scheme_api.h"
+#include "scheme_support.h"
+#include "uniform_refinement.h"
+
+namespace qp {
+namespace {
+
+constexpr FeatureRule kRules[] = {
+    {CageFeature::SmoothTriangleRule, Handling::Approximated,
+     "uniform refines triangles with the Catmark rule, not the smooth triangle rule"},
+};
+
+class UniformScheme final : public Scheme {
+public:
+    SupportReport support(const CageFeatures& features, const SchemeSettings& settings) const override {
+        SupportReport report = assessSupport(kRules, features);
+        if (settings.adaptivePixels > 0.0f)
+            report.approximations.push_back("uniform has no screen-adaptive mode: it refines to level 4");
+        for (const auto& [key, value] : settings.options) {
+            if (key != "level") report.approximations.push_back("uniform ignores the unknown option '" + key + "'");
+            else if (parseLevel(value) == 0) report.refusals.push_back("uniform: level must be 1..8, got '" + value + "'");
+        }
+        return report;
+    }
+
+    Status build(const PlannedCage& planned, const SchemeSettings& settings) override {
+        planned_ = &planned;
+        uint32_t level = settings.adaptivePixels > 0.0f
+                             ? 4u
+                             : uint32_t(std::clamp(std::lround(std::log2(double(std::max(1u, settings.tessFactor)))), 1l, 8l));
+        if (const std::string* text = settings.option("level")) level = parseLevel(*text);
+        if (level == 0) return Error{"uniform: level must be 1..8"};
+        Result<UniformRefinement> refinement = buildUniformRefinement(planned, level);
+        if (!refinement) return refinement.error();
+        refinement_ = std::move(*refinement);
+        indices_.clear();
+        for (const RefinedQuad& q : refinement_.quads) {
+            const uint32_t* v = q.vertices;
+            indices_.insert(indices_.end(), {v[0], v[1], v[2], v[0], v[2], v[3]});
+        }
+        return success();
+    }
+
+    Status createGpu(const GpuContext& gpu) override {
+        ctx_ = gpu.vulkan;
+        Result<MeshPass> pass = createMeshPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
+        if (!pass) return pass.error();
+        pass_ = *pass;
+        return success();
+    }
+
+    Status update() override {
+        applyUniformRefinement(refinement_, planned_->cage().positions, buffer_);
+        const uint32_t first = refinement_.levelOffset[refinement_.levels];
+        finest_ = std::span<const glm::vec3>(buffer_).subspan(first, refinement_.finestVertexCount());
+        normals_ = refinedNormals(refinement_, finest_);
+        if (!ctx_) return success();
+        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        if (indices_.empty()) return success();
+        std::vector<MeshVertex> vertices(finest_.size());
+        for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = {finest_[i], normals_[i]};
+        Result<GpuMesh> mesh = uploadMesh(*ctx_, vertices, indices_);
+        if (!mesh) return mesh.error();
+        mesh_ = *mesh;
+        return success();
+    }
+
+    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+        const MeshView meshView{view.viewProjection, view.eye, view.background};
+        MeshDraw draw{&mesh_, glm::vec3(0.8f), true, view.wireframe};
+        recordMeshPass(cmd, pass_, target, meshView,
+                       mesh_.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
+        return DrawStats{0, indices_.size() / 3};
+    }
+
+    void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
+        for (size_t i = 0; i < requests.size(); ++i) {
+            const RefinedSample s = sampleRefined(refinement_, finest_, normals_, requests[i].subface, requests[i].u, requests[i].v);
+            out[i] = SurfacePoint{s.position, s.normal, s.du, s.dv, true};
+        }
+    }
+
+    SchemeStats stats() const override {
+        SchemeStats stats;
+        stats.controlPoints = refinement_.levelOffset.empty() ? 0 : refinement_.levelOffset.back() - refinement_.levelOffset[1];
+        stats.gpuBytes = mesh_.vertices.size + mesh_.indices.size;
+        return stats;
+    }
+
+    void destroyGpu() override {
+        if (!ctx_) return;
+        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        destroyMeshPass(*ctx_, pass_);
+        ctx_ = nullptr;
+    }
+
+private:
+    static uint32_t parseLevel(const std::string& text) {
+        char* end = nullptr;
+        const long level = std::strtol(text.c_str(), &end, 10);
+        return (!text.empty() && *end == '\0' && level >= 1 && level <= 8) ? uint32_t(level) : 0u;
+    }
+
+    const PlannedCage* planned_ = nullptr;
+    UniformRefinement refinement_;
+    std::vector<uint32_t> indices_;
+    std::vector<glm::vec3> buffer_, normals_;
+    std::span<const glm::vec3> finest_;
+
+    const VulkanContext* ctx_ = nullptr;
+    MeshPass pass_;
+    GpuMesh mesh_;
+};
+
+}  // namespace
+}  // namespace qp
+
+QUADPLAN_EXPORT_SCHEME("uniform",
+                       "table-driven uniform Catmull-Clark refinement (Loop 2010 section 3) drawn as triangles",
+                       qp::UniformScheme)
