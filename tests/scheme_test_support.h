@@ -17,8 +17,29 @@
 #include "obj_io.h"
 #include "planned_cage.h"
 #include "test_support.h"
+#include "topology.h"
 
 namespace qp::test {
+
+// A closed torus of columns x rows quads, every vertex valence 4 (a regular cage without
+// boundary), slightly wavy so no patch is planar.
+inline Cage makeTorus(uint32_t columns = 12, uint32_t rows = 6, double major = 2.0, double minor = 0.7) {
+    Cage cage;
+    for (uint32_t j = 0; j < rows; ++j)
+        for (uint32_t i = 0; i < columns; ++i) {
+            double a = 2.0 * std::numbers::pi * i / columns, b = 2.0 * std::numbers::pi * j / rows;
+            double r = minor * (1.0 + 0.15 * std::sin(3.0 * a + b));
+            cage.positions.push_back(glm::vec3(float((major + r * std::cos(b)) * std::cos(a)),
+                                               float((major + r * std::cos(b)) * std::sin(a)), float(r * std::sin(b))));
+        }
+    for (uint32_t j = 0; j < rows; ++j)
+        for (uint32_t i = 0; i < columns; ++i) {
+            uint32_t i1 = (i + 1) % columns, j1 = (j + 1) % rows;
+            uint32_t quad[4] = {j * columns + i, j * columns + i1, j1 * columns + i1, j1 * columns + i};
+            cage.addFace(quad, 4);
+        }
+    return cage;
+}
 
 // A cage with its exact limit surface. Heap-allocated so the plan database stays put.
 struct ExactSurface {
@@ -105,6 +126,46 @@ inline SchemeError measureScheme(const ExactSurface& exact, const SchemeEvaluato
     if (error.samples) error.rmsRelative = std::sqrt(sumSquares / double(error.samples));
     if (normalSamples) error.rmsNormalDegrees = std::sqrt(sumNormalSquares / double(normalSamples));
     return error;
+}
+
+// Where neighbouring patches meet: evaluates both patches of every interior edge of an
+// all-quad cage at the same points of the edge (patch frames: corner k of a face at the k-th of
+// (0,0), (1,0), (1,1), (0,1)). Returns the largest position gap (relative to `diagonal`) and
+// normal gap (degrees). Faces for which hasPatch is false are skipped.
+struct SeamGap {
+    double position = 0.0, normalDegrees = 0.0;
+    uint32_t edges = 0;
+};
+using PatchEvaluator = std::function<SchemeSample(uint32_t face, double s, double t)>;
+
+inline SeamGap measureSeams(const Cage& quads, const Topology& topology, const PatchEvaluator& patch,
+                            const std::function<bool(uint32_t face)>& hasPatch, double diagonal) {
+    static const double cornerUV[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    SeamGap gap;
+    for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
+        if (topology.edgeFaceCount(e) != 2) continue;
+        uint32_t f = topology.edgeFaces[topology.edgeFaceOffsets[e]], g = topology.edgeFaces[topology.edgeFaceOffsets[e] + 1];
+        if (!hasPatch(f) || !hasPatch(g)) continue;
+        uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
+        auto cornerOf = [&](uint32_t face, uint32_t vertex) {
+            for (uint32_t k = 0; k < 4; ++k)
+                if (quads.faceBegin(face)[k] == vertex) return k;
+            return 0u;
+        };
+        uint32_t fa = cornerOf(f, a), fb = cornerOf(f, b), ga = cornerOf(g, a), gb = cornerOf(g, b);
+        ++gap.edges;
+        for (double t : {0.0, 0.13, 0.37, 0.5, 0.81, 1.0}) {
+            auto point = [&](uint32_t face, uint32_t ka, uint32_t kb) {
+                double s = (1 - t) * cornerUV[ka][0] + t * cornerUV[kb][0];
+                double r = (1 - t) * cornerUV[ka][1] + t * cornerUV[kb][1];
+                return patch(face, s, r);
+            };
+            SchemeSample p = point(f, fa, fb), q = point(g, ga, gb);
+            gap.position = std::max(gap.position, glm::length(p.position - q.position) / diagonal);
+            if (t > 0.0 && t < 1.0) gap.normalDegrees = std::max(gap.normalDegrees, angleDegrees(p.normal, q.normal));
+        }
+    }
+    return gap;
 }
 
 inline void printSchemeError(const std::string& scheme, const std::string& cage, const SchemeError& e) {
