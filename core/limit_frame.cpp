@@ -101,8 +101,15 @@ VertexLimit computeVertexLimit(const Cage& cage, const QuadRing& ring, TangentRu
         glm::dvec3 sum = n * n * v;
         for (uint32_t i = 0; i < faces; ++i) sum += 4.0 * at(cage, ring.edges[i]) + at(cage, ring.diagonals[i]);
         limit.position = sum / (n * (n + 5.0));
-        const double a = rule == TangentRule::Exact ? 8.0 * lambda - 2.0 : 2.0 + 2.0 * c;
-        const double scale = 1.0 / (n * lambda * (n + 5.0));
+        const double modeWeight = 2.0 + 2.0 * c, exactWeight = 8.0 * lambda - 2.0;
+        const double a = rule == TangentRule::Exact ? exactWeight : modeWeight;
+        // On the characteristic configuration (the ring an eigenvector for lambda: d-ring =
+        // (1 + w) / (4 lambda - 1) times the e-ring in Fourier terms) both rules give the same
+        // vector when the exact one is divided by this ratio.
+        // (Valence 2 has no tangent plane -- every weight is 0 -- and no ratio.)
+        const double dTerm = faces > 2 ? (1.0 + c) / (4.0 * lambda - 1.0) : 0.0;
+        const double ratio = rule == TangentRule::Exact && faces > 2 ? (exactWeight + dTerm) / (modeWeight + dTerm) : 1.0;
+        const double scale = 1.0 / (n * lambda * (n + 5.0) * ratio);
         for (uint32_t j = 0; j < faces; ++j) {
             glm::dvec3 t(0.0);
             for (uint32_t i = 0; i < faces; ++i) {

@@ -8,13 +8,17 @@
 //   position  = (n^2 v + 4 sum e_i + sum d_i) / (n (n + 5))                 (course eq. 9)
 //   tangent_j = 1 / (n lambda (n + 5)) * sum_i [ a cos(theta (i-j)) (e_i - v)
 //               + (cos(theta (i-j)) + cos(theta (i+1-j))) / 2 * (d_i - v) ]
-// with a = 8 lambda - 2 (TangentRule::Exact). That is the first Fourier mode of the 1-ring
-// weighted by the left eigenvector of the subdivision matrix for lambda, so every tangent_j
-// lies in the exact limit tangent plane; for n = 4 it is the B-spline's Bezier edge point.
-// TangentRule::AccEdgeMode uses a = 2 + 2c instead: the first Fourier mode of ACC-1's edge
-// points (the average of the two interior points beside each edge), divided by n lambda -- the
-// construction OpenSubdiv's Gregory-basis end caps use for Loop et al. 2009. Its plane differs
-// from the limit tangent plane for n != 4 (the two agree for n = 4).
+// with a = 2 + 2c for TangentRule::AccEdgeMode: the first Fourier mode of ACC-1's edge points
+// (the average of the two interior points beside each edge), divided by n lambda -- the
+// construction OpenSubdiv's Gregory-basis end caps use for Loop et al. 2009. Its plane is not
+// the limit tangent plane for n != 4: it moves when the cage is subdivided.
+// TangentRule::Exact uses a = 8 lambda - 2, which makes the mask the left eigenvector of the
+// subdivision matrix for lambda (OpenSubdiv's Sdc limit tangent masks have the same ratio of
+// edge to face weights), so every tangent_j lies in the exact limit tangent plane; it is then
+// divided by ((8 lambda - 2) + q) / ((2 + 2c) + q), q = (1 + c) / (4 lambda - 1), which makes
+// both rules give the same vectors on the characteristic ring (the right eigenvector), so
+// the two differ in direction only, not in typical length. For n = 4 both are the B-spline's
+// Bezier edge points.
 //
 // Boundary vertex with k >= 2 faces, edge neighbours e_0 .. e_k (e_0, e_k on the boundary):
 //   position  = (e_0 + 4 v + e_k) / 6                        (limit of the boundary B-spline)

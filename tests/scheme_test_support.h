@@ -68,6 +68,37 @@ inline Cage loadSharedShape(const std::string& name) {
     return cage.ok() ? std::move(cage).value() : Cage{};
 }
 
+// Sub-faces of faces with an interior extraordinary corner whose whole 1-ring (every face
+// sharing a vertex with it) is free of boundaries, creases, corners and holes: where the
+// schemes' handling of extraordinary vertices alone decides the error.
+inline std::function<bool(uint32_t)> smoothExtraordinaryFilter(const Cage& cage) {
+    Topology topology = buildTopology(cage);
+    std::vector<bool> bad(cage.vertexCount(), false);
+    for (const EdgeCrease& c : cage.creases) bad[c.v0] = bad[c.v1] = true;
+    for (const VertexCorner& c : cage.corners) bad[c.vertex] = true;
+    for (uint32_t e = 0; e < topology.edgeCount(); ++e)
+        if (topology.edgeFaceCount(e) != 2) bad[topology.edgeVertices[2 * e]] = bad[topology.edgeVertices[2 * e + 1]] = true;
+    for (uint32_t h : cage.holes)
+        for (uint32_t k = 0; k < cage.faceSize(h); ++k) bad[cage.faceBegin(h)[k]] = true;
+    std::vector<bool> faceOk(cage.faceCount(), false);
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+        bool extraordinary = false, clean = true;
+        for (uint32_t k = 0; k < cage.faceSize(f); ++k) {
+            uint32_t v = cage.faceBegin(f)[k];
+            extraordinary |= topology.vertexEdgeCount(v) != 4;
+            for (uint32_t i = topology.vertexFaceOffsets[v]; i < topology.vertexFaceOffsets[v + 1]; ++i) {
+                uint32_t g = topology.vertexFaces[i];
+                for (uint32_t m = 0; m < cage.faceSize(g); ++m) clean &= !bad[cage.faceBegin(g)[m]];
+            }
+        }
+        faceOk[f] = extraordinary && clean;
+    }
+    std::vector<bool> subfaceOk;
+    for (uint32_t f = 0; f < cage.faceCount(); ++f)
+        for (uint32_t k = 0; k < (cage.faceSize(f) == 4 ? 1u : cage.faceSize(f)); ++k) subfaceOk.push_back(faceOk[f]);
+    return [subfaceOk](uint32_t s) { return s < subfaceOk.size() && subfaceOk[s]; };
+}
+
 // What a scheme returns at one (sub-face, u, v), in double.
 struct SchemeSample {
     glm::dvec3 position{0.0}, normal{0.0};

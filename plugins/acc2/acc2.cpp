@@ -53,6 +53,7 @@ Result<Acc2Patches> buildAcc2(const Cage& cage, const Acc2Settings& settings, co
 
     Acc2Patches out;
     out.source = std::move(prepared).value();
+    out.settings = settings;
     const QuadPatchSource& src = out.source;
     const Cage& quads = src.quads;
     out.controlPoints.resize(src.patchFace.size() * Acc2Patches::kControlPointsPerPatch);
@@ -106,7 +107,7 @@ Result<Acc2Patches> buildAcc2(const Cage& cage, const Acc2Settings& settings, co
 Acc2Sample evaluateAcc2Patch(const Acc2Patches& patches, uint32_t patch, float s, float t) {
     Acc2Sample sample;
     BasisWeights w;
-    gregoryWeights(s, t, w, /*exactDerivatives=*/true);
+    gregoryWeights(s, t, w, patches.settings.surfaceDerivatives);
     const glm::vec3* cp = &patches.controlPoints[size_t(patch) * Acc2Patches::kControlPointsPerPatch];
     for (uint32_t i = 0; i < Acc2Patches::kControlPointsPerPatch; ++i) {
         sample.position += w.w[i] * cp[i];
@@ -133,7 +134,7 @@ Acc2Sample evaluateAcc2(const Acc2Patches& patches, uint32_t subface, float u, f
 
 const char* acc2Restrictions() {
     return "ACC-2 (Gregory patches) approximates the Catmull-Clark limit: exact on regular quads, "
-           "limit position and tangent plane at every patch corner, G1 elsewhere. Cages with "
+           "limit position at every patch corner, G1 elsewhere. Cages with "
            "non-quad faces are refined once first (4x the patches of their quads). Semi-sharp and "
            "infinitely sharp creases and corner tags are ignored (smooth rules); boundaries follow "
            "Catmull-Clark boundary limits at the corners (edges-only valence-2 boundary vertices "

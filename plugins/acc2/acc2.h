@@ -1,7 +1,8 @@
 // ACC-2: Loop, Schaefer, Ni, Castano 2009, "Approximating Subdivision Surfaces with Gregory
 // Patches for Hardware Tessellation" (S §3.6.3, L10 §4.4, digest §1.6). One bicubic Gregory
 // patch of 20 control points per quad, G1 (tangent-plane continuous) everywhere, interpolating
-// the Catmull-Clark limit position and tangent plane at every patch corner.
+// the Catmull-Clark limit position at every patch corner and a tangent plane close to the
+// limit's (exactly the limit's with TangentRule::Exact).
 //
 // Construction (per quad, corner k with limit frame P_k, tangents t_j from limit_frame.h,
 // c_k = cos(2 pi / n_k), the quad is face i of the ring of corner k, e_i its next corner):
@@ -15,12 +16,13 @@
 // 2 c_k to -2 c_{k+1}, T the edge's derivative, L and R the two patches' cross derivatives,
 // splitting the sum evenly and adding r (half the difference of the regular B-spline's
 // interior points across the edge), so regular configurations reproduce the bicubic B-spline
-// exactly. This is the construction OpenSubdiv implements for its Gregory-basis end caps,
-// derived here from the G1 condition (see README.md).
+// exactly. This is the construction OpenSubdiv implements for its Gregory-basis end caps
+// (derived here from the G1 condition; see README.md), whose edge points use the Fourier mode
+// of ACC-1's edge points (TangentRule::AccEdgeMode) rather than exact limit tangents.
 // Interior point on a boundary edge (no neighbour, no G1 condition): the ACC-1 interior point
 // (n v + 2 e_i + 2 e_{i+1} + d_i) / (n + 5) (exact for regular boundary patches).
 // Evaluation: the rational interior blend and Bezier evaluation of core/patch_basis.h
-// (gregoryWeights, exact derivatives), so the normal is the true normal of the surface.
+// (gregoryWeights); derivatives and normal as Acc2Settings::surfaceDerivatives says.
 //
 // Non-quad cages are refined once first (refine_once.h); a quad's (u, v) then lands on one of
 // its four children as documented there, an n-gon sub-face k is child k with the same (u, v).
@@ -39,9 +41,16 @@
 namespace qp {
 
 struct Acc2Settings {
-    // Exact: edge points in the exact limit tangent plane. AccEdgeMode: OpenSubdiv's Gregory
-    // end-cap tangents (Fourier mode of ACC-1 edge points), off the tangent plane for n != 4.
-    TangentRule tangents = TangentRule::Exact;
+    // AccEdgeMode (default): the published construction, as OpenSubdiv's Gregory-basis end caps
+    // compute it (tests check that they agree). Exact: edge points in the exact limit tangent
+    // plane instead (limit_frame.h), so patch corners carry the exact limit normal.
+    TangentRule tangents = TangentRule::AccEdgeMode;
+    // false (default): du, dv and the normal are those of the bicubic Bezier patch whose
+    // interior points are the blended ones at (u, v), held fixed -- "once the blend has been
+    // computed, the patch can be evaluated as a bicubic Bezier patch" (L10 §4.4), and what
+    // OpenSubdiv's EvaluateBasis does. true: the derivatives of the rational surface itself.
+    // Both agree on patch edges (so normals stay continuous across them) and at corners.
+    bool surfaceDerivatives = false;
 };
 
 struct Acc2Stats {
@@ -58,6 +67,7 @@ struct Acc2Patches {
     // (0,1) owns P, Ep, Em, Fp, Fm at 5k .. 5k+4 (see gregoryWeights in core/patch_basis.h).
     std::vector<glm::vec3> controlPoints;
     QuadPatchSource source;  // the quad cage, sub-face map and patch <-> face tables
+    Acc2Settings settings;
     Acc2Stats stats;
 };
 

@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include "acc1.h"
 #include "acc2.h"
+#include "limit_reference.h"
 #include "scheme_test_support.h"
 #include "test_cages.h"
 
@@ -63,9 +65,12 @@ TEST(Acc2, RegularBoundaryAndCornerPatchesAreExact) {
 TEST(Acc2, CornersInterpolateTheLimitAndNeighboursMeetG1) {
     for (const Cage& cage : {qp::test::makeCube(), qp::test::makeSubdividedCube(), qp::test::makeMixedGrid()}) {
         auto exact = qp::test::makeExactSurface(cage);
-        qp::Acc2Patches patches = build(cage);
-        // Corners of every sub-face: the limit position (and the limit normal, checked loosely:
-        // the plans' own normals scatter by a fraction of a degree at extraordinary vertices).
+        qp::Acc2Settings exactTangents;
+        exactTangents.tangents = qp::TangentRule::Exact;
+        qp::Acc2Patches patches = build(cage, exactTangents);
+        // Corners of every sub-face: the limit position (and, with exact tangents, the limit
+        // normal, checked loosely: the plans' own normals scatter by a fraction of a degree at
+        // extraordinary vertices).
         double worstCorner = 0.0, worstCornerNormal = 0.0;
         for (uint32_t s = 0; s < exact->planned->subfaceCount(); ++s)
             for (glm::vec2 uv : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(1, 1), glm::vec2(0, 1)}) {
@@ -78,6 +83,7 @@ TEST(Acc2, CornersInterpolateTheLimitAndNeighboursMeetG1) {
             }
         EXPECT_LT(worstCorner, 1e-6);
         EXPECT_LT(worstCornerNormal, 0.5);
+        patches = build(cage);  // the default construction must meet G1 just as well
         qp::test::SeamGap gap = seams(patches, exact->diagonal);
         EXPECT_GT(gap.edges, 0u);
         EXPECT_LT(gap.position, 1e-6);
@@ -107,4 +113,79 @@ TEST(Acc2, RejectsNonManifoldCagesWithAMessage) {
     auto patches = qp::buildAcc2(bowtie, {}, "bowtie");
     ASSERT_FALSE(patches.ok());
     EXPECT_NE(patches.error().message.find("bowtie"), std::string::npos);
+}
+
+namespace {
+
+qp::test::SchemeEvaluator acc1Evaluator(const qp::Acc1Patches& patches) {
+    return [&patches](uint32_t s, double u, double v) {
+        qp::Acc1Sample a = qp::evaluateAcc1(patches, s, float(u), float(v));
+        return SchemeSample{glm::dvec3(a.position), glm::dvec3(a.normal)};
+    };
+}
+
+}  // namespace
+
+// The literature's claim (issue 5: "ACC-2 no worse than ACC-1 in normals"): measured where only
+// the extraordinary vertices decide, on faces with an interior extraordinary corner and no
+// tags, holes or boundaries in their 1-ring. Asserted for the RMS deviation on the two curved
+// production cages; the other rows (and the maxima) are printed for plugins/acc2/README.md,
+// which reports where the claim does not hold (the coarse toroidal_tet, the pawn's maximum).
+TEST(Acc2, NormalsAtExtraordinaryVerticesNoWorseThanAcc1) {
+    QP_REQUIRE_SHARED_SHAPES();
+    std::printf("| scheme | cage (EV patches) | max rel | rms rel | max deg | rms deg |\n");
+    for (const char* name : {"catmark_pawn", "catmark_car", "catmark_cube", "catmark_toroidal_tet"}) {
+        SCOPED_TRACE(name);
+        Cage cage = qp::test::loadSharedShape(name);
+        auto exact = qp::test::makeExactSurface(cage, name);
+        auto filter = qp::test::smoothExtraordinaryFilter(cage);
+        auto acc1 = qp::buildAcc1(cage, {}, name);
+        ASSERT_TRUE(acc1.ok());
+        qp::test::SchemeError e1 = qp::test::measureScheme(*exact, acc1Evaluator(*acc1), 9, filter);
+        qp::Acc2Patches acc2 = build(cage);
+        qp::test::SchemeError e2 = qp::test::measureScheme(*exact, evaluator(acc2), 9, filter);
+        qp::Acc2Settings exactTangents;
+        exactTangents.tangents = qp::TangentRule::Exact;
+        qp::Acc2Patches acc2x = build(cage, exactTangents);
+        qp::Acc2Settings surface;
+        surface.surfaceDerivatives = true;
+        qp::Acc2Patches acc2s = build(cage, surface);
+        qp::test::printSchemeError("acc1", name, e1);
+        qp::test::printSchemeError("acc2", name, e2);
+        qp::test::printSchemeError("acc2 x", name, qp::test::measureScheme(*exact, evaluator(acc2x), 9, filter));
+        qp::test::printSchemeError("acc2 s", name, qp::test::measureScheme(*exact, evaluator(acc2s), 9, filter));
+        ASSERT_GT(e2.samples, 0u);
+        if (std::string(name) == "catmark_pawn" || std::string(name) == "catmark_car")
+            EXPECT_LE(e2.rmsNormalDegrees, e1.rmsNormalDegrees);
+    }
+}
+
+// The default construction is the one OpenSubdiv builds for its Gregory-basis end caps: with
+// adaptive isolation depth 0, Far's patches are ours (B-splines on regular faces, Gregory
+// patches elsewhere), to float precision, derivatives included. Closed cages: at boundaries
+// OpenSubdiv uses other tangent rules (limit_frame.h).
+TEST(Acc2, EqualsOpenSubdivGregoryEndCapsWithoutIsolation) {
+    Cage cube = qp::test::makeSubdividedCube(2);
+    for (size_t i = 0; i < cube.positions.size(); ++i)  // break the symmetry
+        cube.positions[i] += 0.2f * glm::vec3(std::sin(1.7f * float(i)), std::cos(2.3f * float(i)), std::sin(0.9f * float(i)));
+    std::vector<Cage> cages = {cube, qp::test::makeCube()};
+    if (qp::test::haveSharedShapes()) cages.push_back(qp::test::loadSharedShape("catmark_toroidal_tet"));
+    for (const Cage& cage : cages) {
+        auto reference = qp::LimitReference::create(cage, 0, "cage");
+        ASSERT_TRUE(reference.ok());
+        qp::Acc2Patches patches = build(cage);
+        const double diagonal = qp::computeBounds(cage).diagonal();
+        double position = 0.0, derivative = 0.0;
+        for (uint32_t s = 0; s < reference->subfaceCount(); ++s)
+            for (double u : {0.0, 0.15, 0.5, 0.85, 1.0})
+                for (double v : {0.0, 0.3, 0.6, 1.0}) {
+                    qp::ReferenceSample r = reference->evaluate(s, u, v);
+                    qp::Acc2Sample a = qp::evaluateAcc2(patches, s, float(u), float(v));
+                    position = std::max(position, glm::length(glm::dvec3(a.position) - r.position) / diagonal);
+                    derivative = std::max({derivative, glm::length(glm::dvec3(a.du) - r.du) / diagonal,
+                                           glm::length(glm::dvec3(a.dv) - r.dv) / diagonal});
+                }
+        EXPECT_LT(position, 1e-6);
+        EXPECT_LT(derivative, 1e-5);
+    }
 }
