@@ -10,6 +10,7 @@
 #include <memory>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -202,6 +203,38 @@ inline SeamGap measureSeams(const Cage& quads, const Topology& topology, const P
 inline void printSchemeError(const std::string& scheme, const std::string& cage, const SchemeError& e) {
     std::printf("| %-8s | %-22s | %10.3e | %10.3e | %8.3f | %8.3f |\n", scheme.c_str(), cage.c_str(), e.maxRelative,
                 e.rmsRelative, e.maxNormalDegrees, e.rmsNormalDegrees);
+}
+
+// The shared cages of the README error tables: curved production cages with boundaries and
+// creases, closed cages with extraordinary vertices of valence 3, 6 and 20, triangles, a
+// regular torus, and boundary extraordinary vertices.
+inline const std::vector<std::string>& errorTableCages() {
+    static const std::vector<std::string> cages = {"catmark_pawn",     "catmark_car",      "catmark_torus",
+                                                   "catmark_cube",     "catmark_toroidal_tet", "catmark_pyramid",
+                                                   "catmark_smoothtris0", "catmark_gregory_test1"};
+    return cages;
+}
+
+// One table row: all sub-faces with a surface, 9 x 9 samples each; and the same restricted to
+// faces around untagged interior extraordinary vertices (smoothExtraordinaryFilter), if any.
+inline void printErrorTableHeader() {
+    std::printf("| scheme   | cage                   | patches | max rel    | rms rel    | max deg | rms deg | "
+                "EV-only max rel | EV-only max deg |\n");
+    std::printf("|---|---|---:|---:|---:|---:|---:|---:|---:|\n");
+}
+
+inline SchemeError printErrorTableRow(const std::string& scheme, const std::string& name, uint32_t patches,
+                                      const ExactSurface& exact, const SchemeEvaluator& evaluate) {
+    SchemeError all = measureScheme(exact, evaluate, 9);
+    SchemeError ev = measureScheme(exact, evaluate, 9, smoothExtraordinaryFilter(exact.cage));
+    char evPosition[32] = "-", evNormal[32] = "-";
+    if (ev.samples) {
+        std::snprintf(evPosition, sizeof evPosition, "%.2e", ev.maxRelative);
+        std::snprintf(evNormal, sizeof evNormal, "%.2f", ev.maxNormalDegrees);
+    }
+    std::printf("| %-8s | %-22s | %7u | %10.2e | %10.2e | %7.2f | %7.2f | %15s | %15s |\n", scheme.c_str(), name.c_str(),
+                patches, all.maxRelative, all.rmsRelative, all.maxNormalDegrees, all.rmsNormalDegrees, evPosition, evNormal);
+    return all;
 }
 
 }  // namespace qp::test

@@ -104,3 +104,21 @@ TEST(Acc1, NonQuadCagesAreRefinedOnce) {
     EXPECT_EQ(patches.stats.patches, corners);
     EXPECT_NE(std::string(qp::acc1Restrictions()).find("creases"), std::string::npos);
 }
+
+// The README table (plugins/acc1/README.md): ACC-1 against the exact limit on the shared cages.
+TEST(Acc1, ErrorTableOnSharedCages) {
+    QP_REQUIRE_SHARED_SHAPES();
+    qp::test::printErrorTableHeader();
+    for (const std::string& name : qp::test::errorTableCages()) {
+        Cage cage = qp::test::loadSharedShape(name);
+        auto exact = qp::test::makeExactSurface(cage, name);
+        ASSERT_TRUE(exact);
+        auto patches = qp::buildAcc1(cage, {}, name);
+        ASSERT_TRUE(patches.ok()) << patches.error().message;
+        qp::test::SchemeError e = qp::test::printErrorTableRow("acc1", name, patches->stats.patches, *exact, evaluator(*patches));
+        EXPECT_LT(e.maxRelative, 0.1) << name;  // gregory_test1's boundary EVs: 4e-2 (ACC-1), 8e-2 (ACC-2)
+        if (name == "catmark_torus") {
+            EXPECT_LT(e.maxRelative, 1e-6);
+        }
+    }
+}

@@ -1,5 +1,6 @@
 // PN-triangles: interpolation of the cage, continuity, the sub-face maps, and (for the record)
 // their distance from the exact Catmull-Clark limit.
+#include <cmath>
 #include <cstdio>
 
 #include <glm/geometric.hpp>
@@ -143,4 +144,35 @@ TEST(Pn, TriangleCagesDirectly) {
     qp::PnSample centre = qp::evaluatePn(patches, 0, 1.0f, 1.0f);
     EXPECT_GT(glm::length(centre.position), 0.75f);
     EXPECT_LT(glm::length(centre.position), 1.0f);
+}
+
+namespace {
+
+qp::test::SchemeEvaluator evaluator(const qp::PnPatches& patches) {
+    return [&patches](uint32_t s, double u, double v) {
+        qp::PnSample a = qp::evaluatePn(patches, s, float(u), float(v));
+        return qp::test::SchemeSample{glm::dvec3(a.position), glm::dvec3(a.normal)};
+    };
+}
+
+}  // namespace
+
+// The README table (plugins/pn/README.md): PN-triangles against the exact limit. PN
+// interpolates the cage, so the numbers are large by design; the test only checks that they
+// are finite and that a cage whose limit is far from its vertices shows it.
+TEST(Pn, ErrorTableOnSharedCages) {
+    QP_REQUIRE_SHARED_SHAPES();
+    qp::test::printErrorTableHeader();
+    for (const std::string& name : qp::test::errorTableCages()) {
+        Cage cage = qp::test::loadSharedShape(name);
+        auto exact = qp::test::makeExactSurface(cage, name);
+        ASSERT_TRUE(exact);
+        qp::PnPatches patches = build(cage);
+        qp::test::SchemeError e = qp::test::printErrorTableRow("pn", name, patches.stats.triangles, *exact, evaluator(patches));
+        EXPECT_TRUE(std::isfinite(e.maxRelative)) << name;
+        EXPECT_LT(e.maxRelative, 0.5) << name;
+        if (name == "catmark_cube") {
+            EXPECT_GT(e.maxRelative, 0.05);  // interpolating the corners
+        }
+    }
 }

@@ -159,3 +159,25 @@ TEST(Stam, RejectsBoundariesAndCountsIgnoredTags) {
     EXPECT_GT(patches->stats.ignoredCreases, 0u);  // sharpness 4 survives the one step taken
     EXPECT_NE(std::string(qp::stamRestrictions()).find("boundaries"), std::string::npos);
 }
+
+// The README table (plugins/stam/README.md): Stam against the exact limit on the shared closed
+// cages (the others are rejected for their boundaries, which the loop checks too).
+TEST(Stam, ErrorTableOnSharedCages) {
+    QP_REQUIRE_SHARED_SHAPES();
+    qp::test::printErrorTableHeader();
+    for (const std::string& name : qp::test::errorTableCages()) {
+        Cage cage = qp::test::loadSharedShape(name);
+        auto patches = qp::buildStam(cage, name);
+        if (!patches.ok()) {
+            EXPECT_NE(patches.error().message.find("boundary"), std::string::npos) << name;
+            std::printf("| stam     | %-22s | rejected: %s |\n", name.c_str(), patches.error().message.c_str());
+            continue;
+        }
+        auto exact = qp::test::makeExactSurface(cage, name);
+        ASSERT_TRUE(exact);
+        qp::test::SchemeError e = qp::test::printErrorTableRow("stam", name, patches->stats.patches, *exact, evaluator(*patches));
+        if (cage.creases.empty() && cage.corners.empty()) {
+            EXPECT_LT(e.maxRelative, 1e-5) << name;
+        }
+    }
+}
