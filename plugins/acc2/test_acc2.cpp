@@ -211,3 +211,30 @@ TEST(Acc2, ErrorTableOnSharedCages) {
         qp::test::printErrorTableRow("acc2 x", name, x.stats.patches, *exact, evaluator(x));
     }
 }
+
+// Away from extraordinary vertices the scheme is the B-spline limit, also on irregular cages:
+// faces whose four corners are interior valence-4 vertices.
+TEST(Acc2, RegularFacesOfIrregularCagesAreExact) {
+    for (const Cage& cage : {qp::test::makeSubdividedCube(4), qp::test::makeMixedGrid()}) {
+        auto exact = qp::test::makeExactSurface(cage);
+        auto patches = build(cage);
+        const qp::QuadPatchSource& src = patches.source;
+        qp::test::SchemeEvaluator eval = evaluator(patches);
+        // Sub-faces all of whose points land on patches with four regular corners.
+        auto regular = [&](uint32_t s) {
+            for (double u : {0.0, 1.0})
+                for (double v : {0.0, 1.0}) {
+                    uint32_t face = qp::locateOnQuads(src, s, u, v).face;
+                    for (uint32_t k = 0; k < 4; ++k) {
+                        const qp::QuadRing& ring = src.rings[src.quads.faceBegin(face)[k]];
+                        if (ring.boundary || ring.faceCount() != 4) return false;
+                    }
+                }
+            return true;
+        };
+        qp::test::SchemeError e = qp::test::measureScheme(*exact, eval, 9, regular);
+        EXPECT_GT(e.samples, 0u);
+        EXPECT_LT(e.maxRelative, 1e-6);
+        EXPECT_LT(e.maxNormalDegrees, 1e-3);
+    }
+}
