@@ -9,6 +9,7 @@ packages=(
   libglfw3-dev libimgui-dev libstb-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers vulkan-validationlayers-dev glslc spirv-tools
   libgtest-dev libgmock-dev libbenchmark-dev
+  libeigen3-dev
   xvfb xauth xdotool imagemagick
 )
 

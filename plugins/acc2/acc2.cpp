@@ -1,0 +1,144 @@
+#include "acc2.h"
+
+#include <chrono>
+
+#include <glm/geometric.hpp>
+
+#include "patch_basis.h"
+
+namespace qp {
+
+namespace {
+
+glm::dvec3 at(const Cage& cage, uint32_t v) { return glm::dvec3(cage.positions[v]); }
+
+// Corner k of a patch face: its limit frame and the two tangent-plane edge points.
+struct Corner {
+    const QuadRing* ring = nullptr;
+    uint32_t face = 0;  // index of the patch face in the ring
+    glm::dvec3 P{0.0}, Ep{0.0}, Em{0.0};
+    double cosine = 0.0;
+    bool nextEdgeOnBoundary = false, prevEdgeOnBoundary = false;
+};
+
+Corner makeCorner(const QuadPatchSource& src, uint32_t face, uint32_t k) {
+    Corner c;
+    const uint32_t v = src.quads.faceBegin(face)[k];
+    c.ring = &src.rings[v];
+    c.face = src.ringFace(face, k);
+    const VertexLimit& limit = src.limits[v];
+    const uint32_t n = uint32_t(limit.tangents.size());
+    c.P = limit.position;
+    c.Ep = c.P + limit.tangents[c.face];
+    c.Em = c.P + limit.tangents[(c.face + 1) % n];
+    c.cosine = limit.cosine;
+    c.nextEdgeOnBoundary = c.ring->boundary && c.face == 0;
+    c.prevEdgeOnBoundary = c.ring->boundary && c.face + 1 == c.ring->faceCount();
+    return c;
+}
+
+// Half the difference of the regular interior points on either side of ring edge i, pointing
+// into face i: (e_{i+1} - e_{i-1}) / 3 + (d_i - d_{i-1}) / 6.
+glm::dvec3 crossDifference(const Cage& cage, const QuadRing& ring, int i) {
+    return (at(cage, ring.edge(i + 1)) - at(cage, ring.edge(i - 1))) / 3.0 +
+           (at(cage, ring.diagonal(i)) - at(cage, ring.diagonal(i - 1))) / 6.0;
+}
+
+}  // namespace
+
+Result<Acc2Patches> buildAcc2(const Cage& cage, const Acc2Settings& settings, const std::string& source) {
+    const auto start = std::chrono::steady_clock::now();
+    auto prepared = prepareQuadPatchSource(cage, stepsToAllQuads(cage), settings.tangents, source);
+    if (!prepared) return prepared.error();
+
+    Acc2Patches out;
+    out.source = std::move(prepared).value();
+    out.settings = settings;
+    const QuadPatchSource& src = out.source;
+    const Cage& quads = src.quads;
+    out.controlPoints.resize(src.patchFace.size() * Acc2Patches::kControlPointsPerPatch);
+
+    for (uint32_t patch = 0; patch < src.patchFace.size(); ++patch) {
+        const uint32_t face = src.patchFace[patch];
+        Corner corners[4];
+        for (uint32_t k = 0; k < 4; ++k) corners[k] = makeCorner(src, face, k);
+        bool regular = true, boundary = false;
+        for (const Corner& c : corners) {
+            regular &= !c.ring->boundary && c.ring->faceCount() == 4;
+            boundary |= c.ring->boundary;
+        }
+        out.stats.regularPatches += regular;
+        out.stats.boundaryPatches += boundary;
+
+        glm::vec3* cp = &out.controlPoints[size_t(patch) * Acc2Patches::kControlPointsPerPatch];
+        for (uint32_t k = 0; k < 4; ++k) {
+            const Corner& c = corners[k];
+            const Corner& next = corners[(k + 1) % 4];
+            const Corner& prev = corners[(k + 3) % 4];
+            const int i = int(c.face);
+            glm::dvec3 Fp = c.nextEdgeOnBoundary
+                                ? interiorBezierPoint(quads, *c.ring, c.face)
+                                : c.Ep + (2.0 * c.cosine * (next.Em - c.Ep) - next.cosine * (c.Ep - c.P) +
+                                          crossDifference(quads, *c.ring, i)) /
+                                             3.0;
+            glm::dvec3 Fm = c.prevEdgeOnBoundary
+                                ? interiorBezierPoint(quads, *c.ring, c.face)
+                                : c.Em + (2.0 * c.cosine * (prev.Ep - c.Em) - prev.cosine * (c.Em - c.P) -
+                                          crossDifference(quads, *c.ring, i + 1)) /
+                                             3.0;
+            cp[5 * k + 0] = glm::vec3(c.P);
+            cp[5 * k + 1] = glm::vec3(c.Ep);
+            cp[5 * k + 2] = glm::vec3(c.Em);
+            cp[5 * k + 3] = glm::vec3(Fp);
+            cp[5 * k + 4] = glm::vec3(Fm);
+        }
+    }
+
+    out.stats.patches = uint32_t(src.patchFace.size());
+    out.stats.controlPoints = uint32_t(out.controlPoints.size());
+    out.stats.refinementSteps = uint32_t(src.steps.size());
+    out.stats.ignoredCreases = src.ignoredCreases;
+    out.stats.ignoredCorners = src.ignoredCorners;
+    out.stats.setupMilliseconds =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return out;
+}
+
+Acc2Sample evaluateAcc2Patch(const Acc2Patches& patches, uint32_t patch, float s, float t) {
+    Acc2Sample sample;
+    BasisWeights w;
+    gregoryWeights(s, t, w, patches.settings.surfaceDerivatives);
+    const glm::vec3* cp = &patches.controlPoints[size_t(patch) * Acc2Patches::kControlPointsPerPatch];
+    for (uint32_t i = 0; i < Acc2Patches::kControlPointsPerPatch; ++i) {
+        sample.position += w.w[i] * cp[i];
+        sample.du += w.du[i] * cp[i];
+        sample.dv += w.dv[i] * cp[i];
+    }
+    glm::vec3 n = glm::cross(sample.du, sample.dv);
+    float length = glm::length(n);
+    sample.normal = length > 0.0f ? n / length : glm::vec3(0.0f);
+    sample.valid = true;
+    return sample;
+}
+
+Acc2Sample evaluateAcc2(const Acc2Patches& patches, uint32_t subface, float u, float v) {
+    RefinedLocation loc = locateOnQuads(patches.source, subface, u, v);
+    const uint32_t patch = patches.source.facePatch[loc.face];
+    if (patch == kNoPatch) return Acc2Sample{};
+    Acc2Sample sample = evaluateAcc2Patch(patches, patch, float(loc.s), float(loc.t));
+    glm::vec3 ds = sample.du, dt = sample.dv;
+    sample.du = float(loc.dsdu) * ds + float(loc.dtdu) * dt;
+    sample.dv = float(loc.dsdv) * ds + float(loc.dtdv) * dt;
+    return sample;  // the normal is unchanged: the map to the child frame keeps orientation
+}
+
+const char* acc2Restrictions() {
+    return "ACC-2 (Gregory patches) approximates the Catmull-Clark limit: exact on regular quads, "
+           "limit position at every patch corner, G1 elsewhere. Cages with "
+           "non-quad faces are refined once first (4x the patches of their quads). Semi-sharp and "
+           "infinitely sharp creases and corner tags are ignored (smooth rules); boundaries follow "
+           "Catmull-Clark boundary limits at the corners (edges-only valence-2 boundary vertices "
+           "approximately). Non-manifold cages are rejected.";
+}
+
+}  // namespace qp
