@@ -12,6 +12,18 @@ namespace qp {
 
 namespace {
 
+// Runs body(i) for i in [0, count): on all cores for large counts; inline for the handful of
+// sub-faces a local edit touches, where waking worker threads costs more than the work (and on a
+// busy machine a descheduled worker can hold the edit up for milliseconds).
+template <class Body>
+void forEach(size_t count, const Body& body) {
+    if (count < 64) {
+        for (size_t i = 0; i < count; ++i) body(i);
+    } else {
+        tbb::parallel_for(size_t(0), count, body);
+    }
+}
+
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -103,7 +115,7 @@ Status PlannedCage::replanFaces(const std::vector<uint32_t>& faces, EditReport& 
 
     const uint64_t missesBefore = database_->misses();
     std::vector<std::string> errors(subfaces.size());
-    tbb::parallel_for(size_t(0), subfaces.size(), [&](size_t i) {
+    forEach(subfaces.size(), [&](size_t i) {
         uint32_t s = subfaces[i];
         uint32_t face = uint32_t(std::upper_bound(faceFirstSubface_.begin(), faceFirstSubface_.end(), s) -
                                  faceFirstSubface_.begin()) - 1;
@@ -133,7 +145,7 @@ Status PlannedCage::replanFaces(const std::vector<uint32_t>& faces, EditReport& 
 }
 
 void PlannedCage::updateControlPoints(const std::vector<uint32_t>& subfaces) {
-    tbb::parallel_for(size_t(0), subfaces.size(), [&](size_t i) {
+    forEach(subfaces.size(), [&](size_t i) {
         uint32_t s = subfaces[i];
         if (subfacePlan_[s] == kNoPlan) {
             subfaceControlPoints_[s].clear();
