@@ -108,39 +108,52 @@ void PlannedCage::remapSubfaces(const std::vector<uint32_t>& oldFaceOf) {
     }
 }
 
-Status PlannedCage::replanFaces(const std::vector<uint32_t>& faces, EditReport& report) {
-    std::vector<uint32_t> subfaces;
+Result<std::vector<PlannedCage::SubfacePlan>> PlannedCage::planFaces(const Cage& cage, const Topology& topology,
+                                                                    const std::vector<uint32_t>& faces,
+                                                                    EditReport& report) const {
+    std::vector<std::pair<uint32_t, uint32_t>> work;  // (face, sub-face within it)
     for (uint32_t f : faces)
-        for (uint32_t s = faceFirstSubface_[f]; s < faceFirstSubface_[f + 1]; ++s) subfaces.push_back(s);
+        for (uint32_t k = 0; k < qp::subfaceCount(cage.faceSize(f)); ++k) work.push_back({f, k});
 
     const uint64_t missesBefore = database_->misses();
-    std::vector<std::string> errors(subfaces.size());
-    forEach(subfaces.size(), [&](size_t i) {
-        uint32_t s = subfaces[i];
-        uint32_t face = uint32_t(std::upper_bound(faceFirstSubface_.begin(), faceFirstSubface_.end(), s) -
-                                 faceFirstSubface_.begin()) - 1;
-        if (cage_.isHole(face)) {
-            subfacePlan_[s] = kNoPlan;
-            subfaceRotation_[s] = 0;
-            subfaceRing_[s].clear();
-            return;
-        }
-        FaceConfig config = gatherFaceConfig(cage_, topology_, face, s - faceFirstSubface_[face], options_);
+    std::vector<SubfacePlan> plans(work.size());
+    std::vector<std::string> errors(work.size());
+    forEach(work.size(), [&](size_t i) {
+        const auto [face, k] = work[i];
+        if (cage.isHole(face)) return;  // no plan
+        FaceConfig config = gatherFaceConfig(cage, topology, face, k, options_);
         Result<uint32_t> id = database_->findOrBuild(config);
         if (!id) {
             errors[i] = source_ + ": face " + std::to_string(face + 1) + ": " + id.error().message;
             return;
         }
-        subfacePlan_[s] = *id;
-        subfaceRotation_[s] = config.rotation;
-        subfaceRing_[s] = std::move(config.ring);
+        plans[i] = {*id, config.rotation, std::move(config.ring)};
     });
     for (const std::string& e : errors)
         if (!e.empty()) return Error{e};
-    report.replannedFaceList.insert(report.replannedFaceList.end(), faces.begin(), faces.end());
     report.newPlans += uint32_t(database_->misses() - missesBefore);
+    return plans;
+}
+
+void PlannedCage::installPlans(const std::vector<uint32_t>& faces, std::vector<SubfacePlan>& plans, EditReport& report) {
+    std::vector<uint32_t> subfaces;
+    for (uint32_t f : faces)
+        for (uint32_t s = faceFirstSubface_[f]; s < faceFirstSubface_[f + 1]; ++s) {
+            SubfacePlan& p = plans[subfaces.size()];
+            subfacePlan_[s] = p.plan;
+            subfaceRotation_[s] = p.rotation;
+            subfaceRing_[s] = std::move(p.ring);
+            subfaces.push_back(s);
+        }
     updateControlPoints(subfaces);
+    report.replannedFaceList.insert(report.replannedFaceList.end(), faces.begin(), faces.end());
     report.updatedSubfaceList.insert(report.updatedSubfaceList.end(), subfaces.begin(), subfaces.end());
+}
+
+Status PlannedCage::replanFaces(const std::vector<uint32_t>& faces, EditReport& report) {
+    auto plans = planFaces(cage_, topology_, faces, report);
+    if (!plans) return plans.error();
+    installPlans(faces, *plans, report);
     return success();
 }
 
@@ -269,6 +282,7 @@ Result<EditReport> PlannedCage::setEdgeSharpness(std::span<const EdgeCrease> edg
             return Error{"there is no edge between vertices " + std::to_string(e.v0 + 1) + " and " + std::to_string(e.v1 + 1)};
         if (Status s = checkSharpness(e.sharpness, "edge"); !s) return s.error();
     }
+    const std::vector<EdgeCrease> before = cage_.creases;
     std::vector<uint32_t> ends;
     for (const EdgeCrease& e : edges) {
         cage_.setEdgeSharpness(e.v0, e.v1, std::min(e.sharpness, kInfiniteSharpness));
@@ -276,7 +290,10 @@ Result<EditReport> PlannedCage::setEdgeSharpness(std::span<const EdgeCrease> edg
         ends.push_back(e.v1);
     }
     EditReport report;
-    if (Status s = replanFaces(facesSharingVertexWith(ends), report); !s) return s.error();
+    if (Status s = replanFaces(facesSharingVertexWith(ends), report); !s) {
+        cage_.creases = before;  // nothing was installed: plans still match the old tags
+        return s.error();
+    }
     return finished(std::move(report), start);
 }
 
@@ -291,41 +308,46 @@ Result<EditReport> PlannedCage::setVertexSharpness(std::span<const VertexCorner>
         if (c.vertex >= cage_.vertexCount()) return Error{"vertex " + std::to_string(c.vertex + 1) + " does not exist"};
         if (Status s = checkSharpness(c.sharpness, "vertex"); !s) return s.error();
     }
+    const std::vector<VertexCorner> before = cage_.corners;
     std::vector<uint32_t> touched;
     for (const VertexCorner& c : vertices) {
         cage_.setVertexSharpness(c.vertex, std::min(c.sharpness, kInfiniteSharpness));
         touched.push_back(c.vertex);
     }
     EditReport report;
-    if (Status s = replanFaces(facesSharingVertexWith(touched), report); !s) return s.error();
+    if (Status s = replanFaces(facesSharingVertexWith(touched), report); !s) {
+        cage_.corners = before;
+        return s.error();
+    }
     return finished(std::move(report), start);
 }
 
 Result<EditReport> PlannedCage::setHole(uint32_t face, bool hole) {
     auto start = std::chrono::steady_clock::now();
     if (face >= cage_.faceCount()) return Error{"face " + std::to_string(face + 1) + " does not exist"};
+    const bool before = cage_.isHole(face);
     cage_.setHole(face, hole);
     EditReport report;
-    if (Status s = replanFaces({face}, report); !s) return s.error();
-    return finished(std::move(report), start);
-}
-
-Result<EditReport> PlannedCage::replanAll(std::chrono::steady_clock::time_point start) {
-    std::vector<uint32_t> all(cage_.faceCount());
-    for (uint32_t f = 0; f < all.size(); ++f) all[f] = f;
-    EditReport report;
-    if (Status s = replanFaces(all, report); !s) return s.error();
+    if (Status s = replanFaces({face}, report); !s) {
+        cage_.setHole(face, before);
+        return s.error();
+    }
     return finished(std::move(report), start);
 }
 
 Result<EditReport> PlannedCage::setCreaseMethod(CreaseMethod method) {
     auto start = std::chrono::steady_clock::now();
     if (method != CreaseMethod::Normal && method != CreaseMethod::Chaikin) return Error{"unknown crease method"};
-    Cage edited = cage_;
-    edited.options.creaseMethod = method;
-    if (auto refiner = createRefiner(edited, source_); !refiner) return refiner.error();
+    const CreaseMethod before = cage_.options.creaseMethod;
     cage_.options.creaseMethod = method;
-    return replanAll(start);
+    std::vector<uint32_t> all(cage_.faceCount());
+    for (uint32_t f = 0; f < all.size(); ++f) all[f] = f;
+    EditReport report;
+    if (Status s = replanFaces(all, report); !s) {
+        cage_.options.creaseMethod = before;
+        return s.error();
+    }
+    return finished(std::move(report), start);
 }
 
 Result<EditReport> PlannedCage::applyTopologyEdit(TopologyEdit edit) {
@@ -391,6 +413,12 @@ Result<EditReport> PlannedCage::applyTopologyEdit(TopologyEdit edit) {
         if (old != kNewElement && before.positions[old] != next.positions[v]) moved.push_back(v);
     }
 
+    // Plan first, so that a failure leaves everything as it was.
+    EditReport report;
+    report.topologyChanged = true;
+    auto plans = planFaces(next, nextTopology, affected, report);
+    if (!plans) return plans.error();
+
     cage_ = std::move(edit.cage);
     topology_ = std::move(nextTopology);
     for (uint32_t f : edit.changedFaces) edit.oldFaceOf[f] = kNewElement;  // nothing of theirs is kept
@@ -405,9 +433,7 @@ Result<EditReport> PlannedCage::applyTopologyEdit(TopologyEdit edit) {
         }
     }
 
-    EditReport report;
-    report.topologyChanged = true;
-    if (Status s = replanFaces(affected, report); !s) return s.error();
+    installPlans(affected, *plans, report);
     if (!moved.empty()) {
         sortUnique(report.updatedSubfaceList);
         std::vector<uint32_t> stale = subfacesSeeing(moved);

@@ -21,7 +21,6 @@
 // Each edit validates its input first and leaves everything unchanged when it fails.
 #pragma once
 
-#include <chrono>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -104,13 +103,22 @@ public:
 
 private:
     PlannedCage() = default;
-    // Re-plans the given faces (sorted, unique) and refreshes their control points.
+    struct SubfacePlan {
+        uint32_t plan = kNoPlan, rotation = 0;
+        std::vector<uint32_t> ring;
+    };
+    // Looks up (or builds) the plans of every sub-face of the faces of `cage`, changing nothing
+    // here; in face order, then sub-face order.
+    Result<std::vector<SubfacePlan>> planFaces(const Cage& cage, const Topology& topology,
+                                               const std::vector<uint32_t>& faces, EditReport& report) const;
+    // Stores plans from planFaces (for the current cage) and refreshes those control points.
+    void installPlans(const std::vector<uint32_t>& faces, std::vector<SubfacePlan>& plans, EditReport& report);
+    // planFaces + installPlans on the current cage: re-plans the faces (sorted, unique).
     Status replanFaces(const std::vector<uint32_t>& faces, EditReport& report);
     void updateControlPoints(const std::vector<uint32_t>& subfaces);
     std::vector<uint32_t> facesSharingVertexWith(std::span<const uint32_t> vertices) const;
     // Sub-faces whose 1-ring holds one of the vertices (sorted).
     std::vector<uint32_t> subfacesSeeing(std::span<const uint32_t> vertices) const;
-    Result<EditReport> replanAll(std::chrono::steady_clock::time_point start);
     // Rebuilds the sub-face arrays after a topology change; `oldFaceOf[f]` is the face's index
     // before the change (UINT32_MAX for a new face) so unaffected faces keep their plans.
     void remapSubfaces(const std::vector<uint32_t>& oldFaceOf);

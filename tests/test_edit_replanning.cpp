@@ -66,8 +66,9 @@ EditReport applyAndCheck(PlannedCage& planned, qp::Result<TopologyEdit> edit, ui
             EXPECT_EQ(now[k].plan, was[k].plan) << "face " << f;
             EXPECT_EQ(now[k].rotation, was[k].rotation) << "face " << f;
             const auto& updated = report->updatedSubfaceList;
-            if (!std::binary_search(updated.begin(), updated.end(), planned.firstSubface(f) + k))
+            if (!std::binary_search(updated.begin(), updated.end(), planned.firstSubface(f) + k)) {
                 EXPECT_EQ(now[k].points, was[k].points) << "face " << f;
+            }
         }
     }
     std::vector<std::string> differences = planned.differencesFromRebuild();
