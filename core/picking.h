@@ -106,8 +106,9 @@ private:
 
 struct Occluder {
     std::function<float(const Ray&)> nearestHit;  // distance to the first surface hit, or kNoDistance
-    float tolerance = 0.0f;                       // world units
+    float tolerance = 0.0f;                       // world units (e.g. 1e-4 x the cage's diagonal)
 };
+// These keep references: the raycaster, picker and planned cage must outlive the occluder.
 Occluder cageOccluder(const CageRaycaster& raycaster, float tolerance);
 Occluder limitOccluder(const LimitPicker& picker, const PlannedCage& planned, float tolerance);
 

@@ -1,6 +1,7 @@
 #include "selection.h"
 
 #include <algorithm>
+#include <cassert>
 
 namespace qp {
 
@@ -55,6 +56,7 @@ size_t Selection::size() const {
 }
 
 void applyPick(Selection& selection, SelectOp op, std::span<const uint32_t> elements) {
+    assert(selection.mode != SelectionMode::Edge && "edges are picked as EdgeKeys");
     combine(selection.mode == SelectionMode::Face ? selection.faces : selection.vertices, op, elements);
 }
 

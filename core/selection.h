@@ -40,7 +40,8 @@ struct Selection {
 // How a click or a box combines with what is selected (plain, shift, ctrl+shift, ctrl).
 enum class SelectOp : uint8_t { Replace, Add, Toggle, Remove };
 
-// Combines picked elements (vertices or faces, by the selection's mode) into the selection.
+// Combines picked elements into the selection: indices in vertex or face mode, EdgeKeys (either
+// order) in edge mode.
 // Elements are taken as given (the picker returns valid ones); the lists stay sorted/unique.
 void applyPick(Selection& selection, SelectOp op, std::span<const uint32_t> elements);
 void applyPick(Selection& selection, SelectOp op, std::span<const EdgeKey> edges);

@@ -42,12 +42,18 @@ TEST(Picking, PixelsFollowVulkanConventionsAndRaysRoundTrip) {
     EXPECT_LT(view.project({0, 1, 0}).pixel.y, 300.0f);  // up in the world is up on screen (smaller y)
     EXPECT_GT(view.project({1, 0, 0}).pixel.x, 400.0f);
     EXPECT_FALSE(view.project({0, 0, 10}).inFront);  // behind the camera
-    for (glm::vec3 p : {glm::vec3(0.3f, -0.7f, 1.2f), glm::vec3(-1.5f, 0.9f, -2.0f)}) {
-        qp::Ray ray = view.rayThrough(view.project(p).pixel);
-        EXPECT_NEAR(glm::length(ray.direction), 1.0f, 1e-5f);
-        EXPECT_LT(distanceToRay(ray, p), 1e-4f);
-        EXPECT_GT(glm::dot(p - ray.origin, ray.direction), 0.0f);
-    }
+    glm::mat4 ortho = glm::ortho(-4.0f, 4.0f, -3.0f, 3.0f, 0.1f, 20.0f);
+    ortho[1][1] *= -1.0f;
+    PickView orthographic{ortho * glm::lookAt(glm::vec3(1, 2, 6), glm::vec3(0), glm::vec3(0, 1, 0)), {800, 600}};
+    for (const PickView& v : {view, orthographic})
+        for (glm::vec3 p : {glm::vec3(0.3f, -0.7f, 1.2f), glm::vec3(-1.5f, 0.9f, -2.0f)}) {
+            qp::Ray ray = v.rayThrough(v.project(p).pixel);
+            EXPECT_NEAR(glm::length(ray.direction), 1.0f, 1e-5f);
+            EXPECT_LT(distanceToRay(ray, p), 1e-4f);
+            EXPECT_GT(glm::dot(p - ray.origin, ray.direction), 0.0f);
+        }
+    // Orthographic rays are parallel.
+    EXPECT_NEAR(glm::length(orthographic.rayThrough({10, 10}).direction - orthographic.rayThrough({700, 500}).direction), 0.0f, 1e-5f);
 }
 
 TEST(Picking, FacesVerticesAndEdgesOfACube) {
