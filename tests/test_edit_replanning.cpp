@@ -2,6 +2,8 @@
 // are re-planned, every other face keeps its plan and control points, and the result always
 // equals planning the edited cage from scratch.
 #include <algorithm>
+#include <bit>
+#include <functional>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -177,6 +179,58 @@ TEST(EditReplanning, BadEditsChangeNothing) {
 
 namespace {
 
+// An oracle for "faces whose configuration may have changed", written independently of
+// PlannedCage's dirty-vertex rule: a face of the edited cage is listed when it is new or has a
+// new vertex list, its hole flag changed, or any input of its configuration differs: per corner,
+// the corner sharpness, the creased edges at it, and the faces around it with their vertex lists
+// (vertices named by their index before the edit; created vertices by fresh names).
+std::vector<uint32_t> facesWithChangedInputs(const Cage& before, const TopologyEdit& edit) {
+    const Cage& after = edit.cage;
+    const qp::Topology tb = qp::buildTopology(before), ta = qp::buildTopology(after);
+    using Inputs = std::vector<std::vector<uint64_t>>;
+    auto inputs = [](const Cage& cage, const qp::Topology& t, uint32_t f, const std::function<uint64_t(uint32_t)>& name) {
+        Inputs out;
+        for (uint32_t i = 0; i < cage.faceSize(f); ++i) {
+            const uint32_t c = cage.faceBegin(f)[i];
+            std::vector<uint64_t> corner{name(c), std::bit_cast<uint32_t>(cage.vertexSharpness(c))};
+            std::vector<std::vector<uint64_t>> creases, faces;
+            for (uint32_t k = t.vertexEdgeOffsets[c]; k < t.vertexEdgeOffsets[c + 1]; ++k) {
+                const uint32_t e = t.vertexEdges[k], a = t.edgeVertices[2 * e], b = t.edgeVertices[2 * e + 1];
+                if (float s = cage.edgeSharpness(a, b); s > 0.0f) creases.push_back({name(a + b - c), std::bit_cast<uint32_t>(s)});
+            }
+            for (uint32_t k = t.vertexFaceOffsets[c]; k < t.vertexFaceOffsets[c + 1]; ++k) {
+                const uint32_t g = t.vertexFaces[k];
+                std::vector<uint64_t> cycle;
+                for (uint32_t j = 0; j < cage.faceSize(g); ++j) cycle.push_back(name(cage.faceBegin(g)[j]));
+                faces.push_back(cycle);
+            }
+            std::sort(creases.begin(), creases.end());
+            std::sort(faces.begin(), faces.end());
+            for (auto& x : creases) corner.insert(corner.end(), x.begin(), x.end());
+            corner.push_back(UINT64_MAX);
+            for (auto& x : faces) {
+                corner.insert(corner.end(), x.begin(), x.end());
+                corner.push_back(UINT64_MAX - 1);
+            }
+            out.push_back(corner);
+        }
+        return out;
+    };
+    auto oldName = [](uint32_t v) { return uint64_t(v); };
+    auto newName = [&](uint32_t v) {
+        return edit.oldVertexOf[v] == qp::kNewElement ? (uint64_t(1) << 40) + v : uint64_t(edit.oldVertexOf[v]);
+    };
+    std::vector<uint32_t> listed;
+    for (uint32_t f = 0; f < after.faceCount(); ++f) {
+        const uint32_t g = edit.oldFaceOf[f];
+        const bool changed = g == qp::kNewElement || std::binary_search(edit.changedFaces.begin(), edit.changedFaces.end(), f) ||
+                             before.isHole(g) != after.isHole(f) || before.options != after.options ||
+                             inputs(before, tb, g, oldName) != inputs(after, ta, f, newName);
+        if (changed) listed.push_back(f);
+    }
+    return listed;
+}
+
 // One random edit of any kind on the planned cage; returns false when the edit was refused (the
 // cage must then be unchanged). Kinds: 0 move, 1 edge sharpness, 2 vertex sharpness, 3 hole,
 // 4 crease method, 5 extrude, 6 delete, 7 split, 8 edge loop, 9 merge, 10 delete + make face.
@@ -265,7 +319,12 @@ bool randomEdit(PlannedCage& planned, std::mt19937& rng, uint32_t kind, std::str
             failure = edit.error().message;
             return false;
         }
+        const Cage before = planned.cage();
+        std::vector<uint32_t> expected = facesWithChangedInputs(before, *edit);
         report = planned.applyTopologyEdit(std::move(edit).value());
+        if (report.ok()) {
+            EXPECT_EQ(report->replannedFaceList, expected) << "topology edit kind " << kind;
+        }
     }
     if (!report.ok()) failure = report.error().message;
     return report.ok();
