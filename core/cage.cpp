@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <set>
 #include <utility>
 
 #include <glm/geometric.hpp>
@@ -118,7 +117,8 @@ Status validateCage(const Cage& cage, const std::string& source) {
                          " has a NaN or infinite coordinate"};
     }
 
-    std::set<std::pair<uint32_t, uint32_t>> edges;
+    std::vector<uint64_t> edges;  // (v0 << 32 | v1), v0 < v1; sorted below
+    edges.reserve(cage.faceVertices.size());
     for (uint32_t f = 0; f < cage.faceCount(); ++f) {
         if (cage.faceOffsets[f + 1] < cage.faceOffsets[f])
             return Error{source + ": face offsets are not increasing at face " + std::to_string(f + 1)};
@@ -135,9 +135,11 @@ Status validateCage(const Cage& cage, const std::string& source) {
             if (a == b)
                 return Error{faceName(source, f) + " repeats vertex " + std::to_string(a + 1) +
                              " consecutively (zero-length edge)"};
-            edges.insert({std::min(a, b), std::max(a, b)});
+            edges.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
         }
     }
+
+    std::sort(edges.begin(), edges.end());
 
     auto badSharpness = [](float s) { return !std::isfinite(s) || s <= 0.0f || s > kInfiniteSharpness; };
     for (size_t i = 0; i < cage.creases.size(); ++i) {
@@ -145,7 +147,7 @@ Status validateCage(const Cage& cage, const std::string& source) {
         std::string name = source + ": crease on edge " + std::to_string(c.v0 + 1) + "-" + std::to_string(c.v1 + 1);
         if (c.v0 >= c.v1 || (i > 0 && !edgeLess(cage.creases[i - 1], c)))
             return Error{name + " is not sorted or is duplicated (call normalizeTags)"};
-        if (!edges.count({c.v0, c.v1}))
+        if (!std::binary_search(edges.begin(), edges.end(), uint64_t(c.v0) << 32 | c.v1))
             return Error{name + " names an edge that no face has"};
         if (badSharpness(c.sharpness))
             return Error{name + " has sharpness " + std::to_string(c.sharpness) +

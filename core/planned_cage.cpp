@@ -12,6 +12,18 @@ namespace qp {
 
 namespace {
 
+// Runs body(i) for i in [0, count): on all cores for large counts; inline for the handful of
+// sub-faces a local edit touches, where waking worker threads costs more than the work (and on a
+// busy machine a descheduled worker can hold the edit up for milliseconds).
+template <class Body>
+void forEach(size_t count, const Body& body) {
+    if (count < 64) {
+        for (size_t i = 0; i < count; ++i) body(i);
+    } else {
+        tbb::parallel_for(size_t(0), count, body);
+    }
+}
+
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -84,7 +96,9 @@ void PlannedCage::remapSubfaces(const std::vector<uint32_t>& oldFaceOf) {
     for (uint32_t f = 0; f < cage_.faceCount(); ++f) {
         uint32_t old = oldFaceOf[f];
         if (old == UINT32_MAX) continue;
-        for (uint32_t k = 0; k < faceFirstSubface_[f + 1] - faceFirstSubface_[f]; ++k) {
+        const uint32_t subfaces = faceFirstSubface_[f + 1] - faceFirstSubface_[f];
+        if (subfaces != oldFirst[old + 1] - oldFirst[old]) continue;  // a changed face: re-planned anyway
+        for (uint32_t k = 0; k < subfaces; ++k) {
             uint32_t from = oldFirst[old] + k, to = faceFirstSubface_[f] + k;
             subfacePlan_[to] = oldPlan[from];
             subfaceRotation_[to] = oldRotation[from];
@@ -94,44 +108,57 @@ void PlannedCage::remapSubfaces(const std::vector<uint32_t>& oldFaceOf) {
     }
 }
 
-Status PlannedCage::replanFaces(const std::vector<uint32_t>& faces, EditReport& report) {
-    std::vector<uint32_t> subfaces;
+Result<std::vector<PlannedCage::SubfacePlan>> PlannedCage::planFaces(const Cage& cage, const Topology& topology,
+                                                                    const std::vector<uint32_t>& faces,
+                                                                    EditReport& report) const {
+    std::vector<std::pair<uint32_t, uint32_t>> work;  // (face, sub-face within it)
     for (uint32_t f : faces)
-        for (uint32_t s = faceFirstSubface_[f]; s < faceFirstSubface_[f + 1]; ++s) subfaces.push_back(s);
+        for (uint32_t k = 0; k < qp::subfaceCount(cage.faceSize(f)); ++k) work.push_back({f, k});
 
     const uint64_t missesBefore = database_->misses();
-    std::vector<std::string> errors(subfaces.size());
-    tbb::parallel_for(size_t(0), subfaces.size(), [&](size_t i) {
-        uint32_t s = subfaces[i];
-        uint32_t face = uint32_t(std::upper_bound(faceFirstSubface_.begin(), faceFirstSubface_.end(), s) -
-                                 faceFirstSubface_.begin()) - 1;
-        if (cage_.isHole(face)) {
-            subfacePlan_[s] = kNoPlan;
-            subfaceRotation_[s] = 0;
-            subfaceRing_[s].clear();
-            return;
-        }
-        FaceConfig config = gatherFaceConfig(cage_, topology_, face, s - faceFirstSubface_[face], options_);
+    std::vector<SubfacePlan> plans(work.size());
+    std::vector<std::string> errors(work.size());
+    forEach(work.size(), [&](size_t i) {
+        const auto [face, k] = work[i];
+        if (cage.isHole(face)) return;  // no plan
+        FaceConfig config = gatherFaceConfig(cage, topology, face, k, options_);
         Result<uint32_t> id = database_->findOrBuild(config);
         if (!id) {
             errors[i] = source_ + ": face " + std::to_string(face + 1) + ": " + id.error().message;
             return;
         }
-        subfacePlan_[s] = *id;
-        subfaceRotation_[s] = config.rotation;
-        subfaceRing_[s] = std::move(config.ring);
+        plans[i] = {*id, config.rotation, std::move(config.ring)};
     });
     for (const std::string& e : errors)
         if (!e.empty()) return Error{e};
-    report.replannedFaces += uint32_t(faces.size());
     report.newPlans += uint32_t(database_->misses() - missesBefore);
+    return plans;
+}
+
+void PlannedCage::installPlans(const std::vector<uint32_t>& faces, std::vector<SubfacePlan>& plans, EditReport& report) {
+    std::vector<uint32_t> subfaces;
+    for (uint32_t f : faces)
+        for (uint32_t s = faceFirstSubface_[f]; s < faceFirstSubface_[f + 1]; ++s) {
+            SubfacePlan& p = plans[subfaces.size()];
+            subfacePlan_[s] = p.plan;
+            subfaceRotation_[s] = p.rotation;
+            subfaceRing_[s] = std::move(p.ring);
+            subfaces.push_back(s);
+        }
     updateControlPoints(subfaces);
-    report.updatedSubfaces += uint32_t(subfaces.size());
+    report.replannedFaceList.insert(report.replannedFaceList.end(), faces.begin(), faces.end());
+    report.updatedSubfaceList.insert(report.updatedSubfaceList.end(), subfaces.begin(), subfaces.end());
+}
+
+Status PlannedCage::replanFaces(const std::vector<uint32_t>& faces, EditReport& report) {
+    auto plans = planFaces(cage_, topology_, faces, report);
+    if (!plans) return plans.error();
+    installPlans(faces, *plans, report);
     return success();
 }
 
 void PlannedCage::updateControlPoints(const std::vector<uint32_t>& subfaces) {
-    tbb::parallel_for(size_t(0), subfaces.size(), [&](size_t i) {
+    forEach(subfaces.size(), [&](size_t i) {
         uint32_t s = subfaces[i];
         if (subfacePlan_[s] == kNoPlan) {
             subfaceControlPoints_[s].clear();
@@ -165,6 +192,66 @@ std::vector<uint32_t> PlannedCage::facesSharingVertexWith(std::span<const uint32
     return faces;
 }
 
+std::vector<uint32_t> PlannedCage::subfacesSeeing(std::span<const uint32_t> vertices) const {
+    // Faces whose 1-ring holds v: the faces at any vertex of a face at v.
+    std::vector<uint32_t> touching = facesSharingVertexWith(vertices);
+    std::vector<uint32_t> ringVertices;
+    for (uint32_t f : touching) ringVertices.insert(ringVertices.end(), cage_.faceBegin(f), cage_.faceBegin(f) + cage_.faceSize(f));
+    std::sort(ringVertices.begin(), ringVertices.end());
+    ringVertices.erase(std::unique(ringVertices.begin(), ringVertices.end()), ringVertices.end());
+    std::vector<uint32_t> subfaces;
+    for (uint32_t f : facesSharingVertexWith(ringVertices))
+        for (uint32_t s = faceFirstSubface_[f]; s < faceFirstSubface_[f + 1]; ++s) subfaces.push_back(s);
+    return subfaces;
+}
+
+namespace {
+
+void sortUnique(std::vector<uint32_t>& list) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+}
+
+EditReport finished(EditReport report, std::chrono::steady_clock::time_point start) {
+    sortUnique(report.replannedFaceList);
+    sortUnique(report.updatedSubfaceList);
+    report.replannedFaces = uint32_t(report.replannedFaceList.size());
+    report.updatedSubfaces = uint32_t(report.updatedSubfaceList.size());
+    report.milliseconds = millisecondsSince(start);
+    return report;
+}
+
+Status checkSharpness(float sharpness, const char* what) {
+    if (!std::isfinite(sharpness) || sharpness < 0.0f)
+        return Error{std::string(what) + " sharpness must be a number >= 0 (got " + std::to_string(sharpness) + ")"};
+    return success();
+}
+
+}  // namespace
+
+void accumulateReport(EditReport& into, const EditReport& next) {
+    into.newPlans += next.newPlans;
+    into.milliseconds += next.milliseconds;
+    if (next.topologyChanged) {
+        into.topologyChanged = true;
+        into.replannedFaceList = next.replannedFaceList;
+        into.updatedSubfaceList = next.updatedSubfaceList;
+    } else {
+        into.replannedFaceList.insert(into.replannedFaceList.end(), next.replannedFaceList.begin(), next.replannedFaceList.end());
+        into.updatedSubfaceList.insert(into.updatedSubfaceList.end(), next.updatedSubfaceList.begin(), next.updatedSubfaceList.end());
+        sortUnique(into.replannedFaceList);
+        sortUnique(into.updatedSubfaceList);
+    }
+    // Counts describe the lists when they are meaningful, the sum of the edits' work otherwise.
+    if (into.topologyChanged) {
+        into.replannedFaces += next.replannedFaces;
+        into.updatedSubfaces += next.updatedSubfaces;
+    } else {
+        into.replannedFaces = uint32_t(into.replannedFaceList.size());
+        into.updatedSubfaces = uint32_t(into.updatedSubfaceList.size());
+    }
+}
+
 Result<EditReport> PlannedCage::moveVertices(std::span<const uint32_t> vertices, std::span<const glm::vec3> positions) {
     auto start = std::chrono::steady_clock::now();
     if (vertices.size() != positions.size()) return Error{"moveVertices: one position per vertex is needed"};
@@ -177,114 +264,207 @@ Result<EditReport> PlannedCage::moveVertices(std::span<const uint32_t> vertices,
     }
     for (size_t i = 0; i < vertices.size(); ++i) cage_.positions[vertices[i]] = positions[i];
 
-    // Faces whose 1-ring holds a moved vertex: the faces at any vertex of a face at it.
-    std::vector<uint32_t> touching = facesSharingVertexWith(vertices);
-    std::vector<uint32_t> ringVertices;
-    for (uint32_t f : touching) ringVertices.insert(ringVertices.end(), cage_.faceBegin(f), cage_.faceBegin(f) + cage_.faceSize(f));
-    std::sort(ringVertices.begin(), ringVertices.end());
-    ringVertices.erase(std::unique(ringVertices.begin(), ringVertices.end()), ringVertices.end());
-    std::vector<uint32_t> subfaces;
-    for (uint32_t f : facesSharingVertexWith(ringVertices))
-        for (uint32_t s = faceFirstSubface_[f]; s < faceFirstSubface_[f + 1]; ++s) subfaces.push_back(s);
-    updateControlPoints(subfaces);
-
     EditReport report;
-    report.updatedSubfaces = uint32_t(subfaces.size());
-    report.milliseconds = millisecondsSince(start);
-    return report;
+    report.updatedSubfaceList = subfacesSeeing(vertices);
+    updateControlPoints(report.updatedSubfaceList);
+    return finished(std::move(report), start);
 }
 
 Result<EditReport> PlannedCage::setEdgeSharpness(uint32_t a, uint32_t b, float sharpness) {
+    EdgeCrease edge{a, b, sharpness};
+    return setEdgeSharpness({&edge, 1});
+}
+
+Result<EditReport> PlannedCage::setEdgeSharpness(std::span<const EdgeCrease> edges) {
     auto start = std::chrono::steady_clock::now();
-    if (topology_.findEdge(a, b) == UINT32_MAX)
-        return Error{"there is no edge between vertices " + std::to_string(a + 1) + " and " + std::to_string(b + 1)};
-    if (!std::isfinite(sharpness) || sharpness < 0.0f)
-        return Error{"edge sharpness must be a number >= 0 (got " + std::to_string(sharpness) + ")"};
-    cage_.setEdgeSharpness(a, b, std::min(sharpness, kInfiniteSharpness));
-    uint32_t ends[2] = {a, b};
+    for (const EdgeCrease& e : edges) {
+        if (topology_.findEdge(e.v0, e.v1) == UINT32_MAX)
+            return Error{"there is no edge between vertices " + std::to_string(e.v0 + 1) + " and " + std::to_string(e.v1 + 1)};
+        if (Status s = checkSharpness(e.sharpness, "edge"); !s) return s.error();
+    }
+    const std::vector<EdgeCrease> before = cage_.creases;
+    std::vector<uint32_t> ends;
+    for (const EdgeCrease& e : edges) {
+        cage_.setEdgeSharpness(e.v0, e.v1, std::min(e.sharpness, kInfiniteSharpness));
+        ends.push_back(e.v0);
+        ends.push_back(e.v1);
+    }
     EditReport report;
-    if (Status s = replanFaces(facesSharingVertexWith(ends), report); !s) return s.error();
-    report.milliseconds = millisecondsSince(start);
-    return report;
+    if (Status s = replanFaces(facesSharingVertexWith(ends), report); !s) {
+        cage_.creases = before;  // nothing was installed: plans still match the old tags
+        return s.error();
+    }
+    return finished(std::move(report), start);
 }
 
 Result<EditReport> PlannedCage::setVertexSharpness(uint32_t vertex, float sharpness) {
+    VertexCorner corner{vertex, sharpness};
+    return setVertexSharpness({&corner, 1});
+}
+
+Result<EditReport> PlannedCage::setVertexSharpness(std::span<const VertexCorner> vertices) {
     auto start = std::chrono::steady_clock::now();
-    if (vertex >= cage_.vertexCount()) return Error{"vertex " + std::to_string(vertex + 1) + " does not exist"};
-    if (!std::isfinite(sharpness) || sharpness < 0.0f)
-        return Error{"vertex sharpness must be a number >= 0 (got " + std::to_string(sharpness) + ")"};
-    cage_.setVertexSharpness(vertex, std::min(sharpness, kInfiniteSharpness));
+    for (const VertexCorner& c : vertices) {
+        if (c.vertex >= cage_.vertexCount()) return Error{"vertex " + std::to_string(c.vertex + 1) + " does not exist"};
+        if (Status s = checkSharpness(c.sharpness, "vertex"); !s) return s.error();
+    }
+    const std::vector<VertexCorner> before = cage_.corners;
+    std::vector<uint32_t> touched;
+    for (const VertexCorner& c : vertices) {
+        cage_.setVertexSharpness(c.vertex, std::min(c.sharpness, kInfiniteSharpness));
+        touched.push_back(c.vertex);
+    }
     EditReport report;
-    if (Status s = replanFaces(facesSharingVertexWith({&vertex, 1}), report); !s) return s.error();
-    report.milliseconds = millisecondsSince(start);
-    return report;
+    if (Status s = replanFaces(facesSharingVertexWith(touched), report); !s) {
+        cage_.corners = before;
+        return s.error();
+    }
+    return finished(std::move(report), start);
 }
 
 Result<EditReport> PlannedCage::setHole(uint32_t face, bool hole) {
     auto start = std::chrono::steady_clock::now();
     if (face >= cage_.faceCount()) return Error{"face " + std::to_string(face + 1) + " does not exist"};
+    const bool before = cage_.isHole(face);
     cage_.setHole(face, hole);
     EditReport report;
-    if (Status s = replanFaces({face}, report); !s) return s.error();
-    report.milliseconds = millisecondsSince(start);
-    return report;
+    if (Status s = replanFaces({face}, report); !s) {
+        cage_.setHole(face, before);
+        return s.error();
+    }
+    return finished(std::move(report), start);
+}
+
+Result<EditReport> PlannedCage::setCreaseMethod(CreaseMethod method) {
+    auto start = std::chrono::steady_clock::now();
+    if (method != CreaseMethod::Normal && method != CreaseMethod::Chaikin) return Error{"unknown crease method"};
+    const CreaseMethod before = cage_.options.creaseMethod;
+    cage_.options.creaseMethod = method;
+    std::vector<uint32_t> all(cage_.faceCount());
+    for (uint32_t f = 0; f < all.size(); ++f) all[f] = f;
+    EditReport report;
+    if (Status s = replanFaces(all, report); !s) {
+        cage_.options.creaseMethod = before;
+        return s.error();
+    }
+    return finished(std::move(report), start);
+}
+
+Result<EditReport> PlannedCage::applyTopologyEdit(TopologyEdit edit) {
+    auto start = std::chrono::steady_clock::now();
+    if (Status s = finishTopologyEdit(cage_, edit, source_); !s) return s.error();
+    const Cage& before = cage_;
+    const Cage& next = edit.cage;
+    if (auto refiner = createRefiner(next, source_); !refiner) return refiner.error();
+
+    std::vector<uint32_t> newVertexOf(before.vertexCount(), kNewElement);
+    bool renumbered = false;
+    for (uint32_t v = 0; v < next.vertexCount(); ++v) {
+        const uint32_t old = edit.oldVertexOf[v];
+        if (old != kNewElement) newVertexOf[old] = v;
+        renumbered |= old != v && old != kNewElement;
+    }
+    renumbered |= next.vertexCount() < before.vertexCount();
+
+    // Dirty vertices (new numbering): every face at them may have a new configuration.
+    std::vector<bool> dirty(next.vertexCount(), false);
+    auto markOld = [&](uint32_t old) {
+        if (newVertexOf[old] != kNewElement) dirty[newVertexOf[old]] = true;
+    };
+    for (uint32_t f : edit.changedFaces) {
+        for (uint32_t i = 0; i < next.faceSize(f); ++i) dirty[next.faceBegin(f)[i]] = true;
+        if (const uint32_t old = edit.oldFaceOf[f]; old != kNewElement)
+            for (uint32_t i = 0; i < before.faceSize(old); ++i) markOld(before.faceBegin(old)[i]);
+    }
+    for (uint32_t g : edit.removedFaces)
+        for (uint32_t i = 0; i < before.faceSize(g); ++i) markOld(before.faceBegin(g)[i]);
+    for (const VertexCorner& c : before.corners) {
+        const uint32_t v = newVertexOf[c.vertex];
+        if (v != kNewElement && next.vertexSharpness(v) != c.sharpness) dirty[v] = true;
+    }
+    for (const VertexCorner& c : next.corners) {
+        const uint32_t old = edit.oldVertexOf[c.vertex];
+        if (old == kNewElement || before.vertexSharpness(old) != c.sharpness) dirty[c.vertex] = true;
+    }
+    for (const EdgeCrease& c : before.creases) {
+        const uint32_t a = newVertexOf[c.v0], b = newVertexOf[c.v1];
+        if (a != kNewElement && b != kNewElement && next.edgeSharpness(a, b) == c.sharpness) continue;
+        markOld(c.v0);
+        markOld(c.v1);
+    }
+    for (const EdgeCrease& c : next.creases) {
+        const uint32_t a = edit.oldVertexOf[c.v0], b = edit.oldVertexOf[c.v1];
+        if (a != kNewElement && b != kNewElement && before.edgeSharpness(a, b) == c.sharpness) continue;
+        dirty[c.v0] = dirty[c.v1] = true;
+    }
+
+    Topology nextTopology = buildTopology(next);
+    std::vector<uint32_t> affected;
+    const bool everyFace = next.options != before.options;
+    for (uint32_t f = 0; f < next.faceCount(); ++f) {
+        const uint32_t old = edit.oldFaceOf[f];
+        bool replan = everyFace || (old != kNewElement && before.isHole(old) != next.isHole(f));
+        for (uint32_t i = 0; i < next.faceSize(f) && !replan; ++i) replan = dirty[next.faceBegin(f)[i]];
+        if (replan) affected.push_back(f);
+    }
+    std::vector<uint32_t> moved;
+    for (uint32_t v = 0; v < next.vertexCount(); ++v) {
+        const uint32_t old = edit.oldVertexOf[v];
+        if (old != kNewElement && before.positions[old] != next.positions[v]) moved.push_back(v);
+    }
+
+    // Plan first, so that a failure leaves everything as it was.
+    EditReport report;
+    report.topologyChanged = true;
+    auto plans = planFaces(next, nextTopology, affected, report);
+    if (!plans) return plans.error();
+
+    cage_ = std::move(edit.cage);
+    topology_ = std::move(nextTopology);
+    for (uint32_t f : edit.changedFaces) edit.oldFaceOf[f] = kNewElement;  // nothing of theirs is kept
+    remapSubfaces(edit.oldFaceOf);
+    if (renumbered) {
+        std::vector<bool> isAffected(cage_.faceCount(), false);
+        for (uint32_t f : affected) isAffected[f] = true;
+        for (uint32_t f = 0; f < cage_.faceCount(); ++f) {
+            if (isAffected[f]) continue;
+            for (uint32_t s = faceFirstSubface_[f]; s < faceFirstSubface_[f + 1]; ++s)
+                for (uint32_t& v : subfaceRing_[s]) v = newVertexOf[v];
+        }
+    }
+
+    installPlans(affected, *plans, report);
+    if (!moved.empty()) {
+        sortUnique(report.updatedSubfaceList);
+        std::vector<uint32_t> stale = subfacesSeeing(moved);
+        std::erase_if(stale, [&](uint32_t s) {
+            return std::binary_search(report.updatedSubfaceList.begin(), report.updatedSubfaceList.end(), s);
+        });
+        updateControlPoints(stale);
+        report.updatedSubfaceList.insert(report.updatedSubfaceList.end(), stale.begin(), stale.end());
+    }
+    return finished(std::move(report), start);
 }
 
 Result<EditReport> PlannedCage::addFace(std::span<const uint32_t> vertices) {
-    auto start = std::chrono::steady_clock::now();
-    Cage edited = cage_;
-    edited.addFace(vertices.data(), uint32_t(vertices.size()));
-    if (Status valid = validateCage(edited, source_); !valid) return valid.error();
-    if (auto refiner = createRefiner(edited, source_); !refiner) return refiner.error();
-
-    std::vector<uint32_t> affected = facesSharingVertexWith(vertices);  // before the new face exists
-    cage_ = std::move(edited);
-    topology_ = buildTopology(cage_);
-    std::vector<uint32_t> oldFaceOf(cage_.faceCount());
-    for (uint32_t f = 0; f + 1 < cage_.faceCount(); ++f) oldFaceOf[f] = f;
-    oldFaceOf.back() = UINT32_MAX;
-    remapSubfaces(oldFaceOf);
-    affected.push_back(cage_.faceCount() - 1);
-
-    EditReport report;
-    if (Status s = replanFaces(affected, report); !s) return s.error();
-    report.milliseconds = millisecondsSince(start);
-    return report;
+    TopologyEdit edit;
+    edit.cage = cage_;
+    edit.cage.addFace(vertices.data(), uint32_t(vertices.size()));
+    if (!edit.cage.faceUVIndices.empty()) return Error{"addFace: this cage has texture coordinates; use makeFace"};
+    edit.oldFaceOf.resize(edit.cage.faceCount());
+    for (uint32_t f = 0; f + 1 < edit.cage.faceCount(); ++f) edit.oldFaceOf[f] = f;
+    edit.oldFaceOf.back() = kNewElement;
+    edit.oldVertexOf.resize(edit.cage.vertexCount());
+    for (uint32_t v = 0; v < edit.cage.vertexCount(); ++v) edit.oldVertexOf[v] = v;
+    return applyTopologyEdit(std::move(edit));
 }
 
 Result<EditReport> PlannedCage::removeFace(uint32_t face) {
-    auto start = std::chrono::steady_clock::now();
     if (face >= cage_.faceCount()) return Error{"face " + std::to_string(face + 1) + " does not exist"};
     if (cage_.faceCount() == 1) return Error{"cannot remove the last face of the cage"};
-    std::vector<uint32_t> corners(cage_.faceBegin(face), cage_.faceBegin(face) + cage_.faceSize(face));
-
-    Cage edited = cage_;
-    uint32_t begin = edited.faceOffsets[face], end = edited.faceOffsets[face + 1];
-    edited.faceVertices.erase(edited.faceVertices.begin() + begin, edited.faceVertices.begin() + end);
-    edited.faceOffsets.erase(edited.faceOffsets.begin() + face + 1);
-    for (size_t f = face + 1; f < edited.faceOffsets.size(); ++f) edited.faceOffsets[f] -= end - begin;
-    if (!edited.faceUVIndices.empty())
-        edited.faceUVIndices.erase(edited.faceUVIndices.begin() + begin, edited.faceUVIndices.begin() + end);
-    std::erase(edited.holes, face);
-    for (uint32_t& h : edited.holes) h -= h > face ? 1 : 0;
-    // Creases on edges that no longer exist go with the face.
-    Topology after = buildTopology(edited);
-    std::erase_if(edited.creases, [&](const EdgeCrease& c) { return after.findEdge(c.v0, c.v1) == UINT32_MAX; });
-    if (auto refiner = createRefiner(edited, source_); !refiner) return refiner.error();
-
-    std::vector<uint32_t> affected;
-    for (uint32_t f : facesSharingVertexWith(corners))
-        if (f != face) affected.push_back(f > face ? f - 1 : f);
-    cage_ = std::move(edited);
-    topology_ = std::move(after);
-    std::vector<uint32_t> oldFaceOf(cage_.faceCount());
-    for (uint32_t f = 0; f < cage_.faceCount(); ++f) oldFaceOf[f] = f < face ? f : f + 1;
-    remapSubfaces(oldFaceOf);
-
-    EditReport report;
-    if (Status s = replanFaces(affected, report); !s) return s.error();
-    report.milliseconds = millisecondsSince(start);
-    return report;
+    auto edit = deleteFaces(cage_, topology_, {&face, 1}, false);
+    if (!edit) return edit.error();
+    return applyTopologyEdit(std::move(edit).value());
 }
 
 std::vector<std::string> PlannedCage::differencesFromRebuild() const {

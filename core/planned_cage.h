@@ -4,12 +4,21 @@
 // Sub-faces are numbered like OpenSubdiv's Ptex faces: a quad is one sub-face, an n-gon n
 // (see face_config.h); hole faces keep their sub-face numbers but have no plan.
 //
-// What an edit re-plans (the limit over a face depends on its 1-ring only, face_config.h):
+// What an edit re-plans (the limit over a face depends on its face + 1-ring only, face_config.h):
 //   - moving vertices: nothing; faces whose 1-ring holds a moved vertex get new control points;
 //   - edge sharpness (a, b): the faces at a or at b;
 //   - vertex sharpness v: the faces at v;
 //   - hole flag of f: f only;
-//   - adding or removing face g: g and the faces that share a vertex with g.
+//   - crease method (or any SubdivisionOptions change): every face (the options are part of
+//     every configuration key);
+//   - a topology edit (applyTopologyEdit; addFace and removeFace are two): the faces at the
+//     "dirty" vertices, i.e. exactly the faces whose configuration may have changed. A vertex is
+//     dirty when a face at it was created, removed or got a new vertex list, or when the
+//     sharpness of an edge at it or its corner sharpness changed. Faces whose hole flag changed
+//     are re-planned too. Every other face keeps its plan and control points (its 1-ring is
+//     only renumbered), except that sub-faces whose 1-ring holds a vertex the edit moved get
+//     new control points, as for a move.
+// Each edit validates its input first and leaves everything unchanged when it fails.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +28,7 @@
 #include "cage.h"
 #include "plan_database.h"
 #include "topology.h"
+#include "topology_edits.h"
 
 namespace qp {
 
@@ -27,7 +37,17 @@ struct EditReport {
     uint32_t updatedSubfaces = 0;    // sub-faces whose control points were recomputed
     uint32_t newPlans = 0;           // database misses caused by the edit
     double milliseconds = 0.0;
+    // The same sets, sorted, in the numbering after the edit (a renderer re-uploads these).
+    std::vector<uint32_t> replannedFaceList;
+    std::vector<uint32_t> updatedSubfaceList;
+    // Faces or vertices were renumbered: per-sub-face data held outside must be rebuilt.
+    bool topologyChanged = false;
 };
+
+// Adds `next` (an edit made after `into`'s) to `into`: counts and times add up; the lists are
+// united while the numbering stays the same, and emptied once a topology change intervenes
+// (topologyChanged then tells the caller to refresh everything).
+void accumulateReport(EditReport& into, const EditReport& next);
 
 inline constexpr uint32_t kNoPlan = UINT32_MAX;
 
@@ -58,10 +78,23 @@ public:
     LimitSample evaluate(uint32_t subface, float u, float v) const;
 
     Result<EditReport> moveVertices(std::span<const uint32_t> vertices, std::span<const glm::vec3> positions);
+    // Sharpness 0 clears the tag; values above kInfiniteSharpness are clamped to it.
     Result<EditReport> setEdgeSharpness(uint32_t a, uint32_t b, float sharpness);
+    // Several edges at once (v0, v1 in any order), re-planning the union of their faces once.
+    Result<EditReport> setEdgeSharpness(std::span<const EdgeCrease> edges);
     Result<EditReport> setVertexSharpness(uint32_t vertex, float sharpness);
+    Result<EditReport> setVertexSharpness(std::span<const VertexCorner> vertices);
     Result<EditReport> setHole(uint32_t face, bool hole);
+    Result<EditReport> setCreaseMethod(CreaseMethod method);
+
+    // Replaces the cage by edit.cage (made from this cage by an operation of topology_edits.h,
+    // or by hand with oldFaceOf / oldVertexOf filled as that header describes) and re-plans the
+    // faces whose configuration may have changed (see the top of this file). Fails, changing
+    // nothing, when the maps are inconsistent, the new cage is invalid or OpenSubdiv rejects it.
+    Result<EditReport> applyTopologyEdit(TopologyEdit edit);
+    // Appends a face with these vertices, in this order (no orientation fix-up: see makeFace).
     Result<EditReport> addFace(std::span<const uint32_t> vertices);
+    // Removes one face; its vertices stay (see deleteFaces for more).
     Result<EditReport> removeFace(uint32_t face);
 
     // Per sub-face differences from planning the current cage from scratch (empty when equal):
@@ -70,10 +103,22 @@ public:
 
 private:
     PlannedCage() = default;
-    // Re-plans the given faces (sorted, unique) and refreshes their control points.
+    struct SubfacePlan {
+        uint32_t plan = kNoPlan, rotation = 0;
+        std::vector<uint32_t> ring;
+    };
+    // Looks up (or builds) the plans of every sub-face of the faces of `cage`, changing nothing
+    // here; in face order, then sub-face order.
+    Result<std::vector<SubfacePlan>> planFaces(const Cage& cage, const Topology& topology,
+                                               const std::vector<uint32_t>& faces, EditReport& report) const;
+    // Stores plans from planFaces (for the current cage) and refreshes those control points.
+    void installPlans(const std::vector<uint32_t>& faces, std::vector<SubfacePlan>& plans, EditReport& report);
+    // planFaces + installPlans on the current cage: re-plans the faces (sorted, unique).
     Status replanFaces(const std::vector<uint32_t>& faces, EditReport& report);
     void updateControlPoints(const std::vector<uint32_t>& subfaces);
     std::vector<uint32_t> facesSharingVertexWith(std::span<const uint32_t> vertices) const;
+    // Sub-faces whose 1-ring holds one of the vertices (sorted).
+    std::vector<uint32_t> subfacesSeeing(std::span<const uint32_t> vertices) const;
     // Rebuilds the sub-face arrays after a topology change; `oldFaceOf[f]` is the face's index
     // before the change (UINT32_MAX for a new face) so unaffected faces keep their plans.
     void remapSubfaces(const std::vector<uint32_t>& oldFaceOf);

@@ -6,6 +6,7 @@
 // Cage::faceVertices with that edge's index.
 #pragma once
 
+#include <compare>
 #include <cstdint>
 #include <map>
 #include <vector>
@@ -13,6 +14,14 @@
 #include "cage.h"
 
 namespace qp {
+
+// An edge named by its end vertices (v0 < v1), like EdgeCrease: stays meaningful across
+// topology edits that renumber edges.
+struct EdgeKey {
+    uint32_t v0 = 0, v1 = 0;
+    auto operator<=>(const EdgeKey&) const = default;
+};
+inline EdgeKey makeEdgeKey(uint32_t a, uint32_t b) { return a < b ? EdgeKey{a, b} : EdgeKey{b, a}; }
 
 struct Topology {
     std::vector<uint32_t> edgeVertices;  // 2 per edge, first < second
