@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -184,12 +185,14 @@ void SculptSamples::refresh(const PlannedCage& planned, std::span<const uint32_t
 }
 
 void SculptSamples::evaluateSites(const PlannedCage& planned, std::span<const uint32_t> samples) {
-    tbb::parallel_for(size_t(0), samples.size(), size_t(1024), [&](size_t i) {
-        uint32_t sample = samples[i];
-        const SampleSite& site = sites_[sample];
-        LimitSample limit = planned.evaluate(site.subface, site.u, site.v);
-        positions_[sample] = limit.position;
-        normals_[sample] = limitNormal(planned, site.subface, site.u, site.v, limit);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, samples.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+            uint32_t sample = samples[i];
+            const SampleSite& site = sites_[sample];
+            LimitSample limit = planned.evaluate(site.subface, site.u, site.v);
+            positions_[sample] = limit.position;
+            normals_[sample] = limitNormal(planned, site.subface, site.u, site.v, limit);
+        }
     });
 }
 
@@ -221,8 +224,9 @@ void SculptSamples::buildIndex() {
     float largest = std::max({extent.x, extent.y, extent.z, 1e-6f});
     cellSize_ = kSamplesPerCellSide * largest / std::sqrt(float(sited.size()));
     std::vector<std::pair<uint64_t, uint32_t>> keyed(sited.size());
-    tbb::parallel_for(size_t(0), sited.size(), size_t(4096),
-                      [&](size_t i) { keyed[i] = {cellKey(positions_[sited[i]]), sited[i]}; });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, sited.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) keyed[i] = {cellKey(positions_[sited[i]]), sited[i]};
+    });
     tbb::parallel_sort(keyed.begin(), keyed.end());
     cellSamples_.reserve(keyed.size());
     for (size_t i = 0; i < keyed.size(); ++i) {
