@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <glm/geometric.hpp>
 
@@ -39,6 +40,12 @@ const char* toName(const Named<E> (&names)[N], E value) {
     return "";
 }
 
+std::string number(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(value));
+    return text;
+}
+
 // Values are never written as -0, so equal values always have equal bits.
 float canonicalZero(float value) { return value + 0.0f; }
 
@@ -63,13 +70,13 @@ float falloffWeight(Falloff falloff, float x) {
 
 Status validateBrush(const Brush& brush) {
     if (!std::isfinite(brush.radius) || brush.radius <= 0.0f)
-        return Error{"brush radius must be a positive number, got " + std::to_string(brush.radius)};
+        return Error{"brush radius must be a positive number, got " + number(brush.radius)};
     if (!std::isfinite(brush.strength) || brush.strength < 0.0f)
-        return Error{"brush strength must be a number >= 0, got " + std::to_string(brush.strength)};
+        return Error{"brush strength must be a number >= 0, got " + number(brush.strength)};
     bool blend = brush.kind == BrushKind::Smooth || brush.kind == BrushKind::Flatten || brush.kind == BrushKind::Erase;
     if (blend && brush.strength > 1.0f)
         return Error{std::string("the ") + brushKindName(brush.kind) + " brush blends towards a target: its strength "
-                     "must be between 0 and 1, got " + std::to_string(brush.strength)};
+                     "must be between 0 and 1, got " + number(brush.strength)};
     return success();
 }
 

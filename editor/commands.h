@@ -23,6 +23,9 @@ void registerBench(CLI::App& app, int& exitCode);
 // `quadplan render CAGE_OR_SCENE --out FILE.png [...]`
 void registerRender(CLI::App& app, int& exitCode);
 
+// `quadplan sculpt CAGE_OR_SCENE --out OUT.json --path "x,y,z;..." | --strokes FILE.json [...]`
+void registerSculpt(CLI::App& app, int& exitCode);
+
 // `quadplan edit [SCENE]`: the interactive editor; also what a bare `quadplan` runs.
 void registerEdit(CLI::App& app, int& exitCode);
 int runEditor(const std::string& scenePath);

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
     qp::cli::registerPlanStats(app, exitCode);
     qp::cli::registerRender(app, exitCode);
     qp::cli::registerBench(app, exitCode);
+    qp::cli::registerSculpt(app, exitCode);
 
     try {
         app.parse(argc, argv);

@@ -37,3 +37,9 @@ set_tests_properties(cli.bench_plans_smoke PROPERTIES PASS_REGULAR_EXPRESSION "\
 add_test(NAME cli.bench_render_smoke
          COMMAND quadplan bench render --repeats 1 --generated-faces 500 --no-shared --factors 2)
 set_tests_properties(cli.bench_render_smoke PROPERTIES PASS_REGULAR_EXPRESSION "\\| 2 \\| 2 \\| [0-9]+ \\|" TIMEOUT 60)
+
+# Headless sculpting as a script would run it (detailed checks in test_cli_sculpt.cpp).
+add_test(NAME cli.sculpt_smoke
+         COMMAND quadplan sculpt ${CMAKE_SOURCE_DIR}/scenes/creased_box.json --radius 0.5 --strength 0.1
+                 --mirror x --path "0,1.2,0;0.5,1.2,0.5" --out ${CMAKE_CURRENT_BINARY_DIR}/sculpt_smoke.json)
+set_tests_properties(cli.sculpt_smoke PROPERTIES PASS_REGULAR_EXPRESSION "sculpt: 1 stroke, [0-9]+ dabs, [1-9][0-9]* of")
