@@ -102,8 +102,12 @@ public:
     // Dabs along a polyline; one call is one stroke when wrapped in begin/endStroke.
     uint32_t dabsAlong(const StrokeOptions& options, std::span<const glm::vec3> path);
 
-    // Samples changed since the stroke began (sorted), e.g. to upload after each dab.
+    // Samples changed since the stroke began (sorted).
     std::vector<uint32_t> changedSamples() const;
+
+    // Samples the last dab reached (sorted; a superset of those it changed): what to upload
+    // after each dab.
+    std::span<const uint32_t> lastDabSamples() const { return affected_; }
 
     void beginStroke();
     StrokeRecord endStroke();

@@ -131,6 +131,9 @@ SculptSamples SculptSamples::build(const PlannedCage& planned, const Displacemen
 
     // The sample graph, from sub-faces with a surface only.
     std::vector<uint64_t> pairs;
+    size_t links = 0;
+    for (const DisplacementSubface& sf : layout.subfaces) links += 2 * size_t(sf.resolution) * (sf.resolution + 1);
+    pairs.reserve(links + 2 * (layout.tileSampleBegin() - layout.segmentSampleBegin() + layout.segments.size()));
     auto link = [&](uint32_t a, uint32_t b) {
         if (a != b) pairs.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
     };
@@ -180,8 +183,25 @@ void SculptSamples::refresh(const PlannedCage& planned, std::span<const uint32_t
     for (uint32_t s : subfaces)
         samples.insert(samples.end(), subfaceSamples_.begin() + subfaceSampleOffsets_[s],
                        subfaceSamples_.begin() + subfaceSampleOffsets_[s + 1]);
+    std::vector<glm::vec3> before(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) before[i] = positions_[samples[i]];
     evaluateSites(planned, samples);
-    buildIndex();
+    // The index files samples by where they were when it was built; queries widen by how far
+    // any sample has moved since (slack), and the index is rebuilt once that grows past half
+    // a cell, so a small edit costs only the evaluation.
+    float moved = 0.0f;
+    for (size_t i = 0; i < samples.size(); ++i) moved = std::max(moved, glm::length(positions_[samples[i]] - before[i]));
+    slack_ += moved;
+    if (!(slack_ <= 0.5f * cellSize_)) {
+        buildIndex();
+        return;
+    }
+    boundsMin_ = glm::vec3(INFINITY), boundsMax_ = glm::vec3(-INFINITY);
+    for (uint32_t i = 0; i < sites_.size(); ++i)
+        if (sites_[i].subface != kNoSite) {
+            boundsMin_ = glm::min(boundsMin_, positions_[i]);
+            boundsMax_ = glm::max(boundsMax_, positions_[i]);
+        }
 }
 
 void SculptSamples::evaluateSites(const PlannedCage& planned, std::span<const uint32_t> samples) {
@@ -199,14 +219,15 @@ void SculptSamples::evaluateSites(const PlannedCage& planned, std::span<const ui
 uint64_t SculptSamples::cellKey(const glm::vec3& p) const {
     uint64_t key = 0;
     for (int axis = 0; axis < 3; ++axis) {
-        int64_t c = int64_t(std::floor((p[axis] - boundsMin_[axis]) / cellSize_)) + kCellBias;
+        int64_t c = int64_t(std::floor((p[axis] - indexMin_[axis]) / cellSize_)) + kCellBias;
         key = key << kCellBits | (uint64_t(std::clamp<int64_t>(c, 0, (int64_t(1) << kCellBits) - 1)));
     }
     return key;
 }
 
 void SculptSamples::buildIndex() {
-    std::vector<uint32_t> sited;
+    std::vector<uint32_t>& sited = scratchSited_;
+    sited.clear();
     boundsMin_ = glm::vec3(INFINITY), boundsMax_ = glm::vec3(-INFINITY);
     for (uint32_t i = 0; i < sites_.size(); ++i)
         if (sites_[i].subface != kNoSite) {
@@ -215,15 +236,18 @@ void SculptSamples::buildIndex() {
             boundsMax_ = glm::max(boundsMax_, positions_[i]);
         }
     cellKeys_.clear(), cellOffsets_.assign(1, 0), cellSamples_.clear();
+    slack_ = 0.0f;
     if (sited.empty()) {
         boundsMin_ = boundsMax_ = glm::vec3(0.0f);
         return;
     }
+    indexMin_ = boundsMin_, indexMax_ = boundsMax_;
     // Samples cover a surface: about sqrt(N) along the largest extent.
     glm::vec3 extent = boundsMax_ - boundsMin_;
     float largest = std::max({extent.x, extent.y, extent.z, 1e-6f});
     cellSize_ = kSamplesPerCellSide * largest / std::sqrt(float(sited.size()));
-    std::vector<std::pair<uint64_t, uint32_t>> keyed(sited.size());
+    std::vector<std::pair<uint64_t, uint32_t>>& keyed = scratchKeyed_;
+    keyed.resize(sited.size());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, sited.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i != range.end(); ++i) keyed[i] = {cellKey(positions_[sited[i]]), sited[i]};
     });
@@ -242,14 +266,15 @@ void SculptSamples::buildIndex() {
 void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out) const {
     if (cellKeys_.empty() || !(radius >= 0.0f)) return;
     const float r2 = radius * radius;
+    const float reach = radius + slack_;  // samples are filed where they were at the last build
     int64_t lo[3], hi[3];
     for (int axis = 0; axis < 3; ++axis) {
-        // Clamp to the occupied range so a huge radius does not walk empty space.
-        float a = std::max(centre[axis] - radius, boundsMin_[axis]);
-        float b = std::min(centre[axis] + radius, boundsMax_[axis]);
+        // Clamp to the indexed range so a huge radius does not walk empty space.
+        float a = std::max(centre[axis] - reach, indexMin_[axis]);
+        float b = std::min(centre[axis] + reach, indexMax_[axis]);
         if (a > b) return;
-        lo[axis] = int64_t(std::floor((a - boundsMin_[axis]) / cellSize_)) + kCellBias;
-        hi[axis] = int64_t(std::floor((b - boundsMin_[axis]) / cellSize_)) + kCellBias;
+        lo[axis] = int64_t(std::floor((a - indexMin_[axis]) / cellSize_)) + kCellBias;
+        hi[axis] = int64_t(std::floor((b - indexMin_[axis]) / cellSize_)) + kCellBias;
     }
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
         for (int64_t y = lo[1]; y <= hi[1]; ++y) {

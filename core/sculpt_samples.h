@@ -8,8 +8,9 @@
 // sub-face plus consecutive samples along each segment, shared across faces) for smoothing.
 //
 // After moving cage vertices, refresh() re-evaluates the samples sited on the sub-faces whose
-// limit changed (subfacesAffectedByVertices) and rebuilds the index; after a resolution change
-// or a topology edit, build a new cache (the layout changed).
+// limit changed (subfacesAffectedByVertices); the index is rebuilt only once samples have
+// moved more than half a cell since its last build (queries widen by that much meanwhile).
+// After a resolution change or a topology edit, build a new cache (the layout changed).
 #pragma once
 
 #include <cstdint>
@@ -92,11 +93,17 @@ private:
     std::vector<uint32_t> subfaceSampleOffsets_, subfaceSamples_;  // CSR: samples sited on a sub-face
     std::vector<uint32_t> neighbourOffsets_, neighbours_;          // CSR: the sample graph
 
-    // Spatial index: sited samples sorted by cell; cells sorted by key.
+    // Spatial index: sited samples sorted by cell; cells sorted by key. Cells are filed from
+    // the positions at the last build (indexMin_ .. indexMax_); slack_ bounds how far any
+    // sample moved since.
     glm::vec3 boundsMin_{0.0f}, boundsMax_{0.0f};
-    float cellSize_ = 1.0f;
+    glm::vec3 indexMin_{0.0f}, indexMax_{0.0f};
+    float cellSize_ = 1.0f, slack_ = 0.0f;
     std::vector<uint64_t> cellKeys_;
     std::vector<uint32_t> cellOffsets_, cellSamples_;
+    // Kept between index builds: fresh allocations of this size cost page faults every time.
+    std::vector<uint32_t> scratchSited_;
+    std::vector<std::pair<uint64_t, uint32_t>> scratchKeyed_;
 };
 
 }  // namespace qp

@@ -94,16 +94,29 @@ TEST(SculptSamples, EverySampleOfAClosedCageHasASiteOnTheSurface) {
 
 TEST(SculptSamples, RefreshAfterMovingAVertexMatchesARebuild) {
     Sculpt s(test::makeGrid(6), 4);
-    const uint32_t vertex = 0;
-    glm::vec3 moved = s.planned->cage().positions[vertex] + glm::vec3(0.1f, 0.2f, 0.3f);
-    ASSERT_TRUE(s.planned->moveVertices({&vertex, 1}, {&moved, 1}));
-    std::vector<uint32_t> affected = subfacesAffectedByVertices(*s.planned, {&vertex, 1});
-    EXPECT_LT(affected.size(), s.planned->subfaceCount());
-    s.samples->refresh(*s.planned, affected);
-    SculptSamples rebuilt = SculptSamples::build(*s.planned, s.displacement.layout);
-    for (uint32_t i = 0; i < rebuilt.sampleCount(); ++i) {
-        EXPECT_EQ(s.samples->position(i), rebuilt.position(i)) << i;
-        EXPECT_EQ(s.samples->normal(i), rebuilt.normal(i)) << i;
+    const uint32_t vertex = 8;
+    // A small move (the index keeps its cells and widens queries), then a large one (rebuilt).
+    for (glm::vec3 step : {glm::vec3(0.01f, 0.0f, 0.02f), glm::vec3(0.5f, 0.8f, 1.5f)}) {
+        glm::vec3 moved = s.planned->cage().positions[vertex] + step;
+        ASSERT_TRUE(s.planned->moveVertices({&vertex, 1}, {&moved, 1}));
+        std::vector<uint32_t> affected = subfacesAffectedByVertices(*s.planned, {&vertex, 1});
+        EXPECT_LT(affected.size(), s.planned->subfaceCount());
+        s.samples->refresh(*s.planned, affected);
+        SculptSamples rebuilt = SculptSamples::build(*s.planned, s.displacement.layout);
+        for (uint32_t i = 0; i < rebuilt.sampleCount(); ++i) {
+            ASSERT_EQ(s.samples->position(i), rebuilt.position(i)) << i;
+            ASSERT_EQ(s.samples->normal(i), rebuilt.normal(i)) << i;
+        }
+        // Queries around the moved vertex find what a brute-force search finds.
+        for (float radius : {0.05f, 0.3f, 1.0f}) {
+            glm::vec3 centre = s.planned->evaluate(affected[affected.size() / 2], 0.3f, 0.6f).position;
+            std::vector<uint32_t> found, brute;
+            s.samples->query(centre, radius, found);
+            std::sort(found.begin(), found.end());
+            for (uint32_t i : s.sited())
+                if (s.distance(i, centre) <= radius) brute.push_back(i);
+            EXPECT_EQ(found, brute) << "radius " << radius;
+        }
     }
 }
 
