@@ -1,18 +1,26 @@
 // `quadplan sculpt SCENE_OR_CAGE --out OUT.json ...`: applies brush strokes headless, so tests
 // and scripts reproduce them, and writes the scene with its displacement (cage inline).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include "brush.h"
+#include "camera.h"
 #include "commands.h"
+#include "displaced_mesh.h"
 #include "displacement_io.h"
 #include "file_io.h"
+#include "mesh_pass.h"
+#include "offscreen_target.h"
 #include "plan_db_option.h"
 #include "planned_cage.h"
 #include "scene.h"
 #include "sculpt_samples.h"
 #include "sculpt_script.h"
+#include "vk_commands.h"
+#include "vk_context.h"
 
 namespace qp::cli {
 
@@ -23,7 +31,58 @@ struct SculptArgs {
     std::string brush = "raise", falloff = "smooth", mirror = "none";
     float radius = 0.0f, strength = 0.0f, spacing = 0.0f;
     uint32_t resolution = 0;  // 0: keep the scene's (8 when it has none)
+    std::string png;          // also render the displaced mesh here
+    bool validate = false;
 };
+
+// A preview until the renderer displaces its own surfaces: the CPU displaced mesh
+// (displaced_mesh.h, at the factor that shows every sample) through MeshPass, lavapipe.
+Status renderPreview(const PlannedCage& planned, const Displacement& displacement, const std::string& path, bool validate) {
+    const uint32_t factor = std::min(requiredMeshFactor(planned, displacement.layout), 2 * kMaxDisplacementResolution);
+    Result<DisplacedMesh> mesh = buildDisplacedMesh(planned, displacement, factor);
+    if (!mesh) return mesh.error();
+    std::vector<MeshVertex> vertices(mesh->positions.size());
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (size_t i = 0; i < vertices.size(); ++i) {
+        vertices[i] = {mesh->positions[i], mesh->normals[i]};
+        lo = glm::min(lo, mesh->positions[i]);
+        hi = glm::max(hi, mesh->positions[i]);
+    }
+    constexpr uint32_t kSize = 768;
+    ContextOptions options;
+    options.validation = validate;
+    if (const char* device = std::getenv("QUADPLAN_VK_DEVICE")) options.forceDevice = device;
+    Result<VulkanContext> context = createContext(options);
+    if (!context) return Error{"cannot start Vulkan: " + context.error().message};
+    VulkanContext& ctx = *context;
+    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
+    Result<OffscreenTarget> target = createOffscreenTarget(ctx, kSize, kSize, format);
+    Result<MeshPass> pass = target ? createMeshPass(ctx, VK_NULL_HANDLE, format) : Result<MeshPass>(target.error());
+    Result<GpuMesh> gpu = pass ? uploadMesh(ctx, vertices, mesh->indices) : Result<GpuMesh>(pass.error());
+    Status status = gpu ? success() : Status(gpu.error());
+    if (status) {
+        MeshView view;
+        view.viewProjection = viewProjection(frameBounds(lo, hi, 1.0f));
+        view.eye = frameBounds(lo, hi, 1.0f).eye;
+        view.background = glm::vec3(0.02f, 0.025f, 0.03f);
+        const MeshDraw draw{&*gpu, glm::vec3(0.75f, 0.72f, 0.68f)};
+        status = submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordMeshPass(cmd, *pass, renderTarget(*target), view, {&draw, 1}); });
+        Result<std::vector<uint8_t>> pixels = status ? readPixels(ctx, *target) : Result<std::vector<uint8_t>>(status.error());
+        status = pixels ? writePng(path, kSize, kSize, *pixels) : Status(pixels.error());
+    }
+    if (gpu) destroyMesh(ctx, *gpu);
+    if (pass) destroyMeshPass(ctx, *pass);
+    if (target) destroyOffscreenTarget(ctx, *target);
+    destroyContext(ctx);
+    if (status && validate && validationMessageCount(ctx) > 0) {
+        for (const std::string& m : validationMessages(ctx)) std::fprintf(stderr, "validation: %s\n", m.c_str());
+        return Error{"Vulkan validation reported problems"};
+    }
+    if (status)
+        std::fprintf(stderr, "wrote %s (%ux%u, displaced mesh at factor %u, %zu triangles)\n", path.c_str(), kSize, kSize,
+                     factor, mesh->indices.size() / 3);
+    return status;
+}
 
 constexpr uint32_t kDefaultResolution = 8;
 
@@ -102,6 +161,9 @@ int runSculpt(const SculptArgs& args) {
     std::fprintf(stderr, "sculpt: %zu stroke%s, %u dabs, %zu of %zu samples changed; displacement in [%g, %g]; wrote %s\n",
                  strokes->size(), strokes->size() == 1 ? "" : "s", dabs, changed.size(), displacement.samples.size(),
                  double(*lo), double(*hi), args.out.c_str());
+    if (!args.png.empty())
+        if (Status rendered = renderPreview(*planned, displacement, args.png, args.validate); !rendered)
+            return failWith("preview not rendered: " + rendered.error().message);
     return 0;
 }
 
@@ -126,6 +188,8 @@ void registerSculpt(CLI::App& app, int& exitCode) {
     cmd->add_option("--spacing", args->spacing, "Distance between dabs along the path (default: a quarter of the radius)");
     cmd->add_option("--resolution", args->resolution,
                     "Resample every sub-face to this power-of-two resolution first (default: keep; 8 for a new displacement)");
+    cmd->add_option("--png", args->png, "Also render the displaced surface to this PNG (CPU mesh, lit, 768x768)");
+    cmd->add_flag("--validate", args->validate, "With --png: Vulkan validation layers on; any message fails");
     addPlanDatabaseOption(cmd, args->planDb);
     cmd->callback([args, &exitCode] { exitCode = runSculpt(*args); });
 }
