@@ -42,12 +42,10 @@ Status renderPreview(const PlannedCage& planned, const Displacement& displacemen
     Result<DisplacedMesh> mesh = buildDisplacedMesh(planned, displacement, factor);
     if (!mesh) return mesh.error();
     std::vector<MeshVertex> vertices(mesh->positions.size());
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (size_t i = 0; i < vertices.size(); ++i) {
-        vertices[i] = {mesh->positions[i], mesh->normals[i]};
-        lo = glm::min(lo, mesh->positions[i]);
-        hi = glm::max(hi, mesh->positions[i]);
-    }
+    for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = {mesh->positions[i], mesh->normals[i]};
+    // Framed on the cage, so previews of one scene with different strokes line up.
+    const Bounds bounds = computeBounds(planned.cage());
+    const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
     constexpr uint32_t kSize = 768;
     ContextOptions options;
     options.validation = validate;
@@ -62,8 +60,8 @@ Status renderPreview(const PlannedCage& planned, const Displacement& displacemen
     Status status = gpu ? success() : Status(gpu.error());
     if (status) {
         MeshView view;
-        view.viewProjection = viewProjection(frameBounds(lo, hi, 1.0f));
-        view.eye = frameBounds(lo, hi, 1.0f).eye;
+        view.viewProjection = viewProjection(camera);
+        view.eye = camera.eye;
         view.background = glm::vec3(0.02f, 0.025f, 0.03f);
         const MeshDraw draw{&*gpu, glm::vec3(0.75f, 0.72f, 0.68f)};
         status = submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordMeshPass(cmd, *pass, renderTarget(*target), view, {&draw, 1}); });

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <bit>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +16,9 @@
 #include "planned_cage.h"
 #include "scene.h"
 #include "sculpt_samples.h"
+
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
 
 namespace fs = std::filesystem;
 
@@ -113,4 +117,33 @@ TEST(CliSculpt, BadInputIsRefusedWithAMessage) {
         EXPECT_FALSE(fs::exists(out)) << c.args;
     }
     fs::remove(strokes);
+}
+
+// The --png preview shows the displacement: a raised stroke changes the picture, only near it.
+TEST(CliSculpt, PreviewShowsTheStroke) {
+    const std::string flat = temp("flat.png"), raised = temp("raised.png"), out = temp("preview.json");
+    const std::string common = "sculpt " + kScene + " --radius 0.6 --resolution 8 --path \"0.2,0.8,0.2\" --validate --out " + out;
+    CommandRun a = runQuadplan(common + " --strength 0 --png " + flat);
+    ASSERT_EQ(a.status, 0) << a.out;
+    CommandRun b = runQuadplan(common + " --strength 0.1 --png " + raised);
+    ASSERT_EQ(b.status, 0) << b.out;
+    EXPECT_EQ(b.out.find("validation:"), std::string::npos) << b.out;
+    int w = 0, h = 0, n = 0, w2 = 0, h2 = 0;
+    unsigned char* p = stbi_load(flat.c_str(), &w, &h, &n, 4);
+    unsigned char* q = stbi_load(raised.c_str(), &w2, &h2, &n, 4);
+    ASSERT_TRUE(p && q);
+    ASSERT_EQ(w, 768);
+    ASSERT_EQ(w, w2);
+    ASSERT_EQ(h, h2);
+    size_t differing = 0, covered = 0;
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+        differing += std::abs(int(p[4 * i]) - int(q[4 * i])) > 8;
+        covered += p[4 * i] > 40;  // the lit surface against the dark background
+    }
+    stbi_image_free(p);
+    stbi_image_free(q);
+    EXPECT_GT(covered, size_t(w) * h / 10);
+    EXPECT_GT(differing, 300u);
+    EXPECT_LT(differing, covered / 2);
+    for (const std::string& f : {flat, raised, out}) fs::remove(f);
 }
