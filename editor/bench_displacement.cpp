@@ -50,16 +50,20 @@ DisplacementBenchResult measureDisplacementDabs(const Cage& cage, uint32_t resol
     }
     result.fullUploadMs = medianOf(full);
 
-    // A brush a few faces wide: 4% of the bounding-box diagonal.
-    result.radius = 0.04f * computeBounds(cage).diagonal();
+    // A brush a few faces wide (4% of the bounding-box diagonal) with every brush, and a big
+    // one (12%, about 9 times the samples) raising.
+    const float diagonal = computeBounds(cage).diagonal();
+    const std::pair<BrushKind, float> brushes[] = {{BrushKind::Raise, 0.04f},   {BrushKind::Smooth, 0.04f},
+                                                   {BrushKind::Flatten, 0.04f}, {BrushKind::Erase, 0.04f},
+                                                   {BrushKind::Raise, 0.12f}};
     std::vector<uint32_t> sited;
     for (uint32_t i = 0; i < samples.sampleCount(); ++i)
         if (samples.hasSite(i)) sited.push_back(i);
     std::mt19937 rng(seed);
 
     Sculptor sculptor(displacement, samples);
-    for (BrushKind kind : {BrushKind::Raise, BrushKind::Smooth, BrushKind::Flatten, BrushKind::Erase}) {
-        const Brush brush{kind, result.radius, kind == BrushKind::Raise ? 0.05f : 0.5f, Falloff::Smooth};
+    for (auto [kind, fraction] : brushes) {
+        const Brush brush{kind, fraction * diagonal, kind == BrushKind::Raise ? 0.05f : 0.5f, Falloff::Smooth};
         std::vector<double> update, upload, total, bytes, reached;
         sculptor.beginStroke();
         for (uint32_t r = 0; r < repeats; ++r) {
@@ -84,7 +88,7 @@ DisplacementBenchResult measureDisplacementDabs(const Cage& cage, uint32_t resol
         }
         sculptor.endStroke();
         if (mapped != displacement.samples) result.error = "the uploaded copy differs from the samples (upload ranges miss a change)";
-        result.dabs.push_back({kind, repeats, medianOf(update), medianOf(upload), medianOf(total), medianOf(bytes), medianOf(reached)});
+        result.dabs.push_back({kind, brush.radius, repeats, medianOf(update), medianOf(upload), medianOf(total), medianOf(bytes), medianOf(reached)});
     }
     return result;
 }

@@ -16,6 +16,7 @@ namespace qp::cli {
 
 struct DabMeasurement {
     BrushKind brush;
+    float radius = 0.0f;
     uint32_t repeats = 0;
     double updateMs = 0.0;     // Sculptor::dab: query, new values, write, undo bookkeeping
     double uploadMs = 0.0;     // building the copy ranges and copying them
@@ -27,7 +28,6 @@ struct DabMeasurement {
 struct DisplacementBenchResult {
     std::string error;         // set when the cage could not be planned
     uint32_t resolution = 0, samples = 0;
-    float radius = 0.0f;
     double cacheBuildMs = 0.0;      // SculptSamples::build, once per layout
     double fullUploadMs = 0.0;      // copying every sample (what a whole-buffer update costs)
     std::vector<DabMeasurement> dabs;

@@ -755,13 +755,13 @@ void benchDisplacement(const BenchCage& bench, const BenchArgs& args, Report& re
     if (result.dabs.empty()) return;
     report.notes.push_back(bench.name + ": resolution " + std::to_string(result.resolution) + " on every sub-face, " +
                            std::to_string(result.samples) + " samples (" + number(result.samples * 4.0 / 1048576.0) +
-                           " MiB); brush radius " + number(result.radius) + " (4% of the diagonal), smooth falloff; "
-                           "dabs at random sample positions; the samples cache is built once per layout");
+                           " MiB); smooth falloff, dabs at random sample positions; the samples cache is built once per "
+                           "layout");
     for (const DabMeasurement& m : result.dabs) {
         Row r;
         r.cage = bench.name;
         r.faces = bench.cage.faceCount();
-        r.benchmark = std::string(brushKindName(m.brush)) + " dab: CPU update " + number(m.updateMs) + " ms + upload copy " +
+        r.benchmark = std::string(brushKindName(m.brush)) + " dab, radius " + number(m.radius) + ": CPU update " + number(m.updateMs) + " ms + upload copy " +
                       number(m.uploadMs) + " ms of " + number(m.bytes / 1024.0) + " KiB (" + number(m.samplesReached) +
                       " samples in reach) vs copying the whole buffer; 2nd: building the samples cache";
         r.repeats = m.repeats;
