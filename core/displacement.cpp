@@ -335,8 +335,15 @@ Displacement resampleDisplacement(const Displacement& old, std::span<const uint3
 
 uint32_t requiredEdgeFactor(const DisplacementLayout& layout, uint32_t subface, uint32_t edge) {
     const DisplacementEdge& e = layout.subfaces[subface].edges[edge];
-    if (!(e.flags & kEdgeSplit)) return layout.segments[e.segment].resolution;
-    return 2 * std::max(layout.segments[e.segment].resolution, layout.segments[e.secondHalf].resolution);
+    if (e.flags & kEdgeSplit)
+        return 2 * std::max(layout.segments[e.segment].resolution, layout.segments[e.secondHalf].resolution);
+    const DisplacementSegment& s = layout.segments[e.segment];
+    const bool half = s.pointA < layout.vertexCount && s.pointB >= layout.vertexCount;  // vertex -> midpoint
+    if (!half) return s.resolution;
+    // Half of a split cage edge (n-gon sub-face edges 0 and 3): the other half is the segment
+    // beside it. Both halves take one factor, half the quad side's, as the renderer does.
+    const uint32_t other = e.segment > 0 && layout.segments[e.segment - 1].pointB == s.pointB ? e.segment - 1 : e.segment + 1;
+    return std::max(s.resolution, layout.segments[other].resolution);
 }
 
 uint32_t requiredTessellationFactor(const DisplacementLayout& layout, uint32_t subface) {

@@ -165,8 +165,10 @@ Displacement resampleDisplacement(const Displacement& displacement, std::span<co
 std::vector<uint32_t> subfaceResolutions(const DisplacementLayout& layout);
 
 // Tessellation factors a renderer needs so that no stored sample is skipped: the inside
-// factor is R, edge e needs the intervals of its segment(s) (twice the finer half for a split
-// edge). With power-of-two factors at least these, every sample is a tessellation vertex.
+// factor is R; edge e needs the intervals of its segment, and a cage edge split at its
+// midpoint needs k = the finer half's intervals on each n-gon sub-face and 2k on the quad
+// side (the renderer's convention), so both sides of every edge ask for the same.
+// With power-of-two factors at least these, every sample is a tessellation vertex.
 uint32_t requiredEdgeFactor(const DisplacementLayout& layout, uint32_t subface, uint32_t edge);
 uint32_t requiredTessellationFactor(const DisplacementLayout& layout, uint32_t subface);
 

@@ -160,6 +160,25 @@ TEST(DisplacementLayout, NonQuadsSplitTheirEdgesAtMidpoints) {
         }
     }
     EXPECT_GT(splitQuadEdges, 0u);
+
+    // Both sides of a split edge ask for matching factors: 2k on the quad, k on each half.
+    std::vector<uint32_t> resolutions(layout.subfaces.size(), 2);
+    for (uint32_t s = 15; s < resolutions.size(); ++s) resolutions[s] = s % 2 ? 8 : 16;  // the n-gon sub-faces
+    layout = withResolutions(layout, resolutions);
+    uint32_t checked = 0;
+    for (uint32_t q = 0; q < 15; ++q)
+        for (uint32_t e = 0; e < 4; ++e) {
+            const DisplacementEdge& edge = layout.subfaces[q].edges[e];
+            if (!(edge.flags & kEdgeSplit)) continue;
+            for (uint32_t s = 15; s < layout.subfaces.size(); ++s)
+                for (uint32_t f : {0u, 3u})
+                    if (layout.subfaces[s].edges[f].segment == edge.segment ||
+                        layout.subfaces[s].edges[f].segment == edge.secondHalf) {
+                        EXPECT_EQ(requiredEdgeFactor(layout, q, e), 2 * requiredEdgeFactor(layout, s, f));
+                        ++checked;
+                    }
+        }
+    EXPECT_GT(checked, 0u);
 }
 
 TEST(DisplacementEval, GridPointsReadTheirSamples) {
