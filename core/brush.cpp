@@ -5,6 +5,8 @@
 #include <cstdio>
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace qp {
 
@@ -88,28 +90,41 @@ void redoStroke(Displacement& displacement, const StrokeRecord& record) {
     for (const SampleChange& c : record.changes) displacement.samples[c.sample] = c.after;
 }
 
-std::vector<SampleRange> uploadRanges(std::span<const uint32_t> sorted, uint32_t gap) {
-    std::vector<SampleRange> ranges;
-    for (uint32_t s : sorted) {
-        if (!ranges.empty() && s < ranges.back().first + ranges.back().count + gap)
-            ranges.back().count = s - ranges.back().first + 1;
-        else
-            ranges.push_back({s, 1});
+std::vector<SampleRange> uploadRanges(std::span<const uint32_t> samples, uint32_t block) {
+    // Sorting blocks rather than samples: a dab touches runs of tile rows, so there are several
+    // times fewer blocks than samples.
+    std::vector<uint32_t> blocks;
+    blocks.reserve(samples.size() / 4 + 1);
+    uint32_t end = 0;
+    for (uint32_t s : samples) {
+        if (blocks.empty() || blocks.back() != s / block) blocks.push_back(s / block);
+        end = std::max(end, s + 1);
     }
+    std::sort(blocks.begin(), blocks.end());
+    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    std::vector<SampleRange> ranges;
+    for (uint32_t b : blocks) {
+        if (!ranges.empty() && ranges.back().first + ranges.back().count == b * block)
+            ranges.back().count += block;
+        else
+            ranges.push_back({b * block, block});
+    }
+    if (!ranges.empty()) ranges.back().count = std::min(ranges.back().first + ranges.back().count, end) - ranges.back().first;
     return ranges;
 }
 
-std::vector<SampleRange> uploadRanges(const StrokeRecord& record, uint32_t gap) {
+std::vector<SampleRange> uploadRanges(const StrokeRecord& record, uint32_t block) {
     std::vector<uint32_t> samples;
     samples.reserve(record.changes.size());
     for (const SampleChange& c : record.changes) samples.push_back(c.sample);
-    return uploadRanges(samples, gap);
+    return uploadRanges(samples, block);
 }
 
 Sculptor::Sculptor(Displacement& displacement, const SculptSamples& samples)
     : displacement_(displacement), samples_(samples), mirrorCentre_(samples.centre()) {
     touchedInStroke_.assign(displacement.samples.size(), 0);
     before_.assign(displacement.samples.size(), 0.0f);
+    dabStamp_.assign(displacement.samples.size(), 0);
 }
 
 void Sculptor::beginStroke() {
@@ -149,9 +164,17 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
     }
 
     affected_.clear();
-    for (uint32_t c = 0; c < centreCount; ++c) samples_.query(centres[c], brush.radius, affected_);
-    std::sort(affected_.begin(), affected_.end());
-    affected_.erase(std::unique(affected_.begin(), affected_.end()), affected_.end());
+    samples_.query(centres[0], brush.radius, affected_);
+    if (centreCount > 1) {
+        // The mirror image's samples, less those the dab itself reached.
+        ++dabSerial_;
+        for (uint32_t s : affected_) dabStamp_[s] = dabSerial_;
+        const size_t own = affected_.size();
+        samples_.query(centres[1], brush.radius, affected_);
+        affected_.erase(std::remove_if(affected_.begin() + std::ptrdiff_t(own), affected_.end(),
+                                       [&](uint32_t s) { return dabStamp_[s] == dabSerial_; }),
+                        affected_.end());
+    }
     if (affected_.empty()) return 0;
 
     std::vector<float>& values = displacement_.samples;
@@ -187,7 +210,7 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
     // New values from old ones only, then written together: the dab and its mirror image do
     // not see each other's effect, so neither order nor overlap breaks the symmetry.
     newValues_.resize(affected_.size());
-    for (size_t k = 0; k < affected_.size(); ++k) {
+    auto update = [&](size_t k) {
         const uint32_t s = affected_[k];
         const float d = values[s];
         float w[2] = {weight(s, 0), centreCount > 1 ? weight(s, 1) : 0.0f};
@@ -221,6 +244,14 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
         }
         }
         newValues_[k] = canonicalZero(next);
+    };
+    // Each new value reads old values only: big dabs spread over the cores.
+    if (affected_.size() < 8192) {
+        for (size_t k = 0; k < affected_.size(); ++k) update(k);
+    } else {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, affected_.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t k = r.begin(); k != r.end(); ++k) update(k);
+        });
     }
 
     uint32_t changed = 0;

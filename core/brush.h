@@ -79,13 +79,13 @@ struct StrokeRecord {
 void undoStroke(Displacement& displacement, const StrokeRecord& record);
 void redoStroke(Displacement& displacement, const StrokeRecord& record);
 
-// Contiguous runs of samples that a GPU copy of `samples` needs after these changes: runs
-// closer than `gap` samples are merged (one copy region each).
+// The copy regions a GPU copy of the samples needs after these changes (in any order): the
+// blocks of `block` samples that hold one, consecutive blocks merged, sorted.
 struct SampleRange {
     uint32_t first, count;
 };
-std::vector<SampleRange> uploadRanges(const StrokeRecord& record, uint32_t gap = 16);
-std::vector<SampleRange> uploadRanges(std::span<const uint32_t> sortedSamples, uint32_t gap = 16);
+std::vector<SampleRange> uploadRanges(const StrokeRecord& record, uint32_t block = 16);
+std::vector<SampleRange> uploadRanges(std::span<const uint32_t> samples, uint32_t block = 16);
 
 // Applies dabs and remembers, per sample, its value before the first one. One Sculptor serves
 // one stroke at a time; the samples cache must be built for the displacement's layout.
@@ -105,8 +105,8 @@ public:
     // Samples changed since the stroke began (sorted).
     std::vector<uint32_t> changedSamples() const;
 
-    // Samples the last dab reached (sorted; a superset of those it changed): what to upload
-    // after each dab.
+    // Samples the last dab reached (unordered; a superset of those it changed): what to
+    // upload after each dab (uploadRanges).
     std::span<const uint32_t> lastDabSamples() const { return affected_; }
 
     void beginStroke();
@@ -124,8 +124,9 @@ private:
     std::vector<uint32_t> touched_;
     uint32_t stroke_ = 1;
 
-    // Scratch reused between dabs.
-    std::vector<uint32_t> affected_;
+    // Scratch reused between dabs; dabStamp_ tells the mirror image's samples from the dab's.
+    std::vector<uint32_t> affected_, dabStamp_;
+    uint32_t dabSerial_ = 0;
     std::vector<float> newValues_;
 };
 

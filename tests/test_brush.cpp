@@ -326,18 +326,14 @@ TEST(Brush, ValidationAndUploadRanges) {
     EXPECT_FALSE(validateBrush({BrushKind::Smooth, 1.0f, 1.5f, Falloff::Smooth}));
     EXPECT_FALSE(validateBrush({BrushKind::Raise, 1.0f, NAN, Falloff::Smooth}));
     EXPECT_TRUE(validateBrush({BrushKind::Raise, 1.0f, 3.0f, Falloff::Smooth}));
-    std::vector<uint32_t> samples = {3, 4, 5, 30, 31, 100};
-    std::vector<SampleRange> ranges = uploadRanges(samples, 16);
-    ASSERT_EQ(ranges.size(), 3u);
-    EXPECT_EQ(ranges[0].first, 3u);
-    EXPECT_EQ(ranges[0].count, 3u);
-    EXPECT_EQ(ranges[1].first, 30u);
-    EXPECT_EQ(ranges[1].count, 2u);
-    ranges = uploadRanges(samples, 32);  // 5 -> 30 is close enough to copy the gap too
+    std::vector<uint32_t> samples = {31, 3, 100, 4, 5, 30, 17};
+    std::vector<SampleRange> ranges = uploadRanges(samples, 16);  // blocks [0, 16) [16, 32) [96, 112)
     ASSERT_EQ(ranges.size(), 2u);
-    EXPECT_EQ(ranges[0].count, 29u);
-    EXPECT_EQ(ranges[1].first, 100u);
-    EXPECT_EQ(ranges[1].count, 1u);
+    EXPECT_EQ(ranges[0].first, 0u);
+    EXPECT_EQ(ranges[0].count, 32u);
+    EXPECT_EQ(ranges[1].first, 96u);
+    EXPECT_EQ(ranges[1].count, 5u);  // clipped after the last sample
+    EXPECT_TRUE(uploadRanges(std::vector<uint32_t>{}, 16).empty());
     EXPECT_EQ(brushKindFromName("flatten"), BrushKind::Flatten);
     EXPECT_FALSE(brushKindFromName("inflate"));
 }
