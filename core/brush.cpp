@@ -1,6 +1,7 @@
 #include "brush.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 
@@ -91,24 +92,21 @@ void redoStroke(Displacement& displacement, const StrokeRecord& record) {
 }
 
 std::vector<SampleRange> uploadRanges(std::span<const uint32_t> samples, uint32_t block) {
-    // Sorting blocks rather than samples: a dab touches runs of tile rows, so there are several
-    // times fewer blocks than samples.
-    std::vector<uint32_t> blocks;
-    blocks.reserve(samples.size() / 4 + 1);
+    // A bitmap of blocks (a few KiB even for millions of samples) instead of a sort.
     uint32_t end = 0;
-    for (uint32_t s : samples) {
-        if (blocks.empty() || blocks.back() != s / block) blocks.push_back(s / block);
-        end = std::max(end, s + 1);
-    }
-    std::sort(blocks.begin(), blocks.end());
-    blocks.erase(std::unique(blocks.begin(), blocks.end()), blocks.end());
+    for (uint32_t s : samples) end = std::max(end, s + 1);
+    const uint32_t blocks = (end + block - 1) / block;
+    std::vector<uint64_t> marked((blocks + 63) / 64, 0);
+    for (uint32_t s : samples) marked[s / block / 64] |= uint64_t(1) << (s / block % 64);
     std::vector<SampleRange> ranges;
-    for (uint32_t b : blocks) {
-        if (!ranges.empty() && ranges.back().first + ranges.back().count == b * block)
-            ranges.back().count += block;
-        else
-            ranges.push_back({b * block, block});
-    }
+    for (uint32_t word = 0; word < marked.size(); ++word)
+        for (uint64_t bits = marked[word]; bits; bits &= bits - 1) {
+            uint32_t first = (word * 64 + uint32_t(std::countr_zero(bits))) * block;
+            if (!ranges.empty() && ranges.back().first + ranges.back().count == first)
+                ranges.back().count += block;
+            else
+                ranges.push_back({first, block});
+        }
     if (!ranges.empty()) ranges.back().count = std::min(ranges.back().first + ranges.back().count, end) - ranges.back().first;
     return ranges;
 }
