@@ -157,6 +157,48 @@ TEST(Brush, RaiseRaisesWithinTheRadiusOnly) {
     }
 }
 
+TEST(Brush, DabOnACreaseChangesBothSidesAlike) {
+    // A cube with a semi-sharp crease along the edge between vertices 1 and 2 (x = 1, z = -1).
+    Cage cage = test::makeCube();
+    cage.setEdgeSharpness(1, 2, 2.5f);
+    Sculpt s(cage, 8);
+    const DisplacementLayout& layout = s.displacement.layout;
+    uint32_t creaseSegment = UINT32_MAX;
+    for (uint32_t k = 0; k < layout.segments.size(); ++k)
+        if (std::minmax(layout.segments[k].pointA, layout.segments[k].pointB) == std::minmax(1u, 2u)) creaseSegment = k;
+    ASSERT_NE(creaseSegment, UINT32_MAX);
+    const uint32_t middle = segmentSample(layout.segments[creaseSegment], 4);
+    const glm::vec3 centre = s.samples->position(middle);
+    Brush brush{BrushKind::Raise, 0.5f, 0.2f, Falloff::Linear};
+    applyStroke(s.displacement, *s.samples, StrokeOptions{brush}, std::span(&centre, 1));
+    // Samples of both faces at the crease, at the same distance, get the same value; the
+    // shared crease samples are one value for both faces.
+    std::vector<uint32_t> faces;
+    for (uint32_t i : s.sited()) {
+        float distance = s.distance(i, centre);
+        float expected = distance <= brush.radius ? brush.strength * (1.0f - distance / brush.radius) * brush.radius : 0.0f;
+        EXPECT_NEAR(s.displacement.samples[i], expected, 1e-6f);
+        if (distance < brush.radius) faces.push_back(s.samples->site(i).subface);
+    }
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    EXPECT_EQ(faces.size(), 2u);  // the two faces at the crease
+    // Evaluated from either face, the crease reads the same bits.
+    for (uint32_t a = 0; a < 6; ++a)
+        for (uint32_t b = a + 1; b < 6; ++b)
+            for (uint32_t ea = 0; ea < 4; ++ea)
+                for (uint32_t eb = 0; eb < 4; ++eb)
+                    if (layout.subfaces[a].edges[ea].segment == creaseSegment && layout.subfaces[b].edges[eb].segment == creaseSegment) {
+                        bool opposite = (layout.subfaces[a].edges[ea].flags ^ layout.subfaces[b].edges[eb].flags) & kEdgeReversed;
+                        for (float t : {0.1f, 0.3f, 0.5f, 0.77f}) {
+                            glm::vec2 pa = edgePoint(ea, t), pb = edgePoint(eb, opposite ? 1.0f - t : t);
+                            EXPECT_EQ(bits(evaluateDisplacement(s.displacement, a, pa.x, pa.y).value),
+                                      bits(evaluateDisplacement(s.displacement, b, pb.x, pb.y).value));
+                            EXPECT_GT(evaluateDisplacement(s.displacement, a, pa.x, pa.y).value, 0.0f);
+                        }
+                    }
+}
+
 TEST(Brush, LowerIsRaiseNegated) {
     Sculpt a(symmetricCube(), 4), b(symmetricCube(), 4);
     std::vector<glm::vec3> path = {{1.0f, 0.2f, 0.3f}, {1.0f, -0.5f, 0.1f}};
