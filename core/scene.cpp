@@ -13,6 +13,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "displacement_io.h"
 #include "file_io.h"
 #include "obj_io.h"
 
@@ -434,15 +435,11 @@ Tessellation readTessellation(const json& value, const Context& ctx) {
     return t;
 }
 
-// Only the version is interpreted; the rest is kept verbatim for the displacement feature.
-json readDisplacement(const json& value) {
-    ObjectReader object(value, "displacement");
-    int64_t version = readInteger(object.required("version"), object.field("version"));
-    if (version != 0)
-        fail(object.field("version"), "displacement version " + std::to_string(version) +
-                                          " is not supported (this build reads version 0); the scene was "
-                                          "written by a newer Quadplan");
-    return value;
+// Needs the cage: the displacement's sizes follow from its topology (displacement_io.h).
+Displacement readDisplacement(const json& value, const Cage& cage, const Context& ctx) {
+    Result<Displacement> displacement = readDisplacementJson(value, cage, ctx.source, ctx.warnings);
+    if (!displacement) fail("", displacement.error().message);
+    return std::move(displacement).value();
 }
 
 void checkFormatAndVersion(ObjectReader& top) {
@@ -468,7 +465,7 @@ Scene readScene(const json& root, const Context& ctx) {
     if (const json* v = top.optional("camera")) scene.camera = readCamera(*v, ctx);
     if (const json* v = top.optional("viewports")) scene.viewports = readViewports(*v, ctx);
     if (const json* v = top.optional("tessellation")) scene.tessellation = readTessellation(*v, ctx);
-    if (const json* v = top.optional("displacement")) scene.displacement = readDisplacement(*v);
+    if (const json* v = top.optional("displacement")) scene.displacement = readDisplacement(*v, scene.cage, ctx);
     top.warnAboutUnknownFields(ctx.source, ctx.warnings);
     return scene;
 }
@@ -599,7 +596,7 @@ ordered_json sceneJson(const Scene& scene, const std::string* cagePath) {
     if (scene.camera) root["camera"] = cameraJson(*scene.camera);
     root["viewports"] = viewportsJson(scene.viewports);
     root["tessellation"] = tessellationJson(scene.tessellation);
-    root["displacement"] = ordered_json(scene.displacement);
+    root["displacement"] = displacementJson(scene.displacement);
     return root;
 }
 
@@ -705,6 +702,10 @@ std::string formatScene(const Scene& scene, bool inlineCage) {
 }
 
 Status saveScene(const Scene& scene, const std::string& path, bool inlineCage) {
+    // A displacement laid out for another topology would save fine and then not load.
+    if (!displacementFitsCage(scene.displacement, scene.cage))
+        return Error{path + ": not saved: the displacement does not fit the cage's faces (resample it after "
+                            "adding or removing faces)"};
     if (inlineCage) return writeFileAtomically(path, formatSceneWith(scene, nullptr));
     std::string cagePath = scene.cagePath.empty() ? fs::path(path).stem().string() + ".obj" : scene.cagePath;
     // The OBJ goes first so that the scene never refers to a cage that is not there yet.

@@ -1,5 +1,5 @@
 // Scene: everything a user saves besides the cage itself — the camera, the viewports, the
-// tessellation settings and (later) displacement — in a versioned JSON file.
+// tessellation settings and the sculpted displacement — in a versioned JSON file.
 //
 // The schema, an example and the versioning/migration policy are in docs/scene-format.md.
 // The cage is either inline in the JSON or referenced by a path to an OBJ (with its tags in
@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cage.h"
+#include "displacement.h"
 #include "result.h"
 
 namespace qp {
@@ -64,11 +65,10 @@ struct Scene {
     std::optional<Camera> camera;   // absent: frame the model
     std::vector<Viewport> viewports{Viewport{}};
     Tessellation tessellation;
-    // Placeholder until displacement lands: the whole "displacement" object, kept verbatim so
-    // that loading and saving loses nothing.
-    nlohmann::json displacement = defaultDisplacement();
-
-    static nlohmann::json defaultDisplacement() { return {{"version", 0}, {"faces", nlohmann::json::array()}}; }
+    // Sculpted displacement over the cage's sub-faces (displacement.h); empty: none. Its layout
+    // follows the cage's topology: rebuild it (resampleDisplacement, makeDisplacement) after
+    // topology edits.
+    Displacement displacement;
 };
 
 // `source` names the text in messages; `baseDir` resolves a referenced cage path.

@@ -21,6 +21,7 @@
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/stencilTableFactory.h>
 
+#include "bench_displacement.h"
 #include "bspline_pass.h"
 #include "camera.h"
 #include "commands.h"
@@ -741,6 +742,39 @@ std::string csv(const Report& report) {
     return out;
 }
 
+// ---- the displacement suite (measurements in bench_displacement.cpp) --------------------
+
+constexpr uint32_t kDisplacementResolution = 16;  // per sub-face
+constexpr uint32_t kDabsPerRepeat = 20;           // dabs are cheap: many per repeat
+
+void benchDisplacement(const BenchCage& bench, const BenchArgs& args, Report& report) {
+    std::fprintf(stderr, "bench displacement: %s (%u faces)\n", bench.name.c_str(), bench.cage.faceCount());
+    const uint32_t dabs = args.repeats * kDabsPerRepeat;
+    DisplacementBenchResult result = measureDisplacementDabs(bench.cage, kDisplacementResolution, dabs, args.seed);
+    if (!result.error.empty()) report.notes.push_back(bench.name + ": " + result.error);
+    if (result.dabs.empty()) return;
+    report.notes.push_back(bench.name + ": resolution " + std::to_string(result.resolution) + " on every sub-face, " +
+                           std::to_string(result.samples) + " samples (" + number(result.samples * 4.0 / 1048576.0) +
+                           " MiB); smooth falloff, dabs at random sample positions; the samples cache is built once per "
+                           "layout");
+    for (const DabMeasurement& m : result.dabs) {
+        Row r;
+        r.cage = bench.name;
+        r.faces = bench.cage.faceCount();
+        r.benchmark = std::string(brushKindName(m.brush)) + " dab, radius " + number(m.radius) + ": CPU update " + number(m.updateMs) + " ms + upload copy " +
+                      number(m.uploadMs) + " ms of " + number(m.bytes / 1024.0) + " KiB (" + number(m.samplesReached) +
+                      " samples in reach) vs copying the whole buffer; 2nd: building the samples cache";
+        r.repeats = m.repeats;
+        r.unit = "ms";
+        r.ours = m.totalMs;
+        r.baseline = result.fullUploadMs;
+        r.baseline2 = result.cacheBuildMs;
+        r.target = Target::OursAtMost;
+        r.targetValue = 5.0;
+        report.rows.push_back(r);
+    }
+}
+
 // ---- suites ----------------------------------------------------------------------------
 
 struct Suite {
@@ -752,6 +786,7 @@ struct Suite {
 constexpr Suite kSuites[] = {
     {"plans", benchPlans, 100000},
     {"render", benchRender, kRenderGeneratedFaces},
+    {"displacement", benchDisplacement, 2000},
 };
 
 int runSuite(const Suite& suite, const BenchArgs& args) {
@@ -802,7 +837,7 @@ void registerBench(CLI::App& app, int& exitCode) {
     cmd->add_option("--out", args->outDir, "Also write SUITE.md and SUITE.csv into this directory");
     cmd->add_option("--generated-faces", args->generatedFaces,
                     "Faces of the generated torus cage (0: none; default: plans 100000, render " +
-                        std::to_string(kRenderGeneratedFaces) + ")");
+                        std::to_string(kRenderGeneratedFaces) + ", displacement 2000)");
     cmd->add_option("--factors", args->factors, "render: uniform tessellation factors (default 1,2,4,8,16)")
         ->delimiter(',')
         ->check(CLI::Range(1u, 64u));

@@ -30,6 +30,9 @@ void registerCompare(CLI::App& app, int& exitCode);
 // `quadplan schemes [CAGE] [--json]`: the scheme plugins found (and what they do with a cage)
 void registerSchemes(CLI::App& app, int& exitCode);
 
+// `quadplan sculpt CAGE_OR_SCENE --out OUT.json --path "x,y,z;..." | --strokes FILE.json [...]`
+void registerSculpt(CLI::App& app, int& exitCode);
+
 // `quadplan edit [SCENE]`: the interactive editor; also what a bare `quadplan` runs.
 void registerEdit(CLI::App& app, int& exitCode);
 int runEditor(const std::string& scenePath);

@@ -46,3 +46,14 @@ add_test(NAME cli.compare_smoke
 set_tests_properties(cli.compare_smoke PROPERTIES PASS_REGULAR_EXPRESSION "\"max_rel_error\"" TIMEOUT 120)
 add_test(NAME cli.schemes COMMAND quadplan schemes)
 set_tests_properties(cli.schemes PROPERTIES PASS_REGULAR_EXPRESSION "osd-fas.*plans.*uniform")
+
+# Headless sculpting as a script would run it (detailed checks in test_cli_sculpt.cpp).
+add_test(NAME cli.sculpt_smoke
+         COMMAND quadplan sculpt ${CMAKE_SOURCE_DIR}/scenes/creased_box.json --radius 0.5 --strength 0.1
+                 --mirror x --path "0,1.2,0;0.5,1.2,0.5" --out ${CMAKE_CURRENT_BINARY_DIR}/sculpt_smoke.json)
+set_tests_properties(cli.sculpt_smoke PROPERTIES PASS_REGULAR_EXPRESSION "sculpt: 1 stroke, [0-9]+ dabs, [1-9][0-9]* of")
+
+# The displacement suite's code path on a small cage.
+add_test(NAME cli.bench_displacement_smoke
+         COMMAND quadplan bench displacement --repeats 1 --generated-faces 300 --no-shared)
+set_tests_properties(cli.bench_displacement_smoke PROPERTIES PASS_REGULAR_EXPRESSION "raise dab, radius" TIMEOUT 60)

@@ -94,7 +94,6 @@ TEST_F(SceneFiles, SceneRoundTripInline) {
     source["camera"]["ortho_height"] = 3.3;
     source["viewports"].push_back({{"scheme", "someone-elses-plugin"}, {"camera", "independent"}, {"color_by", "x"}});
     source["tessellation"]["pixels_per_edge"] = 0.1;
-    source["displacement"]["faces"] = {{{"face", 1}, {"map", {0.25, 0.5}}}};
     qp::Result<qp::Scene> original = qp::parseScene(source.dump(), "source.json", "");
     ASSERT_TRUE(original) << original.error().message;
 
@@ -158,7 +157,7 @@ TEST(SceneBundled, CreasedBoxLoads) {
     EXPECT_FLOAT_EQ(scene->cage.edgeSharpness(5, 1), 3.25f);
     EXPECT_FALSE(scene->camera.has_value());  // framed automatically
     EXPECT_EQ(scene->viewports.size(), 2u);
-    EXPECT_EQ(scene->displacement, qp::Scene::defaultDisplacement());
+    EXPECT_TRUE(scene->displacement.empty());
 }
 
 // --- defaults and warnings ---
@@ -172,7 +171,7 @@ TEST(SceneParse, OptionalSectionsTakeDefaults) {
     ASSERT_EQ(scene->viewports.size(), 1u);
     EXPECT_EQ(scene->viewports[0].scheme, "plans");
     EXPECT_EQ(scene->tessellation, qp::Tessellation{});
-    EXPECT_EQ(scene->displacement, qp::Scene::defaultDisplacement());
+    EXPECT_TRUE(scene->displacement.empty());
 }
 
 TEST(SceneParse, UnknownFieldsAreWarningsNotErrors) {
@@ -234,9 +233,9 @@ TEST(SceneErrors, FutureVersion) {
 
 TEST(SceneErrors, FutureDisplacementVersion) {
     json scene = validScene();
-    scene["displacement"]["version"] = 1;
-    EXPECT_EQ(errorOf(scene), "scene.json: displacement.version: displacement version 1 is not supported (this "
-                              "build reads version 0); the scene was written by a newer Quadplan");
+    scene["displacement"]["version"] = 2;
+    EXPECT_EQ(errorOf(scene), "scene.json: displacement.version: displacement version 2 is not supported (this "
+                              "build reads versions up to 1); the scene was written by a newer Quadplan");
 }
 
 TEST(SceneErrors, MissingRequiredFields) {

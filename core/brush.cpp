@@ -1,0 +1,298 @@
+#include "brush.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdio>
+
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace qp {
+
+namespace {
+
+template <class E>
+struct Named {
+    const char* name;
+    E value;
+};
+
+constexpr Named<BrushKind> kBrushNames[] = {{"raise", BrushKind::Raise},
+                                            {"lower", BrushKind::Lower},
+                                            {"smooth", BrushKind::Smooth},
+                                            {"flatten", BrushKind::Flatten},
+                                            {"erase", BrushKind::Erase}};
+constexpr Named<Falloff> kFalloffNames[] = {
+    {"smooth", Falloff::Smooth}, {"linear", Falloff::Linear}, {"constant", Falloff::Constant}, {"sphere", Falloff::Sphere}};
+constexpr Named<MirrorAxis> kMirrorNames[] = {
+    {"none", MirrorAxis::None}, {"x", MirrorAxis::X}, {"y", MirrorAxis::Y}, {"z", MirrorAxis::Z}};
+
+template <class E, size_t N>
+std::optional<E> fromName(const Named<E> (&names)[N], std::string_view name) {
+    for (const Named<E>& n : names)
+        if (name == n.name) return n.value;
+    return std::nullopt;
+}
+
+template <class E, size_t N>
+const char* toName(const Named<E> (&names)[N], E value) {
+    for (const Named<E>& n : names)
+        if (n.value == value) return n.name;
+    return "";
+}
+
+std::string number(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", double(value));
+    return text;
+}
+
+// Values are never written as -0, so equal values always have equal bits.
+float canonicalZero(float value) { return value + 0.0f; }
+
+}  // namespace
+
+std::optional<BrushKind> brushKindFromName(std::string_view name) { return fromName(kBrushNames, name); }
+std::optional<Falloff> falloffFromName(std::string_view name) { return fromName(kFalloffNames, name); }
+std::optional<MirrorAxis> mirrorAxisFromName(std::string_view name) { return fromName(kMirrorNames, name); }
+const char* brushKindName(BrushKind kind) { return toName(kBrushNames, kind); }
+const char* falloffName(Falloff falloff) { return toName(kFalloffNames, falloff); }
+
+float falloffWeight(Falloff falloff, float x) {
+    x = std::clamp(x, 0.0f, 1.0f);
+    switch (falloff) {
+    case Falloff::Smooth: return 1.0f - x * x * (3.0f - 2.0f * x);
+    case Falloff::Linear: return 1.0f - x;
+    case Falloff::Constant: return 1.0f;
+    case Falloff::Sphere: return std::sqrt(1.0f - x * x);
+    }
+    return 0.0f;
+}
+
+Status validateBrush(const Brush& brush) {
+    if (!std::isfinite(brush.radius) || brush.radius <= 0.0f)
+        return Error{"brush radius must be a positive number, got " + number(brush.radius)};
+    if (!std::isfinite(brush.strength) || brush.strength < 0.0f)
+        return Error{"brush strength must be a number >= 0, got " + number(brush.strength)};
+    bool blend = brush.kind == BrushKind::Smooth || brush.kind == BrushKind::Flatten || brush.kind == BrushKind::Erase;
+    if (blend && brush.strength > 1.0f)
+        return Error{std::string("the ") + brushKindName(brush.kind) + " brush blends towards a target: its strength "
+                     "must be between 0 and 1, got " + number(brush.strength)};
+    return success();
+}
+
+void undoStroke(Displacement& displacement, const StrokeRecord& record) {
+    for (const SampleChange& c : record.changes) displacement.samples[c.sample] = c.before;
+}
+
+void redoStroke(Displacement& displacement, const StrokeRecord& record) {
+    for (const SampleChange& c : record.changes) displacement.samples[c.sample] = c.after;
+}
+
+std::vector<SampleRange> uploadRanges(std::span<const uint32_t> samples, uint32_t block) {
+    // A bitmap of blocks (a few KiB even for millions of samples) instead of a sort.
+    uint32_t end = 0;
+    for (uint32_t s : samples) end = std::max(end, s + 1);
+    const uint32_t blocks = (end + block - 1) / block;
+    std::vector<uint64_t> marked((blocks + 63) / 64, 0);
+    for (uint32_t s : samples) marked[s / block / 64] |= uint64_t(1) << (s / block % 64);
+    std::vector<SampleRange> ranges;
+    for (uint32_t word = 0; word < marked.size(); ++word)
+        for (uint64_t bits = marked[word]; bits; bits &= bits - 1) {
+            uint32_t first = (word * 64 + uint32_t(std::countr_zero(bits))) * block;
+            if (!ranges.empty() && ranges.back().first + ranges.back().count == first)
+                ranges.back().count += block;
+            else
+                ranges.push_back({first, block});
+        }
+    if (!ranges.empty()) ranges.back().count = std::min(ranges.back().first + ranges.back().count, end) - ranges.back().first;
+    return ranges;
+}
+
+std::vector<SampleRange> uploadRanges(const StrokeRecord& record, uint32_t block) {
+    std::vector<uint32_t> samples;
+    samples.reserve(record.changes.size());
+    for (const SampleChange& c : record.changes) samples.push_back(c.sample);
+    return uploadRanges(samples, block);
+}
+
+Sculptor::Sculptor(Displacement& displacement, const SculptSamples& samples)
+    : displacement_(displacement), samples_(samples), mirrorCentre_(samples.centre()) {
+    touchedInStroke_.assign(displacement.samples.size(), 0);
+    before_.assign(displacement.samples.size(), 0.0f);
+    dabStamp_.assign(displacement.samples.size(), 0);
+}
+
+void Sculptor::beginStroke() {
+    ++stroke_;
+    touched_.clear();
+    dabs_ = 0;
+}
+
+std::vector<uint32_t> Sculptor::changedSamples() const {
+    std::vector<uint32_t> out;
+    for (uint32_t s : touched_)
+        if (displacement_.samples[s] != before_[s] ||
+            std::signbit(displacement_.samples[s]) != std::signbit(before_[s]))
+            out.push_back(s);
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+StrokeRecord Sculptor::endStroke() {
+    StrokeRecord record;
+    record.dabs = dabs_;
+    for (uint32_t s : changedSamples()) record.changes.push_back({s, before_[s], displacement_.samples[s]});
+    touched_.clear();
+    ++stroke_;
+    return record;
+}
+
+uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& centre) {
+    ++dabs_;
+    glm::vec3 centres[2] = {centre, centre};
+    uint32_t centreCount = 1;
+    if (mirror != MirrorAxis::None) {
+        int axis = int(mirror) - 1;
+        centres[1][axis] = 2.0f * mirrorCentre_[axis] - centre[axis];
+        // A dab on the plane is its own mirror image: once is enough.
+        if (std::abs(centres[1][axis] - centre[axis]) > 1e-6f * brush.radius) centreCount = 2;
+    }
+
+    affected_.clear();
+    samples_.query(centres[0], brush.radius, affected_);
+    if (centreCount > 1) {
+        // The mirror image's samples, less those the dab itself reached.
+        ++dabSerial_;
+        for (uint32_t s : affected_) dabStamp_[s] = dabSerial_;
+        const size_t own = affected_.size();
+        samples_.query(centres[1], brush.radius, affected_);
+        affected_.erase(std::remove_if(affected_.begin() + std::ptrdiff_t(own), affected_.end(),
+                                       [&](uint32_t s) { return dabStamp_[s] == dabSerial_; }),
+                        affected_.end());
+    }
+    if (affected_.empty()) return 0;
+
+    std::vector<float>& values = displacement_.samples;
+    auto weight = [&](uint32_t sample, uint32_t c) {
+        float distance = glm::length(samples_.position(sample) - centres[c]);
+        if (distance > brush.radius) return 0.0f;
+        return brush.strength * falloffWeight(brush.falloff, distance / brush.radius);
+    };
+    auto displaced = [&](uint32_t sample) { return samples_.position(sample) + values[sample] * samples_.normal(sample); };
+
+    // Flatten: per centre, the plane through the weighted mean displaced point.
+    glm::vec3 planePoint[2], planeNormal[2];
+    bool havePlane[2] = {false, false};
+    if (brush.kind == BrushKind::Flatten) {
+        for (uint32_t c = 0; c < centreCount; ++c) {
+            glm::vec3 point(0.0f), normal(0.0f);
+            float total = 0.0f;
+            for (uint32_t s : affected_) {
+                float w = weight(s, c);
+                if (w <= 0.0f) continue;
+                point += w * displaced(s);
+                normal += w * samples_.normal(s);
+                total += w;
+            }
+            if (total > 0.0f && glm::length(normal) > 0.0f) {
+                planePoint[c] = point / total;
+                planeNormal[c] = glm::normalize(normal);
+                havePlane[c] = true;
+            }
+        }
+    }
+
+    // New values from old ones only, then written together: the dab and its mirror image do
+    // not see each other's effect, so neither order nor overlap breaks the symmetry.
+    newValues_.resize(affected_.size());
+    auto update = [&](size_t k) {
+        const uint32_t s = affected_[k];
+        const float d = values[s];
+        float w[2] = {weight(s, 0), centreCount > 1 ? weight(s, 1) : 0.0f};
+        float total = w[0] + w[1];
+        float next = d;
+        switch (brush.kind) {
+        case BrushKind::Raise: next = d + total * brush.radius; break;
+        case BrushKind::Lower: next = d - total * brush.radius; break;
+        case BrushKind::Erase: next = d - std::min(total, 1.0f) * d; break;
+        case BrushKind::Smooth: {
+            auto neighbours = samples_.neighbours(s);
+            if (neighbours.empty()) break;
+            float sum = 0.0f;
+            for (uint32_t n : neighbours) sum += values[n];
+            next = d + std::min(total, 1.0f) * (sum / float(neighbours.size()) - d);
+            break;
+        }
+        case BrushKind::Flatten: {
+            // Blend towards each plane; weights summing past 1 are scaled to 1.
+            float scale = total > 1.0f ? 1.0f / total : 1.0f;
+            float delta = 0.0f;
+            for (uint32_t c = 0; c < centreCount; ++c) {
+                if (w[c] <= 0.0f || !havePlane[c]) continue;
+                float along = glm::dot(planeNormal[c], samples_.normal(s));
+                if (std::abs(along) < 0.1f) continue;  // the plane is nearly parallel to the normal
+                float target = d + glm::dot(planeNormal[c], planePoint[c] - displaced(s)) / along;
+                delta += scale * w[c] * (target - d);
+            }
+            next = d + delta;
+            break;
+        }
+        }
+        newValues_[k] = canonicalZero(next);
+    };
+    // Each new value reads old values only: big dabs spread over the cores.
+    if (affected_.size() < 8192) {
+        for (size_t k = 0; k < affected_.size(); ++k) update(k);
+    } else {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, affected_.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
+            for (size_t k = r.begin(); k != r.end(); ++k) update(k);
+        });
+    }
+
+    uint32_t changed = 0;
+    for (size_t k = 0; k < affected_.size(); ++k) {
+        const uint32_t s = affected_[k];
+        if (newValues_[k] == values[s] && std::signbit(newValues_[k]) == std::signbit(values[s])) continue;
+        if (touchedInStroke_[s] != stroke_) {
+            touchedInStroke_[s] = stroke_;
+            before_[s] = values[s];
+            touched_.push_back(s);
+        }
+        values[s] = newValues_[k];
+        ++changed;
+    }
+    return changed;
+}
+
+uint32_t Sculptor::dabsAlong(const StrokeOptions& options, std::span<const glm::vec3> path) {
+    if (path.empty()) return 0;
+    const float spacing = options.spacing > 0.0f ? options.spacing : 0.25f * options.brush.radius;
+    uint32_t changed = dab(options.brush, options.mirror, path[0]);
+    // Distance left until the next dab, carried across the polyline's corners.
+    float untilNext = spacing;
+    for (size_t i = 1; i < path.size(); ++i) {
+        glm::vec3 a = path[i - 1], b = path[i];
+        float length = glm::length(b - a);
+        float at = 0.0f;
+        while (length - at >= untilNext) {
+            at += untilNext;
+            changed += dab(options.brush, options.mirror, a + (b - a) * (at / length));
+            untilNext = spacing;
+        }
+        untilNext -= length - at;
+    }
+    return changed;
+}
+
+StrokeRecord applyStroke(Displacement& displacement, const SculptSamples& samples, const StrokeOptions& options,
+                         std::span<const glm::vec3> path) {
+    Sculptor sculptor(displacement, samples);
+    sculptor.beginStroke();
+    sculptor.dabsAlong(options, path);
+    return sculptor.endStroke();
+}
+
+}  // namespace qp

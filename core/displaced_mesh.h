@@ -1,0 +1,39 @@
+// A displaced triangle mesh on the CPU: one (n+1) x (n+1) vertex grid per sub-face with a
+// surface, each vertex at s + D N with the shading normal of displacePoint (displacement.h).
+//
+// Quads get `factor` intervals per side and n-gon sub-faces factor / 2 (an n-gon sub-face
+// spans half of each cage edge, as in the renderer), so grids meet vertex to vertex.
+// Watertight by construction, as the renderer's: a vertex on a shared boundary takes the limit
+// position and normal from the boundary's owner (computeBoundaryOwners) at a parameter rebuilt
+// from integers, and its displacement from its OWN sub-face through evaluateDisplacement — the
+// shared edge samples make that the same bits on every side.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "displacement.h"
+#include "planned_cage.h"
+#include "result.h"
+
+namespace qp {
+
+struct DisplacedMesh {
+    uint32_t factor = 0;                // quads' intervals per side
+    std::vector<uint32_t> gridSubface;  // the sub-face of each grid
+    std::vector<uint32_t> gridFactor;   // its intervals per side
+    std::vector<uint32_t> gridOffset;   // its first vertex; (n+1)^2 vertices, u fastest
+    std::vector<glm::vec3> positions, normals;
+    std::vector<uint32_t> indices;      // triangles, counter-clockwise like the cage
+};
+
+// The smallest factor at which every sample is a mesh vertex: the required tessellation
+// factor of each quad and twice that of each n-gon sub-face, at most 64 for quads.
+uint32_t requiredMeshFactor(const PlannedCage& planned, const DisplacementLayout& layout);
+
+// factor in 1..128; even when the cage has non-quads. An empty displacement displaces nothing.
+Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displacement& displacement, uint32_t factor);
+
+}  // namespace qp

@@ -1,0 +1,366 @@
+#include "displacement.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstring>
+
+#include <glm/geometric.hpp>
+
+#include "face_config.h"
+
+namespace qp {
+
+namespace {
+
+// 2^14: edge parameters are snapped to multiples of its inverse (see evaluateDisplacement).
+constexpr float kEdgeSnap = 16384.0f;
+
+uint32_t midpointId(const DisplacementLayout& l, uint32_t edge) { return l.vertexCount + edge; }
+uint32_t centreId(const DisplacementLayout& l, uint32_t face) { return l.vertexCount + l.edgeCount + face; }
+
+// The segment resolution a sub-face edge asks for.
+uint32_t segmentNeed(uint32_t resolution, const DisplacementEdge& edge) {
+    return edge.flags & kEdgeSplit ? std::max(resolution / 2, 1u) : resolution;
+}
+
+void assignResolutionsAndOffsets(DisplacementLayout& layout) {
+    for (DisplacementSegment& s : layout.segments) s.resolution = 1;
+    for (const DisplacementSubface& sf : layout.subfaces)
+        for (const DisplacementEdge& e : sf.edges) {
+            uint32_t need = segmentNeed(sf.resolution, e);
+            layout.segments[e.segment].resolution = std::max(layout.segments[e.segment].resolution, need);
+            if (e.secondHalf != kNoSegment)
+                layout.segments[e.secondHalf].resolution = std::max(layout.segments[e.secondHalf].resolution, need);
+        }
+    uint32_t offset = layout.pointCount;
+    for (DisplacementSegment& s : layout.segments) {
+        s.offset = offset;
+        offset += s.resolution - 1;
+    }
+    for (DisplacementSubface& sf : layout.subfaces) {
+        sf.interiorOffset = offset;
+        offset += (sf.resolution - 1) * (sf.resolution - 1);
+        for (DisplacementEdge& e : sf.edges) {
+            e.flags &= ~kEdgeFiner;
+            bool finer = e.flags & kEdgeSplit
+                             ? sf.resolution == 1 || layout.segments[e.segment].resolution * 2 > sf.resolution ||
+                                   layout.segments[e.secondHalf].resolution * 2 > sf.resolution
+                             : layout.segments[e.segment].resolution > sf.resolution;
+            if (finer) e.flags |= kEdgeFiner;
+        }
+    }
+    layout.sampleCount = offset;
+}
+
+float lerp(float a, float b, float f) { return (1.0f - f) * a + f * b; }
+
+// Value and d/dt of a segment at canonical t. On a sample (f = 0 or 1) the value is that
+// sample's bits, so a corner reached through any of its segments reads the same bits.
+DisplacementValue segmentValue(const DisplacementLayout& layout, const std::vector<float>& samples, uint32_t segment,
+                               float t) {
+    const DisplacementSegment& s = layout.segments[segment];
+    float x = std::clamp(t, 0.0f, 1.0f) * float(s.resolution);
+    uint32_t k = std::min(uint32_t(x), s.resolution - 1);
+    float f = x - float(k);
+    float a = samples[segmentSample(s, k)], b = samples[segmentSample(s, k + 1)];
+    float value = f == 0.0f ? a : f == 1.0f ? b : lerp(a, b, f);
+    return {value, float(s.resolution) * (b - a), 0.0f};
+}
+
+// Edge function of a sub-face edge at its own parameter t, and dE/dt. With `snap`, the
+// canonical parameter is snapped so both sides of the edge compute the same bits.
+DisplacementValue edgeValue(const DisplacementLayout& layout, const std::vector<float>& samples,
+                            const DisplacementEdge& edge, float t, bool snap) {
+    auto snapped = [snap](float tc) { return snap ? std::round(tc * kEdgeSnap) / kEdgeSnap : tc; };
+    if (!(edge.flags & kEdgeSplit)) {
+        bool reversed = edge.flags & kEdgeReversed;
+        DisplacementValue v = segmentValue(layout, samples, edge.segment, snapped(reversed ? 1.0f - t : t));
+        if (reversed) v.du = -v.du;
+        return v;
+    }
+    // Both halves run from a cage vertex to the midpoint (vertex ids are below midpoint ids).
+    if (t <= 0.5f) {
+        DisplacementValue v = segmentValue(layout, samples, edge.segment, snapped(2.0f * t));
+        v.du *= 2.0f;
+        return v;
+    }
+    DisplacementValue v = segmentValue(layout, samples, edge.secondHalf, snapped(2.0f * (1.0f - t)));
+    v.du *= -2.0f;
+    return v;
+}
+
+}  // namespace
+
+uint32_t DisplacementLayout::tileSampleBegin() const {
+    return subfaces.empty() ? sampleCount : subfaces.front().interiorOffset;
+}
+
+bool DisplacementLayout::operator==(const DisplacementLayout& o) const {
+    auto bytesEqual = [](const auto& a, const auto& b) {
+        return a.size() == b.size() && std::equal(a.begin(), a.end(), b.begin(), [](const auto& x, const auto& y) {
+                   return std::memcmp(&x, &y, sizeof x) == 0;
+               });
+    };
+    return vertexCount == o.vertexCount && edgeCount == o.edgeCount && faceCount == o.faceCount &&
+           pointCount == o.pointCount && sampleCount == o.sampleCount && bytesEqual(subfaces, o.subfaces) &&
+           bytesEqual(segments, o.segments);
+}
+
+DisplacementLayout buildDisplacementLayout(const Cage& cage, const Topology& topology, uint32_t resolution) {
+    assert(isPowerOfTwo(resolution) && resolution <= kMaxDisplacementResolution);
+    DisplacementLayout layout;
+    layout.vertexCount = cage.vertexCount();
+    layout.edgeCount = topology.edgeCount();
+    layout.faceCount = cage.faceCount();
+    layout.pointCount = layout.vertexCount + layout.edgeCount + layout.faceCount;
+
+    // Cage edges: one segment, or two halves (the half at edgeVertices[0] first).
+    std::vector<uint32_t> edgeSegment(topology.edgeCount());
+    std::vector<bool> split(topology.edgeCount(), false);
+    for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
+        for (uint32_t k = topology.edgeFaceOffsets[e]; k < topology.edgeFaceOffsets[e + 1]; ++k)
+            if (cage.faceSize(topology.edgeFaces[k]) != 4) split[e] = true;
+        uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
+        edgeSegment[e] = uint32_t(layout.segments.size());
+        if (split[e]) {
+            layout.segments.push_back({a, midpointId(layout, e), 1, 0});
+            layout.segments.push_back({b, midpointId(layout, e), 1, 0});
+        } else {
+            layout.segments.push_back({a, b, 1, 0});
+        }
+    }
+    // The half of split edge e that ends at cage vertex v.
+    auto halfAt = [&](uint32_t e, uint32_t v) { return edgeSegment[e] + (topology.edgeVertices[2 * e] == v ? 0 : 1); };
+
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+        const uint32_t n = cage.faceSize(f);
+        const uint32_t* fv = cage.faceBegin(f);
+        const uint32_t* fe = topology.faceEdges.data() + cage.faceOffsets[f];
+        if (n == 4) {
+            DisplacementSubface sf{};
+            sf.resolution = resolution;
+            for (uint32_t c = 0; c < 4; ++c) sf.corners[c] = fv[c];
+            for (uint32_t e = 0; e < 4; ++e) {
+                uint32_t a = fv[kEdgeStart[e]], z = fv[kEdgeEnd[e]];
+                // Cage edge e of the face runs fv[e] -> fv[e+1]: the same edge as sub-face edge
+                // e (edges 2 and 3 run against the winding).
+                uint32_t cageEdge = fe[e];
+                DisplacementEdge& edge = sf.edges[e];
+                if (split[cageEdge]) {
+                    edge = {halfAt(cageEdge, a), halfAt(cageEdge, z), kEdgeSplit, 0};
+                } else {
+                    edge = {edgeSegment[cageEdge], kNoSegment, a > z ? kEdgeReversed : 0u, 0};
+                }
+            }
+            layout.subfaces.push_back(sf);
+            continue;
+        }
+        const uint32_t spokes = uint32_t(layout.segments.size());  // spoke i: midpoint of cage edge i -> centre
+        for (uint32_t i = 0; i < n; ++i) layout.segments.push_back({midpointId(layout, fe[i]), centreId(layout, f), 1, 0});
+        for (uint32_t k = 0; k < n; ++k) {
+            const uint32_t next = fe[k], prev = fe[(k + n - 1) % n];
+            DisplacementSubface sf{};
+            sf.resolution = resolution;
+            sf.corners[0] = fv[k];
+            sf.corners[1] = midpointId(layout, next);
+            sf.corners[2] = centreId(layout, f);
+            sf.corners[3] = midpointId(layout, prev);
+            // Every n-gon sub-face edge runs from its lower point id to its higher one.
+            sf.edges[0] = {halfAt(next, fv[k]), kNoSegment, 0, 0};
+            sf.edges[1] = {spokes + k, kNoSegment, 0, 0};
+            sf.edges[2] = {spokes + (k + n - 1) % n, kNoSegment, 0, 0};
+            sf.edges[3] = {halfAt(prev, fv[k]), kNoSegment, 0, 0};
+            layout.subfaces.push_back(sf);
+        }
+    }
+    assignResolutionsAndOffsets(layout);
+    return layout;
+}
+
+DisplacementLayout withResolutions(const DisplacementLayout& layout, std::span<const uint32_t> resolutions) {
+    assert(resolutions.size() == layout.subfaces.size());
+    DisplacementLayout out = layout;
+    for (size_t s = 0; s < resolutions.size(); ++s) {
+        assert(isPowerOfTwo(resolutions[s]) && resolutions[s] <= kMaxDisplacementResolution);
+        out.subfaces[s].resolution = resolutions[s];
+    }
+    assignResolutionsAndOffsets(out);
+    return out;
+}
+
+Displacement makeDisplacement(const Cage& cage, const Topology& topology, uint32_t resolution) {
+    Displacement d;
+    d.layout = buildDisplacementLayout(cage, topology, resolution);
+    d.samples.assign(d.layout.sampleCount, 0.0f);
+    return d;
+}
+
+EdgeSite edgeSite(const DisplacementSubface& subface, uint32_t edge, uint32_t i, uint32_t n) {
+    const DisplacementEdge& e = subface.edges[edge];
+    if (!(e.flags & kEdgeSplit)) return {e.segment, e.flags & kEdgeReversed ? n - i : i, n};
+    assert(n % 2 == 0);
+    if (2 * i <= n) return {e.segment, i, n / 2};
+    return {e.secondHalf, n - i, n / 2};
+}
+
+float edgeParameter(const DisplacementEdge& edge, uint32_t half, uint32_t k, uint32_t m) {
+    if (edge.flags & kEdgeSplit) return half ? float(2 * m - k) / float(2 * m) : float(k) / float(2 * m);
+    return float(edge.flags & kEdgeReversed ? m - k : k) / float(m);
+}
+
+glm::vec2 edgePoint(uint32_t edge, float t) {
+    switch (edge) {
+    case 0: return {t, 0.0f};
+    case 1: return {1.0f, t};
+    case 2: return {t, 1.0f};
+    default: return {0.0f, t};
+    }
+}
+
+uint32_t gridSample(const DisplacementLayout& layout, uint32_t subface, uint32_t i, uint32_t j) {
+    const DisplacementSubface& sf = layout.subfaces[subface];
+    const uint32_t R = sf.resolution;
+    if (i > 0 && i < R && j > 0 && j < R) return sf.interiorOffset + (j - 1) * (R - 1) + (i - 1);
+    // On an edge: the edge's own index and direction (edges 0, 2 along u; 1, 3 along v).
+    uint32_t edge = j == 0 ? 0 : i == R ? 1 : j == R ? 2 : 3;
+    uint32_t along = edge == 0 || edge == 2 ? i : j;
+    if (along == 0) return sf.corners[kEdgeStart[edge]];
+    if (along == R) return sf.corners[kEdgeEnd[edge]];
+    // R intervals on the sub-face edge; the segment has as many or more (a power of two times).
+    EdgeSite site = edgeSite(sf, edge, along, R);
+    const DisplacementSegment& seg = layout.segments[site.segment];
+    return segmentSample(seg, site.k * (seg.resolution / site.intervals));
+}
+
+DisplacementValue evaluateSegment(const Displacement& d, uint32_t segment, float t) {
+    return segmentValue(d.layout, d.samples, segment, t);
+}
+
+DisplacementValue evaluateDisplacement(const Displacement& d, uint32_t subface, float u, float v) {
+    const DisplacementLayout& layout = d.layout;
+    const std::vector<float>& samples = d.samples;
+    const DisplacementSubface& sf = layout.subfaces[subface];
+    u = std::clamp(u, 0.0f, 1.0f);
+    v = std::clamp(v, 0.0f, 1.0f);
+    const uint32_t R = sf.resolution;
+    const float Rf = float(R);
+    const float x = u * Rf, y = v * Rf;
+    const uint32_t i = std::min(uint32_t(x), R - 1), j = std::min(uint32_t(y), R - 1);
+    const float fx = x - float(i), fy = y - float(j);
+    auto G = [&](uint32_t gi, uint32_t gj) { return samples[gridSample(layout, subface, gi, gj)]; };
+    const float g00 = G(i, j), g10 = G(i + 1, j), g01 = G(i, j + 1), g11 = G(i + 1, j + 1);
+
+    DisplacementValue out;
+    out.value = lerp(lerp(g00, g10, fx), lerp(g01, g11, fx), fy);
+    out.du = Rf * lerp(g10 - g00, g11 - g01, fy);
+    out.dv = Rf * lerp(g01 - g00, g11 - g10, fx);
+
+    // Boundary strips of edges finer than the grid: (E - L) fading over one cell.
+    auto finer = [&](uint32_t e) { return (sf.edges[e].flags & kEdgeFiner) != 0; };
+    if (j == 0 && finer(0)) {
+        DisplacementValue E = edgeValue(layout, samples, sf.edges[0], u, false);
+        float delta = E.value - lerp(g00, g10, fx), w = 1.0f - fy;
+        out.value += w * delta;
+        out.du += w * (E.du - Rf * (g10 - g00));
+        out.dv -= Rf * delta;
+    }
+    if (j == R - 1 && finer(2)) {
+        DisplacementValue E = edgeValue(layout, samples, sf.edges[2], u, false);
+        float delta = E.value - lerp(g01, g11, fx), w = fy;
+        out.value += w * delta;
+        out.du += w * (E.du - Rf * (g11 - g01));
+        out.dv += Rf * delta;
+    }
+    if (i == 0 && finer(3)) {
+        DisplacementValue E = edgeValue(layout, samples, sf.edges[3], v, false);
+        float delta = E.value - lerp(g00, g01, fy), w = 1.0f - fx;
+        out.value += w * delta;
+        out.dv += w * (E.du - Rf * (g01 - g00));
+        out.du -= Rf * delta;
+    }
+    if (i == R - 1 && finer(1)) {
+        DisplacementValue E = edgeValue(layout, samples, sf.edges[1], v, false);
+        float delta = E.value - lerp(g10, g11, fy), w = fx;
+        out.value += w * delta;
+        out.dv += w * (E.du - Rf * (g11 - g10));
+        out.du += Rf * delta;
+    }
+
+    // On an edge the value comes from the shared edge samples alone.
+    if (v == 0.0f) out.value = edgeValue(layout, samples, sf.edges[0], u, true).value;
+    else if (u == 1.0f) out.value = edgeValue(layout, samples, sf.edges[1], v, true).value;
+    else if (v == 1.0f) out.value = edgeValue(layout, samples, sf.edges[2], u, true).value;
+    else if (u == 0.0f) out.value = edgeValue(layout, samples, sf.edges[3], v, true).value;
+    return out;
+}
+
+std::vector<uint32_t> subfaceResolutions(const DisplacementLayout& layout) {
+    std::vector<uint32_t> out;
+    out.reserve(layout.subfaces.size());
+    for (const DisplacementSubface& sf : layout.subfaces) out.push_back(sf.resolution);
+    return out;
+}
+
+Displacement resampleDisplacement(const Displacement& old, std::span<const uint32_t> resolutions) {
+    Displacement out;
+    out.layout = withResolutions(old.layout, resolutions);
+    out.samples.assign(out.layout.sampleCount, 0.0f);
+    std::copy(old.samples.begin(), old.samples.begin() + old.layout.pointCount, out.samples.begin());
+    for (uint32_t s = 0; s < out.layout.segments.size(); ++s) {
+        const DisplacementSegment& from = old.layout.segments[s];
+        const DisplacementSegment& to = out.layout.segments[s];
+        if (from.resolution == to.resolution) {
+            std::copy_n(old.samples.begin() + from.offset, to.resolution - 1, out.samples.begin() + to.offset);
+            continue;
+        }
+        for (uint32_t k = 1; k < to.resolution; ++k)
+            out.samples[to.offset + k - 1] = evaluateSegment(old, s, float(k) / float(to.resolution)).value;
+    }
+    for (uint32_t s = 0; s < out.layout.subfaces.size(); ++s) {
+        const DisplacementSubface& from = old.layout.subfaces[s];
+        const DisplacementSubface& to = out.layout.subfaces[s];
+        const uint32_t R = to.resolution;
+        if (from.resolution == R) {
+            std::copy_n(old.samples.begin() + from.interiorOffset, (R - 1) * (R - 1), out.samples.begin() + to.interiorOffset);
+            continue;
+        }
+        for (uint32_t j = 1; j < R; ++j)
+            for (uint32_t i = 1; i < R; ++i)
+                out.samples[to.interiorOffset + (j - 1) * (R - 1) + (i - 1)] =
+                    evaluateDisplacement(old, s, float(i) / float(R), float(j) / float(R)).value + 0.0f;
+    }
+    return out;
+}
+
+uint32_t requiredEdgeFactor(const DisplacementLayout& layout, uint32_t subface, uint32_t edge) {
+    const DisplacementEdge& e = layout.subfaces[subface].edges[edge];
+    if (e.flags & kEdgeSplit)
+        return 2 * std::max(layout.segments[e.segment].resolution, layout.segments[e.secondHalf].resolution);
+    const DisplacementSegment& s = layout.segments[e.segment];
+    const bool half = s.pointA < layout.vertexCount && s.pointB >= layout.vertexCount;  // vertex -> midpoint
+    if (!half) return s.resolution;
+    // Half of a split cage edge (n-gon sub-face edges 0 and 3): the other half is the segment
+    // beside it. Both halves take one factor, half the quad side's, as the renderer does.
+    const uint32_t other = e.segment > 0 && layout.segments[e.segment - 1].pointB == s.pointB ? e.segment - 1 : e.segment + 1;
+    return std::max(s.resolution, layout.segments[other].resolution);
+}
+
+uint32_t requiredTessellationFactor(const DisplacementLayout& layout, uint32_t subface) {
+    uint32_t factor = layout.subfaces[subface].resolution;
+    for (uint32_t e = 0; e < 4; ++e) factor = std::max(factor, requiredEdgeFactor(layout, subface, e));
+    return factor;
+}
+
+DisplacedPoint displacePoint(const glm::vec3& position, const glm::vec3& du, const glm::vec3& dv,
+                             const glm::vec3& unitNormal, const DisplacementValue& d) {
+    DisplacedPoint out;
+    out.position = position + d.value * unitNormal;
+    glm::vec3 fu = du + d.du * unitNormal, fv = dv + d.dv * unitNormal;
+    glm::vec3 n = glm::cross(fu, fv);
+    float length = glm::length(n);
+    out.normal = length > 0.0f ? n / length : unitNormal;
+    return out;
+}
+
+}  // namespace qp

@@ -1,0 +1,296 @@
+#include "sculpt_samples.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
+
+namespace qp {
+
+namespace {
+
+// Cells hold about this many samples on a flat sheet of samples.
+constexpr float kSamplesPerCellSide = 4.0f;
+constexpr int kCellBits = 21;
+constexpr int64_t kCellBias = int64_t(1) << (kCellBits - 1);
+
+}  // namespace
+
+BoundaryOwners computeBoundaryOwners(const DisplacementLayout& layout, const PlannedCage& planned) {
+    BoundaryOwners owners;
+    owners.points.assign(layout.pointCount, PointOwner{});
+    owners.segments.assign(layout.segments.size(), SegmentOwner{});
+    for (uint32_t s = 0; s < layout.subfaces.size(); ++s) {
+        if (!planned.hasSurface(s)) continue;
+        const DisplacementSubface& sf = layout.subfaces[s];
+        for (uint32_t c = 0; c < 4; ++c)
+            if (owners.points[sf.corners[c]].subface == kNoSite) owners.points[sf.corners[c]] = {s, c};
+        for (uint32_t e = 0; e < 4; ++e) {
+            const DisplacementEdge& edge = sf.edges[e];
+            for (uint32_t half = 0; half < (edge.flags & kEdgeSplit ? 2u : 1u); ++half) {
+                uint32_t seg = half ? edge.secondHalf : edge.segment;
+                if (owners.segments[seg].subface == kNoSite) owners.segments[seg] = {s, e, half};
+            }
+        }
+    }
+    return owners;
+}
+
+glm::vec2 SegmentOwner::uv(const DisplacementLayout& layout, uint32_t k, uint32_t m) const {
+    return edgePoint(edge, edgeParameter(layout.subfaces[subface].edges[edge], half, k, m));
+}
+
+std::vector<SampleSite> computeSampleSites(const DisplacementLayout& layout, const PlannedCage& planned) {
+    std::vector<SampleSite> sites(layout.sampleCount);
+    BoundaryOwners owners = computeBoundaryOwners(layout, planned);
+    for (uint32_t p = 0; p < layout.pointCount; ++p)
+        if (const PointOwner& o = owners.points[p]; o.subface != kNoSite)
+            sites[p] = {o.subface, kCornerU[o.corner], kCornerV[o.corner]};
+    for (uint32_t seg = 0; seg < layout.segments.size(); ++seg) {
+        const SegmentOwner& o = owners.segments[seg];
+        if (o.subface == kNoSite) continue;
+        const DisplacementSegment& segment = layout.segments[seg];
+        for (uint32_t k = 1; k < segment.resolution; ++k) {
+            glm::vec2 uv = o.uv(layout, k, segment.resolution);
+            sites[segment.offset + k - 1] = {o.subface, uv.x, uv.y};
+        }
+    }
+    for (uint32_t s = 0; s < layout.subfaces.size(); ++s) {
+        if (!planned.hasSurface(s)) continue;
+        const DisplacementSubface& sf = layout.subfaces[s];
+        const uint32_t R = sf.resolution;
+        for (uint32_t j = 1; j < R; ++j)
+            for (uint32_t i = 1; i < R; ++i)
+                sites[sf.interiorOffset + (j - 1) * (R - 1) + (i - 1)] = {s, float(i) / float(R), float(j) / float(R)};
+    }
+    return sites;
+}
+
+glm::vec3 limitNormal(const PlannedCage& planned, uint32_t subface, float u, float v, const LimitSample& sample) {
+    glm::vec3 n = glm::cross(sample.du, sample.dv);
+    float length = glm::length(n);
+    float scale = glm::length(sample.du) * glm::length(sample.dv);
+    if (length > 1e-6f * scale && length > 0.0f) return n / length;
+    // Degenerate here: step a hair towards the sub-face centre.
+    constexpr float kStep = 1e-3f;
+    float nu = u + (u < 0.5f ? kStep : -kStep), nv = v + (v < 0.5f ? kStep : -kStep);
+    LimitSample inside = planned.evaluate(subface, nu, nv);
+    n = glm::cross(inside.du, inside.dv);
+    length = glm::length(n);
+    return length > 0.0f ? n / length : glm::vec3(0.0f, 0.0f, 1.0f);
+}
+
+std::vector<uint32_t> subfacesAffectedByVertices(const PlannedCage& planned, std::span<const uint32_t> vertices) {
+    const Cage& cage = planned.cage();
+    const Topology& topology = planned.topology();
+    auto facesAt = [&](std::span<const uint32_t> vs) {
+        std::vector<uint32_t> faces;
+        for (uint32_t v : vs)
+            for (uint32_t k = topology.vertexFaceOffsets[v]; k < topology.vertexFaceOffsets[v + 1]; ++k)
+                faces.push_back(topology.vertexFaces[k]);
+        std::sort(faces.begin(), faces.end());
+        faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+        return faces;
+    };
+    // A face's limit depends on its 1-ring: the faces sharing a vertex with it.
+    std::vector<uint32_t> ringVertices;
+    for (uint32_t f : facesAt(vertices))
+        ringVertices.insert(ringVertices.end(), cage.faceBegin(f), cage.faceBegin(f) + cage.faceSize(f));
+    std::sort(ringVertices.begin(), ringVertices.end());
+    ringVertices.erase(std::unique(ringVertices.begin(), ringVertices.end()), ringVertices.end());
+    std::vector<uint32_t> subfaces;
+    for (uint32_t f : facesAt(ringVertices))
+        for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) subfaces.push_back(s);
+    return subfaces;
+}
+
+SculptSamples SculptSamples::build(const PlannedCage& planned, const DisplacementLayout& layout) {
+    SculptSamples out;
+    out.sites_ = computeSampleSites(layout, planned);
+    const uint32_t count = layout.sampleCount;
+    out.positions_.assign(count, glm::vec3(0.0f));
+    out.normals_.assign(count, glm::vec3(0.0f));
+
+    const uint32_t subfaces = uint32_t(layout.subfaces.size());
+    out.subfaceSampleOffsets_.assign(subfaces + 1, 0);
+    for (const SampleSite& site : out.sites_)
+        if (site.subface != kNoSite) ++out.subfaceSampleOffsets_[site.subface + 1];
+    for (uint32_t s = 0; s < subfaces; ++s) out.subfaceSampleOffsets_[s + 1] += out.subfaceSampleOffsets_[s];
+    out.subfaceSamples_.resize(out.subfaceSampleOffsets_.back());
+    std::vector<uint32_t> fill(out.subfaceSampleOffsets_.begin(), out.subfaceSampleOffsets_.end() - 1);
+    std::vector<uint32_t> sited;
+    for (uint32_t i = 0; i < count; ++i)
+        if (out.sites_[i].subface != kNoSite) {
+            out.subfaceSamples_[fill[out.sites_[i].subface]++] = i;
+            sited.push_back(i);
+        }
+    out.evaluateSites(planned, sited);
+
+    // The sample graph, from sub-faces with a surface only.
+    std::vector<uint64_t> pairs;
+    size_t links = 0;
+    for (const DisplacementSubface& sf : layout.subfaces) links += 2 * size_t(sf.resolution) * (sf.resolution + 1);
+    pairs.reserve(links + 2 * (layout.tileSampleBegin() - layout.segmentSampleBegin() + layout.segments.size()));
+    auto link = [&](uint32_t a, uint32_t b) {
+        if (a != b) pairs.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+    };
+    for (uint32_t s = 0; s < subfaces; ++s) {
+        if (!planned.hasSurface(s)) continue;
+        const DisplacementSubface& sf = layout.subfaces[s];
+        const uint32_t R = sf.resolution;
+        auto finer = [&](uint32_t e) { return (sf.edges[e].flags & kEdgeFiner) != 0; };
+        for (uint32_t j = 0; j <= R; ++j)
+            for (uint32_t i = 0; i < R; ++i)
+                if (!((j == 0 && finer(0)) || (j == R && finer(2))))
+                    link(gridSample(layout, s, i, j), gridSample(layout, s, i + 1, j));
+        for (uint32_t i = 0; i <= R; ++i)
+            for (uint32_t j = 0; j < R; ++j)
+                if (!((i == 0 && finer(3)) || (i == R && finer(1))))
+                    link(gridSample(layout, s, i, j), gridSample(layout, s, i, j + 1));
+        for (const DisplacementEdge& edge : sf.edges) {
+            if (!(edge.flags & kEdgeFiner)) continue;
+            for (uint32_t seg : {edge.segment, edge.secondHalf}) {
+                if (seg == kNoSegment) continue;
+                const DisplacementSegment& segment = layout.segments[seg];
+                for (uint32_t k = 0; k < segment.resolution; ++k) link(segmentSample(segment, k), segmentSample(segment, k + 1));
+            }
+        }
+    }
+    tbb::parallel_sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    out.neighbourOffsets_.assign(count + 1, 0);
+    for (uint64_t p : pairs) {
+        ++out.neighbourOffsets_[uint32_t(p >> 32) + 1];
+        ++out.neighbourOffsets_[uint32_t(p) + 1];
+    }
+    for (uint32_t i = 0; i < count; ++i) out.neighbourOffsets_[i + 1] += out.neighbourOffsets_[i];
+    out.neighbours_.resize(out.neighbourOffsets_.back());
+    fill.assign(out.neighbourOffsets_.begin(), out.neighbourOffsets_.end() - 1);
+    for (uint64_t p : pairs) {
+        uint32_t a = uint32_t(p >> 32), b = uint32_t(p);
+        out.neighbours_[fill[a]++] = b;
+        out.neighbours_[fill[b]++] = a;
+    }
+    out.buildIndex();
+    return out;
+}
+
+void SculptSamples::refresh(const PlannedCage& planned, std::span<const uint32_t> subfaces) {
+    std::vector<uint32_t> samples;
+    for (uint32_t s : subfaces)
+        samples.insert(samples.end(), subfaceSamples_.begin() + subfaceSampleOffsets_[s],
+                       subfaceSamples_.begin() + subfaceSampleOffsets_[s + 1]);
+    std::vector<glm::vec3> before(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) before[i] = positions_[samples[i]];
+    evaluateSites(planned, samples);
+    // The index files samples by where they were when it was built; queries widen by how far
+    // any sample has moved since (slack), and the index is rebuilt once that grows past half
+    // a cell, so a small edit costs only the evaluation.
+    float moved = 0.0f;
+    for (size_t i = 0; i < samples.size(); ++i) moved = std::max(moved, glm::length(positions_[samples[i]] - before[i]));
+    slack_ += moved;
+    if (!(slack_ <= 0.5f * cellSize_)) {
+        buildIndex();
+        return;
+    }
+    boundsMin_ = glm::vec3(INFINITY), boundsMax_ = glm::vec3(-INFINITY);
+    for (uint32_t i = 0; i < sites_.size(); ++i)
+        if (sites_[i].subface != kNoSite) {
+            boundsMin_ = glm::min(boundsMin_, positions_[i]);
+            boundsMax_ = glm::max(boundsMax_, positions_[i]);
+        }
+}
+
+void SculptSamples::evaluateSites(const PlannedCage& planned, std::span<const uint32_t> samples) {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, samples.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+            uint32_t sample = samples[i];
+            const SampleSite& site = sites_[sample];
+            LimitSample limit = planned.evaluate(site.subface, site.u, site.v);
+            positions_[sample] = limit.position;
+            normals_[sample] = limitNormal(planned, site.subface, site.u, site.v, limit);
+        }
+    });
+}
+
+uint64_t SculptSamples::cellKey(const glm::vec3& p) const {
+    uint64_t key = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+        int64_t c = int64_t(std::floor((p[axis] - indexMin_[axis]) / cellSize_)) + kCellBias;
+        key = key << kCellBits | (uint64_t(std::clamp<int64_t>(c, 0, (int64_t(1) << kCellBits) - 1)));
+    }
+    return key;
+}
+
+void SculptSamples::buildIndex() {
+    std::vector<uint32_t>& sited = scratchSited_;
+    sited.clear();
+    boundsMin_ = glm::vec3(INFINITY), boundsMax_ = glm::vec3(-INFINITY);
+    for (uint32_t i = 0; i < sites_.size(); ++i)
+        if (sites_[i].subface != kNoSite) {
+            sited.push_back(i);
+            boundsMin_ = glm::min(boundsMin_, positions_[i]);
+            boundsMax_ = glm::max(boundsMax_, positions_[i]);
+        }
+    cellKeys_.clear(), cellOffsets_.assign(1, 0), cellSamples_.clear();
+    slack_ = 0.0f;
+    if (sited.empty()) {
+        boundsMin_ = boundsMax_ = glm::vec3(0.0f);
+        return;
+    }
+    indexMin_ = boundsMin_, indexMax_ = boundsMax_;
+    // Samples cover a surface: about sqrt(N) along the largest extent.
+    glm::vec3 extent = boundsMax_ - boundsMin_;
+    float largest = std::max({extent.x, extent.y, extent.z, 1e-6f});
+    cellSize_ = kSamplesPerCellSide * largest / std::sqrt(float(sited.size()));
+    std::vector<std::pair<uint64_t, uint32_t>>& keyed = scratchKeyed_;
+    keyed.resize(sited.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, sited.size(), 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) keyed[i] = {cellKey(positions_[sited[i]]), sited[i]};
+    });
+    tbb::parallel_sort(keyed.begin(), keyed.end());
+    cellSamples_.reserve(keyed.size());
+    for (size_t i = 0; i < keyed.size(); ++i) {
+        if (i == 0 || keyed[i].first != keyed[i - 1].first) {
+            if (i) cellOffsets_.push_back(uint32_t(i));
+            cellKeys_.push_back(keyed[i].first);
+        }
+        cellSamples_.push_back(keyed[i].second);
+    }
+    cellOffsets_.push_back(uint32_t(keyed.size()));
+}
+
+void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out) const {
+    if (cellKeys_.empty() || !(radius >= 0.0f)) return;
+    const float r2 = radius * radius;
+    const float reach = radius + slack_;  // samples are filed where they were at the last build
+    int64_t lo[3], hi[3];
+    for (int axis = 0; axis < 3; ++axis) {
+        // Clamp to the indexed range so a huge radius does not walk empty space.
+        float a = std::max(centre[axis] - reach, indexMin_[axis]);
+        float b = std::min(centre[axis] + reach, indexMax_[axis]);
+        if (a > b) return;
+        lo[axis] = int64_t(std::floor((a - indexMin_[axis]) / cellSize_)) + kCellBias;
+        hi[axis] = int64_t(std::floor((b - indexMin_[axis]) / cellSize_)) + kCellBias;
+    }
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
+        for (int64_t y = lo[1]; y <= hi[1]; ++y) {
+            // Cells along z with fixed (x, y) are consecutive keys: one search per column.
+            uint64_t first = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(lo[2]);
+            uint64_t last = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(hi[2]);
+            auto it = std::lower_bound(cellKeys_.begin(), cellKeys_.end(), first);
+            for (; it != cellKeys_.end() && *it <= last; ++it) {
+                size_t cell = size_t(it - cellKeys_.begin());
+                for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
+                    uint32_t sample = cellSamples_[k];
+                    glm::vec3 d = positions_[sample] - centre;
+                    if (glm::dot(d, d) <= r2) out.push_back(sample);
+                }
+            }
+        }
+}
+
+}  // namespace qp

@@ -1,0 +1,109 @@
+// SculptSamples: where every displacement sample lies on the limit surface, for brushes.
+//
+// Each sample has a site (sub-face, u, v): a tile sample on its own sub-face, a point or
+// segment sample on its owner, the lowest-numbered sub-face with a surface that uses it (a
+// sample that no such sub-face uses — inside a hole, say — has no site and is never brushed).
+// The cache holds each site's limit position and unit normal, a uniform-grid spatial index
+// over the positions for sphere queries, and the sample graph (grid neighbours within each
+// sub-face plus consecutive samples along each segment, shared across faces) for smoothing.
+//
+// After moving cage vertices, refresh() re-evaluates the samples sited on the sub-faces whose
+// limit changed (subfacesAffectedByVertices); the index is rebuilt only once samples have
+// moved more than half a cell since its last build (queries widen by that much meanwhile).
+// After a resolution change or a topology edit, build a new cache (the layout changed).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "displacement.h"
+#include "planned_cage.h"
+
+namespace qp {
+
+constexpr uint32_t kNoSite = UINT32_MAX;
+
+struct SampleSite {
+    uint32_t subface = kNoSite;
+    float u = 0.0f, v = 0.0f;
+};
+
+// Who evaluates each boundary point and segment: the lowest-numbered sub-face with a surface
+// that has it (kNoSite when none). Positions on shared boundaries are evaluated by the owner
+// only, so every face sharing them gets the same bits (as the renderer does).
+struct PointOwner {
+    uint32_t subface = kNoSite;
+    uint32_t corner = 0;
+};
+struct SegmentOwner {
+    uint32_t subface = kNoSite;
+    uint32_t edge = 0;
+    uint32_t half = 0;  // 1: the owner's edge is split and this is its second half
+    // (u, v) on the owner of canonical point k of m intervals on the segment.
+    glm::vec2 uv(const DisplacementLayout& layout, uint32_t k, uint32_t m) const;
+};
+struct BoundaryOwners {
+    std::vector<PointOwner> points;      // by point id
+    std::vector<SegmentOwner> segments;  // by segment
+};
+BoundaryOwners computeBoundaryOwners(const DisplacementLayout& layout, const PlannedCage& planned);
+
+// Sites of every sample of `layout` (which must belong to planned's cage).
+std::vector<SampleSite> computeSampleSites(const DisplacementLayout& layout, const PlannedCage& planned);
+
+// Unit limit normal at (u, v). Where du x dv vanishes (a degenerate parameterisation, e.g. at
+// some extraordinary corners), the normal a hair inside the sub-face is used.
+glm::vec3 limitNormal(const PlannedCage& planned, uint32_t subface, float u, float v, const LimitSample& sample);
+
+// Sub-faces whose limit surface depends on one of these cage vertices.
+std::vector<uint32_t> subfacesAffectedByVertices(const PlannedCage& planned, std::span<const uint32_t> vertices);
+
+class SculptSamples {
+public:
+    static SculptSamples build(const PlannedCage& planned, const DisplacementLayout& layout);
+
+    // Re-evaluates the samples sited on these sub-faces (positions moved, not topology).
+    void refresh(const PlannedCage& planned, std::span<const uint32_t> subfaces);
+
+    uint32_t sampleCount() const { return uint32_t(sites_.size()); }
+    const SampleSite& site(uint32_t sample) const { return sites_[sample]; }
+    bool hasSite(uint32_t sample) const { return sites_[sample].subface != kNoSite; }
+    const glm::vec3& position(uint32_t sample) const { return positions_[sample]; }
+    const glm::vec3& normal(uint32_t sample) const { return normals_[sample]; }
+    std::span<const uint32_t> neighbours(uint32_t sample) const {
+        return {neighbours_.data() + neighbourOffsets_[sample], neighbours_.data() + neighbourOffsets_[sample + 1]};
+    }
+
+    // Appends every sited sample whose position lies within `radius` of `centre` (unordered).
+    void query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out) const;
+
+    // Centre of the positions' bounding box (the mirror planes pass through it).
+    glm::vec3 centre() const { return 0.5f * (boundsMin_ + boundsMax_); }
+
+private:
+    void evaluateSites(const PlannedCage& planned, std::span<const uint32_t> samples);
+    void buildIndex();
+    uint64_t cellKey(const glm::vec3& p) const;
+
+    std::vector<SampleSite> sites_;
+    std::vector<glm::vec3> positions_, normals_;
+    std::vector<uint32_t> subfaceSampleOffsets_, subfaceSamples_;  // CSR: samples sited on a sub-face
+    std::vector<uint32_t> neighbourOffsets_, neighbours_;          // CSR: the sample graph
+
+    // Spatial index: sited samples sorted by cell; cells sorted by key. Cells are filed from
+    // the positions at the last build (indexMin_ .. indexMax_); slack_ bounds how far any
+    // sample moved since.
+    glm::vec3 boundsMin_{0.0f}, boundsMax_{0.0f};
+    glm::vec3 indexMin_{0.0f}, indexMax_{0.0f};
+    float cellSize_ = 1.0f, slack_ = 0.0f;
+    std::vector<uint64_t> cellKeys_;
+    std::vector<uint32_t> cellOffsets_, cellSamples_;
+    // Kept between index builds: fresh allocations of this size cost page faults every time.
+    std::vector<uint32_t> scratchSited_;
+    std::vector<std::pair<uint64_t, uint32_t>> scratchKeyed_;
+};
+
+}  // namespace qp

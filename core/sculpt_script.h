@@ -1,0 +1,34 @@
+// Scripted strokes: what `quadplan sculpt` reads, so tests and scripts reproduce strokes.
+//
+// A path is "x,y,z;x,y,z;..." (world space). A stroke file is JSON:
+//   {"strokes": [{"brush": "raise", "radius": 0.3, "strength": 0.1,
+//                 "falloff": "smooth", "mirror": "x", "spacing": 0.05,
+//                 "path": [[0, 1, 0.5], [0.4, 1, 0.2]]}, ...]}
+// with brush, radius, strength and path required; falloff (default "smooth"), mirror
+// ("none", "x", "y", "z"; default "none") and spacing (default 0: a quarter of the radius)
+// optional. Strokes run in order, each on the result of the one before.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "brush.h"
+#include "result.h"
+
+namespace qp {
+
+struct ScriptedStroke {
+    StrokeOptions options;
+    std::vector<glm::vec3> path;
+};
+
+// Errors name the point ("point 2 ...").
+Result<std::vector<glm::vec3>> parsePath(std::string_view text);
+
+// Errors read "<source>: strokes[i].<field>: <what is wrong>".
+Result<std::vector<ScriptedStroke>> parseStrokeFile(std::string_view text, const std::string& source);
+
+}  // namespace qp

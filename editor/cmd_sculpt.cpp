@@ -1,0 +1,195 @@
+// `quadplan sculpt SCENE_OR_CAGE --out OUT.json ...`: applies brush strokes headless, so tests
+// and scripts reproduce them, and writes the scene with its displacement (cage inline).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+
+#include "brush.h"
+#include "camera.h"
+#include "commands.h"
+#include "displaced_mesh.h"
+#include "displacement_io.h"
+#include "file_io.h"
+#include "mesh_pass.h"
+#include "offscreen_target.h"
+#include "plan_db_option.h"
+#include "planned_cage.h"
+#include "scene.h"
+#include "sculpt_samples.h"
+#include "sculpt_script.h"
+#include "vk_commands.h"
+#include "vk_context.h"
+
+namespace qp::cli {
+
+namespace {
+
+struct SculptArgs {
+    std::string input, out, strokesFile, path, planDb;
+    std::string brush = "raise", falloff = "smooth", mirror = "none";
+    float radius = 0.0f, strength = 0.0f, spacing = 0.0f;
+    uint32_t resolution = 0;  // 0: keep the scene's (8 when it has none)
+    std::string png;          // also render the displaced mesh here
+    bool validate = false;
+};
+
+// A preview until the renderer displaces its own surfaces: the CPU displaced mesh
+// (displaced_mesh.h, at the factor that shows every sample) through MeshPass, lavapipe.
+Status renderPreview(const PlannedCage& planned, const Displacement& displacement, const std::string& path, bool validate) {
+    const uint32_t factor = std::min(requiredMeshFactor(planned, displacement.layout), 2 * kMaxDisplacementResolution);
+    Result<DisplacedMesh> mesh = buildDisplacedMesh(planned, displacement, factor);
+    if (!mesh) return mesh.error();
+    std::vector<MeshVertex> vertices(mesh->positions.size());
+    for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = {mesh->positions[i], mesh->normals[i]};
+    // Framed on the cage, so previews of one scene with different strokes line up.
+    const Bounds bounds = computeBounds(planned.cage());
+    const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+    constexpr uint32_t kSize = 768;
+    ContextOptions options;
+    options.validation = validate;
+    if (const char* device = std::getenv("QUADPLAN_VK_DEVICE")) options.forceDevice = device;
+    Result<VulkanContext> context = createContext(options);
+    if (!context) return Error{"cannot start Vulkan: " + context.error().message};
+    VulkanContext& ctx = *context;
+    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
+    Result<OffscreenTarget> target = createOffscreenTarget(ctx, kSize, kSize, format);
+    Result<MeshPass> pass = target ? createMeshPass(ctx, VK_NULL_HANDLE, format) : Result<MeshPass>(target.error());
+    Result<GpuMesh> gpu = pass ? uploadMesh(ctx, vertices, mesh->indices) : Result<GpuMesh>(pass.error());
+    Status status = gpu ? success() : Status(gpu.error());
+    if (status) {
+        MeshView view;
+        view.viewProjection = viewProjection(camera);
+        view.eye = camera.eye;
+        view.background = glm::vec3(0.02f, 0.025f, 0.03f);
+        const MeshDraw draw{&*gpu, glm::vec3(0.75f, 0.72f, 0.68f)};
+        status = submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordMeshPass(cmd, *pass, renderTarget(*target), view, {&draw, 1}); });
+        Result<std::vector<uint8_t>> pixels = status ? readPixels(ctx, *target) : Result<std::vector<uint8_t>>(status.error());
+        status = pixels ? writePng(path, kSize, kSize, *pixels) : Status(pixels.error());
+    }
+    if (gpu) destroyMesh(ctx, *gpu);
+    if (pass) destroyMeshPass(ctx, *pass);
+    if (target) destroyOffscreenTarget(ctx, *target);
+    destroyContext(ctx);
+    if (status && validate && validationMessageCount(ctx) > 0) {
+        for (const std::string& m : validationMessages(ctx)) std::fprintf(stderr, "validation: %s\n", m.c_str());
+        return Error{"Vulkan validation reported problems"};
+    }
+    if (status)
+        std::fprintf(stderr, "wrote %s (%ux%u, displaced mesh at factor %u, %zu triangles)\n", path.c_str(), kSize, kSize,
+                     factor, mesh->indices.size() / 3);
+    return status;
+}
+
+constexpr uint32_t kDefaultResolution = 8;
+
+Result<std::vector<ScriptedStroke>> strokesFromArgs(const SculptArgs& args) {
+    if (!args.strokesFile.empty()) {
+        if (!args.path.empty()) return Error{"give either --path or --strokes, not both"};
+        Result<std::string> text = readFile(args.strokesFile);
+        if (!text) return text.error();
+        return parseStrokeFile(*text, args.strokesFile);
+    }
+    if (args.path.empty()) return Error{"nothing to sculpt: give --path \"x,y,z;...\" (with --radius and --strength) or --strokes FILE.json"};
+    ScriptedStroke stroke;
+    Brush& brush = stroke.options.brush;
+    auto kind = brushKindFromName(args.brush);
+    if (!kind) return Error{"--brush: unknown brush \"" + args.brush + "\"; expected raise, lower, smooth, flatten or erase"};
+    auto falloff = falloffFromName(args.falloff);
+    if (!falloff) return Error{"--falloff: unknown falloff \"" + args.falloff + "\"; expected smooth, linear, constant or sphere"};
+    auto mirror = mirrorAxisFromName(args.mirror);
+    if (!mirror) return Error{"--mirror: unknown axis \"" + args.mirror + "\"; expected none, x, y or z"};
+    brush = {*kind, args.radius, args.strength, *falloff};
+    if (Status valid = validateBrush(brush); !valid) return Error{valid.error().message + " (--radius, --strength)"};
+    if (args.spacing < 0.0f) return Error{"--spacing must be >= 0 (0: a quarter of the radius)"};
+    stroke.options.mirror = *mirror;
+    stroke.options.spacing = args.spacing;
+    Result<std::vector<glm::vec3>> path = parsePath(args.path);
+    if (!path) return Error{"--path: " + path.error().message};
+    stroke.path = std::move(path).value();
+    return std::vector<ScriptedStroke>{std::move(stroke)};
+}
+
+int runSculpt(const SculptArgs& args) {
+    auto failWith = [](const std::string& message) {
+        std::fprintf(stderr, "error: %s\n", message.c_str());
+        return 1;
+    };
+    Result<std::vector<ScriptedStroke>> strokes = strokesFromArgs(args);
+    if (!strokes) return failWith(strokes.error().message);
+    if (args.resolution && (!isPowerOfTwo(args.resolution) || args.resolution > kMaxDisplacementResolution))
+        return failWith("--resolution must be a power of two between 1 and " + std::to_string(kMaxDisplacementResolution) +
+                        ", got " + std::to_string(args.resolution));
+
+    std::vector<std::string> warnings;
+    Result<Scene> scene = loadSceneOrCage(args.input, &warnings);
+    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (!scene) return failWith(scene.error().message);
+
+    PlanDatabase database;
+    loadPlanDatabase(database, args.planDb);
+    Result<PlannedCage> planned = PlannedCage::create(scene->cage, database, PlanOptions{}, args.input);
+    if (!planned) return failWith(planned.error().message);
+    savePlanDatabase(database, args.planDb);
+
+    Displacement& displacement = scene->displacement;
+    if (displacement.empty())
+        displacement = makeDisplacement(scene->cage, planned->topology(), args.resolution ? args.resolution : kDefaultResolution);
+    else if (args.resolution)
+        displacement = resampleDisplacement(displacement, std::vector<uint32_t>(displacement.layout.subfaces.size(), args.resolution));
+
+    SculptSamples samples = SculptSamples::build(*planned, displacement.layout);
+    Sculptor sculptor(displacement, samples);
+    uint32_t dabs = 0;
+    std::vector<uint32_t> changed;
+    for (const ScriptedStroke& stroke : *strokes) {
+        sculptor.beginStroke();
+        sculptor.dabsAlong(stroke.options, stroke.path);
+        StrokeRecord record = sculptor.endStroke();
+        dabs += record.dabs;
+        for (const SampleChange& c : record.changes) changed.push_back(c.sample);
+    }
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+
+    scene->cagePath.clear();  // written inline: one self-contained file
+    if (Status saved = saveScene(*scene, args.out, true); !saved) return failWith(saved.error().message);
+    auto [lo, hi] = std::minmax_element(displacement.samples.begin(), displacement.samples.end());
+    std::fprintf(stderr, "sculpt: %zu stroke%s, %u dabs, %zu of %zu samples changed; displacement in [%g, %g]; wrote %s\n",
+                 strokes->size(), strokes->size() == 1 ? "" : "s", dabs, changed.size(), displacement.samples.size(),
+                 double(*lo), double(*hi), args.out.c_str());
+    if (!args.png.empty())
+        if (Status rendered = renderPreview(*planned, displacement, args.png, args.validate); !rendered)
+            return failWith("preview not rendered: " + rendered.error().message);
+    return 0;
+}
+
+}  // namespace
+
+void registerSculpt(CLI::App& app, int& exitCode) {
+    auto* cmd = app.add_subcommand(
+        "sculpt", "Apply displacement brush strokes headless and write the scene (cage inline) with its displacement");
+    auto args = std::make_shared<SculptArgs>();
+    cmd->add_option("input", args->input, "Scene (.json) or cage (.obj)")->required();
+    cmd->add_option("--out", args->out, "Scene file to write (.json)")->required();
+    cmd->add_option("--path", args->path, "Stroke path in world space: \"x,y,z;x,y,z;...\"");
+    cmd->add_option("--strokes", args->strokesFile,
+                    "JSON stroke list instead of --path: {\"strokes\": [{\"brush\", \"radius\", \"strength\", "
+                    "\"falloff\", \"mirror\", \"spacing\", \"path\": [[x,y,z],...]}]} (core/sculpt_script.h)");
+    cmd->add_option("--brush", args->brush, "raise, lower, smooth, flatten or erase (default raise)");
+    cmd->add_option("--radius", args->radius, "Brush radius in world units");
+    cmd->add_option("--strength", args->strength,
+                    "raise/lower: height per dab in radii; smooth/flatten/erase: blend per dab in [0, 1]");
+    cmd->add_option("--falloff", args->falloff, "smooth, linear, constant or sphere (default smooth)");
+    cmd->add_option("--mirror", args->mirror, "Mirror across the x, y or z plane through the model centre (default none)");
+    cmd->add_option("--spacing", args->spacing, "Distance between dabs along the path (default: a quarter of the radius)");
+    cmd->add_option("--resolution", args->resolution,
+                    "Resample every sub-face to this power-of-two resolution first (default: keep; 8 for a new displacement)");
+    cmd->add_option("--png", args->png, "Also render the displaced surface to this PNG (CPU mesh, lit, 768x768)");
+    cmd->add_flag("--validate", args->validate, "With --png: Vulkan validation layers on; any message fails");
+    addPlanDatabaseOption(cmd, args->planDb);
+    cmd->callback([args, &exitCode] { exitCode = runSculpt(*args); });
+}
+
+}  // namespace qp::cli

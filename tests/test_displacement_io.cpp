@@ -1,0 +1,198 @@
+// The scene file's displacement: bit-identical round trips, the version 0 migration and
+// errors that name the field at fault.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cfloat>
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include <unistd.h>
+
+#include "displacement_io.h"
+#include "scene.h"
+#include "test_cages.h"
+
+using namespace qp;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The mixed grid (quads, a triangle, a pentagon) with random resolutions and values that a
+// decimal round trip could get wrong: -0, subnormals, the extremes, non-terminating decimals.
+Scene sculptedScene(uint32_t seed) {
+    Scene scene;
+    scene.cage = test::makeMixedGrid();
+    Displacement d = makeDisplacement(scene.cage, buildTopology(scene.cage), 1);
+    std::mt19937 rng(seed);
+    std::vector<uint32_t> resolutions(d.layout.subfaces.size());
+    for (uint32_t& r : resolutions) r = 1u << (rng() % 5);
+    d = resampleDisplacement(d, resolutions);
+    std::uniform_real_distribution<float> value(-0.3f, 0.3f);
+    for (float& s : d.samples) s = value(rng);
+    const float special[] = {-0.0f, 1e-40f, -FLT_TRUE_MIN, FLT_MAX, -FLT_MAX, FLT_MIN, 0.1f, 1.0f / 3.0f};
+    for (size_t i = 0; i < std::size(special); ++i) d.samples[(i * 7919) % d.samples.size()] = special[i];
+    scene.displacement = std::move(d);
+    return scene;
+}
+
+json sceneJson(const Scene& scene) { return json::parse(formatScene(scene, true)); }
+
+std::string errorOf(const json& scene) {
+    Result<Scene> result = parseScene(scene.dump(), "scene.json", ".");
+    return result ? "" : result.error().message;
+}
+
+std::string tempPath(const std::string& name) {
+    return (fs::temp_directory_path() / ("quadplan-displacement-" + std::to_string(::getpid()) + "-" + name)).string();
+}
+
+std::string base64Of(std::vector<float> values) { return encodeFloats(values.data(), values.size()); }
+
+}  // namespace
+
+TEST(DisplacementFile, Base64RoundTripsEveryBitPattern) {
+    std::mt19937 rng(5);
+    for (size_t count : {0u, 1u, 2u, 3u, 17u}) {
+        std::vector<float> values(count);
+        for (float& v : values) v = std::bit_cast<float>(uint32_t(rng()));  // NaNs included
+        Result<std::vector<float>> back = decodeFloats(encodeFloats(values.data(), values.size()));
+        ASSERT_TRUE(back) << back.error().message;
+        ASSERT_EQ(back->size(), count);
+        for (size_t i = 0; i < count; ++i) EXPECT_EQ(std::bit_cast<uint32_t>((*back)[i]), std::bit_cast<uint32_t>(values[i]));
+    }
+    EXPECT_EQ(encodeFloats(std::vector<float>{1.0f}.data(), 1), "AACAPw==");  // 3f800000, little-endian
+    EXPECT_FALSE(decodeFloats("AACAPw="));
+    EXPECT_FALSE(decodeFloats("AAC*Pw=="));
+    EXPECT_FALSE(decodeFloats("AACA"));  // 3 bytes: not a whole float
+}
+
+TEST(DisplacementFile, SceneRoundTripIsBitIdentical) {
+    Scene scene = sculptedScene(3);
+    const std::string path = tempPath("round-trip.json");
+    ASSERT_TRUE(saveScene(scene, path, true));
+    Result<Scene> loaded = loadScene(path);
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    ASSERT_EQ(loaded->displacement.layout, scene.displacement.layout);
+    ASSERT_EQ(loaded->displacement.samples.size(), scene.displacement.samples.size());
+    for (size_t i = 0; i < scene.displacement.samples.size(); ++i)
+        ASSERT_EQ(std::bit_cast<uint32_t>(loaded->displacement.samples[i]), std::bit_cast<uint32_t>(scene.displacement.samples[i]))
+            << "sample " << i;
+    EXPECT_EQ(formatScene(*loaded, true), formatScene(scene, true));
+    fs::remove(path);
+}
+
+TEST(DisplacementFile, EmptyDisplacementWritesVersion1WithoutData) {
+    Scene scene;
+    scene.cage = test::makeCube();
+    json written = sceneJson(scene)["displacement"];
+    EXPECT_EQ(written, json::parse(R"({"version": 1, "encoding": "base64-float32-le", "subfaces": []})"));
+    Result<Scene> back = parseScene(formatScene(scene, true), "scene.json", ".");
+    ASSERT_TRUE(back) << back.error().message;
+    EXPECT_TRUE(back->displacement.empty());
+}
+
+TEST(DisplacementFile, Version0PlaceholderMigratesToNoDisplacement) {
+    // The bundled default scene was written with the version 0 placeholder.
+    Result<Scene> scene = loadScene(std::string(QUADPLAN_SCENES_DIR) + "/default.json");
+    ASSERT_TRUE(scene) << scene.error().message;
+    EXPECT_TRUE(scene->displacement.empty());
+    EXPECT_EQ(sceneJson(*scene)["displacement"]["version"], 1);
+
+    json placeholder = sceneJson(sculptedScene(1));
+    placeholder["displacement"] = {{"version", 0}, {"faces", json::array()}};
+    EXPECT_EQ(errorOf(placeholder), "");
+    placeholder["displacement"]["faces"] = {{{"face", 1}}};
+    EXPECT_EQ(errorOf(placeholder), "scene.json: displacement.faces: a version 0 displacement is an empty "
+                                    "placeholder; expected [], got [{\"face\":1}]");
+}
+
+TEST(DisplacementFile, MalformedDataNamesTheField) {
+    const json good = sceneJson(sculptedScene(2));
+    ASSERT_EQ(errorOf(good), "");
+    auto edited = [&](auto change) {
+        json scene = good;
+        change(scene["displacement"]);
+        return errorOf(scene);
+    };
+    // Sub-face 0 of the mixed grid: find one with resolution >= 4 to damage.
+    size_t s = 0;
+    while (good["displacement"]["subfaces"][s]["resolution"].get<int>() < 4) ++s;
+    const std::string sub = "displacement.subfaces[" + std::to_string(s) + "]";
+    const int R = good["displacement"]["subfaces"][s]["resolution"];
+    const size_t interior = size_t(R - 1) * (R - 1);
+
+    EXPECT_EQ(edited([&](json& d) { d["subfaces"][s]["resolution"] = 3; }),
+              "scene.json: " + sub + ".resolution: resolution 3 is not a power of two between 1 and 64");
+    EXPECT_EQ(edited([&](json& d) { d["subfaces"][s]["resolution"] = 128; }),
+              "scene.json: " + sub + ".resolution: resolution 128 is not a power of two between 1 and 64");
+    EXPECT_EQ(edited([&](json& d) { d["subfaces"][s]["resolution"] = 4.0; }),
+              "scene.json: " + sub + ".resolution: expected an integer, got a number");
+    EXPECT_EQ(edited([&](json& d) { d["subfaces"][s]["interior"] = base64Of(std::vector<float>(interior - 1, 0.0f)); }),
+              "scene.json: " + sub + ".interior: has " + std::to_string(interior - 1) + " values but " +
+                  std::to_string(interior) + " are needed");
+    EXPECT_EQ(edited([&](json& d) {
+                  std::vector<float> values(interior, 0.5f);
+                  values[R] = NAN;  // grid point (2, 2): one row of R - 1 plus one
+                  d["subfaces"][s]["interior"] = base64Of(values);
+              }),
+              "scene.json: " + sub + ".interior: value " + std::to_string(R) + " (grid point (2, 2) of resolution " +
+                  std::to_string(R) + ") is NaN; displacements must be finite numbers");
+    EXPECT_EQ(edited([&](json& d) {
+                  std::vector<float> values(interior, 0.5f);
+                  values[0] = -INFINITY;
+                  d["subfaces"][s]["interior"] = base64Of(values);
+              }),
+              "scene.json: " + sub + ".interior: value 0 (grid point (1, 1) of resolution " + std::to_string(R) +
+                  ") is infinite; displacements must be finite numbers");
+    EXPECT_EQ(edited([&](json& d) { d["subfaces"][s]["interior"] = "not base64!"; }),
+              "scene.json: " + sub + ".interior: is not base64: its length 11 is not a multiple of 4");
+    EXPECT_EQ(edited([&](json& d) { d["subfaces"][s]["interior"] = std::vector<float>(interior, 0.0f); }),
+              "scene.json: " + sub + ".interior: expected a base64 string of float32 values, got an array");
+    EXPECT_EQ(edited([&](json& d) { d["subfaces"][s].erase("interior"); }),
+              "scene.json: " + sub + ".interior: required field is missing");
+    EXPECT_EQ(edited([&](json& d) { d["subfaces"].erase(d["subfaces"].size() - 1); }),
+              "scene.json: displacement.subfaces: has 22 entries but the cage has 23 sub-faces (17 faces; a quad is one "
+              "sub-face, an n-gon n): the displacement belongs to another cage");
+    EXPECT_EQ(edited([&](json& d) { d["points"] = base64Of(std::vector<float>(3, 0.0f)); }),
+              "scene.json: displacement.points: has 3 values but " + std::to_string(26 + 42 + 17) + " are needed");
+    EXPECT_EQ(edited([&](json& d) {
+                  Result<std::vector<float>> points = decodeFloats(d["points"]);
+                  (*points)[26 + 3] = NAN;  // cage edge 3's midpoint
+                  d["points"] = base64Of(*points);
+              }),
+              "scene.json: displacement.points: value 29 (midpoint of cage edge 3) is NaN; displacements must be finite "
+              "numbers");
+    EXPECT_NE(edited([&](json& d) { d["segments"] = ""; }).find("scene.json: displacement.segments: has 0 values but"),
+              std::string::npos);
+    EXPECT_EQ(edited([&](json& d) { d.erase("points"); }), "scene.json: displacement.points: required field is missing");
+    EXPECT_EQ(edited([&](json& d) { d["encoding"] = "decimal"; }),
+              "scene.json: displacement.encoding: expected \"base64-float32-le\", got \"decimal\"");
+    EXPECT_EQ(edited([&](json& d) { d["subfaces"] = json::array(); }),
+              "scene.json: displacement.points: not allowed when \"subfaces\" is empty (no displacement)");
+    EXPECT_EQ(edited([&](json& d) { d["version"] = -1; }), "scene.json: displacement.version: displacement version -1 is not valid");
+}
+
+TEST(DisplacementFile, UnknownFieldsAreWarnings) {
+    json scene = sceneJson(sculptedScene(4));
+    scene["displacement"]["brush"] = "raise";
+    scene["displacement"]["subfaces"][1]["mips"] = 3;
+    std::vector<std::string> warnings;
+    Result<Scene> loaded = parseScene(scene.dump(), "scene.json", ".", &warnings);
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    EXPECT_EQ(warnings, (std::vector<std::string>{"scene.json: displacement.brush: unknown field, ignored",
+                                                  "scene.json: displacement.subfaces[1].mips: unknown field, ignored"}));
+}
+
+TEST(DisplacementFile, SaveRefusesADisplacementOfAnotherTopology) {
+    Scene scene = sculptedScene(6);
+    scene.cage = test::makeGrid(4);  // 16 quads, the displacement was for the mixed grid
+    const std::string path = tempPath("refused.json");
+    Status saved = saveScene(scene, path, true);
+    ASSERT_FALSE(saved);
+    EXPECT_NE(saved.error().message.find("does not fit the cage"), std::string::npos) << saved.error().message;
+    EXPECT_FALSE(fs::exists(path));
+    EXPECT_TRUE(displacementFitsCage(Displacement{}, scene.cage));
+}
