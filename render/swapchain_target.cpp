@@ -74,9 +74,11 @@ Status buildSwapchain(const VulkanContext& ctx, SwapchainTarget& t, uint32_t wid
         extent.height = std::clamp(height, caps.minImageExtent.height, caps.maxImageExtent.height);
     }
     if (extent.width == 0 || extent.height == 0) return Error{"the window has no area"};
-    const VkImageUsageFlags usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+    // Copies in both directions: read-backs (screenshots) and pictures composed elsewhere.
+    const VkImageUsageFlags usage =
+        VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
     if ((caps.supportedUsageFlags & usage) != usage)
-        return Error{"the window surface cannot be rendered to and copied from on " + ctx.deviceName};
+        return Error{"the window surface cannot be rendered to and copied to and from on " + ctx.deviceName};
 
     uint32_t imageCount = std::max(caps.minImageCount + 1, kFramesInFlight);
     if (caps.maxImageCount > 0) imageCount = std::min(imageCount, caps.maxImageCount);

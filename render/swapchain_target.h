@@ -5,6 +5,10 @@
 // context with the surface's instance extensions and VK_KHR_swapchain as a device extension
 // (swapchainDeviceExtensions()), create the surface, then the target.
 //
+// Images can be rendered to and be the source or destination of copies (read-backs, pictures
+// composed elsewhere), so SwapchainFrame::image may be used with vkCmdCopyImage as long as the
+// layout contract is restored.
+//
 // Per frame: beginFrame waits for the frame-in-flight slot's fence, acquires an image
 // (recreating the swapchain when it is out of date or the window size changed), begins the
 // slot's command buffer and establishes render_target.h's layout contract for that image; the
