@@ -293,7 +293,10 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     int w = 0, h = 0;
     glfwGetFramebufferSize(app.window, &w, &h);
     const uint32_t slot = app.swapchain.slot;
+    // The CPU time leaves out the wait for a free frame slot and image (the GPU's or the display's pace).
+    double cpuMs = msSince(frameStart);
     Result<std::optional<SwapchainFrame>> begun = beginFrame(app.ctx, app.swapchain, uint32_t(w), uint32_t(h));
+    const Clock::time_point recordStart = Clock::now();
     if (!begun) return begun.error();
     if (!*begun) return success();  // minimised
     const SwapchainFrame& frame = **begun;
@@ -348,7 +351,7 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
 
     FrameSample sample;
     sample.sceneDrawn = drawScene;
-    sample.cpuMs = msSince(frameStart);
+    sample.cpuMs = cpuMs + msSince(recordStart);
     sample.intervalMs = app.frame == 0 ? 0.0 : std::chrono::duration<double, std::milli>(frameStart - app.lastFrameStart).count();
     app.lastFrameStart = frameStart;
     std::vector<uint8_t> pixels;

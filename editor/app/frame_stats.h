@@ -12,7 +12,7 @@
 namespace qp::editor {
 
 struct FrameSample {
-    double cpuMs = 0.0;       // from the start of the frame's work to its submission
+    double cpuMs = 0.0;       // the frame's work up to submission, without waiting for a frame slot
     double gpuMs = -1.0;      // device time of the frame's commands; < 0 while unknown
     double intervalMs = 0.0;  // since the previous frame started (includes waiting for input)
     bool sceneDrawn = false;  // the 3D viewports were drawn (not copied from the scene cache)
