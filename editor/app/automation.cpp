@@ -496,6 +496,7 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     state["title"] = app.ui.title;
     state["path"] = doc.path;
     state["loading"] = app.loader.busy();
+    if (app.loader.busy()) state["loading_stage"] = app.loader.stage(), state["loading_fraction"] = app.loader.fraction();
     state["status"] = app.ui.status;
     json vertices = json::array(), creases = json::array(), corners = json::array();
     if (doc.planned) {

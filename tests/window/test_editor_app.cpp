@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 
 #include "editor_process.h"
+#include "generated_cage.h"
 #include "obj_io.h"
 #include "render_test_support.h"
 #include "scene.h"
@@ -312,6 +313,29 @@ TEST_F(EditorWindow, OffersAutosavedWorkAfterACrash) {
     EXPECT_EQ(b1["path"], (dir / "default.json").string());
     // Discarding on quit removes the recovery files.
     EXPECT_FALSE(fs::exists(dir / "recovery" / "autosave.json"));
+}
+
+// Opening a large cage plans it off the UI thread: frames keep coming (with a progress bar)
+// until the new document takes over.
+TEST_F(EditorWindow, LoadsALargeCageWithoutFreezing) {
+    const Cage big = makeBenchmarkCage(40000, 3);
+    ASSERT_TRUE(saveObj(big, (dir / "big.obj").string()).ok());
+    EditorProcess editor;
+    start(editor,
+          "wait-idle\nwait-frames 2\ndump-state l0.json\nopen big.obj\nwait-frames 3\nscreenshot loading.png\n"
+          "dump-state l1.json\nwait-idle\nwait-frames 2\ndump-state l2.json\nquit\n",
+          (dir / "default.json").string());
+    json l0 = waitForState(editor, "l0.json"), l1 = waitForState(editor, "l1.json"), l2 = waitForState(editor, "l2.json");
+    expectCleanExit(editor);
+    EXPECT_EQ(l0["faces"], 180);
+    EXPECT_TRUE(l1["loading"].get<bool>()) << "the load finished within 3 frames; use a bigger cage";
+    EXPECT_NE(l1["loading_stage"].get<std::string>().find("Planning"), std::string::npos) << l1["loading_stage"];
+    EXPECT_EQ(l1["faces"], 180) << "the old document stays until the new one is ready";
+    EXPECT_EQ(l1["title"], "Quadplan - default.json (loading)");
+    EXPECT_FALSE(l2["loading"].get<bool>());
+    EXPECT_EQ(l2["faces"].get<uint32_t>(), big.faceCount());
+    EXPECT_EQ(l2["path"], "big.obj");
+    EXPECT_GT(l2["frame"].get<int>(), l1["frame"].get<int>() + 2) << "no frames were drawn while planning";
 }
 
 // Bad automation is refused up front with the line at fault.
