@@ -156,9 +156,11 @@ void runAction(EditorApp& app, std::string_view id) {
     const uint32_t active = app.activeViewport;
     auto standard = [&](StandardView v) { setStandardView(cameraOf(app, active), v); };
     if (id == "file.open") {
-        const std::string dir = app.doc->path.empty() ? std::filesystem::current_path().string()
-                                                      : std::filesystem::path(app.doc->path).parent_path().string();
-        app.ui.openPath = dir.empty() ? std::string() : dir + "/";
+        const std::filesystem::path parent = std::filesystem::path(app.doc->path).parent_path();
+        std::error_code error;
+        const std::filesystem::path dir = parent.empty() ? std::filesystem::current_path(error)
+                                                         : std::filesystem::absolute(parent, error);
+        app.ui.openPath = (dir / "").string();
         app.ui.requestPopup = "Open";
     } else if (id == "file.save") {
         if (app.doc->path.empty()) runAction(app, "file.save_as");
