@@ -266,7 +266,7 @@ void viewportBars(EditorApp& app) {
         ImGui::Begin(("##viewport" + id).c_str(), nullptr,
                      ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
                          ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
-        ImGui::SetNextItemWidth(90.0f);
+        ImGui::SetNextItemWidth(80.0f);
         if (ImGui::BeginCombo(("##scheme" + id).c_str(), v.scheme.c_str())) {
             for (const char* s : availableSchemes())
                 if (ImGui::Selectable(s, v.scheme == s)) v.scheme = s;
@@ -281,7 +281,8 @@ void viewportBars(EditorApp& app) {
             ImGui::EndCombo();
         }
         tooltip("Colour by: shading, node kind, plan depth or crease sharpness");
-        ImGui::SameLine();
+        // Narrow viewports get the bar on two lines, so it never covers its neighbour.
+        if (float(v.rect.extent.width) / scale > 360.0f) ImGui::SameLine();
         bool linked = v.linked;
         if (checkbox(app, ("Linked##" + id).c_str(), &linked, "Share the camera with the other linked viewports")) {
             if (!linked) v.camera = app.sharedCamera;

@@ -148,7 +148,8 @@ TEST_F(EditorWindow, AutomationEditsSavesAndRedraws) {
           "select-vertex " + std::to_string(vertex) + "\nmove-selection 0 0.4 0\n"
           "set-edge-sharpness " + std::to_string(a) + " " + std::to_string(b) + " 2.5\n"
           "wait-frames 2\nscreenshot after.png\ndump-state s1.json\n"
-          "action file.save\nwait-frames 2\ndump-state s2.json\nquit\n",
+          "action file.save\nwait-frames 2\ndump-state s2.json\n"
+          "resize 900 620\nset-viewports 2\nwait-frames 2\nscreenshot resized.png\nquit\n",
           (dir / "default.json").string());
     json s0 = waitForState(editor, "s0.json"), s1 = waitForState(editor, "s1.json"), s2 = waitForState(editor, "s2.json");
     expectCleanExit(editor);
@@ -188,6 +189,13 @@ TEST_F(EditorWindow, AutomationEditsSavesAndRedraws) {
     EXPECT_GT(distinctColors(p0, x0, y0, x1, y1), 40u) << "the viewport looks blank";
     EXPECT_GT(distinctColors(p0, x1, 0, p0.width, p0.height), 5u) << "the side panel looks blank";
     EXPECT_GT(differingPixels(p0, p1), 500u) << "moving a vertex and creasing an edge changed nothing on screen";
+
+    // After a resize (swapchain, ImGui framebuffers and the 3D cache recreated), two viewports.
+    Picture resized = loadPng(dir / "resized.png");
+    ASSERT_EQ(resized.width, 900);
+    ASSERT_EQ(resized.height, 620);
+    EXPECT_GT(distinctColors(resized, 0, 30, 270, 620), 40u);
+    EXPECT_GT(distinctColors(resized, 290, 30, 560, 620), 40u);
 }
 
 // Real X events: a mouse drag on a cage vertex moves it, a numpad key changes the view, a click
