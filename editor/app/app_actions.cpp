@@ -162,6 +162,8 @@ void runAction(EditorApp& app, std::string_view id) {
                                                          : std::filesystem::absolute(parent, error);
         app.ui.openPath = (dir / "").string();
         app.ui.requestPopup = "Open";
+    } else if ((id == "file.save" || id == "file.save_as") && (!app.doc->planned || app.loader.busy())) {
+        app.ui.status = "Nothing to save while no cage is open or a file is loading.";
     } else if (id == "file.save") {
         if (app.doc->path.empty()) runAction(app, "file.save_as");
         else saveTo(app, app.doc->path);

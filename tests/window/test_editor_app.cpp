@@ -378,6 +378,23 @@ TEST_F(EditorWindow, EditsShowInTheNextFrameOnA2000FaceCage) {
     EXPECT_GT(distinctColors(loadPng(dir / "drag.png"), 0, 40, 700, 650), 40u);
 }
 
+// A file that cannot be read gives an error dialog and an empty editor, not a crash; saving
+// then has nothing to save.
+TEST_F(EditorWindow, ReportsABrokenFile) {
+    EditorProcess editor;
+    start(editor,
+          "wait-idle\nwait-frames 2\ndump-state e0.json\naction file.save\nclick-button OK\nwait-frames 2\n"
+          "dump-state e1.json\nquit\n",
+          std::string(QUADPLAN_TEST_DATA) + "/broken/garbage.obj");
+    json e0 = waitForState(editor, "e0.json"), e1 = waitForState(editor, "e1.json");
+    expectCleanExit(editor);
+    EXPECT_EQ(e0["open_popups"], json::array({"Error"}));
+    EXPECT_NE(e0["status"].get<std::string>().find("this is not an OBJ file"), std::string::npos) << e0["status"];
+    EXPECT_FALSE(e0.contains("faces"));
+    EXPECT_EQ(e1["open_popups"], json::array());
+    EXPECT_NE(e1["status"].get<std::string>().find("Nothing to save"), std::string::npos) << e1["status"];
+}
+
 // Bad automation is refused up front with the line at fault.
 TEST_F(EditorWindow, RejectsABadAutomationScript) {
     EditorProcess editor;
