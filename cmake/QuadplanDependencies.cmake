@@ -18,3 +18,15 @@ set_target_properties(OpenSubdiv::osdCpu PROPERTIES
 if(BUILD_TESTING OR NOT DEFINED BUILD_TESTING)
   find_package(GTest REQUIRED)
 endif()
+
+# The window front end: GLFW 3.3 and Dear ImGui 1.86, found through pkg-config. Debian ships
+# ImGui as a static libimgui.a with the GLFW and Vulkan backends compiled in; its backend
+# headers live in a subdirectory pkg-config does not name, and the link order matters.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(GLFW3 REQUIRED IMPORTED_TARGET glfw3)
+pkg_check_modules(IMGUI REQUIRED IMPORTED_TARGET imgui)
+find_path(IMGUI_BACKENDS_DIR NAMES imgui_impl_vulkan.h HINTS ${IMGUI_INCLUDE_DIRS} PATH_SUFFIXES backends REQUIRED)
+find_package(Vulkan REQUIRED)
+add_library(quadplan_imgui INTERFACE)
+target_include_directories(quadplan_imgui INTERFACE ${IMGUI_INCLUDE_DIRS} ${IMGUI_BACKENDS_DIR})
+target_link_libraries(quadplan_imgui INTERFACE PkgConfig::IMGUI PkgConfig::GLFW3 Vulkan::Vulkan)

@@ -1,33 +1,71 @@
+// `quadplan edit [SCENE_OR_CAGE]` and bare `quadplan`: the interactive editor (editor/app/).
 #include <cstdio>
+#include <filesystem>
 
 #include "commands.h"
-#include "scene.h"
+#include "editor_app.h"
 
 namespace qp::cli {
 
-int runEditor(const std::string& scenePath) {
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(scenePath, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (!scene) {
-        std::fprintf(stderr, "error: %s\n", scene.error().message.c_str());
+namespace {
+
+struct EditArgs {
+    std::string path = QUADPLAN_DEFAULT_SCENE;
+    std::string automation;
+    bool validate = false, noVsync = false;
+    double autosaveSeconds = 30.0;
+    std::string size = "1280x800";
+    uint32_t depth = 6;
+};
+
+int runEdit(const EditArgs& args, bool untitled) {
+    editor::LaunchOptions options;
+    options.path = args.path;
+    options.untitled = untitled;
+    options.automationScript = args.automation;
+    options.validate = args.validate;
+    options.vsync = !args.noVsync;
+    options.autosaveSeconds = args.autosaveSeconds;
+    options.planDepth = args.depth;
+    unsigned w = 0, h = 0;
+    char x = 0;
+    if (std::sscanf(args.size.c_str(), "%u%c%u", &w, &x, &h) != 3 || (x != 'x' && x != 'X') || w < 320 || h < 240 ||
+        w > 8192 || h > 8192) {
+        std::fprintf(stderr, "error: --size must be WIDTHxHEIGHT, at least 320x240, got '%s'\n", args.size.c_str());
         return 1;
     }
-    // The interactive editor (GLFW + Dear ImGui + Vulkan) is not built yet; until it is, say so
-    // plainly instead of pretending to open a window.
-    std::fprintf(stderr,
-                 "Loaded %s (%u vertices, %u faces).\n"
-                 "The interactive editor is not available in this build yet; "
-                 "see `quadplan --help` for the headless commands.\n",
-                 scenePath.c_str(), scene->cage.vertexCount(), scene->cage.faceCount());
-    return 2;
+    options.width = w;
+    options.height = h;
+    if (!std::filesystem::exists(args.path)) {
+        std::fprintf(stderr, "error: '%s' does not exist\n", args.path.c_str());
+        return 1;
+    }
+    return editor::runEditorApp(options);
+}
+
+}  // namespace
+
+int runEditor(const std::string& scenePath) {
+    EditArgs args;
+    args.path = scenePath;
+    return runEdit(args, scenePath == QUADPLAN_DEFAULT_SCENE);
 }
 
 void registerEdit(CLI::App& app, int& exitCode) {
     auto* cmd = app.add_subcommand("edit", "Open the interactive editor on a scene (.json) or cage (.obj)");
-    auto path = std::make_shared<std::string>(QUADPLAN_DEFAULT_SCENE);
-    cmd->add_option("scene", *path, "Scene or cage to open (default: the bundled default scene)");
-    cmd->callback([path, &exitCode] { exitCode = runEditor(*path); });
+    auto args = std::make_shared<EditArgs>();
+    cmd->add_option("scene", args->path, "Scene or cage to open (default: the bundled default scene)");
+    cmd->add_option("--automation", args->automation,
+                    "Replay editor commands from FILE ('-': stdin); see docs/editor.md");
+    cmd->add_flag("--validate", args->validate, "Enable Vulkan validation; any message makes the exit status 4");
+    cmd->add_flag("--no-vsync", args->noVsync, "Present without waiting for the display (for measurements)");
+    cmd->add_option("--autosave-seconds", args->autosaveSeconds, "Autosave interval while there are unsaved changes")
+        ->check(CLI::Range(1.0, 3600.0));
+    cmd->add_option("--size", args->size, "Window size, WIDTHxHEIGHT (default 1280x800)");
+    cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, 10u));
+    cmd->callback([args, cmd, &exitCode] {
+        exitCode = runEdit(*args, cmd->count("scene") == 0);
+    });
 }
 
 }  // namespace qp::cli

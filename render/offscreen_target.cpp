@@ -22,49 +22,6 @@ namespace qp {
 
 namespace {
 
-Status createImage(const VulkanContext& ctx, Image& image, uint32_t width, uint32_t height, VkFormat format,
-                   VkImageUsageFlags usage, VkImageAspectFlags aspect) {
-    image.format = format;
-    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
-    info.imageType = VK_IMAGE_TYPE_2D;
-    info.format = format;
-    info.extent = {width, height, 1};
-    info.mipLevels = 1;
-    info.arrayLayers = 1;
-    info.samples = VK_SAMPLE_COUNT_1_BIT;
-    info.tiling = VK_IMAGE_TILING_OPTIMAL;
-    info.usage = usage;
-    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    VK_CHECK(vkCreateImage(ctx.device, &info, nullptr, &image.image));
-
-    VkMemoryRequirements requirements;
-    vkGetImageMemoryRequirements(ctx.device, image.image, &requirements);
-    const uint32_t type = findMemoryType(ctx.memoryProperties, requirements.memoryTypeBits, 0,
-                                         VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
-    if (type == UINT32_MAX) return Error{"no memory type can hold a render target on " + ctx.deviceName};
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-    alloc.allocationSize = requirements.size;
-    alloc.memoryTypeIndex = type;
-    VK_CHECK(vkAllocateMemory(ctx.device, &alloc, nullptr, &image.memory));
-    VK_CHECK(vkBindImageMemory(ctx.device, image.image, image.memory, 0));
-
-    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
-    viewInfo.image = image.image;
-    viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
-    viewInfo.format = format;
-    viewInfo.subresourceRange = {aspect, 0, 1, 0, 1};
-    VK_CHECK(vkCreateImageView(ctx.device, &viewInfo, nullptr, &image.view));
-    return success();
-}
-
-void destroyImage(const VulkanContext& ctx, Image& image) {
-    if (image.view) vkDestroyImageView(ctx.device, image.view, nullptr);
-    if (image.image) vkDestroyImage(ctx.device, image.image, nullptr);
-    if (image.memory) vkFreeMemory(ctx.device, image.memory, nullptr);
-    image = Image{};
-}
-
 VkImageMemoryBarrier2 colorBarrier(VkImage image, VkImageLayout from, VkImageLayout to) {
     VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
     b.oldLayout = from;
@@ -114,6 +71,49 @@ Status initTarget(const VulkanContext& ctx, OffscreenTarget& t, VkFormat colorFo
 }
 
 }  // namespace
+
+Status createImage(const VulkanContext& ctx, Image& image, uint32_t width, uint32_t height, VkFormat format,
+                   VkImageUsageFlags usage, VkImageAspectFlags aspect) {
+    image.format = format;
+    VkImageCreateInfo info{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    info.imageType = VK_IMAGE_TYPE_2D;
+    info.format = format;
+    info.extent = {width, height, 1};
+    info.mipLevels = 1;
+    info.arrayLayers = 1;
+    info.samples = VK_SAMPLE_COUNT_1_BIT;
+    info.tiling = VK_IMAGE_TILING_OPTIMAL;
+    info.usage = usage;
+    info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    info.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    VK_CHECK(vkCreateImage(ctx.device, &info, nullptr, &image.image));
+
+    VkMemoryRequirements requirements;
+    vkGetImageMemoryRequirements(ctx.device, image.image, &requirements);
+    const uint32_t type = findMemoryType(ctx.memoryProperties, requirements.memoryTypeBits, 0,
+                                         VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    if (type == UINT32_MAX) return Error{"no memory type can hold a render target on " + ctx.deviceName};
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    alloc.allocationSize = requirements.size;
+    alloc.memoryTypeIndex = type;
+    VK_CHECK(vkAllocateMemory(ctx.device, &alloc, nullptr, &image.memory));
+    VK_CHECK(vkBindImageMemory(ctx.device, image.image, image.memory, 0));
+
+    VkImageViewCreateInfo viewInfo{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    viewInfo.image = image.image;
+    viewInfo.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    viewInfo.format = format;
+    viewInfo.subresourceRange = {aspect, 0, 1, 0, 1};
+    VK_CHECK(vkCreateImageView(ctx.device, &viewInfo, nullptr, &image.view));
+    return success();
+}
+
+void destroyImage(const VulkanContext& ctx, Image& image) {
+    if (image.view) vkDestroyImageView(ctx.device, image.view, nullptr);
+    if (image.image) vkDestroyImage(ctx.device, image.image, nullptr);
+    if (image.memory) vkFreeMemory(ctx.device, image.memory, nullptr);
+    image = Image{};
+}
 
 Result<OffscreenTarget> createOffscreenTarget(const VulkanContext& ctx, uint32_t width, uint32_t height,
                                               VkFormat colorFormat) {

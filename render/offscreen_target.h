@@ -25,6 +25,12 @@ struct Image {
     VkFormat format = VK_FORMAT_UNDEFINED;
 };
 
+// A 2D image with its memory and a view (one mip level, one layer, optimal tiling), left in
+// layout UNDEFINED.
+Status createImage(const VulkanContext& context, Image& image, uint32_t width, uint32_t height, VkFormat format,
+                   VkImageUsageFlags usage, VkImageAspectFlags aspect);
+void destroyImage(const VulkanContext& context, Image& image);
+
 struct OffscreenTarget {
     Image color;  // R8G8B8A8_SRGB (shaders write linear colour) or R8G8B8A8_UNORM
     Image depth;  // D32_SFLOAT

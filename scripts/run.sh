@@ -5,5 +5,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh -DBUILD_TESTING=OFF
-if (($# == 0)); then set -- edit scenes/default.json; fi
+# No arguments: the editor on the bundled default scene, untitled (Save asks for a name instead
+# of overwriting scenes/default.json).
+if (($# == 0)); then set -- edit; fi
 exec build/bin/quadplan "$@"

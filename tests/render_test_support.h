@@ -15,8 +15,8 @@ namespace qp::test {
 
 constexpr const char* kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
 
-inline Result<VulkanContext> createTestContext() {
-    ContextOptions options;
+// `options` adds what a test needs beyond the defaults (e.g. window-system extensions).
+inline Result<VulkanContext> createTestContext(ContextOptions options = {}) {
     options.validation = true;
     if (const char* device = std::getenv("QUADPLAN_VK_DEVICE"); device && device[0]) {
         options.forceDevice = device;

@@ -1,0 +1,215 @@
+// The editor's commands (editor_app.h): actions from the table in actions.h, file handling
+// with its confirmations, recovery, edits and framing. Menus, shortcuts and automation all
+// land here.
+#include <algorithm>
+#include <filesystem>
+
+#include "actions.h"
+#include "editor_app.h"
+#include "recovery.h"
+
+namespace qp::editor {
+
+namespace {
+
+void storeViewState(EditorApp& app, Scene& scene) {
+    scene.camera = toSceneCamera(app.sharedCamera);
+    scene.viewports.clear();
+    for (const ViewportState& v : app.viewports)
+        scene.viewports.push_back({v.scheme, v.linked ? CameraLink::Linked : CameraLink::Independent, v.colorBy});
+    scene.tessellation = app.tessellation;
+}
+
+void startLoad(EditorApp& app, LoadRequest request) {
+    request.options = PlanOptions{app.options.planDepth, true};
+    app.loader.start(app.ctx, std::move(request));
+    app.ui.status = "Opening " + app.loader.request().path;
+}
+
+}  // namespace
+
+ViewCamera& cameraOf(EditorApp& app, uint32_t viewport) {
+    ViewportState& v = app.viewports[std::min<size_t>(viewport, app.viewports.size() - 1)];
+    return v.linked ? app.sharedCamera : v.camera;
+}
+
+void setViewportCount(EditorApp& app, uint32_t count) {
+    count = count >= 4 ? 4 : count >= 2 ? 2 : 1;
+    while (app.viewports.size() < count) {
+        ViewportState added = app.viewports.back();
+        added.linked = true;
+        added.camera = app.sharedCamera;
+        app.viewports.push_back(added);
+    }
+    app.viewports.resize(count);
+    app.activeViewport = std::min(app.activeViewport, count - 1);
+}
+
+void showError(EditorApp& app, const std::string& message) {
+    app.ui.errorMessage = message;
+    app.ui.requestPopup = "Error";
+    app.ui.status = message;
+    std::fprintf(stderr, "error: %s\n", message.c_str());
+}
+
+void requestOpen(EditorApp& app, const std::string& path) {
+    if (app.loader.busy()) return showError(app, "Another file is still loading; try again when it is done.");
+    if (app.doc->dirty) {
+        app.ui.pending = {PendingAction::Open, path};
+        app.ui.requestPopup = "Unsaved changes";
+        return;
+    }
+    startLoad(app, LoadRequest{path});
+}
+
+void requestQuit(EditorApp& app) {
+    if (app.doc->dirty) {
+        app.ui.pending = {PendingAction::Quit, {}};
+        app.ui.requestPopup = "Unsaved changes";
+        return;
+    }
+    app.running = false;
+}
+
+void continuePending(EditorApp& app) {
+    PendingAction pending = std::exchange(app.ui.pending, PendingAction{});
+    app.ui.continuePendingAfterSave = false;
+    if (pending.kind == PendingAction::None) return;
+    // The changes were saved or deliberately dropped: the autosave has nothing left to protect.
+    removeRecovery(app.recoveryDir);
+    if (pending.kind == PendingAction::Quit) app.running = false;
+    if (pending.kind == PendingAction::Open) startLoad(app, LoadRequest{pending.path});
+}
+
+bool saveTo(EditorApp& app, const std::string& path) {
+    if (!app.doc->planned) {
+        showError(app, "Nothing to save yet: the document is still loading.");
+        return false;
+    }
+    storeViewState(app, app.doc->scene);
+    if (Status saved = saveDocument(*app.doc, path); !saved) {
+        showError(app, "Saving failed: " + saved.error().message);
+        return false;
+    }
+    removeRecovery(app.recoveryDir);
+    app.ui.status = "Saved " + path;
+    return true;
+}
+
+void restoreRecovery(EditorApp& app) {
+    if (!app.ui.recovery) return;
+    if (app.loader.busy()) {
+        app.ui.recovery->restoreWhenIdle = true;
+        return;
+    }
+    LoadRequest request{app.recoveryDir};
+    request.fromRecovery = true;
+    request.recoveredSource = app.ui.recovery->source;
+    app.ui.recovery.reset();
+    startLoad(app, std::move(request));
+}
+
+void discardRecovery(EditorApp& app) {
+    removeRecovery(app.recoveryDir);
+    app.ui.recovery.reset();
+    app.ui.status = "Discarded the recovered work";
+}
+
+bool edit(EditorApp& app, const Edit& e) {
+    Result<EditReport> report = applyEdit(*app.doc, e, app.frame);
+    if (!report) {
+        showError(app, "Edit failed: " + report.error().message);
+        return false;
+    }
+    return true;
+}
+
+Bounds selectionBounds(const EditorApp& app) {
+    const Document& doc = *app.doc;
+    if (!doc.planned) return Bounds{};
+    const Cage& cage = doc.planned->cage();
+    const Bounds model = computeBounds(cage);
+    std::vector<uint32_t> vertices = doc.selection.vertices;
+    if (doc.selection.edge) vertices.insert(vertices.end(), {doc.selection.edge->first, doc.selection.edge->second});
+    if (vertices.empty()) return model;
+    Bounds b{cage.positions[vertices[0]], cage.positions[vertices[0]]};
+    for (uint32_t v : vertices) {
+        b.min = glm::min(b.min, cage.positions[v]);
+        b.max = glm::max(b.max, cage.positions[v]);
+    }
+    // A single vertex still gets some room around it.
+    const glm::vec3 pad(0.05f * model.diagonal());
+    b.min -= pad;
+    b.max += pad;
+    return b;
+}
+
+void frameSelection(EditorApp& app, uint32_t viewport, bool wholeModel) {
+    if (!app.doc->planned) return;
+    const Bounds b = wholeModel ? computeBounds(app.doc->planned->cage()) : selectionBounds(app);
+    const VkRect2D r = app.viewports[std::min<size_t>(viewport, app.viewports.size() - 1)].rect;
+    const float aspect = r.extent.height ? float(r.extent.width) / float(r.extent.height) : 1.0f;
+    frameBox(cameraOf(app, viewport), b.min, b.max, aspect);
+}
+
+void runAction(EditorApp& app, std::string_view id) {
+    const uint32_t active = app.activeViewport;
+    auto standard = [&](StandardView v) { setStandardView(cameraOf(app, active), v); };
+    if (id == "file.open") {
+        const std::filesystem::path parent = std::filesystem::path(app.doc->path).parent_path();
+        std::error_code error;
+        const std::filesystem::path dir = parent.empty() ? std::filesystem::current_path(error)
+                                                         : std::filesystem::absolute(parent, error);
+        app.ui.openPath = (dir / "").string();
+        app.ui.requestPopup = "Open";
+    } else if ((id == "file.save" || id == "file.save_as") && (!app.doc->planned || app.loader.busy())) {
+        app.ui.status = "Nothing to save while no cage is open or a file is loading.";
+    } else if (id == "file.save") {
+        if (app.doc->path.empty()) runAction(app, "file.save_as");
+        else saveTo(app, app.doc->path);
+    } else if (id == "file.save_as") {
+        app.ui.saveAsPath = app.doc->path.empty() ? (std::filesystem::current_path() / "untitled.json").string()
+                                                  : app.doc->path;
+        app.ui.requestPopup = "Save As";
+    } else if (id == "file.quit") {
+        requestQuit(app);
+    } else if (id == "edit.undo" || id == "edit.redo") {
+        app.ui.status = "Undo and redo are not available yet: they come with the editing core.";
+    } else if (id == "select.none") {
+        clearSelection(*app.doc);
+    } else if (id == "view.frame") {
+        frameSelection(app, active, false);
+    } else if (id == "view.frame_all") {
+        frameSelection(app, active, true);
+    } else if (id == "view.front") {
+        standard(StandardView::Front);
+    } else if (id == "view.back") {
+        standard(StandardView::Back);
+    } else if (id == "view.right") {
+        standard(StandardView::Right);
+    } else if (id == "view.left") {
+        standard(StandardView::Left);
+    } else if (id == "view.top") {
+        standard(StandardView::Top);
+    } else if (id == "view.bottom") {
+        standard(StandardView::Bottom);
+    } else if (id == "view.projection") {
+        cameraOf(app, active).orthographic = !cameraOf(app, active).orthographic;
+    } else if (id == "layout.one") {
+        setViewportCount(app, 1);
+    } else if (id == "layout.two") {
+        setViewportCount(app, 2);
+    } else if (id == "layout.four") {
+        setViewportCount(app, 4);
+    } else if (id == "display.cage") {
+        app.tessellation.showCage = !app.tessellation.showCage;
+    } else if (id == "display.wireframe") {
+        app.tessellation.showWireframe = !app.tessellation.showWireframe;
+    } else if (id == "help.toggle") {
+        app.ui.showHelp = !app.ui.showHelp;
+    } else {
+        showError(app, "unknown action '" + std::string(id) + "'");
+    }
+}
+
+}  // namespace qp::editor

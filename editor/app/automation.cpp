@@ -1,0 +1,590 @@
+#include "automation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <nlohmann/json.hpp>
+
+#include "actions.h"
+#include "editor_app.h"
+#include "file_io.h"
+#include "recovery.h"
+#include "schemes.h"
+
+namespace qp::editor {
+
+namespace {
+
+using json = nlohmann::json;
+
+enum class Arg { Int, Float, Word, Text };  // Text: the rest of the line
+
+struct CommandSpec {
+    const char* name;
+    std::vector<Arg> required;
+    std::vector<Arg> optional;
+};
+
+const std::vector<CommandSpec> kCommands = {
+    {"wait-frames", {Arg::Int}, {}},
+    {"wait-idle", {}, {}},
+    {"wait-file", {Arg::Word}, {Arg::Float}},
+    {"action", {Arg::Word}, {}},
+    {"click-button", {Arg::Text}, {}},
+    {"open", {Arg::Text}, {}},
+    {"save", {}, {}},
+    {"save-as", {Arg::Text}, {}},
+    {"quit", {}, {}},
+    {"select-vertex", {Arg::Int}, {Arg::Word}},
+    {"select-edge", {Arg::Int, Arg::Int}, {}},
+    {"clear-selection", {}, {}},
+    {"move-selection", {Arg::Float, Arg::Float, Arg::Float}, {}},
+    {"set-edge-sharpness", {Arg::Int, Arg::Int, Arg::Float}, {}},
+    {"undo", {}, {}},
+    {"redo", {}, {}},
+    {"set-viewports", {Arg::Int}, {}},
+    {"set-scheme", {Arg::Int, Arg::Word}, {}},
+    {"set-color-by", {Arg::Int, Arg::Word}, {}},
+    {"set-link", {Arg::Int, Arg::Word}, {}},
+    {"set-tessellation", {Arg::Word, Arg::Float}, {}},
+    {"set-draw-path", {Arg::Word}, {}},
+    {"mouse-move", {Arg::Float, Arg::Float}, {}},
+    {"mouse-down", {Arg::Word}, {}},
+    {"mouse-up", {Arg::Word}, {}},
+    {"scroll", {Arg::Float}, {}},
+    {"key-down", {Arg::Word}, {}},
+    {"key-up", {Arg::Word}, {}},
+    {"key", {Arg::Word}, {}},
+    {"resize", {Arg::Int, Arg::Int}, {}},
+    {"screenshot", {Arg::Text}, {}},
+    {"dump-state", {Arg::Text}, {}},
+    {"measure-frames", {Arg::Int, Arg::Word}, {Arg::Word}},
+    {"log", {}, {Arg::Text}},
+};
+
+int keyCode(std::string_view name) {
+    std::string n(name);
+    std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (n.size() == 1 && n[0] >= 'a' && n[0] <= 'z') return GLFW_KEY_A + (n[0] - 'a');
+    if (n.size() == 1 && n[0] >= '0' && n[0] <= '9') return GLFW_KEY_0 + (n[0] - '0');
+    if (n.size() == 3 && n.rfind("kp", 0) == 0 && n[2] >= '0' && n[2] <= '9') return GLFW_KEY_KP_0 + (n[2] - '0');
+    if (n.size() >= 2 && n[0] == 'f' && std::isdigit((unsigned char)n[1])) {
+        const int k = std::atoi(n.c_str() + 1);
+        if (k >= 1 && k <= 12) return GLFW_KEY_F1 + k - 1;
+    }
+    static const std::pair<const char*, int> named[] = {
+        {"esc", GLFW_KEY_ESCAPE}, {"escape", GLFW_KEY_ESCAPE}, {"home", GLFW_KEY_HOME}, {"enter", GLFW_KEY_ENTER},
+        {"tab", GLFW_KEY_TAB},    {"space", GLFW_KEY_SPACE},   {"delete", GLFW_KEY_DELETE},
+        {"alt", GLFW_KEY_LEFT_ALT}, {"ctrl", GLFW_KEY_LEFT_CONTROL}, {"shift", GLFW_KEY_LEFT_SHIFT}};
+    for (auto [text, code] : named)
+        if (n == text) return code;
+    return -1;
+}
+
+int mouseButton(std::string_view name) {
+    if (name == "left") return 0;
+    if (name == "right") return 1;
+    if (name == "middle") return 2;
+    return -1;
+}
+
+bool isNumber(const std::string& text, bool integer) {
+    if (text.empty()) return false;
+    char* end = nullptr;
+    if (integer) {
+        const long v = std::strtol(text.c_str(), &end, 10);
+        return *end == '\0' && v >= 0;
+    }
+    const float v = std::strtof(text.c_str(), &end);
+    return *end == '\0' && std::isfinite(v);
+}
+
+// Extra checks that need no app: enumerations and key names.
+std::string checkWords(const AutomationCommand& c) {
+    const std::string& name = c.name;
+    if (name == "action" && !findAction(c.args[0])) return "unknown action '" + c.args[0] + "' (see docs/editor.md)";
+    if ((name == "mouse-down" || name == "mouse-up") && mouseButton(c.args[0]) < 0)
+        return "mouse button must be left, middle or right";
+    if ((name == "key-down" || name == "key-up" || name == "key") && keyCode(c.args[0]) < 0)
+        return "unknown key '" + c.args[0] + "'";
+    if (name == "select-vertex" && c.args.size() > 1 && c.args[1] != "add") return "the optional word must be 'add'";
+    if (name == "set-color-by" && !parseColorMode(c.args[1])) return "colour mode must be shading, node-kind, depth or sharpness";
+    if (name == "set-link" && c.args[1] != "linked" && c.args[1] != "independent") return "use 'linked' or 'independent'";
+    if (name == "set-tessellation" && c.args[0] != "uniform" && c.args[0] != "adaptive")
+        return "use 'uniform FACTOR' or 'adaptive PIXELS'";
+    if (name == "set-draw-path" && !parseDrawPath(c.args[0])) return "draw path must be auto, tess or grid";
+    if (name == "measure-frames" && c.args.size() > 2 && c.args[2] != "drag" && c.args[2] != "orbit")
+        return "the optional mode must be 'drag' or 'orbit'";
+    return {};
+}
+
+json vec(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
+
+json summaryJson(const Summary& s) { return {{"median", s.median}, {"p90", s.p90}, {"max", s.max}, {"count", s.count}}; }
+
+}  // namespace
+
+Result<std::vector<AutomationCommand>> parseAutomation(std::string_view text, const std::string& source) {
+    std::vector<AutomationCommand> commands;
+    std::istringstream lines{std::string(text)};
+    std::string line;
+    for (int number = 1; std::getline(lines, line); ++number) {
+        if (size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
+        std::istringstream words(line);
+        AutomationCommand c;
+        c.line = number;
+        if (!(words >> c.name)) continue;
+        auto spec = std::find_if(kCommands.begin(), kCommands.end(), [&](const CommandSpec& s) { return c.name == s.name; });
+        auto where = [&] { return source + ":" + std::to_string(number) + ": "; };
+        if (spec == kCommands.end()) return Error{where() + "unknown command '" + c.name + "'"};
+        std::vector<Arg> kinds = spec->required;
+        kinds.insert(kinds.end(), spec->optional.begin(), spec->optional.end());
+        for (size_t i = 0; i < kinds.size(); ++i) {
+            std::string word;
+            if (kinds[i] == Arg::Text) {
+                std::getline(words >> std::ws, word);
+                while (!word.empty() && std::isspace((unsigned char)word.back())) word.pop_back();
+                if (word.size() >= 2 && word.front() == '"' && word.back() == '"') word = word.substr(1, word.size() - 2);
+                if (word.empty()) break;
+            } else if (!(words >> word)) {
+                break;
+            }
+            if ((kinds[i] == Arg::Int || kinds[i] == Arg::Float) && !isNumber(word, kinds[i] == Arg::Int))
+                return Error{where() + c.name + ": '" + word + "' is not " +
+                             (kinds[i] == Arg::Int ? "a whole number >= 0" : "a number")};
+            c.args.push_back(word);
+        }
+        std::string extra;
+        if (words >> extra) return Error{where() + c.name + ": unexpected '" + extra + "'"};
+        if (c.args.size() < spec->required.size())
+            return Error{where() + c.name + " needs " + std::to_string(spec->required.size()) + " argument(s)"};
+        if (std::string problem = checkWords(c); !problem.empty()) return Error{where() + c.name + ": " + problem};
+        commands.push_back(std::move(c));
+    }
+    return commands;
+}
+
+Result<std::unique_ptr<Automation>> loadAutomation(const std::string& path) {
+    std::string text;
+    if (path == "-") {
+        text.assign(std::istreambuf_iterator<char>(std::cin), std::istreambuf_iterator<char>());
+    } else {
+        Result<std::string> read = readFile(path);
+        if (!read) return Error{"cannot read the automation script: " + read.error().message};
+        text = std::move(read).value();
+    }
+    Result<std::vector<AutomationCommand>> commands = parseAutomation(text, path == "-" ? "<stdin>" : path);
+    if (!commands) return commands.error();
+    return std::make_unique<Automation>(std::move(commands).value());
+}
+
+bool Automation::busy() const {
+    return waitFrames_ > 0 || waitIdle_ || !waitFile_.empty() || !pressLabel_.empty() || !screenshot_.empty() ||
+           keyUpAfterFrame_ != 0 || measurement_.framesLeft > 0 || measurement_.settleFrames > 0;
+}
+
+void Automation::fail(const AutomationCommand& c, const std::string& message) {
+    std::fprintf(stderr, "automation: line %d (%s): %s\n", c.line, c.name.c_str(), message.c_str());
+    failed_ = true;
+}
+
+void Automation::beforeFrame(EditorApp& app) {
+    if (failed_) return;
+    if (keyUpAfterFrame_) {
+        std::erase(synthetic_.keysDown, keyUpAfterFrame_);
+        keyUpAfterFrame_ = 0;
+        return;
+    }
+    if (!pressLabel_.empty()) {
+        if (app.ui.pressConsumed) {
+            pressLabel_.clear();
+            app.ui.pressLabel.clear();
+        } else if (--pressFramesLeft_ <= 0) {
+            AutomationCommand c{pressLine_, "click-button", {pressLabel_}};
+            return fail(c, "no button, check box or menu item labelled '" + pressLabel_ + "' was shown within 60 frames");
+        } else {
+            return;
+        }
+    }
+    if (!screenshot_.empty()) return;
+    if (measurement_.framesLeft > 0 || measurement_.settleFrames > 0) return measureStep(app);
+    if (waitFrames_ > 0 && --waitFrames_ > 0) return;
+    if (waitIdle_) {
+        if (app.loader.busy()) return;
+        waitIdle_ = false;
+    }
+    if (!waitFile_.empty()) {
+        if (!std::filesystem::exists(waitFile_)) {
+            if (std::chrono::steady_clock::now() > waitFileDeadline_) {
+                AutomationCommand c{0, "wait-file", {waitFile_}};
+                return fail(c, "timed out waiting for " + waitFile_);
+            }
+            return;
+        }
+        waitFile_.clear();
+    }
+    while (next_ < commands_.size() && !failed_) {
+        const AutomationCommand& c = commands_[next_++];
+        if (!execute(app, c)) break;
+    }
+}
+
+void Automation::applySyntheticInput() {
+    Synthetic& s = synthetic_;
+    const bool held = s.buttons[0] || s.buttons[1] || s.buttons[2] || !s.keysDown.empty();
+    s.framesSinceRelease = held ? 0 : s.framesSinceRelease + 1;
+    if (!s.active) return;
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = ImVec2(s.x, s.y);
+    for (int b = 0; b < 3; ++b) io.MouseDown[b] = s.buttons[b];
+    io.MouseWheel += s.wheel;
+    s.wheel = 0;
+    auto down = [&](int key) { return std::find(s.keysDown.begin(), s.keysDown.end(), key) != s.keysDown.end(); };
+    for (int key : s.keysTouched) io.KeysDown[key] = down(key);
+    io.KeyAlt = down(GLFW_KEY_LEFT_ALT);
+    io.KeyCtrl = down(GLFW_KEY_LEFT_CONTROL);
+    io.KeyShift = down(GLFW_KEY_LEFT_SHIFT);
+    // Hand the devices back to the real ones a couple of frames after everything is released.
+    if (!held && s.framesSinceRelease > 2 && s.wheel == 0) s.active = false;
+}
+
+void Automation::screenshotWritten(const std::string& path, const Status& status) {
+    if (!status) {
+        AutomationCommand c{0, "screenshot", {path}};
+        fail(c, status.error().message);
+    } else {
+        std::fprintf(stderr, "automation: wrote %s\n", path.c_str());
+    }
+    screenshot_.clear();
+}
+
+bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
+    const std::string& n = c.name;
+    const auto& a = c.args;
+    auto integer = [&](size_t i) { return uint32_t(std::strtoul(a[i].c_str(), nullptr, 10)); };
+    auto number = [&](size_t i) { return std::strtof(a[i].c_str(), nullptr); };
+    auto needDocument = [&] {
+        if (app.doc->planned) return true;
+        fail(c, "no cage is open yet (add wait-idle before it)");
+        return false;
+    };
+    auto report = [&](const Status& s) {
+        if (!s) fail(c, s.error().message);
+    };
+    if (n == "wait-frames") {
+        waitFrames_ = int(integer(0));
+        return waitFrames_ == 0;
+    }
+    if (n == "wait-idle") {
+        waitIdle_ = true;
+        return false;
+    }
+    if (n == "wait-file") {
+        waitFile_ = a[0];
+        waitFileDeadline_ = std::chrono::steady_clock::now() +
+                            std::chrono::milliseconds(int64_t(1000.0 * (a.size() > 1 ? number(1) : 60.0)));
+        return false;
+    }
+    if (n == "action") {
+        runAction(app, a[0]);
+        return true;
+    }
+    if (n == "click-button") {
+        pressLabel_ = app.ui.pressLabel = a[0];
+        app.ui.pressConsumed = false;
+        pressFramesLeft_ = 60;
+        pressLine_ = c.line;
+        return false;
+    }
+    if (n == "open") {
+        requestOpen(app, a[0]);
+        return true;
+    }
+    if (n == "save") {
+        if (needDocument()) runAction(app, "file.save");
+        return true;
+    }
+    if (n == "save-as") {
+        if (needDocument() && !saveTo(app, a[0])) fail(c, app.ui.errorMessage);
+        return true;
+    }
+    if (n == "quit") {
+        requestQuit(app);
+        return false;
+    }
+    if (n == "select-vertex") {
+        if (needDocument()) report(selectVertex(*app.doc, integer(0), a.size() > 1));
+        return true;
+    }
+    if (n == "select-edge") {
+        if (needDocument()) report(selectEdge(*app.doc, integer(0), integer(1)));
+        return true;
+    }
+    if (n == "clear-selection") {
+        clearSelection(*app.doc);
+        return true;
+    }
+    if (n == "move-selection") {
+        if (!needDocument()) return true;
+        const Document& doc = *app.doc;
+        if (doc.selection.vertices.empty()) {
+            fail(c, "nothing is selected (select-vertex first)");
+            return true;
+        }
+        MoveVertices move{doc.selection.vertices, {}};
+        for (uint32_t v : move.vertices)
+            move.positions.push_back(doc.planned->cage().positions[v] + glm::vec3(number(0), number(1), number(2)));
+        if (!edit(app, move)) fail(c, app.ui.errorMessage);
+        return true;
+    }
+    if (n == "set-edge-sharpness") {
+        if (!needDocument()) return true;
+        if (!edit(app, SetEdgeSharpness{integer(0), integer(1), number(2)})) fail(c, app.ui.errorMessage);
+        return true;
+    }
+    if (n == "undo" || n == "redo") {
+        runAction(app, n == "undo" ? "edit.undo" : "edit.redo");  // reserved: reports that it is not available yet
+        std::fprintf(stderr, "automation: line %d: %s is reserved; it is not available in this build\n", c.line, n.c_str());
+        return true;
+    }
+    if (n == "set-viewports") {
+        const uint32_t count = integer(0);
+        if (count != 1 && count != 2 && count != 4) fail(c, "the viewport count must be 1, 2 or 4");
+        else setViewportCount(app, count);
+        return true;
+    }
+    if (n == "set-scheme" || n == "set-color-by" || n == "set-link") {
+        const uint32_t i = integer(0);
+        if (i >= app.viewports.size()) {
+            fail(c, "there is no viewport " + a[0] + " (" + std::to_string(app.viewports.size()) + " shown, from 0)");
+            return true;
+        }
+        if (n == "set-scheme") app.viewports[i].scheme = a[1];
+        if (n == "set-color-by") app.viewports[i].colorBy = colorModeName(*parseColorMode(a[1]));
+        if (n == "set-link") {
+            app.viewports[i].camera = app.sharedCamera;
+            app.viewports[i].linked = a[1] == "linked";
+        }
+        return true;
+    }
+    if (n == "set-tessellation") {
+        if (a[0] == "uniform") {
+            app.tessellation.mode = TessellationMode::Uniform;
+            app.tessellation.factor = std::clamp(int(number(1)), 1, 64);
+        } else {
+            app.tessellation.mode = TessellationMode::Adaptive;
+            app.tessellation.pixelsPerEdge = std::max(number(1), 1.0f);
+        }
+        return true;
+    }
+    if (n == "set-draw-path") {
+        app.requestedPath = *parseDrawPath(a[0]);
+        app.drawPath = resolveDrawPath(app.requestedPath, app.ctx);
+        return true;
+    }
+    if (n == "mouse-move" || n == "mouse-down" || n == "mouse-up" || n == "scroll" || n == "key-down" ||
+        n == "key-up" || n == "key") {
+        Synthetic& s = synthetic_;
+        if (!s.active) {  // start from where the real pointer is
+            s.x = ImGui::GetIO().MousePos.x;
+            s.y = ImGui::GetIO().MousePos.y;
+        }
+        s.active = true;
+        s.framesSinceRelease = 0;
+        if (n == "mouse-move") s.x = number(0), s.y = number(1);
+        if (n == "mouse-down") s.buttons[mouseButton(a[0])] = true;
+        if (n == "mouse-up") s.buttons[mouseButton(a[0])] = false;
+        if (n == "scroll") s.wheel += number(0);
+        if (n == "key-down" || n == "key-up" || n == "key") {
+            const int key = keyCode(a[0]);
+            if (std::find(s.keysTouched.begin(), s.keysTouched.end(), key) == s.keysTouched.end())
+                s.keysTouched.push_back(key);
+            std::erase(s.keysDown, key);
+            if (n != "key-up") {
+                s.keysDown.push_back(key);
+                auto held = [&](int k) { return std::find(s.keysDown.begin(), s.keysDown.end(), k) != s.keysDown.end(); };
+                app.keyPresses.push_back(
+                    {key, held(GLFW_KEY_LEFT_CONTROL), held(GLFW_KEY_LEFT_SHIFT), held(GLFW_KEY_LEFT_ALT)});
+            }
+            if (n == "key") keyUpAfterFrame_ = key;
+        }
+        return false;  // one frame per input step, as a person's events arrive
+    }
+    if (n == "resize") {
+        glfwSetWindowSize(app.window, int(integer(0)), int(integer(1)));
+        waitFrames_ = 3;
+        return false;
+    }
+    if (n == "screenshot") {
+        screenshot_ = app.pendingScreenshot = a[0];
+        return false;
+    }
+    if (n == "dump-state") {
+        dumpState(app, c);
+        return true;
+    }
+    if (n == "measure-frames") {
+        if (a.size() > 2 && !needDocument()) return true;
+        measurement_ = Measurement{int(integer(0)), 3, a.size() > 2 ? a[2] : std::string(), a[1], app.frame};
+        app.stats.clear();
+        return false;
+    }
+    if (n == "log") {
+        std::fprintf(stderr, "automation: %s\n", a.empty() ? "" : a[0].c_str());
+        return true;
+    }
+    fail(c, "not implemented");
+    return true;
+}
+
+void Automation::measureStep(EditorApp& app) {
+    Measurement& m = measurement_;
+    if (m.framesLeft > 0) {
+        --m.framesLeft;
+        if (m.mode == "orbit") orbit(cameraOf(app, app.activeViewport), 4.0f, 0.0f, 400.0f);
+        if (m.mode == "drag" && app.doc->planned) {
+            // A drag as a person does it: the selection (or vertex 0) moves a little every frame.
+            Document& doc = *app.doc;
+            std::vector<uint32_t> vertices = doc.selection.vertices.empty() ? std::vector<uint32_t>{0} : doc.selection.vertices;
+            const float step = 0.002f * computeBounds(doc.planned->cage()).diagonal() *
+                               (((app.frame - m.firstFrame) / 20) % 2 == 0 ? 1.0f : -1.0f);
+            MoveVertices move{vertices, {}};
+            for (uint32_t v : vertices) move.positions.push_back(doc.planned->cage().positions[v] + glm::vec3(0, step, 0));
+            edit(app, move);
+        }
+        return;
+    }
+    if (--m.settleFrames > 0) return;  // GPU times arrive a frame or two later
+    const size_t frames = size_t(app.frame - m.firstFrame);
+    auto all = [&](FrameFilter filter) {
+        return json{{"cpu_ms", summaryJson(summarize(app.stats, FrameField::Cpu, 0, filter))},
+                    {"gpu_ms", summaryJson(summarize(app.stats, FrameField::Gpu, 0, filter))},
+                    {"interval_ms", summaryJson(summarize(app.stats, FrameField::Interval, 0, filter))}};
+    };
+    json out = {{"frames", frames},
+                {"all_frames", all(FrameFilter::All)},
+                {"scene_drawn", all(FrameFilter::SceneDrawn)},
+                {"scene_copied", all(FrameFilter::SceneCopied)},
+                {"mode", m.mode.empty() ? "idle" : m.mode},
+                {"draw_path", drawPathName(app.drawPath)},
+                {"grid_factor", app.gridFactor},
+                {"viewports", app.viewports.size()},
+                {"faces", app.doc->planned ? app.doc->planned->cage().faceCount() : 0},
+                {"device", app.ctx.deviceName}};
+    json triangles = json::array();
+    for (const ViewportCounts& c : app.stats.viewportCounts) triangles.push_back(c.triangles);
+    out["triangles"] = triangles;
+    if (Status s = writeFileAtomically(m.path, out.dump(2) + "\n"); !s) {
+        AutomationCommand c{0, "measure-frames", {m.path}};
+        fail(c, s.error().message);
+    }
+    m = Measurement{};
+}
+
+void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
+    const Document& doc = *app.doc;
+    json state;
+    state["frame"] = app.frame;
+    state["dirty"] = doc.dirty;
+    state["title"] = app.ui.title;
+    state["path"] = doc.path;
+    state["loading"] = app.loader.busy();
+    if (app.loader.busy()) state["loading_stage"] = app.loader.stage(), state["loading_fraction"] = app.loader.fraction();
+    state["status"] = app.ui.status;
+    json vertices = json::array(), creases = json::array(), corners = json::array();
+    if (doc.planned) {
+        const Cage& cage = doc.planned->cage();
+        for (const glm::vec3& p : cage.positions) vertices.push_back(vec(p));
+        for (const EdgeCrease& e : cage.creases) creases.push_back({e.v0, e.v1, e.sharpness});
+        for (const VertexCorner& k : cage.corners) corners.push_back({k.vertex, k.sharpness});
+        state["faces"] = cage.faceCount();
+        state["subfaces"] = doc.planned->subfaceCount();
+        state["unique_plans"] = doc.database->size();
+    }
+    state["vertices"] = vertices;
+    state["creases"] = creases;
+    state["corners"] = corners;
+    state["selection"] = {{"vertices", doc.selection.vertices},
+                          {"edge", doc.selection.edge ? json{doc.selection.edge->first, doc.selection.edge->second}
+                                                      : json(nullptr)}};
+    if (doc.lastEdit) {
+        const EditReport& r = doc.lastEdit->report;
+        state["last_edit"] = {{"description", doc.lastEdit->description}, {"replanned_faces", r.replannedFaces},
+                              {"updated_subfaces", r.updatedSubfaces}, {"new_plans", r.newPlans},
+                              {"milliseconds", r.milliseconds}, {"frame", doc.lastEdit->frame}};
+    } else {
+        state["last_edit"] = nullptr;
+    }
+    const ImGuiIO& io = ImGui::GetIO();
+    const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
+    json viewports = json::array();
+    for (size_t i = 0; i < app.viewports.size(); ++i) {
+        ViewportState& v = app.viewports[i];
+        const ViewCamera& camera = cameraOf(app, uint32_t(i));
+        json entry = {{"scheme", v.scheme},
+                      {"color_by", v.colorBy},
+                      {"linked", v.linked},
+                      {"rect", {v.rect.offset.x / scale, v.rect.offset.y / scale, v.rect.extent.width / scale,
+                                v.rect.extent.height / scale}},
+                      {"camera", {{"eye", vec(eyePosition(camera))}, {"target", vec(camera.target)},
+                                  {"up", vec(upVector(camera))}, {"orthographic", camera.orthographic}}}};
+        if (i < app.stats.viewportCounts.size())
+            entry["triangles"] = app.stats.viewportCounts[i].triangles, entry["patches"] = app.stats.viewportCounts[i].patches;
+        // Where each cage vertex appears (window pixels), so tests can click real vertices.
+        if (doc.planned && doc.planned->cage().vertexCount() <= 5000) {
+            json projected = json::array();
+            for (const glm::vec3& p : doc.planned->cage().positions) {
+                const glm::vec4 clip = v.viewProjection * glm::vec4(p, 1.0f);
+                if (clip.w <= 0) {
+                    projected.push_back(nullptr);
+                    continue;
+                }
+                const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+                projected.push_back({(v.rect.offset.x + (0.5f * ndc.x + 0.5f) * v.rect.extent.width) / scale,
+                                     (v.rect.offset.y + (0.5f * ndc.y + 0.5f) * v.rect.extent.height) / scale,
+                                     clip.z / clip.w});
+            }
+            entry["projected_vertices"] = projected;
+        }
+        viewports.push_back(entry);
+    }
+    state["viewports"] = viewports;
+    state["active_viewport"] = app.activeViewport;
+    state["display"] = {{"mode", app.tessellation.mode == TessellationMode::Uniform ? "uniform" : "adaptive"},
+                        {"factor", app.tessellation.factor},
+                        {"pixels_per_edge", app.tessellation.pixelsPerEdge},
+                        {"cage", app.tessellation.showCage},
+                        {"wireframe", app.tessellation.showWireframe},
+                        {"draw_path", drawPathName(app.drawPath)},
+                        {"grid_factor", app.gridFactor}};
+    state["frame_times_ms"] = {{"cpu", summaryJson(summarize(app.stats, FrameField::Cpu, 120))},
+                               {"gpu", summaryJson(summarize(app.stats, FrameField::Gpu, 120))},
+                               {"interval", summaryJson(summarize(app.stats, FrameField::Interval, 120))},
+                               {"gpu_scene_drawn", summaryJson(summarize(app.stats, FrameField::Gpu, 120, FrameFilter::SceneDrawn))}};
+    int wx = 0, wy = 0, ww = 0, wh = 0, fw = 0, fh = 0;
+    glfwGetWindowPos(app.window, &wx, &wy);
+    glfwGetWindowSize(app.window, &ww, &wh);
+    glfwGetFramebufferSize(app.window, &fw, &fh);
+    state["window"] = {{"x", wx}, {"y", wy}, {"width", ww}, {"height", wh}, {"framebuffer", {fw, fh}}};
+    json widgets = json::object();
+    for (const auto& [label, rect] : app.ui.widgets)
+        if (!widgets.contains(label)) widgets[label] = {rect[0], rect[1], rect[2], rect[3]};
+    state["widgets"] = widgets;
+    state["open_popups"] = app.ui.openPopups;
+    state["show_help"] = app.ui.showHelp;
+    state["recovery"] = {{"directory", app.recoveryDir},
+                         {"offered", app.ui.recovery.has_value()},
+                         {"file_exists", findRecovery(app.recoveryDir).has_value()}};
+    state["validation_messages"] = validationMessageCount(app.ctx);
+    state["device"] = app.ctx.deviceName;
+    if (Status s = writeFileAtomically(c.args[0], state.dump(1) + "\n"); !s) fail(c, s.error().message);
+}
+
+}  // namespace qp::editor

@@ -1,0 +1,95 @@
+#include "document_loader.h"
+
+#include "recovery.h"
+
+namespace qp::editor {
+
+DocumentLoader::~DocumentLoader() {
+    if (worker_.joinable()) worker_.join();
+}
+
+void DocumentLoader::waitAndDiscard(const VulkanContext& context) {
+    if (worker_.joinable()) worker_.join();
+    std::lock_guard lock(mutex_);
+    if (result_ && *result_) destroyPlanBuffers(context, (*result_)->buffers);
+    result_.reset();
+    running_ = false;
+}
+
+void DocumentLoader::start(const VulkanContext& context, LoadRequest request) {
+    if (worker_.joinable()) worker_.join();
+    std::lock_guard lock(mutex_);
+    request_ = std::move(request);
+    result_.reset();
+    running_ = true;
+    stage_ = "Reading";
+    fraction_ = 0.0f;
+    started_ = std::chrono::steady_clock::now();
+    worker_ = std::thread(&DocumentLoader::run, this, &context);
+}
+
+bool DocumentLoader::busy() const {
+    std::lock_guard lock(mutex_);
+    return running_;
+}
+
+std::string DocumentLoader::stage() const {
+    std::lock_guard lock(mutex_);
+    return stage_;
+}
+
+float DocumentLoader::fraction() const {
+    std::lock_guard lock(mutex_);
+    return fraction_;
+}
+
+double DocumentLoader::secondsRunning() const {
+    std::lock_guard lock(mutex_);
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+}
+
+std::optional<Result<LoadedDocument>> DocumentLoader::take() {
+    {
+        std::lock_guard lock(mutex_);
+        if (running_ || !result_) return std::nullopt;
+    }
+    if (worker_.joinable()) worker_.join();
+    std::optional<Result<LoadedDocument>> result = std::move(result_);
+    result_.reset();
+    return result;
+}
+
+void DocumentLoader::setStage(const char* stage, float fraction) {
+    std::lock_guard lock(mutex_);
+    stage_ = stage;
+    fraction_ = fraction;
+}
+
+void DocumentLoader::run(const VulkanContext* context) {
+    const LoadRequest& request = request_;  // not written while running
+    auto finish = [&](Result<LoadedDocument> result) {
+        std::lock_guard lock(mutex_);
+        result_ = std::move(result);
+        running_ = false;
+    };
+    std::vector<std::string> warnings;
+    Result<Scene> scene = request.fromRecovery ? loadRecovery(request.path, &warnings)
+                                               : loadSceneOrCage(request.path, &warnings);
+    if (!scene) return finish(scene.error());
+    const uint32_t faces = scene->cage.faceCount();
+    setStage(("Planning " + std::to_string(faces) + " faces").c_str(), 0.2f);
+    const std::string documentPath = request.fromRecovery ? request.recoveredSource
+                                     : request.untitled  ? std::string()
+                                                         : request.path;
+    Result<std::unique_ptr<Document>> document = createDocument(std::move(scene).value(), documentPath, request.options);
+    if (!document) return finish(document.error());
+    setStage("Uploading to the GPU", 0.8f);
+    Result<PlanBuffers> buffers = uploadPlans(*context, *(*document)->planned);
+    if (!buffers) return finish(buffers.error());
+    LoadedDocument loaded{std::move(document).value(), std::move(buffers).value(), std::move(warnings)};
+    if (request.fromRecovery) loaded.document->dirty = true;  // restored work is still unsaved
+    setStage("Done", 1.0f);
+    finish(std::move(loaded));
+}
+
+}  // namespace qp::editor

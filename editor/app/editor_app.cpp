@@ -1,0 +1,464 @@
+#include "editor_app.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+#include "automation.h"
+#include "panels.h"
+#include "recovery.h"
+#include "scene_cache.h"
+#include "schemes.h"
+#include "viewport_input.h"
+#include "vk_check.h"
+
+namespace qp::editor {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+
+// Most triangles the adaptive grid may draw per frame over all viewports (lavapipe rasterises
+// on the CPU; see docs/editor.md for the measurements behind it).
+constexpr double kAdaptiveTriangleBudget = 400000.0;
+const glm::vec3 kGapColor(0.08f, 0.08f, 0.09f);
+
+std::string g_glfwError;  // the last GLFW error, for messages
+
+Status openWindow(EditorApp& app) {
+    const char* display = std::getenv("DISPLAY");
+    const char* wayland = std::getenv("WAYLAND_DISPLAY");
+    if ((!display || !display[0]) && (!wayland || !wayland[0]))
+        return Error{"cannot open the editor window: there is no display (DISPLAY is not set). Run it on a desktop, "
+                     "under a virtual display (xvfb-run -a quadplan edit FILE), or use the headless commands "
+                     "such as `quadplan render`."};
+    glfwSetErrorCallback([](int, const char* text) { g_glfwError = text; });
+    if (!glfwInit()) return Error{"cannot open the editor window: GLFW failed to start (" + g_glfwError + ")"};
+    if (!glfwVulkanSupported()) return Error{"cannot open the editor window: GLFW found no Vulkan loader"};
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    app.window = glfwCreateWindow(int(app.options.width), int(app.options.height), "Quadplan", nullptr, nullptr);
+    if (!app.window) return Error{"cannot open the editor window: " + g_glfwError};
+    return success();
+}
+
+Status startVulkan(EditorApp& app) {
+    ContextOptions options;
+    options.validation = app.options.validate;
+    if (const char* device = std::getenv("QUADPLAN_VK_DEVICE")) options.forceDevice = device;
+    uint32_t count = 0;
+    const char** extensions = glfwGetRequiredInstanceExtensions(&count);
+    for (uint32_t i = 0; i < count; ++i) options.instanceExtensions.push_back(extensions[i]);
+    options.deviceExtensions = swapchainDeviceExtensions();
+    Result<VulkanContext> context = createContext(options);
+    if (!context) return Error{"cannot start Vulkan: " + context.error().message};
+    app.ctx = std::move(context).value();
+    VK_CHECK(glfwCreateWindowSurface(app.ctx.instance, app.window, nullptr, &app.surface));
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(app.window, &w, &h);
+    SwapchainOptions swapOptions;
+    swapOptions.vsync = app.options.vsync;
+    Result<SwapchainTarget> swap = createSwapchainTarget(app.ctx, app.surface, uint32_t(w), uint32_t(h), swapOptions);
+    if (!swap) return swap.error();
+    app.swapchain = std::move(swap).value();
+
+    std::vector<std::string> warnings;
+    Result<PipelineCache> cache = loadPipelineCache(app.ctx, defaultPipelineCachePath(), &warnings);
+    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (cache) app.pipelineCache = *cache;
+    const VkPipelineCache vkCache = app.pipelineCache ? app.pipelineCache->cache : VK_NULL_HANDLE;
+    Result<SceneRenderer> renderer = createSceneRenderer(app.ctx, vkCache, app.swapchain.surfaceFormat.format);
+    if (!renderer) return Error{"cannot set up the renderer: " + renderer.error().message};
+    app.renderer = std::move(renderer).value();
+    // Before ImGui's backend, which chains to it.
+    glfwSetWindowUserPointer(app.window, &app);
+    glfwSetKeyCallback(app.window, [](GLFWwindow* window, int key, int, int action, int mods) {
+        if (action != GLFW_PRESS) return;
+        auto* self = static_cast<EditorApp*>(glfwGetWindowUserPointer(window));
+        self->keyPresses.push_back(
+            {key, (mods & GLFW_MOD_CONTROL) != 0, (mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_ALT) != 0});
+    });
+    Result<ImGuiLayer> imgui = createImGuiLayer(app.ctx, app.window, app.swapchain, vkCache);
+    if (!imgui) return imgui.error();
+    app.imgui = std::move(imgui).value();
+    for (auto& timer : app.timers)
+        if (Result<GpuTimer> t = createGpuTimer(app.ctx)) timer = *t;  // no timestamps: GPU time unknown
+    app.drawPath = resolveDrawPath(app.requestedPath, app.ctx);
+    return success();
+}
+
+void shutDown(EditorApp& app) {
+    if (app.ctx.device) {
+        app.loader.waitAndDiscard(app.ctx);
+        vkDeviceWaitIdle(app.ctx.device);
+        destroyImGuiLayer(app.ctx, app.imgui);
+        destroySceneRenderer(app.ctx, app.renderer);
+        destroySceneCache(app.ctx, app.sceneCache);
+        for (auto& timer : app.timers)
+            if (timer) destroyGpuTimer(app.ctx, *timer);
+        if (app.pipelineCache) {
+            if (Status saved = savePipelineCache(app.ctx, *app.pipelineCache); !saved)
+                std::fprintf(stderr, "warning: pipeline cache not saved: %s\n", saved.error().message.c_str());
+            destroyPipelineCache(app.ctx, *app.pipelineCache);
+        }
+        destroySwapchainTarget(app.ctx, app.swapchain);
+    }
+    if (app.surface) vkDestroySurfaceKHR(app.ctx.instance, app.surface, nullptr);
+    if (app.ctx.instance) destroyContext(app.ctx);
+    if (app.window) glfwDestroyWindow(app.window);
+    glfwTerminate();
+}
+
+// The scene's view settings become the editor's (after a load).
+void applySceneView(EditorApp& app) {
+    const Scene& scene = app.doc->scene;
+    app.tessellation = scene.tessellation;
+    app.viewports.clear();
+    for (const Viewport& v : scene.viewports) {
+        ViewportState state;
+        state.scheme = v.scheme;
+        state.colorBy = parseColorMode(v.colorBy) ? colorModeName(*parseColorMode(v.colorBy)) : "shading";
+        state.linked = v.camera == CameraLink::Linked;
+        app.viewports.push_back(state);
+    }
+    if (app.viewports.empty()) app.viewports.push_back(ViewportState{});
+    setViewportCount(app, uint32_t(std::min<size_t>(app.viewports.size(), 4)));
+    app.activeViewport = 0;
+    if (scene.camera) {
+        app.sharedCamera = fromSceneCamera(*scene.camera);
+    } else {  // a 3/4 view from the front right, above, like `quadplan render`
+        app.sharedCamera = ViewCamera{};
+        app.sharedCamera.yaw = glm::radians(35.0f);
+        app.sharedCamera.pitch = glm::radians(25.0f);
+        frameSelection(app, 0, true);
+    }
+    for (ViewportState& v : app.viewports) v.camera = app.sharedCamera;
+}
+
+void adoptFinishedLoad(EditorApp& app) {
+    std::optional<Result<LoadedDocument>> loaded = app.loader.take();
+    if (!loaded) return;
+    const LoadRequest& request = app.loader.request();
+    if (!*loaded) {
+        showError(app, "Opening " + (request.fromRecovery ? std::string("the recovered work") : request.path) +
+                           " failed: " + loaded->error().message);
+        return;
+    }
+    LoadedDocument& result = loaded->value();
+    for (const std::string& w : result.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    adoptDocument(app.ctx, app.renderer, *result.document, std::move(result.buffers));
+    app.doc = std::move(result.document);
+    ++app.documentGeneration;
+    app.renderer.document = app.doc.get();
+    app.drag = Drag{};
+    app.autosavedOnce = false;
+    applySceneView(app);
+    const Cage& cage = app.doc->planned->cage();
+    app.ui.status = (request.fromRecovery ? "Restored unsaved work" : "Opened " + request.path) + " (" +
+                    std::to_string(cage.faceCount()) + " faces, " + std::to_string(app.doc->database->size()) +
+                    " plans, " + std::to_string(int(std::lround(app.loader.secondsRunning() * 1000))) + " ms)";
+    if (app.ui.recovery && app.ui.recovery->restoreWhenIdle) restoreRecovery(app);
+}
+
+void autosave(EditorApp& app) {
+    const Document& doc = *app.doc;
+    if (!doc.dirty || !doc.planned || app.recoveryDir.empty()) return;
+    const bool changed = !app.autosavedOnce || app.autosavedPositionRevision != doc.positionRevision ||
+                         app.autosavedPlanRevision != doc.planRevision;
+    const double since = std::chrono::duration<double>(Clock::now() - app.lastAutosave).count();
+    if (!changed || since < app.options.autosaveSeconds) return;
+    Scene scene = sceneToSave(doc);
+    Status written = writeRecovery(app.recoveryDir, scene, RecoveryInfo{doc.path, localTimeNow()});
+    app.lastAutosave = Clock::now();
+    if (!written) {
+        app.ui.status = "Autosave failed: " + written.error().message;
+        return;
+    }
+    app.autosavedOnce = true;
+    app.autosavedPositionRevision = doc.positionRevision;
+    app.autosavedPlanRevision = doc.planRevision;
+    app.ui.status = "Autosaved to " + app.recoveryDir;
+}
+
+void updateTitle(EditorApp& app) {
+    std::string title = "Quadplan - " + documentTitle(*app.doc);
+    if (app.loader.busy()) title += " (loading)";
+    if (title != app.ui.title) {
+        glfwSetWindowTitle(app.window, title.c_str());
+        app.ui.title = title;
+    }
+}
+
+// Viewport rectangles (framebuffer pixels) below the menu bar and left of the side panel.
+void layoutViewports(EditorApp& app) {
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(app.window, &w, &h);
+    const float scale = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.0f;
+    const int top = int(std::ceil(menuBarHeight() * scale));
+    const int right = std::max(w - int(sidePanelWidth() * scale), w / 2);
+    const int width = std::max(right, 1), height = std::max(h - top, 1);
+    const int gap = 2;  // px of background between viewports
+    const int n = int(app.viewports.size()), columns = n >= 2 ? 2 : 1, rows = n == 4 ? 2 : 1;
+    for (int i = 0; i < n; ++i) {
+        const int column = i % columns, row = i / columns;
+        const int x0 = column * width / columns + (column > 0 ? gap / 2 : 0);
+        const int x1 = (column + 1) * width / columns - (column + 1 < columns ? gap / 2 : 0);
+        const int y0 = top + row * height / rows + (row > 0 ? gap / 2 : 0);
+        const int y1 = top + (row + 1) * height / rows - (row + 1 < rows ? gap / 2 : 0);
+        app.viewports[i].rect = {{x0, y0}, {uint32_t(std::max(x1 - x0, 1)), uint32_t(std::max(y1 - y0, 1))}};
+    }
+}
+
+void updateViewMatrices(EditorApp& app) {
+    const Bounds bounds = app.doc->planned ? computeBounds(app.doc->planned->cage()) : Bounds{glm::vec3(-1), glm::vec3(1)};
+    for (uint32_t i = 0; i < app.viewports.size(); ++i) {
+        ViewportState& v = app.viewports[i];
+        const float aspect = float(v.rect.extent.width) / float(v.rect.extent.height);
+        v.renderCamera = renderCamera(cameraOf(app, i), aspect, bounds);
+        v.viewProjection = viewProjection(v.renderCamera);
+    }
+}
+
+// The grid path's factor: the uniform factor, or (adaptive) the one that makes an average cage
+// edge span about `pixelsPerEdge` pixels per segment in the viewport that needs the most,
+// within a per-frame triangle budget.
+uint32_t chooseGridFactor(EditorApp& app) {
+    if (app.tessellation.mode == TessellationMode::Uniform) return uint32_t(std::clamp(app.tessellation.factor, 1, 64));
+    if (!app.doc->planned) return 1;
+    const Cage& cage = app.doc->planned->cage();
+    if (app.edgeLengthRevision != app.doc->positionRevision + (app.doc->planRevision << 32)) {
+        double total = 0.0;
+        uint32_t edges = 0;
+        for (uint32_t f = 0; f < cage.faceCount(); ++f)
+            for (uint32_t k = 0, n = cage.faceSize(f); k < n; ++k, ++edges)
+                total += glm::length(cage.positions[cage.faceBegin(f)[k]] - cage.positions[cage.faceBegin(f)[(k + 1) % n]]);
+        app.averageEdgeLength = edges ? float(total / edges) : 1.0f;
+        app.edgeLengthRevision = app.doc->positionRevision + (app.doc->planRevision << 32);
+    }
+    const Bounds bounds = computeBounds(cage);
+    const glm::vec3 centre = 0.5f * (bounds.min + bounds.max);
+    float wanted = 1.0f;
+    for (const ViewportState& v : app.viewports) {
+        const glm::mat4 projection = projectionMatrix(v.renderCamera);
+        const float ppu = pixelsPerUnit(projection, v.rect.extent.height);
+        const float depth = v.renderCamera.orthographic ? 1.0f : std::max(glm::length(centre - v.renderCamera.eye), 1e-4f);
+        wanted = std::max(wanted, app.averageEdgeLength * ppu / depth / std::max(app.tessellation.pixelsPerEdge, 1.0f));
+    }
+    const double subfaces = std::max<double>(app.doc->planned->subfaceCount(), 1.0);
+    const double budget = std::sqrt(kAdaptiveTriangleBudget / (2.0 * subfaces * double(app.viewports.size())));
+    return uint32_t(std::clamp<double>(std::ceil(wanted), 1.0, std::clamp(std::floor(budget), 1.0, 64.0)));
+}
+
+// Everything the 3D viewports depend on, as bytes: equal keys draw equal pictures.
+std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draws, const DisplayOptions& options) {
+    std::string key;
+    const Document& doc = *app.doc;
+    appendKey(key, app.documentGeneration);
+    appendKey(key, doc.positionRevision);
+    appendKey(key, doc.planRevision);
+    appendKey(key, app.renderer.buffers.has_value());
+    appendKey(key, doc.selection.vertices.size());
+    key.append(reinterpret_cast<const char*>(doc.selection.vertices.data()), doc.selection.vertices.size() * sizeof(uint32_t));
+    appendKey(key, doc.selection.edge.value_or(std::pair<uint32_t, uint32_t>(~0u, ~0u)));
+    for (const ViewportDraw& d : draws) {
+        appendKey(key, d.rect);
+        appendKey(key, d.viewProjection);
+        appendKey(key, d.pixelsPerUnit);
+        appendKey(key, d.colorBy);
+        appendKey(key, d.drawSurface);
+    }
+    appendKey(key, options.path);
+    appendKey(key, options.tessellation.uniformFactor);
+    appendKey(key, options.tessellation.pixelsPerSegment);
+    appendKey(key, options.gridFactor);
+    appendKey(key, options.wireframe);
+    appendKey(key, options.cage);
+    appendKey(key, app.swapchain.extent);
+    return key;
+}
+
+Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
+    if (Status s = syncDocument(app.ctx, app.renderer, *app.doc); !s) return s;
+    app.gridFactor = effectiveGridFactor(app.renderer, chooseGridFactor(app));
+    if (app.drawPath == DrawPath::Grid)
+        if (Status s = prepareGridFactor(app.ctx, app.renderer, app.gridFactor); !s) return s;
+
+    int w = 0, h = 0;
+    glfwGetFramebufferSize(app.window, &w, &h);
+    const uint32_t slot = app.swapchain.slot;
+    // The CPU time leaves out the wait for a free frame slot and image (the GPU's or the display's pace).
+    double cpuMs = msSince(frameStart);
+    Result<std::optional<SwapchainFrame>> begun = beginFrame(app.ctx, app.swapchain, uint32_t(w), uint32_t(h));
+    const Clock::time_point recordStart = Clock::now();
+    if (!begun) return begun.error();
+    if (!*begun) return success();  // minimised
+    const SwapchainFrame& frame = **begun;
+
+    // The slot's previous frame has finished: its timings and counts are ready.
+    if (app.timerUsed[slot]) {
+        if (Result<double> gpu = readGpuTimerMs(app.ctx, *app.timers[slot]))
+            app.stats.setGpuMs(size_t(app.frame - 1 - app.timerFrame[slot]), *gpu);
+    }
+    if (app.sceneRecorded[slot]) app.stats.viewportCounts = readViewportCounts(app.ctx, app.renderer, slot);
+    if (app.timers[slot]) {
+        beginGpuTimer(frame.cmd, *app.timers[slot]);
+        app.timerUsed[slot] = true;
+        app.timerFrame[slot] = app.frame;
+    }
+
+    std::vector<ViewportDraw> draws;
+    for (const ViewportState& v : app.viewports) {
+        ViewportDraw d;
+        d.rect = v.rect;
+        d.viewProjection = v.viewProjection;
+        d.pixelsPerUnit = pixelsPerUnit(projectionMatrix(v.renderCamera), v.rect.extent.height);
+        d.colorBy = parseColorMode(v.colorBy).value_or(ColorBy::Shading);
+        d.drawSurface = isSchemeAvailable(v.scheme);
+        draws.push_back(d);
+    }
+    DisplayOptions options;
+    options.path = app.drawPath;
+    options.tessellation = app.tessellation.mode == TessellationMode::Uniform
+                               ? TessellationSettings{uint32_t(std::clamp(app.tessellation.factor, 1, 64)), 8.0f}
+                               : TessellationSettings{0, std::max(app.tessellation.pixelsPerEdge, 1.0f)};
+    options.gridFactor = app.gridFactor;
+    options.wireframe = app.tessellation.showWireframe;
+    options.cage = app.tessellation.showCage;
+
+    // Draw the viewports only when something they show changed; otherwise copy the last ones.
+    if (Status s = ensureSceneCache(app.ctx, app.sceneCache, app.swapchain.extent, app.swapchain.surfaceFormat.format); !s)
+        return s;
+    const std::string key = sceneKey(app, draws, options);
+    const bool drawScene = key != app.sceneCache.key;
+    if (drawScene) {
+        const RenderTarget target = sceneCacheTarget(app.sceneCache);
+        beginRendering(frame.cmd, target, true, kGapColor);
+        vkCmdEndRendering(frame.cmd);
+        recordScene(frame.cmd, app.renderer, slot, target, draws, options);
+        app.sceneCache.key = key;
+    }
+    app.sceneRecorded[slot] = drawScene;
+    recordCopyToFrame(frame.cmd, app.sceneCache, frame);
+    if (Status s = recordImGui(app.ctx, app.imgui, app.swapchain, frame, ImGui::GetDrawData()); !s) return s;
+    if (app.timers[slot]) endGpuTimer(frame.cmd, *app.timers[slot]);
+
+    FrameSample sample;
+    sample.sceneDrawn = drawScene;
+    sample.cpuMs = cpuMs + msSince(recordStart);
+    sample.intervalMs = app.frame == 0 ? 0.0 : std::chrono::duration<double, std::milli>(frameStart - app.lastFrameStart).count();
+    app.lastFrameStart = frameStart;
+    std::vector<uint8_t> pixels;
+    const bool screenshot = !app.pendingScreenshot.empty();
+    if (Status s = endFrame(app.ctx, app.swapchain, frame, screenshot ? &pixels : nullptr); !s) return s;
+    app.stats.add(sample);
+    ++app.frame;
+    if (screenshot) {
+        const std::string path = std::exchange(app.pendingScreenshot, std::string());
+        Status written = writePng(path, app.swapchain.extent.width, app.swapchain.extent.height, pixels);
+        if (app.automation) app.automation->screenshotWritten(path, written);
+    }
+    return success();
+}
+
+// Whether the next frame can wait for input: nothing animates, loads or replays.
+bool canIdle(const EditorApp& app) {
+    const ImGuiIO& io = ImGui::GetIO();
+    return (!app.automation || app.automation->finished()) && !app.loader.busy() && app.drag.kind == DragKind::None && !io.MouseDown[0] &&
+           !io.MouseDown[1] && !io.MouseDown[2] && app.pendingScreenshot.empty();
+}
+
+void runLoop(EditorApp& app) {
+    int settleFrames = 3;  // ImGui needs a frame or two after an event to settle hover and popups
+    while (app.running) {
+        if (settleFrames <= 0 && canIdle(app)) {
+            const Clock::time_point waitStart = Clock::now();
+            glfwWaitEventsTimeout(0.5);
+            if (msSince(waitStart) < 490.0) settleFrames = 3;
+        } else {
+            glfwPollEvents();
+            --settleFrames;
+        }
+        const Clock::time_point frameStart = Clock::now();
+        if (glfwWindowShouldClose(app.window)) {
+            glfwSetWindowShouldClose(app.window, GLFW_FALSE);
+            requestQuit(app);
+        }
+        adoptFinishedLoad(app);
+        if (app.automation) app.automation->beforeFrame(app);
+
+        beginImGuiBackends();
+        if (app.automation) app.automation->applySyntheticInput();
+        ImGui::NewFrame();
+        layoutViewports(app);
+        updateViewMatrices(app);
+        handleViewportInput(app);
+        handleShortcuts(app);
+        updateViewMatrices(app);
+        drawPanels(app);
+        ImGui::Render();
+
+        autosave(app);
+        updateTitle(app);
+        if (Status s = drawFrame(app, frameStart); !s) {
+            std::fprintf(stderr, "error: drawing failed: %s\n", s.error().message.c_str());
+            app.exitCode = 1;
+            app.running = false;
+        }
+        if (app.automation && app.automation->failed()) {
+            app.exitCode = 3;
+            app.running = false;
+        }
+    }
+}
+
+}  // namespace
+
+int runEditorApp(const LaunchOptions& options) {
+    EditorApp app;
+    app.options = options;
+    app.recoveryDir = recoveryDirectory();
+    app.doc = std::make_unique<Document>();
+    if (!options.automationScript.empty()) {
+        Result<std::unique_ptr<Automation>> automation = loadAutomation(options.automationScript);
+        if (!automation) {
+            std::fprintf(stderr, "error: %s\n", automation.error().message.c_str());
+            return 2;
+        }
+        app.automation = std::move(automation).value();
+    }
+    Status started = openWindow(app);
+    if (started) started = startVulkan(app);
+    if (!started) {
+        std::fprintf(stderr, "error: %s\n", started.error().message.c_str());
+        shutDown(app);
+        return 1;
+    }
+    app.lastAutosave = app.lastFrameStart = Clock::now();
+    if (std::optional<RecoveryInfo> found = findRecovery(app.recoveryDir)) {
+        app.ui.recovery = RecoveryOffer{found->source, found->savedAt};
+        app.ui.requestPopup = "Restore unsaved work?";
+    }
+    LoadRequest first{options.path};
+    first.untitled = options.untitled;
+    first.options = PlanOptions{options.planDepth, true};
+    app.loader.start(app.ctx, first);
+
+    runLoop(app);
+
+    const bool validate = options.validate;
+    shutDown(app);
+    if (validate && validationMessageCount(app.ctx) > 0) {
+        for (const std::string& m : validationMessages(app.ctx)) std::fprintf(stderr, "validation: %s\n", m.c_str());
+        return app.exitCode ? app.exitCode : 4;
+    }
+    return app.exitCode;
+}
+
+}  // namespace qp::editor

@@ -1,0 +1,40 @@
+// SceneCache: the 3D viewports of the last frame, kept in an image of the window's size, so a
+// frame in which only the interface changed (hover, typing, a slider) copies them instead of
+// drawing the limit surfaces again. On a CPU device (lavapipe) the surfaces cost tens to
+// hundreds of milliseconds and the copy about one.
+//
+// The cache's images follow render_target.h's layout contract; SceneRenderer draws into them
+// like into any RenderTarget. A frame redraws them when its SceneKey (everything the 3D
+// depends on) differs from the cached one.
+#pragma once
+
+#include <string>
+
+#include "offscreen_target.h"
+#include "render_target.h"
+#include "swapchain_target.h"
+
+namespace qp::editor {
+
+struct SceneCache {
+    Image color, depth;
+    VkExtent2D extent{};
+    std::string key;  // SceneKey bytes of what the images hold; empty: nothing valid
+};
+
+// (Re)creates the images when the size or format changed (after waiting for the device).
+Status ensureSceneCache(const VulkanContext& context, SceneCache& cache, VkExtent2D extent, VkFormat colorFormat);
+void destroySceneCache(const VulkanContext& context, SceneCache& cache);
+
+RenderTarget sceneCacheTarget(const SceneCache& cache);
+
+// Copies the cached picture into the frame's image (both keep the layout contract).
+void recordCopyToFrame(VkCommandBuffer cmd, const SceneCache& cache, const SwapchainFrame& frame);
+
+// Appends the raw bytes of `value` to `key` (for plain structs without padding surprises).
+template <class T>
+void appendKey(std::string& key, const T& value) {
+    key.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+}  // namespace qp::editor
