@@ -302,7 +302,9 @@ TEST(PlanDatabase, RejectsChecksumValidFilesWithUnsafePlans) {
         body.append(reinterpret_cast<const char*>(&sum), sizeof(sum));
         PlanDatabase forged;
         qp::Status status = forged.loadFromBytes(body, "forged.db");
-        if (!status) EXPECT_EQ(forged.size(), 0u);
+        if (!status) {
+            EXPECT_EQ(forged.size(), 0u);
+        }
         return status;
     };
     // Layout of the first entry (plan_database.cpp): magic 8 B, version, count, then key count
