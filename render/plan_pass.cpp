@@ -76,9 +76,11 @@ Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache 
     const bool tessellated = names.control != nullptr;
     std::vector<VkShaderModule> modules;
     std::vector<VkPipelineShaderStageCreateInfo> stages;
+    const ColorEncoding encoding(pass.colorFormat);
     auto addStage = [&](const char* name, VkShaderStageFlagBits stage) {
         modules.push_back(loadShader(ctx, name));
-        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, modules.back(), "main"});
+        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, modules.back(), "main",
+                          stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
     };
     addStage(names.vertex, VK_SHADER_STAGE_VERTEX_BIT);
     if (tessellated) {

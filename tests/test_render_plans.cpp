@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 
 #include "camera.h"
+#include "line_pass.h"
 #include "obj_io.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
@@ -283,4 +284,49 @@ TEST_F(Fixture, ColourModesAndWireframeDraw) {
                              kImageSize, kImageSize, image).ok());
     }
     destroyPlanBuffers(ctx, buffers);
+}
+
+// Every shader and the clear encode colour the same way: one picture (plans, tessellation
+// wireframe, cage lines, background) stores the same bytes in an _SRGB target, where the
+// hardware encodes, and in a UNORM target, where the shaders do.
+TEST_F(Fixture, SrgbAndUnormTargetsStoreTheSamePicture) {
+    PlanDatabase db;
+    PlannedCage planned = planCage(featureCage(), db);
+    PlanView view = frame(planned);
+    view.wireframe = true;
+    const std::vector<LineVertex> cage = cageLines(planned.cage());
+    std::vector<std::vector<uint8_t>> images;
+    for (VkFormat format : {VK_FORMAT_R8G8B8A8_SRGB, VK_FORMAT_R8G8B8A8_UNORM}) {
+        Result<OffscreenTarget> t = createOffscreenTarget(ctx, kImageSize, kImageSize, format);
+        Result<PlanPass> plans = createPlanPass(ctx, VK_NULL_HANDLE, format);
+        Result<LinePass> lines = createLinePass(ctx, VK_NULL_HANDLE, format);
+        Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
+        Result<Buffer> lineBuffer = createBuffer(ctx, cage.size() * sizeof(LineVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        ASSERT_TRUE(t && plans && lines && buffers && lineBuffer);
+        uploadBuffer(*lineBuffer, cage.data(), cage.size() * sizeof(LineVertex));
+        bindPlanBuffers(ctx, *plans, *buffers);
+        ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            recordTessellated(cmd, *plans, *buffers, renderTarget(*t), view, TessellationSettings{6, 0});
+            recordLines(cmd, *lines, renderTarget(*t), view.viewProjection, *lineBuffer, uint32_t(cage.size()));
+        }).ok());
+        Result<std::vector<uint8_t>> read = readPixels(ctx, *t);
+        ASSERT_TRUE(read.ok());
+        images.push_back(std::move(read).value());
+        destroyBuffer(ctx, *lineBuffer);
+        destroyPlanBuffers(ctx, *buffers);
+        destroyLinePass(ctx, *lines);
+        destroyPlanPass(ctx, *plans);
+        destroyOffscreenTarget(ctx, *t);
+    }
+    int worst = 0;
+    size_t differing = 0;
+    for (size_t i = 0; i < images[0].size(); ++i) {
+        const int d = std::abs(int(images[0][i]) - int(images[1][i]));
+        worst = std::max(worst, d);
+        differing += d > 1;
+    }
+    // Rounding differs by one level at most between the hardware's and the shader's encoding.
+    EXPECT_LE(worst, 1) << differing << " bytes differ by more than one level";
+    std::vector<uint8_t> background(images[1].begin(), images[1].begin() + 4);
+    EXPECT_GT(coverage(images[1], background), 0.1);
 }

@@ -3,6 +3,7 @@
 // (the leaf is found again from the interpolated (u, v), a descent without evaluation).
 #include "plan_eval.glsl"
 #include "plan_draw.glsl"
+#include "color_encoding.glsl"
 
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) flat in uint inDrawn;
@@ -18,7 +19,7 @@ vec3 ramp(float t) {  // blue -> cyan -> green -> yellow -> red
 
 void main() {
     if (draw.colorMode == 0xffffffffu) {  // tessellation wireframe
-        outColor = vec4(0.08, 0.1, 0.14, 1.0);
+        outColor = encodeColor(vec3(0.08, 0.1, 0.14));
         return;
     }
     vec3 albedo = vec3(0.72, 0.74, 0.78);
@@ -46,5 +47,5 @@ void main() {
     vec3 key = normalize(vec3(0.3, 0.5, 1.0)), fill = normalize(vec3(-0.6, 0.8, -0.2));
     float diffuse = 0.75 * abs(dot(n, key)) + 0.25 * max(dot(n, fill), 0.0);
     vec3 color = albedo * (0.18 + 0.82 * diffuse);
-    outColor = vec4(pow(color, vec3(1.0 / 2.2)), 1.0);
+    outColor = encodeColor(color);
 }
