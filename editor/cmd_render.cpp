@@ -107,7 +107,7 @@ int runRender(const RenderArgs& args) {
     std::optional<ColorBy> colorBy = parseColorBy(args.colorBy);
     if (!colorBy) return fail("unknown --color-by '" + args.colorBy + "'; use shading, node-kind, depth or sharpness");
     std::optional<DrawPath> requestedPath = parseDrawPath(args.drawPath);
-    if (!requestedPath) return fail("unknown --path '" + args.drawPath + "'; use auto, tess or grid");
+    if (!requestedPath) return fail("unknown --path '" + args.drawPath + "'; use auto, tess, grid or cpu");
     if (args.tess > 0 && args.adaptive > 0.0f) return fail("give either --tess or --adaptive, not both");
 
     std::vector<std::string> warnings;
@@ -178,12 +178,9 @@ int runRender(const RenderArgs& args) {
         view.colorBy = *colorBy;
         view.wireframe = showWire;
         const DrawPath path = resolveDrawPath(*requestedPath, ctx);
-        Status prepared = path == DrawPath::Grid
-                              ? prepareGrid(ctx, *pass, *buffers, tessellation.uniformFactor ? tessellation.uniformFactor : 16)
-                              : success();
+        Status prepared = preparePlanFrame(ctx, *pass, *buffers, *planned, path, view, tessellation);
         Status drawn = prepared ? submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            if (path == DrawPath::Grid) recordGrid(cmd, *pass, *buffers, renderTarget(*target), view);
-            else recordTessellated(cmd, *pass, *buffers, renderTarget(*target), view, tessellation);
+            recordPlanFrame(cmd, *pass, *buffers, path, renderTarget(*target), view, tessellation);
             if (showCage && !cageVertices.empty())
                 recordLines(cmd, *lines, renderTarget(*target), view.viewProjection, *lineBuffer, uint32_t(cageVertices.size()));
         }) : prepared;
@@ -228,7 +225,9 @@ void registerRender(CLI::App& app, int& exitCode) {
     cmd->add_flag("--no-cage", args->noCage, "Do not draw the cage");
     cmd->add_option("--color-by", args->colorBy, "shading, node-kind, depth or sharpness");
     cmd->add_option("--camera", args->camera, "EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed)");
-    cmd->add_option("--path", args->drawPath, "auto (default), tess or grid");
+    cmd->add_option("--path", args->drawPath,
+                    "auto (default: cpu on a CPU device, tess on a GPU), tess (tessellator), grid (compute-shader "
+                    "grid) or cpu (grid from the multithreaded CPU evaluator)");
     cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, kMaxPlanDepth));
     cmd->add_flag("--validate", args->validate, "Enable Vulkan validation; any message makes the command fail");
     cmd->callback([args, &exitCode] { exitCode = runRender(*args); });

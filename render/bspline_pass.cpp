@@ -21,7 +21,6 @@ struct DrawPush {
     float pixelsPerUnit;
     uint32_t colorMode;
     uint32_t capture;
-    uint32_t gridStride;
 };
 
 // PlanPass's drawLayout declares its push range for every drawing stage.

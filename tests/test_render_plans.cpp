@@ -4,13 +4,17 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <algorithm>
+#include <cmath>
 #include <map>
+#include <set>
 #include <numeric>
 #include <tuple>
 
 #include <glm/geometric.hpp>
 
 #include "camera.h"
+#include "draw_path.h"
 #include "line_pass.h"
 #include "obj_io.h"
 #include "offscreen_target.h"
@@ -81,7 +85,7 @@ struct Fixture : ::testing::Test {
         return std::move(buffers).value();
     }
 
-    PlanView frame(const PlannedCage& planned) {
+    PlanView frame(const PlannedCage& planned) const {
         Bounds bounds = computeBounds(planned.cage());
         RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
         PlanView view;
@@ -132,43 +136,109 @@ double coverage(const std::vector<uint8_t>& rgba, const std::vector<uint8_t>& ba
 
 }  // namespace
 
-TEST_F(Fixture, GridPathMatchesCpuAndIsWatertight) {
+namespace {
+
+// The grid as each evaluator fills it, for the layout in `buffers` (prepareGrid first). Slots
+// start as NaN, so one that no phase writes cannot pass for a surface point.
+std::vector<GridVertex> fillGrid(Fixture& f, const PlannedCage& planned, PlanBuffers& buffers, DrawPath evaluator) {
+    std::memset(buffers.grid.data, 0xff, buffers.gridLayout.slotCount() * sizeof(GridVertex));
+    buffers.gridEvaluator = GridEvaluator::None;
+    if (evaluator == DrawPath::CpuGrid) {
+        buffers.controlPointLevel = kNoControlPoints;  // the CPU path computes none on the device
+        evaluateGridOnCpu(planned, buffers);
+    } else {
+        Status done = submitAndWait(f.ctx, [&](VkCommandBuffer cmd) { recordGridEvaluation(cmd, f.pass, buffers); });
+        EXPECT_TRUE(done.ok());
+    }
+    const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+    return std::vector<GridVertex>(grid, grid + buffers.gridLayout.slotCount());
+}
+
+// Checks a filled grid against the CPU evaluator and for watertightness: every slot lies on
+// its own sub-face's limit surface (edge slots at the edge vertex they snap to), and every slot
+// showing the same boundary vertex, whichever sub-face it belongs to, has the same bits.
+void checkGrid(const PlannedCage& planned, const PlanBuffers& buffers, const std::vector<GridVertex>& grid,
+               const std::string& what) {
+    const GridLayout& layout = buffers.gridLayout;
+    const GpuPlanData& data = buffers.data;
+    const float diagonal = computeBounds(planned.cage()).diagonal();
+    double worst = 0.0;
+    std::map<BoundaryKey, const GridVertex*> seen;
+    uint32_t shared = 0, snapped = 0;
+    for (uint32_t d = 0; d < data.subfaces.size(); ++d) {
+        const uint32_t n = layout.factors.subfaceFactor[d], side = n + 1;
+        for (uint32_t k = 0; k < side * side; ++k) {
+            const uint32_t x = k % side, y = k / side;
+            const GridVertex& g = grid[layout.subfaceOffset[d] + k];
+            float u = float(x) / float(n), v = float(y) / float(n);
+            const int edge = y == 0 ? 0 : x == n ? 1 : y == n ? 2 : x == 0 ? 3 : -1;
+            uint32_t j = 0, pieces = 0;
+            if (edge >= 0) {
+                // The edge's pieces, from the segment(s) on it; slot i of n shows the nearest of them.
+                const GpuEdgeRef& r = data.boundaries[d].edges[edge];
+                pieces = layout.factors.segmentPieces[r.segment] * ((r.flags & 2) ? 2 : 1);
+                const uint32_t i = (edge == 1 || edge == 3) ? y : x;
+                const double t = double(i) * pieces / n;
+                j = uint32_t(std::floor(t + 0.5));
+                snapped += double(j) != t;
+                (edge == 1 || edge == 3 ? v : u) = float(j) / float(pieces);
+            }
+            const LimitSample cpu = planned.evaluate(data.subfaces[d].subface, u, v);
+            const glm::vec3 p(g.position[0], g.position[1], g.position[2]);
+            const double error = double(glm::length(p - cpu.position)) / diagonal;
+            ASSERT_TRUE(std::isfinite(error)) << what << ": slot " << k << " of drawn sub-face " << d << " was never written";
+            worst = std::max(worst, error);
+            if (edge < 0) continue;
+            auto [it, inserted] = seen.emplace(boundaryKey(data, d, uint32_t(edge), j, pieces), &g);
+            if (!inserted) {
+                ++shared;
+                ASSERT_EQ(std::memcmp(it->second, &g, sizeof(GridVertex)), 0)
+                    << what << ": drawn sub-face " << d << " edge " << edge << " vertex " << j << " of " << pieces
+                    << " differs from its neighbour's copy";
+            }
+        }
+    }
+    EXPECT_LE(worst, 1e-5) << what;
+    EXPECT_GT(shared, 0u) << what;
+    if (what.find("adaptive") != std::string::npos) {
+        EXPECT_GT(snapped, 0u) << what << ": no edge is coarser than its face";
+    }
+}
+
+}  // namespace
+
+TEST_F(Fixture, GridPathsMatchCpuAndAreWatertight) {
     for (auto& [name, cage] : testCages()) {
-        SCOPED_TRACE(name);
         PlanDatabase db;
         PlannedCage planned = planCage(cage, db);
         PlanBuffers buffers = upload(planned);
-        const float diagonal = computeBounds(planned.cage()).diagonal();
-        for (uint32_t factor : {2u, 7u, 16u}) {
-            ASSERT_TRUE(prepareGrid(ctx, pass, buffers, factor).ok());
-            ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordGridEvaluation(cmd, pass, buffers); }).ok());
-            const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
-            const uint32_t stride = gridVerticesPerSubface(buffers.gridFactor);
-            double worst = 0.0;
-            std::map<BoundaryKey, const GridVertex*> seen;
-            uint32_t shared = 0;
-            for (uint32_t d = 0; d < buffers.data.subfaces.size(); ++d) {
-                const uint32_t n = gridFactorOf(buffers.data, d, buffers.gridFactor), side = n + 1;
-                for (uint32_t k = 0; k < side * side; ++k) {
-                    const uint32_t x = k % side, y = k / side;
-                    const GridVertex& g = grid[d * stride + k];
-                    LimitSample cpu = planned.evaluate(buffers.data.subfaces[d].subface, float(x) / float(n), float(y) / float(n));
-                    worst = std::max(worst, double(glm::length(glm::vec3(g.position[0], g.position[1], g.position[2]) -
-                                                               cpu.position)) / diagonal);
-                    int edge = y == 0 ? 0 : x == n ? 1 : y == n ? 2 : x == 0 ? 3 : -1;
-                    if (edge < 0) continue;
-                    uint32_t i = (edge == 1 || edge == 3) ? y : x;
-                    auto [it, inserted] = seen.emplace(boundaryKey(buffers.data, d, uint32_t(edge), i, n), &g);
-                    if (!inserted) {
-                        ++shared;
-                        ASSERT_EQ(std::memcmp(it->second, &g, sizeof(GridVertex)), 0)
-                            << "factor " << factor << ": drawn sub-face " << d << " edge " << edge << " vertex " << i
-                            << " differs from its neighbour's copy";
-                    }
-                }
-            }
-            EXPECT_LE(worst, 1e-5) << "factor " << factor;
-            EXPECT_GT(shared, 0u);
+        PlanView view = frame(planned);
+        std::vector<std::pair<std::string, GridFactors>> layouts;
+        for (uint32_t factor : {2u, 7u, 16u})
+            layouts.push_back({"uniform " + std::to_string(factor), uniformGridFactors(buffers.data, factor)});
+        // Adaptive: the camera close to the cage, so that near and far edges get different
+        // factors; the target segment length grows until no edge is clamped at 64.
+        Bounds bounds = computeBounds(planned.cage());
+        RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+        camera.eye = camera.target + 0.45f * (camera.eye - camera.target);
+        PlanView close = view;
+        close.viewProjection = viewProjection(camera);
+        float pixels = 3.0f;
+        auto adaptive = [&](float p) { return adaptiveGridFactors(buffers, close, TessellationSettings{0, p}); };
+        while (pixels < 200.0f && std::ranges::max(adaptive(pixels).subfaceFactor) == 64) pixels *= 2.0f;
+        for (float p : {pixels, 3.0f * pixels}) {
+            GridFactors factors = adaptive(p);
+            std::set<uint32_t> distinct(factors.subfaceFactor.begin(), factors.subfaceFactor.end());
+            EXPECT_GT(distinct.size(), 1u) << name << ": adaptive factors are all " << *distinct.begin();
+            layouts.push_back({"adaptive " + std::to_string(p) + " px", std::move(factors)});
+        }
+        for (auto& [what, factors] : layouts) {
+            ASSERT_TRUE(prepareGrid(ctx, pass, buffers, factors).ok());
+            std::vector<GridVertex> gpu = fillGrid(*this, planned, buffers, DrawPath::Grid);
+            std::vector<GridVertex> cpu = fillGrid(*this, planned, buffers, DrawPath::CpuGrid);
+            checkGrid(planned, buffers, gpu, name + ", compute shader, " + what);
+            checkGrid(planned, buffers, cpu, name + ", CPU evaluator, " + what);
+            if (HasFatalFailure()) return;
         }
         destroyPlanBuffers(ctx, buffers);
     }
@@ -329,4 +399,104 @@ TEST_F(Fixture, SrgbAndUnormTargetsStoreTheSamePicture) {
     EXPECT_LE(worst, 1) << differing << " bytes differ by more than one level";
     std::vector<uint8_t> background(images[1].begin(), images[1].begin() + 4);
     EXPECT_GT(coverage(images[1], background), 0.1);
+}
+
+// Dragging vertices updates only the sub-faces around them, with the same bits as a full
+// re-evaluation: control points, both grid evaluators, uniform and adaptive (snapped) layouts,
+// and the boundary points the adaptive factors read.
+TEST_F(Fixture, MovedVerticesUpdateExactlyWhatAFullEvaluationWould) {
+    std::vector<std::pair<std::string, Cage>> cages = testCages();
+    if (test::haveSharedShapes()) {
+        Result<Cage> car = loadObj((test::sharedShapesDir() / "catmark_car.obj").string());
+        ASSERT_TRUE(car.ok());
+        cages.push_back({"catmark_car", std::move(car).value()});
+    }
+    for (auto& [name, cage] : cages) {
+        PlanDatabase db;
+        PlannedCage planned = planCage(cage, db);
+        PlanBuffers buffers = upload(planned);
+        const PlanView view = frame(planned);
+        const float step = 0.03f * computeBounds(planned.cage()).diagonal();
+        // One vertex, then three: on a crease, at an n-gon, at an extraordinary vertex when the
+        // cage has them (the feature cage does).
+        const uint32_t vertexCount = planned.cage().vertexCount();
+        std::vector<uint32_t> three = {7 % vertexCount, 16 % vertexCount, vertexCount - 1};
+        std::sort(three.begin(), three.end());
+        three.erase(std::unique(three.begin(), three.end()), three.end());
+        const std::vector<std::vector<uint32_t>> moves = {{vertexCount / 2}, three};
+        for (DrawPath evaluator : {DrawPath::Grid, DrawPath::CpuGrid})
+            for (bool adaptive : {false, true}) {
+                const std::string what = name + (evaluator == DrawPath::Grid ? ", compute shader" : ", CPU evaluator") +
+                                         (adaptive ? ", adaptive" : ", uniform 8");
+                SCOPED_TRACE(what);
+                const TessellationSettings settings{adaptive ? 0u : 8u, 6.0f};
+                ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, view, settings).ok());
+                fillGrid(*this, planned, buffers, evaluator);
+                for (const std::vector<uint32_t>& moved : moves) {
+                    std::vector<glm::vec3> to;
+                    for (uint32_t v : moved) to.push_back(planned.cage().positions[v] + step * glm::vec3(0.2f, -0.5f, 0.7f));
+                    ASSERT_TRUE(planned.moveVertices(moved, to).ok());
+                    MoveUpdate update;
+                    ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+                        update = recordMovedVertices(cmd, pass, buffers, planned, moved);
+                    }).ok());
+                    EXPECT_GT(update.evaluatedSubfaces, 0u);
+                    EXPECT_GE(update.copiedSubfaces, update.evaluatedSubfaces);
+                    if (buffers.data.subfaces.size() > 100) {
+                        EXPECT_LT(update.copiedSubfaces, buffers.data.subfaces.size() / 4);
+                    }
+                    EXPECT_EQ(update.controlPointSubfaces, evaluator == DrawPath::Grid ? update.evaluatedSubfaces : 0u);
+                    const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+                    const std::vector<GridVertex> updated(grid, grid + buffers.gridLayout.slotCount());
+                    const auto* cp = static_cast<const glm::vec4*>(buffers.controlPoints.data);
+                    const std::vector<glm::vec4> updatedControlPoints(cp, cp + buffers.data.controlPointCount);
+                    const uint32_t level = buffers.controlPointLevel;
+                    const std::vector<glm::vec4> points(buffers.pointPositionsHost);
+
+                    updatePositions(buffers, planned);
+                    EXPECT_EQ(std::memcmp(points.data(), buffers.pointPositionsHost.data(), points.size() * sizeof(glm::vec4)), 0);
+                    EXPECT_EQ(std::memcmp(points.data(), buffers.pointPositions.data, points.size() * sizeof(glm::vec4)), 0);
+                    const std::vector<GridVertex> full = fillGrid(*this, planned, buffers, evaluator);
+                    ASSERT_EQ(updated.size(), full.size());
+                    EXPECT_EQ(std::memcmp(updated.data(), full.data(), full.size() * sizeof(GridVertex)), 0)
+                        << "the updated grid differs from a full evaluation";
+                    if (evaluator == DrawPath::Grid) {
+                        EXPECT_EQ(buffers.controlPointLevel, level);
+                        EXPECT_EQ(std::memcmp(updatedControlPoints.data(), cp, updatedControlPoints.size() * sizeof(glm::vec4)), 0)
+                            << "updated control points differ from a full stencil pass";
+                    }
+                }
+            }
+        destroyPlanBuffers(ctx, buffers);
+    }
+}
+
+// The layout's bookkeeping, without a device: sources are evaluated slots, and the dependents
+// of a sub-face are exactly the other sub-faces holding copies of its slots.
+TEST(GridLayout, SourcesAndDependentsAgreeWithTheCopies) {
+    PlanDatabase db;
+    PlannedCage planned = planCage(featureCage(), db);
+    const GpuPlanData data = packPlans(planned);
+    for (uint32_t factor : {1u, 4u, 9u}) {
+        const GridLayout layout = buildGridLayout(data, uniformGridFactors(data, factor));
+        std::set<std::pair<uint32_t, uint32_t>> copies;  // (owner, copier)
+        for (uint32_t slot = 0; slot < layout.slotCount(); ++slot) {
+            const uint32_t source = layout.source[slot];
+            ASSERT_EQ(layout.source[source], source) << "slot " << slot << " copies a copy";
+            if (layout.slotSubface[source] != layout.slotSubface[slot])
+                copies.insert({layout.slotSubface[source], layout.slotSubface[slot]});
+        }
+        std::set<std::pair<uint32_t, uint32_t>> listed;
+        for (uint32_t d = 0; d < data.subfaces.size(); ++d)
+            for (uint32_t k = layout.dependentOffsets[d]; k < layout.dependentOffsets[d + 1]; ++k)
+                listed.insert({d, layout.dependents[k]});
+        EXPECT_EQ(listed, copies) << "factor " << factor;
+        EXPECT_FALSE(copies.empty());
+        const uint32_t first = copies.begin()->first;
+        const std::vector<uint32_t> closure = withDependents(layout, std::span(&first, 1));
+        for (auto [owner, copier] : copies)
+            if (owner == first) {
+                EXPECT_TRUE(std::binary_search(closure.begin(), closure.end(), copier));
+            }
+    }
 }
