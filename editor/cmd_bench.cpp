@@ -439,7 +439,8 @@ void benchPlans(const BenchCage& bench, const BenchArgs& args, Report& report) {
 // Frames are measured in rounds: each round draws one frame of every kind back to back, and
 // ratios are medians of the per-round ratios. Other work on the machine then slows a whole
 // round rather than one kind of frame (measuring each kind in a block of its own made the
-// baseline jump by 2-3x between factors on a busy machine).
+// baseline jump by 2-3x between factors on a busy machine). The baseline is drawn twice a
+// round, first and halfway, and the round's ratios use the mean of the two.
 
 // ~10k faces: at factor 16 the 100k cage would need ~50 M triangles a frame (seconds each on
 // lavapipe, minutes for the suite) and a grid buffer of ~700 MB, over lavapipe's 128 MiB
@@ -475,6 +476,7 @@ struct FrameKind {
     std::string name;
     std::function<Status()> host;
     std::function<void(VkCommandBuffer)> record;
+    bool baseline = false;       // pre-tessellated: the round's reference
     std::vector<double> ms, ratios;
     uint32_t coveredPixels = 0;  // not the background in the last round: a sanity check
 
@@ -586,11 +588,13 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
             auto add = [&](const char* kindName, std::function<Status()> host, std::function<void(VkCommandBuffer)> record) {
                 FrameKind k;
                 k.name = kindName;
+                k.baseline = k.name == "pre-tessellated";
                 k.host = std::move(host);
                 k.record = std::move(record);
                 kinds.push_back(std::move(k));
             };
-            add("pre-tessellated", {}, [&](VkCommandBuffer cmd) { recordMeshPass(cmd, meshPass, rt, meshView, {&preDraw, 1}); });
+            auto drawPre = [&](VkCommandBuffer cmd) { recordMeshPass(cmd, meshPass, rt, meshView, {&preDraw, 1}); };
+            add("pre-tessellated", {}, drawPre);
             add("tess edit", dropAll, [&](VkCommandBuffer cmd) { recordTessellated(cmd, pass, buffers, rt, view, settings); });
             add("tess view", {}, [&](VkCommandBuffer cmd) { recordTessellated(cmd, pass, buffers, rt, view, settings); });
             add("B-spline", {}, [&](VkCommandBuffer cmd) { recordBSplinePatches(cmd, bspline, pass, buffers, rt, view, settings); });
@@ -601,6 +605,7 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                 drawGrid(cmd);
             });
             // The cpu path as the editor runs it: no control points on the device.
+            add("pre-tessellated", {}, drawPre);  // halfway through the round
             add("cpu edit", [&] {
                 (void)dropAll();
                 evaluateGridOnCpu(planned, buffers);
@@ -615,7 +620,7 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
 
             const uint32_t rounds = kRenderWarmups + args.repeats;
             for (uint32_t round = 0; round < rounds && error.empty(); ++round) {
-                double baseMs = NAN;
+                std::vector<double> roundMs;
                 for (FrameKind& kind : kinds) {
                     auto start = Clock::now();
                     Status status = kind.host ? kind.host() : success();
@@ -625,8 +630,7 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                         error = kind.name + ": " + status.error().message;
                         break;
                     }
-                    if (&kind == &kinds.front()) baseMs = ms;
-                    if (round >= kRenderWarmups) kind.ms.push_back(ms), kind.ratios.push_back(ms / baseMs);
+                    roundMs.push_back(ms);
                     if (round + 1 == rounds) {  // untimed: what the last frame covered
                         Result<std::vector<uint8_t>> pixels = readPixels(ctx, target);
                         if (!pixels) {
@@ -634,8 +638,19 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                             break;
                         }
                         const uint32_t* rgba = reinterpret_cast<const uint32_t*>(pixels->data());
+                        kind.coveredPixels = 0;
                         for (size_t p = 0; p < pixels->size() / 4; ++p) kind.coveredPixels += rgba[p] != rgba[0];
                     }
+                }
+                if (round < kRenderWarmups || !error.empty()) continue;
+                double baseSum = 0.0, baseCount = 0.0;
+                for (size_t k = 0; k < kinds.size(); ++k)
+                    if (kinds[k].baseline) baseSum += roundMs[k], baseCount += 1.0;
+                // The baseline's entries: its two frames (the same kind, twice) fold into one.
+                for (size_t k = 0; k < kinds.size(); ++k) {
+                    const double ms = kinds[k].baseline ? baseSum / baseCount : roundMs[k];
+                    kinds[k].ms.push_back(ms);
+                    kinds[k].ratios.push_back(ms / (baseSum / baseCount));
                 }
             }
             if (!error.empty()) break;

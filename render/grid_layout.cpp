@@ -1,11 +1,14 @@
 #include "grid_layout.h"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cassert>
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace qp {
 
@@ -151,56 +154,61 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors) {
     GridLayout layout;
     const uint32_t count = uint32_t(data.subfaces.size());
     layout.subfaceOffset.resize(count + 1, 0);
-    size_t indexCount = 0;
+    std::vector<size_t> indexOffset(count + 1, 0);
     for (uint32_t d = 0; d < count; ++d) {
         const uint32_t n = factors.subfaceFactor[d];
         layout.subfaceOffset[d + 1] = layout.subfaceOffset[d] + (n + 1) * (n + 1);
+        indexOffset[d + 1] = indexOffset[d] + 6 * size_t(n) * n;
         layout.maxFactor = std::max(layout.maxFactor, n);
-        indexCount += 6 * size_t(n) * n;
     }
-    const uint32_t slots = layout.slotCount();
-    layout.source.resize(slots);
-    layout.slotSubface.resize(slots);
-    layout.indices.reserve(indexCount);
-    std::vector<std::pair<uint32_t, uint32_t>> copiedFrom;  // (owner sub-face, copying sub-face)
+    layout.source.resize(layout.slotCount());
+    layout.slotSubface.resize(layout.slotCount());
+    layout.indices.resize(indexOffset[count]);
 
-    for (uint32_t d = 0; d < count; ++d) {
-        const uint32_t n = factors.subfaceFactor[d], side = n + 1, base = layout.subfaceOffset[d];
-        uint32_t pieces[4];
-        for (uint32_t e = 0; e < 4; ++e) {
-            pieces[e] = edgePieces(data, factors, d, e);
-            assert(pieces[e] >= 1 && n % pieces[e] == 0 && "a sub-face's factor is a multiple of its edges' pieces");
+    // Per sub-face, the other sub-faces it copies from: its corners' and edges' owners.
+    constexpr uint32_t kMaxOwners = 16;
+    std::vector<std::array<uint32_t, kMaxOwners>> owners(count);
+    std::vector<uint32_t> ownerCount(count, 0);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 64), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t d = range.begin(); d != range.end(); ++d) {
+            const uint32_t n = factors.subfaceFactor[d], side = n + 1, base = layout.subfaceOffset[d];
+            std::fill(layout.slotSubface.begin() + base, layout.slotSubface.begin() + base + side * side, d);
+            for (uint32_t slot = base; slot < base + side * side; ++slot) layout.source[slot] = slot;
+            for (uint32_t e = 0; e < 4; ++e) {
+                const uint32_t pieces = edgePieces(data, factors, d, e);
+                assert(pieces >= 1 && n % pieces == 0 && "a sub-face's factor is a multiple of its edges' pieces");
+                for (uint32_t i = 0; i <= n; ++i) {
+                    const GridPlace here = edgePlace(d, e, i, n);
+                    const uint32_t j = (2 * i * pieces + n) / (2 * n);  // nearest edge vertex (ties: the later one)
+                    const GridPlace owner = edgeVertexOwnerPlace(data, factors, d, e, j, pieces);
+                    const uint32_t ownerSide = factors.subfaceFactor[owner.drawn] + 1;
+                    layout.source[base + here.y * side + here.x] = layout.subfaceOffset[owner.drawn] + owner.y * ownerSide + owner.x;
+                    if (owner.drawn == d) continue;
+                    auto* list = owners[d].data();
+                    if (std::find(list, list + ownerCount[d], owner.drawn) != list + ownerCount[d]) continue;
+                    assert(ownerCount[d] < kMaxOwners);
+                    list[ownerCount[d]++] = owner.drawn;
+                }
+            }
+            uint32_t* index = layout.indices.data() + indexOffset[d];
+            for (uint32_t y = 0; y < n; ++y)
+                for (uint32_t x = 0; x < n; ++x) {
+                    const uint32_t a = base + y * side + x, b = a + 1, c = a + side + 1, e = a + side;
+                    *index++ = a, *index++ = b, *index++ = c, *index++ = a, *index++ = c, *index++ = e;
+                }
         }
-        for (uint32_t y = 0; y <= n; ++y)
-            for (uint32_t x = 0; x <= n; ++x) {
-                const uint32_t slot = base + y * side + x;
-                layout.slotSubface[slot] = d;
-                layout.source[slot] = slot;
-                const int e = y == 0 ? 0 : x == n ? 1 : y == n ? 2 : x == 0 ? 3 : -1;
-                if (e < 0) continue;
-                const uint32_t i = (e == 1 || e == 3) ? y : x;
-                const uint32_t p = pieces[e];
-                const uint32_t j = (2 * i * p + n) / (2 * n);  // nearest edge vertex (ties: the later one)
-                const GridPlace owner = edgeVertexOwnerPlace(data, factors, d, uint32_t(e), j, p);
-                const uint32_t ownerSide = factors.subfaceFactor[owner.drawn] + 1;
-                layout.source[slot] = layout.subfaceOffset[owner.drawn] + owner.y * ownerSide + owner.x;
-                if (owner.drawn != d) copiedFrom.push_back({owner.drawn, d});
-            }
-        for (uint32_t y = 0; y < n; ++y)
-            for (uint32_t x = 0; x < n; ++x) {
-                const uint32_t a = base + y * side + x, b = a + 1, c = a + side + 1, e = a + side;
-                layout.indices.insert(layout.indices.end(), {a, b, c, a, c, e});
-            }
-    }
+    });
     for ([[maybe_unused]] uint32_t s : layout.source) assert(layout.source[s] == s && "copies come from evaluated slots");
 
-    std::sort(copiedFrom.begin(), copiedFrom.end());
-    copiedFrom.erase(std::unique(copiedFrom.begin(), copiedFrom.end()), copiedFrom.end());
+    // Invert "d copies from o" into the CSR of o's dependents, in ascending order.
     layout.dependentOffsets.assign(count + 1, 0);
-    for (auto [owner, user] : copiedFrom) ++layout.dependentOffsets[owner + 1];
+    for (uint32_t d = 0; d < count; ++d)
+        for (uint32_t k = 0; k < ownerCount[d]; ++k) ++layout.dependentOffsets[owners[d][k] + 1];
     for (uint32_t d = 0; d < count; ++d) layout.dependentOffsets[d + 1] += layout.dependentOffsets[d];
-    layout.dependents.reserve(copiedFrom.size());
-    for (auto [owner, user] : copiedFrom) layout.dependents.push_back(user);
+    layout.dependents.resize(layout.dependentOffsets[count]);
+    std::vector<uint32_t> fill(layout.dependentOffsets.begin(), layout.dependentOffsets.end() - 1);
+    for (uint32_t d = 0; d < count; ++d)
+        for (uint32_t k = 0; k < ownerCount[d]; ++k) layout.dependents[fill[owners[d][k]]++] = d;
     layout.factors = std::move(factors);
     return layout;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <tuple>
 
@@ -91,7 +92,19 @@ Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache 
     }
     addStage(names.fragment, VK_SHADER_STAGE_FRAGMENT_BIT);
 
+    // The grid is also a vertex buffer: the device's vertex fetch beats loads from a storage
+    // buffer in the vertex shader (measured on lavapipe, docs/renderer.md).
     VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    const VkVertexInputBindingDescription gridBinding{0, sizeof(GridVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputAttributeDescription gridAttributes[2] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(GridVertex, position)},
+        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(GridVertex, normal)}};
+    if (!tessellated) {
+        vertexInput.vertexBindingDescriptionCount = 1;
+        vertexInput.pVertexBindingDescriptions = &gridBinding;
+        vertexInput.vertexAttributeDescriptionCount = 2;
+        vertexInput.pVertexAttributeDescriptions = gridAttributes;
+    }
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     assembly.topology = tessellated ? VK_PRIMITIVE_TOPOLOGY_PATCH_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     VkPipelineTessellationStateCreateInfo tessellation{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
@@ -245,9 +258,11 @@ void dispatchPerSubface(VkCommandBuffer cmd, const PlanPass& pass, VkPipeline pi
     vkCmdDispatch(cmd, push.groupsPerRow, (count + push.groupsPerRow - 1) / push.groupsPerRow, 1);
 }
 
+// Compute results (control points, grid vertices) before any later shader or vertex fetch.
 void computeWritesBeforeReads(VkCommandBuffer cmd) {
-    barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, kShaderStagesReading,
-            VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+            kShaderStagesReading | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT,
+            VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
 }
 
 // Control points for factors up to 2^level, visible to every later shader stage; nothing when
@@ -304,7 +319,7 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
         {b.capture, createFilled(ctx, placeholder, VK_BUFFER_USAGE_TRANSFER_DST_BIT)},
         // The grid's buffers get their sizes from prepareGrid.
         {b.subfaceGrid, createFilled(ctx, placeholder)},
-        {b.grid, createFilled(ctx, placeholder)},
+        {b.grid, createFilled(ctx, placeholder, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT)},
         {b.gridSource, createFilled(ctx, placeholder)},
         {b.slotSubface, createFilled(ctx, placeholder)},
         {b.gridIndices, createFilled(ctx, placeholder, VK_BUFFER_USAGE_INDEX_BUFFER_BIT)},
@@ -486,7 +501,7 @@ Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffer
         subfaceGrid[d] = {layout.factors.subfaceFactor[d], layout.subfaceOffset[d]};
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     const std::tuple<Buffer*, VkDeviceSize, VkBufferUsageFlags> sizes[] = {
-        {&buffers.grid, gridBytes, storage},
+        {&buffers.grid, gridBytes, storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT},
         {&buffers.gridSource, layout.source.size() * sizeof(uint32_t), storage},
         {&buffers.slotSubface, layout.slotSubface.size() * sizeof(uint32_t), storage},
         {&buffers.subfaceGrid, subfaceGrid.size() * sizeof(glm::uvec2), storage},
@@ -541,6 +556,8 @@ void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.drawLayout, 0, 1, &pass.set, 0, nullptr);
         vkCmdBindIndexBuffer(cmd, buffers.gridIndices.buffer, 0, VK_INDEX_TYPE_UINT32);
+        const VkDeviceSize offset = 0;
+        vkCmdBindVertexBuffers(cmd, 0, 1, &buffers.grid.buffer, &offset);
         DrawPush p = push;
         if (pipeline == pass.gridWire) p.colorMode = 0xffffffffu;
         vkCmdPushConstants(cmd, pass.drawLayout, kDrawStages, 0, sizeof(p), &p);
