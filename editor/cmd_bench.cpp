@@ -478,15 +478,31 @@ struct FrameKind {
     std::function<void(VkCommandBuffer)> record;
     bool baseline = false;       // pre-tessellated: the round's reference
     std::vector<double> ms, ratios;
+    std::vector<double> cpuRatios;  // the same with the process's CPU time instead of wall time
     uint32_t coveredPixels = 0;  // not the background in the last round: a sanity check
 
     double medianMs() const { return ms.empty() ? NAN : median(ms); }
     double medianRatio() const { return ratios.empty() ? NAN : median(ratios); }
+    double medianCpuRatio() const { return cpuRatios.empty() ? NAN : median(cpuRatios); }
 };
+
+// CPU time of this process, every thread (lavapipe's and TBB's included), in ms.
+double processCpuMs() {
+    timespec t{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+    return double(t.tv_sec) * 1e3 + double(t.tv_nsec) * 1e-6;
+}
 
 std::string cell(const FrameKind& k, bool withRatio = true) {
     if (k.ms.empty()) return "";
     return number(k.medianMs()) + (withRatio ? " (" + number(k.medianRatio()) + "x)" : "");
+}
+
+// The default path's cells also give the CPU-time ratio, which other work on the machine
+// hardly moves.
+std::string cellWithCpu(const FrameKind& k) {
+    if (k.ms.empty()) return "";
+    return number(k.medianMs()) + " (" + number(k.medianRatio()) + "x; CPU " + number(k.medianCpuRatio()) + "x)";
 }
 
 void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) {
@@ -620,12 +636,14 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
 
             const uint32_t rounds = kRenderWarmups + args.repeats;
             for (uint32_t round = 0; round < rounds && error.empty(); ++round) {
-                std::vector<double> roundMs;
+                std::vector<double> roundMs, roundCpuMs;
                 for (FrameKind& kind : kinds) {
+                    const double cpuStart = processCpuMs();
                     auto start = Clock::now();
                     Status status = kind.host ? kind.host() : success();
                     if (status) status = submitAndWait(ctx, kind.record);
                     const double ms = msSince(start);
+                    roundCpuMs.push_back(processCpuMs() - cpuStart);
                     if (!status) {
                         error = kind.name + ": " + status.error().message;
                         break;
@@ -643,14 +661,16 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                     }
                 }
                 if (round < kRenderWarmups || !error.empty()) continue;
-                double baseSum = 0.0, baseCount = 0.0;
+                double baseSum = 0.0, baseCpuSum = 0.0, baseCount = 0.0;
                 for (size_t k = 0; k < kinds.size(); ++k)
-                    if (kinds[k].baseline) baseSum += roundMs[k], baseCount += 1.0;
+                    if (kinds[k].baseline) baseSum += roundMs[k], baseCpuSum += roundCpuMs[k], baseCount += 1.0;
                 // The baseline's entries: its two frames (the same kind, twice) fold into one.
                 for (size_t k = 0; k < kinds.size(); ++k) {
                     const double ms = kinds[k].baseline ? baseSum / baseCount : roundMs[k];
+                    const double cpuMs = kinds[k].baseline ? baseCpuSum / baseCount : roundCpuMs[k];
                     kinds[k].ms.push_back(ms);
                     kinds[k].ratios.push_back(ms / (baseSum / baseCount));
+                    kinds[k].cpuRatios.push_back(cpuMs / (baseCpuSum / baseCount));
                 }
             }
             if (!error.empty()) break;
@@ -674,8 +694,9 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                 if (k.name != "B-spline" && std::abs(double(k.coveredPixels) - pre.coveredPixels) > 0.02 * pre.coveredPixels)
                     coverageDiffers = true;
             defaultTable += "| " + std::to_string(factor) + " | " + std::to_string(gridFactor) + " | " + std::to_string(triangles) +
-                            " | " + cell(pre, false) + " | " + cell(defaultView) + " | " +
-                            (picked == DrawPath::Tessellated ? std::string("") : cell(defaultDrag)) + " | " + cell(defaultEdit) + " |\n";
+                            " | " + cell(pre, false) + " | " + cellWithCpu(defaultView) + " | " +
+                            (picked == DrawPath::Tessellated ? std::string("") : cellWithCpu(defaultDrag)) + " | " +
+                            cellWithCpu(defaultEdit) + " |\n";
             pathTable += "| " + std::to_string(factor) + " | " + cell(kind("tess view")) + " | " + cell(kind("tess edit")) + " | " +
                          cell(kind("grid edit")) + " | " + cell(kind("cpu edit")) + " | " + cell(kind("view")) + " | " +
                          cell(kind("grid drag")) + " | " + cell(kind("cpu drag")) + " | " + cell(kind("B-spline")) + " |\n";
@@ -727,16 +748,18 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
         report.appendix =
             "Render suite: " + std::to_string(kRenderSize) + "x" + std::to_string(kRenderSize) +
             " offscreen target, camera framing the cage, uniform factors. Each round draws one frame of every kind "
-            "back to back; medians of R rounds after " + std::to_string(kRenderWarmups) +
-            " warm-up rounds; ratios (in brackets) are medians of the per-round ratios to the pre-tessellated frame of "
-            "the same round. A frame's time is wall time: host work for the frame (CPU evaluation, updates) plus the "
-            "submitAndWait round trip. Pre-tessellated = the grid's vertices evaluated once, drawn by MeshPass. "
-            "View frame: the camera moved, the cached grid is drawn (tess: the cached control points are "
-            "tessellated). Drag frame: one vertex moved (PlannedCage::moveVertices, then recordMovedVertices "
-            "re-evaluates the sub-faces around it), then the draw. Edit frame: everything re-evaluated (positions "
-            "or factor changed), then the draw. B-spline = one bicubic patch per sub-face through the tessellator (a "
-            "cost baseline, not the exact surface). Grid factor: the grid rounds odd factors up on cages with "
-            "non-quads.\n\n";
+            "back to back, the pre-tessellated one twice (first and halfway); medians of R rounds after " +
+            std::to_string(kRenderWarmups) +
+            " warm-up rounds. A frame's time is wall time: host work for the frame (CPU evaluation, updates) plus the "
+            "submitAndWait round trip. Ratios (in brackets) are medians of the per-round ratios to the mean of the "
+            "round's two pre-tessellated frames; CPU: the same with this process's CPU time (all threads), which other "
+            "work on the machine hardly moves but which counts work on two cores twice. Pre-tessellated = the grid's "
+            "vertices evaluated once, drawn by MeshPass. View frame: the camera moved, the cached grid is drawn (tess: "
+            "the cached control points are tessellated). Drag frame: one vertex moved (PlannedCage::moveVertices, then "
+            "recordMovedVertices re-evaluates the sub-faces around it), then the draw. Edit frame: everything "
+            "re-evaluated (positions or factor changed), then the draw. B-spline = one bicubic patch per sub-face "
+            "through the tessellator (a cost baseline, not the exact surface). Grid factor: the grid rounds odd "
+            "factors up on cages with non-quads.\n\n";
     report.appendix += defaultTable + "\n" + pathTable + "\n";
 
     vkDeviceWaitIdle(ctx.device);
