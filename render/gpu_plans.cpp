@@ -17,6 +17,7 @@ constexpr uint32_t kEdgeStart[4] = {0, 1, 3, 0};
 constexpr uint32_t kEdgeEnd[4] = {1, 2, 2, 3};
 
 struct BoundaryBuilder {
+    const PlannedCage& planned;
     const Cage& cage;
     const Topology& topology;
     GpuPlanData& gpu;
@@ -26,9 +27,20 @@ struct BoundaryBuilder {
     uint32_t midpoint(uint32_t edge) const { return cage.vertexCount() + edge; }
     uint32_t centre(uint32_t face) const { return cage.vertexCount() + topology.edgeCount() + face; }
 
+    // A quad's edge is split when a drawn sub-face of a non-quad has half of it: then the
+    // midpoint is that sub-face's corner (and owned). Next to a hole, nothing meets the edge's
+    // middle, so the quad keeps it whole.
     bool edgeIsSplit(uint32_t edge) const {
-        for (uint32_t k = topology.edgeFaceOffsets[edge]; k < topology.edgeFaceOffsets[edge + 1]; ++k)
-            if (cage.faceSize(topology.edgeFaces[k]) != 4) return true;
+        for (uint32_t k = topology.edgeFaceOffsets[edge]; k < topology.edgeFaceOffsets[edge + 1]; ++k) {
+            const uint32_t face = topology.edgeFaces[k], n = cage.faceSize(face);
+            if (n == 4) continue;
+            for (uint32_t i = 0; i < n; ++i) {
+                if (topology.faceEdges[cage.faceOffsets[face] + i] != edge) continue;
+                // Sub-face i has the edge's first half, sub-face i + 1 its second.
+                const uint32_t first = planned.firstSubface(face);
+                if (planned.hasSurface(first + i) || planned.hasSurface(first + (i + 1) % n)) return true;
+            }
+        }
         return false;
     }
 
@@ -138,7 +150,7 @@ GpuPlanData packPlans(const PlannedCage& planned) {
     // edge; a quad owns half of its edge only when no such sub-face is drawn (e.g. a hole).
     gpu.boundaryPoints.assign(cage.vertexCount() + topology.edgeCount() + cage.faceCount(), GpuPoint{UINT32_MAX, 0});
     gpu.boundaries.resize(gpu.subfaces.size());
-    BoundaryBuilder builder{cage, topology, gpu, {}};
+    BoundaryBuilder builder{planned, cage, topology, gpu, {}};
     for (bool quads : {false, true})
         for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
             auto [face, corner] = faceAndCorner[d];

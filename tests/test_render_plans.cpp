@@ -118,8 +118,12 @@ Cage featureCage() {
 }
 
 std::vector<std::pair<std::string, Cage>> testCages() {
+    // A hole where a triangle was: the quad beside it keeps its edge whole (no n-gon meets it).
+    Cage holeNgon = test::makeMixedGrid();
+    holeNgon.setHole(holeNgon.faceCount() - 2, true);
     std::vector<std::pair<std::string, Cage>> cages = {{"features", featureCage()},
-                                                       {"subdivided cube", test::makeSubdividedCube()}};
+                                                       {"subdivided cube", test::makeSubdividedCube()},
+                                                       {"n-gon hole", std::move(holeNgon)}};
     if (test::haveSharedShapes())
         for (const char* name : {"catmark_nonquads", "catmark_cube_creases1", "catmark_pole8"}) {
             Result<Cage> cage = loadObj((test::sharedShapesDir() / (std::string(name) + ".obj")).string());
@@ -157,8 +161,9 @@ std::vector<GridVertex> fillGrid(Fixture& f, const PlannedCage& planned, PlanBuf
 // Checks a filled grid against the CPU evaluator and for watertightness: every slot lies on
 // its own sub-face's limit surface (edge slots at the edge vertex they snap to), and every slot
 // showing the same boundary vertex, whichever sub-face it belongs to, has the same bits.
+// With `expectSnapped`, some edge must be coarser than its face (adaptive layouts).
 void checkGrid(const PlannedCage& planned, const PlanBuffers& buffers, const std::vector<GridVertex>& grid,
-               const std::string& what) {
+               const std::string& what, bool expectSnapped = false) {
     const GridLayout& layout = buffers.gridLayout;
     const GpuPlanData& data = buffers.data;
     const float diagonal = computeBounds(planned.cage()).diagonal();
@@ -200,7 +205,7 @@ void checkGrid(const PlannedCage& planned, const PlanBuffers& buffers, const std
     }
     EXPECT_LE(worst, 1e-5) << what;
     EXPECT_GT(shared, 0u) << what;
-    if (what.find("adaptive") != std::string::npos) {
+    if (expectSnapped) {
         EXPECT_GT(snapped, 0u) << what << ": no edge is coarser than its face";
     }
 }
@@ -236,13 +241,69 @@ TEST_F(Fixture, GridPathsMatchCpuAndAreWatertight) {
             ASSERT_TRUE(prepareGrid(ctx, pass, buffers, factors).ok());
             std::vector<GridVertex> gpu = fillGrid(*this, planned, buffers, DrawPath::Grid);
             std::vector<GridVertex> cpu = fillGrid(*this, planned, buffers, DrawPath::CpuGrid);
-            checkGrid(planned, buffers, gpu, name + ", compute shader, " + what);
-            checkGrid(planned, buffers, cpu, name + ", CPU evaluator, " + what);
+            const bool adaptive = what.rfind("adaptive", 0) == 0;
+            checkGrid(planned, buffers, gpu, name + ", compute shader, " + what, adaptive);
+            checkGrid(planned, buffers, cpu, name + ", CPU evaluator, " + what, adaptive);
             if (HasFatalFailure()) return;
         }
         destroyPlanBuffers(ctx, buffers);
     }
 }
+
+namespace {
+
+// Draws the tessellated path with capture on (enableCapture first) and checks what the
+// evaluation stage wrote against the CPU evaluator, the factors of shared segments (equal from
+// both sides; a quad edge split by an n-gon gets 2k, each n-gon sub-face k) and watertightness.
+void checkTessellated(Fixture& f, const PlannedCage& planned, PlanBuffers& buffers, const TessellationSettings& settings,
+                      const std::string& what) {
+    PlanView view = f.frame(planned);
+    view.capture = true;
+    ASSERT_TRUE(submitAndWait(f.ctx, [&](VkCommandBuffer cmd) {
+        recordTessellated(cmd, f.pass, buffers, renderTarget(f.target), view, settings);
+    }).ok()) << what;
+    uint32_t overflow = 0;
+    std::vector<CaptureRecord> records = readCapture(buffers, &overflow);
+    ASSERT_EQ(overflow, 0u) << what;
+    ASSERT_GT(records.size(), buffers.data.subfaces.size()) << what;
+
+    const float diagonal = computeBounds(planned.cage()).diagonal();
+    double worst = 0.0;
+    std::map<BoundaryKey, const CaptureRecord*> seen;
+    std::map<uint32_t, uint32_t> segmentFactor;
+    uint32_t shared = 0, factorsAbove1 = 0;
+    for (const CaptureRecord& r : records) {
+        const uint32_t edge = r.edgeAndFactor & 0xff, n = r.edgeAndFactor >> 8;
+        // Edge vertices are evaluated at i/n exactly, not at the tessellator's approximation of it.
+        float u = r.u, v = r.v;
+        if (edge == 0 || edge == 2) u = float(r.edgeIndex) / float(n);
+        if (edge == 1 || edge == 3) v = float(r.edgeIndex) / float(n);
+        LimitSample cpu = planned.evaluate(buffers.data.subfaces[r.drawn].subface, u, v);
+        worst = std::max(worst, double(glm::length(glm::vec3(r.position[0], r.position[1], r.position[2]) - cpu.position)) /
+                                    diagonal);
+        if (edge == 4) continue;
+        factorsAbove1 += n > 1;
+        const GpuEdgeRef& ref = buffers.data.boundaries[r.drawn].edges[edge];
+        if (ref.flags & 2) {
+            ASSERT_EQ(n % 2, 0u) << what << ": a quad edge split by an n-gon needs an even factor";
+        }
+        // Both sides of a segment must cut it into the same number of pieces.
+        const uint32_t pieces = (ref.flags & 2) ? n / 2 : n;
+        auto [it0, fresh] = segmentFactor.emplace(ref.segment, pieces);
+        ASSERT_EQ(it0->second, pieces) << what << ": segment " << ref.segment << " split differently by two faces";
+        auto [it, inserted] = seen.emplace(boundaryKey(buffers.data, r.drawn, edge, r.edgeIndex, n), &r);
+        if (!inserted) {
+            ++shared;
+            ASSERT_EQ(std::memcmp(it->second->position, r.position, sizeof(r.position)), 0)
+                << what << ": drawn sub-face " << r.drawn << " edge " << edge << " vertex " << r.edgeIndex << " of " << n;
+        }
+    }
+    EXPECT_LE(worst, 1e-5) << what;
+    EXPECT_GT(shared, 0u) << what;
+    EXPECT_GT(factorsAbove1, 0u) << what;
+}
+
+}  // namespace
 
 TEST_F(Fixture, TessellatedPathMatchesCpuAndIsWatertight) {
     for (auto& [name, cage] : testCages()) {
@@ -251,55 +312,51 @@ TEST_F(Fixture, TessellatedPathMatchesCpuAndIsWatertight) {
         PlanBuffers buffers = upload(planned);
         ASSERT_TRUE(enableCapture(ctx, buffers, 2'000'000).ok());
         bindPlanBuffers(ctx, pass, buffers);
-        const float diagonal = computeBounds(planned.cage()).diagonal();
         for (TessellationSettings settings : {TessellationSettings{3, 0}, TessellationSettings{8, 0},
                                               TessellationSettings{0, 6.0f}, TessellationSettings{0, 2.5f}}) {
-            SCOPED_TRACE(name + (settings.uniformFactor ? " uniform " + std::to_string(settings.uniformFactor)
-                                                        : " adaptive " + std::to_string(settings.pixelsPerSegment)));
-            PlanView view = frame(planned);
-            view.capture = true;
-            ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-                recordTessellated(cmd, pass, buffers, renderTarget(target), view, settings);
-            }).ok());
-            uint32_t overflow = 0;
-            std::vector<CaptureRecord> records = readCapture(buffers, &overflow);
-            ASSERT_EQ(overflow, 0u);
-            ASSERT_GT(records.size(), buffers.data.subfaces.size());
-
-            double worst = 0.0;
-            std::map<BoundaryKey, const CaptureRecord*> seen;
-            std::map<uint32_t, uint32_t> segmentFactor;
-            uint32_t shared = 0, factorsAbove1 = 0;
-            for (const CaptureRecord& r : records) {
-                const uint32_t edge = r.edgeAndFactor & 0xff, n = r.edgeAndFactor >> 8;
-                // Edge vertices are evaluated at i/n exactly, not at the tessellator's
-                // approximation of it.
-                float u = r.u, v = r.v;
-                if (edge == 0 || edge == 2) u = float(r.edgeIndex) / float(n);
-                if (edge == 1 || edge == 3) v = float(r.edgeIndex) / float(n);
-                LimitSample cpu = planned.evaluate(buffers.data.subfaces[r.drawn].subface, u, v);
-                worst = std::max(worst, double(glm::length(glm::vec3(r.position[0], r.position[1], r.position[2]) -
-                                                           cpu.position)) / diagonal);
-                if (edge == 4) continue;
-                factorsAbove1 += n > 1;
-                const GpuEdgeRef& ref = buffers.data.boundaries[r.drawn].edges[edge];
-                // Both sides of a segment must cut it into the same number of pieces.
-                const uint32_t pieces = (ref.flags & 2) ? n / 2 : n;
-                auto [f, fresh] = segmentFactor.emplace(ref.segment, pieces);
-                ASSERT_EQ(f->second, pieces) << "segment " << ref.segment << " split differently by two faces";
-                auto [it, inserted] = seen.emplace(boundaryKey(buffers.data, r.drawn, edge, r.edgeIndex, n), &r);
-                if (!inserted) {
-                    ++shared;
-                    ASSERT_EQ(std::memcmp(it->second->position, r.position, sizeof(r.position)), 0)
-                        << "drawn sub-face " << r.drawn << " edge " << edge << " vertex " << r.edgeIndex << " of " << n;
-                }
-            }
-            EXPECT_LE(worst, 1e-5);
-            EXPECT_GT(shared, 0u);
-            EXPECT_GT(factorsAbove1, 0u);
+            checkTessellated(*this, planned, buffers, settings,
+                             name + (settings.uniformFactor ? " uniform " + std::to_string(settings.uniformFactor)
+                                                            : " adaptive " + std::to_string(settings.pixelsPerSegment)));
+            if (HasFatalFailure()) return;
         }
         destroyPlanBuffers(ctx, buffers);
     }
+}
+
+// Every Catmull-Clark cage OpenSubdiv ships for its regression, through all three paths at one
+// uniform and one adaptive setting: positions against the CPU evaluator, watertight edges.
+TEST_F(Fixture, EverySharedCageOnEveryPath) {
+    QP_REQUIRE_SHARED_SHAPES();
+    uint32_t cages = 0;
+    for (const std::filesystem::path& path : test::sharedShapes("catmark_")) {
+        const std::string name = path.stem().string();
+        Result<Cage> cage = loadObj(path.string());
+        ASSERT_TRUE(cage.ok()) << name << ": " << cage.error().message;
+        PlanDatabase db;
+        Result<PlannedCage> planned = PlannedCage::create(std::move(cage).value(), db, {}, name);
+        ASSERT_TRUE(planned.ok()) << name << ": " << planned.error().message;
+        PlanBuffers buffers = upload(*planned);
+        if (buffers.data.subfaces.empty()) {  // e.g. every face a hole: nothing to draw
+            destroyPlanBuffers(ctx, buffers);
+            continue;
+        }
+        ++cages;
+        ASSERT_TRUE(enableCapture(ctx, buffers, 4'000'000).ok());
+        bindPlanBuffers(ctx, pass, buffers);
+        checkTessellated(*this, *planned, buffers, TessellationSettings{5, 0}, name + ", tess uniform 5");
+        checkTessellated(*this, *planned, buffers, TessellationSettings{0, 4.0f}, name + ", tess adaptive 4 px");
+        const TessellationSettings adaptive{0, 4.0f};
+        for (const auto& [what, factors] : {std::pair{std::string("uniform 5"), uniformGridFactors(buffers.data, 5)},
+                                            std::pair{std::string("adaptive 4 px"),
+                                                      adaptiveGridFactors(buffers, frame(*planned), adaptive)}}) {
+            ASSERT_TRUE(prepareGrid(ctx, pass, buffers, factors).ok()) << name;
+            checkGrid(*planned, buffers, fillGrid(*this, *planned, buffers, DrawPath::Grid), name + ", grid " + what);
+            checkGrid(*planned, buffers, fillGrid(*this, *planned, buffers, DrawPath::CpuGrid), name + ", cpu " + what);
+        }
+        destroyPlanBuffers(ctx, buffers);
+        if (HasFatalFailure()) return;
+    }
+    EXPECT_GT(cages, 50u);
 }
 
 TEST_F(Fixture, SplitDrawsMatchTheGridPathOnALargeCage) {
