@@ -202,11 +202,14 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, PlanPass& pass)
     if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_stencils.comp"), pass.stencils); !s) return s;
     if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_grid.comp"), pass.grid); !s) return s;
     const GraphicsStages tess{"plan.vert", "plan.tesc", "plan.tese", "plan.frag"};
-    const GraphicsStages grid{"plan_grid.vert", nullptr, nullptr, "plan.frag"};
+    // Plain shading and the wireframe pass only normals; the colour modes also the sub-face and (u, v).
+    const GraphicsStages grid{"plan_grid_lit.vert", nullptr, nullptr, "plan_lit.frag"};
+    const GraphicsStages gridColored{"plan_grid.vert", nullptr, nullptr, "plan.frag"};
     if (!ctx.features.tessellationShader)
         return Error{"the Vulkan device '" + ctx.deviceName + "' has no tessellation shaders"};
     if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, false), pass.tessellated); !s) return s;
     if (Status s = assign(createDrawPipeline(ctx, cache, pass, grid, false), pass.gridTriangles); !s) return s;
+    if (Status s = assign(createDrawPipeline(ctx, cache, pass, gridColored, false), pass.gridColored); !s) return s;
     if (ctx.features.fillModeNonSolid) {
         if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, true), pass.tessellatedWire); !s) return s;
         if (Status s = assign(createDrawPipeline(ctx, cache, pass, grid, true), pass.gridWire); !s) return s;
@@ -369,7 +372,8 @@ Result<PlanPass> createPlanPass(const VulkanContext& ctx, VkPipelineCache cache,
 }
 
 void destroyPlanPass(const VulkanContext& ctx, PlanPass& pass) {
-    for (VkPipeline p : {pass.stencils, pass.grid, pass.tessellated, pass.tessellatedWire, pass.gridTriangles, pass.gridWire})
+    for (VkPipeline p : {pass.stencils, pass.grid, pass.tessellated, pass.tessellatedWire, pass.gridTriangles,
+                         pass.gridColored, pass.gridWire})
         if (p) vkDestroyPipeline(ctx.device, p, nullptr);
     if (pass.computeLayout) vkDestroyPipelineLayout(ctx.device, pass.computeLayout, nullptr);
     if (pass.drawLayout) vkDestroyPipelineLayout(ctx.device, pass.drawLayout, nullptr);
@@ -551,7 +555,8 @@ void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers
     DrawPush push = drawPush(view, nullptr);
     push.capture = 0;
     const uint32_t indexCount = uint32_t(buffers.gridLayout.indices.size());
-    for (VkPipeline pipeline : {pass.gridTriangles, view.wireframe ? pass.gridWire : VkPipeline(VK_NULL_HANDLE)}) {
+    const VkPipeline surface = view.colorBy == ColorBy::Shading ? pass.gridTriangles : pass.gridColored;
+    for (VkPipeline pipeline : {surface, view.wireframe ? pass.gridWire : VkPipeline(VK_NULL_HANDLE)}) {
         if (!pipeline || indexCount == 0) continue;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.drawLayout, 0, 1, &pass.set, 0, nullptr);

@@ -82,7 +82,7 @@ struct PlanPass {
     VkPipelineLayout computeLayout = VK_NULL_HANDLE, drawLayout = VK_NULL_HANDLE;
     VkPipeline stencils = VK_NULL_HANDLE, grid = VK_NULL_HANDLE;
     VkPipeline tessellated = VK_NULL_HANDLE, tessellatedWire = VK_NULL_HANDLE;
-    VkPipeline gridTriangles = VK_NULL_HANDLE, gridWire = VK_NULL_HANDLE;
+    VkPipeline gridTriangles = VK_NULL_HANDLE, gridColored = VK_NULL_HANDLE, gridWire = VK_NULL_HANDLE;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;
     VkFormat colorFormat = VK_FORMAT_UNDEFINED, depthFormat = VK_FORMAT_UNDEFINED;

@@ -390,25 +390,38 @@ TEST_F(Fixture, SplitDrawsMatchTheGridPathOnALargeCage) {
     destroyPlanBuffers(ctx, buffers);
 }
 
+// Every colour mode on the tessellated path and on the grid (whose plain shading and colour
+// modes use different pipelines): each differs from plain shading, and both paths cover the
+// same pixels.
 TEST_F(Fixture, ColourModesAndWireframeDraw) {
     PlanDatabase db;
     PlannedCage planned = planCage(featureCage(), db);
     PlanBuffers buffers = upload(planned);
     PlanView view = frame(planned);
-    std::vector<uint8_t> shaded;
-    for (ColorBy mode : {ColorBy::Shading, ColorBy::NodeKind, ColorBy::PlanDepth, ColorBy::Sharpness}) {
-        view.colorBy = mode;
-        view.wireframe = mode == ColorBy::NodeKind;
-        ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            recordTessellated(cmd, pass, buffers, renderTarget(target), view, TessellationSettings{0, 6.0f});
-        }).ok());
-        std::vector<uint8_t> image = pixels();
-        std::vector<uint8_t> background(image.begin(), image.begin() + 4);
-        EXPECT_GT(coverage(image, background), 0.1) << "mode " << uint32_t(mode);
-        if (mode == ColorBy::Shading) shaded = image;
-        else EXPECT_NE(image, shaded) << "mode " << uint32_t(mode) << " looks like plain shading";
-        EXPECT_TRUE(writePng((test::testOutputDir() / ("plans_features_mode" + std::to_string(uint32_t(mode)) + ".png")).string(),
-                             kImageSize, kImageSize, image).ok());
+    const TessellationSettings settings{0, 6.0f};
+    std::map<ColorBy, double> tessCoverage;
+    for (DrawPath path : {DrawPath::Tessellated, DrawPath::CpuGrid}) {
+        std::vector<uint8_t> shaded;
+        for (ColorBy mode : {ColorBy::Shading, ColorBy::NodeKind, ColorBy::PlanDepth, ColorBy::Sharpness}) {
+            const std::string what = std::string(drawPathName(path)) + " mode " + std::to_string(uint32_t(mode));
+            view.colorBy = mode;
+            view.wireframe = mode == ColorBy::NodeKind;
+            ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, path, view, settings).ok());
+            ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+                recordPlanFrame(cmd, pass, buffers, path, renderTarget(target), view, settings);
+            }).ok());
+            std::vector<uint8_t> image = pixels();
+            std::vector<uint8_t> background(image.begin(), image.begin() + 4);
+            const double covered = coverage(image, background);
+            EXPECT_GT(covered, 0.1) << what;
+            if (path == DrawPath::Tessellated) tessCoverage[mode] = covered;
+            else EXPECT_NEAR(covered, tessCoverage[mode], 0.01) << what << ": the paths cover different pixels";
+            if (mode == ColorBy::Shading) shaded = image;
+            else EXPECT_NE(image, shaded) << what << " looks like plain shading";
+            EXPECT_TRUE(writePng((test::testOutputDir() / ("plans_features_" + std::string(drawPathName(path)) + "_mode" +
+                                                           std::to_string(uint32_t(mode)) + ".png")).string(),
+                                 kImageSize, kImageSize, image).ok());
+        }
     }
     destroyPlanBuffers(ctx, buffers);
 }

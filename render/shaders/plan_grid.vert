@@ -1,7 +1,7 @@
 #version 450
-// Grid paths: draws the vertices the grid pass evaluated (render/grid_layout.h; the index
-// buffer holds slots). The colour modes also need the sub-face and its (u, v): looked up from
-// the slot only for them, so that plain shading costs what pre-tessellated triangles cost.
+// Grid paths, colour modes: draws the vertices the grid pass evaluated (render/grid_layout.h;
+// the index buffer holds slots) with the sub-face and (u, v) plan.frag colours by, looked up
+// from the slot. Plain shading uses plan_grid_lit.vert.
 #include "plan_eval.glsl"
 #include "plan_draw.glsl"
 
@@ -16,16 +16,12 @@ layout(location = 2) flat out uint outDrawn;
 layout(location = 3) out vec2 outUV;
 
 void main() {
+    uint index = uint(gl_VertexIndex);
+    uint drawn = slotSubface[index];
+    uvec2 g = subfaceGrid[drawn];
+    uint local = index - g.y, side = g.x + 1u;
     outNormal = inNormal;
-    outDrawn = 0u;
-    outUV = vec2(0.0);
-    if (draw.colorMode >= 1u && draw.colorMode <= 3u) {  // node kind, depth, sharpness
-        uint index = uint(gl_VertexIndex);
-        uint drawn = slotSubface[index];
-        uvec2 g = subfaceGrid[drawn];
-        uint local = index - g.y, side = g.x + 1u;
-        outDrawn = drawn;
-        outUV = vec2(float(local % side), float(local / side)) / float(g.x);
-    }
+    outDrawn = drawn;
+    outUV = vec2(float(local % side), float(local / side)) / float(g.x);
     gl_Position = draw.viewProjection * vec4(inPosition, 1.0);
 }
