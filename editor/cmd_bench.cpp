@@ -522,7 +522,6 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
     const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
     OffscreenTarget target;
     PlanPass pass;
-    MeshPass meshPass;
     BSplinePass bspline;
     PlanBuffers buffers;
     GpuMesh preMesh;
@@ -534,7 +533,6 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
     };
     take(createOffscreenTarget(ctx, kRenderSize, kRenderSize, format), target) &&
         take(createPlanPass(ctx, VK_NULL_HANDLE, format), pass) &&
-        take(createMeshPass(ctx, VK_NULL_HANDLE, format), meshPass) &&
         take(createBSplinePass(ctx, VK_NULL_HANDLE, pass), bspline) && take(uploadPlans(ctx, planned), buffers);
 
     const DrawPath picked = resolveDrawPath(DrawPath::Auto, ctx);
@@ -556,7 +554,6 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
         PlanView view;
         view.viewProjection = viewProjection(camera);
         view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kRenderSize);
-        const MeshView meshView{view.viewProjection, camera.eye, view.background};
         const RenderTarget rt = renderTarget(target);
 
         // The drag: an interior vertex moving there and back, as under the editor's mouse.
@@ -591,7 +588,6 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
             if (!take(uploadMesh(ctx, {static_cast<const MeshVertex*>(buffers.grid.data), layout.slotCount()}, layout.indices), preMesh))
                 break;
             const uint32_t gridFactor = layout.maxFactor, triangles = uint32_t(layout.indices.size() / 3);
-            const MeshDraw preDraw{&preMesh};
 
             auto dropAll = [&] {
                 buffers.gridEvaluator = GridEvaluator::None;
@@ -609,7 +605,9 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                 k.record = std::move(record);
                 kinds.push_back(std::move(k));
             };
-            auto drawPre = [&](VkCommandBuffer cmd) { recordMeshPass(cmd, meshPass, rt, meshView, {&preDraw, 1}); };
+            auto drawPre = [&](VkCommandBuffer cmd) {
+                recordShadedTriangles(cmd, pass, preMesh.vertices.buffer, preMesh.indices.buffer, preMesh.indexCount, rt, view);
+            };
             add("pre-tessellated", {}, drawPre);
             add("tess edit", dropAll, [&](VkCommandBuffer cmd) { recordTessellated(cmd, pass, buffers, rt, view, settings); });
             add("tess view", {}, [&](VkCommandBuffer cmd) { recordTessellated(cmd, pass, buffers, rt, view, settings); });
@@ -754,7 +752,8 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
             "submitAndWait round trip. Ratios (in brackets) are medians of the per-round ratios to the mean of the "
             "round's two pre-tessellated frames; CPU: the same with this process's CPU time (all threads), which other "
             "work on the machine hardly moves but which counts work on two cores twice. Pre-tessellated = the grid's "
-            "vertices evaluated once, drawn by MeshPass. View frame: the camera moved, the cached grid is drawn (tess: "
+            "vertices evaluated once, copied into a vertex and an index buffer of their own, drawn with the grid's "
+            "plain-shading pipeline (the same shaders as a grid view frame). View frame: the camera moved, the cached grid is drawn (tess: "
             "the cached control points are tessellated). Drag frame: one vertex moved (PlannedCage::moveVertices, then "
             "recordMovedVertices re-evaluates the sub-faces around it), then the draw. Edit frame: everything "
             "re-evaluated (positions or factor changed), then the draw. B-spline = one bicubic patch per sub-face "
@@ -766,7 +765,6 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
     destroyMesh(ctx, preMesh);
     destroyPlanBuffers(ctx, buffers);
     destroyBSplinePass(ctx, bspline);
-    destroyMeshPass(ctx, meshPass);
     destroyPlanPass(ctx, pass);
     destroyOffscreenTarget(ctx, target);
     destroyContext(ctx);

@@ -547,28 +547,45 @@ void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers) {
     buffers.gridEvaluator = GridEvaluator::Cpu;
 }
 
-void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
-                    const PlanView& view) {
-    assert(buffers.gridEvaluator != GridEvaluator::None && "fill the grid first");
+namespace {
+
+// Indexed GridVertex triangles into `target` (cleared), shaded as the view asks.
+void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices, uint32_t indexCount,
+                     const RenderTarget& target, const PlanView& view) {
     assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
     beginRendering(cmd, target, true, view.background);
     DrawPush push = drawPush(view, nullptr);
     push.capture = 0;
-    const uint32_t indexCount = uint32_t(buffers.gridLayout.indices.size());
     const VkPipeline surface = view.colorBy == ColorBy::Shading ? pass.gridTriangles : pass.gridColored;
     for (VkPipeline pipeline : {surface, view.wireframe ? pass.gridWire : VkPipeline(VK_NULL_HANDLE)}) {
         if (!pipeline || indexCount == 0) continue;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.drawLayout, 0, 1, &pass.set, 0, nullptr);
-        vkCmdBindIndexBuffer(cmd, buffers.gridIndices.buffer, 0, VK_INDEX_TYPE_UINT32);
+        vkCmdBindIndexBuffer(cmd, indices, 0, VK_INDEX_TYPE_UINT32);
         const VkDeviceSize offset = 0;
-        vkCmdBindVertexBuffers(cmd, 0, 1, &buffers.grid.buffer, &offset);
+        vkCmdBindVertexBuffers(cmd, 0, 1, &vertices, &offset);
         DrawPush p = push;
         if (pipeline == pass.gridWire) p.colorMode = 0xffffffffu;
         vkCmdPushConstants(cmd, pass.drawLayout, kDrawStages, 0, sizeof(p), &p);
         vkCmdDrawIndexed(cmd, indexCount, 1, 0, 0, 0);
     }
     vkCmdEndRendering(cmd);
+}
+
+}  // namespace
+
+void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
+                    const PlanView& view) {
+    assert(buffers.gridEvaluator != GridEvaluator::None && "fill the grid first");
+    recordTriangles(cmd, pass, buffers.grid.buffer, buffers.gridIndices.buffer, uint32_t(buffers.gridLayout.indices.size()),
+                    target, view);
+}
+
+void recordShadedTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices,
+                           uint32_t indexCount, const RenderTarget& target, const PlanView& view) {
+    PlanView shaded = view;
+    shaded.colorBy = ColorBy::Shading;
+    recordTriangles(cmd, pass, vertices, indices, indexCount, target, shaded);
 }
 
 void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,

@@ -46,6 +46,8 @@ struct TessellationSettings {
 // changes: the control points (for the highest level asked for so far) and the grid (for its
 // layout). updatePositions and a new layout drop them; recordMovedVertices refreshes just the
 // sub-faces a vertex move touches. A view-only frame of the grid paths therefore only draws.
+// Edits that re-plan faces (sharpness, holes, topology) change the buffers' layout: upload the
+// cage again.
 // The flags describe recorded work: submit what was recorded before relying on them.
 //
 // Host writes. Positions, the CPU grid and the layout buffers are written through their
@@ -143,6 +145,11 @@ void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers);
 // Draws the grid as it is (it must have been filled).
 void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
                     const PlanView& view);
+// Any triangle mesh of GridVertex (a vertex buffer, uint32 indices) drawn as recordGridDraw
+// draws the grid with plain shading: the benchmark's pre-tessellated baseline, so that it
+// differs from a view frame only in where its vertices came from.
+void recordShadedTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices,
+                           uint32_t indexCount, const RenderTarget& target, const PlanView& view);
 // recordGridEvaluation unless the grid is cached, then recordGridDraw.
 void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,
                 const PlanView& view);
