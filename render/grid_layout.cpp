@@ -122,8 +122,10 @@ GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::ve
         if (f.segmentPieces[segment]) return;  // seen from its other side
         uint32_t pieces = powerOfTwoAtLeast(wanted);
         if (previous) {
+            // Only powers of two: a uniform layout's 5 pieces next to 4 would not divide the
+            // sub-face's factor.
             const uint32_t kept = previous->segmentPieces[segment];
-            if (wanted <= float(kept) && wanted * 2.5f > float(kept)) pieces = kept;
+            if (std::has_single_bit(kept) && wanted <= float(kept) && wanted * 2.5f > float(kept)) pieces = kept;
         }
         f.segmentPieces[segment] = pieces;
     };

@@ -61,8 +61,8 @@ struct AdaptiveView {
 };
 
 // Screen-adaptive factors from the boundary points' positions (boundaryPointPositions). With
-// `previous` (the factors in use), a segment keeps its pieces while they are enough and not
-// more than 2.5 times too many, so that small camera moves leave the grid as it is.
+// `previous` (the factors in use), a segment keeps its pieces (a power of two) while they are
+// enough and not more than 2.5 times too many, so that small camera moves leave the grid as it is.
 GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::vec4> pointPositions,
                                 const AdaptiveView& view, const GridFactors* previous = nullptr);
 

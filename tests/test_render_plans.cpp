@@ -570,3 +570,67 @@ TEST(GridLayout, SourcesAndDependentsAgreeWithTheCopies) {
             }
     }
 }
+
+// Pixels, not just vertices: from inside a closed surface every pixel must show the surface.
+// A crack between sub-faces (a T-junction, an unsnapped edge, a wrong owner) would show the
+// pure red background. Adaptive factors from an off-centre eye, so neighbours differ.
+TEST_F(Fixture, ClosedSurfaceSeenFromInsideHasNoCracks) {
+    PlanDatabase db;
+    PlannedCage planned = planCage(test::makeSubdividedCube(), db);
+    PlanBuffers buffers = upload(planned);
+    RenderCamera camera;
+    camera.eye = {0.45f, 0.35f, 0.3f};
+    camera.fovY = glm::radians(110.0f);
+    camera.nearZ = 0.005f;
+    camera.farZ = 10.0f;
+    for (glm::vec3 lookAt : {glm::vec3(1.0f, 1.0f, 1.0f), glm::vec3(-1.0f, 0.2f, -0.5f)}) {
+        camera.target = lookAt;
+        PlanView view;
+        view.viewProjection = viewProjection(camera);
+        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kImageSize);
+        view.background = {1.0f, 0.0f, 0.0f};
+        for (DrawPath path : {DrawPath::Tessellated, DrawPath::CpuGrid, DrawPath::Grid})
+            for (TessellationSettings settings : {TessellationSettings{0, 12.0f}, TessellationSettings{0, 40.0f},
+                                                  TessellationSettings{5, 0}}) {
+                const std::string what = std::string(drawPathName(path)) +
+                                         (settings.uniformFactor ? " uniform" : " adaptive " + std::to_string(settings.pixelsPerSegment));
+                ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, path, view, settings).ok()) << what;
+                ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+                    recordPlanFrame(cmd, pass, buffers, path, renderTarget(target), view, settings);
+                }).ok());
+                const std::vector<uint8_t> image = pixels();
+                size_t background = 0;
+                for (size_t i = 0; i < image.size(); i += 4)
+                    background += image[i] == 255 && image[i + 1] == 0 && image[i + 2] == 0;
+                EXPECT_EQ(background, 0u) << what << ": background shows through";
+                if (path == DrawPath::CpuGrid && !settings.uniformFactor) {
+                    std::set<uint32_t> factors(buffers.gridLayout.factors.subfaceFactor.begin(),
+                                               buffers.gridLayout.factors.subfaceFactor.end());
+                    EXPECT_GT(factors.size(), 1u) << what << ": every sub-face got the same factor";
+                }
+            }
+    }
+    destroyPlanBuffers(ctx, buffers);
+}
+
+// Adaptive factors after any earlier layout still nest: every edge's pieces divide its
+// sub-face's factor (a uniform layout's odd pieces must not be kept by the hysteresis).
+TEST(GridLayout, AdaptiveFactorsNestWhateverCameBefore) {
+    PlanDatabase db;
+    PlannedCage planned = planCage(featureCage(), db);
+    const GpuPlanData data = packPlans(planned);
+    const std::vector<glm::vec4> points = boundaryPointPositions(planned);
+    Bounds bounds = computeBounds(planned.cage());
+    RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+    camera.eye = camera.target + 0.4f * (camera.eye - camera.target);
+    const AdaptiveView view{viewProjection(camera), pixelsPerUnit(projectionMatrix(camera), 320), 6.0f};
+    for (uint32_t before : {3u, 5u, 8u, 12u}) {
+        const GridFactors uniform = uniformGridFactors(data, before);
+        const GridFactors adaptive = adaptiveGridFactors(data, points, view, &uniform);
+        for (uint32_t d = 0; d < data.subfaces.size(); ++d)
+            for (const GpuEdgeRef& r : data.boundaries[d].edges) {
+                const uint32_t pieces = adaptive.segmentPieces[r.segment] * ((r.flags & 2) ? 2 : 1);
+                EXPECT_EQ(adaptive.subfaceFactor[d] % pieces, 0u) << "after uniform " << before << ", drawn sub-face " << d;
+            }
+    }
+}
