@@ -177,7 +177,8 @@ TEST(RenderValidationFromEnvironment, AMessageEndsTheProcessWithStatus4) {
         if (!test::selectTestDevice(options)) std::_Exit(1);
         Result<VulkanContext> ctx = createContext(options);
         if (!ctx) std::_Exit(2);
-        VkFenceCreateInfo info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+        VkFenceCreateInfo info{};
+        info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
         info.flags = 0x80;  // no such VkFenceCreateFlagBits
         VkFence fence = VK_NULL_HANDLE;
         if (vkCreateFence(ctx->device, &info, nullptr, &fence) == VK_SUCCESS) vkDestroyFence(ctx->device, fence, nullptr);
