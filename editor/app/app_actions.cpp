@@ -88,7 +88,9 @@ bool saveTo(EditorApp& app, const std::string& path) {
     }
     storeViewState(app, app.doc->scene);
     if (Status saved = saveDocument(*app.doc, path); !saved) {
-        showError(app, "Saving failed: " + saved.error().message);
+        // The document stays as it is (and marked unsaved); the user needs to know where to go.
+        showError(app, "Saving failed: " + saved.error().message +
+                           ". Your changes are kept (still unsaved): use File > Save As to save them somewhere else.");
         return false;
     }
     removeRecovery(app.recoveryDir);
