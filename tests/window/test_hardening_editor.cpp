@@ -10,6 +10,7 @@
 #include <sys/mount.h>
 
 #include "editor_process.h"
+#include "file_io.h"
 #include "generated_cage.h"
 #include "render_test_support.h"
 #include "scene.h"
@@ -196,4 +197,21 @@ TEST_F(EditorHardening, FailedSaveKeepsTheChangesAndSavingElsewhereWorks) {
     Result<Scene> elsewhere = loadScene((dir / "elsewhere.json").string());
     ASSERT_TRUE(elsewhere.ok());
     EXPECT_NEAR(elsewhere->cage.positions[0].y, scene.cage.positions[0].y + 0.5f, 1e-5f);
+}
+
+// Without a Vulkan driver the editor says so and exits non-zero; autosaved work waiting in the
+// recovery directory is left there for the next start.
+TEST_F(EditorHardening, NoVulkanDriverKeepsTheRecoveryFile) {
+    Scene scene;
+    scene.cage = makeBenchmarkCage(200, 1);
+    ASSERT_TRUE(saveScene(scene, (dir / "recovery" / "autosave.json").string(), true).ok());
+    const std::string before = readFile((dir / "recovery" / "autosave.json").string()).value();
+    ASSERT_TRUE(saveScene(scene, (dir / "scene.json").string(), true).ok());
+    std::map<std::string, std::string> env = environment();
+    env["VK_ICD_FILENAMES"] = env["VK_DRIVER_FILES"] = "/nonexistent/icd.json";
+    EditorProcess editor;
+    editor.start({"edit", (dir / "scene.json").string()}, dir, env, dir / "editor.log");
+    EXPECT_EQ(editor.wait(60.0), 1) << editor.output();
+    EXPECT_NE(editor.output().find("no Vulkan driver was found"), std::string::npos) << editor.output();
+    EXPECT_EQ(readFile((dir / "recovery" / "autosave.json").string()).value(), before);
 }
