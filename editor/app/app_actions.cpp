@@ -98,6 +98,19 @@ bool saveTo(EditorApp& app, const std::string& path) {
     return true;
 }
 
+void stopOnFatalError(EditorApp& app, const std::string& message) {
+    std::string rescued;
+    if (app.doc->dirty && app.doc->planned) {
+        const Status written = writeRecovery(app.recoveryDir, sceneToSave(*app.doc), RecoveryInfo{app.doc->path, localTimeNow()});
+        rescued = written ? "; the unsaved changes were written to " + app.recoveryDir +
+                                "/autosave.json and are offered at the next start"
+                          : "; writing the unsaved changes to the recovery directory failed too: " + written.error().message;
+    }
+    std::fprintf(stderr, "error: %s%s\n", message.c_str(), rescued.c_str());
+    app.exitCode = 1;
+    app.running = false;
+}
+
 void restoreRecovery(EditorApp& app) {
     if (!app.ui.recovery) return;
     if (app.loader.busy()) {

@@ -306,6 +306,12 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         app.stats.clear();
         return false;
     }
+    if (n == "simulate-device-loss") {
+        // What a drawFrame that returned VK_ERROR_DEVICE_LOST leads to (lavapipe cannot lose its
+        // device on demand): the same handler, called from here.
+        stopOnFatalError(app, "drawing failed: vkQueueSubmit: VK_ERROR_DEVICE_LOST (simulated by automation)");
+        return false;
+    }
     if (n == "log") {
         std::fprintf(stderr, "automation: %s\n", a.empty() ? "" : a[0].c_str());
         return true;

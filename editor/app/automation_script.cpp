@@ -56,6 +56,7 @@ const std::vector<CommandSpec> kCommands = {
     {"dump-state", {Arg::Text}, {}},
     {"measure-frames", {Arg::Int, Arg::Word}, {Arg::Word}},
     {"log", {}, {Arg::Text}},
+    {"simulate-device-loss", {}, {}},
 };
 
 }  // namespace

@@ -215,3 +215,30 @@ TEST_F(EditorHardening, NoVulkanDriverKeepsTheRecoveryFile) {
     EXPECT_NE(editor.output().find("no Vulkan driver was found"), std::string::npos) << editor.output();
     EXPECT_EQ(readFile((dir / "recovery" / "autosave.json").string()).value(), before);
 }
+
+// A lost Vulkan device mid-session (simulated: the automation calls the handler a failing
+// drawFrame calls): the editor says so, writes the unsaved changes to the recovery file at
+// once (the autosave interval is an hour here) and exits with status 1; the next start offers them.
+TEST_F(EditorHardening, DeviceLossRescuesTheUnsavedChanges) {
+    Scene scene;
+    scene.cage = makeBenchmarkCage(200, 1);
+    ASSERT_TRUE(saveScene(scene, (dir / "scene.json").string(), true).ok());
+    EditorProcess editor;
+    start(editor, "wait-idle\nselect-vertex 0\nmove-selection 0 0.5 0\nwait-frames 1\nsimulate-device-loss\n",
+          (dir / "scene.json").string(), {"--autosave-seconds", "3600"});
+    EXPECT_EQ(editor.wait(kRunSeconds), 1) << editor.output();
+    EXPECT_NE(editor.output().find("error: drawing failed: vkQueueSubmit: VK_ERROR_DEVICE_LOST"), std::string::npos)
+        << editor.output();
+    EXPECT_NE(editor.output().find("the unsaved changes were written to " + (dir / "recovery").string() + "/autosave.json"),
+              std::string::npos)
+        << editor.output();
+    Result<Scene> rescued = loadScene((dir / "recovery" / "autosave.json").string());
+    ASSERT_TRUE(rescued.ok()) << editor.output();
+    EXPECT_NEAR(rescued->cage.positions[0].y, scene.cage.positions[0].y + 0.5f, 1e-5f);
+
+    EditorProcess restarted;
+    start(restarted, "wait-frames 5\ndump-state offer.json\nquit\n", (dir / "scene.json").string());
+    ASSERT_TRUE(waitForFile(dir / "offer.json", restarted, kRunSeconds)) << restarted.output();
+    EXPECT_EQ(restarted.wait(kRunSeconds), 0) << restarted.output();
+    EXPECT_TRUE(readJson(dir / "offer.json")["recovery"]["offered"].get<bool>());
+}
