@@ -26,7 +26,7 @@ const qp::editor::AutomationVocabulary kWords{
     [](std::string_view name) { return isOneOf(name, {"shading", "node-kind", "patch-kind", "depth", "plan-depth", "sharpness"}); },
     [](std::string_view name) { return isOneOf(name, {"auto", "tess", "grid", "cpu"}); }};
 
-// Numeric arguments by command (the runner's conversions): which positions hold numbers.
+// A number the runner converts without overflow (automation_script.h).
 bool checkNumber(const std::string& text) {
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
