@@ -271,18 +271,25 @@ uint32_t Sculptor::dabsAlong(const StrokeOptions& options, std::span<const glm::
     if (path.empty()) return 0;
     const float spacing = options.spacing > 0.0f ? options.spacing : 0.25f * options.brush.radius;
     uint32_t changed = dab(options.brush, options.mirror, path[0]);
-    // Distance left until the next dab, carried across the polyline's corners.
-    float untilNext = spacing;
+    // Distance left until the next dab, carried across the polyline's corners. Dab k of a
+    // segment sits at untilNext + k * spacing, computed from k in double: summing spacings in
+    // float stops advancing once the sum dwarfs the spacing, and the loop would never end.
+    double untilNext = spacing;
     for (size_t i = 1; i < path.size(); ++i) {
-        glm::vec3 a = path[i - 1], b = path[i];
-        float length = glm::length(b - a);
-        float at = 0.0f;
-        while (length - at >= untilNext) {
-            at += untilNext;
-            changed += dab(options.brush, options.mirror, a + (b - a) * (at / length));
-            untilNext = spacing;
+        const glm::vec3 a = path[i - 1], b = path[i];
+        const double length = glm::length(glm::dvec3(b) - glm::dvec3(a));
+        if (length < untilNext) {
+            untilNext -= length;
+            continue;
         }
-        untilNext -= length - at;
+        // A dab that rounding puts a hair past the segment's end still counts (paths through
+        // grid points at whole spacings get the dab at each point).
+        const uint64_t dabs = uint64_t((length - untilNext) / spacing + 1e-5) + 1;
+        for (uint64_t k = 0; k < dabs; ++k) {
+            const double at = untilNext + double(k) * spacing;
+            changed += dab(options.brush, options.mirror, a + (b - a) * float(at / length));
+        }
+        untilNext = untilNext + double(dabs) * spacing - length;
     }
     return changed;
 }
