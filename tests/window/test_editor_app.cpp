@@ -337,7 +337,8 @@ TEST_F(EditorWindow, LoadsALargeCageWithoutFreezing) {
     expectCleanExit(editor);
     EXPECT_EQ(l0["faces"], 180);
     EXPECT_TRUE(l1["loading"].get<bool>()) << "the load finished within 3 frames; use a bigger cage";
-    EXPECT_NE(l1["loading_stage"].get<std::string>().find("Planning"), std::string::npos) << l1["loading_stage"];
+    const std::string stage = l1["loading_stage"].get<std::string>();  // how far it got depends on the machine
+    EXPECT_TRUE(stage.find("Reading") != std::string::npos || stage.find("Planning") != std::string::npos) << stage;
     EXPECT_EQ(l1["faces"], 180) << "the old document stays until the new one is ready";
     EXPECT_EQ(l1["title"], "Quadplan - default.json (loading)");
     EXPECT_FALSE(l2["loading"].get<bool>());
