@@ -24,15 +24,27 @@ void forEachSubface(const uint32_t* list, size_t count, const Body& body) {
     });
 }
 
-// The slot's vertex: the limit point, displaced when there is a displacement (a zero normal,
-// where the derivatives are degenerate, displaces nothing, as in the shader).
-GridVertex gridVertex(const LimitSample& s, const Displacement* displacement, uint32_t subface, float u, float v) {
-    glm::vec3 normal = glm::cross(s.du, s.dv);
+glm::vec3 unitNormalOf(const LimitSample& s) {
+    const glm::vec3 normal = glm::cross(s.du, s.dv);
     const float length = glm::length(normal);
-    normal = length > 0.0f ? normal / length : glm::vec3(0.0f);
-    glm::vec3 position = s.position;
-    if (displacement && length > 0.0f) {
-        const DisplacedPoint p = displacePoint(s.position, s.du, s.dv, normal, evaluateDisplacement(*displacement, subface, u, v));
+    return length > 0.0f ? normal / length : glm::vec3(0.0f);
+}
+
+// The slot's vertex: the limit point and the unit normal of du x dv (zero where that
+// vanishes); with a displacement, displaced along that normal — at sub-face corners the
+// derivatives and normal a hair inside (shaders/displacement.glsl, evaluateWithNormal, says
+// why) — with displacePoint's shading normal.
+GridVertex gridVertex(const PlannedCage& planned, const LimitSample& s, const Displacement* displacement,
+                      uint32_t subface, float u, float v) {
+    glm::vec3 position = s.position, normal = unitNormalOf(s);
+    if (displacement) {
+        LimitSample frame = s;
+        if ((u == 0.0f || u == 1.0f) && (v == 0.0f || v == 1.0f)) {
+            frame = planned.evaluate(subface, u + (u < 0.5f ? kCornerNormalStep : -kCornerNormalStep), v + (v < 0.5f ? kCornerNormalStep : -kCornerNormalStep));
+            normal = unitNormalOf(frame);
+        }
+        const DisplacedPoint p =
+            displacePoint(s.position, frame.du, frame.dv, normal, evaluateDisplacement(*displacement, subface, u, v));
         position = p.position;
         normal = p.normal;
     }
@@ -116,7 +128,7 @@ void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32
             else if (rotation == 3) sample.du = dv, sample.dv = -du;
             float u, v;
             slotParameter(slot - first, n, u, v);
-            grid[slot] = gridVertex(sample, displacement, subface, u, v);
+            grid[slot] = gridVertex(planned, sample, displacement, subface, u, v);
         }
 }
 
@@ -131,7 +143,7 @@ void evaluatePhase(const PlannedCage& planned, const GpuPlanData& data, const Gr
             if (layout.source[slot] != slot) continue;
             float u, v;
             slotParameter(slot - first, n, u, v);
-            grid[slot] = gridVertex(planned.evaluate(subface, u, v), displacement, subface, u, v);
+            grid[slot] = gridVertex(planned, planned.evaluate(subface, u, v), displacement, subface, u, v);
         }
     });
 }

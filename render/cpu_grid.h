@@ -17,6 +17,11 @@
 
 namespace qp {
 
+// With displacement, a sub-face corner is displaced and shaded with the derivatives this far
+// inside the sub-face (in u and v): at extraordinary vertices they vanish at the corner
+// (shaders/displacement.glsl, evaluateWithNormal, has the same constant and says why).
+constexpr float kCornerNormalStep = 1.0f / 64.0f;
+
 // Phase 1 (evaluated slots) for the drawn sub-faces in `evaluate`, then phase 2 (copied
 // slots) for those in `copy`; `grid` holds layout.slotCount() vertices. `planned` must be the
 // cage `data` was packed from, with current control points. With a `displacement` (matching

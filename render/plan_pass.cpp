@@ -268,19 +268,22 @@ void computeWritesBeforeReads(VkCommandBuffer cmd) {
             VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
 }
 
-// Control points for factors up to 2^level, visible to every later shader stage; nothing when
-// they are cached for that level or a higher one.
-void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, uint32_t level) {
-    if (buffers.controlPointLevel != kNoControlPoints && buffers.controlPointLevel >= level) return;
-    dispatchPerSubface(cmd, pass, pass.stencils, ComputePush{uint32_t(buffers.data.subfaces.size()), level, 0, kWholeCage});
-    computeWritesBeforeReads(cmd);
-    buffers.controlPointLevel = level;
-}
-
 uint32_t levelFor(uint32_t factor) {
     uint32_t level = 0;
     while ((1u << level) < factor) ++level;
     return level;
+}
+
+// Control points for factors up to 2^level, visible to every later shader stage; nothing when
+// they are cached for that level or a higher one.
+void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, uint32_t level) {
+    // Displaced corners are shaded from derivatives kCornerNormalStep inside (cpu_grid.h): a
+    // parameter of factor 64, which needs the deepest control points.
+    if (buffers.displacement) level = std::max(level, levelFor(uint32_t(1.0f / kCornerNormalStep)));
+    if (buffers.controlPointLevel != kNoControlPoints && buffers.controlPointLevel >= level) return;
+    dispatchPerSubface(cmd, pass, pass.stencils, ComputePush{uint32_t(buffers.data.subfaces.size()), level, 0, kWholeCage});
+    computeWritesBeforeReads(cmd);
+    buffers.controlPointLevel = level;
 }
 
 DrawPush drawPush(const PlanView& view, const TessellationSettings* settings) {

@@ -2,6 +2,8 @@
 // evaluateDisplacement and displacePoint (docs/displacement.md; keep them in step). The three
 // buffers are DisplacementLayout's subfaces and segments and Displacement::samples; a cage
 // without displacement binds 16-byte placeholders, which hold no sub-face record.
+// Include after plan_eval.glsl.
+#extension GL_EXT_control_flow_attributes : require
 
 struct DispEdge {
     uint segment;
@@ -142,11 +144,45 @@ vec3 evaluateDisplacement(uint subface, vec2 uv) {
     return vec3(value, du, dv);
 }
 
-// s + D N with displacePoint's shading normal (normalize(f_u x f_v), f_u ~ s_u + D_u N). A
-// zero `unitNormal` (degenerate derivatives) displaces nothing.
+// The limit sample of drawn sub-face `drawn` at uv and the unit normal to shade and displace
+// with: the normal of du x dv (zero where that vanishes). With displacement, at the sub-face's
+// corners the derivatives and normal a hair inside the sub-face instead (cpu_grid.cpp does the
+// same): at an extraordinary vertex the Gregory corner's derivatives vanish — exactly on the
+// CPU, as rounding noise on the device, which no threshold tells from a tiny face reliably —
+// and a vertex must not be left undisplaced or pushed (or shaded) along noise. One evaluator
+// call site, so the shaders stay small.
+//
+// The step is 1/64 of the sub-face: a parameter of factor 64, whose control points the pass
+// computes whenever there is displacement (plan_pass.cpp, recordStencils); a step between
+// those levels would read control points the stencil pass has not written.
+const float kCornerNormalStep = 1.0 / 64.0;
+LimitSample evaluateWithNormal(uint drawn, vec2 uv, out vec3 unitNormal) {
+    bool corner = (uv.x == 0.0 || uv.x == 1.0) && (uv.y == 0.0 || uv.y == 1.0);
+    bool stepInside = corner && hasDisplacement();
+    LimitSample first;
+    unitNormal = vec3(0.0);
+    vec2 at = uv;
+    [[dont_unroll]] for (uint attempt = 0u; attempt < 2u; ++attempt) {
+        LimitSample s = evaluateSubface(drawn, at);
+        if (attempt == 0u) first = s;
+        if (attempt == 1u || !stepInside) {
+            first.du = s.du;
+            first.dv = s.dv;
+            vec3 n = cross(s.du, s.dv);
+            float len = length(n);
+            unitNormal = len > 0.0 ? n / len : vec3(0.0);
+            break;
+        }
+        at = vec2(uv.x + (uv.x < 0.5 ? kCornerNormalStep : -kCornerNormalStep), uv.y + (uv.y < 0.5 ? kCornerNormalStep : -kCornerNormalStep));
+    }
+    return first;
+}
+
+// s + D N with displacePoint's shading normal (normalize(f_u x f_v), f_u ~ s_u + D_u N;
+// unitNormal where that vanishes). Does nothing without displacement.
 void displaceSurfacePoint(uint subface, vec2 uv, vec3 du, vec3 dv, vec3 unitNormal, inout vec3 position, out vec3 normal) {
     normal = unitNormal;
-    if (!hasDisplacement() || unitNormal == vec3(0.0)) return;
+    if (!hasDisplacement()) return;
     vec3 d = evaluateDisplacement(subface, uv);
     position += d.x * unitNormal;
     vec3 n = cross(du + d.y * unitNormal, dv + d.z * unitNormal);

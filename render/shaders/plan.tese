@@ -33,10 +33,8 @@ layout(location = 3) out vec2 outUV;
 void main() {
     vec2 uv = gl_TessCoord.xy;
     Owner o = tessVertexOwner(drawn, uv, edgeFactor);
-    LimitSample s = evaluateSubface(o.drawn, o.uv);
-    vec3 n = cross(s.du, s.dv);
-    float len = length(n);
-    n = len > 0.0 ? n / len : vec3(0.0);
+    vec3 n;
+    LimitSample s = evaluateWithNormal(o.drawn, o.uv, n);
     displaceSurfacePoint(subfaces[o.drawn].subface, o.uv, s.du, s.dv, n, s.position, n);
     outNormal = n == vec3(0.0) ? vec3(0.0, 0.0, 1.0) : n;
     outDrawn = drawn;

@@ -35,10 +35,8 @@ void main() {
         uint slot = g.y + i, source = gridSource[slot];
         if (push.phase == 0u && source == slot) {
             vec2 uv = vec2(float(i % side), float(i / side)) / float(n);
-            LimitSample s = evaluateSubface(drawn, uv);
-            vec3 normal = cross(s.du, s.dv);
-            float len = length(normal);
-            normal = len > 0.0 ? normal / len : vec3(0.0);
+            vec3 normal;
+            LimitSample s = evaluateWithNormal(drawn, uv, normal);
             vec3 position = s.position;
             displaceSurfacePoint(subfaces[drawn].subface, uv, s.du, s.dv, normal, position, normal);
             uint o = 6u * slot;
