@@ -40,36 +40,25 @@ DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout) {
 }
 
 std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, const DisplacementUsers& users,
-                                             std::span<const SampleRange> ranges) {
+                                             std::span<const uint32_t> samples) {
     std::vector<uint32_t> out;
     const uint32_t segmentBegin = layout.segmentSampleBegin(), tileBegin = layout.tileSampleBegin();
-    for (const SampleRange& range : ranges) {
-        uint32_t first = range.first;
-        const uint32_t end = std::min(range.first + range.count, layout.sampleCount);
-        // Points.
-        for (; first < std::min(end, segmentBegin); ++first)
-            out.insert(out.end(), users.pointSubfaces.begin() + users.pointOffsets[first],
-                       users.pointSubfaces.begin() + users.pointOffsets[first + 1]);
-        // Segment interiors: segments are stored in offset order.
-        if (first < std::min(end, tileBegin)) {
-            auto it = std::upper_bound(layout.segments.begin(), layout.segments.end(), first,
-                                       [](uint32_t sample, const DisplacementSegment& s) { return sample < s.offset; });
-            for (uint32_t seg = uint32_t(it - layout.segments.begin()) - 1;
-                 seg < layout.segments.size() && layout.segments[seg].offset < std::min(end, tileBegin); ++seg)
-                if (layout.segments[seg].resolution > 1 && layout.segments[seg].offset + layout.segments[seg].resolution - 1 > first)
-                    out.insert(out.end(), users.segmentSubfaces.begin() + users.segmentOffsets[seg],
-                               users.segmentSubfaces.begin() + users.segmentOffsets[seg + 1]);
-            first = std::min(end, tileBegin);
-        }
-        // Tiles: sub-faces are stored in offset order.
-        if (first < end) {
-            auto it = std::upper_bound(layout.subfaces.begin(), layout.subfaces.end(), first,
-                                       [](uint32_t sample, const DisplacementSubface& s) { return sample < s.interiorOffset; });
-            for (uint32_t s = uint32_t(it - layout.subfaces.begin()) - 1;
-                 s < layout.subfaces.size() && layout.subfaces[s].interiorOffset < end; ++s) {
-                const uint32_t R = layout.subfaces[s].resolution;
-                if (R > 1 && layout.subfaces[s].interiorOffset + (R - 1) * (R - 1) > first) out.push_back(s);
-            }
+    auto append = [&](const std::vector<uint32_t>& offsets, const std::vector<uint32_t>& values, uint32_t key) {
+        out.insert(out.end(), values.begin() + offsets[key], values.begin() + offsets[key + 1]);
+    };
+    for (uint32_t sample : samples) {
+        if (sample < segmentBegin) {
+            append(users.pointOffsets, users.pointSubfaces, sample);
+        } else if (sample < tileBegin) {
+            // Segments are stored in offset order; the last one starting at or before the
+            // sample holds it (segments without interior samples share their successor's offset).
+            auto it = std::upper_bound(layout.segments.begin(), layout.segments.end(), sample,
+                                       [](uint32_t x, const DisplacementSegment& s) { return x < s.offset; });
+            append(users.segmentOffsets, users.segmentSubfaces, uint32_t(it - layout.segments.begin()) - 1);
+        } else if (sample < layout.sampleCount) {
+            auto it = std::upper_bound(layout.subfaces.begin(), layout.subfaces.end(), sample,
+                                       [](uint32_t x, const DisplacementSubface& s) { return x < s.interiorOffset; });
+            out.push_back(uint32_t(it - layout.subfaces.begin()) - 1);
         }
     }
     std::sort(out.begin(), out.end());

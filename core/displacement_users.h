@@ -12,7 +12,6 @@
 #include <span>
 #include <vector>
 
-#include "brush.h"  // SampleRange
 #include "displacement.h"
 
 namespace qp {
@@ -23,8 +22,8 @@ struct DisplacementUsers {
 };
 DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout);
 
-// The sub-faces whose D reads a sample in one of `ranges`: sorted, each once.
+// The sub-faces whose D reads one of `samples` (any order, repeats allowed): sorted, each once.
 std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, const DisplacementUsers& users,
-                                             std::span<const SampleRange> ranges);
+                                             std::span<const uint32_t> samples);
 
 }  // namespace qp

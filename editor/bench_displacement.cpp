@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstring>
+#include <numeric>
 #include <random>
 
 #include "displaced_mesh.h"
@@ -67,12 +68,13 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
         return result;
     }
     result.gridSubfaces = uint32_t(buffers.data.subfaces.size());
-    const SampleRange everything{0, displacement.layout.sampleCount};
+    std::vector<uint32_t> everything(displacement.layout.sampleCount);
+    std::iota(everything.begin(), everything.end(), 0u);
     std::vector<double> full;
     for (uint32_t r = 0; r < std::max(repeats / 20, 3u); ++r) {
         auto fullStart = Clock::now();
         buffers.gridEvaluator = GridEvaluator::None;
-        recordDisplacementChange(VK_NULL_HANDLE, *pass, buffers, *planned, std::span(&everything, 1));
+        recordDisplacementChange(VK_NULL_HANDLE, *pass, buffers, *planned, everything);
         evaluateGridOnCpu(*planned, buffers);
         full.push_back(msSince(fullStart));
     }
@@ -102,8 +104,8 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
 
             // The CPU grid path records no device work: the command buffer is not used.
             auto uploadStart = Clock::now();
-            const std::vector<SampleRange> ranges = uploadRanges(sculptor.lastDabSamples());
-            const DisplacementUpdate gpu = recordDisplacementChange(VK_NULL_HANDLE, *pass, buffers, *planned, ranges);
+            const DisplacementUpdate gpu =
+                recordDisplacementChange(VK_NULL_HANDLE, *pass, buffers, *planned, sculptor.lastDabSamples());
             const double uploadMs = msSince(uploadStart);
             update.push_back(updateMs);
             upload.push_back(uploadMs);

@@ -14,7 +14,7 @@
 //   update()            positions changed (and once after createGpu): CPU work that depends
 //                       on positions, uploads; after it, evaluate() and record() see them
 //   setDisplacement(d)  optional, after build: the scene's sculpted displacement (or none),
-//                       drawn from the next update() on; displacementChanged(ranges) after a
+//                       drawn from the next update() on; displacementChanged(samples) after a
 //                       brush dab changed samples in place (see "Displacement" below)
 //   record(cmd, ...)    clears target.area and draws the surface there; records only
 //   evaluate(...)       the surface on the CPU, for error measurement (thread-safe, const)
@@ -44,7 +44,6 @@
 #include <glm/vec3.hpp>
 #include <vulkan/vulkan.h>
 
-#include "brush.h"  // SampleRange
 #include "cage.h"
 #include "displacement.h"
 #include "plan_evaluator.h"  // SampleRequest
@@ -200,11 +199,12 @@ public:
         if (!displacement || displacement->empty()) return success();
         return Error{"this scheme does not draw sculpted displacement"};
     }
-    // Samples in `changed` (uploadRanges of a dab, core/brush.h) changed in place; the layout
-    // is the one given to setDisplacement. Bring what record() draws up to date, ideally only
-    // around the changed samples. Default: a full update().
-    virtual Status displacementChanged(std::span<const SampleRange> changed) {
-        (void)changed;
+    // `samples` (indices into Displacement::samples, any order, repeats allowed: e.g.
+    // Sculptor::lastDabSamples() after a dab, core/brush.h) changed in place; the layout is the
+    // one given to setDisplacement. Bring what record() draws up to date, ideally only around
+    // them (uploadRanges gives the buffer regions). Default: a full update().
+    virtual Status displacementChanged(std::span<const uint32_t> samples) {
+        (void)samples;
         return update();
     }
 };

@@ -178,8 +178,8 @@ Status SchemeInstance::setDisplacement(const Displacement* displacement) {
     return guarded(name(), "displacement", [&]() -> Status { return scheme_->setDisplacement(displacement); });
 }
 
-Status SchemeInstance::displacementChanged(std::span<const SampleRange> changed) {
-    return guarded(name(), "displacement update", [&]() -> Status { return scheme_->displacementChanged(changed); });
+Status SchemeInstance::displacementChanged(std::span<const uint32_t> samples) {
+    return guarded(name(), "displacement update", [&]() -> Status { return scheme_->displacementChanged(samples); });
 }
 
 Result<DrawStats> SchemeInstance::record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) {

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <tuple>
 
+#include "brush.h"  // uploadRanges
 #include "cpu_grid.h"
 #include "shader_code.h"
 #include "vk_check.h"
@@ -554,8 +555,10 @@ void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers
 
 void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers) {
     assert(!buffers.gridLayout.subfaceOffset.empty() && "prepareGrid first");
+    if (buffers.displacement) buffers.gridFrames.resize(buffers.gridLayout.slotCount());
+    else buffers.gridFrames = {};
     evaluateWholeGridOnCpu(planned, buffers.data, buffers.gridLayout, static_cast<GridVertex*>(buffers.grid.data),
-                           buffers.displacement);
+                           buffers.displacement, buffers.displacement ? buffers.gridFrames.data() : nullptr);
     buffers.gridEvaluator = GridEvaluator::Cpu;
 }
 
@@ -641,7 +644,8 @@ GridRefresh recordGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuf
         dispatchGridPhase(cmd, pass, uint32_t(copying.size()), 1, touchedCount);
     } else if (buffers.gridEvaluator == GridEvaluator::Cpu) {
         evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, touched, copying,
-                          static_cast<GridVertex*>(buffers.grid.data), buffers.displacement);
+                          static_cast<GridVertex*>(buffers.grid.data), buffers.displacement,
+                          buffers.displacement ? buffers.gridFrames.data() : nullptr);
     }
     if (buffers.gridEvaluator != GridEvaluator::None) {
         update.evaluatedSubfaces = touchedCount;
@@ -708,20 +712,29 @@ Status setPlanDisplacement(const VulkanContext& ctx, PlanPass& pass, PlanBuffers
 }
 
 DisplacementUpdate recordDisplacementChange(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
-                                            const PlannedCage& planned, std::span<const SampleRange> changed) {
+                                            const PlannedCage& planned, std::span<const uint32_t> samples) {
     DisplacementUpdate update;
     if (!buffers.displacement) return update;
     const std::vector<float>& values = buffers.displacement->samples;
-    for (const SampleRange& range : changed) {
+    for (const SampleRange& range : uploadRanges(samples)) {
         uploadBuffer(buffers.displacementSamples, values.data() + range.first, range.count * sizeof(float),
                      size_t(range.first) * sizeof(float));
         update.uploadedSamples += range.count;
     }
     if (buffers.gridEvaluator == GridEvaluator::None) return update;  // evaluated whole when drawn
     std::vector<uint32_t> touched;
-    for (uint32_t s : subfacesReadingSamples(buffers.displacement->layout, buffers.displacementUsers, changed))
+    for (uint32_t s : subfacesReadingSamples(buffers.displacement->layout, buffers.displacementUsers, samples))
         if (buffers.drawnOfSubface[s] != UINT32_MAX) touched.push_back(buffers.drawnOfSubface[s]);
     std::sort(touched.begin(), touched.end());
+    if (buffers.gridEvaluator == GridEvaluator::Cpu) {
+        // The surface did not move: re-displace the kept frames, no evaluation.
+        const std::vector<uint32_t> copying = withDependents(buffers.gridLayout, touched);
+        redisplaceGridOnCpu(buffers.data, buffers.gridLayout, touched, copying, *buffers.displacement,
+                            buffers.gridFrames.data(), static_cast<GridVertex*>(buffers.grid.data));
+        update.evaluatedSubfaces = uint32_t(touched.size());
+        update.copiedSubfaces = uint32_t(copying.size());
+        return update;
+    }
     const GridRefresh refresh = recordGridRefresh(cmd, pass, buffers, planned, touched, false);
     update.evaluatedSubfaces = refresh.evaluatedSubfaces;
     update.copiedSubfaces = refresh.copiedSubfaces;

@@ -25,10 +25,10 @@
 
 #include <glm/mat4x4.hpp>
 
-#include "brush.h"  // SampleRange
 #include "displacement.h"
 #include "displacement_users.h"
 #include "gpu_plans.h"
+#include "cpu_grid.h"  // GridFrame
 #include "grid_layout.h"
 #include "render_target.h"
 #include "vk_buffer.h"
@@ -80,6 +80,7 @@ struct PlanBuffers {
     // and the samples; 16-byte placeholders (no sub-face record) when there is none.
     Buffer displacementSubfaces, displacementSegments, displacementSamples;
     const Displacement* displacement = nullptr;  // what the buffers hold; null: none
+    std::vector<GridFrame> gridFrames;           // CPU grid with displacement: frames of evaluated slots
     DisplacementUsers displacementUsers;         // which sub-faces read each sample
     std::vector<uint32_t> drawnOfSubface;        // PlannedCage sub-face -> drawn index (or UINT32_MAX)
 };
@@ -195,12 +196,12 @@ struct DisplacementUpdate {
     uint32_t evaluatedSubfaces = 0;  // grid slots re-evaluated (device or CPU)
     uint32_t copiedSubfaces = 0;
 };
-// After a dab changed the samples in `changed` in place (same layout): copies those ranges
-// into the device's samples and brings a cached grid up to date for just the sub-faces that
-// read them (device work recorded into `cmd`, outside rendering; a CPU grid now). The result
-// equals setPlanDisplacement and a full evaluation.
+// After a dab changed `samples` in place (same layout; any order, repeats allowed): copies
+// their blocks (uploadRanges, core/brush.h) into the device's samples and brings a cached grid
+// up to date for just the sub-faces that read them (device work recorded into `cmd`, outside
+// rendering; a CPU grid now). The result equals setPlanDisplacement and a full evaluation.
 DisplacementUpdate recordDisplacementChange(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
-                                            const PlannedCage& planned, std::span<const SampleRange> changed);
+                                            const PlannedCage& planned, std::span<const uint32_t> samples);
 
 // Capture record written by the tessellated path when PlanView::capture is set.
 struct CaptureRecord {

@@ -73,15 +73,15 @@ public:
         return haveBuffers_ ? setPlanDisplacement(*ctx_, pass_, buffers_, displacement_) : success();
     }
 
-    Status displacementChanged(std::span<const SampleRange> changed) override {
+    Status displacementChanged(std::span<const uint32_t> samples) override {
         if (!haveBuffers_ || !displacement_) return success();
         // Device work (the GPU grid path) goes through one short submission; the CPU grid and
         // the tessellated path need none.
         if (buffers_.gridEvaluator == GridEvaluator::Gpu)
             return submitAndWait(*ctx_, [&](VkCommandBuffer cmd) {
-                recordDisplacementChange(cmd, pass_, buffers_, *planned_, changed);
+                recordDisplacementChange(cmd, pass_, buffers_, *planned_, samples);
             });
-        recordDisplacementChange(VK_NULL_HANDLE, pass_, buffers_, *planned_, changed);
+        recordDisplacementChange(VK_NULL_HANDLE, pass_, buffers_, *planned_, samples);
         return success();
     }
 
