@@ -24,12 +24,57 @@ void forEachSubface(const uint32_t* list, size_t count, const Body& body) {
     });
 }
 
-GridVertex gridVertex(const LimitSample& s) {
-    glm::vec3 normal = glm::cross(s.du, s.dv);
+glm::vec3 unitNormalOf(const LimitSample& s) {
+    const glm::vec3 normal = glm::cross(s.du, s.dv);
     const float length = glm::length(normal);
-    normal = length > 0.0f ? normal / length : glm::vec3(0.0f);
-    return GridVertex{{s.position.x, s.position.y, s.position.z}, {normal.x, normal.y, normal.z}};
+    return length > 0.0f ? normal / length : glm::vec3(0.0f);
 }
+
+glm::vec3 unitNormalOf(const glm::vec3& du, const glm::vec3& dv) {
+    const glm::vec3 normal = glm::cross(du, dv);
+    const float length = glm::length(normal);
+    return length > 0.0f ? normal / length : glm::vec3(0.0f);
+}
+
+// The frame a displaced slot is built from: at sub-face corners the derivatives
+// kCornerNormalStep inside (shaders/displacement.glsl, evaluateWithNormal, says why).
+GridFrame frameOf(const PlannedCage& planned, const LimitSample& s, uint32_t subface, float u, float v) {
+    GridFrame frame{s.position, s.du, s.dv};
+    if ((u == 0.0f || u == 1.0f) && (v == 0.0f || v == 1.0f)) {
+        const LimitSample inside = planned.evaluate(subface, u + (u < 0.5f ? kCornerNormalStep : -kCornerNormalStep),
+                                                    v + (v < 0.5f ? kCornerNormalStep : -kCornerNormalStep));
+        frame.du = inside.du;
+        frame.dv = inside.dv;
+    }
+    return frame;
+}
+
+// s + D N along the frame's unit normal, with displacePoint's shading normal.
+GridVertex displacedVertex(const GridFrame& frame, const Displacement& displacement, uint32_t subface, float u, float v) {
+    const DisplacedPoint p = displacePoint(frame.position, frame.du, frame.dv, unitNormalOf(frame.du, frame.dv),
+                                           evaluateDisplacement(displacement, subface, u, v));
+    return GridVertex{{p.position.x, p.position.y, p.position.z}, {p.normal.x, p.normal.y, p.normal.z}};
+}
+
+// Where phase 1 writes: the grid, and with a displacement optionally the frames.
+struct Output {
+    GridVertex* grid;
+    const Displacement* displacement;
+    GridFrame* frames;
+
+    // Slot `slot` of sub-face `subface` at (u, v): the limit point and the unit normal of
+    // du x dv (zero where that vanishes), or with a displacement the displaced vertex.
+    void write(const PlannedCage& planned, uint32_t slot, const LimitSample& s, uint32_t subface, float u, float v) const {
+        if (!displacement) {
+            const glm::vec3 n = unitNormalOf(s.du, s.dv);
+            grid[slot] = GridVertex{{s.position.x, s.position.y, s.position.z}, {n.x, n.y, n.z}};
+            return;
+        }
+        const GridFrame frame = frameOf(planned, s, subface, u, v);
+        if (frames) frames[slot] = frame;
+        grid[slot] = displacedVertex(frame, *displacement, subface, u, v);
+    }
+};
 
 bool isSingleBicubic(const Plan& plan) {
     return plan.nodes.size() == 1 && (plan.nodes[0].kind == NodeKind::Regular || plan.nodes[0].kind == NodeKind::Crease);
@@ -60,7 +105,7 @@ Basis1D basisAlongV(const PlanNode& node, float t) {
 // column, and each slot only combines four of those along v. The operations and their order
 // are core/plan_eval.cpp's tensorPatch, so the values are PlannedCage::evaluate's.
 void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32_t subface, const GridLayout& layout,
-                            uint32_t drawn, GridVertex* grid) {
+                            uint32_t drawn, const Output& out) {
     const PlanNode& node = plan.nodes[0];
     const uint32_t* points = plan.points.data() + node.first;
     const glm::vec3* controlPoints = planned.subfaceControlPoints(subface).data();
@@ -106,22 +151,24 @@ void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32
             if (rotation == 1) sample.du = -dv, sample.dv = du;
             else if (rotation == 2) sample.du = -du, sample.dv = -dv;
             else if (rotation == 3) sample.du = dv, sample.dv = -du;
-            grid[slot] = gridVertex(sample);
+            float u, v;
+            slotParameter(slot - first, n, u, v);
+            out.write(planned, slot, sample, subface, u, v);
         }
 }
 
 void evaluatePhase(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout, const uint32_t* list,
-                   size_t count, GridVertex* grid) {
+                   size_t count, const Output& out) {
     forEachSubface(list, count, [&](uint32_t drawn) {
         const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
         const Plan& plan = planned.database().plan(planned.subfacePlan(subface));
-        if (isSingleBicubic(plan)) return evaluateBicubicSubface(planned, plan, subface, layout, drawn, grid);
+        if (isSingleBicubic(plan)) return evaluateBicubicSubface(planned, plan, subface, layout, drawn, out);
         const uint32_t first = layout.subfaceOffset[drawn], end = layout.subfaceOffset[drawn + 1];
         for (uint32_t slot = first; slot < end; ++slot) {
             if (layout.source[slot] != slot) continue;
             float u, v;
             slotParameter(slot - first, n, u, v);
-            grid[slot] = gridVertex(planned.evaluate(subface, u, v));
+            out.write(planned, slot, planned.evaluate(subface, u, v), subface, u, v);
         }
     });
 }
@@ -136,15 +183,32 @@ void copyPhase(const GridLayout& layout, const uint32_t* list, size_t count, Gri
 }  // namespace
 
 void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                       std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid) {
-    evaluatePhase(planned, data, layout, evaluate.data(), evaluate.size(), grid);
+                       std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid,
+                       const Displacement* displacement, GridFrame* frames) {
+    evaluatePhase(planned, data, layout, evaluate.data(), evaluate.size(), Output{grid, displacement, frames});
     copyPhase(layout, copy.data(), copy.size(), grid);
 }
 
 void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                            GridVertex* grid) {
-    evaluatePhase(planned, data, layout, nullptr, data.subfaces.size(), grid);
+                            GridVertex* grid, const Displacement* displacement, GridFrame* frames) {
+    evaluatePhase(planned, data, layout, nullptr, data.subfaces.size(), Output{grid, displacement, frames});
     copyPhase(layout, nullptr, data.subfaces.size(), grid);
+}
+
+void redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
+                         std::span<const uint32_t> copy, const Displacement& displacement, const GridFrame* frames,
+                         GridVertex* grid) {
+    forEachSubface(evaluate.data(), evaluate.size(), [&](uint32_t drawn) {
+        const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
+        const uint32_t first = layout.subfaceOffset[drawn], end = layout.subfaceOffset[drawn + 1];
+        for (uint32_t slot = first; slot < end; ++slot) {
+            if (layout.source[slot] != slot) continue;
+            float u, v;
+            slotParameter(slot - first, n, u, v);
+            grid[slot] = displacedVertex(frames[slot], displacement, subface, u, v);
+        }
+    });
+    copyPhase(layout, copy.data(), copy.size(), grid);
 }
 
 }  // namespace qp

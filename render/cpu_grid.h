@@ -10,19 +10,45 @@
 #include <cstdint>
 #include <span>
 
+#include "displacement.h"
+#include "displacement.h"
 #include "grid_layout.h"
 #include "planned_cage.h"
 
 namespace qp {
 
+// With displacement, a sub-face corner is displaced and shaded with the derivatives this far
+// inside the sub-face (in u and v): at extraordinary vertices they vanish at the corner
+// (shaders/displacement.glsl, evaluateWithNormal, has the same constant and says why).
+constexpr float kCornerNormalStep = 1.0f / 64.0f;
+
+// What the grid keeps per evaluated slot when there is a displacement (optional): the
+// undisplaced limit point and the derivatives it is displaced and shaded with (at sub-face
+// corners those kCornerNormalStep inside). A brush dab then re-displaces slots from them
+// without evaluating the surface again (redisplaceGridOnCpu).
+struct GridFrame {
+    glm::vec3 position, du, dv;
+};
+
 // Phase 1 (evaluated slots) for the drawn sub-faces in `evaluate`, then phase 2 (copied
 // slots) for those in `copy`; `grid` holds layout.slotCount() vertices. `planned` must be the
-// cage `data` was packed from, with current control points.
+// cage `data` was packed from, with current control points. With a `displacement` (matching
+// `planned`), evaluated slots hold the displaced point and displacePoint's shading normal (as
+// shaders/plan_grid.comp does); phase 2 copies carry them to the neighbours, so shared
+// vertices stay bit-identical. With `frames` as well (layout.slotCount() of them), each
+// evaluated slot's frame is kept there.
 void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                       std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid);
+                       std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid,
+                       const Displacement* displacement = nullptr, GridFrame* frames = nullptr);
 
 // Both phases for every drawn sub-face.
 void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                            GridVertex* grid);
+                            GridVertex* grid, const Displacement* displacement = nullptr, GridFrame* frames = nullptr);
+
+// After only the displacement's samples changed: phase 1 for `evaluate` from the kept frames
+// (no surface evaluation), then phase 2 for `copy`. The same bits as evaluateGridOnCpu.
+void redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
+                         std::span<const uint32_t> copy, const Displacement& displacement, const GridFrame* frames,
+                         GridVertex* grid);
 
 }  // namespace qp
