@@ -220,7 +220,7 @@ TEST(Stam, MatchesFarDepth10NearExtraordinaryVertices) {
         std::printf("%s near extraordinary vertices, max over the diagonal / max normal angle: far(depth 10) %.2e / "
                     "%.2g deg, plans(depth 6) %.2e / %.2g deg\n",
                     name, worst, worstNormal, plansWorst, plansNormal);
-        EXPECT_LT(worst, 1e-6) << name;
-        EXPECT_LT(worstNormal, 0.05) << name;
+        EXPECT_LT(worst, 1e-7) << name;        // measured 1.8e-8 at most (smoothtris0)
+        EXPECT_LT(worstNormal, 1e-3) << name;  // measured 2.7e-5 degrees at most
     }
 }
