@@ -19,7 +19,7 @@ struct TessPush {
     glm::mat4 viewProj;
     glm::vec4 eye;
     glm::vec4 color;
-    glm::vec4 params;  // x: depth pull toward the eye, y: 0 lit / 1 flat, z: 1 = encode sRGB in the shader
+    glm::vec4 params;  // x: depth pull toward the eye, y: 0 lit / 1 flat
     float uniformFactor;
     float pixelsPerSegment;
     float pixelsPerUnit;
@@ -45,9 +45,11 @@ Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cach
                                   const VkShaderModule modules[4], bool wireframe) {
     const VkShaderStageFlagBits stageBits[4] = {VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
                                                 VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
+    const ColorEncoding encoding(pass.colorFormat);  // mesh.frag encodes sRGB itself unless the target does
     VkPipelineShaderStageCreateInfo stages[4];
     for (int i = 0; i < 4; ++i)
         stages[i] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stageBits[i], modules[i], "main"};
+    stages[3].pSpecializationInfo = &encoding.info;
     VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     assembly.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
@@ -226,7 +228,6 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     }
     beginRendering(cmd, target, true, view.background);
-    const bool srgb = isSrgbFormat(pass.colorFormat);
     const uint32_t maxFactor = settings.uniformFactor == 0 ? 64u : std::min(settings.uniformFactor, 64u);
     const uint32_t perDraw = patchesPerDraw(maxFactor);
     for (VkPipeline pipeline : {pass.solid, view.wireframe ? pass.wire : VkPipeline(VK_NULL_HANDLE)}) {
@@ -236,7 +237,7 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
         push.viewProj = view.viewProjection;
         push.eye = glm::vec4(view.eye, 1.0f);
         push.color = wire ? glm::vec4(0.02f, 0.02f, 0.02f, 1.0f) : glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
-        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, wire ? 1.0f : 0.0f, srgb ? 0.0f : 1.0f, 0.0f);
+        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, wire ? 1.0f : 0.0f, 0.0f, 0.0f);
         push.uniformFactor = float(settings.uniformFactor);
         push.pixelsPerSegment = settings.pixelsPerSegment;
         push.pixelsPerUnit = view.pixelsPerUnit;
