@@ -160,12 +160,15 @@ void drawLabels(RgbaImage& image, const Layout& layout, const std::vector<Scheme
                 std::snprintf(text, sizeof text, "%.1e / %.1e / %.2g deg", r.error.maxRelError, r.error.rmsRelError,
                               r.error.maxNormalDegrees);
             drawText(image, x + 6, line2, text, 1, {40, 40, 40});
-            // Approximations at the bottom of the rendering, so nobody misses them.
+            // Approximations at the bottom of the rendering, so nobody misses them: each one's
+            // headline (the text before its parenthesised details, which the table's JSON and
+            // stderr carry in full), so that every approximation fits.
             const VkRect2D tile = layout.tile(i, false);
             std::vector<std::string> lines;
             for (const std::string& a : r.approximations)
-                for (const std::string& l : wrapText("approximates: " + a, int(layout.tileWidth) - 12, 1)) lines.push_back(l);
-            if (lines.size() > 4) lines.resize(4);
+                for (const std::string& l : wrapText("approximates: " + a.substr(0, a.find(" (")), int(layout.tileWidth) - 12, 1))
+                    lines.push_back(l);
+            if (lines.size() > 6) lines.resize(6);
             int ty = tile.offset.y + int(tile.extent.height) - 4 - int(lines.size()) * (textHeight(1) + 1);
             for (const std::string& l : lines) {
                 drawText(image, tile.offset.x + 6, ty, l, 1, {150, 60, 0});
