@@ -19,6 +19,14 @@ uint32_t requiredMeshFactor(const PlannedCage& planned, const DisplacementLayout
 }
 
 Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displacement& displacement, uint32_t factor) {
+    return buildDisplacedMesh(planned, displacement, factor, [&planned](uint32_t s, float u, float v) {
+        const LimitSample sample = planned.evaluate(s, u, v);
+        return SurfaceFrame{sample.position, sample.du, sample.dv, limitNormal(planned, s, u, v, sample)};
+    });
+}
+
+Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displacement& displacement, uint32_t factor,
+                                         const SurfaceFunction& surface) {
     const Cage& cage = planned.cage();
     bool anyNgon = false;
     for (uint32_t f = 0; f < cage.faceCount(); ++f) anyNgon |= cage.faceSize(f) != 4;
@@ -57,8 +65,8 @@ Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displ
         for (uint32_t j = 0; j <= n; ++j)
             for (uint32_t i = 0; i <= n; ++i) {
                 const float u = float(i) / float(n), v = float(j) / float(n);
-                const LimitSample own = planned.evaluate(s, u, v);
-                glm::vec3 position = own.position, normal = limitNormal(planned, s, u, v, own);
+                const SurfaceFrame own = surface(s, u, v);
+                glm::vec3 position = own.position, normal = own.normal;
                 DisplacementValue d;
                 if (!displacement.empty()) d = evaluateDisplacement(displacement, s, u, v);
                 {
@@ -91,9 +99,9 @@ Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displ
                             }
                         }
                         if (owner != s || uv != glm::vec2(u, v)) {
-                            LimitSample at = planned.evaluate(owner, uv.x, uv.y);
+                            const SurfaceFrame at = surface(owner, uv.x, uv.y);
                             position = at.position;
-                            normal = limitNormal(planned, owner, uv.x, uv.y, at);
+                            normal = at.normal;
                         }
                     }
                 }

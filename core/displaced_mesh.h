@@ -10,6 +10,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -35,5 +36,18 @@ uint32_t requiredMeshFactor(const PlannedCage& planned, const DisplacementLayout
 
 // factor in 1..128; even when the cage has non-quads. An empty displacement displaces nothing.
 Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displacement& displacement, uint32_t factor);
+
+// Any surface over the same sub-faces (a patching scheme's): position, derivatives and the unit
+// normal the surface is displaced along, at (sub-face, u, v). Called concurrently.
+struct SurfaceFrame {
+    glm::vec3 position{0.0f}, du{0.0f}, dv{0.0f}, normal{0.0f};
+};
+using SurfaceFunction = std::function<SurfaceFrame(uint32_t subface, float u, float v)>;
+
+// The same mesh over `surface` instead of the limit surface: each scheme displaces along its
+// own normal, and boundary vertices still take position and normal from the owner, so the
+// result is watertight bit for bit even where the scheme's own surface is not.
+Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displacement& displacement, uint32_t factor,
+                                         const SurfaceFunction& surface);
 
 }  // namespace qp

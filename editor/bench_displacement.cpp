@@ -5,6 +5,8 @@
 #include <cstring>
 #include <random>
 
+#include "displaced_mesh.h"
+#include "plan_pass.h"
 #include "planned_cage.h"
 #include "sculpt_samples.h"
 
@@ -24,7 +26,8 @@ double medianOf(std::vector<double> values) {
 
 }  // namespace
 
-DisplacementBenchResult measureDisplacementDabs(const Cage& cage, uint32_t resolution, uint32_t repeats, uint32_t seed) {
+DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const Cage& cage, uint32_t resolution,
+                                                uint32_t repeats, uint32_t seed) {
     DisplacementBenchResult result;
     PlanDatabase database;
     Result<PlannedCage> planned = PlannedCage::create(cage, database, PlanOptions{}, "bench");
@@ -40,13 +43,38 @@ DisplacementBenchResult measureDisplacementDabs(const Cage& cage, uint32_t resol
     SculptSamples samples = SculptSamples::build(*planned, displacement.layout);
     result.cacheBuildMs = msSince(start);
 
-    // The GPU copy of the samples; a mapped host-visible buffer takes the same memcpy.
-    std::vector<float> mapped(displacement.samples.size(), 0.0f);
+    // The plans renderer's buffers with the displacement, its grid at the factor the tiles need.
+    Result<PlanPass> pass = createPlanPass(ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM);
+    if (!pass) {
+        result.error = pass.error().message;
+        return result;
+    }
+    Result<PlanBuffers> uploaded = uploadPlans(ctx, *planned);
+    if (!uploaded) {
+        result.error = uploaded.error().message;
+        destroyPlanPass(ctx, *pass);
+        return result;
+    }
+    PlanBuffers& buffers = *uploaded;
+    bindPlanBuffers(ctx, *pass, buffers);
+    result.gridFactor = std::min(requiredMeshFactor(*planned, displacement.layout), 64u);
+    Status ready = setPlanDisplacement(ctx, *pass, buffers, &displacement);
+    if (ready) ready = prepareGrid(ctx, *pass, buffers, result.gridFactor);
+    if (!ready) {
+        result.error = ready.error().message;
+        destroyPlanBuffers(ctx, buffers);
+        destroyPlanPass(ctx, *pass);
+        return result;
+    }
+    result.gridSubfaces = uint32_t(buffers.data.subfaces.size());
+    const SampleRange everything{0, displacement.layout.sampleCount};
     std::vector<double> full;
-    for (uint32_t r = 0; r < std::max(repeats, 3u); ++r) {
-        auto copyStart = Clock::now();
-        std::memcpy(mapped.data(), displacement.samples.data(), mapped.size() * sizeof(float));
-        full.push_back(msSince(copyStart));
+    for (uint32_t r = 0; r < std::max(repeats / 20, 3u); ++r) {
+        auto fullStart = Clock::now();
+        buffers.gridEvaluator = GridEvaluator::None;
+        recordDisplacementChange(VK_NULL_HANDLE, *pass, buffers, *planned, std::span(&everything, 1));
+        evaluateGridOnCpu(*planned, buffers);
+        full.push_back(msSince(fullStart));
     }
     result.fullUploadMs = medianOf(full);
 
@@ -64,7 +92,7 @@ DisplacementBenchResult measureDisplacementDabs(const Cage& cage, uint32_t resol
     Sculptor sculptor(displacement, samples);
     for (auto [kind, fraction] : brushes) {
         const Brush brush{kind, fraction * diagonal, kind == BrushKind::Raise ? 0.05f : 0.5f, Falloff::Smooth};
-        std::vector<double> update, upload, total, bytes, reached;
+        std::vector<double> update, upload, total, bytes, reached, subfaces;
         sculptor.beginStroke();
         for (uint32_t r = 0; r < repeats; ++r) {
             const glm::vec3 centre = samples.position(sited[rng() % sited.size()]);
@@ -72,24 +100,26 @@ DisplacementBenchResult measureDisplacementDabs(const Cage& cage, uint32_t resol
             sculptor.dab(brush, MirrorAxis::None, centre);
             const double updateMs = msSince(dabStart);
 
+            // The CPU grid path records no device work: the command buffer is not used.
             auto uploadStart = Clock::now();
-            std::vector<SampleRange> ranges = uploadRanges(sculptor.lastDabSamples());
-            size_t copied = 0;
-            for (const SampleRange& range : ranges) {
-                std::memcpy(mapped.data() + range.first, displacement.samples.data() + range.first, range.count * sizeof(float));
-                copied += range.count * sizeof(float);
-            }
+            const std::vector<SampleRange> ranges = uploadRanges(sculptor.lastDabSamples());
+            const DisplacementUpdate gpu = recordDisplacementChange(VK_NULL_HANDLE, *pass, buffers, *planned, ranges);
             const double uploadMs = msSince(uploadStart);
             update.push_back(updateMs);
             upload.push_back(uploadMs);
             total.push_back(updateMs + uploadMs);
-            bytes.push_back(double(copied));
+            bytes.push_back(double(gpu.uploadedSamples) * sizeof(float));
             reached.push_back(double(sculptor.lastDabSamples().size()));
+            subfaces.push_back(double(gpu.evaluatedSubfaces));
         }
         sculptor.endStroke();
-        if (mapped != displacement.samples) result.error = "the uploaded copy differs from the samples (upload ranges miss a change)";
-        result.dabs.push_back({kind, brush.radius, repeats, medianOf(update), medianOf(upload), medianOf(total), medianOf(bytes), medianOf(reached)});
+        if (std::memcmp(buffers.displacementSamples.data, displacement.samples.data(), displacement.samples.size() * sizeof(float)))
+            result.error = "the Vulkan sample buffer differs from the samples (upload ranges miss a change)";
+        result.dabs.push_back({kind, brush.radius, repeats, medianOf(update), medianOf(upload), medianOf(total),
+                               medianOf(bytes), medianOf(subfaces), medianOf(reached)});
     }
+    destroyPlanBuffers(ctx, buffers);
+    destroyPlanPass(ctx, *pass);
     return result;
 }
 

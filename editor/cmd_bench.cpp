@@ -859,21 +859,32 @@ constexpr uint32_t kDabsPerRepeat = 20;           // dabs are cheap: many per re
 
 void benchDisplacement(const BenchCage& bench, const BenchArgs& args, Report& report) {
     std::fprintf(stderr, "bench displacement: %s (%u faces)\n", bench.name.c_str(), bench.cage.faceCount());
+    Result<VulkanContext> context = createBenchContext();
+    if (!context) {
+        report.notes.push_back(bench.name + ": no Vulkan context: " + context.error().message);
+        return;
+    }
     const uint32_t dabs = args.repeats * kDabsPerRepeat;
-    DisplacementBenchResult result = measureDisplacementDabs(bench.cage, kDisplacementResolution, dabs, args.seed);
+    DisplacementBenchResult result = measureDisplacementDabs(*context, bench.cage, kDisplacementResolution, dabs, args.seed);
+    const std::string device = context->deviceName;
+    destroyContext(*context);
     if (!result.error.empty()) report.notes.push_back(bench.name + ": " + result.error);
     if (result.dabs.empty()) return;
     report.notes.push_back(bench.name + ": resolution " + std::to_string(result.resolution) + " on every sub-face, " +
                            std::to_string(result.samples) + " samples (" + number(result.samples * 4.0 / 1048576.0) +
                            " MiB); smooth falloff, dabs at random sample positions; the samples cache is built once per "
-                           "layout");
+                           "layout; GPU buffers: the plans renderer's sample buffer and its CPU-path grid at factor " +
+                           std::to_string(result.gridFactor) + " (" + std::to_string(result.gridSubfaces) +
+                           " sub-faces), both mapped Vulkan buffers on " + device);
     for (const DabMeasurement& m : result.dabs) {
         Row r;
         r.cage = bench.name;
         r.faces = bench.cage.faceCount();
-        r.benchmark = std::string(brushKindName(m.brush)) + " dab, radius " + number(m.radius) + ": CPU update " + number(m.updateMs) + " ms + upload copy " +
-                      number(m.uploadMs) + " ms of " + number(m.bytes / 1024.0) + " KiB (" + number(m.samplesReached) +
-                      " samples in reach) vs copying the whole buffer; 2nd: building the samples cache";
+        r.benchmark = std::string(brushKindName(m.brush)) + " dab, radius " + number(m.radius) + ": CPU update " +
+                      number(m.updateMs) + " ms + GPU buffers " + number(m.uploadMs) + " ms (" + number(m.bytes / 1024.0) +
+                      " KiB of samples, grid of " + number(m.gridSubfaces) + " sub-faces; " + number(m.samplesReached) +
+                      " samples in reach) vs uploading every sample and re-evaluating the whole grid; 2nd: building "
+                      "the samples cache";
         r.repeats = m.repeats;
         r.unit = "ms";
         r.ours = m.totalMs;

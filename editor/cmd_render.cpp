@@ -94,7 +94,8 @@ int runRender(const RenderArgs& args) {
     const GpuContext gpu{&ctx, vkCache, format, VK_FORMAT_D32_SFLOAT};
     const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
 
-    Result<PreparedScheme> prepared = prepareScheme(catalog, args.scheme, *planned, features, settings, gpu, args.path);
+    Result<PreparedScheme> prepared = prepareScheme(catalog, args.scheme, *planned, features, settings, gpu, args.path,
+                                                       &scene->displacement);
     Result<std::vector<std::string>> modes = prepared ? prepared->instance.colorModes()
                                                       : Result<std::vector<std::string>>(prepared.error());
     Result<OffscreenTarget> target = modes ? createOffscreenTarget(ctx, width, height, format) : Result<OffscreenTarget>(modes.error());

@@ -13,6 +13,9 @@
 //   createGpu(gpu)      pipelines and buffers for targets of the given formats
 //   update()            positions changed (and once after createGpu): CPU work that depends
 //                       on positions, uploads; after it, evaluate() and record() see them
+//   setDisplacement(d)  optional, after build: the scene's sculpted displacement (or none),
+//                       drawn from the next update() on; displacementChanged(ranges) after a
+//                       brush dab changed samples in place (see "Displacement" below)
 //   record(cmd, ...)    clears target.area and draws the surface there; records only
 //   evaluate(...)       the surface on the CPU, for error measurement (thread-safe, const)
 //   destroyGpu()        before the Vulkan context goes away
@@ -41,7 +44,9 @@
 #include <glm/vec3.hpp>
 #include <vulkan/vulkan.h>
 
+#include "brush.h"  // SampleRange
 #include "cage.h"
+#include "displacement.h"
 #include "plan_evaluator.h"  // SampleRequest
 #include "planned_cage.h"
 #include "render_target.h"
@@ -50,7 +55,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 1;
+inline constexpr uint32_t kSchemeApiVersion = 2;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -176,6 +181,32 @@ public:
     // Colour modes record() understands; the first is the default ("shading").
     virtual std::vector<std::string> colorModes() const { return {"shading"}; }
     virtual void destroyGpu() = 0;
+
+    // ---- Displacement (docs/displacement.md; optional) ----
+    // Sculpted displacement: every scheme draws s + D N, where s, its derivatives and the unit
+    // normal N are the SCHEME'S OWN at (sub-face, u, v) and D = evaluateDisplacement(*d, sub-face,
+    // u, v) (core/displacement.h); the shading normal is displacePoint's (it includes D's
+    // derivatives). Shared boundary vertices must stay bit-identical: evaluate them through one
+    // owner, as buildDisplacedMesh (core/displaced_mesh.h) does. The tessellation factor must
+    // follow the tile resolutions (at least requiredMeshFactor / requiredTessellationFactor).
+    // evaluate() keeps returning the surface WITHOUT displacement (the host compares it with the
+    // undisplaced limit surface).
+    //
+    // setDisplacement: after build(); nullptr (or an empty one) removes it. `*displacement` must
+    // match the planned cage's sub-faces and outlive the instance or the next call; the scheme
+    // reads it, never writes it. It is drawn from the next update() on. The default refuses a
+    // displacement, so that a scheme that cannot draw it says so rather than drawing without it.
+    virtual Status setDisplacement(const Displacement* displacement) {
+        if (!displacement || displacement->empty()) return success();
+        return Error{"this scheme does not draw sculpted displacement"};
+    }
+    // Samples in `changed` (uploadRanges of a dab, core/brush.h) changed in place; the layout
+    // is the one given to setDisplacement. Bring what record() draws up to date, ideally only
+    // around the changed samples. Default: a full update().
+    virtual Status displacementChanged(std::span<const SampleRange> changed) {
+        (void)changed;
+        return update();
+    }
 };
 
 // ---- The module entry point ----------------------------------------------------------------
@@ -190,7 +221,7 @@ public:
 inline constexpr uint64_t kSchemeLayoutFingerprint =
     (((((uint64_t(sizeof(Cage)) * 1009 + sizeof(PlannedCage)) * 1009 + sizeof(Topology)) * 1009 +
        sizeof(VulkanContext)) * 1009 + sizeof(RenderTarget)) * 1009 + sizeof(SchemeSettings)) * 1009 +
-    sizeof(DrawView) * 31 + sizeof(SurfacePoint) * 7 + sizeof(SampleRequest);
+    sizeof(DrawView) * 31 + sizeof(SurfacePoint) * 7 + sizeof(SampleRequest) + sizeof(Displacement) * 3;
 
 struct SchemeModule {
     uint32_t apiVersion;  // kSchemeApiVersion; stays the first member in every version

@@ -22,7 +22,8 @@ std::string unknownSchemeMessage(const PluginCatalog& catalog, const std::string
 
 Result<PreparedScheme> prepareScheme(const PluginCatalog& catalog, const std::string& name, const PlannedCage& planned,
                                      const CageFeatures& features, const SchemeSettings& settings,
-                                     const GpuContext& gpu, const std::string& source) {
+                                     const GpuContext& gpu, const std::string& source,
+                                     const Displacement* displacement) {
     std::shared_ptr<SchemePlugin> plugin = catalog.find(name);
     if (!plugin) return Error{unknownSchemeMessage(catalog, name)};
     Result<SchemeInstance> instance = SchemeInstance::create(plugin);
@@ -38,6 +39,10 @@ Result<PreparedScheme> prepareScheme(const PluginCatalog& catalog, const std::st
     PreparedScheme prepared{std::move(*instance), std::move(*support)};
     auto start = std::chrono::steady_clock::now();
     if (Status s = prepared.instance.build(planned, settings); !s) return s.error();
+    if (displacement && !displacement->empty()) {
+        if (Status s = prepared.instance.setDisplacement(displacement); !s)
+            prepared.support.approximations.push_back("drawn without the sculpted displacement: " + s.error().message);
+    }
     prepared.buildMs = msSince(start);
     start = std::chrono::steady_clock::now();
     Status gpuStatus = prepared.instance.createGpu(gpu);

@@ -16,12 +16,15 @@ struct PreparedScheme {
 };
 
 // Finds `name` in the catalog, asks it whether it can draw the cage, builds it, creates its GPU
-// part and runs the first update. Errors name the scheme and the cage (`source`): an unknown
+// part and runs the first update. With a non-empty `displacement` (matching `planned`; it must
+// outlive the instance) the scheme draws it; a scheme that cannot is drawn without it, with a
+// warning in `support.approximations`. Errors name the scheme and the cage (`source`): an unknown
 // scheme lists the available ones, a refusal lists the scheme's reasons. On failure nothing is
 // left on the GPU.
 Result<PreparedScheme> prepareScheme(const PluginCatalog& catalog, const std::string& name, const PlannedCage& planned,
                                      const CageFeatures& features, const SchemeSettings& settings,
-                                     const GpuContext& gpu, const std::string& source);
+                                     const GpuContext& gpu, const std::string& source,
+                                     const Displacement* displacement = nullptr);
 
 // "unknown scheme 'x'; available schemes: a, b (and what failed to load, if anything)".
 std::string unknownSchemeMessage(const PluginCatalog& catalog, const std::string& name);

@@ -174,6 +174,14 @@ Status SchemeInstance::update() {
     return guarded(name(), "update", [&]() -> Status { return scheme_->update(); });
 }
 
+Status SchemeInstance::setDisplacement(const Displacement* displacement) {
+    return guarded(name(), "displacement", [&]() -> Status { return scheme_->setDisplacement(displacement); });
+}
+
+Status SchemeInstance::displacementChanged(std::span<const SampleRange> changed) {
+    return guarded(name(), "displacement update", [&]() -> Status { return scheme_->displacementChanged(changed); });
+}
+
 Result<DrawStats> SchemeInstance::record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) {
     return guarded(name(), "recording", [&]() -> Result<DrawStats> { return scheme_->record(cmd, target, view); });
 }

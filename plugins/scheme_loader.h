@@ -72,6 +72,8 @@ public:
     Status build(const PlannedCage& planned, const SchemeSettings& settings);
     Status createGpu(const GpuContext& gpu);
     Status update();
+    Status setDisplacement(const Displacement* displacement);
+    Status displacementChanged(std::span<const SampleRange> changed);
     Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view);
     // All requests, in parallel (scheme_support.h: evaluateParallel).
     Status evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const;

@@ -5,6 +5,8 @@
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
+#include "displaced_mesh.h"
+
 namespace qp {
 
 uint32_t faceOfSubface(const PlannedCage& planned, uint32_t subface) {
@@ -71,6 +73,32 @@ std::vector<MeshVertex> meshVertices(std::span<const SurfacePoint> points) {
     std::vector<MeshVertex> vertices(points.size());
     for (size_t i = 0; i < points.size(); ++i) vertices[i] = {points[i].position, points[i].normal};
     return vertices;
+}
+
+uint32_t displacedGridFactor(const PlannedCage& planned, const Displacement& displacement, uint32_t requested) {
+    uint32_t factor = std::max(requested, 1u);
+    if (!displacement.empty()) factor = std::max(factor, requiredMeshFactor(planned, displacement.layout));
+    bool anyNgon = false;
+    for (uint32_t f = 0; f < planned.cage().faceCount(); ++f) anyNgon |= planned.cage().faceSize(f) != 4;
+    if (anyNgon) factor += factor % 2;
+    return std::min(factor, 2 * kMaxDisplacementResolution);
+}
+
+Result<SchemeMesh> displacedSchemeMesh(const Scheme& scheme, const PlannedCage& planned, const Displacement& displacement,
+                                       uint32_t factor) {
+    Result<DisplacedMesh> mesh = buildDisplacedMesh(planned, displacement, factor, [&scheme](uint32_t s, float u, float v) {
+        const SampleRequest request{s, u, v};
+        SurfacePoint point;
+        scheme.evaluate(std::span<const SampleRequest>(&request, 1), std::span<SurfacePoint>(&point, 1));
+        if (!point.hasDerivatives) point.du = point.dv = glm::vec3(0.0f);  // displacePoint falls back to the normal
+        return SurfaceFrame{point.position, point.du, point.dv, point.normal};
+    });
+    if (!mesh) return mesh.error();
+    SchemeMesh out;
+    out.vertices.resize(mesh->positions.size());
+    for (size_t i = 0; i < out.vertices.size(); ++i) out.vertices[i] = {mesh->positions[i], mesh->normals[i]};
+    out.indices = std::move(mesh->indices);
+    return out;
 }
 
 }  // namespace qp

@@ -49,4 +49,22 @@ void evaluateParallel(const Scheme& scheme, std::span<const SampleRequest> reque
 
 std::vector<MeshVertex> meshVertices(std::span<const SurfacePoint> points);
 
+// ---- Displacement (Scheme::setDisplacement) --------------------------------------------------
+
+// The grid factor for drawing `displacement` when `requested` was asked for: at least
+// requiredMeshFactor (core/displaced_mesh.h), so every stored sample is a vertex and raising
+// a tile's resolution raises the tessellation with it; even on cages with non-quads; at most
+// 128 (n-gon sub-faces then get 64).
+uint32_t displacedGridFactor(const PlannedCage& planned, const Displacement& displacement, uint32_t requested);
+
+// The displaced triangle mesh of `scheme`'s own surface (its evaluate(): position, derivatives,
+// the normal it shades with): buildDisplacedMesh over the scheme, so boundary vertices come from
+// their owner and the mesh is watertight bit for bit. For schemes that draw a CPU mesh.
+struct SchemeMesh {
+    std::vector<MeshVertex> vertices;
+    std::vector<uint32_t> indices;
+};
+Result<SchemeMesh> displacedSchemeMesh(const Scheme& scheme, const PlannedCage& planned, const Displacement& displacement,
+                                       uint32_t factor);
+
 }  // namespace qp

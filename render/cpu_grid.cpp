@@ -24,11 +24,19 @@ void forEachSubface(const uint32_t* list, size_t count, const Body& body) {
     });
 }
 
-GridVertex gridVertex(const LimitSample& s) {
+// The slot's vertex: the limit point, displaced when there is a displacement (a zero normal,
+// where the derivatives are degenerate, displaces nothing, as in the shader).
+GridVertex gridVertex(const LimitSample& s, const Displacement* displacement, uint32_t subface, float u, float v) {
     glm::vec3 normal = glm::cross(s.du, s.dv);
     const float length = glm::length(normal);
     normal = length > 0.0f ? normal / length : glm::vec3(0.0f);
-    return GridVertex{{s.position.x, s.position.y, s.position.z}, {normal.x, normal.y, normal.z}};
+    glm::vec3 position = s.position;
+    if (displacement && length > 0.0f) {
+        const DisplacedPoint p = displacePoint(s.position, s.du, s.dv, normal, evaluateDisplacement(*displacement, subface, u, v));
+        position = p.position;
+        normal = p.normal;
+    }
+    return GridVertex{{position.x, position.y, position.z}, {normal.x, normal.y, normal.z}};
 }
 
 bool isSingleBicubic(const Plan& plan) {
@@ -60,7 +68,7 @@ Basis1D basisAlongV(const PlanNode& node, float t) {
 // column, and each slot only combines four of those along v. The operations and their order
 // are core/plan_eval.cpp's tensorPatch, so the values are PlannedCage::evaluate's.
 void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32_t subface, const GridLayout& layout,
-                            uint32_t drawn, GridVertex* grid) {
+                            uint32_t drawn, GridVertex* grid, const Displacement* displacement) {
     const PlanNode& node = plan.nodes[0];
     const uint32_t* points = plan.points.data() + node.first;
     const glm::vec3* controlPoints = planned.subfaceControlPoints(subface).data();
@@ -106,22 +114,24 @@ void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32
             if (rotation == 1) sample.du = -dv, sample.dv = du;
             else if (rotation == 2) sample.du = -du, sample.dv = -dv;
             else if (rotation == 3) sample.du = dv, sample.dv = -du;
-            grid[slot] = gridVertex(sample);
+            float u, v;
+            slotParameter(slot - first, n, u, v);
+            grid[slot] = gridVertex(sample, displacement, subface, u, v);
         }
 }
 
 void evaluatePhase(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout, const uint32_t* list,
-                   size_t count, GridVertex* grid) {
+                   size_t count, GridVertex* grid, const Displacement* displacement) {
     forEachSubface(list, count, [&](uint32_t drawn) {
         const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
         const Plan& plan = planned.database().plan(planned.subfacePlan(subface));
-        if (isSingleBicubic(plan)) return evaluateBicubicSubface(planned, plan, subface, layout, drawn, grid);
+        if (isSingleBicubic(plan)) return evaluateBicubicSubface(planned, plan, subface, layout, drawn, grid, displacement);
         const uint32_t first = layout.subfaceOffset[drawn], end = layout.subfaceOffset[drawn + 1];
         for (uint32_t slot = first; slot < end; ++slot) {
             if (layout.source[slot] != slot) continue;
             float u, v;
             slotParameter(slot - first, n, u, v);
-            grid[slot] = gridVertex(planned.evaluate(subface, u, v));
+            grid[slot] = gridVertex(planned.evaluate(subface, u, v), displacement, subface, u, v);
         }
     });
 }
@@ -136,14 +146,15 @@ void copyPhase(const GridLayout& layout, const uint32_t* list, size_t count, Gri
 }  // namespace
 
 void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                       std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid) {
-    evaluatePhase(planned, data, layout, evaluate.data(), evaluate.size(), grid);
+                       std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid,
+                       const Displacement* displacement) {
+    evaluatePhase(planned, data, layout, evaluate.data(), evaluate.size(), grid, displacement);
     copyPhase(layout, copy.data(), copy.size(), grid);
 }
 
 void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                            GridVertex* grid) {
-    evaluatePhase(planned, data, layout, nullptr, data.subfaces.size(), grid);
+                            GridVertex* grid, const Displacement* displacement) {
+    evaluatePhase(planned, data, layout, nullptr, data.subfaces.size(), grid, displacement);
     copyPhase(layout, nullptr, data.subfaces.size(), grid);
 }
 

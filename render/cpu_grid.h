@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <span>
 
+#include "displacement.h"
+#include "displacement.h"
 #include "grid_layout.h"
 #include "planned_cage.h"
 
@@ -17,12 +19,16 @@ namespace qp {
 
 // Phase 1 (evaluated slots) for the drawn sub-faces in `evaluate`, then phase 2 (copied
 // slots) for those in `copy`; `grid` holds layout.slotCount() vertices. `planned` must be the
-// cage `data` was packed from, with current control points.
+// cage `data` was packed from, with current control points. With a `displacement` (matching
+// `planned`), evaluated slots hold the displaced point and displacePoint's shading normal (as
+// shaders/plan_grid.comp does); phase 2 copies carry them to the neighbours, so shared
+// vertices stay bit-identical.
 void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                       std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid);
+                       std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid,
+                       const Displacement* displacement = nullptr);
 
 // Both phases for every drawn sub-face.
 void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                            GridVertex* grid);
+                            GridVertex* grid, const Displacement* displacement = nullptr);
 
 }  // namespace qp

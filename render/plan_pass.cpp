@@ -35,7 +35,7 @@ struct ComputePush {
 };
 constexpr uint32_t kWholeCage = UINT32_MAX;
 
-constexpr uint32_t kBindingCount = 18;
+constexpr uint32_t kBindingCount = 21;
 constexpr uint32_t kMaxGroupsPerRow = 65535;
 constexpr uint32_t kCaptureHeaderBytes = 16;
 constexpr VkShaderStageFlags kAllStages = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT |
@@ -328,7 +328,13 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
         {b.gridIndices, createFilled(ctx, placeholder, VK_BUFFER_USAGE_INDEX_BUFFER_BIT)},
         // A partial update lists its sub-faces twice at most (phase 1, then phase 2).
         {b.updateList, createFilled(ctx, std::vector<uint32_t>(2 * d.subfaces.size() + 4), VK_BUFFER_USAGE_TRANSFER_DST_BIT)},
+        // No displacement until setPlanDisplacement: placeholders smaller than one record.
+        {b.displacementSubfaces, createFilled(ctx, std::vector<uint32_t>{})},
+        {b.displacementSegments, createFilled(ctx, std::vector<uint32_t>{})},
+        {b.displacementSamples, createFilled(ctx, std::vector<uint32_t>{})},
     };
+    b.drawnOfSubface.assign(planned.subfaceCount(), UINT32_MAX);
+    for (uint32_t drawn = 0; drawn < d.subfaces.size(); ++drawn) b.drawnOfSubface[d.subfaces[drawn].subface] = drawn;
     for (Item& item : items) {
         if (!item.result) {
             Error error = item.result.error();
@@ -354,7 +360,8 @@ void updatePositions(PlanBuffers& buffers, const PlannedCage& planned) {
 void destroyPlanBuffers(const VulkanContext& ctx, PlanBuffers& b) {
     for (Buffer* buffer : {&b.planHeaders, &b.nodes, &b.points, &b.weights, &b.subfaces, &b.rings, &b.positions,
                            &b.controlPoints, &b.boundaries, &b.segments, &b.boundaryPoints, &b.pointPositions, &b.capture,
-                           &b.subfaceGrid, &b.grid, &b.gridSource, &b.slotSubface, &b.gridIndices, &b.updateList})
+                           &b.subfaceGrid, &b.grid, &b.gridSource, &b.slotSubface, &b.gridIndices, &b.updateList,
+                           &b.displacementSubfaces, &b.displacementSegments, &b.displacementSamples})
         destroyBuffer(ctx, *buffer);
     b = PlanBuffers{};
 }
@@ -387,7 +394,8 @@ void bindPlanBuffers(const VulkanContext& ctx, PlanPass& pass, const PlanBuffers
     const Buffer* order[kBindingCount] = {&b.planHeaders, &b.nodes,      &b.points,       &b.weights,     &b.subfaces,
                                           &b.rings,       &b.positions,  &b.controlPoints, &b.grid,       &b.boundaries,
                                           &b.segments,    &b.boundaryPoints, &b.subfaceGrid, &b.pointPositions,
-                                          &b.capture,     &b.updateList, &b.gridSource,   &b.slotSubface};
+                                          &b.capture,     &b.updateList, &b.gridSource,   &b.slotSubface,
+                                          &b.displacementSubfaces, &b.displacementSegments, &b.displacementSamples};
     VkDescriptorBufferInfo infos[kBindingCount];
     VkWriteDescriptorSet writes[kBindingCount];
     for (uint32_t i = 0; i < kBindingCount; ++i) {
@@ -543,7 +551,8 @@ void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers
 
 void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers) {
     assert(!buffers.gridLayout.subfaceOffset.empty() && "prepareGrid first");
-    evaluateWholeGridOnCpu(planned, buffers.data, buffers.gridLayout, static_cast<GridVertex*>(buffers.grid.data));
+    evaluateWholeGridOnCpu(planned, buffers.data, buffers.gridLayout, static_cast<GridVertex*>(buffers.grid.data),
+                           buffers.displacement);
     buffers.gridEvaluator = GridEvaluator::Cpu;
 }
 
@@ -594,25 +603,17 @@ void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
     recordGridDraw(cmd, pass, buffers, target, view);
 }
 
-MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
-                               const PlannedCage& planned, std::span<const uint32_t> vertices) {
-    MoveUpdate update;
-    update.movedVertices = uint32_t(vertices.size());
-    for (uint32_t v : vertices) {
-        const glm::vec3& p = planned.cage().positions[v];
-        const float xyz[3] = {p.x, p.y, p.z};
-        uploadBuffer(buffers.positions, xyz, sizeof xyz, size_t(v) * sizeof xyz);
-    }
-    for (uint32_t id : boundaryPointsAround(planned, vertices)) {
-        buffers.pointPositionsHost[id] = boundaryPointPosition(planned, id);
-        uploadBuffer(buffers.pointPositions, &buffers.pointPositionsHost[id], sizeof(glm::vec4), size_t(id) * sizeof(glm::vec4));
-    }
-    const bool controlPoints = buffers.controlPointLevel != kNoControlPoints;
-    if (!controlPoints && buffers.gridEvaluator != GridEvaluator::Cpu) {
-        buffers.gridEvaluator = GridEvaluator::None;  // re-evaluated whole, control points first
-        return update;
-    }
-    const std::vector<uint32_t> touched = subfacesAround(buffers.data, vertices);
+namespace {
+
+struct GridRefresh {
+    uint32_t controlPointSubfaces = 0, evaluatedSubfaces = 0, copiedSubfaces = 0;
+};
+
+// Brings what is cached up to date for the drawn sub-faces `touched`: their control points
+// (when `controlPoints`), their grid slots and the neighbours' copies of their edge vertices.
+GridRefresh recordGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const PlannedCage& planned,
+                              const std::vector<uint32_t>& touched, bool controlPoints) {
+    GridRefresh update;
     const std::vector<uint32_t> copying =
         buffers.gridEvaluator == GridEvaluator::None ? std::vector<uint32_t>{} : withDependents(buffers.gridLayout, touched);
     if (touched.empty()) return update;
@@ -637,12 +638,90 @@ MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBu
         dispatchGridPhase(cmd, pass, uint32_t(copying.size()), 1, touchedCount);
     } else if (buffers.gridEvaluator == GridEvaluator::Cpu) {
         evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, touched, copying,
-                          static_cast<GridVertex*>(buffers.grid.data));
+                          static_cast<GridVertex*>(buffers.grid.data), buffers.displacement);
     }
     if (buffers.gridEvaluator != GridEvaluator::None) {
         update.evaluatedSubfaces = touchedCount;
         update.copiedSubfaces = uint32_t(copying.size());
     }
+    return update;
+}
+
+}  // namespace
+
+MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
+                               const PlannedCage& planned, std::span<const uint32_t> vertices) {
+    MoveUpdate update;
+    update.movedVertices = uint32_t(vertices.size());
+    for (uint32_t v : vertices) {
+        const glm::vec3& p = planned.cage().positions[v];
+        const float xyz[3] = {p.x, p.y, p.z};
+        uploadBuffer(buffers.positions, xyz, sizeof xyz, size_t(v) * sizeof xyz);
+    }
+    for (uint32_t id : boundaryPointsAround(planned, vertices)) {
+        buffers.pointPositionsHost[id] = boundaryPointPosition(planned, id);
+        uploadBuffer(buffers.pointPositions, &buffers.pointPositionsHost[id], sizeof(glm::vec4), size_t(id) * sizeof(glm::vec4));
+    }
+    const bool controlPoints = buffers.controlPointLevel != kNoControlPoints;
+    if (!controlPoints && buffers.gridEvaluator != GridEvaluator::Cpu) {
+        buffers.gridEvaluator = GridEvaluator::None;  // re-evaluated whole, control points first
+        return update;
+    }
+    const std::vector<uint32_t> touched = subfacesAround(buffers.data, vertices);
+    const GridRefresh refresh = recordGridRefresh(cmd, pass, buffers, planned, touched, controlPoints);
+    update.controlPointSubfaces = refresh.controlPointSubfaces;
+    update.evaluatedSubfaces = refresh.evaluatedSubfaces;
+    update.copiedSubfaces = refresh.copiedSubfaces;
+    return update;
+}
+
+Status setPlanDisplacement(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
+                           const Displacement* displacement) {
+    if (displacement && displacement->empty()) displacement = nullptr;
+    if (displacement && displacement->layout.subfaces.size() != buffers.drawnOfSubface.size() &&
+        !buffers.drawnOfSubface.empty())
+        return Error{"the displacement does not match the cage (" + std::to_string(displacement->layout.subfaces.size()) +
+                     " sub-faces, the cage has " + std::to_string(buffers.drawnOfSubface.size()) + ")"};
+    const std::vector<uint32_t> none;
+    Result<Buffer> subfaces = displacement ? createFilled(ctx, displacement->layout.subfaces) : createFilled(ctx, none);
+    Result<Buffer> segments = displacement ? createFilled(ctx, displacement->layout.segments) : createFilled(ctx, none);
+    Result<Buffer> samples = displacement ? createFilled(ctx, displacement->samples) : createFilled(ctx, none);
+    if (!subfaces || !segments || !samples) {
+        for (Result<Buffer>* r : {&subfaces, &segments, &samples})
+            if (*r) destroyBuffer(ctx, **r);
+        return !subfaces ? subfaces.error() : !segments ? segments.error() : samples.error();
+    }
+    destroyBuffer(ctx, buffers.displacementSubfaces);
+    destroyBuffer(ctx, buffers.displacementSegments);
+    destroyBuffer(ctx, buffers.displacementSamples);
+    buffers.displacementSubfaces = *subfaces;
+    buffers.displacementSegments = *segments;
+    buffers.displacementSamples = *samples;
+    buffers.displacement = displacement;
+    buffers.displacementUsers = displacement ? buildDisplacementUsers(displacement->layout) : DisplacementUsers{};
+    buffers.gridEvaluator = GridEvaluator::None;
+    bindPlanBuffers(ctx, pass, buffers);
+    return success();
+}
+
+DisplacementUpdate recordDisplacementChange(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
+                                            const PlannedCage& planned, std::span<const SampleRange> changed) {
+    DisplacementUpdate update;
+    if (!buffers.displacement) return update;
+    const std::vector<float>& values = buffers.displacement->samples;
+    for (const SampleRange& range : changed) {
+        uploadBuffer(buffers.displacementSamples, values.data() + range.first, range.count * sizeof(float),
+                     size_t(range.first) * sizeof(float));
+        update.uploadedSamples += range.count;
+    }
+    if (buffers.gridEvaluator == GridEvaluator::None) return update;  // evaluated whole when drawn
+    std::vector<uint32_t> touched;
+    for (uint32_t s : subfacesReadingSamples(buffers.displacement->layout, buffers.displacementUsers, changed))
+        if (buffers.drawnOfSubface[s] != UINT32_MAX) touched.push_back(buffers.drawnOfSubface[s]);
+    std::sort(touched.begin(), touched.end());
+    const GridRefresh refresh = recordGridRefresh(cmd, pass, buffers, planned, touched, false);
+    update.evaluatedSubfaces = refresh.evaluatedSubfaces;
+    update.copiedSubfaces = refresh.copiedSubfaces;
     return update;
 }
 

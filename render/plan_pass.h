@@ -25,6 +25,9 @@
 
 #include <glm/mat4x4.hpp>
 
+#include "brush.h"  // SampleRange
+#include "displacement.h"
+#include "displacement_users.h"
 #include "gpu_plans.h"
 #include "grid_layout.h"
 #include "render_target.h"
@@ -72,6 +75,13 @@ struct PlanBuffers {
 
     uint32_t controlPointLevel = kNoControlPoints;  // the control points serve factors <= 2^level
     GridEvaluator gridEvaluator = GridEvaluator::None;
+
+    // Sculpted displacement (setPlanDisplacement): DisplacementLayout's subfaces and segments
+    // and the samples; 16-byte placeholders (no sub-face record) when there is none.
+    Buffer displacementSubfaces, displacementSegments, displacementSamples;
+    const Displacement* displacement = nullptr;  // what the buffers hold; null: none
+    DisplacementUsers displacementUsers;         // which sub-faces read each sample
+    std::vector<uint32_t> drawnOfSubface;        // PlannedCage sub-face -> drawn index (or UINT32_MAX)
 };
 
 Result<PlanBuffers> uploadPlans(const VulkanContext& context, const PlannedCage& planned);
@@ -169,6 +179,28 @@ struct MoveUpdate {
 // updated now. The result has the same bits as updatePositions and a full evaluation.
 MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
                                const PlannedCage& planned, std::span<const uint32_t> vertices);
+
+// ---- sculpted displacement (docs/displacement.md) ------------------------------------------
+// Every path draws s + D N with displacePoint's shading normal: the grid paths in the slots
+// they evaluate (copies carry them to the neighbours), the tessellated path at each vertex's
+// owner. `displacement` (or null / empty: none) must match the planned cage and outlive its
+// use; it is read, never written. Uploads it and drops the cached grid; the device must be
+// done with the buffers. Choose factors of at least requiredMeshFactor (displaced_mesh.h) so
+// that no sample is skipped.
+Status setPlanDisplacement(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers,
+                           const Displacement* displacement);
+
+struct DisplacementUpdate {
+    uint32_t uploadedSamples = 0;
+    uint32_t evaluatedSubfaces = 0;  // grid slots re-evaluated (device or CPU)
+    uint32_t copiedSubfaces = 0;
+};
+// After a dab changed the samples in `changed` in place (same layout): copies those ranges
+// into the device's samples and brings a cached grid up to date for just the sub-faces that
+// read them (device work recorded into `cmd`, outside rendering; a CPU grid now). The result
+// equals setPlanDisplacement and a full evaluation.
+DisplacementUpdate recordDisplacementChange(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
+                                            const PlannedCage& planned, std::span<const SampleRange> changed);
 
 // Capture record written by the tessellated path when PlanView::capture is set.
 struct CaptureRecord {

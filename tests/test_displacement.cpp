@@ -308,6 +308,33 @@ TEST(DisplacementResample, RaisingUniformResolutionReproducesTheSurface) {
     EXPECT_LT(worst, 1e-6f);
 }
 
+// Raising ONE sub-face (the editor's per-face resolution) keeps the shape everywhere: on the
+// raised face, and on its neighbours, whose shared edges become finer than their grids.
+TEST(DisplacementResample, RaisingOneFaceKeepsTheSurfaceOfEveryFace) {
+    Planned p(test::makeMixedGrid());  // quads, a triangle and a pentagon: whole and split edges
+    Displacement d = randomDisplacement(*p.cage, 1, 6);
+    d = resampleDisplacement(d, std::vector<uint32_t>(d.layout.subfaces.size(), 4));
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<float> value(-1.0f, 1.0f), param(0.0f, 1.0f);
+    for (float& s : d.samples) s = value(rng);
+    const uint32_t count = uint32_t(d.layout.subfaces.size());
+    for (uint32_t raisedSubface : {0u, count / 2, count - 1}) {
+        std::vector<uint32_t> resolutions(count, 4);
+        resolutions[raisedSubface] = 16;
+        Displacement raised = resampleDisplacement(d, resolutions);
+        EXPECT_GT(raised.layout.sampleCount, d.layout.sampleCount);
+        float worst = 0.0f;
+        for (uint32_t s = 0; s < count; ++s)
+            for (int k = 0; k < 200; ++k) {
+                // Interior points, and points on the edges (where neighbours meet).
+                float u = param(rng), v = k % 4 == 0 ? 0.0f : k % 4 == 1 ? 1.0f : param(rng);
+                worst = std::max(worst, std::abs(evaluateDisplacement(d, s, u, v).value -
+                                                 evaluateDisplacement(raised, s, u, v).value));
+            }
+        EXPECT_LT(worst, 1e-5f) << "raised sub-face " << raisedSubface;
+    }
+}
+
 // Smooth data sampled from f(p): lowering keeps exactly the coarse samples, so it equals
 // sampling f at the coarse resolution directly; raising stays within the interpolation error.
 TEST(DisplacementResample, LoweringIsInjectionAndRaisingStaysWithinInterpolationError) {

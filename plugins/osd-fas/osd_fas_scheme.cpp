@@ -2,6 +2,10 @@
 // primitive per patch, tessellated on the CPU (all cores) and drawn with MeshPass
 // (osd_fas_patches.h has the math). The refinement stencils and the patch evaluation run on
 // every update(), as they would when the cage's vertices move.
+//
+// Displacement: the patches' surface (evaluateFas) on a grid of at least the tessellation
+// factor and the tiles' required factor, displaced along its own normal and made watertight
+// through displacedSchemeMesh (scheme_support.h).
 #include "mesh_pass.h"
 #include "osd_fas_patches.h"
 #include "scheme_api.h"
@@ -23,6 +27,7 @@ public:
 
     Status build(const PlannedCage& planned, const SchemeSettings& settings) override {
         planned_ = &planned;
+        factor_ = settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor;
         Result<FasPatches> patches =
             buildFasPatches(planned.cage(), settings.planDepth, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
         if (!patches) return patches.error();
@@ -41,6 +46,18 @@ public:
     Status update() override {
         updateFasPoints(patches_, planned_->cage().positions);
         if (!ctx_) return success();
+        if (displacement_) {
+            Result<SchemeMesh> displaced =
+                displacedSchemeMesh(*this, *planned_, *displacement_, displacedGridFactor(*planned_, *displacement_, factor_));
+            if (!displaced) return displaced.error();
+            if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+            triangles_ = displaced->indices.size() / 3;
+            Result<GpuMesh> mesh = uploadMesh(*ctx_, displaced->vertices, displaced->indices);
+            if (!mesh) return mesh.error();
+            mesh_ = *mesh;
+            return success();
+        }
+        triangles_ = patches_.indices.size() / 3;
         std::vector<glm::vec3> positions, normals;
         tessellateFas(patches_, positions, normals);
         if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
@@ -57,7 +74,12 @@ public:
         MeshDraw draw{&mesh_, glm::vec3(0.8f), true, view.wireframe};
         recordMeshPass(cmd, pass_, target, MeshView{view.viewProjection, view.eye, view.background},
                        mesh_.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-        return DrawStats{patches_.layout.size(), patches_.indices.size() / 3};
+        return DrawStats{patches_.layout.size(), triangles_};
+    }
+
+    Status setDisplacement(const Displacement* displacement) override {
+        displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
+        return success();
     }
 
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
@@ -85,6 +107,9 @@ public:
 private:
     const PlannedCage* planned_ = nullptr;
     FasPatches patches_;
+    uint32_t factor_ = 8;
+    uint64_t triangles_ = 0;
+    const Displacement* displacement_ = nullptr;
     const VulkanContext* ctx_ = nullptr;
     MeshPass pass_;
     GpuMesh mesh_;

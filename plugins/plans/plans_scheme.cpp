@@ -8,11 +8,17 @@
 // Options: path=auto|tess|grid|cpu, the renderer's paths (render/draw_path.h: auto is cpu on a
 // CPU device, tess on a GPU). The grid paths keep their evaluated grid between frames, so a
 // frame whose camera moved but whose cage did not only draws.
+//
+// Displacement: all three paths draw it (render/plan_pass.h, setPlanDisplacement) at a uniform
+// factor of at least the tiles' required one (displacedGridFactor, at most 64); a screen-adaptive
+// setting then draws uniformly at that factor. After a dab only the sub-faces that read the
+// changed samples are re-evaluated (recordDisplacementChange).
 #include <algorithm>
 #include <cstdio>
 
 #include "draw_path.h"
 #include "plan_pass.h"
+#include "vk_commands.h"
 #include "scheme_api.h"
 #include "scheme_support.h"
 
@@ -57,6 +63,25 @@ public:
         buffers_ = std::move(*buffers);
         haveBuffers_ = true;
         bindPlanBuffers(*ctx_, pass_, buffers_);
+        return setPlanDisplacement(*ctx_, pass_, buffers_, displacement_);
+    }
+
+    Status setDisplacement(const Displacement* displacement) override {
+        displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
+        if (displacement_ && displacement_->layout.subfaces.size() != planned_->subfaceCount())
+            return Error{"plans: the displacement does not match the cage's sub-faces"};
+        return haveBuffers_ ? setPlanDisplacement(*ctx_, pass_, buffers_, displacement_) : success();
+    }
+
+    Status displacementChanged(std::span<const SampleRange> changed) override {
+        if (!haveBuffers_ || !displacement_) return success();
+        // Device work (the GPU grid path) goes through one short submission; the CPU grid and
+        // the tessellated path need none.
+        if (buffers_.gridEvaluator == GridEvaluator::Gpu)
+            return submitAndWait(*ctx_, [&](VkCommandBuffer cmd) {
+                recordDisplacementChange(cmd, pass_, buffers_, *planned_, changed);
+            });
+        recordDisplacementChange(VK_NULL_HANDLE, pass_, buffers_, *planned_, changed);
         return success();
     }
 
@@ -74,6 +99,11 @@ public:
         planView.colorBy = colorBy(view.colorBy);
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
         if (settings_.adaptivePixels > 0.0f) tessellation = {0, settings_.adaptivePixels};
+        if (displacement_)  // every stored sample a vertex: the factor follows the tiles
+            tessellation = {std::min(displacedGridFactor(*planned_, *displacement_,
+                                                         tessellation.uniformFactor ? tessellation.uniformFactor : 1u),
+                                     64u),
+                            8.0f};
 
         // The host side of the frame (grid layout, the CPU-evaluated grid). The callers submit
         // and wait between frames, so no earlier frame still reads what it writes.
@@ -112,7 +142,9 @@ public:
                                     &buffers_.subfaces, &buffers_.rings, &buffers_.positions, &buffers_.controlPoints,
                                     &buffers_.boundaries, &buffers_.segments, &buffers_.boundaryPoints,
                                     &buffers_.pointPositions, &buffers_.subfaceGrid, &buffers_.grid,
-                                    &buffers_.gridSource, &buffers_.slotSubface, &buffers_.gridIndices})
+                                    &buffers_.gridSource, &buffers_.slotSubface, &buffers_.gridIndices,
+                                    &buffers_.displacementSubfaces, &buffers_.displacementSegments,
+                                    &buffers_.displacementSamples})
                 stats.gpuBytes += b->size;
         }
         return stats;
@@ -139,6 +171,7 @@ private:
     const PlannedCage* planned_ = nullptr;
     SchemeSettings settings_;
     DrawPath requestedPath_ = DrawPath::Auto, path_ = DrawPath::Grid;
+    const Displacement* displacement_ = nullptr;
     const VulkanContext* ctx_ = nullptr;
     PlanPass pass_;
     PlanBuffers buffers_;

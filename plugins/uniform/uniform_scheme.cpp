@@ -5,6 +5,10 @@
 // refined mesh, and its error shrinks about fourfold per level.
 //
 // Options: level=L (1..8) overrides the level derived from the factor.
+//
+// Displacement: the refined surface (sampleRefined, its own normals) on a grid of at least
+// 2^L and at least the tiles' required factor, displaced and made watertight through
+// displacedSchemeMesh (scheme_support.h).
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -45,6 +49,7 @@ public:
         Result<UniformRefinement> refinement = buildUniformRefinement(planned, level);
         if (!refinement) return refinement.error();
         refinement_ = std::move(*refinement);
+        level_ = level;
         indices_.clear();
         for (const RefinedQuad& q : refinement_.quads) {
             const uint32_t* v = q.vertices;
@@ -68,7 +73,18 @@ public:
         normals_ = refinedNormals(refinement_, finest_);
         if (!ctx_) return success();
         if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        triangles_ = indices_.size() / 3;
         if (indices_.empty()) return success();
+        if (displacement_) {
+            Result<SchemeMesh> displaced = displacedSchemeMesh(
+                *this, *planned_, *displacement_, displacedGridFactor(*planned_, *displacement_, 1u << level_));
+            if (!displaced) return displaced.error();
+            triangles_ = displaced->indices.size() / 3;
+            Result<GpuMesh> mesh = uploadMesh(*ctx_, displaced->vertices, displaced->indices);
+            if (!mesh) return mesh.error();
+            mesh_ = *mesh;
+            return success();
+        }
         std::vector<MeshVertex> vertices(finest_.size());
         for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = {finest_[i], normals_[i]};
         Result<GpuMesh> mesh = uploadMesh(*ctx_, vertices, indices_);
@@ -82,7 +98,12 @@ public:
         MeshDraw draw{&mesh_, glm::vec3(0.8f), true, view.wireframe};
         recordMeshPass(cmd, pass_, target, meshView,
                        mesh_.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-        return DrawStats{0, indices_.size() / 3};
+        return DrawStats{0, triangles_};
+    }
+
+    Status setDisplacement(const Displacement* displacement) override {
+        displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
+        return success();
     }
 
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
@@ -115,7 +136,10 @@ private:
 
     const PlannedCage* planned_ = nullptr;
     UniformRefinement refinement_;
+    uint32_t level_ = 1;
     std::vector<uint32_t> indices_;
+    uint64_t triangles_ = 0;
+    const Displacement* displacement_ = nullptr;
     std::vector<glm::vec3> buffer_, normals_;
     std::span<const glm::vec3> finest_;
 

@@ -1,8 +1,11 @@
 #version 450
 // Evaluates the limit surface at each tessellation vertex; boundary vertices go through
-// their owner so neighbouring faces produce bit-identical positions and normals.
+// their owner so neighbouring faces produce bit-identical positions and normals. Sculpted
+// displacement is evaluated there too (by the owner, at the owner's parameter), so displaced
+// boundary vertices stay bit-identical.
 #include "plan_eval.glsl"
 #include "plan_boundary.glsl"
+#include "displacement.glsl"
 #include "plan_draw.glsl"
 
 layout(quads, equal_spacing, ccw) in;
@@ -29,10 +32,13 @@ layout(location = 3) out vec2 outUV;
 
 void main() {
     vec2 uv = gl_TessCoord.xy;
-    LimitSample s = evaluateTessVertex(drawn, uv, edgeFactor);
+    Owner o = tessVertexOwner(drawn, uv, edgeFactor);
+    LimitSample s = evaluateSubface(o.drawn, o.uv);
     vec3 n = cross(s.du, s.dv);
     float len = length(n);
-    outNormal = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);
+    n = len > 0.0 ? n / len : vec3(0.0);
+    displaceSurfacePoint(subfaces[o.drawn].subface, o.uv, s.du, s.dv, n, s.position, n);
+    outNormal = n == vec3(0.0) ? vec3(0.0, 0.0, 1.0) : n;
     outDrawn = drawn;
     outUV = uv;
     gl_Position = draw.viewProjection * vec4(s.position, 1.0);

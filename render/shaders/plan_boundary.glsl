@@ -76,13 +76,13 @@ Owner edgeVertexOwner(uint drawn, uint e, uint i, uint n) {
     return segmentOwner(r.segment, (r.flags & 1u) != 0u ? n - i : i, n);
 }
 
-// A tessellation vertex at `uv` of `drawn`, whose edges 0..3 are split into edgeFactor[e]
-// segments; interior vertices are the sub-face's own.
-LimitSample evaluateTessVertex(uint drawn, vec2 uv, uvec4 edgeFactor) {
+// Where a tessellation vertex at `uv` of `drawn` is evaluated, whose edges 0..3 are split into
+// edgeFactor[e] segments; interior vertices are the sub-face's own.
+Owner tessVertexOwner(uint drawn, vec2 uv, uvec4 edgeFactor) {
     Owner o = Owner(drawn, uv);
     if (uv.y == 0.0) o = edgeVertexOwner(drawn, 0u, uint(round(uv.x * float(edgeFactor.x))), edgeFactor.x);
     else if (uv.x == 1.0) o = edgeVertexOwner(drawn, 1u, uint(round(uv.y * float(edgeFactor.y))), edgeFactor.y);
     else if (uv.y == 1.0) o = edgeVertexOwner(drawn, 2u, uint(round(uv.x * float(edgeFactor.z))), edgeFactor.z);
     else if (uv.x == 0.0) o = edgeVertexOwner(drawn, 3u, uint(round(uv.y * float(edgeFactor.w))), edgeFactor.w);
-    return evaluateSubface(o.drawn, o.uv);
+    return o;
 }

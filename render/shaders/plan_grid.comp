@@ -3,8 +3,11 @@
 // Phase 0 evaluates the slots whose source is themselves at their own (u, v); phase 1 copies
 // every other slot from its source, the owner's evaluated slot (a dispatch later, after a
 // barrier). Each evaluated slot depends on its own sub-face's control points only, so an
-// update may run both phases over a list of sub-faces instead of the whole cage.
+// update may run both phases over a list of sub-faces instead of the whole cage. With sculpted
+// displacement, evaluated slots hold the displaced point and its shading normal; copies carry
+// them to the neighbours unchanged.
 #include "plan_eval.glsl"
+#include "displacement.glsl"
 
 // Literal sizes: with gl_WorkGroupSize or a constant in the layout, glslc emits LocalSizeId,
 // which needs maintenance4.
@@ -36,10 +39,12 @@ void main() {
             vec3 normal = cross(s.du, s.dv);
             float len = length(normal);
             normal = len > 0.0 ? normal / len : vec3(0.0);
+            vec3 position = s.position;
+            displaceSurfacePoint(subfaces[drawn].subface, uv, s.du, s.dv, normal, position, normal);
             uint o = 6u * slot;
-            grid[o] = s.position.x;
-            grid[o + 1u] = s.position.y;
-            grid[o + 2u] = s.position.z;
+            grid[o] = position.x;
+            grid[o + 1u] = position.y;
+            grid[o + 2u] = position.z;
             grid[o + 3u] = normal.x;
             grid[o + 4u] = normal.y;
             grid[o + 5u] = normal.z;

@@ -1,0 +1,359 @@
+// Sculpted displacement through the plans' three drawing paths (lavapipe, validation on) and
+// through the CPU-mesh schemes: every vertex at s + D N of its own surface, shared boundary
+// vertices bit-identical, and a brush dab's incremental update equal to a full evaluation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <numeric>
+#include <random>
+#include <tuple>
+
+#include <glm/geometric.hpp>
+
+#include "brush.h"
+#include "camera.h"
+#include "displaced_mesh.h"
+#include "offscreen_target.h"
+#include "plan_pass.h"
+#include "planned_cage.h"
+#include "render_test_support.h"
+#include "scheme_loader.h"
+#include "scheme_support.h"
+#include "sculpt_samples.h"
+#include "test_cages.h"
+#include "vk_commands.h"
+
+using namespace qp;
+
+namespace {
+
+constexpr uint32_t kImageSize = 256;
+
+// Random power-of-two resolutions up to `maxResolution`, random values in +-amplitude.
+Displacement randomDisplacement(const PlannedCage& planned, uint32_t maxResolution, float amplitude, uint32_t seed) {
+    std::mt19937 rng(seed);
+    Displacement d;
+    DisplacementLayout base = buildDisplacementLayout(planned.cage(), planned.topology(), 1);
+    std::vector<uint32_t> resolutions(base.subfaces.size());
+    const uint32_t levels = uint32_t(std::log2(maxResolution)) + 1;
+    for (uint32_t& r : resolutions) r = 1u << (rng() % levels);
+    d.layout = withResolutions(base, resolutions);
+    std::uniform_real_distribution<float> value(-amplitude, amplitude);
+    d.samples.resize(d.layout.sampleCount);
+    for (float& s : d.samples) s = value(rng);
+    return d;
+}
+
+std::vector<std::pair<std::string, Cage>> displacementCages() {
+    Cage features = test::makeMixedGrid();  // EVs, a triangle and a pentagon beside quads, a boundary
+    features.setEdgeSharpness(12, 13, kInfiniteSharpness);
+    features.setHole(0, true);
+    return {{"mixed grid", std::move(features)}, {"subdivided cube", test::makeSubdividedCube()}};
+}
+
+PlannedCage planCage(const Cage& cage, PlanDatabase& db) {
+    Result<PlannedCage> planned = PlannedCage::create(cage, db, {}, "test cage");
+    EXPECT_TRUE(planned.ok()) << planned.error().message;
+    return std::move(planned).value();
+}
+
+// The reference: s + D N of the limit surface at (sub-face, u, v).
+DisplacedPoint referencePoint(const PlannedCage& planned, const Displacement& d, uint32_t subface, float u, float v) {
+    const LimitSample s = planned.evaluate(subface, u, v);
+    const glm::vec3 n = glm::normalize(glm::cross(s.du, s.dv));
+    return displacePoint(s.position, s.du, s.dv, n, evaluateDisplacement(d, subface, u, v));
+}
+
+// Where a boundary vertex of a sub-face lies, whichever sub-face names it: a point id, or a
+// reduced fraction along a segment of the displacement layout (its canonical direction).
+using Location = std::tuple<int, uint32_t, uint32_t, uint32_t>;
+Location boundaryLocation(const DisplacementLayout& layout, uint32_t subface, uint32_t edge, uint32_t i, uint32_t n) {
+    const DisplacementSubface& sf = layout.subfaces[subface];
+    if (i == 0) return {0, sf.corners[kEdgeStart[edge]], 0, 0};
+    if (i == n) return {0, sf.corners[kEdgeEnd[edge]], 0, 0};
+    const EdgeSite site = edgeSite(sf, edge, i, n);
+    const DisplacementSegment& seg = layout.segments[site.segment];
+    if (site.k == 0) return {0, seg.pointA, 0, 0};
+    if (site.k == site.intervals) return {0, seg.pointB, 0, 0};
+    const uint32_t g = std::gcd(site.k, site.intervals);
+    return {1, site.segment, site.k / g, site.intervals / g};
+}
+
+// Every vertex of an (n+1)^2 grid per sub-face on a boundary, checked against every other
+// vertex at the same location bit for bit. Returns how many coincided.
+template <class Vertex>
+uint32_t expectWatertight(const DisplacementLayout& layout, const std::vector<uint32_t>& gridSubface,
+                          const std::vector<uint32_t>& gridFactor, const std::vector<uint32_t>& gridOffset,
+                          const Vertex* vertices, const std::string& what) {
+    std::map<Location, const Vertex*> seen;
+    uint32_t shared = 0;
+    for (size_t g = 0; g < gridSubface.size(); ++g) {
+        const uint32_t n = gridFactor[g], side = n + 1;
+        for (uint32_t k = 0; k < side * side; ++k) {
+            const uint32_t x = k % side, y = k / side;
+            const int edge = y == 0 ? 0 : x == n ? 1 : y == n ? 2 : x == 0 ? 3 : -1;
+            if (edge < 0) continue;
+            const uint32_t along = edge == 0 || edge == 2 ? x : y;
+            const Vertex* v = vertices + gridOffset[g] + k;
+            auto [it, inserted] = seen.emplace(boundaryLocation(layout, gridSubface[g], uint32_t(edge), along, n), v);
+            if (!inserted) {
+                ++shared;
+                EXPECT_EQ(std::memcmp(it->second, v, sizeof(Vertex)), 0)
+                    << what << ": sub-face " << gridSubface[g] << " edge " << edge << " vertex " << along << " of " << n
+                    << " differs from its neighbour's";
+            }
+        }
+    }
+    EXPECT_GT(shared, 0u) << what;
+    return shared;
+}
+
+struct DisplacementRender : ::testing::Test {
+    VulkanContext ctx;
+    PlanPass pass;
+
+    void SetUp() override {
+        Result<VulkanContext> created = test::createTestContext();
+        ASSERT_TRUE(created.ok()) << created.error().message;
+        ctx = std::move(created).value();
+        Result<PlanPass> p = createPlanPass(ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM);
+        ASSERT_TRUE(p.ok()) << p.error().message;
+        pass = *p;
+    }
+    void TearDown() override {
+        if (!ctx.device) return;
+        destroyPlanPass(ctx, pass);
+        destroyContext(ctx);
+        EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
+    }
+
+    PlanBuffers upload(const PlannedCage& planned, const Displacement& displacement) {
+        Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
+        EXPECT_TRUE(buffers.ok()) << buffers.error().message;
+        bindPlanBuffers(ctx, pass, *buffers);
+        EXPECT_TRUE(setPlanDisplacement(ctx, pass, *buffers, &displacement).ok());
+        return std::move(buffers).value();
+    }
+
+    // The grid filled by the compute shader or the CPU evaluator; slots start as NaN.
+    std::vector<GridVertex> fillGrid(const PlannedCage& planned, PlanBuffers& buffers, bool gpu) {
+        std::memset(buffers.grid.data, 0xff, buffers.gridLayout.slotCount() * sizeof(GridVertex));
+        buffers.gridEvaluator = GridEvaluator::None;
+        if (gpu) {
+            EXPECT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordGridEvaluation(cmd, pass, buffers); }).ok());
+        } else {
+            buffers.controlPointLevel = kNoControlPoints;
+            evaluateGridOnCpu(planned, buffers);
+        }
+        const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+        return std::vector<GridVertex>(grid, grid + buffers.gridLayout.slotCount());
+    }
+};
+
+glm::vec3 positionOf(const GridVertex& g) { return {g.position[0], g.position[1], g.position[2]}; }
+glm::vec3 normalOf(const GridVertex& g) { return {g.normal[0], g.normal[1], g.normal[2]}; }
+
+// Grid slots against the reference (positions everywhere, shading normals where the slot is
+// its own sub-face's) and shared boundary vertices bit for bit.
+void checkDisplacedGrid(const PlannedCage& planned, const Displacement& d, const PlanBuffers& buffers,
+                        const std::vector<GridVertex>& grid, const std::string& what) {
+    const GridLayout& layout = buffers.gridLayout;
+    const float diagonal = computeBounds(planned.cage()).diagonal();
+    double worstPosition = 0.0, worstNormal = 0.0, largestOffset = 0.0;
+    std::vector<uint32_t> gridSubface, gridFactor;
+    for (uint32_t drawn = 0; drawn < buffers.data.subfaces.size(); ++drawn) {
+        const uint32_t s = buffers.data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
+        gridSubface.push_back(s);
+        gridFactor.push_back(n);
+        for (uint32_t k = 0; k < (n + 1) * (n + 1); ++k) {
+            float u, v;
+            slotParameter(k, n, u, v);
+            const uint32_t slot = layout.subfaceOffset[drawn] + k;
+            const DisplacedPoint ref = referencePoint(planned, d, s, u, v);
+            const double error = glm::length(positionOf(grid[slot]) - ref.position) / diagonal;
+            ASSERT_TRUE(std::isfinite(error)) << what << ": slot " << slot << " never written";
+            worstPosition = std::max(worstPosition, error);
+            largestOffset = std::max(largestOffset, double(std::fabs(evaluateDisplacement(d, s, u, v).value)) / diagonal);
+            if (layout.source[slot] == slot)
+                worstNormal = std::max(worstNormal, 1.0 - double(glm::dot(normalOf(grid[slot]), ref.normal)));
+        }
+    }
+    EXPECT_LE(worstPosition, 1e-5) << what;
+    EXPECT_LE(worstNormal, 1e-4) << what << " (1 - cos of the worst normal angle)";
+    EXPECT_GT(largestOffset, 1e-3) << what << ": nothing was displaced";
+    expectWatertight(d.layout, gridSubface, gridFactor, layout.subfaceOffset, grid.data(), what);
+}
+
+}  // namespace
+
+TEST_F(DisplacementRender, GridPathsDrawTheDisplacedSurfaceWatertight) {
+    for (auto& [name, cage] : displacementCages()) {
+        PlanDatabase db;
+        PlannedCage planned = planCage(cage, db);
+        const float diagonal = computeBounds(planned.cage()).diagonal();
+        const Displacement d = randomDisplacement(planned, 8, 0.01f * diagonal, 17);
+        PlanBuffers buffers = upload(planned, d);
+        const uint32_t required = std::min(requiredMeshFactor(planned, d.layout), 64u);
+        for (uint32_t factor : {required, std::min(2 * required, 64u)}) {
+            ASSERT_TRUE(prepareGrid(ctx, pass, buffers, factor).ok());
+            const std::string what = name + ", factor " + std::to_string(factor);
+            const std::vector<GridVertex> gpu = fillGrid(planned, buffers, true);
+            const std::vector<GridVertex> cpu = fillGrid(planned, buffers, false);
+            checkDisplacedGrid(planned, d, buffers, gpu, what + ", compute shader");
+            checkDisplacedGrid(planned, d, buffers, cpu, what + ", CPU evaluator");
+            if (HasFatalFailure()) return;
+        }
+        destroyPlanBuffers(ctx, buffers);
+    }
+}
+
+TEST_F(DisplacementRender, TessellatedPathDrawsTheDisplacedSurfaceWatertight) {
+    for (auto& [name, cage] : displacementCages()) {
+        PlanDatabase db;
+        PlannedCage planned = planCage(cage, db);
+        const float diagonal = computeBounds(planned.cage()).diagonal();
+        const Displacement d = randomDisplacement(planned, 8, 0.01f * diagonal, 23);
+        PlanBuffers buffers = upload(planned, d);
+        ASSERT_TRUE(enableCapture(ctx, buffers, 1'000'000).ok());
+        bindPlanBuffers(ctx, pass, buffers);
+        Result<OffscreenTarget> target = createOffscreenTarget(ctx, kImageSize, kImageSize, VK_FORMAT_R8G8B8A8_UNORM);
+        ASSERT_TRUE(target.ok());
+        const Bounds bounds = computeBounds(planned.cage());
+        const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+        PlanView view;
+        view.viewProjection = viewProjection(camera);
+        view.capture = true;
+        const TessellationSettings settings{std::min(requiredMeshFactor(planned, d.layout), 64u), 8.0f};
+        ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            recordTessellated(cmd, pass, buffers, renderTarget(*target), view, settings);
+        }).ok());
+        uint32_t overflow = 0;
+        const std::vector<CaptureRecord> records = readCapture(buffers, &overflow);
+        ASSERT_EQ(overflow, 0u);
+        double worst = 0.0;
+        std::map<Location, const CaptureRecord*> seen;
+        uint32_t shared = 0;
+        for (const CaptureRecord& r : records) {
+            const uint32_t edge = r.edgeAndFactor & 0xff, n = r.edgeAndFactor >> 8;
+            const uint32_t s = buffers.data.subfaces[r.drawn].subface;
+            float u = r.u, v = r.v;  // edge vertices are evaluated at i / n exactly
+            if (edge == 0 || edge == 2) u = float(r.edgeIndex) / float(n);
+            if (edge == 1 || edge == 3) v = float(r.edgeIndex) / float(n);
+            const DisplacedPoint ref = referencePoint(planned, d, s, u, v);
+            worst = std::max(worst, double(glm::length(glm::vec3(r.position[0], r.position[1], r.position[2]) - ref.position)) /
+                                        diagonal);
+            if (edge == 4) continue;
+            auto [it, inserted] = seen.emplace(boundaryLocation(d.layout, s, edge, r.edgeIndex, n), &r);
+            if (!inserted) {
+                ++shared;
+                EXPECT_EQ(std::memcmp(it->second->position, r.position, sizeof(r.position)), 0)
+                    << name << ": sub-face " << s << " edge " << edge << " vertex " << r.edgeIndex << " of " << n;
+            }
+        }
+        EXPECT_LE(worst, 1e-5) << name;
+        EXPECT_GT(shared, 0u) << name;
+        destroyOffscreenTarget(ctx, *target);
+        destroyPlanBuffers(ctx, buffers);
+    }
+}
+
+// A brush dab re-evaluates only the sub-faces that read its samples, with the bits of a full
+// evaluation, on both grid evaluators.
+TEST_F(DisplacementRender, DabUpdatesExactlyWhatAFullEvaluationWould) {
+    for (auto& [name, cage] : displacementCages()) {
+        PlanDatabase db;
+        PlannedCage planned = planCage(cage, db);
+        const float diagonal = computeBounds(planned.cage()).diagonal();
+        Displacement d = randomDisplacement(planned, 8, 0.002f * diagonal, 5);
+        const SculptSamples samples = SculptSamples::build(planned, d.layout);
+        PlanBuffers buffers = upload(planned, d);
+        ASSERT_TRUE(prepareGrid(ctx, pass, buffers, std::min(requiredMeshFactor(planned, d.layout), 64u)).ok());
+        for (bool gpu : {true, false}) {
+            const std::string what = name + (gpu ? ", compute shader" : ", CPU evaluator");
+            fillGrid(planned, buffers, gpu);
+            Sculptor sculptor(d, samples);
+            sculptor.beginStroke();
+            const Brush brush{BrushKind::Raise, 0.15f * diagonal, 0.05f, Falloff::Smooth};
+            uint32_t centre = samples.sampleCount() / 2;
+            while (!samples.hasSite(centre)) ++centre;
+            ASSERT_GT(sculptor.dab(brush, MirrorAxis::None, samples.position(centre)), 0u) << what;
+            const std::vector<SampleRange> ranges = uploadRanges(sculptor.lastDabSamples());
+            sculptor.endStroke();
+            DisplacementUpdate update;
+            ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+                update = recordDisplacementChange(cmd, pass, buffers, planned, ranges);
+            }).ok());
+            EXPECT_GT(update.uploadedSamples, 0u) << what;
+            EXPECT_GT(update.evaluatedSubfaces, 0u) << what;
+            EXPECT_LT(update.evaluatedSubfaces, buffers.data.subfaces.size()) << what << ": the whole cage was re-evaluated";
+            EXPECT_EQ(std::memcmp(buffers.displacementSamples.data, d.samples.data(), d.samples.size() * sizeof(float)), 0)
+                << what << ": the device's samples differ";
+            const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+            const std::vector<GridVertex> updated(grid, grid + buffers.gridLayout.slotCount());
+            const std::vector<GridVertex> full = fillGrid(planned, buffers, gpu);
+            EXPECT_EQ(std::memcmp(updated.data(), full.data(), full.size() * sizeof(GridVertex)), 0)
+                << what << ": the updated grid differs from a full evaluation";
+        }
+        destroyPlanBuffers(ctx, buffers);
+    }
+}
+
+// The CPU-mesh schemes displace their own surface along their own normal; the mesh is
+// watertight bit for bit (boundary vertices come from their owner).
+TEST(DisplacementSchemes, UniformAndOsdFasMeshesAreDisplacedAndWatertight) {
+    const PluginCatalog catalog = loadPlugins(QUADPLAN_PLUGIN_DIR);
+    for (auto& [name, cage] : displacementCages()) {
+        PlanDatabase db;
+        PlannedCage planned = planCage(cage, db);
+        const float diagonal = computeBounds(planned.cage()).diagonal();
+        const Displacement d = randomDisplacement(planned, 8, 0.01f * diagonal, 31);
+        for (const char* schemeName : {"uniform", "osd-fas"}) {
+            const std::string what = name + ", " + schemeName;
+            std::shared_ptr<SchemePlugin> plugin = catalog.find(schemeName);
+            ASSERT_TRUE(plugin) << schemeName << " not found in " << catalog.directory;
+            Result<SchemeInstance> instance = SchemeInstance::create(plugin);
+            ASSERT_TRUE(instance.ok());
+            ASSERT_TRUE(instance->build(planned, SchemeSettings{}).ok()) << what;
+            ASSERT_TRUE(instance->setDisplacement(&d).ok()) << what;
+            ASSERT_TRUE(instance->update().ok()) << what;
+            const uint32_t factor = displacedGridFactor(planned, d, 8);
+            EXPECT_GE(factor, requiredMeshFactor(planned, d.layout)) << what;
+            Result<SchemeMesh> displaced = displacedSchemeMesh(instance->scheme(), planned, d, factor);
+            ASSERT_TRUE(displaced.ok()) << what;
+            // The grids, as buildDisplacedMesh lays them out.
+            std::vector<uint32_t> gridSubface, gridFactor, gridOffset;
+            uint32_t offset = 0;
+            for (uint32_t face = 0; face < planned.cage().faceCount(); ++face)
+                for (uint32_t s = planned.firstSubface(face); s < planned.firstSubface(face + 1); ++s) {
+                    if (!planned.hasSurface(s)) continue;
+                    const uint32_t n = planned.cage().faceSize(face) == 4 ? factor : factor / 2;
+                    gridSubface.push_back(s);
+                    gridFactor.push_back(n);
+                    gridOffset.push_back(offset);
+                    offset += (n + 1) * (n + 1);
+                }
+            ASSERT_EQ(offset, displaced->vertices.size());
+            // Inside each grid: the scheme's own point moved by D along the scheme's own normal.
+            double worst = 0.0, largest = 0.0;
+            for (size_t g = 0; g < gridSubface.size(); ++g) {
+                const uint32_t n = gridFactor[g];
+                for (uint32_t y = 1; y < n; ++y)
+                    for (uint32_t x = 1; x < n; ++x) {
+                        const SampleRequest request{gridSubface[g], float(x) / float(n), float(y) / float(n)};
+                        SurfacePoint p;
+                        instance->scheme().evaluate(std::span<const SampleRequest>(&request, 1), std::span<SurfacePoint>(&p, 1));
+                        const float D = evaluateDisplacement(d, request.subface, request.u, request.v).value;
+                        const glm::vec3 expected = p.position + D * p.normal;
+                        const MeshVertex& b = displaced->vertices[gridOffset[g] + y * (n + 1) + x];
+                        worst = std::max(worst, double(glm::length(b.position - expected)) / diagonal);
+                        largest = std::max(largest, double(std::fabs(D)) / diagonal);
+                    }
+            }
+            EXPECT_LE(worst, 1e-5) << what;
+            EXPECT_GT(largest, 1e-3) << what;
+            expectWatertight(d.layout, gridSubface, gridFactor, gridOffset, displaced->vertices.data(), what);
+        }
+    }
+}
