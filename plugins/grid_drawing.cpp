@@ -6,6 +6,8 @@ namespace qp {
 
 void prepareGridDrawing(GridDrawing& drawing, const PlannedCage& planned, uint32_t factor) {
     drawing.grid = buildSubfaceGrid(planned, factor);
+    drawing.planned = &planned;
+    drawing.factor = factor;
 }
 
 Status createGridDrawing(GridDrawing& drawing, const GpuContext& gpu) {
@@ -16,12 +18,28 @@ Status createGridDrawing(GridDrawing& drawing, const GpuContext& gpu) {
     return success();
 }
 
+void setGridDisplacement(GridDrawing& drawing, const Displacement* displacement) {
+    drawing.displacement = displacement && !displacement->empty() ? displacement : nullptr;
+}
+
 Status updateGridDrawing(GridDrawing& drawing, const Scheme& scheme) {
     if (!drawing.context || drawing.grid.samples.empty()) return success();
-    std::vector<SurfacePoint> points(drawing.grid.samples.size());
-    evaluateParallel(scheme, drawing.grid.samples, points);
+    std::vector<MeshVertex> vertices;
+    std::vector<uint32_t> displacedIndices;
+    if (drawing.displacement) {
+        Result<SchemeMesh> displaced = displacedSchemeMesh(
+            scheme, *drawing.planned, *drawing.displacement, displacedGridFactor(*drawing.planned, *drawing.displacement, drawing.factor));
+        if (!displaced) return displaced.error();
+        vertices = std::move(displaced->vertices);
+        displacedIndices = std::move(displaced->indices);
+    } else {
+        std::vector<SurfacePoint> points(drawing.grid.samples.size());
+        evaluateParallel(scheme, drawing.grid.samples, points);
+        vertices = meshVertices(points);
+    }
     if (drawing.mesh.indexCount) destroyMesh(*drawing.context, drawing.mesh);
-    Result<GpuMesh> mesh = uploadMesh(*drawing.context, meshVertices(points), drawing.grid.indices);
+    drawing.mesh = GpuMesh{};
+    Result<GpuMesh> mesh = uploadMesh(*drawing.context, vertices, drawing.displacement ? displacedIndices : drawing.grid.indices);
     if (!mesh) return mesh.error();
     drawing.mesh = *mesh;
     return success();
@@ -32,7 +50,7 @@ DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, con
     MeshDraw draw{&drawing.mesh, glm::vec3(0.8f), true, view.wireframe};
     recordMeshPass(cmd, drawing.pass, target, MeshView{view.viewProjection, view.eye, view.background},
                    drawing.mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-    return DrawStats{patches, drawing.grid.indices.size() / 3};
+    return DrawStats{patches, drawing.mesh.indexCount / 3};
 }
 
 uint64_t gridDrawingBytes(const GridDrawing& drawing) { return drawing.mesh.vertices.size + drawing.mesh.indices.size; }

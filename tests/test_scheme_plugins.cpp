@@ -19,6 +19,7 @@
 #include "render_test_support.h"
 #include "scene.h"
 #include "scheme_host.h"
+#include "scheme_support.h"
 #include "scheme_test_support.h"
 #include "tess_patch_pass.h"
 #include "test_cages.h"
@@ -214,6 +215,74 @@ TEST(SchemePlugins, DrawWithValidationSilentAndTheSamePictureThroughBothPaths) {
     SchemeSettings adaptive;
     adaptive.adaptivePixels = 6.0f;
     EXPECT_GT(coverage(render(ctx, "acc2", *planned, adaptive)), 0.2);
+    EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
+    destroyContext(ctx);
+}
+
+// Displaced, every path draws the scheme's own surface moved along its own normal on the CPU
+// grid: the tessellated and grid paths give the same picture, different from the undisplaced
+// one, with the displaced mesh's triangles; removing the displacement restores the patches.
+TEST(SchemePlugins, DrawTheDisplacementOnTheirOwnSurface) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    VulkanContext& ctx = *context;
+    const Cage cube = perturbedCube(3);
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(cube, database, PlanOptions{}, "cube");
+    ASSERT_TRUE(planned.ok());
+    Displacement bumps = makeDisplacement(planned->cage(), planned->topology(), 8);
+    const float amplitude = 0.04f * computeBounds(cube).diagonal();
+    for (size_t i = 0; i < bumps.samples.size(); ++i) bumps.samples[i] = amplitude * std::sin(0.37f * float(i));
+    const GpuContext gpu{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+    const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
+    const Bounds bounds = computeBounds(cube);
+    const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+    DrawView view;
+    view.viewProjection = viewProjection(camera);
+    view.eye = camera.eye;
+    constexpr uint32_t kSize = 160;
+    Result<OffscreenTarget> target = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(target.ok());
+    auto draw = [&](SchemeInstance& instance) {
+        Picture picture;
+        Result<DrawStats> drawn = DrawStats{};
+        EXPECT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { drawn = instance.record(cmd, renderTarget(*target), view); }).ok());
+        if (drawn) picture.stats = *drawn;
+        Result<std::vector<uint8_t>> pixels = readPixels(ctx, *target);
+        if (pixels) picture.pixels = std::move(*pixels);
+        return picture;
+    };
+    for (const char* name : {"acc1", "acc2", "pn", "stam"}) {
+        SCOPED_TRACE(name);
+        std::vector<Picture> displaced;
+        for (const char* path : {"tess", "cpu"}) {
+            if (std::string(name) == "stam" && std::string(path) == "tess") continue;
+            SchemeSettings settings;
+            settings.tessFactor = 8;
+            settings.options = {{"path", path}};
+            Result<PreparedScheme> plain = prepareScheme(catalog(), name, *planned, features, settings, gpu, "cube");
+            Result<PreparedScheme> bumped = prepareScheme(catalog(), name, *planned, features, settings, gpu, "cube", &bumps);
+            ASSERT_TRUE(plain.ok() && bumped.ok()) << path;
+            EXPECT_FALSE(mentions(bumped->support.approximations, "drawn without the sculpted displacement"));
+            const Picture flat = draw(plain->instance);
+            displaced.push_back(draw(bumped->instance));
+            Result<SchemeMesh> mesh = displacedSchemeMesh(bumped->instance.scheme(), *planned, bumps,
+                                                          displacedGridFactor(*planned, bumps, settings.tessFactor));
+            ASSERT_TRUE(mesh.ok());
+            EXPECT_EQ(displaced.back().stats.triangles, mesh->indices.size() / 3) << path;
+            EXPECT_GT(differingPixels(flat, displaced.back(), 40), 0.02) << path << ": the bumps do not show";
+            // Displacement removed: back to the undisplaced picture.
+            ASSERT_TRUE(bumped->instance.setDisplacement(nullptr).ok());
+            ASSERT_TRUE(bumped->instance.update().ok());
+            EXPECT_LT(differingPixels(flat, draw(bumped->instance), 40), 0.001) << path;
+            EXPECT_TRUE(plain->instance.destroyGpu().ok());
+            EXPECT_TRUE(bumped->instance.destroyGpu().ok());
+        }
+        if (displaced.size() == 2) {
+            EXPECT_LT(differingPixels(displaced[0], displaced[1], 40), 0.001) << "tess and cpu paths differ when displaced";
+        }
+    }
+    destroyOffscreenTarget(ctx, *target);
     EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
     destroyContext(ctx);
 }

@@ -43,14 +43,15 @@ public:
         if (!path) return path.error();
         path_ = *path;
         if (Status built = rebuild(); !built) return built;
-        if (path_ == PatchPath::Cpu)
-            prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
+        prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
         return success();
     }
 
     Status createGpu(const GpuContext& gpu) override {
         ctx_ = gpu.vulkan;
-        if (path_ == PatchPath::Cpu) return createGridDrawing(grid_, gpu);
+        // The grid draws the CPU path, and the tessellated path while displaced.
+        if (Status grid = createGridDrawing(grid_, gpu); !grid) return grid;
+        if (path_ == PatchPath::Cpu) return success();
         Result<TessPatchPass> pass =
             createTessPatchPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat,
                                 {moduleShaderCode("tess_patch.vert"), moduleShaderCode("acc1.tesc"), moduleShaderCode("acc1.tese")});
@@ -62,17 +63,24 @@ public:
 
     Status update() override {
         if (Status built = rebuild(); !built) return built;
-        if (path_ == PatchPath::Cpu) return updateGridDrawing(grid_, *this);
+        if (onGrid()) return updateGridDrawing(grid_, *this);
         if (!havePass_) return success();
         const std::vector<glm::vec4> points = paddedPoints(patches_.controlPoints);
         return uploadTessPatches(*ctx_, pass_, points.data(), points.size() * sizeof(glm::vec4), patches_.stats.patches);
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        if (path_ == PatchPath::Cpu) return recordGridDrawing(cmd, grid_, target, view, patches_.stats.patches);
+        if (onGrid()) return recordGridDrawing(cmd, grid_, target, view, patches_.stats.patches);
         const uint32_t factor = patchFactor();
         recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false});
         return DrawStats{patches_.stats.patches, factor ? patches_.stats.patches * tessTriangles(factor, false) : 0};
+    }
+
+    // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the
+    // CPU grid (grid_drawing.h) whichever path was chosen; evaluate() stays undisplaced.
+    Status setDisplacement(const Displacement* displacement) override {
+        setGridDisplacement(grid_, displacement);
+        return success();
     }
 
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
@@ -84,7 +92,7 @@ public:
 
     SchemeStats stats() const override {
         return SchemeStats{patches_.stats.patches, patches_.stats.controlPoints,
-                           path_ == PatchPath::Cpu ? gridDrawingBytes(grid_) : pass_.patchData.size};
+                           onGrid() ? gridDrawingBytes(grid_) : pass_.patchData.size};
     }
 
     void destroyGpu() override {
@@ -96,6 +104,8 @@ public:
     }
 
 private:
+    bool onGrid() const { return path_ == PatchPath::Cpu || grid_.displacement; }
+
     Status rebuild() {
         Result<Acc1Patches> patches = buildAcc1(planned_->cage(), {}, "acc1");
         if (!patches) return patches.error();

@@ -61,14 +61,15 @@ public:
         if (!path) return path.error();
         path_ = *path;
         if (Status built = rebuild(); !built) return built;
-        if (path_ == PatchPath::Cpu)
-            prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
+        prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
         return success();
     }
 
     Status createGpu(const GpuContext& gpu) override {
         ctx_ = gpu.vulkan;
-        if (path_ == PatchPath::Cpu) return createGridDrawing(grid_, gpu);
+        // The grid draws the CPU path, and the tessellated path while displaced.
+        if (Status grid = createGridDrawing(grid_, gpu); !grid) return grid;
+        if (path_ == PatchPath::Cpu) return success();
         Result<TessPatchPass> pass =
             createTessPatchPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat,
                                 {moduleShaderCode("tess_patch.vert"), moduleShaderCode("pn.tesc"), moduleShaderCode("pn.tese")});
@@ -80,14 +81,14 @@ public:
 
     Status update() override {
         if (Status built = rebuild(); !built) return built;
-        if (path_ == PatchPath::Cpu) return updateGridDrawing(grid_, *this);
+        if (onGrid()) return updateGridDrawing(grid_, *this);
         if (!havePass_) return success();
         const std::vector<glm::vec4> points = packTriangles(patches_);
         return uploadTessPatches(*ctx_, pass_, points.data(), points.size() * sizeof(glm::vec4), patches_.stats.triangles);
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        if (path_ == PatchPath::Cpu) return recordGridDrawing(cmd, grid_, target, view, patches_.stats.triangles);
+        if (onGrid()) return recordGridDrawing(cmd, grid_, target, view, patches_.stats.triangles);
         // A PN triangle's edges are cage edges (or spokes of a fan), each one quad sub-face edge
         // long or two n-gon sub-face edges: the full factor.
         const uint32_t factor = settings_.adaptivePixels > 0.0f ? 0u : settings_.tessFactor;
@@ -95,16 +96,29 @@ public:
         return DrawStats{patches_.stats.triangles, factor ? patches_.stats.triangles * tessTriangles(factor, true) : 0};
     }
 
+    // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the
+    // CPU grid (grid_drawing.h) whichever path was chosen; evaluate() stays undisplaced.
+    Status setDisplacement(const Displacement* displacement) override {
+        setGridDisplacement(grid_, displacement);
+        return success();
+    }
+
+    // du, dv are PN's shading frame: the cubic geometry's derivatives projected onto the plane
+    // of the normal patch's normal (as acc1 returns its tangent patches). The geometry is only
+    // C0 (across the quads' split diagonals too), so its own derivatives would make a displaced
+    // surface (displacePoint: (du + D_u N) x (dv + D_v N)) shade with the geometry's kinks
+    // instead of PN's normal field, even where D is flat.
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
         for (size_t i = 0; i < requests.size(); ++i) {
             const PnSample s = evaluatePn(patches_, requests[i].subface, requests[i].u, requests[i].v);
-            out[i] = SurfacePoint{s.position, s.normal, s.du, s.dv, s.valid};
+            const glm::vec3 du = s.du - glm::dot(s.du, s.normal) * s.normal, dv = s.dv - glm::dot(s.dv, s.normal) * s.normal;
+            out[i] = SurfacePoint{s.position, s.normal, du, dv, s.valid};
         }
     }
 
     SchemeStats stats() const override {
         return SchemeStats{patches_.stats.triangles, patches_.stats.controlPoints,
-                           path_ == PatchPath::Cpu ? gridDrawingBytes(grid_) : pass_.patchData.size};
+                           onGrid() ? gridDrawingBytes(grid_) : pass_.patchData.size};
     }
 
     void destroyGpu() override {
@@ -116,6 +130,8 @@ public:
     }
 
 private:
+    bool onGrid() const { return path_ == PatchPath::Cpu || grid_.displacement; }
+
     Status rebuild() {
         Result<PnPatches> patches = buildPn(planned_->cage(), "pn");
         if (!patches) return patches.error();

@@ -61,6 +61,13 @@ public:
         return recordGridDrawing(cmd, grid_, target, view, patches_.stats.patches);
     }
 
+    // Sculpted displacement: Stam's surface moved along its own normal (grid_drawing.h);
+    // evaluate() stays undisplaced.
+    Status setDisplacement(const Displacement* displacement) override {
+        setGridDisplacement(grid_, displacement);
+        return success();
+    }
+
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
         for (size_t i = 0; i < requests.size(); ++i) {
             const StamSample s = evaluateStam(patches_, requests[i].subface, requests[i].u, requests[i].v);
