@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libeigen3-dev
   xvfb xauth xdotool imagemagick
+  clang libclang-rt-14-dev  # the test command's fuzzing (libFuzzer) and sanitizer runs
 )
 
 missing=()
