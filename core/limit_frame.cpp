@@ -102,14 +102,20 @@ VertexLimit computeVertexLimit(const Cage& cage, const QuadRing& ring, TangentRu
         for (uint32_t i = 0; i < faces; ++i) sum += 4.0 * at(cage, ring.edges[i]) + at(cage, ring.diagonals[i]);
         limit.position = sum / (n * (n + 5.0));
         const double modeWeight = 2.0 + 2.0 * c, exactWeight = 8.0 * lambda - 2.0;
-        const double a = rule == TangentRule::Exact ? exactWeight : modeWeight;
+        const double a = rule == TangentRule::AccEdgeMode ? modeWeight : exactWeight;
         // On the characteristic configuration (the ring an eigenvector for lambda: d-ring =
         // (1 + w) / (4 lambda - 1) times the e-ring in Fourier terms) both rules give the same
         // vector when the exact one is divided by this ratio.
         // (Valence 2 has no tangent plane -- every weight is 0 -- and no ratio.)
         const double dTerm = faces > 2 ? (1.0 + c) / (4.0 * lambda - 1.0) : 0.0;
         const double ratio = rule == TangentRule::Exact && faces > 2 ? (exactWeight + dTerm) / (modeWeight + dTerm) : 1.0;
-        const double scale = 1.0 / (n * lambda * (n + 5.0) * ratio);
+        double scale = 1.0 / (n * lambda * (n + 5.0) * ratio);
+        // Loop and Schaefer's length: face weight beta cos((2 pi i + pi) / n) / 3 with
+        // beta = 1 / (n sqrt(4 + cos^2(pi / n))); our face weight is scale cos(pi / n) times it.
+        if (rule == TangentRule::LoopSchaefer && faces > 2) {
+            const double cp = std::cos(std::numbers::pi / n);
+            scale = 1.0 / (3.0 * n * std::sqrt(4.0 + cp * cp) * cp);
+        }
         for (uint32_t j = 0; j < faces; ++j) {
             glm::dvec3 t(0.0);
             for (uint32_t i = 0; i < faces; ++i) {

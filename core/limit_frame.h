@@ -19,6 +19,13 @@
 // both rules give the same vectors on the characteristic ring (the right eigenvector), so
 // the two differ in direction only, not in typical length. For n = 4 both are the B-spline's
 // Bezier edge points.
+// TangentRule::LoopSchaefer has Exact's direction with the length of Loop and Schaefer 2008's
+// limit tangent mask, as production ACC-1 implementations compute it (Valve's Source engine
+// and Microsoft's SubD11 sample; plugins/acc1/README.md): 3 tangent_j =
+//   sum_i (1/n + cos(pi/n) beta) cos(theta (i-j)) e_i + beta cos(theta (i-j) + pi/n) d_i,
+//   beta = 1 / (n sqrt(4 + cos^2(pi/n))),
+// the derivative of the patch along edge j for n = 4; for n != 4 it is 1.23 (n = 3) to 0.99
+// (n = 5) to 1.46 (n = 12) times Exact's length. Boundary vertices: as Exact.
 //
 // Boundary vertex with k >= 2 faces, edge neighbours e_0 .. e_k (e_0, e_k on the boundary):
 //   position  = (e_0 + 4 v + e_k) / 6                        (limit of the boundary B-spline)
@@ -43,7 +50,7 @@
 
 namespace qp {
 
-enum class TangentRule { Exact, AccEdgeMode };
+enum class TangentRule { Exact, AccEdgeMode, LoopSchaefer };
 
 struct VertexLimit {
     glm::dvec3 position{0.0};

@@ -28,6 +28,10 @@ Result<LimitReference> LimitReference::create(const Cage& cage, uint32_t depth, 
     options.generateLegacySharpCornerPatches = false;
     options.generateVaryingTables = false;
     options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
+    // Double-precision local points: near an extraordinary vertex the deepest end cap's points
+    // nearly coincide, and float stencil weights would leave their differences (the
+    // derivatives) to round-off (10-20 degrees of normal at depth 10 next to a valence-3 vertex).
+    options.SetPatchPrecision<double>();
     r.RefineAdaptive(options.GetRefineAdaptiveOptions());
 
     LimitReference ref;
@@ -35,19 +39,20 @@ Result<LimitReference> LimitReference::create(const Cage& cage, uint32_t depth, 
     ref.map_ = std::make_unique<Far::PatchMap>(*ref.patches_);
     ref.subfaces_ = uint32_t(Far::PtexIndices(r).GetNumFaces());
 
-    Far::StencilTableFactory::Options stencilOptions;
+    using Factory = Far::StencilTableFactoryReal<double>;
+    Factory::Options stencilOptions;
     stencilOptions.generateIntermediateLevels = true;
     stencilOptions.generateControlVerts = true;
     stencilOptions.generateOffsets = true;
-    std::unique_ptr<const Far::StencilTable> stencils(Far::StencilTableFactory::Create(r, stencilOptions));
-    if (const Far::StencilTable* local = ref.patches_->GetLocalPointStencilTable(); local && local->GetNumStencils() > 0)
-        stencils.reset(Far::StencilTableFactory::AppendLocalPointStencilTable(r, stencils.get(), local, true));
+    std::unique_ptr<const Far::StencilTableReal<double>> stencils(Factory::Create(r, stencilOptions));
+    if (const auto* local = ref.patches_->GetLocalPointStencilTable<double>(); local && local->GetNumStencils() > 0)
+        stencils.reset(Factory::AppendLocalPointStencilTable(r, stencils.get(), local, true));
 
     ref.points_.resize(size_t(stencils->GetNumStencils()));
     for (int i = 0; i < stencils->GetNumStencils(); ++i) {
-        Far::Stencil s = stencils->GetStencil(i);
+        Far::StencilReal<double> s = stencils->GetStencil(i);
         glm::dvec3 p(0.0);
-        for (int k = 0; k < s.GetSize(); ++k) p += double(s.GetWeights()[k]) * glm::dvec3(cage.positions[s.GetVertexIndices()[k]]);
+        for (int k = 0; k < s.GetSize(); ++k) p += s.GetWeights()[k] * glm::dvec3(cage.positions[s.GetVertexIndices()[k]]);
         ref.points_[size_t(i)] = p;
     }
     return ref;

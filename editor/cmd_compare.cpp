@@ -6,7 +6,9 @@
 // heat map of its error, with one colour legend for all at the bottom. The heat map is the
 // scheme's surface as its CPU evaluator gives it on a uniform grid (--samples segments per
 // sub-face edge), coloured by the error at each grid point; the numbers come from the same
-// points.
+// points. The exact surface is OpenSubdiv's Far adaptive patches at depth 10 in double by
+// default (--reference, surface_error.h): its own error, ~2e-8 of the diagonal, is printed with
+// the table and in the JSON.
 //
 // Exit status: 0 when every requested scheme was drawn; 2 when some were not (unknown,
 // refused the cage, failed), the others drawn and reported; 1 when nothing could be (bad
@@ -41,6 +43,8 @@ struct CompareArgs {
     std::string schemes;  // comma-separated; empty: every loaded scheme
     std::string size = "360x300";
     uint32_t tess = 8, samples = 16, depth = 6, repeats = 5;
+    std::string reference = "far";  // far | plans
+    uint32_t referenceDepth = 10;
     std::string camera, pluginDir;
     std::vector<std::string> options;  // SCHEME:KEY=VALUE
     bool json = false, validate = false;
@@ -109,7 +113,7 @@ struct Layout {
 
 int nameScale(const Layout& layout) { return layout.tileWidth >= 200 ? 2 : 1; }
 
-void drawLegend(RgbaImage& image, const Layout& layout) {
+void drawLegend(RgbaImage& image, const Layout& layout, const ExactReference& reference) {
     const int top = int(layout.rows * layout.cellHeight());
     image.fill(0, top, int(image.width), int(layout.legendHeight), {255, 255, 255});
     const int margin = 16;
@@ -131,7 +135,9 @@ void drawLegend(RgbaImage& image, const Layout& layout) {
         drawText(image, std::clamp(x - w / 2, 0, int(image.width) - w), y0 + barHeight + 7, label, 1, ink);
     }
     drawText(image, x0, y0 + barHeight + 22,
-             "error / bounding-box diagonal at the same (sub-face, u, v) vs the exact limit surface (log scale)", 1, ink);
+             "error / bounding-box diagonal at the same (sub-face, u, v) vs the exact limit surface (log scale); exact: " +
+                 reference.description(),
+             1, ink);
     drawText(image, x0, y0 + barHeight + 36,
              "top: the scheme's own rendering   bottom: its error (CPU evaluation)   label: max / rms error, max normal deviation",
              1, ink);
@@ -154,12 +160,15 @@ void drawLabels(RgbaImage& image, const Layout& layout, const std::vector<Scheme
                 std::snprintf(text, sizeof text, "%.1e / %.1e / %.2g deg", r.error.maxRelError, r.error.rmsRelError,
                               r.error.maxNormalDegrees);
             drawText(image, x + 6, line2, text, 1, {40, 40, 40});
-            // Approximations at the bottom of the rendering, so nobody misses them.
+            // Approximations at the bottom of the rendering, so nobody misses them: each one's
+            // headline (the text before its parenthesised details, which the table's JSON and
+            // stderr carry in full), so that every approximation fits.
             const VkRect2D tile = layout.tile(i, false);
             std::vector<std::string> lines;
             for (const std::string& a : r.approximations)
-                for (const std::string& l : wrapText("approximates: " + a, int(layout.tileWidth) - 12, 1)) lines.push_back(l);
-            if (lines.size() > 4) lines.resize(4);
+                for (const std::string& l : wrapText("approximates: " + a.substr(0, a.find(" (")), int(layout.tileWidth) - 12, 1))
+                    lines.push_back(l);
+            if (lines.size() > 6) lines.resize(6);
             int ty = tile.offset.y + int(tile.extent.height) - 4 - int(lines.size()) * (textHeight(1) + 1);
             for (const std::string& l : lines) {
                 drawText(image, tile.offset.x + 6, ty, l, 1, {150, 60, 0});
@@ -178,7 +187,21 @@ void drawLabels(RgbaImage& image, const Layout& layout, const std::vector<Scheme
     }
 }
 
-void printTable(const std::vector<SchemeResult>& results) {
+std::string referenceLine(const ExactReference& reference) {
+    std::string line = "reference: " + reference.description();
+    if (reference.errorBound() > 0.0)
+        line += " (its own error: " + sci(reference.errorBound()) + " of the diagonal, measured against Stam's exact "
+                "evaluation next to extraordinary vertices)";
+    else if (reference.kind == ReferenceKind::Plans)
+        line += " (exact except within 2^-" + std::to_string(reference.depth) +
+                " of extraordinary vertices, where a Gregory end cap stands in: up to 4.4e-3 of the diagonal at depth 6)";
+    else
+        line += " (Gregory end caps within 2^-" + std::to_string(reference.depth) + " of extraordinary vertices)";
+    return line;
+}
+
+void printTable(const std::vector<SchemeResult>& results, const ExactReference& reference) {
+    std::printf("%s\n", referenceLine(reference).c_str());
     std::printf("| scheme | max rel error | rms rel error | max normal (deg) | patches | triangles | frame ms | draw ms | setup ms |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|\n");
     for (const SchemeResult& r : results) {
@@ -193,7 +216,7 @@ void printTable(const std::vector<SchemeResult>& results) {
 }
 
 void printJson(const std::vector<SchemeResult>& results, const std::string& image, const std::string& cage,
-               const CompareArgs& args) {
+               const CompareArgs& args, const ExactReference& reference) {
     nlohmann::json schemes = nlohmann::json::array(), skipped = nlohmann::json::array();
     for (const SchemeResult& r : results) {
         if (!r.drawn) {
@@ -213,8 +236,13 @@ void printJson(const std::vector<SchemeResult>& results, const std::string& imag
                            {"samples", r.error.samples},
                            {"approximations", r.approximations}});
     }
+    nlohmann::json bound = reference.errorBound() > 0.0 ? nlohmann::json(reference.errorBound()) : nlohmann::json(nullptr);
+    nlohmann::json exact = {{"method", reference.kind == ReferenceKind::Far ? "far-adaptive" : "plans"},
+                            {"depth", reference.depth},
+                            {"description", referenceLine(reference).substr(11)},
+                            {"error_bound", bound}};
     nlohmann::json out = {{"cage", cage},  {"image", image},     {"tess", args.tess}, {"samples_per_edge", args.samples},
-                          {"plan_depth", args.depth}, {"schemes", schemes}, {"skipped", skipped}};
+                          {"plan_depth", args.depth}, {"reference", exact}, {"schemes", schemes}, {"skipped", skipped}};
     std::printf("%s\n", out.dump(2).c_str());
 }
 
@@ -253,6 +281,11 @@ int runCompare(const CompareArgs& args) {
     if (!camera) return fail(camera.error().message);
     const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
     const SubfaceGrid grid = buildSubfaceGrid(*planned, args.samples);
+    if (args.reference != "far" && args.reference != "plans")
+        return fail("--reference must be far or plans, got '" + args.reference + "'");
+    const ReferenceKind referenceKind = args.reference == "far" ? ReferenceKind::Far : ReferenceKind::Plans;
+    Result<ExactReference> reference = evaluateReference(referenceKind, args.referenceDepth, *planned, grid.samples, args.path);
+    if (!reference) return fail("the exact reference failed: " + reference.error().message);
 
     Layout layout{tileWidth, tileHeight, std::min<uint32_t>(uint32_t(names.size()), kMaxColumns),
                   (uint32_t(names.size()) + kMaxColumns - 1) / kMaxColumns, 0, 78};
@@ -339,7 +372,7 @@ int runCompare(const CompareArgs& args) {
             Result<SchemeStats> stats = ok ? scheme.stats() : Result<SchemeStats>(ok.error());
             if (stats) {
                 r.stats = *stats;
-                SurfaceError error = measureSurfaceError(*planned, grid.samples, points, diagonal);
+                SurfaceError error = measureSurfaceError(*reference, points, diagonal);
                 r.error = error.stats;
                 std::vector<glm::vec3> colors(points.size());
                 for (size_t k = 0; k < points.size(); ++k) colors[k] = heatColorLinear(error.relError[k]);
@@ -372,7 +405,7 @@ int runCompare(const CompareArgs& args) {
         } else {
             RgbaImage image{layout.width(), layout.height(), std::move(*pixels)};
             drawLabels(image, layout, results);
-            drawLegend(image, layout);
+            drawLegend(image, layout, *reference);
             Status written = writePng(args.out, image.width, image.height, image.pixels);
             if (!written) status = fail(written.error().message);
         }
@@ -390,8 +423,8 @@ int runCompare(const CompareArgs& args) {
 
     const size_t drawn = size_t(std::count_if(results.begin(), results.end(), [](const SchemeResult& r) { return r.drawn; }));
     if (status == 0) {
-        if (args.json) printJson(results, args.out, args.path, args);
-        else printTable(results);
+        if (args.json) printJson(results, args.out, args.path, args, *reference);
+        else printTable(results, *reference);
         std::fprintf(stderr, "wrote %s (%ux%u, %zu of %zu schemes drawn, %zu error samples each)\n", args.out.c_str(),
                      layout.width(), layout.height(), drawn, names.size(), grid.samples.size());
         if (drawn == 0) status = 1;
@@ -413,7 +446,13 @@ void registerCompare(CLI::App& app, int& exitCode) {
     cmd->add_option("--size", args->size, "Size of one tile, WIDTHxHEIGHT (default 360x300)");
     cmd->add_option("--tess", args->tess, "Tessellation factor the schemes draw with (default 8)")->check(CLI::Range(1u, 64u));
     cmd->add_option("--samples", args->samples, "Error samples per sub-face edge (default 16)")->check(CLI::Range(1u, 256u));
-    cmd->add_option("--depth", args->depth, "Plan depth of the exact reference")->check(CLI::Range(1u, kMaxPlanDepth));
+    cmd->add_option("--depth", args->depth, "Plan depth (the plans scheme, osd-fas's isolation, --reference plans)")
+        ->check(CLI::Range(1u, kMaxPlanDepth));
+    cmd->add_option("--reference", args->reference,
+                    "The exact surface errors are measured against: far (OpenSubdiv Far adaptive patches in double, "
+                    "default) or plans (the plans at --depth)");
+    cmd->add_option("--reference-depth", args->referenceDepth, "Isolation depth of --reference far (default 10)")
+        ->check(CLI::Range(1u, kMaxPlanDepth));
     cmd->add_option("--repeats", args->repeats, "Timed frames per scheme, after one warm-up (default 5)")->check(CLI::Range(1u, 1000u));
     cmd->add_option("--camera", args->camera, "EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed)");
     cmd->add_option("--option", args->options, "Scheme option SCHEME:KEY=VALUE (repeatable), e.g. uniform:level=4");

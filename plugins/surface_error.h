@@ -1,8 +1,11 @@
 // How far a scheme's surface is from the exact limit surface, and the heat-map colours.
 //
 // Error at a sample = |scheme(sub-face, u, v) - exact(sub-face, u, v)| / bounding-box diagonal
-// of the cage, with exact = PlannedCage::evaluate (checked against OpenSubdiv to 5e-5 by
-// `quadplan check-limit`). It is a parametric distance: a scheme whose surface is right but
+// of the cage. `exact` is an ExactReference: by default OpenSubdiv's Far adaptive patches at
+// depth 10 with double-precision points (LimitReference), whose own error is ~2e-8 of the
+// diagonal next to extraordinary vertices (measured against Stam's exact evaluation) and
+// round-off elsewhere; or the plans at their depth, which are exact except within 2^-depth of
+// an extraordinary vertex (docs/plan-engine.md). It is a parametric distance: a scheme whose surface is right but
 // parameterised differently (uniform refinement) is charged for that too. Normal deviation is
 // the angle between the scheme's shading normal and du x dv of the exact surface, left out
 // where the exact du and dv are within 0.06 degrees of parallel (folds of degenerate cages,
@@ -11,10 +14,12 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "limit_reference.h"
 #include "scheme_api.h"
 
 namespace qp {
@@ -32,7 +37,25 @@ struct SurfaceError {
     ErrorStats stats;
 };
 
-// `points` are the scheme's values at `samples`; `diagonal` is the scale (> 0).
+// The exact surface at a set of samples, and what it is.
+enum class ReferenceKind { Far, Plans };
+struct ExactReference {
+    ReferenceKind kind = ReferenceKind::Far;
+    uint32_t depth = 10;
+    std::vector<ReferenceSample> samples;  // at the sample points, in order
+    std::string description() const;      // "OpenSubdiv Far adaptive patches, depth 10, double precision"
+    // Its own distance from the limit surface over the diagonal, as measured (docs/schemes.md),
+    // or a negative value where no bound was measured.
+    double errorBound() const;
+};
+// Far: LimitReference::create(planned.cage(), depth) evaluated at the samples (in parallel);
+// Plans: PlannedCage::evaluate, at the plans' own depth (`depth` is ignored).
+Result<ExactReference> evaluateReference(ReferenceKind kind, uint32_t depth, const PlannedCage& planned,
+                                         std::span<const SampleRequest> samples, const std::string& source);
+
+// `points` are the scheme's values at the reference's samples; `diagonal` is the scale (> 0).
+SurfaceError measureSurfaceError(const ExactReference& reference, std::span<const SurfacePoint> points, double diagonal);
+// Against the plans (ReferenceKind::Plans).
 SurfaceError measureSurfaceError(const PlannedCage& exact, std::span<const SampleRequest> samples,
                                  std::span<const SurfacePoint> points, double diagonal);
 

@@ -224,7 +224,8 @@ TEST(SchemeEvaluation, PlansIsTheReference) {
     SchemeInstance scheme = buildScheme("plans", *planned->planned);
     const ErrorStats e = errorOf(scheme, *planned->planned);
     EXPECT_EQ(e.maxRelError, 0.0);
-    EXPECT_LT(e.maxNormalDegrees, 1e-6);
+    // The same du and dv; the scheme's normal is normalised in float, the reference's in double.
+    EXPECT_LT(e.maxNormalDegrees, 1e-4);
     EXPECT_GT(e.samples, 1000u);
 }
 

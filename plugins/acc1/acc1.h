@@ -21,8 +21,10 @@
 //         on a boundary edge L is the geometry patch's own cross derivative (corners excepted).
 // So the normal field is continuous across every edge, equals the exact limit normal at every
 // patch corner, and on regular quads both tangent patches are the bicubic B-spline's exact
-// derivatives. (The paper's own weights for the interior tangent vectors were not available to
-// us; this is the G1 construction its description names. See README.md.)
+// derivatives. The course notes (C §2.3.2) only describe this; the weights are checked
+// against the public production implementations (Valve's Source engine, Microsoft's SubD11
+// sample), which compute the same tangent patches (README.md, test_acc1.cpp).
+// Corner vectors: the exact limit tangents scaled by Loop and Schaefer's mask (limit_frame.h).
 //
 // Non-quad cages are refined once first (refine_once.h); a quad's (u, v) then lands on one of
 // its four children as documented there, an n-gon sub-face k is child k with the same (u, v).
@@ -41,9 +43,11 @@
 namespace qp {
 
 struct Acc1Settings {
-    // Corner tangents of the tangent patches: the exact limit tangent plane, or the Fourier mode
-    // of the geometry's edge points (as OpenSubdiv's Gregory end caps).
-    TangentRule tangents = TangentRule::Exact;
+    // Corner vectors of the tangent patches. LoopSchaefer (default): the exact limit tangents
+    // with the length of Loop and Schaefer's tangent mask, as production ACC-1 computes them
+    // (limit_frame.h); Exact: the same directions, our length; AccEdgeMode: the Fourier mode of
+    // the geometry's edge points (as OpenSubdiv's Gregory end caps; not the limit normal).
+    TangentRule tangents = TangentRule::LoopSchaefer;
 };
 
 struct Acc1Stats {

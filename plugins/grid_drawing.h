@@ -1,0 +1,46 @@
+// GridDrawing: the CPU grid path of a scheme, packaged. In update() the scheme's own evaluate()
+// runs on a uniform grid over every sub-face (all cores, scheme_support.h), the triangles are
+// uploaded, and record() draws them with MeshPass. What the picture shows is exactly what the
+// comparison measures. On lavapipe this is often the fastest way to draw (docs/schemes.md).
+//
+// Displacement (Scheme::setDisplacement): with one set, update() draws the scheme's own surface
+// displaced along its own normal, watertight, on a grid of at least displacedGridFactor
+// (displacedSchemeMesh, scheme_support.h). Schemes with a tessellated path draw through this
+// grid while displaced.
+#pragma once
+
+#include <cstdint>
+
+#include "mesh_pass.h"
+#include "scheme_api.h"
+#include "scheme_support.h"
+
+namespace qp {
+
+struct GridDrawing {
+    SubfaceGrid grid;
+    const PlannedCage* planned = nullptr;
+    uint32_t factor = 1;                          // requested segments per quad sub-face edge
+    const Displacement* displacement = nullptr;  // non-empty, or none
+    const VulkanContext* context = nullptr;
+    MeshPass pass;
+    GpuMesh mesh;
+};
+
+// The grid for `factor` segments per quad sub-face edge (build time; no device needed).
+void prepareGridDrawing(GridDrawing& drawing, const PlannedCage& planned, uint32_t factor);
+Status createGridDrawing(GridDrawing& drawing, const GpuContext& gpu);
+// Scheme::setDisplacement's argument: drawn from the next updateGridDrawing on; nullptr or an
+// empty one removes it.
+void setGridDisplacement(GridDrawing& drawing, const Displacement* displacement);
+// Evaluates `scheme` on the grid (displaced, if set) and uploads the triangles (no-op before
+// createGridDrawing).
+Status updateGridDrawing(GridDrawing& drawing, const Scheme& scheme);
+// Clears target.area and draws; `patches` is what the scheme reports as drawn, the triangles
+// are the uploaded mesh's.
+DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, const RenderTarget& target,
+                            const DrawView& view, uint64_t patches);
+uint64_t gridDrawingBytes(const GridDrawing& drawing);
+void destroyGridDrawing(GridDrawing& drawing);
+
+}  // namespace qp

@@ -1,0 +1,158 @@
+// `pn`: PN-triangles (Vlachos et al. 2001; pn.h, README.md) on the cage's triangles, its quads
+// split along the shorter diagonal and its other polygons fanned: a cubic Bezier triangle and a
+// quadratic normal patch per triangle, from the cage's positions and vertex normals only. It
+// interpolates the cage instead of approximating the Catmull-Clark limit.
+//
+// Drawing: path=tess (default) draws one triangle patch per PN triangle through the
+// tessellator (16 points in a storage buffer, pn.tese); path=cpu evaluates them on a sub-face
+// grid on all cores and draws the triangles (grid_drawing.h). update() rebuilds the patches.
+#include "grid_drawing.h"
+#include "module_shader_code.h"
+#include "pn.h"
+#include "scheme_api.h"
+#include "tess_patch_pass.h"
+
+namespace qp {
+namespace {
+
+constexpr FeatureRule kRules[] = {
+    {CageFeature::SemiSharpCreases, Handling::Approximated, "pn ignores creases (it sees no neighbours)"},
+    {CageFeature::InfinitelySharpCreases, Handling::Approximated, "pn ignores creases (it sees no neighbours)"},
+    {CageFeature::SemiSharpCorners, Handling::Approximated, "pn ignores corner tags"},
+    {CageFeature::InfinitelySharpCorners, Handling::Approximated, "pn ignores corner tags"},
+    {CageFeature::Boundaries, Handling::Approximated,
+     "pn interpolates the boundary polygon instead of the limit boundary curve"},
+    {CageFeature::NoBoundaryInterpolation, Handling::Approximated,
+     "pn also draws the faces along the boundary that the rule 'none' leaves without surface"},
+    {CageFeature::NonQuadFaces, Handling::Approximated, "pn fans polygons with more than four sides around their centroid"},
+    {CageFeature::NonManifold, Handling::Approximated, "pn averages vertex normals over every face at a non-manifold vertex"},
+};
+
+// PN's triangles, 16 vec4 each: the 10 position points, then the 6 normal points.
+std::vector<glm::vec4> packTriangles(const PnPatches& patches) {
+    std::vector<glm::vec4> points;
+    points.reserve(size_t(patches.stats.triangles) * 16);
+    for (uint32_t t = 0; t < patches.stats.triangles; ++t) {
+        for (uint32_t i = 0; i < PnPatches::kPositionPoints; ++i)
+            points.push_back(glm::vec4(patches.positions[size_t(t) * PnPatches::kPositionPoints + i], 1.0f));
+        for (uint32_t i = 0; i < PnPatches::kNormalPoints; ++i)
+            points.push_back(glm::vec4(patches.normals[size_t(t) * PnPatches::kNormalPoints + i], 0.0f));
+    }
+    return points;
+}
+
+class PnScheme final : public Scheme {
+public:
+    SupportReport support(const CageFeatures& features, const SchemeSettings& settings) const override {
+        SupportReport report;
+        report.approximations.push_back(
+            "pn interpolates the cage (its vertices and averaged vertex normals): it does not approximate the "
+            "Catmull-Clark limit surface anywhere");
+        SupportReport rules = assessSupport(kRules, features);
+        report.approximations.insert(report.approximations.end(), rules.approximations.begin(), rules.approximations.end());
+        checkPatchOptions(report, settings, "pn");
+        return report;
+    }
+
+    Status build(const PlannedCage& planned, const SchemeSettings& settings) override {
+        planned_ = &planned;
+        settings_ = settings;
+        Result<PatchPath> path = patchPathOption(settings, "pn");
+        if (!path) return path.error();
+        path_ = *path;
+        if (Status built = rebuild(); !built) return built;
+        prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
+        return success();
+    }
+
+    Status createGpu(const GpuContext& gpu) override {
+        ctx_ = gpu.vulkan;
+        // The grid draws the CPU path, and the tessellated path while displaced.
+        if (Status grid = createGridDrawing(grid_, gpu); !grid) return grid;
+        if (path_ == PatchPath::Cpu) return success();
+        Result<TessPatchPass> pass =
+            createTessPatchPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat,
+                                {moduleShaderCode("tess_patch.vert"), moduleShaderCode("pn.tesc"), moduleShaderCode("pn.tese")});
+        if (!pass) return Error{"pn: " + pass.error().message + " (use --option path=cpu)"};
+        pass_ = *pass;
+        havePass_ = true;
+        return success();
+    }
+
+    Status update() override {
+        if (Status built = rebuild(); !built) return built;
+        if (onGrid()) return updateGridDrawing(grid_, *this);
+        if (!havePass_) return success();
+        const std::vector<glm::vec4> points = packTriangles(patches_);
+        return uploadTessPatches(*ctx_, pass_, points.data(), points.size() * sizeof(glm::vec4), patches_.stats.triangles);
+    }
+
+    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+        if (onGrid()) return recordGridDrawing(cmd, grid_, target, view, patches_.stats.triangles);
+        // A PN triangle's edges are cage edges (or spokes of a fan), each one quad sub-face edge
+        // long or two n-gon sub-face edges: the full factor.
+        const uint32_t factor = settings_.adaptivePixels > 0.0f ? 0u : settings_.tessFactor;
+        recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false});
+        return DrawStats{patches_.stats.triangles, factor ? patches_.stats.triangles * tessTriangles(factor, true) : 0};
+    }
+
+    // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the
+    // CPU grid (grid_drawing.h) whichever path was chosen; evaluate() stays undisplaced.
+    Status setDisplacement(const Displacement* displacement) override {
+        setGridDisplacement(grid_, displacement);
+        return success();
+    }
+
+    // du, dv are PN's shading frame: the cubic geometry's derivatives projected onto the plane
+    // of the normal patch's normal (as acc1 returns its tangent patches). The geometry is only
+    // C0 (across the quads' split diagonals too), so its own derivatives would make a displaced
+    // surface (displacePoint: (du + D_u N) x (dv + D_v N)) shade with the geometry's kinks
+    // instead of PN's normal field, even where D is flat.
+    void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
+        for (size_t i = 0; i < requests.size(); ++i) {
+            const PnSample s = evaluatePn(patches_, requests[i].subface, requests[i].u, requests[i].v);
+            const glm::vec3 du = s.du - glm::dot(s.du, s.normal) * s.normal, dv = s.dv - glm::dot(s.dv, s.normal) * s.normal;
+            out[i] = SurfacePoint{s.position, s.normal, du, dv, s.valid};
+        }
+    }
+
+    SchemeStats stats() const override {
+        return SchemeStats{patches_.stats.triangles, patches_.stats.controlPoints,
+                           onGrid() ? gridDrawingBytes(grid_) : pass_.patchData.size};
+    }
+
+    void destroyGpu() override {
+        if (!ctx_) return;
+        destroyGridDrawing(grid_);
+        if (havePass_) destroyTessPatchPass(*ctx_, pass_);
+        havePass_ = false;
+        ctx_ = nullptr;
+    }
+
+private:
+    bool onGrid() const { return path_ == PatchPath::Cpu || grid_.displacement; }
+
+    Status rebuild() {
+        Result<PnPatches> patches = buildPn(planned_->cage(), "pn");
+        if (!patches) return patches.error();
+        patches_ = std::move(*patches);
+        return success();
+    }
+
+    const PlannedCage* planned_ = nullptr;
+    SchemeSettings settings_;
+    PatchPath path_ = PatchPath::Tessellated;
+    PnPatches patches_;
+    const VulkanContext* ctx_ = nullptr;
+    TessPatchPass pass_;
+    bool havePass_ = false;
+    GridDrawing grid_;
+};
+
+}  // namespace
+}  // namespace qp
+
+QUADPLAN_EXPORT_SCHEME("pn",
+                       "PN-triangles (Vlachos et al. 2001) on the cage's triangles, split quads and fanned polygons: "
+                       "interpolates the cage, drawn through the tessellator",
+                       qp::PnScheme)

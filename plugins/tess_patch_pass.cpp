@@ -1,0 +1,324 @@
+#include "tess_patch_pass.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "plan_pass.h"  // patchesPerDraw: the same lavapipe limit as the plans' tessellated path
+#include "shader_code.h"
+#include "vk_check.h"
+
+namespace qp {
+
+namespace {
+
+// Mirrors TessPush in tess_patch.glsl; its first four members are mesh.frag's MeshPush.
+struct TessPush {
+    glm::mat4 viewProj;
+    glm::vec4 eye;
+    glm::vec4 color;
+    glm::vec4 params;  // x: depth pull toward the eye, y: 0 lit / 1 flat
+    float uniformFactor;
+    float pixelsPerSegment;
+    float pixelsPerUnit;
+    uint32_t capture;
+};
+static_assert(sizeof(TessPush) == 128, "push constants: 128 bytes guaranteed");
+
+constexpr VkShaderStageFlags kStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
+                                       VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+constexpr uint32_t kCaptureHeaderBytes = 16;
+constexpr float kWireDepthPull = 2e-4f;  // as MeshPass's overlay
+
+VkShaderModule createModule(const VulkanContext& ctx, std::span<const uint32_t> code) {
+    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+    info.codeSize = code.size_bytes();
+    info.pCode = code.data();
+    VkShaderModule module = VK_NULL_HANDLE;
+    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
+    return module;
+}
+
+Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cache, const TessPatchPass& pass,
+                                  const VkShaderModule modules[4], bool wireframe) {
+    const VkShaderStageFlagBits stageBits[4] = {VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
+                                                VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
+    const ColorEncoding encoding(pass.colorFormat);  // mesh.frag encodes sRGB itself unless the target does
+    VkPipelineShaderStageCreateInfo stages[4];
+    for (int i = 0; i < 4; ++i)
+        stages[i] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stageBits[i], modules[i], "main"};
+    stages[3].pSpecializationInfo = &encoding.info;
+    VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+    assembly.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
+    VkPipelineTessellationStateCreateInfo tessellation{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
+    tessellation.patchControlPoints = 1;  // the patch index; the control points are in the buffer
+    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+    viewport.viewportCount = 1;
+    viewport.scissorCount = 1;
+    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+    raster.polygonMode = wireframe ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL;
+    raster.cullMode = VK_CULL_MODE_NONE;  // open cages show their inside
+    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    raster.lineWidth = 1.0f;
+    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+    depth.depthTestEnable = VK_TRUE;
+    depth.depthWriteEnable = wireframe ? VK_FALSE : VK_TRUE;
+    depth.depthCompareOp = wireframe ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_LESS;
+    VkPipelineColorBlendAttachmentState blendAttachment{};
+    blendAttachment.colorWriteMask =
+        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+    blend.attachmentCount = 1;
+    blend.pAttachments = &blendAttachment;
+    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+    dynamic.dynamicStateCount = 2;
+    dynamic.pDynamicStates = dynamicStates;
+    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+    rendering.colorAttachmentCount = 1;
+    rendering.pColorAttachmentFormats = &pass.colorFormat;
+    rendering.depthAttachmentFormat = pass.depthFormat;
+
+    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
+    info.stageCount = 4;
+    info.pStages = stages;
+    info.pVertexInputState = &vertexInput;
+    info.pInputAssemblyState = &assembly;
+    info.pTessellationState = &tessellation;
+    info.pViewportState = &viewport;
+    info.pRasterizationState = &raster;
+    info.pMultisampleState = &multisample;
+    info.pDepthStencilState = &depth;
+    info.pColorBlendState = &blend;
+    info.pDynamicState = &dynamic;
+    info.layout = pass.layout;
+    VkPipeline pipeline = VK_NULL_HANDLE;
+    VK_CHECK(vkCreateGraphicsPipelines(ctx.device, cache, 1, &info, nullptr, &pipeline));
+    return pipeline;
+}
+
+void bindBuffers(const VulkanContext& ctx, const TessPatchPass& pass) {
+    VkDescriptorBufferInfo infos[2] = {{pass.patchData.buffer, 0, VK_WHOLE_SIZE}, {pass.capture.buffer, 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet writes[2];
+    for (uint32_t i = 0; i < 2; ++i)
+        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, pass.set, i, 0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                     nullptr, &infos[i], nullptr};
+    vkUpdateDescriptorSets(ctx.device, 2, writes, 0, nullptr);
+}
+
+Status initPass(const VulkanContext& ctx, VkPipelineCache cache, TessPatchPass& pass, const TessPatchShaders& shaders) {
+    if (!ctx.features.tessellationShader) return Error{"the device (" + ctx.deviceName + ") has no tessellation shaders"};
+    VkDescriptorSetLayoutBinding bindings[2] = {
+        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+    };
+    VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    setInfo.bindingCount = 2;
+    setInfo.pBindings = bindings;
+    VK_CHECK(vkCreateDescriptorSetLayout(ctx.device, &setInfo, nullptr, &pass.setLayout));
+    VkPushConstantRange range{kStages, 0, sizeof(TessPush)};
+    VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+    layoutInfo.setLayoutCount = 1;
+    layoutInfo.pSetLayouts = &pass.setLayout;
+    layoutInfo.pushConstantRangeCount = 1;
+    layoutInfo.pPushConstantRanges = &range;
+    VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &pass.layout));
+    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2};
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = 1;
+    poolInfo.pPoolSizes = &poolSize;
+    VK_CHECK(vkCreateDescriptorPool(ctx.device, &poolInfo, nullptr, &pass.pool));
+    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    allocInfo.descriptorPool = pass.pool;
+    allocInfo.descriptorSetCount = 1;
+    allocInfo.pSetLayouts = &pass.setLayout;
+    VK_CHECK(vkAllocateDescriptorSets(ctx.device, &allocInfo, &pass.set));
+
+    // Placeholders until the scheme uploads patches or a test asks for a capture.
+    Result<Buffer> data = createBuffer(ctx, 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    if (!data) return data.error();
+    pass.patchData = *data;
+    Result<Buffer> capture =
+        createBuffer(ctx, kCaptureHeaderBytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    if (!capture) return capture.error();
+    pass.capture = *capture;
+    std::memset(pass.capture.data, 0, kCaptureHeaderBytes);
+    bindBuffers(ctx, pass);
+
+    std::span<const uint32_t> fragment = shaderCode("mesh.frag");
+    if (shaders.vertex.empty() || shaders.control.empty() || shaders.evaluation.empty() || fragment.empty())
+        return Error{"a tessellation stage is missing from the module (is it in quadplan_scheme_shaders?)"};
+    VkShaderModule modules[4] = {createModule(ctx, shaders.vertex), createModule(ctx, shaders.control),
+                                 createModule(ctx, shaders.evaluation), createModule(ctx, fragment)};
+    Result<VkPipeline> solid = createPipeline(ctx, cache, pass, modules, false);
+    Result<VkPipeline> wire = VK_NULL_HANDLE;
+    if (solid && ctx.features.fillModeNonSolid) wire = createPipeline(ctx, cache, pass, modules, true);
+    for (VkShaderModule m : modules) vkDestroyShaderModule(ctx.device, m, nullptr);
+    if (solid) pass.solid = *solid;
+    if (!solid) return solid.error();
+    if (!wire) return wire.error();
+    pass.wire = *wire;
+    return success();
+}
+
+void barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
+             VkAccessFlags2 dstAccess) {
+    VkMemoryBarrier2 memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    memory.srcStageMask = srcStage;
+    memory.srcAccessMask = srcAccess;
+    memory.dstStageMask = dstStage;
+    memory.dstAccessMask = dstAccess;
+    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dependency.memoryBarrierCount = 1;
+    dependency.pMemoryBarriers = &memory;
+    vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
+}  // namespace
+
+Result<TessPatchPass> createTessPatchPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
+                                          VkFormat depthFormat, const TessPatchShaders& shaders) {
+    TessPatchPass pass;
+    pass.colorFormat = colorFormat;
+    pass.depthFormat = depthFormat;
+    if (Status s = initPass(ctx, cache, pass, shaders); !s) {
+        destroyTessPatchPass(ctx, pass);
+        return s.error();
+    }
+    return pass;
+}
+
+void destroyTessPatchPass(const VulkanContext& ctx, TessPatchPass& pass) {
+    for (VkPipeline p : {pass.solid, pass.wire})
+        if (p) vkDestroyPipeline(ctx.device, p, nullptr);
+    if (pass.layout) vkDestroyPipelineLayout(ctx.device, pass.layout, nullptr);
+    if (pass.pool) vkDestroyDescriptorPool(ctx.device, pass.pool, nullptr);
+    if (pass.setLayout) vkDestroyDescriptorSetLayout(ctx.device, pass.setLayout, nullptr);
+    if (pass.patchData.buffer) destroyBuffer(ctx, pass.patchData);
+    if (pass.capture.buffer) destroyBuffer(ctx, pass.capture);
+    pass = TessPatchPass{};
+}
+
+Status uploadTessPatches(const VulkanContext& ctx, TessPatchPass& pass, const void* data, size_t bytes, uint32_t patchCount) {
+    if (bytes > pass.patchData.size) {
+        Result<Buffer> grown = createBuffer(ctx, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+        if (!grown) return grown.error();
+        destroyBuffer(ctx, pass.patchData);
+        pass.patchData = *grown;
+        bindBuffers(ctx, pass);
+    }
+    if (bytes) uploadBuffer(pass.patchData, data, bytes);
+    pass.patchCount = patchCount;
+    return success();
+}
+
+void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const RenderTarget& target, const DrawView& view,
+                       const TessPatchSettings& settings) {
+    const bool capture = settings.capture && pass.captureCapacity > 0;
+    if (capture) {
+        vkCmdFillBuffer(cmd, pass.capture.buffer, 0, 4, 0);
+        barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
+                VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    }
+    beginRendering(cmd, target, true, view.background);
+    const uint32_t maxFactor = settings.uniformFactor == 0 ? 64u : std::min(settings.uniformFactor, 64u);
+    const uint32_t perDraw = patchesPerDraw(maxFactor);
+    for (VkPipeline pipeline : {pass.solid, view.wireframe ? pass.wire : VkPipeline(VK_NULL_HANDLE)}) {
+        if (!pipeline || pass.patchCount == 0) continue;
+        const bool wire = pipeline == pass.wire;
+        TessPush push{};
+        push.viewProj = view.viewProjection;
+        push.eye = glm::vec4(view.eye, 1.0f);
+        push.color = wire ? glm::vec4(0.02f, 0.02f, 0.02f, 1.0f) : glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
+        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, wire ? 1.0f : 0.0f, 0.0f, 0.0f);
+        push.uniformFactor = float(settings.uniformFactor);
+        push.pixelsPerSegment = settings.pixelsPerSegment;
+        push.pixelsPerUnit = view.pixelsPerUnit;
+        push.capture = capture && !wire ? 1u : 0u;
+        vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.layout, 0, 1, &pass.set, 0, nullptr);
+        vkCmdPushConstants(cmd, pass.layout, kStages, 0, sizeof(push), &push);
+        for (uint32_t first = 0; first < pass.patchCount; first += perDraw) {
+            // Captured draws append to one buffer: order them (barriers may not sit inside a
+            // rendering instance at these stages).
+            if (push.capture && first > 0) {
+                vkCmdEndRendering(cmd);
+                barrier(cmd, VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                        VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
+                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+                beginRendering(cmd, target, false, view.background);
+                vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
+                vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.layout, 0, 1, &pass.set, 0, nullptr);
+                vkCmdPushConstants(cmd, pass.layout, kStages, 0, sizeof(push), &push);
+            }
+            vkCmdDraw(cmd, std::min(perDraw, pass.patchCount - first), 1, first, 0);
+        }
+    }
+    vkCmdEndRendering(cmd);
+    if (capture)
+        barrier(cmd, VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+}
+
+Status enableTessCapture(const VulkanContext& ctx, TessPatchPass& pass, uint32_t capacity) {
+    Result<Buffer> capture = createBuffer(ctx, kCaptureHeaderBytes + VkDeviceSize(capacity) * sizeof(TessCaptureRecord),
+                                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+    if (!capture) return capture.error();
+    destroyBuffer(ctx, pass.capture);
+    pass.capture = *capture;
+    pass.captureCapacity = capacity;
+    const uint32_t header[4] = {0, capacity, 0, 0};
+    uploadBuffer(pass.capture, header, sizeof(header));
+    bindBuffers(ctx, pass);
+    return success();
+}
+
+std::vector<TessCaptureRecord> readTessCapture(const TessPatchPass& pass, uint32_t* overflowed) {
+    uint32_t count = 0;
+    std::memcpy(&count, pass.capture.data, sizeof(count));
+    const uint32_t kept = std::min(count, pass.captureCapacity);
+    if (overflowed) *overflowed = count - kept;
+    std::vector<TessCaptureRecord> records(kept);
+    std::memcpy(records.data(), static_cast<const char*>(pass.capture.data) + kCaptureHeaderBytes,
+                kept * sizeof(TessCaptureRecord));
+    return records;
+}
+
+Result<PatchPath> patchPathOption(const SchemeSettings& settings, const char* scheme) {
+    const std::string* path = settings.option("path");
+    if (!path || *path == "tess") return PatchPath::Tessellated;
+    if (*path == "cpu") return PatchPath::Cpu;
+    return Error{std::string(scheme) + ": unknown path '" + *path + "'; use tess (patches through the tessellator) or cpu"};
+}
+
+void checkPatchOptions(SupportReport& report, const SchemeSettings& settings, const char* scheme,
+                       std::span<const char* const> known) {
+    Result<PatchPath> path = patchPathOption(settings, scheme);
+    if (!path) report.refusals.push_back(path.error().message);
+    for (const auto& [key, value] : settings.options)
+        if (key != "path" && std::find_if(known.begin(), known.end(), [&](const char* k) { return key == k; }) == known.end())
+            report.approximations.push_back(std::string(scheme) + " ignores the unknown option '" + key + "'");
+    if (path && *path == PatchPath::Cpu && settings.adaptivePixels > 0.0f)
+        report.approximations.push_back(std::string(scheme) + " path=cpu has no screen-adaptive mode: it uses factor 16");
+}
+
+std::vector<glm::vec4> paddedPoints(std::span<const glm::vec3> points) {
+    std::vector<glm::vec4> out(points.size());
+    for (size_t i = 0; i < points.size(); ++i) out[i] = glm::vec4(points[i], 1.0f);
+    return out;
+}
+
+uint64_t tessTriangles(uint32_t factor, bool triangleDomain) {
+    const uint64_t f = factor;
+    return triangleDomain ? f * f : 2 * f * f;
+}
+
+}  // namespace qp

@@ -1,0 +1,99 @@
+// TessPatchPass: one patch primitive per element of a storage buffer through the hardware
+// tessellator, for the schemes that were designed for it (ACC-1, ACC-2, PN-triangles).
+//
+// The scheme brings the control stage (tessellation factors) and the evaluation stage (its
+// patch, evaluated at gl_TessCoord), both reading its patch data at set 0, binding 0, and
+// includes tess_patch.glsl for the shared push constants, edge factors and outputs. The pass
+// supplies the rest: a vertex stage that only passes the patch index on (tess_patch.vert), the
+// renderer's mesh.frag (so tessellated and CPU-grid pictures are lit alike), uniform or
+// screen-adaptive factors, a wireframe overlay, and draw splitting: lavapipe corrupts a draw
+// whose tessellator emits more than 65,535 vertices (platform notes), so draws hold at most
+// patchesPerDraw(largest factor) patches, as render/plan_pass.cpp does.
+//
+// Capture: with `capture` set, the evaluation stage appends every vertex it evaluates
+// (patch, domain coordinate, position, normal) to a storage buffer at binding 1, so tests can
+// check the GPU evaluation against the scheme's CPU evaluation.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+#include <vulkan/vulkan.h>
+
+#include "render_target.h"
+#include "result.h"
+#include "scheme_api.h"
+#include "vk_buffer.h"
+#include "vk_context.h"
+
+namespace qp {
+
+struct TessPatchShaders {
+    std::span<const uint32_t> vertex, control, evaluation;  // SPIR-V (module_shader_code.h)
+};
+
+struct TessPatchPass {
+    VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
+    VkPipelineLayout layout = VK_NULL_HANDLE;
+    VkPipeline solid = VK_NULL_HANDLE, wire = VK_NULL_HANDLE;  // wire: null without fillModeNonSolid
+    VkDescriptorPool pool = VK_NULL_HANDLE;
+    VkDescriptorSet set = VK_NULL_HANDLE;
+    VkFormat colorFormat = VK_FORMAT_UNDEFINED, depthFormat = VK_FORMAT_UNDEFINED;
+    Buffer patchData;              // binding 0: the scheme's patches
+    uint32_t patchCount = 0;
+    Buffer capture;                // binding 1: header (count, capacity) + TessCaptureRecord[]
+    uint32_t captureCapacity = 0;
+};
+
+// Fails with a message when the device has no tessellation shaders.
+Result<TessPatchPass> createTessPatchPass(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat,
+                                          VkFormat depthFormat, const TessPatchShaders& shaders);
+void destroyTessPatchPass(const VulkanContext& context, TessPatchPass& pass);
+
+// Copies the patch data (its layout is the scheme's) for `patchCount` patches, growing the
+// buffer when it is too small. Call outside of recording.
+Status uploadTessPatches(const VulkanContext& context, TessPatchPass& pass, const void* data, size_t bytes,
+                         uint32_t patchCount);
+
+struct TessPatchSettings {
+    uint32_t uniformFactor = 8;     // 1..64; 0: screen-adaptive
+    float pixelsPerSegment = 8.0f;  // adaptive: target screen length of one segment
+    bool capture = false;
+};
+
+// Clears target.area and draws every patch (then the wireframe when view.wireframe).
+void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const RenderTarget& target, const DrawView& view,
+                       const TessPatchSettings& settings);
+
+// Mirrors CaptureRecord in tess_patch.glsl. (u, v, w): gl_TessCoord (w = 0 on quads).
+struct TessCaptureRecord {
+    uint32_t patch;
+    float u, v, w;
+    float position[3];
+    float normal[3];
+};
+Status enableTessCapture(const VulkanContext& context, TessPatchPass& pass, uint32_t capacity);
+// Records of the last captured draw (clamped to the capacity; `overflowed` gets the rest).
+std::vector<TessCaptureRecord> readTessCapture(const TessPatchPass& pass, uint32_t* overflowed = nullptr);
+
+// vec3 control points as the vec4s a std430 storage buffer holds.
+std::vector<glm::vec4> paddedPoints(std::span<const glm::vec3> points);
+
+// Triangles a patch makes at a uniform factor: 2 f^2 on quads, f^2 on triangles.
+uint64_t tessTriangles(uint32_t factor, bool triangleDomain);
+
+// ---- The `path` option of schemes that draw both ways ----------------------------------------
+
+enum class PatchPath { Tessellated, Cpu };
+// path=tess (the default) or path=cpu (GridDrawing); other values fail with a message naming
+// the scheme.
+Result<PatchPath> patchPathOption(const SchemeSettings& settings, const char* scheme);
+// support() helper: refuses a bad path, warns about options other than `known` (and `path`),
+// and says when a screen-adaptive request is drawn at a fixed factor (the CPU path).
+void checkPatchOptions(SupportReport& report, const SchemeSettings& settings, const char* scheme,
+                       std::span<const char* const> known = {});
+
+}  // namespace qp

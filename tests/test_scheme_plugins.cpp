@@ -1,0 +1,423 @@
+// The approximating scheme plugins (acc1, acc2, pn, stam): they load, say what they refuse and
+// approximate, draw with the validation layer silent, draw the same picture through the
+// tessellator as through the CPU grid, and their tessellation shaders evaluate what their CPU
+// evaluation does (vertices captured in the evaluation stage; the shaders are compiled into
+// this binary from the plugins' sources, with the same pass the plugins use).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+
+#include "camera.h"
+#include "module_shader_code.h"
+#include "offscreen_target.h"
+#include "plan_pass.h"
+#include "planned_cage.h"
+#include "render_test_support.h"
+#include "scene.h"
+#include "scheme_host.h"
+#include "scheme_support.h"
+#include "scheme_test_support.h"
+#include "tess_patch_pass.h"
+#include "test_cages.h"
+#include "test_support.h"
+#include "vk_commands.h"
+#include "../plugins/acc1/acc1.h"
+#include "../plugins/acc2/acc2.h"
+#include "../plugins/pn/pn.h"
+
+using namespace qp;
+
+namespace {
+
+const PluginCatalog& catalog() {
+    static const PluginCatalog plugins = loadPlugins(QUADPLAN_PLUGIN_DIR);
+    return plugins;
+}
+
+// The subdivided cube, nudged so no two patches are alike: closed, valence-3 corners.
+Cage perturbedCube(uint32_t n) {
+    Cage cage = test::makeSubdividedCube(n);
+    for (size_t i = 0; i < cage.positions.size(); ++i)
+        cage.positions[i] += 0.05f * glm::vec3(std::sin(1.3f * float(i)), std::cos(2.1f * float(i)), std::sin(0.7f * float(i)));
+    return cage;
+}
+
+// Three quads around one edge.
+Cage nonManifoldFan() {
+    Cage cage;
+    cage.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {1, -1, 0.2f}, {0, -1, 0.2f}, {1, 0, 1}, {0, 0, 1}};
+    const uint32_t faces[3][4] = {{0, 1, 2, 3}, {1, 0, 5, 4}, {0, 1, 6, 7}};
+    for (const auto& f : faces) cage.addFace(f, 4);
+    return cage;
+}
+
+SupportReport supportOf(const std::string& name, const Cage& cage, SchemeSettings settings = {}) {
+    Result<SchemeInstance> scheme = SchemeInstance::create(catalog().find(name));
+    EXPECT_TRUE(scheme.ok()) << name;
+    if (!scheme) return {};
+    Result<SupportReport> report = scheme->support(analyzeCage(cage, buildTopology(cage)), settings);
+    EXPECT_TRUE(report.ok()) << name;
+    return report ? *report : SupportReport{};
+}
+
+bool mentions(const std::vector<std::string>& texts, const std::string& part) {
+    return std::any_of(texts.begin(), texts.end(), [&](const std::string& t) { return t.find(part) != std::string::npos; });
+}
+
+std::string joined(const std::vector<std::string>& texts) {
+    std::string all;
+    for (const std::string& t : texts) all += "\n  " + t;
+    return all;
+}
+
+}  // namespace
+
+TEST(SchemePlugins, ApproximatingSchemesLoad) {
+    for (const PluginProblem& p : catalog().problems) ADD_FAILURE() << p.message;
+    for (const char* name : {"acc1", "acc2", "pn", "stam"}) {
+        ASSERT_TRUE(catalog().find(name)) << name << " in " << catalog().names();
+        EXPECT_FALSE(catalog().find(name)->summary.empty());
+    }
+}
+
+TEST(SchemePlugins, SayWhatTheyRefuseAndApproximate) {
+    Result<Scene> creased = loadSceneOrCage(std::string(QUADPLAN_SCENES_DIR) + "/creased_box.json");
+    ASSERT_TRUE(creased.ok());
+    const Cage grid = test::makeGrid(4), fan = nonManifoldFan(), cube = perturbedCube(2);
+
+    for (const char* name : {"acc1", "acc2"}) {
+        SCOPED_TRACE(name);
+        SupportReport r = supportOf(name, creased->cage);
+        EXPECT_TRUE(r.usable());
+        EXPECT_TRUE(mentions(r.approximations, "draws semi-sharp creases smooth")) << joined(r.approximations);
+        EXPECT_TRUE(mentions(r.approximations, "approximates the surface next to extraordinary vertices"));
+        EXPECT_TRUE(supportOf(name, grid).usable());  // boundaries: exact on regular boundary patches
+        SupportReport nonManifold = supportOf(name, fan);
+        EXPECT_FALSE(nonManifold.usable());
+        EXPECT_TRUE(mentions(nonManifold.refusals, "needs a manifold cage")) << joined(nonManifold.refusals);
+        SupportReport mixed = supportOf(name, test::makeMixedGrid());
+        EXPECT_TRUE(mentions(mixed.approximations, "refines cages with non-quad faces once first"));
+        SchemeSettings badPath;
+        badPath.options = {{"path", "bogus"}};
+        EXPECT_TRUE(mentions(supportOf(name, cube, badPath).refusals, "unknown path 'bogus'"));
+    }
+
+    SupportReport pn = supportOf("pn", cube);
+    EXPECT_TRUE(pn.usable());
+    EXPECT_TRUE(mentions(pn.approximations, "does not approximate the Catmull-Clark limit surface anywhere"));
+    EXPECT_TRUE(supportOf("pn", fan).usable());  // no neighbours needed
+    EXPECT_TRUE(mentions(supportOf("pn", creased->cage).approximations, "pn ignores creases"));
+
+    SupportReport stamOpen = supportOf("stam", grid);
+    EXPECT_FALSE(stamOpen.usable());
+    EXPECT_TRUE(mentions(stamOpen.refusals, "stam evaluates closed surfaces only")) << joined(stamOpen.refusals);
+    EXPECT_FALSE(supportOf("stam", fan).usable());
+    SupportReport stamCreased = supportOf("stam", creased->cage);
+    EXPECT_TRUE(stamCreased.usable());
+    EXPECT_TRUE(mentions(stamCreased.approximations, "honours creases only in its one or two isolation steps"));
+    SchemeSettings tess;
+    tess.options = {{"path", "tess"}};
+    EXPECT_TRUE(mentions(supportOf("stam", cube, tess).refusals, "CPU grid only"));
+}
+
+// ---- Drawing through the plugins -----------------------------------------------------------
+
+namespace {
+
+struct Picture {
+    std::vector<uint8_t> pixels;
+    DrawStats stats;
+};
+
+// Renders `planned` through scheme `name` into a size x size image (lavapipe, validation on).
+Picture render(const VulkanContext& ctx, const std::string& name, const PlannedCage& planned, SchemeSettings settings,
+               bool wireframe = true, uint32_t size = 160) {
+    Picture picture;
+    Result<OffscreenTarget> target = createOffscreenTarget(ctx, size, size, VK_FORMAT_R8G8B8A8_UNORM);
+    EXPECT_TRUE(target.ok());
+    if (!target) return picture;
+    const GpuContext gpu{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+    const CageFeatures features = analyzeCage(planned.cage(), planned.topology());
+    Result<PreparedScheme> prepared = prepareScheme(catalog(), name, planned, features, settings, gpu, "test cage");
+    EXPECT_TRUE(prepared.ok()) << name << ": " << (prepared ? "" : prepared.error().message);
+    if (prepared) {
+        const Bounds bounds = computeBounds(planned.cage());
+        const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+        DrawView view;
+        view.viewProjection = viewProjection(camera);
+        view.eye = camera.eye;
+        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), size);
+        view.wireframe = wireframe;
+        Result<DrawStats> drawn = DrawStats{};
+        Status ok = submitAndWait(ctx, [&](VkCommandBuffer cmd) { drawn = prepared->instance.record(cmd, renderTarget(*target), view); });
+        EXPECT_TRUE(ok.ok() && drawn.ok()) << name;
+        if (drawn) picture.stats = *drawn;
+        Result<std::vector<uint8_t>> pixels = readPixels(ctx, *target);
+        EXPECT_TRUE(pixels.ok());
+        if (pixels) picture.pixels = std::move(*pixels);
+        EXPECT_TRUE(prepared->instance.destroyGpu().ok());
+    }
+    destroyOffscreenTarget(ctx, *target);
+    return picture;
+}
+
+double coverage(const Picture& p) {
+    size_t covered = 0;
+    for (size_t i = 0; i + 3 < p.pixels.size(); i += 4) covered += std::abs(int(p.pixels[i]) - int(p.pixels[i + 2])) < 10 && p.pixels[i] < 215;
+    return p.pixels.empty() ? 0.0 : double(covered) / double(p.pixels.size() / 4);
+}
+
+// Fraction of pixels whose colour differs by more than `threshold` in some channel.
+double differingPixels(const Picture& a, const Picture& b, int threshold) {
+    if (a.pixels.size() != b.pixels.size() || a.pixels.empty()) return 1.0;
+    size_t differing = 0;
+    for (size_t i = 0; i < a.pixels.size(); i += 4) {
+        int d = 0;
+        for (int c = 0; c < 3; ++c) d = std::max(d, std::abs(int(a.pixels[i + c]) - int(b.pixels[i + c])));
+        differing += d > threshold;
+    }
+    return double(differing) / double(a.pixels.size() / 4);
+}
+
+}  // namespace
+
+TEST(SchemePlugins, DrawWithValidationSilentAndTheSamePictureThroughBothPaths) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    VulkanContext& ctx = *context;
+    const Cage cube = perturbedCube(3);  // closed: every scheme draws it
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(cube, database, PlanOptions{}, "cube");
+    ASSERT_TRUE(planned.ok());
+    SchemeSettings tess, cpu;
+    tess.tessFactor = cpu.tessFactor = 8;
+    cpu.options = {{"path", "cpu"}};
+    for (const char* name : {"acc1", "acc2", "pn"}) {
+        SCOPED_TRACE(name);
+        const Picture patches = render(ctx, name, *planned, tess), grid = render(ctx, name, *planned, cpu);
+        EXPECT_GT(coverage(patches), 0.2);
+        EXPECT_EQ(patches.stats.triangles, grid.stats.triangles) << "the same density through both paths";
+        EXPECT_GT(patches.stats.patches, 0u);
+        // Same surface, same shading, different triangulation of each patch (so without the
+        // wireframe, which shows exactly that difference): the pictures differ only at
+        // silhouettes.
+        const Picture shadedPatches = render(ctx, name, *planned, tess, false), shadedGrid = render(ctx, name, *planned, cpu, false);
+        const double differing = differingPixels(shadedPatches, shadedGrid, 40);
+        EXPECT_LT(differing, 0.03) << name << ": " << differing * 100.0 << "% of the pixels differ";
+    }
+    const Picture stam = render(ctx, "stam", *planned, tess);
+    EXPECT_GT(coverage(stam), 0.2);
+    // Screen-adaptive factors through the tessellator.
+    SchemeSettings adaptive;
+    adaptive.adaptivePixels = 6.0f;
+    EXPECT_GT(coverage(render(ctx, "acc2", *planned, adaptive)), 0.2);
+    EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
+    destroyContext(ctx);
+}
+
+// Displaced, every path draws the scheme's own surface moved along its own normal on the CPU
+// grid: the tessellated and grid paths give the same picture, different from the undisplaced
+// one, with the displaced mesh's triangles; removing the displacement restores the patches.
+TEST(SchemePlugins, DrawTheDisplacementOnTheirOwnSurface) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    VulkanContext& ctx = *context;
+    const Cage cube = perturbedCube(3);
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(cube, database, PlanOptions{}, "cube");
+    ASSERT_TRUE(planned.ok());
+    Displacement bumps = makeDisplacement(planned->cage(), planned->topology(), 8);
+    const float amplitude = 0.04f * computeBounds(cube).diagonal();
+    for (size_t i = 0; i < bumps.samples.size(); ++i) bumps.samples[i] = amplitude * std::sin(0.37f * float(i));
+    const GpuContext gpu{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+    const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
+    const Bounds bounds = computeBounds(cube);
+    const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+    DrawView view;
+    view.viewProjection = viewProjection(camera);
+    view.eye = camera.eye;
+    constexpr uint32_t kSize = 160;
+    Result<OffscreenTarget> target = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(target.ok());
+    auto draw = [&](SchemeInstance& instance) {
+        Picture picture;
+        Result<DrawStats> drawn = DrawStats{};
+        EXPECT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { drawn = instance.record(cmd, renderTarget(*target), view); }).ok());
+        if (drawn) picture.stats = *drawn;
+        Result<std::vector<uint8_t>> pixels = readPixels(ctx, *target);
+        if (pixels) picture.pixels = std::move(*pixels);
+        return picture;
+    };
+    for (const char* name : {"acc1", "acc2", "pn", "stam"}) {
+        SCOPED_TRACE(name);
+        std::vector<Picture> displaced;
+        for (const char* path : {"tess", "cpu"}) {
+            if (std::string(name) == "stam" && std::string(path) == "tess") continue;
+            SchemeSettings settings;
+            settings.tessFactor = 8;
+            settings.options = {{"path", path}};
+            Result<PreparedScheme> plain = prepareScheme(catalog(), name, *planned, features, settings, gpu, "cube");
+            Result<PreparedScheme> bumped = prepareScheme(catalog(), name, *planned, features, settings, gpu, "cube", &bumps);
+            ASSERT_TRUE(plain.ok() && bumped.ok()) << path;
+            EXPECT_FALSE(mentions(bumped->support.approximations, "drawn without the sculpted displacement"));
+            const Picture flat = draw(plain->instance);
+            displaced.push_back(draw(bumped->instance));
+            Result<SchemeMesh> mesh = displacedSchemeMesh(bumped->instance.scheme(), *planned, bumps,
+                                                          displacedGridFactor(*planned, bumps, settings.tessFactor));
+            ASSERT_TRUE(mesh.ok());
+            EXPECT_EQ(displaced.back().stats.triangles, mesh->indices.size() / 3) << path;
+            EXPECT_GT(differingPixels(flat, displaced.back(), 40), 0.02) << path << ": the bumps do not show";
+            // Displacement removed: back to the undisplaced picture.
+            ASSERT_TRUE(bumped->instance.setDisplacement(nullptr).ok());
+            ASSERT_TRUE(bumped->instance.update().ok());
+            EXPECT_LT(differingPixels(flat, draw(bumped->instance), 40), 0.001) << path;
+            EXPECT_TRUE(plain->instance.destroyGpu().ok());
+            EXPECT_TRUE(bumped->instance.destroyGpu().ok());
+        }
+        if (displaced.size() == 2) {
+            EXPECT_LT(differingPixels(displaced[0], displaced[1], 40), 0.001) << "tess and cpu paths differ when displaced";
+        }
+    }
+    destroyOffscreenTarget(ctx, *target);
+    EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
+    destroyContext(ctx);
+}
+
+// ---- The tessellation shaders against the CPU evaluation -----------------------------------
+
+namespace {
+
+struct Captured {
+    std::vector<TessCaptureRecord> records;
+    uint32_t overflow = 0;
+};
+
+// Draws `patchCount` patches of `data` through the shaders `control`/`evaluation` at a uniform
+// factor, capturing every evaluated vertex.
+Captured drawAndCapture(const VulkanContext& ctx, const char* control, const char* evaluation,
+                        const std::vector<glm::vec4>& data, uint32_t patchCount, uint32_t factor, const Bounds& bounds) {
+    Captured out;
+    Result<TessPatchPass> pass = createTessPatchPass(
+        ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT,
+        {moduleShaderCode("tess_patch.vert"), moduleShaderCode(control), moduleShaderCode(evaluation)});
+    EXPECT_TRUE(pass.ok()) << (pass ? "" : pass.error().message);
+    if (!pass) return out;
+    Result<OffscreenTarget> target = createOffscreenTarget(ctx, 128, 128, VK_FORMAT_R8G8B8A8_UNORM);
+    EXPECT_TRUE(target.ok());
+    EXPECT_TRUE(uploadTessPatches(ctx, *pass, data.data(), data.size() * sizeof(glm::vec4), patchCount).ok());
+    const uint32_t perPatch = (factor + 1) * (factor + 2);  // room for any vertex order
+    EXPECT_TRUE(enableTessCapture(ctx, *pass, patchCount * perPatch).ok());
+    const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+    DrawView view;
+    view.viewProjection = viewProjection(camera);
+    view.eye = camera.eye;
+    EXPECT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+                    recordTessPatches(cmd, *pass, renderTarget(*target), view, {factor, 8.0f, true});
+                }).ok());
+    out.records = readTessCapture(*pass, &out.overflow);
+    destroyOffscreenTarget(ctx, *target);
+    destroyTessPatchPass(ctx, *pass);
+    return out;
+}
+
+struct GpuCpuGap {
+    double position = 0.0, normalDegrees = 0.0;
+    size_t distinctVertices = 0;  // distinct (patch, lattice point) pairs
+};
+
+// Compares every captured vertex with the CPU evaluation at its (u, v[, w]). The tessellator
+// emits shared vertices more than once, not always with bit-identical coordinates, so vertices
+// are counted by their coordinates rounded to 1e-5.
+template <typename Evaluate>  // Evaluate(record) -> pair<position, normal> on the CPU
+GpuCpuGap compare(const Captured& captured, double diagonal, Evaluate evaluate) {
+    GpuCpuGap gap;
+    std::set<std::tuple<uint32_t, long, long, long>> seen;
+    const auto rounded = [](float c) { return std::lround(double(c) * 1e5); };
+    for (const TessCaptureRecord& r : captured.records) {
+        seen.insert({r.patch, rounded(r.u), rounded(r.v), rounded(r.w)});
+        const auto [position, normal] = evaluate(r);
+        const glm::dvec3 p(r.position[0], r.position[1], r.position[2]), n(r.normal[0], r.normal[1], r.normal[2]);
+        gap.position = std::max(gap.position, glm::length(p - glm::dvec3(position)) / diagonal);
+        if (glm::length(glm::dvec3(normal)) > 0.0) gap.normalDegrees = std::max(gap.normalDegrees, test::angleDegrees(n, glm::dvec3(normal)));
+    }
+    gap.distinctVertices = seen.size();
+    return gap;
+}
+
+}  // namespace
+
+// 384 patches at factor 16: more than one draw (patchesPerDraw(16) = 226), so the split draws
+// are covered too.
+TEST(SchemePlugins, TessellationShadersMatchTheCpuEvaluation) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    VulkanContext& ctx = *context;
+    const Cage cube = perturbedCube(8);
+    const Bounds bounds = computeBounds(cube);
+    const double diagonal = bounds.diagonal();
+    constexpr uint32_t kFactor = 16;
+    // Equal spacing, even factor n: a quad is an (n+1)^2 lattice; a triangle is n/2 concentric
+    // rings of 3n, 3(n-2), ... 6 vertices around its centre (not a barycentric lattice).
+    const size_t quadVertices = (kFactor + 1) * (kFactor + 1), triangleVertices = 1 + 3 * kFactor * (kFactor + 2) / 4;
+
+    {
+        Result<Acc2Patches> acc2 = buildAcc2(cube, {}, "cube");
+        ASSERT_TRUE(acc2.ok());
+        ASSERT_GT(acc2->stats.patches, patchesPerDraw(kFactor));
+        Captured c = drawAndCapture(ctx, "acc2.tesc", "acc2.tese", paddedPoints(acc2->controlPoints), acc2->stats.patches,
+                                    kFactor, bounds);
+        EXPECT_EQ(c.overflow, 0u);
+        GpuCpuGap gap = compare(c, diagonal, [&](const TessCaptureRecord& r) {
+            Acc2Sample s = evaluateAcc2Patch(*acc2, r.patch, r.u, r.v);
+            return std::pair(s.position, s.normal);
+        });
+        std::printf("acc2: %zu vertices, GPU - CPU: position %.2e of the diagonal, normal %.2e deg\n", gap.distinctVertices,
+                    gap.position, gap.normalDegrees);
+        EXPECT_EQ(gap.distinctVertices, acc2->stats.patches * quadVertices);
+        EXPECT_LT(gap.position, 1e-5);
+        EXPECT_LT(gap.normalDegrees, 0.01);
+    }
+    {
+        Result<Acc1Patches> acc1 = buildAcc1(cube, {}, "cube");
+        ASSERT_TRUE(acc1.ok());
+        Captured c = drawAndCapture(ctx, "acc1.tesc", "acc1.tese", paddedPoints(acc1->controlPoints), acc1->stats.patches,
+                                    kFactor, bounds);
+        EXPECT_EQ(c.overflow, 0u);
+        GpuCpuGap gap = compare(c, diagonal, [&](const TessCaptureRecord& r) {
+            Acc1Sample s = evaluateAcc1Patch(*acc1, r.patch, r.u, r.v);
+            return std::pair(s.position, s.normal);
+        });
+        std::printf("acc1: %zu vertices, GPU - CPU: position %.2e of the diagonal, normal %.2e deg\n", gap.distinctVertices,
+                    gap.position, gap.normalDegrees);
+        EXPECT_EQ(gap.distinctVertices, acc1->stats.patches * quadVertices);
+        EXPECT_LT(gap.position, 1e-5);
+        EXPECT_LT(gap.normalDegrees, 0.01);
+    }
+    for (const Cage& cage : {cube, test::makeMixedGrid()}) {  // split quads; a triangle and a fanned pentagon
+        Result<PnPatches> pn = buildPn(cage, "pn cage");
+        ASSERT_TRUE(pn.ok());
+        std::vector<glm::vec4> data;
+        for (uint32_t t = 0; t < pn->stats.triangles; ++t) {
+            for (uint32_t i = 0; i < PnPatches::kPositionPoints; ++i) data.push_back(glm::vec4(pn->positions[t * 10 + i], 1.0f));
+            for (uint32_t i = 0; i < PnPatches::kNormalPoints; ++i) data.push_back(glm::vec4(pn->normals[t * 6 + i], 0.0f));
+        }
+        const Bounds b = computeBounds(cage);
+        Captured c = drawAndCapture(ctx, "pn.tesc", "pn.tese", data, pn->stats.triangles, kFactor, b);
+        EXPECT_EQ(c.overflow, 0u);
+        GpuCpuGap gap = compare(c, b.diagonal(), [&](const TessCaptureRecord& r) {
+            PnSample s = evaluatePnTriangle(*pn, r.patch, glm::vec3(r.u, r.v, r.w));
+            return std::pair(s.position, s.normal);
+        });
+        std::printf("pn: %zu vertices, GPU - CPU: position %.2e of the diagonal, normal %.2e deg\n", gap.distinctVertices,
+                    gap.position, gap.normalDegrees);
+        EXPECT_EQ(gap.distinctVertices, pn->stats.triangles * triangleVertices);
+        EXPECT_LT(gap.position, 1e-5);
+        EXPECT_LT(gap.normalDegrees, 0.01);
+    }
+    EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
+    destroyContext(ctx);
+}
