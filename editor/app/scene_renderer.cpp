@@ -151,9 +151,10 @@ uint32_t effectiveGridFactor(const SceneRenderer& r, uint32_t factor) {
 Status prepareGridFactor(const VulkanContext& ctx, SceneRenderer& r, uint32_t factor) {
     if (!r.buffers) return success();
     factor = effectiveGridFactor(r, factor);
-    if (r.buffers->gridFactor == factor && r.plan.gridIndexFactor == factor) return success();
+    GridFactors factors = uniformGridFactors(r.buffers->data, factor);
+    if (!r.buffers->gridLayout.subfaceOffset.empty() && r.buffers->gridLayout.factors == factors) return success();
     VK_CHECK(vkQueueWaitIdle(ctx.queue));
-    return prepareGrid(ctx, r.plan, *r.buffers, factor);
+    return prepareGrid(ctx, r.plan, *r.buffers, std::move(factors));
 }
 
 void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const RenderTarget& target,

@@ -5,16 +5,13 @@
 // checked against the CPU one in tests/test_render_plans.cpp. It draws every cage the plans
 // accept (creases of any sharpness, corners, boundaries, holes, non-quads, non-manifold).
 //
-// Options: path=auto|tess|grid|cpu. auto, tess and grid are the renderer's GPU paths
-// (render/draw_path.h: auto is grid on a CPU device); cpu evaluates the plans on a grid with
-// the CPU evaluator (all cores) in update() and draws triangles with MeshPass, the fast path on
-// lavapipe, where compute and tessellation shaders are slow.
+// Options: path=auto|tess|grid|cpu, the renderer's paths (render/draw_path.h: auto is cpu on a
+// CPU device, tess on a GPU). The grid paths keep their evaluated grid between frames, so a
+// frame whose camera moved but whose cage did not only draws.
 #include <algorithm>
 #include <cstdio>
 
 #include "draw_path.h"
-#include "mesh_pass.h"
-#include "plan_evaluator.h"
 #include "plan_pass.h"
 #include "scheme_api.h"
 #include "scheme_support.h"
@@ -41,62 +38,34 @@ public:
         planned_ = &planned;
         settings_ = settings;
         requestedPath_ = DrawPath::Auto;
-        cpuPath_ = false;
         if (const std::string* path = settings.option("path")) {
             std::optional<DrawPath> parsed = parseDrawPath(*path);
-            cpuPath_ = *path == "cpu";
-            if (!parsed && !cpuPath_) return Error{"plans: unknown path '" + *path + "'; use auto, tess, grid or cpu"};
-            if (parsed) requestedPath_ = *parsed;
+            if (!parsed) return Error{"plans: unknown --path '" + *path + "'; use auto, tess, grid or cpu"};
+            requestedPath_ = *parsed;
         }
-        if (cpuPath_) grid_ = buildSubfaceGrid(planned, gridFactor());
         return success();
     }
 
     Status createGpu(const GpuContext& gpu) override {
         ctx_ = gpu.vulkan;
-        if (cpuPath_) {
-            Result<MeshPass> pass = createMeshPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
-            if (!pass) return pass.error();
-            meshPass_ = *pass;
-            return success();
-        }
         path_ = resolveDrawPath(requestedPath_, *ctx_);
         Result<PlanPass> pass = createPlanPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
         if (!pass) return pass.error();
         pass_ = *pass;
         Result<PlanBuffers> buffers = uploadPlans(*ctx_, *planned_);
         if (!buffers) return buffers.error();
-        buffers_ = *buffers;
+        buffers_ = std::move(*buffers);
         haveBuffers_ = true;
         bindPlanBuffers(*ctx_, pass_, buffers_);
-        if (path_ == DrawPath::Grid) {
-            if (Status s = prepareGrid(*ctx_, pass_, buffers_, gridFactor()); !s) return s;
-            bindPlanBuffers(*ctx_, pass_, buffers_);
-        }
         return success();
     }
 
     Status update() override {
-        if (haveBuffers_) updatePositions(buffers_, *planned_);  // the CPU evaluation reads planned_ itself
-        if (!cpuPath_ || !ctx_ || grid_.samples.empty()) return success();
-        std::vector<LimitSample> samples(grid_.samples.size());
-        evaluateBatch(*planned_, grid_.samples, samples);
-        std::vector<MeshVertex> vertices(samples.size());
-        for (size_t i = 0; i < samples.size(); ++i) vertices[i] = {samples[i].position, normalOf(samples[i].du, samples[i].dv)};
-        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
-        Result<GpuMesh> mesh = uploadMesh(*ctx_, vertices, grid_.indices);
-        if (!mesh) return mesh.error();
-        mesh_ = *mesh;
+        if (haveBuffers_) updatePositions(buffers_, *planned_);  // drops the cached grid
         return success();
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        if (cpuPath_) {
-            MeshDraw draw{&mesh_, glm::vec3(0.8f), true, view.wireframe};
-            recordMeshPass(cmd, meshPass_, target, MeshView{view.viewProjection, view.eye, view.background},
-                           mesh_.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-            return DrawStats{grid_.subfaces.size(), grid_.indices.size() / 3};
-        }
         PlanView planView;
         planView.viewProjection = view.viewProjection;
         planView.pixelsPerUnit = view.pixelsPerUnit;
@@ -106,17 +75,22 @@ public:
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
         if (settings_.adaptivePixels > 0.0f) tessellation = {0, settings_.adaptivePixels};
 
+        // The host side of the frame (grid layout, the CPU-evaluated grid). The callers submit
+        // and wait between frames, so no earlier frame still reads what it writes.
+        if (Status prepared = preparePlanFrame(*ctx_, pass_, buffers_, *planned_, path_, planView, tessellation);
+            !prepared) {
+            std::fprintf(stderr, "plans: %s\n", prepared.error().message.c_str());
+            beginRendering(cmd, target, true, view.background);
+            vkCmdEndRendering(cmd);
+            return DrawStats{};
+        }
+        recordPlanFrame(cmd, pass_, buffers_, path_, target, planView, tessellation);
         DrawStats stats;
         stats.patches = buffers_.data.subfaces.size();
-        const bool adaptive = path_ == DrawPath::Tessellated && tessellation.uniformFactor == 0;
-        const uint32_t factor = path_ == DrawPath::Grid ? buffers_.gridFactor : tessellation.uniformFactor;
-        if (!adaptive)
-            for (uint32_t i = 0; i < buffers_.data.subfaces.size(); ++i) {
-                const uint32_t n = gridFactorOf(buffers_.data, i, factor);
+        if (path_ != DrawPath::Tessellated) stats.triangles = buffers_.gridLayout.indices.size() / 3;
+        else if (tessellation.uniformFactor > 0)  // the tessellator's count at a uniform factor
+            for (uint32_t n : uniformGridFactors(buffers_.data, tessellation.uniformFactor).subfaceFactor)
                 stats.triangles += 2ull * n * n;
-            }
-        if (path_ == DrawPath::Grid) recordGrid(cmd, pass_, buffers_, target, planView);
-        else recordTessellated(cmd, pass_, buffers_, target, planView, tessellation);
         return stats;
     }
 
@@ -129,30 +103,25 @@ public:
 
     SchemeStats stats() const override {
         SchemeStats stats;
-        if (cpuPath_) return SchemeStats{grid_.subfaces.size(), 0, mesh_.vertices.size + mesh_.indices.size};
         const uint32_t level = levelOf(settings_.adaptivePixels > 0.0f ? 64u : std::max(1u, settings_.tessFactor));
         if (haveBuffers_) {
             stats.patches = buffers_.data.subfaces.size();
             for (const GpuSubface& s : buffers_.data.subfaces)
-                stats.controlPoints += buffers_.data.plans[s.plan].stencilCountByLevel[std::min(level, 11u)];
+                stats.controlPoints += buffers_.data.plans[s.plan].stencilCountByLevel[std::min(level, kMaxPlanDepth)];
             for (const Buffer* b : {&buffers_.planHeaders, &buffers_.nodes, &buffers_.points, &buffers_.weights,
                                     &buffers_.subfaces, &buffers_.rings, &buffers_.positions, &buffers_.controlPoints,
                                     &buffers_.boundaries, &buffers_.segments, &buffers_.boundaryPoints,
-                                    &buffers_.pointPositions, &buffers_.subfaceFactors, &buffers_.grid})
+                                    &buffers_.pointPositions, &buffers_.subfaceGrid, &buffers_.grid,
+                                    &buffers_.gridSource, &buffers_.slotSubface, &buffers_.gridIndices})
                 stats.gpuBytes += b->size;
         }
         return stats;
     }
 
-    std::vector<std::string> colorModes() const override {
-        if (cpuPath_) return {"shading"};
-        return {"shading", "node-kind", "depth", "sharpness"};
-    }
+    std::vector<std::string> colorModes() const override { return {"shading", "node-kind", "depth", "sharpness"}; }
 
     void destroyGpu() override {
         if (!ctx_) return;
-        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
-        if (meshPass_.layout) destroyMeshPass(*ctx_, meshPass_);
         if (haveBuffers_) destroyPlanBuffers(*ctx_, buffers_);
         haveBuffers_ = false;
         destroyPlanPass(*ctx_, pass_);
@@ -160,9 +129,6 @@ public:
     }
 
 private:
-    // The grid paths have no screen-adaptive mode: a fixed factor for adaptive requests.
-    uint32_t gridFactor() const { return settings_.adaptivePixels > 0.0f ? 16u : settings_.tessFactor; }
-
     static ColorBy colorBy(const std::string& name) {
         if (name == "node-kind") return ColorBy::NodeKind;
         if (name == "depth") return ColorBy::PlanDepth;
@@ -177,11 +143,6 @@ private:
     PlanPass pass_;
     PlanBuffers buffers_;
     bool haveBuffers_ = false;
-    // path=cpu
-    bool cpuPath_ = false;
-    SubfaceGrid grid_;
-    MeshPass meshPass_;
-    GpuMesh mesh_;
 };
 
 }  // namespace
