@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "conversions.h"
+#include "generated_cage.h"
 #include "obj_io.h"
 #include "osd_refiner.h"
 #include "scene.h"
@@ -155,6 +156,14 @@ triangle_subdivision: "catmark" or "smooth".)doc")
                 return unwrap(std::move(cage));
             },
             py::arg("path"), "Reads an OBJ file with OpenSubdiv's tag lines (creases, corners, holes, options).")
+        .def_static("generated", [](uint32_t faces, uint32_t seed) {
+                        if (faces < 16 || faces > 10000000) throw ScriptError("faces must be between 16 and 10000000");
+                        return makeBenchmarkCage(faces, seed);
+                    },
+                    py::arg("faces"), py::arg("seed") = 1,
+                    R"doc(The benchmarks' deterministic test cage (core/generated_cage.h): a closed torus of about `faces`
+quads with poked quads (valence-5 vertices, triangles), semi-sharp and infinitely sharp creases and
+corners. The same (faces, seed) always gives the same cage.)doc")
         .def("save", [](const Cage& cage, const std::string& path) { check(saveObj(cage, path)); }, py::arg("path"),
              "Writes the cage as OBJ with its tags, atomically (the file is replaced whole or left as it was).")
         .def("to_obj", &formatObj, "The OBJ text save() writes.")

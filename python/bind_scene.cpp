@@ -506,6 +506,9 @@ radii, the others a blend in [0, 1]. A scene without displacement first gets a z
                                    return out;
                                }, "The history entries, oldest first.")
         .def_property_readonly("history_bytes", [](const Document& d) { return d.history().bytes(); }, "Memory the history holds.")
+        .def_property("history_budget", [](const Document& d) { return d.history().budget(); },
+                      [](Document& d, size_t bytes) { d.setHistoryBudget(bytes); },
+                      "Memory the history may hold (bytes, default 256 MiB); past it the oldest entries are dropped.")
         .def("__repr__", [](const Document& d) {
             return "<quadplan.Scene " + d.source() + ": " + std::to_string(d.cage().vertexCount()) + " vertices, " +
                    std::to_string(d.cage().faceCount()) + " faces, " + std::to_string(d.history().size()) + " history entries>";

@@ -108,11 +108,26 @@ Status SceneDocument::save(const std::string& path, bool inlineCage) {
 Status SceneDocument::saveObj(const std::string& path) const { return qp::saveObj(planned_->cage(), path); }
 
 void SceneDocument::afterEdit(const EditReport& report) {
+    if (report.newPlans > 0) releaseUnusedPlans();
     if (!samples_) return;
     if (report.topologyChanged || report.replannedFaces > 0)
         samples_.reset();  // sites or limit positions changed beyond a refresh
     else if (!report.updatedSubfaceList.empty())
         samples_->refresh(*planned_, report.updatedSubfaceList);
+}
+
+void SceneDocument::releaseUnusedPlans() {
+    // A database shared with a copy() may hold plans the copy uses.
+    if (database_.use_count() != 1) return;
+    const uint32_t grown = database_->size() - sizeAtLastRelease_;
+    if (grown < std::max(kMinPlansBetweenReleases, plansInUseAtLastRelease_)) return;
+    std::vector<bool> inUse(database_->size(), false);
+    uint32_t used = 0;
+    for (uint32_t s = 0; s < planned_->subfaceCount(); ++s)
+        if (const uint32_t id = planned_->subfacePlan(s); id != kNoPlan && !inUse[id]) inUse[id] = true, ++used;
+    database_->releaseUnused(inUse);
+    sizeAtLastRelease_ = database_->size();
+    plansInUseAtLastRelease_ = used;
 }
 
 const SculptSamples& SceneDocument::sculptSamples() {

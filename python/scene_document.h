@@ -58,6 +58,7 @@ public:
     Scene& settings() { return scene_; }  // camera, viewports, tessellation (not the cage)
     const Displacement& displacement() const { return scene_.displacement; }
     const EditHistory& history() const { return history_; }
+    void setHistoryBudget(size_t bytes) { history_.setBudget(bytes); }
     const std::string& source() const { return source_; }
 
     // The scene as it would be saved now (its cage is the current one).
@@ -108,6 +109,12 @@ private:
     Result<EditOutcome> transform(const std::string& name, std::span<const uint32_t> vertices, const glm::mat4& matrix);
     // Keeps the brushes' sample cache in step with the surface after an edit.
     void afterEdit(const EditReport& report);
+    // Frees the database's plans no sub-face uses once it has grown by as many plans as were in
+    // use at the last release (at least kMinPlansBetweenReleases): a long session's memory then
+    // follows the cage, not every configuration it ever had (PlanDatabase::releaseUnused).
+    // Undoing to an older configuration rebuilds its plans.
+    void releaseUnusedPlans();
+    static constexpr uint32_t kMinPlansBetweenReleases = 512;
     const SculptSamples& sculptSamples();
 
     friend class DisplacementEdit;
@@ -116,7 +123,8 @@ private:
     std::optional<PlannedCage> planned_;
     EditHistory history_;
     std::string source_;
-    std::optional<SculptSamples> samples_;  // built on the first stroke after a change of layout
+    std::optional<SculptSamples> samples_;
+    uint32_t sizeAtLastRelease_ = 0, plansInUseAtLastRelease_ = 0;  // built on the first stroke after a change of layout
 };
 
 }  // namespace qp::py
