@@ -204,7 +204,8 @@ def main():
         soak.step()
         if (i + 1) % 50 == 0 or i + 1 == args.edits:
             rss = resident_bytes()
-            samples.append((i + 1, rss, scene.history_bytes, scene.face_count, scene.plan_stats()["database_plans"]))
+            stats = scene.plan_stats()
+            samples.append((i + 1, rss, scene.history_bytes, scene.face_count, stats["database_plans"], stats["unique_plans"]))
             if i + 1 >= warmup and baseline is None:
                 baseline = rss
     elapsed = time.time() - start
@@ -231,7 +232,8 @@ def main():
         "creases": len(scene.creases), "corners": len(scene.corners), "holes": len(scene.holes), "counts": soak.counts,
         "refused": {k: v for k, v in soak.refused.items() if k != "examples"},
         "refused_examples": soak.refused.get("examples", {}), "rebuild_differences": len(differences),
-        "samples": [(s[0], round(s[1] / 2**20, 2), s[3], s[4]) for s in samples],  # edit, RSS MiB, faces, plans
+        # edit, RSS MiB, faces, plans held, plans in use
+        "samples": [(s[0], round(s[1] / 2**20, 2), s[3], s[4], s[5]) for s in samples],
     }
     summary = {k: v for k, v in figures.items() if k != "samples"}
     print(json.dumps(summary, indent=1))

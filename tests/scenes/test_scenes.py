@@ -364,3 +364,23 @@ def test_run_script_exit_status_and_traceback(tmp_path):
     assert done.returncode == 1 and "Traceback" in done.stderr and "quadplan.Error" in done.stderr
     done = run_cli("run-script", tmp_path / "absent.py")
     assert done.returncode != 0 and "absent.py" in done.stderr
+
+
+# ---- long sessions -------------------------------------------------------------------------
+
+def test_plan_database_follows_the_cage_not_the_session():
+    """Found by the soak test: the database kept every configuration a session ever made."""
+    scene = qp.Scene(qp.Cage.generated(400, 2))
+    in_use = scene.plan_stats()["unique_plans"]
+    edges = scene.edges
+    for k in range(300):
+        a, b = (int(v) for v in edges[(7 * k) % len(edges)])
+        scene.set_crease(a, b, 0.5 + 0.01 * k)  # a value never seen: new plans around the edge
+        scene.undo()
+    stats = scene.plan_stats()
+    assert stats["database_misses"] > 1000  # without releasing, the database would hold them all
+    assert stats["unique_plans"] == in_use
+    assert stats["database_plans"] <= in_use + max(512, in_use) + 50, stats
+    # Redo after a release rebuilds what it needs.
+    scene.redo()
+    assert_matches_rebuild(scene)
