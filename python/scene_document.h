@@ -114,7 +114,7 @@ private:
     // follows the cage, not every configuration it ever had (PlanDatabase::releaseUnused).
     // Undoing to an older configuration rebuilds its plans.
     void releaseUnusedPlans();
-    static constexpr uint32_t kMinPlansBetweenReleases = 512;
+    static constexpr uint32_t kMinPlansBetweenReleases = 256;
     const SculptSamples& sculptSamples();
 
     friend class DisplacementEdit;
