@@ -5,6 +5,9 @@
 #include <cmath>
 #include <set>
 
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
 #include <nlohmann/json.hpp>
 
 namespace qp {
@@ -76,10 +79,24 @@ ScriptedStroke readStroke(const json& value, const std::string& field) {
         stroke.path.push_back({readFloat(path[i][0], at + "[0]"), readFloat(path[i][1], at + "[1]"),
                                readFloat(path[i][2], at + "[2]")});
     }
+    if (Status fits = checkStrokeLength(stroke); !fits) fail(field + ".path", fits.error().message);
     return stroke;
 }
 
 }  // namespace
+
+Status checkStrokeLength(const ScriptedStroke& stroke) {
+    const double spacing = stroke.options.spacing > 0.0f ? stroke.options.spacing : 0.25 * stroke.options.brush.radius;
+    double length = 0.0;
+    for (size_t i = 1; i < stroke.path.size(); ++i)
+        length += glm::length(glm::dvec3(stroke.path[i]) - glm::dvec3(stroke.path[i - 1]));
+    const double dabs = length / spacing;
+    if (!(dabs <= kMaxDabsPerStroke))
+        return Error{"the path is " + std::to_string(length) + " long, which at a dab spacing of " + std::to_string(spacing) +
+                     " makes more than " + std::to_string(int64_t(kMaxDabsPerStroke)) +
+                     " dabs; use a larger spacing or radius, or a shorter path"};
+    return success();
+}
 
 Result<std::vector<glm::vec3>> parsePath(std::string_view text) {
     std::vector<glm::vec3> points;

@@ -28,7 +28,14 @@ struct ScriptedStroke {
 // Errors name the point ("point 2 ...").
 Result<std::vector<glm::vec3>> parsePath(std::string_view text);
 
-// Errors read "<source>: strokes[i].<field>: <what is wrong>".
+// A stroke is dabbed every `spacing` along its path; more than this many dabs (a tiny spacing
+// on a long path) would run for hours, so such a stroke is refused.
+inline constexpr double kMaxDabsPerStroke = 1e6;
+
+// Refuses a stroke with more than kMaxDabsPerStroke dabs, naming the numbers.
+Status checkStrokeLength(const ScriptedStroke& stroke);
+
+// Errors read "<source>: strokes[i].<field>: <what is wrong>". Every stroke passed checkStrokeLength.
 Result<std::vector<ScriptedStroke>> parseStrokeFile(std::string_view text, const std::string& source);
 
 }  // namespace qp

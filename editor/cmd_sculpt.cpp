@@ -108,6 +108,7 @@ Result<std::vector<ScriptedStroke>> strokesFromArgs(const SculptArgs& args) {
     Result<std::vector<glm::vec3>> path = parsePath(args.path);
     if (!path) return Error{"--path: " + path.error().message};
     stroke.path = std::move(path).value();
+    if (Status fits = checkStrokeLength(stroke); !fits) return Error{"--path: " + fits.error().message};
     return std::vector<ScriptedStroke>{std::move(stroke)};
 }
 

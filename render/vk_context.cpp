@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 
 #ifdef __GLIBC__
@@ -267,11 +268,21 @@ Status initContext(VulkanContext& ctx, const ContextOptions& options) {
     return createDevice(ctx, options, chosen);
 }
 
+bool validationForcedByEnvironment() {
+    const char* value = std::getenv("QUADPLAN_VALIDATE");
+    return value && value[0] && std::strcmp(value, "0") != 0;
+}
+
 }  // namespace
 
-Result<VulkanContext> createContext(const ContextOptions& options) {
+Result<VulkanContext> createContext(const ContextOptions& requested) {
     VulkanContext ctx;
     ctx.validation = std::make_unique<ValidationLog>();
+    ContextOptions options = requested;
+    if (!options.validation && validationForcedByEnvironment()) {
+        options.validation = true;
+        ctx.validation->fatal = true;
+    }
     if (Status s = initContext(ctx, options); !s) {
         destroyContext(ctx);
         return Error{"cannot initialise Vulkan: " + s.error().message};
@@ -297,6 +308,11 @@ void destroyContext(VulkanContext& ctx) {
     ctx.debugMessenger = VK_NULL_HANDLE;
     ctx.physicalDevice = VK_NULL_HANDLE;
     ctx.instance = VK_NULL_HANDLE;
+    if (const uint32_t count = validationMessageCount(ctx); count > 0 && ctx.validation->fatal) {
+        std::fprintf(stderr, "quadplan: %u Vulkan validation message(s) with QUADPLAN_VALIDATE set\n", count);
+        std::fflush(nullptr);
+        std::_Exit(4);
+    }
 }
 
 uint32_t validationMessageCount(const VulkanContext& ctx) {

@@ -40,6 +40,7 @@ struct ValidationLog {
     uint32_t warnings = 0;
     uint32_t errors = 0;
     std::vector<std::string> messages;  // "error: <text>" / "warning: <text>", in order
+    bool fatal = false;  // forced by QUADPLAN_VALIDATE: destroyContext exits with status 4 on messages
 };
 
 struct VulkanContext {
@@ -65,10 +66,17 @@ struct VulkanContext {
 // then an integrated GPU, and falls back to a CPU implementation (lavapipe); honours
 // options.preferSoftware and options.forceDevice. Fails with a message naming what is missing
 // (no loader or driver, no 1.3 device, validation layer not installed, a required feature).
+//
+// QUADPLAN_VALIDATE=1 in the environment turns validation on for contexts that did not ask for
+// it and makes their messages fatal (see destroyContext). The test command sets it, so every
+// process that renders in a test (commands, benchmarks, the editor) runs validated without each
+// test having to remember a flag.
 Result<VulkanContext> createContext(const ContextOptions& options);
 
 // Waits for the device to go idle and destroys everything created by createContext. Validation
-// messages emitted during teardown are still counted.
+// messages emitted during teardown are still counted. A context whose validation was forced by
+// QUADPLAN_VALIDATE and that saw any message ends the process here with exit status 4, after
+// printing the count (the messages themselves went to stderr as they came).
 void destroyContext(VulkanContext& context);
 
 // Warnings + errors reported by the validation layer so far (0 when validation is off).

@@ -12,6 +12,7 @@ packages=(
   libeigen3-dev
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   xvfb xauth xdotool imagemagick
+  clang libclang-rt-14-dev  # the test command's fuzzing (libFuzzer) and sanitizer runs
 )
 
 missing=()

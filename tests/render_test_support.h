@@ -15,18 +15,24 @@ namespace qp::test {
 
 constexpr const char* kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
 
+// Points `options` (and the loader) at the tests' device: lavapipe, or QUADPLAN_VK_DEVICE.
+inline Status selectTestDevice(ContextOptions& options) {
+    if (const char* device = std::getenv("QUADPLAN_VK_DEVICE"); device && device[0]) {
+        options.forceDevice = device;
+        return success();
+    }
+    if (!std::filesystem::exists(kLavapipeIcd))
+        return Error{std::string(kLavapipeIcd) + " is missing: install mesa-vulkan-drivers (lavapipe)"};
+    // Must happen before the loader looks for drivers, i.e. before the instance exists.
+    setenv("VK_ICD_FILENAMES", kLavapipeIcd, 1);
+    setenv("VK_DRIVER_FILES", kLavapipeIcd, 1);  // newer loaders prefer this name
+    return success();
+}
+
 // `options` adds what a test needs beyond the defaults (e.g. window-system extensions).
 inline Result<VulkanContext> createTestContext(ContextOptions options = {}) {
     options.validation = true;
-    if (const char* device = std::getenv("QUADPLAN_VK_DEVICE"); device && device[0]) {
-        options.forceDevice = device;
-    } else {
-        if (!std::filesystem::exists(kLavapipeIcd))
-            return Error{std::string(kLavapipeIcd) + " is missing: install mesa-vulkan-drivers (lavapipe)"};
-        // Must happen before the loader looks for drivers, i.e. before the instance exists.
-        setenv("VK_ICD_FILENAMES", kLavapipeIcd, 1);
-        setenv("VK_DRIVER_FILES", kLavapipeIcd, 1);  // newer loaders prefer this name
-    }
+    if (Status s = selectTestDevice(options); !s) return s.error();
     return createContext(options);
 }
 

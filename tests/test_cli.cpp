@@ -401,7 +401,8 @@ TEST(CliSchemes, ListsPluginsAndWhatTheyDoWithACage) {
     EXPECT_TRUE(json["problems"].empty());
     CommandRun cage = runQuadplan(std::string("schemes ") + QUADPLAN_SCENES_DIR + "/default.json --json");
     ASSERT_EQ(cage.status, 0);
-    for (const auto& s : nlohmann::json::parse(cage.out)["schemes"]) {
+    const nlohmann::json listed = nlohmann::json::parse(cage.out);  // a loop over parse(...)["schemes"] would outlive it
+    for (const auto& s : listed["schemes"]) {
         EXPECT_TRUE(s.contains("approximations")) << s;
         EXPECT_TRUE(s["refusals"].empty()) << s;
     }

@@ -167,6 +167,27 @@ TEST_F(RenderContext, ValidationMessagesAreCounted) {
     destroyContext(*other);
 }
 
+// QUADPLAN_VALIDATE (the test command sets it) validates contexts that did not ask for it, such
+// as the commands' and the editor's, and a message in one ends the process with status 4.
+TEST(RenderValidationFromEnvironment, AMessageEndsTheProcessWithStatus4) {
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    auto provokeOneMessage = [] {
+        setenv("QUADPLAN_VALIDATE", "1", 1);
+        ContextOptions options;  // validation not asked for
+        if (!test::selectTestDevice(options)) std::_Exit(1);
+        Result<VulkanContext> ctx = createContext(options);
+        if (!ctx) std::_Exit(2);
+        VkFenceCreateInfo info{};
+        info.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO;
+        info.flags = 0x80;  // no such VkFenceCreateFlagBits
+        VkFence fence = VK_NULL_HANDLE;
+        if (vkCreateFence(ctx->device, &info, nullptr, &fence) == VK_SUCCESS) vkDestroyFence(ctx->device, fence, nullptr);
+        destroyContext(*ctx);
+        std::_Exit(0);
+    };
+    EXPECT_EXIT(provokeOneMessage(), testing::ExitedWithCode(4), "1 Vulkan validation message\\(s\\) with QUADPLAN_VALIDATE");
+}
+
 TEST(RenderVkCheck, ReturnsAnErrorNamingTheExpressionAndResult) {
     auto fails = []() -> Status {
         VK_CHECK(VK_ERROR_DEVICE_LOST);

@@ -88,12 +88,27 @@ bool saveTo(EditorApp& app, const std::string& path) {
     }
     storeViewState(app, app.doc->scene);
     if (Status saved = saveDocument(*app.doc, path); !saved) {
-        showError(app, "Saving failed: " + saved.error().message);
+        // The document stays as it is (and marked unsaved); the user needs to know where to go.
+        showError(app, "Saving failed: " + saved.error().message +
+                           ". Your changes are kept (still unsaved): use File > Save As to save them somewhere else.");
         return false;
     }
     removeRecovery(app.recoveryDir);
     app.ui.status = "Saved " + path;
     return true;
+}
+
+void stopOnFatalError(EditorApp& app, const std::string& message) {
+    std::string rescued;
+    if (app.doc->dirty && app.doc->planned) {
+        const Status written = writeRecovery(app.recoveryDir, sceneToSave(*app.doc), RecoveryInfo{app.doc->path, localTimeNow()});
+        rescued = written ? "; the unsaved changes were written to " + app.recoveryDir +
+                                "/autosave.json and are offered at the next start"
+                          : "; writing the unsaved changes to the recovery directory failed too: " + written.error().message;
+    }
+    std::fprintf(stderr, "error: %s%s\n", message.c_str(), rescued.c_str());
+    app.exitCode = 1;
+    app.running = false;
 }
 
 void restoreRecovery(EditorApp& app) {

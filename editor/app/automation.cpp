@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <iostream>
 #include <iterator>
-#include <sstream>
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -24,105 +23,12 @@ namespace {
 
 using json = nlohmann::json;
 
-enum class Arg { Int, Float, Word, Text };  // Text: the rest of the line
-
-struct CommandSpec {
-    const char* name;
-    std::vector<Arg> required;
-    std::vector<Arg> optional;
-};
-
-const std::vector<CommandSpec> kCommands = {
-    {"wait-frames", {Arg::Int}, {}},
-    {"wait-idle", {}, {}},
-    {"wait-file", {Arg::Word}, {Arg::Float}},
-    {"action", {Arg::Word}, {}},
-    {"click-button", {Arg::Text}, {}},
-    {"open", {Arg::Text}, {}},
-    {"save", {}, {}},
-    {"save-as", {Arg::Text}, {}},
-    {"quit", {}, {}},
-    {"select-vertex", {Arg::Int}, {Arg::Word}},
-    {"select-edge", {Arg::Int, Arg::Int}, {}},
-    {"clear-selection", {}, {}},
-    {"move-selection", {Arg::Float, Arg::Float, Arg::Float}, {}},
-    {"set-edge-sharpness", {Arg::Int, Arg::Int, Arg::Float}, {}},
-    {"undo", {}, {}},
-    {"redo", {}, {}},
-    {"set-viewports", {Arg::Int}, {}},
-    {"set-scheme", {Arg::Int, Arg::Word}, {}},
-    {"set-color-by", {Arg::Int, Arg::Word}, {}},
-    {"set-link", {Arg::Int, Arg::Word}, {}},
-    {"set-tessellation", {Arg::Word, Arg::Float}, {}},
-    {"set-draw-path", {Arg::Word}, {}},
-    {"mouse-move", {Arg::Float, Arg::Float}, {}},
-    {"mouse-down", {Arg::Word}, {}},
-    {"mouse-up", {Arg::Word}, {}},
-    {"scroll", {Arg::Float}, {}},
-    {"key-down", {Arg::Word}, {}},
-    {"key-up", {Arg::Word}, {}},
-    {"key", {Arg::Word}, {}},
-    {"resize", {Arg::Int, Arg::Int}, {}},
-    {"screenshot", {Arg::Text}, {}},
-    {"dump-state", {Arg::Text}, {}},
-    {"measure-frames", {Arg::Int, Arg::Word}, {Arg::Word}},
-    {"log", {}, {Arg::Text}},
-};
-
-int keyCode(std::string_view name) {
-    std::string n(name);
-    std::transform(n.begin(), n.end(), n.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    if (n.size() == 1 && n[0] >= 'a' && n[0] <= 'z') return GLFW_KEY_A + (n[0] - 'a');
-    if (n.size() == 1 && n[0] >= '0' && n[0] <= '9') return GLFW_KEY_0 + (n[0] - '0');
-    if (n.size() == 3 && n.rfind("kp", 0) == 0 && n[2] >= '0' && n[2] <= '9') return GLFW_KEY_KP_0 + (n[2] - '0');
-    if (n.size() >= 2 && n[0] == 'f' && std::isdigit((unsigned char)n[1])) {
-        const int k = std::atoi(n.c_str() + 1);
-        if (k >= 1 && k <= 12) return GLFW_KEY_F1 + k - 1;
-    }
-    static const std::pair<const char*, int> named[] = {
-        {"esc", GLFW_KEY_ESCAPE}, {"escape", GLFW_KEY_ESCAPE}, {"home", GLFW_KEY_HOME}, {"enter", GLFW_KEY_ENTER},
-        {"tab", GLFW_KEY_TAB},    {"space", GLFW_KEY_SPACE},   {"delete", GLFW_KEY_DELETE},
-        {"alt", GLFW_KEY_LEFT_ALT}, {"ctrl", GLFW_KEY_LEFT_CONTROL}, {"shift", GLFW_KEY_LEFT_SHIFT}};
-    for (auto [text, code] : named)
-        if (n == text) return code;
-    return -1;
-}
-
-int mouseButton(std::string_view name) {
-    if (name == "left") return 0;
-    if (name == "right") return 1;
-    if (name == "middle") return 2;
-    return -1;
-}
-
-bool isNumber(const std::string& text, bool integer) {
-    if (text.empty()) return false;
-    char* end = nullptr;
-    if (integer) {
-        const long v = std::strtol(text.c_str(), &end, 10);
-        return *end == '\0' && v >= 0;
-    }
-    const float v = std::strtof(text.c_str(), &end);
-    return *end == '\0' && std::isfinite(v);
-}
-
-// Extra checks that need no app: enumerations and key names.
-std::string checkWords(const AutomationCommand& c) {
-    const std::string& name = c.name;
-    if (name == "action" && !findAction(c.args[0])) return "unknown action '" + c.args[0] + "' (see docs/editor.md)";
-    if ((name == "mouse-down" || name == "mouse-up") && mouseButton(c.args[0]) < 0)
-        return "mouse button must be left, middle or right";
-    if ((name == "key-down" || name == "key-up" || name == "key") && keyCode(c.args[0]) < 0)
-        return "unknown key '" + c.args[0] + "'";
-    if (name == "select-vertex" && c.args.size() > 1 && c.args[1] != "add") return "the optional word must be 'add'";
-    if (name == "set-color-by" && !parseColorMode(c.args[1])) return "colour mode must be shading, node-kind, depth or sharpness";
-    if (name == "set-link" && c.args[1] != "linked" && c.args[1] != "independent") return "use 'linked' or 'independent'";
-    if (name == "set-tessellation" && c.args[0] != "uniform" && c.args[0] != "adaptive")
-        return "use 'uniform FACTOR' or 'adaptive PIXELS'";
-    if (name == "set-draw-path" && !parseDrawPath(c.args[0])) return "draw path must be auto, tess or grid";
-    if (name == "measure-frames" && c.args.size() > 2 && c.args[2] != "drag" && c.args[2] != "orbit")
-        return "the optional mode must be 'drag' or 'orbit'";
-    return {};
+const AutomationVocabulary& editorVocabulary() {
+    static const AutomationVocabulary words{
+        [](std::string_view id) { return findAction(id) != nullptr; },
+        [](std::string_view name) { return parseColorMode(name).has_value(); },
+        [](std::string_view name) { return parseDrawPath(name).has_value(); }};
+    return words;
 }
 
 json vec(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
@@ -132,43 +38,7 @@ json summaryJson(const Summary& s) { return {{"median", s.median}, {"p90", s.p90
 }  // namespace
 
 Result<std::vector<AutomationCommand>> parseAutomation(std::string_view text, const std::string& source) {
-    std::vector<AutomationCommand> commands;
-    std::istringstream lines{std::string(text)};
-    std::string line;
-    for (int number = 1; std::getline(lines, line); ++number) {
-        if (size_t hash = line.find('#'); hash != std::string::npos) line.resize(hash);
-        std::istringstream words(line);
-        AutomationCommand c;
-        c.line = number;
-        if (!(words >> c.name)) continue;
-        auto spec = std::find_if(kCommands.begin(), kCommands.end(), [&](const CommandSpec& s) { return c.name == s.name; });
-        auto where = [&] { return source + ":" + std::to_string(number) + ": "; };
-        if (spec == kCommands.end()) return Error{where() + "unknown command '" + c.name + "'"};
-        std::vector<Arg> kinds = spec->required;
-        kinds.insert(kinds.end(), spec->optional.begin(), spec->optional.end());
-        for (size_t i = 0; i < kinds.size(); ++i) {
-            std::string word;
-            if (kinds[i] == Arg::Text) {
-                std::getline(words >> std::ws, word);
-                while (!word.empty() && std::isspace((unsigned char)word.back())) word.pop_back();
-                if (word.size() >= 2 && word.front() == '"' && word.back() == '"') word = word.substr(1, word.size() - 2);
-                if (word.empty()) break;
-            } else if (!(words >> word)) {
-                break;
-            }
-            if ((kinds[i] == Arg::Int || kinds[i] == Arg::Float) && !isNumber(word, kinds[i] == Arg::Int))
-                return Error{where() + c.name + ": '" + word + "' is not " +
-                             (kinds[i] == Arg::Int ? "a whole number >= 0" : "a number")};
-            c.args.push_back(word);
-        }
-        std::string extra;
-        if (words >> extra) return Error{where() + c.name + ": unexpected '" + extra + "'"};
-        if (c.args.size() < spec->required.size())
-            return Error{where() + c.name + " needs " + std::to_string(spec->required.size()) + " argument(s)"};
-        if (std::string problem = checkWords(c); !problem.empty()) return Error{where() + c.name + ": " + problem};
-        commands.push_back(std::move(c));
-    }
-    return commands;
+    return parseAutomation(text, source, editorVocabulary());
 }
 
 Result<std::unique_ptr<Automation>> loadAutomation(const std::string& path) {
@@ -399,11 +269,11 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         s.active = true;
         s.framesSinceRelease = 0;
         if (n == "mouse-move") s.x = number(0), s.y = number(1);
-        if (n == "mouse-down") s.buttons[mouseButton(a[0])] = true;
-        if (n == "mouse-up") s.buttons[mouseButton(a[0])] = false;
+        if (n == "mouse-down") s.buttons[automationMouseButton(a[0])] = true;
+        if (n == "mouse-up") s.buttons[automationMouseButton(a[0])] = false;
         if (n == "scroll") s.wheel += number(0);
         if (n == "key-down" || n == "key-up" || n == "key") {
-            const int key = keyCode(a[0]);
+            const int key = automationKeyCode(a[0]);
             if (std::find(s.keysTouched.begin(), s.keysTouched.end(), key) == s.keysTouched.end())
                 s.keysTouched.push_back(key);
             std::erase(s.keysDown, key);
@@ -434,6 +304,12 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         if (a.size() > 2 && !needDocument()) return true;
         measurement_ = Measurement{int(integer(0)), 3, a.size() > 2 ? a[2] : std::string(), a[1], app.frame};
         app.stats.clear();
+        return false;
+    }
+    if (n == "simulate-device-loss") {
+        // What a drawFrame that returned VK_ERROR_DEVICE_LOST leads to (lavapipe cannot lose its
+        // device on demand): the same handler, called from here.
+        stopOnFatalError(app, "drawing failed: vkQueueSubmit: VK_ERROR_DEVICE_LOST (simulated by automation)");
         return false;
     }
     if (n == "log") {

@@ -15,19 +15,14 @@
 #include <string_view>
 #include <vector>
 
+#include "automation_script.h"
 #include "result.h"
 
 namespace qp::editor {
 
 struct EditorApp;
 
-struct AutomationCommand {
-    int line = 0;
-    std::string name;
-    std::vector<std::string> args;
-};
-
-// Checks every command's name and arguments; the message names the line at fault.
+// parseAutomation (automation_script.h) with the editor's actions, colour modes and draw paths.
 Result<std::vector<AutomationCommand>> parseAutomation(std::string_view text, const std::string& source);
 
 class Automation {

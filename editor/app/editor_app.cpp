@@ -406,11 +406,7 @@ void runLoop(EditorApp& app) {
 
         autosave(app);
         updateTitle(app);
-        if (Status s = drawFrame(app, frameStart); !s) {
-            std::fprintf(stderr, "error: drawing failed: %s\n", s.error().message.c_str());
-            app.exitCode = 1;
-            app.running = false;
-        }
+        if (Status s = drawFrame(app, frameStart); !s) stopOnFatalError(app, "drawing failed: " + s.error().message);
         if (app.automation && app.automation->failed()) {
             app.exitCode = 3;
             app.running = false;

@@ -159,6 +159,10 @@ void setViewportCount(EditorApp& app, uint32_t count);
 void requestOpen(EditorApp& app, const std::string& path);
 void requestQuit(EditorApp& app);
 bool saveTo(EditorApp& app, const std::string& path);  // false: failed (the error popup says why)
+// A fault the editor cannot continue after (a lost Vulkan device): writes unsaved changes to
+// the recovery directory at once, prints the message and what happened to them, and stops
+// with exit status 1.
+void stopOnFatalError(EditorApp& app, const std::string& message);
 void continuePending(EditorApp& app);
 void restoreRecovery(EditorApp& app);
 void discardRecovery(EditorApp& app);
