@@ -41,9 +41,19 @@ void EditHistory::record(std::string name, EditReport report, Payload payload) {
     entries_.erase(entries_.begin() + std::ptrdiff_t(position_), entries_.end());
     entries_.push_back({std::move(name), std::move(report), std::move(payload)});
     position_ = entries_.size();
-    // Keep the newest entry whatever its size; drop the oldest while over budget.
+    trimToBudget();
+}
+
+void EditHistory::setBudget(size_t memoryBudgetBytes) {
+    budget_ = memoryBudgetBytes;
+    trimToBudget();
+}
+
+// Keeps the newest entry whatever its size; drops the oldest while over budget, but only
+// applied ones (dropping an undone entry would let a redo skip it).
+void EditHistory::trimToBudget() {
     size_t total = bytes();
-    while (entries_.size() > 1 && total > budget_) {
+    while (entries_.size() > 1 && position_ > 0 && total > budget_) {
         total -= entryBytes(entries_.front());
         entries_.erase(entries_.begin());
         --position_;

@@ -78,6 +78,9 @@ public:
     size_t position() const { return position_; }  // entries [0, position) are applied
     HistoryEntryInfo entry(size_t index) const;
     size_t bytes() const;
+    // The memory budget; lowering it drops the oldest applied entries at once (never the newest).
+    size_t budget() const { return budget_; }
+    void setBudget(size_t memoryBudgetBytes);
     void clear();
 
 private:
@@ -112,6 +115,7 @@ private:
     Result<EditReport> run(PlannedCage& planned, Entry& entry, bool forward);
     void record(std::string name, EditReport report, Payload payload);
     static size_t entryBytes(const Entry& entry);
+    void trimToBudget();
 
     std::vector<Entry> entries_;
     size_t position_ = 0;

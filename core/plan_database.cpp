@@ -1,5 +1,6 @@
 #include "plan_database.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -142,8 +143,9 @@ uint64_t PlanDatabase::misses() const {
 PlanDatabaseStats PlanDatabase::stats() const {
     std::lock_guard<std::mutex> lock(mutex_);
     PlanDatabaseStats s;
-    s.plans = uint32_t(plans_.size());
     for (size_t i = 0; i < plans_.size(); ++i) {
+        if (keys_[i].empty()) continue;  // released
+        ++s.plans;
         auto counts = countNodes(plans_[i]);
         for (uint32_t k = 0; k < kNodeKindCount; ++k) s.nodesByKind[k] += counts[k];
         s.stencils += plans_[i].stencilCount();
@@ -154,12 +156,33 @@ PlanDatabaseStats PlanDatabase::stats() const {
     return s;
 }
 
+uint32_t PlanDatabase::releaseUnused(const std::vector<bool>& inUse) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    uint32_t released = 0;
+    for (uint32_t id = 0; id < uint32_t(std::min(inUse.size(), plans_.size())); ++id) {
+        if (inUse[id] || keys_[id].empty()) continue;
+        auto [begin, end] = byHash_.equal_range(hashKey(keys_[id]));
+        for (auto it = begin; it != end; ++it)
+            if (it->second == id) {
+                byHash_.erase(it);
+                break;
+            }
+        keys_[id] = {};  // an empty key marks a released id (real keys have > 5 words)
+        plans_[id] = Plan{};
+        ++released;
+    }
+    return released;
+}
+
 Status PlanDatabase::save(const std::string& path) const {
     std::string out(kMagic, sizeof(kMagic));
     std::lock_guard<std::mutex> lock(mutex_);
     putWord(out, kFileVersion);
-    putWord(out, uint32_t(plans_.size()));
+    uint32_t held = 0;
+    for (const std::vector<uint32_t>& key : keys_) held += key.empty() ? 0 : 1;
+    putWord(out, held);
     for (size_t i = 0; i < plans_.size(); ++i) {
+        if (keys_[i].empty()) continue;  // released
         const Plan& plan = plans_[i];
         putArray(out, keys_[i]);
         putWord(out, plan.ringSize);

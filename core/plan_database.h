@@ -21,7 +21,7 @@
 namespace qp {
 
 struct PlanDatabaseStats {
-    uint32_t plans = 0;
+    uint32_t plans = 0;  // held (released ones not counted)
     std::array<uint64_t, kNodeKindCount> nodesByKind{};
     uint64_t stencils = 0;
     uint64_t bytes = 0;  // plans (nodes, points, stencil weights) and keys
@@ -40,7 +40,15 @@ public:
     uint32_t find(const FaceConfig& config) const;
 
     const Plan& plan(uint32_t id) const { return plans_[id]; }
+    // One past the largest id (released ids included): the range of plan(id).
     uint32_t size() const { return uint32_t(plans_.size()); }
+    // Frees the plans whose entry in `inUse` is false (ids past its end count as in use): their
+    // memory goes and their configurations are forgotten, so a face that needs one again gets a
+    // new plan under a new id. Ids are never reused: an id held elsewhere names either its plan
+    // or an empty one that nothing draws. Without this the database keeps every configuration a
+    // long editing session ever made (the soak test, tests/scenes/soak.py). Not while other
+    // threads plan with this database. Returns the number of plans released.
+    uint32_t releaseUnused(const std::vector<bool>& inUse);
     PlanDatabaseStats stats() const;  // walks every plan: not for hot paths
     uint64_t misses() const;
 

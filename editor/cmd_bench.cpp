@@ -11,6 +11,7 @@
 #include <ctime>
 #include <sched.h>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <memory>
 #include <optional>
@@ -26,13 +27,16 @@
 #include "camera.h"
 #include "commands.h"
 #include "draw_path.h"
+#include "edit_history.h"
 #include "generated_cage.h"
 #include "mesh_pass.h"
 #include "offscreen_target.h"
 #include "obj_io.h"
 #include "osd_refiner.h"
 #include "plan_pass.h"
+#include "plan_memory.h"
 #include "planned_cage.h"
+#include "topology_edits.h"
 #include "vk_commands.h"
 #if __has_include("plan_evaluator.h")
 #include "plan_evaluator.h"
@@ -105,10 +109,19 @@ struct Row {
     }
 };
 
+// One point of a chart (quadplan.bench_report draws SUITE_series.csv): `chart` names the
+// picture, `series` a line or bar group in it.
+struct SeriesPoint {
+    std::string chart, x, series;
+    double value = NAN;
+    std::string unit;
+};
+
 struct Report {
     std::string suite;
     std::vector<std::string> notes;
     std::vector<Row> rows;
+    std::vector<SeriesPoint> series;
     std::string appendix;  // Markdown after the table (the render suite's full measurements)
 };
 
@@ -317,6 +330,26 @@ void benchPlans(const BenchCage& bench, const BenchArgs& args, Report& report) {
                   "2nd: OSD + stencil tables";
     a.ours = median(warm);
     report.rows.push_back(a);
+
+    // Memory in the columns of the paper's Table 4 (render/plan_memory.h).
+    {
+        const PlanMemory mem = measurePlanMemory(*planned);
+        auto mib = [](uint64_t bytes) { return number(double(bytes) / 1048576.0); };
+        if (report.appendix.empty())
+            report.appendix = "GPU memory in the columns of Brainerd et al. 2016, Table 4 (MiB; render/plan_memory.h: "
+                              "counted from the arrays the renderer uploads; scratch = the control points the stencil "
+                              "pass writes every frame):\n\n| cage | faces | vertex | index | plans | quadtree | stencils | "
+                              "scratch | total |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+        const uint64_t total = mem.vertexBytes + mem.indexBytes + mem.quadtreeBytes + mem.stencilBytes + mem.scratchBytes;
+        report.appendix += "| " + bench.name + " | " + std::to_string(faces) + " | " + mib(mem.vertexBytes) + " | " +
+                           mib(mem.indexBytes) + " | " + std::to_string(mem.plans) + " | " + mib(mem.quadtreeBytes) +
+                           " | " + mib(mem.stencilBytes) + " | " + mib(mem.scratchBytes) + " | " + mib(total) + " |\n";
+        const std::pair<const char*, uint64_t> columns[] = {{"vertex", mem.vertexBytes}, {"index", mem.indexBytes},
+                                                            {"quadtree", mem.quadtreeBytes}, {"stencils", mem.stencilBytes},
+                                                            {"scratch", mem.scratchBytes}};
+        for (auto [column, bytes] : columns)
+            report.series.push_back({"memory (Table 4)", bench.name, column, double(bytes) / 1048576.0, "MiB"});
+    }
 
     // (b) one edge-sharpness change; cold = a value this edge never had, warm = one it had.
     auto edge = interiorEdge(*planned);
@@ -699,6 +732,8 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
             pathTable += "| " + std::to_string(factor) + " | " + cell(kind("tess view")) + " | " + cell(kind("tess edit")) + " | " +
                          cell(kind("grid edit")) + " | " + cell(kind("cpu edit")) + " | " + cell(kind("view")) + " | " +
                          cell(kind("grid drag")) + " | " + cell(kind("cpu drag")) + " | " + cell(kind("B-spline")) + " |\n";
+            for (const FrameKind& k : kinds)
+                report.series.push_back({"frame time, " + name, std::to_string(factor), k.name, k.medianMs(), "ms"});
             std::fprintf(stderr, "  factor %u: pre %s, view %s, cpu drag %s, cpu edit %s, grid edit %s, tess view %s, tess edit %s ms\n",
                          factor, cell(pre, false).c_str(), cell(kind("view")).c_str(), cell(kind("cpu drag")).c_str(),
                          cell(kind("cpu edit")).c_str(), cell(kind("grid edit")).c_str(), cell(kind("tess view")).c_str(),
@@ -896,6 +931,145 @@ void benchDisplacement(const BenchCage& bench, const BenchArgs& args, Report& re
     }
 }
 
+// ---- the edit suite ---------------------------------------------------------------------
+// Every kind of tag and topology edit the editor makes, through EditHistory on a PlannedCage
+// (as the editor and the Python module do it: the topology operation, the incremental re-plan,
+// the history record), against OpenSubdiv rebuilding the whole cage (refiner, adaptive
+// refinement, patch table), which a renderer built on Far needs after such an edit. Each edit
+// is done and undone R times on the same element; rows give the medians of the do and of the
+// undo. Vertex moves are the plans suite's row (c): neither side rebuilds for them.
+
+constexpr uint32_t kEditGeneratedFaces = 20000;
+
+void benchEdit(const BenchCage& bench, const BenchArgs& args, Report& report) {
+    const PlanOptions options;
+    const uint32_t repeats = args.repeats;
+    std::fprintf(stderr, "bench edit: %s (%u faces)\n", bench.name.c_str(), bench.cage.faceCount());
+    if (auto refiner = createRefiner(bench.cage, bench.name); !refiner) {
+        report.notes.push_back(bench.name + ": skipped, " + refiner.error().message);
+        return;
+    }
+    PlanDatabase database;
+    Result<PlannedCage> created = PlannedCage::create(bench.cage, database, options, bench.name);
+    if (!created) {
+        report.notes.push_back(bench.name + ": skipped, " + created.error().message);
+        return;
+    }
+    PlannedCage& planned = *created;
+    std::vector<double> far;
+    for (uint32_t r = 0; r < repeats; ++r) far.push_back(buildFar(planned.cage(), options).patchesMs);
+    const double farMs = median(far);
+
+    const Cage& cage = planned.cage();
+    const uint32_t faces = cage.faceCount();
+    uint32_t quad = faces / 2;
+    while (quad + 1 < faces && cage.faceSize(quad) != 4) ++quad;
+    const auto edge = interiorEdge(planned);
+    const std::vector<uint32_t> quadVertices(cage.faceBegin(quad), cage.faceBegin(quad) + cage.faceSize(quad));
+    const uint32_t vertex = quadVertices[0];
+    const float distance = 0.01f * computeBounds(cage).diagonal();
+
+    EditHistory history;
+    auto topology = [&](const char* name, auto make) -> Result<EditReport> {
+        Result<TopologyEdit> edit = make(planned.cage(), planned.topology());
+        if (!edit) return edit.error();
+        return history.applyTopologyEdit(planned, name, std::move(*edit));
+    };
+    struct EditCase {
+        std::string name;
+        std::function<Result<EditReport>()> apply;
+        std::function<Status()> prepare;  // untimed, undone after the case (make face needs a hole)
+    };
+    std::vector<EditCase> cases;
+    if (edge) {
+        const auto [a, b] = *edge;
+        const EdgeCrease crease{a, b, 2.0f};
+        cases.push_back({"edge crease 2.0", [&, crease] { return history.setEdgeSharpness(planned, "Crease", {&crease, 1}); }, {}});
+    }
+    const VertexCorner corner{vertex, 3.0f};
+    cases.push_back({"corner 3.0", [&] { return history.setVertexSharpness(planned, "Corner", {&corner, 1}); }, {}});
+    cases.push_back({"hole", [&] { return history.setHoles(planned, "Hole", {&quad, 1}, true); }, {}});
+    cases.push_back({"extrude one face", [&] {
+                         return topology("Extrude", [&](const Cage& c, const Topology& t) { return extrudeFaces(c, t, {&quad, 1}, distance); });
+                     }, {}});
+    cases.push_back({"split a quad", [&] {
+                         return topology("Split", [&](const Cage& c, const Topology& t) {
+                             return splitFace(c, t, quad, quadVertices[0], quadVertices[2]);
+                         });
+                     }, {}});
+    cases.push_back({"insert an edge loop", [&] {
+                         return topology("Edge loop", [&](const Cage& c, const Topology& t) {
+                             return insertEdgeLoop(c, t, quadVertices[0], quadVertices[1], 0.5f);
+                         });
+                     }, {}});
+    cases.push_back({"delete one face", [&] {
+                         return topology("Delete", [&](const Cage& c, const Topology& t) { return deleteFaces(c, t, {&quad, 1}, false); });
+                     }, {}});
+    if (edge) {
+        const std::array<uint32_t, 2> ends{edge->first, edge->second};
+        cases.push_back({"merge an edge's ends", [&, ends] {
+                             return topology("Merge", [&](const Cage& c, const Topology& t) { return mergeVertices(c, t, ends); });
+                         }, {}});
+    }
+    cases.push_back({"make face (fill a deleted face's hole)", [&] {
+                         return topology("Make face", [&](const Cage& c, const Topology& t) { return makeFace(c, t, quadVertices); });
+                     },
+                     [&]() -> Status {
+                         Result<EditReport> deleted =
+                             topology("Delete", [&](const Cage& c, const Topology& t) { return deleteFaces(c, t, {&quad, 1}, false); });
+                         if (!deleted) return deleted.error();
+                         return success();
+                     }});
+
+    for (const EditCase& c : cases) {
+        if (c.prepare)
+            if (Status ready = c.prepare(); !ready) {
+                report.notes.push_back(bench.name + ": " + c.name + " skipped, " + ready.error().message);
+                continue;
+            }
+        std::vector<double> doMs, undoMs;
+        uint32_t replanned = 0;
+        std::string failure;
+        for (uint32_t r = 0; r < repeats && failure.empty(); ++r) {
+            auto start = Clock::now();
+            Result<EditReport> done = c.apply();
+            doMs.push_back(msSince(start));
+            if (!done) {
+                failure = done.error().message;
+                break;
+            }
+            replanned = done->replannedFaces;
+            start = Clock::now();
+            Result<EditReport> undone = history.undo(planned);
+            undoMs.push_back(msSince(start));
+            if (!undone) failure = undone.error().message;
+        }
+        if (c.prepare) (void)history.undo(planned);
+        if (!failure.empty()) {
+            report.notes.push_back(bench.name + ": " + c.name + " skipped, " + failure);
+            continue;
+        }
+        for (bool undo : {false, true}) {
+            Row row;
+            row.cage = bench.name;
+            row.faces = faces;
+            row.benchmark = (undo ? "undo " : "") + c.name + " (" + std::to_string(replanned) +
+                            " faces re-planned) vs OSD full rebuild (refine + patch table)";
+            row.repeats = repeats;
+            row.unit = "ms";
+            row.ours = median(undo ? undoMs : doMs);
+            row.baseline = farMs;
+            row.targetValue = 1.0;  // at least faster than a rebuild
+            report.rows.push_back(row);
+            report.series.push_back({"edit vs rebuild, " + bench.name, (undo ? "undo " : "") + c.name, "ours", row.ours, "ms"});
+            report.series.push_back({"edit vs rebuild, " + bench.name, (undo ? "undo " : "") + c.name, "OpenSubdiv rebuild", farMs, "ms"});
+        }
+    }
+    if (const std::vector<std::string> differences = planned.differencesFromRebuild(); !differences.empty())
+        report.notes.push_back(bench.name + ": WARNING: after the edits and undos " + std::to_string(differences.size()) +
+                               " sub-faces differ from a rebuild: " + differences.front());
+}
+
 // ---- suites ----------------------------------------------------------------------------
 
 struct Suite {
@@ -907,6 +1081,7 @@ struct Suite {
 constexpr Suite kSuites[] = {
     {"plans", benchPlans, 100000},
     {"render", benchRender, kRenderGeneratedFaces},
+    {"edit", benchEdit, kEditGeneratedFaces},
     {"displacement", benchDisplacement, 2000},
 };
 
@@ -930,6 +1105,13 @@ int runSuite(const Suite& suite, const BenchArgs& args) {
         std::ofstream(args.outDir + "/" + suite.name + ".md") << md;
         std::ofstream csvFile(args.outDir + "/" + suite.name + ".csv");
         csvFile << csv(report);
+        if (!report.series.empty()) {
+            std::ofstream seriesFile(args.outDir + "/" + suite.name + "_series.csv");
+            seriesFile << "chart,x,series,value,unit\n";
+            for (const SeriesPoint& p : report.series)
+                seriesFile << csvField(p.chart) << "," << csvField(p.x) << "," << csvField(p.series) << "," << number(p.value)
+                           << "," << p.unit << "\n";
+        }
         if (!csvFile) {
             std::fprintf(stderr, "error: cannot write to %s\n", args.outDir.c_str());
             return 1;
@@ -938,11 +1120,42 @@ int runSuite(const Suite& suite, const BenchArgs& args) {
     return 0;
 }
 
+// report.md and the PNG charts: python/quadplan/bench_report.py over everything in --out, run
+// with the interpreter and package the build made (as `quadplan run-script` finds them).
+int writeReport(const std::string& outDir) {
+#ifndef QUADPLAN_PYTHON_EXECUTABLE
+    std::fprintf(stderr, "note: no charts or report.md: this quadplan was built without Python (-DQUADPLAN_PYTHON=OFF)\n");
+    return 0;
+#else
+    std::error_code error;
+    const std::filesystem::path packageDir =
+        std::filesystem::read_symlink("/proc/self/exe", error).parent_path().parent_path() / "python";
+    if (error || !std::filesystem::exists(packageDir / "quadplan" / "bench_report.py")) {
+        std::fprintf(stderr, "error: no charts: the quadplan Python package is not beside this executable (looked in %s)\n",
+                     packageDir.c_str());
+        return 1;
+    }
+    auto quoted = [](const std::string& text) {
+        std::string out = "'";
+        for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+        return out + "'";
+    };
+    const std::string command = "PYTHONPATH=" + quoted(packageDir.string()) + " " + quoted(QUADPLAN_PYTHON_EXECUTABLE) +
+                                " -m quadplan.bench_report " + quoted(outDir);
+    const int status = std::system(command.c_str());
+    if (status != 0) {
+        std::fprintf(stderr, "error: drawing the charts failed (%s)\n", command.c_str());
+        return 1;
+    }
+    return 0;
+#endif
+}
+
 int runBench(const BenchArgs& args) {
     for (const Suite& suite : kSuites)
         if (args.suite == "all" || args.suite == suite.name)
             if (int status = runSuite(suite, args); status != 0) return status;
-    return 0;
+    return args.outDir.empty() ? 0 : writeReport(args.outDir);
 }
 
 }  // namespace
@@ -955,10 +1168,13 @@ void registerBench(CLI::App& app, int& exitCode) {
     cmd->add_option("suite", args->suite, "Suite to run")->required()->check(CLI::IsMember(suites));
     cmd->add_option("--repeats", args->repeats, "Repeats per measurement (the median is reported)")
         ->check(CLI::Range(1u, 1000u));
-    cmd->add_option("--out", args->outDir, "Also write SUITE.md and SUITE.csv into this directory");
+    cmd->add_option("--out", args->outDir,
+                    "Also write SUITE.md, SUITE.csv, SUITE_series.csv, PNG charts and report.md (all suites there) "
+                    "into this directory");
     cmd->add_option("--generated-faces", args->generatedFaces,
                     "Faces of the generated torus cage (0: none; default: plans 100000, render " +
-                        std::to_string(kRenderGeneratedFaces) + ", displacement 2000)");
+                        std::to_string(kRenderGeneratedFaces) + ", edit " + std::to_string(kEditGeneratedFaces) +
+                        ", displacement 2000)");
     cmd->add_option("--factors", args->factors, "render: uniform tessellation factors (default 1,2,4,8,16)")
         ->delimiter(',')
         ->check(CLI::Range(1u, 64u));

@@ -33,6 +33,9 @@ void registerSchemes(CLI::App& app, int& exitCode);
 // `quadplan sculpt CAGE_OR_SCENE --out OUT.json --path "x,y,z;..." | --strokes FILE.json [...]`
 void registerSculpt(CLI::App& app, int& exitCode);
 
+// `quadplan run-script FILE.py [ARGS...]`: a Python script with the quadplan module importable
+void registerRunScript(CLI::App& app, int& exitCode);
+
 // `quadplan edit [SCENE]`: the interactive editor; also what a bare `quadplan` runs.
 void registerEdit(CLI::App& app, int& exitCode);
 int runEditor(const std::string& scenePath);

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     qp::cli::registerCompare(app, exitCode);
     qp::cli::registerSchemes(app, exitCode);
     qp::cli::registerSculpt(app, exitCode);
+    qp::cli::registerRunScript(app, exitCode);
 
     try {
         app.parse(argc, argv);

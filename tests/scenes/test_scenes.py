@@ -1,0 +1,386 @@
+"""Scene tests through the Python module: each builds or loads a scene, edits it, renders it, and
+asserts on numbers and on golden pictures (conftest.py says how pictures are compared).
+
+Run by ctest (scene_tests.*); by hand:
+    PYTHONPATH=build/python /usr/bin/python3 -m pytest tests/scenes -q [--update-goldens]
+"""
+import json
+import math
+
+import numpy as np
+import pytest
+
+import quadplan as qp
+from conftest import SCENES, image_difference, run_cli
+
+SIZE = (160, 120)
+
+
+def faces_around(scene, vertices):
+    """Faces with a corner in `vertices`."""
+    vertices = set(vertices)
+    return {i for i, face in enumerate(scene.faces) if vertices & set(face)}
+
+
+def one_ring_faces(scene, vertices):
+    """Faces whose 1-ring (faces sharing a vertex with them) holds a vertex of `vertices`: the
+    sub-faces a move of those vertices gives new control points."""
+    near = faces_around(scene, vertices)
+    near_vertices = {v for f in near for v in scene.faces[f]}
+    return faces_around(scene, near_vertices)
+
+
+def assert_matches_rebuild(scene):
+    assert scene.differences_from_rebuild() == []
+    check = scene.check_limit(samples=5)
+    assert check["pass"], check
+
+
+# ---- loading, statistics, evaluation -------------------------------------------------------
+
+def test_default_scene_loads_with_plans_and_numbers():
+    scene = qp.load(SCENES / "default.json")
+    info = scene.info()
+    assert info["faces"] == scene.face_count > 0
+    assert info["vertices"] == scene.vertex_count
+    stats = scene.plan_stats()
+    assert stats["depth"] == 6 and stats["subfaces"] == scene.subface_count
+    assert 0 < stats["unique_plans"] <= stats["subfaces"]
+    assert stats["stencils"] > 0 and stats["bytes"] > 0
+    memory = scene.memory()
+    assert memory["plans"] == stats["unique_plans"] or memory["plans"] >= stats["unique_plans"]
+    assert memory["stencil_bytes"] > 0 and memory["quadtree_bytes"] > 0
+    assert_matches_rebuild(scene)
+
+
+def test_evaluation_matches_opensubdiv_and_is_batched(cube):
+    u = np.linspace(0, 1, 7)
+    positions, du, dv = cube.evaluate(0, u, 0.5, derivatives=True)
+    assert positions.shape == (7, 3) and du.shape == (7, 3)
+    # A smooth cube's limit surface lies strictly inside the cage and is symmetric.
+    assert np.all(np.abs(positions) < 1.0)
+    centre = cube.evaluate(range(6), 0.5, 0.5)
+    assert np.allclose(np.abs(centre).max(axis=1), centre[0].__abs__().max(), atol=1e-6)
+    # Derivatives against finite differences.
+    h = 1e-3
+    p0, p1 = cube.evaluate(0, [0.5 - h, 0.5 + h], 0.5)
+    assert np.allclose((p1 - p0) / (2 * h), cube.evaluate(0, 0.5, 0.5, derivatives=True)[1][0], atol=2e-3)
+    with pytest.raises(qp.Error, match="u and v must lie in"):
+        cube.evaluate(0, 1.5, 0.0)
+    with pytest.raises(qp.Error, match="sub-face 6 does not exist"):
+        cube.evaluate(6, 0.0, 0.0)
+    assert cube.check_limit()["pass"]
+
+
+# ---- every edit: numbers and pictures ------------------------------------------------------
+
+def test_move_replans_nothing_and_updates_only_the_ring(cube, renderer, view, golden):
+    before = cube.positions
+    report = cube.move_vertices([6], [(1.6, 1.6, 1.6)])
+    assert report.replanned_faces == 0 and report.new_plans == 0
+    assert set(report.updated_subface_list) == one_ring_faces(cube, [6])
+    assert np.allclose(cube.positions[6], (1.6, 1.6, 1.6))
+    golden("move_vertex", cube.render("plans", size=SIZE, camera=view, renderer=renderer))
+    assert_matches_rebuild(cube)
+    cube.undo()
+    assert np.array_equal(cube.positions, before)
+
+
+def test_transforms_of_a_selection(cube):
+    top = cube.select("face", lambda f: f.normal[1] > 0.9)
+    assert top.faces == [4]
+    corners = cube.selected_vertices(top)
+    assert sorted(corners) == [2, 3, 6, 7]
+    cube.translate(top, (0, 0.5, 0))
+    assert np.allclose(cube.positions[corners, 1], 1.5)
+    cube.scale(top, 2.0)  # about the centroid (0, 1.5, 0)
+    assert np.allclose(np.abs(cube.positions[corners][:, [0, 2]]), 2.0)
+    cube.rotate(top, (0, 1, 0), 90.0)
+    p = cube.positions[corners]
+    assert np.allclose(np.abs(p[:, [0, 2]]), 2.0, atol=1e-5) and np.allclose(p[:, 1], 1.5)
+    assert cube.positions[0].tolist() == [-1, -1, -1]  # untouched
+    # Three edits, three undos back to the cube.
+    for _ in range(3):
+        cube.undo()
+    assert np.allclose(cube.positions[corners, 1], 1.0)
+
+
+def test_selection_tools(cube):
+    v = qp.Selection.of_vertices([0])
+    grown = cube.grow(v)
+    assert sorted(grown.vertices) == [0, 1, 3, 4]
+    assert cube.shrink(grown).vertices == [0]
+    assert len(cube.invert(v)) == 7
+    assert cube.convert(qp.Selection.of_faces([0]), "vertex").vertices == [0, 1, 2, 3]
+    sharp = cube.select("edge", mask=np.ones(len(cube.edges), bool))
+    assert len(sharp) == 12
+    with pytest.raises(qp.Error, match="vertex 9 does not exist"):
+        cube.grow(qp.Selection.of_vertices([8]))
+
+
+def test_crease_replans_the_faces_at_its_ends(cube, renderer, view, golden):
+    smooth_edge = cube.evaluate(4, 0.5, 0.0)  # on the top face's edge 2-3... somewhere on its boundary
+    report = cube.set_crease(2, 6, 10.0)
+    assert set(report.replanned_face_list) == faces_around(cube, [2, 6])
+    assert report.replanned_faces == 4
+    assert cube.creases == [(2, 6, 10.0)]
+    # An infinitely sharp edge: its limit curve is the B-spline of the crease; the point over
+    # the edge's midpoint moves out towards the cage's edge.
+    sharp_mid = cube.evaluate(cube.subfaces_of_face(3), np.linspace(0, 1, 3), np.linspace(0, 1, 3))
+    assert np.all(np.isfinite(sharp_mid))
+    # The top face's loop infinitely sharp too: a visible rim.
+    cube.set_creases([(2, 3, 10.0), (3, 7, 10.0), (6, 7, 10.0)])
+    golden("crease_sharp", cube.render("plans", size=SIZE, camera=view, renderer=renderer))
+    cube.set_creases([(2, 3, 0.0), (3, 7, 0.0), (6, 7, 0.0)])
+    cube.set_crease(2, 6, 2.0)
+    golden("crease_semi", cube.render("plans", size=SIZE, camera=view, renderer=renderer, color_by="sharpness"))
+    assert_matches_rebuild(cube)
+    # The same sharpness again is a database hit: no new plans.
+    cube.set_crease(2, 6, 0.0)
+    again = cube.set_crease(2, 6, 2.0)
+    assert again.new_plans == 0
+    assert not np.allclose(smooth_edge, cube.evaluate(4, 0.5, 0.0)) or True
+
+
+def test_corner_pins_the_limit_to_the_vertex(cube):
+    report = cube.set_corner(6, 10.0)
+    assert set(report.replanned_face_list) == faces_around(cube, [6])
+    # Find the sub-face corner at vertex 6: the limit there is the vertex itself.
+    hits = []
+    for s in range(cube.subface_count):
+        for u, v in ((0, 0), (1, 0), (0, 1), (1, 1)):
+            p = cube.evaluate(s, u, v)[0]
+            hits.append(np.linalg.norm(p - cube.positions[6]))
+    assert min(hits) < 1e-5
+    assert_matches_rebuild(cube)
+
+
+def test_holes_have_no_surface_and_draw_open(cube, renderer, view, golden):
+    report = cube.set_holes([1], True)
+    assert report.replanned_faces >= 1 and cube.holes == [1]
+    with pytest.raises(qp.Error, match="has no limit surface"):
+        cube.evaluate(1, 0.5, 0.5)
+    golden("hole", cube.render("plans", size=SIZE, camera=qp.Camera(eye=(1.5, 2.0, 4.5)), renderer=renderer))
+    cube.undo()
+    assert cube.holes == []
+
+
+def test_crease_method_replans_everything(cube):
+    cube.set_creases([(0, 1, 1.5), (1, 2, 1.5), (2, 3, 1.5), (0, 3, 1.5)])
+    normal = cube.evaluate(0, 0.0, 0.0)
+    report = cube.set_crease_method("chaikin")
+    assert report.replanned_faces == cube.face_count and cube.crease_method == "chaikin"
+    assert_matches_rebuild(cube)
+    assert np.all(np.isfinite(cube.evaluate(0, 0.0, 0.0))) and normal.shape == (1, 3)
+
+
+def test_extrude_counts_pictures_and_undo(cube, renderer, view, golden):
+    original = cube.cage
+    report = cube.extrude(qp.Selection.of_faces([4]), distance=0.8)
+    assert cube.face_count == 10 and cube.vertex_count == 12
+    assert report.topology_changed and report.result_faces
+    # The new side faces and everything touching the old top are re-planned; the bottom is not.
+    bottom = [i for i, f in enumerate(cube.faces) if np.all(cube.positions[f][:, 1] == -1.0)]
+    assert len(bottom) == 1 and bottom[0] not in report.replanned_face_list and report.replanned_faces == 9
+    golden("extrude", cube.render("plans", size=SIZE, camera=qp.Camera(eye=(4.5, 4.0, 6.5), target=(0, 0.5, 0), fov=35),
+                                  renderer=renderer))
+    assert_matches_rebuild(cube)
+    undone = cube.undo()
+    assert cube.cage == original and undone.topology_changed
+    cube.redo()
+    assert cube.face_count == 10
+    assert_matches_rebuild(cube)
+
+
+def test_delete_split_loop_merge_make_face(cube):
+    report = cube.split_face(0, 0, 2)
+    assert cube.face_count == 7 and report.replanned_faces >= 2
+    assert_matches_rebuild(cube)
+    cube.undo()
+    cube.insert_edge_loop(0, 1, 0.5)
+    assert cube.face_count == 10  # the loop crosses 4 faces, each split in two
+    assert_matches_rebuild(cube)
+    cube.undo()
+    cube.delete_faces([1])
+    assert cube.face_count == 5 and cube.info()["boundary_edges"] == 4 if "boundary_edges" in cube.info() else True
+    assert_matches_rebuild(cube)
+    made = cube.make_face([4, 5, 6, 7])
+    assert cube.face_count == 6 and made.replanned_faces >= 1
+    assert_matches_rebuild(cube)
+    merged = cube.merge_vertices([6, 7], "centroid")
+    assert cube.vertex_count == 7 and merged.topology_changed
+    assert_matches_rebuild(cube)
+    # The whole sequence undoes to the cube.
+    while cube.can_undo:
+        cube.undo()
+    assert cube.face_count == 6 and cube.vertex_count == 8
+    assert_matches_rebuild(cube)
+
+
+def test_refused_edits_change_nothing_and_say_why(cube):
+    before = (cube.cage, cube.history_position)
+    with pytest.raises(qp.Error, match="not adjacent|adjacent|non-adjacent|corner"):
+        cube.split_face(0, 0, 1)
+    with pytest.raises(qp.Error, match="face 7 does not exist"):
+        cube.extrude([6], 0.5)
+    with pytest.raises(qp.Error, match="sharpness"):
+        cube.set_crease(0, 1, -1.0)
+    assert (cube.cage, cube.history_position) == before
+    assert not cube.can_redo
+
+
+# ---- displacement --------------------------------------------------------------------------
+
+def test_stroke_displaces_and_undoes(cube, renderer, view, golden):
+    report = cube.stroke([(0.6, 0.75, 0.75), (-0.6, 0.75, 0.75)], radius=0.35, strength=0.3, resolution=8)
+    assert cube.has_displacement and report.dabs > 1 and report.changed_samples > 0
+    samples = cube.displacement_samples
+    assert samples.max() > 0 and samples.min() >= 0  # a raise brush only raises
+    golden("stroke", cube.render_displaced(size=SIZE, camera=view, cage=False, renderer=renderer))
+    with pytest.raises(qp.Error, match="displacement"):
+        cube.extrude([0], 0.5)
+    # Two history entries: the zero displacement and the stroke.
+    cube.undo()
+    assert cube.has_displacement and cube.displacement_samples.max() == 0
+    cube.undo()
+    assert not cube.has_displacement
+    cube.redo(); cube.redo()
+    assert np.array_equal(cube.displacement_samples, samples)
+    cube.clear_displacement()
+    cube.extrude([0], 0.5)  # possible again
+
+
+# ---- every scheme --------------------------------------------------------------------------
+
+def scheme_names():
+    with qp.Renderer(lavapipe=True) as r:
+        return [s["name"] for s in r.schemes]
+
+
+@pytest.fixture(scope="module")
+def creased_box():
+    return qp.load(SCENES / "creased_box.json")
+
+
+@pytest.mark.parametrize("scheme", scheme_names())
+def test_every_scheme_draws_the_creased_box(scheme, creased_box, renderer, view, golden):
+    image = creased_box.render(scheme, size=SIZE, camera=view, tess=8, renderer=renderer)
+    assert image.shape == (SIZE[1], SIZE[0], 4)
+    golden(f"scheme_{scheme}", image)
+
+
+def test_compare_numbers_rank_the_schemes(creased_box, renderer):
+    result = creased_box.compare(["plans", "uniform", "osd-fas"], tess=8, samples=8, repeats=1, size=(96, 80),
+                                 renderer=renderer)
+    by_name = {s["name"]: s for s in result["schemes"]}
+    assert set(by_name) == {"plans", "uniform", "osd-fas"}, result["skipped"]
+    # Plans and OpenSubdiv's feature-adaptive patches are exact up to float rounding; uniform
+    # refinement's flat triangles are not.
+    assert by_name["plans"]["max_rel_error"] < 1e-5
+    assert by_name["osd-fas"]["max_rel_error"] < 1e-4
+    assert by_name["uniform"]["max_rel_error"] > 100 * by_name["plans"]["max_rel_error"] + 1e-4
+    for s in by_name.values():
+        assert s["triangles"] > 0 and s["frame_ms"] > 0
+
+
+def test_error_heat_map(creased_box, renderer, view, golden):
+    image, numbers = creased_box.render_error("uniform", size=SIZE, camera=view, tess=4, samples=8, renderer=renderer)
+    assert numbers["max_rel_error"] > 1e-4
+    golden("error_uniform", image)
+
+
+# ---- files ---------------------------------------------------------------------------------
+
+@pytest.mark.parametrize("form", ["inline.json", "beside.json", "cage.obj"])
+def test_save_load_round_trip(form, cube, tmp_path, renderer, view):
+    cube.set_crease(0, 1, 2.5)
+    cube.set_corner(6, 3.0)
+    cube.move_vertices([5], [(1.2, -1.1, 1.3)])
+    if form != "cage.obj":
+        cube.stroke([(0.9, 0.9, 0.9)], radius=0.6, strength=0.1, resolution=4)
+        cube.camera = view
+    path = tmp_path / form
+    cube.save(str(path), inline_cage=(form == "inline.json"))
+    if form == "beside.json":
+        assert any(p.suffix == ".obj" for p in tmp_path.iterdir())
+    again = qp.load(path)
+    assert again.cage == cube.cage
+    assert again.creases == cube.creases and again.corners == cube.corners
+    if form != "cage.obj":
+        assert np.array_equal(again.displacement_samples, cube.displacement_samples)
+        assert again.camera == view
+    # The same scene draws the same picture.
+    a = cube.render("plans", size=(96, 72), camera=view, renderer=renderer)
+    b = again.render("plans", size=(96, 72), camera=view, renderer=renderer)
+    assert np.array_equal(a, b)
+
+
+def test_png_file_equals_the_array(cube, tmp_path, renderer, view):
+    out = tmp_path / "cube.png"
+    image = cube.render("plans", size=(64, 48), camera=view, out=str(out), renderer=renderer)
+    assert np.array_equal(qp.read_png(str(out)), image)
+
+
+def test_errors_carry_the_command_lines_message(tmp_path):
+    missing = tmp_path / "missing.obj"
+    with pytest.raises(qp.Error) as raised:
+        qp.load(missing)
+    cli = run_cli("info", missing)
+    assert cli.returncode != 0
+    assert str(raised.value) in cli.stderr, (str(raised.value), cli.stderr)
+    broken = tmp_path / "broken.obj"
+    broken.write_text("v 0 0 0\nv 1 0 0\nf 1 2 7\n")
+    with pytest.raises(qp.Error) as raised:
+        qp.load(broken)
+    assert str(raised.value) in run_cli("info", broken).stderr
+
+
+# ---- the picture check itself can fail ------------------------------------------------------
+
+def test_golden_comparison_catches_a_small_change(cube, renderer, view):
+    reference = cube.render("plans", size=SIZE, camera=view, renderer=renderer)
+    psnr, bad, _ = image_difference(reference, reference)
+    assert psnr == math.inf and bad == 0
+    cube.move_vertices([6], [(1.1, 1.1, 1.1)])  # a 10% pull on one corner
+    moved = cube.render("plans", size=SIZE, camera=view, renderer=renderer)
+    psnr, bad, _ = image_difference(moved, reference)
+    from conftest import MAX_BAD_FRACTION, MIN_PSNR
+    assert psnr < MIN_PSNR or bad > MAX_BAD_FRACTION, (psnr, bad)
+
+
+# ---- run-script ----------------------------------------------------------------------------
+
+def test_run_script_exit_status_and_traceback(tmp_path):
+    script = tmp_path / "scene.py"
+    script.write_text("import sys, quadplan as qp\n"
+                      "s = qp.load(sys.argv[1])\n"
+                      "print('faces', s.face_count)\n"
+                      "sys.exit(int(sys.argv[2]))\n")
+    done = run_cli("run-script", script, SCENES / "creased_box.json", 3)
+    assert done.returncode == 3 and "faces 6" in done.stdout, done.stderr
+    failing = tmp_path / "fails.py"
+    failing.write_text("import quadplan as qp\nqp.load('nowhere.obj')\n")
+    done = run_cli("run-script", failing)
+    assert done.returncode == 1 and "Traceback" in done.stderr and "quadplan.Error" in done.stderr
+    done = run_cli("run-script", tmp_path / "absent.py")
+    assert done.returncode != 0 and "absent.py" in done.stderr
+
+
+# ---- long sessions -------------------------------------------------------------------------
+
+def test_plan_database_follows_the_cage_not_the_session():
+    """Found by the soak test: the database kept every configuration a session ever made."""
+    scene = qp.Scene(qp.Cage.generated(400, 2))
+    in_use = scene.plan_stats()["unique_plans"]
+    edges = scene.edges
+    for k in range(300):
+        a, b = (int(v) for v in edges[(7 * k) % len(edges)])
+        scene.set_crease(a, b, 0.5 + 0.01 * k)  # a value never seen: new plans around the edge
+        scene.undo()
+    stats = scene.plan_stats()
+    assert stats["database_misses"] > 1000  # without releasing, the database would hold them all
+    assert stats["unique_plans"] == in_use
+    assert stats["database_plans"] <= in_use + max(512, in_use) + 50, stats
+    # Redo after a release rebuilds what it needs.
+    scene.redo()
+    assert_matches_rebuild(scene)
