@@ -72,6 +72,7 @@ public:
     Status build(const PlannedCage& planned, const SchemeSettings& settings);
     Status createGpu(const GpuContext& gpu);
     Status update();
+    Status updateMoved(std::span<const uint32_t> vertices);  // Scheme::updateMoved
     Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view);
     // All requests, in parallel (scheme_support.h: evaluateParallel).
     Status evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const;

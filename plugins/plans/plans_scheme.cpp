@@ -8,7 +8,9 @@
 // Options: path=auto|tess|grid|cpu. auto, tess and grid are the renderer's GPU paths
 // (render/draw_path.h: auto is grid on a CPU device); cpu evaluates the plans on a grid with
 // the CPU evaluator (all cores) in update() and draws triangles with MeshPass, the fast path on
-// lavapipe, where compute and tessellation shaders are slow.
+// lavapipe, where compute and tessellation shaders are slow. A frame that only moves the
+// camera draws the triangles as they are; after a vertex move, updateMoved re-evaluates only
+// the sub-faces whose 1-ring holds a moved vertex.
 #include <algorithm>
 #include <cstdio>
 
@@ -48,7 +50,10 @@ public:
             if (!parsed && !cpuPath_) return Error{"plans: unknown path '" + *path + "'; use auto, tess, grid or cpu"};
             if (parsed) requestedPath_ = *parsed;
         }
-        if (cpuPath_) grid_ = buildSubfaceGrid(planned, gridFactor());
+        if (cpuPath_) {
+            grid_ = buildSubfaceGrid(planned, gridFactor());
+            indexRings();
+        }
         return success();
     }
 
@@ -83,10 +88,37 @@ public:
         evaluateBatch(*planned_, grid_.samples, samples);
         std::vector<MeshVertex> vertices(samples.size());
         for (size_t i = 0; i < samples.size(); ++i) vertices[i] = {samples[i].position, normalOf(samples[i].du, samples[i].dv)};
-        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        if (mesh_.indexCount) {  // same grid: rewrite the vertices in place (the host waited for the device)
+            uploadBuffer(mesh_.vertices, vertices.data(), vertices.size() * sizeof(MeshVertex));
+            return success();
+        }
         Result<GpuMesh> mesh = uploadMesh(*ctx_, vertices, grid_.indices);
         if (!mesh) return mesh.error();
         mesh_ = *mesh;
+        return success();
+    }
+
+    // path=cpu: re-evaluates only the grid samples of sub-faces whose 1-ring holds a moved
+    // vertex (PlannedCage::moveVertices refreshed exactly those sub-faces' control points).
+    Status updateMoved(std::span<const uint32_t> vertices) override {
+        if (!cpuPath_ || !mesh_.indexCount) return update();
+        std::vector<uint32_t> touched;  // indices into grid_.subfaces
+        for (uint32_t v : vertices)
+            if (v + 1 < ringOffsets_.size())
+                touched.insert(touched.end(), ringSubfaces_.begin() + ringOffsets_[v], ringSubfaces_.begin() + ringOffsets_[v + 1]);
+        std::sort(touched.begin(), touched.end());
+        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+        std::vector<SampleRequest> requests;
+        for (uint32_t i : touched)
+            requests.insert(requests.end(), grid_.samples.begin() + grid_.firstSample[i],
+                            grid_.samples.begin() + grid_.firstSample[i + 1]);
+        std::vector<LimitSample> samples(requests.size());
+        evaluateBatch(*planned_, requests, samples);
+        auto* mapped = static_cast<MeshVertex*>(mesh_.vertices.data);
+        size_t k = 0;
+        for (uint32_t i : touched)
+            for (uint32_t j = grid_.firstSample[i]; j < grid_.firstSample[i + 1]; ++j, ++k)
+                mapped[j] = {samples[k].position, normalOf(samples[k].du, samples[k].dv)};
         return success();
     }
 
@@ -160,6 +192,19 @@ public:
     }
 
 private:
+    // Per vertex, the gridded sub-faces (indices into grid_.subfaces) whose 1-ring holds it.
+    void indexRings() {
+        const uint32_t vertexCount = planned_->cage().vertexCount();
+        ringOffsets_.assign(vertexCount + 1, 0);
+        for (uint32_t s : grid_.subfaces)
+            for (uint32_t v : planned_->subfaceRing(s)) ++ringOffsets_[v + 1];
+        for (uint32_t v = 0; v < vertexCount; ++v) ringOffsets_[v + 1] += ringOffsets_[v];
+        ringSubfaces_.resize(ringOffsets_.back());
+        std::vector<uint32_t> next(ringOffsets_.begin(), ringOffsets_.end() - 1);
+        for (uint32_t i = 0; i < grid_.subfaces.size(); ++i)
+            for (uint32_t v : planned_->subfaceRing(grid_.subfaces[i])) ringSubfaces_[next[v]++] = i;
+    }
+
     // The grid paths have no screen-adaptive mode: a fixed factor for adaptive requests.
     uint32_t gridFactor() const { return settings_.adaptivePixels > 0.0f ? 16u : settings_.tessFactor; }
 
@@ -180,6 +225,7 @@ private:
     // path=cpu
     bool cpuPath_ = false;
     SubfaceGrid grid_;
+    std::vector<uint32_t> ringOffsets_, ringSubfaces_;  // CSR: vertex -> gridded sub-faces seeing it
     MeshPass meshPass_;
     GpuMesh mesh_;
 };
