@@ -130,10 +130,14 @@ int runRender(const RenderArgs& args) {
         Status written = pixels ? writePng(args.out, width, height, *pixels) : Status(pixels.error());
         if (!written)
             status = fail("rendering " + args.path + " failed: " + written.error().message);
-        else
-            std::fprintf(stderr, "wrote %s (%ux%u, scheme %s on %s, %llu patches, %llu triangles)\n", args.out.c_str(),
-                         width, height, args.scheme.c_str(), ctx.deviceName.c_str(),
-                         (unsigned long long)drawStats->patches, (unsigned long long)drawStats->triangles);
+        else {
+            const std::string triangles = drawStats->triangles > 0
+                                              ? std::to_string(drawStats->triangles) + " triangles"
+                                              : "triangle count set by the tessellator at draw time";
+            std::fprintf(stderr, "wrote %s (%ux%u, scheme %s on %s, %llu patches, %s)\n", args.out.c_str(), width,
+                         height, args.scheme.c_str(), ctx.deviceName.c_str(),
+                         (unsigned long long)drawStats->patches, triangles.c_str());
+        }
     }
     if (prepared) {
         if (Status s = prepared->instance.destroyGpu(); !s) status = fail(s.error().message);
@@ -167,7 +171,8 @@ void registerRender(CLI::App& app, int& exitCode) {
     cmd->add_flag("--no-cage", args->noCage, "Do not draw the cage");
     cmd->add_option("--color-by", args->colorBy, "shading, or a scheme's own mode (plans: node-kind, depth, sharpness)");
     cmd->add_option("--camera", args->camera, "EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed)");
-    cmd->add_option("--path", args->drawPath, "plans: auto (default), tess, grid or cpu (the option path=...)");
+    cmd->add_option("--path", args->drawPath, "plans: auto (default: cpu on a CPU device, tess on a GPU), tess (tessellator), grid (compute-shader "
+                    "grid) or cpu (grid from the multithreaded CPU evaluator); the option path=...");
     cmd->add_option("--option", args->options, "Scheme option KEY=VALUE (repeatable), e.g. level=4 for uniform");
     cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
     cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, kMaxPlanDepth));

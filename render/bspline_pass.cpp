@@ -21,7 +21,6 @@ struct DrawPush {
     float pixelsPerUnit;
     uint32_t colorMode;
     uint32_t capture;
-    uint32_t gridStride;
 };
 
 // PlanPass's drawLayout declares its push range for every drawing stage.
@@ -52,8 +51,10 @@ Result<BSplinePass> createBSplinePass(const VulkanContext& ctx, VkPipelineCache 
         {"bspline.tese", VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT},
         {"plan.frag", VK_SHADER_STAGE_FRAGMENT_BIT}};
     std::vector<VkPipelineShaderStageCreateInfo> stages;
+    const ColorEncoding encoding(plans.colorFormat);
     for (auto [name, stage] : names)
-        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, loadShader(ctx, name), "main"});
+        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, loadShader(ctx, name), "main",
+                          stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
 
     VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};

@@ -1,10 +1,12 @@
 #include "draw_path.h"
 
+#include <cassert>
+
 namespace qp {
 
 DrawPath resolveDrawPath(DrawPath requested, const VulkanContext& context) {
     if (requested != DrawPath::Auto) return requested;
-    return context.isSoftware ? DrawPath::Grid : DrawPath::Tessellated;
+    return context.isSoftware ? DrawPath::CpuGrid : DrawPath::Tessellated;
 }
 
 const char* drawPathName(DrawPath path) {
@@ -12,15 +14,34 @@ const char* drawPathName(DrawPath path) {
     case DrawPath::Auto: return "auto";
     case DrawPath::Tessellated: return "tess";
     case DrawPath::Grid: return "grid";
+    case DrawPath::CpuGrid: return "cpu";
     }
     return "?";
 }
 
 std::optional<DrawPath> parseDrawPath(std::string_view name) {
-    if (name == "auto") return DrawPath::Auto;
-    if (name == "tess") return DrawPath::Tessellated;
-    if (name == "grid") return DrawPath::Grid;
+    for (DrawPath path : {DrawPath::Auto, DrawPath::Tessellated, DrawPath::Grid, DrawPath::CpuGrid})
+        if (name == drawPathName(path)) return path;
     return std::nullopt;
+}
+
+Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, const PlannedCage& planned,
+                        DrawPath path, const PlanView& view, const TessellationSettings& settings) {
+    assert(path != DrawPath::Auto && "resolveDrawPath first");
+    if (path == DrawPath::Tessellated) return success();
+    Status laidOut = settings.uniformFactor ? prepareGrid(ctx, pass, buffers, settings.uniformFactor)
+                                            : prepareGrid(ctx, pass, buffers, adaptiveGridFactors(buffers, view, settings));
+    if (!laidOut) return laidOut;
+    // A grid filled by the other evaluator is equally good; only a missing one is filled.
+    if (path == DrawPath::CpuGrid && buffers.gridEvaluator == GridEvaluator::None) evaluateGridOnCpu(planned, buffers);
+    return success();
+}
+
+void recordPlanFrame(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, DrawPath path,
+                     const RenderTarget& target, const PlanView& view, const TessellationSettings& settings) {
+    assert(path != DrawPath::Auto && "resolveDrawPath first");
+    if (path == DrawPath::Tessellated) recordTessellated(cmd, pass, buffers, target, view, settings);
+    else recordGrid(cmd, pass, buffers, target, view);
 }
 
 }  // namespace qp

@@ -17,6 +17,7 @@ constexpr uint32_t kEdgeStart[4] = {0, 1, 3, 0};
 constexpr uint32_t kEdgeEnd[4] = {1, 2, 2, 3};
 
 struct BoundaryBuilder {
+    const PlannedCage& planned;
     const Cage& cage;
     const Topology& topology;
     GpuPlanData& gpu;
@@ -26,9 +27,20 @@ struct BoundaryBuilder {
     uint32_t midpoint(uint32_t edge) const { return cage.vertexCount() + edge; }
     uint32_t centre(uint32_t face) const { return cage.vertexCount() + topology.edgeCount() + face; }
 
+    // A quad's edge is split when a drawn sub-face of a non-quad has half of it: then the
+    // midpoint is that sub-face's corner (and owned). Next to a hole, nothing meets the edge's
+    // middle, so the quad keeps it whole.
     bool edgeIsSplit(uint32_t edge) const {
-        for (uint32_t k = topology.edgeFaceOffsets[edge]; k < topology.edgeFaceOffsets[edge + 1]; ++k)
-            if (cage.faceSize(topology.edgeFaces[k]) != 4) return true;
+        for (uint32_t k = topology.edgeFaceOffsets[edge]; k < topology.edgeFaceOffsets[edge + 1]; ++k) {
+            const uint32_t face = topology.edgeFaces[k], n = cage.faceSize(face);
+            if (n == 4) continue;
+            for (uint32_t i = 0; i < n; ++i) {
+                if (topology.faceEdges[cage.faceOffsets[face] + i] != edge) continue;
+                // Sub-face i has the edge's first half, sub-face i + 1 its second.
+                const uint32_t first = planned.firstSubface(face);
+                if (planned.hasSurface(first + i) || planned.hasSurface(first + (i + 1) % n)) return true;
+            }
+        }
         return false;
     }
 
@@ -138,33 +150,75 @@ GpuPlanData packPlans(const PlannedCage& planned) {
     // edge; a quad owns half of its edge only when no such sub-face is drawn (e.g. a hole).
     gpu.boundaryPoints.assign(cage.vertexCount() + topology.edgeCount() + cage.faceCount(), GpuPoint{UINT32_MAX, 0});
     gpu.boundaries.resize(gpu.subfaces.size());
-    BoundaryBuilder builder{cage, topology, gpu, {}};
+    BoundaryBuilder builder{planned, cage, topology, gpu, {}};
     for (bool quads : {false, true})
         for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
             auto [face, corner] = faceAndCorner[d];
             if ((cage.faceSize(face) == 4) == quads) gpu.boundaries[d] = builder.build(d, face, corner);
         }
+
+    // Ring users, by counting sort.
+    gpu.vertexSubfaceOffsets.assign(cage.vertexCount() + 1, 0);
+    for (uint32_t v : gpu.rings) ++gpu.vertexSubfaceOffsets[v + 1];
+    for (uint32_t v = 0; v < cage.vertexCount(); ++v) gpu.vertexSubfaceOffsets[v + 1] += gpu.vertexSubfaceOffsets[v];
+    gpu.vertexSubfaces.resize(gpu.rings.size());
+    std::vector<uint32_t> fill(gpu.vertexSubfaceOffsets.begin(), gpu.vertexSubfaceOffsets.end() - 1);
+    for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
+        const uint32_t first = gpu.subfaces[d].ringOffset;
+        const uint32_t end = d + 1 < gpu.subfaces.size() ? gpu.subfaces[d + 1].ringOffset : uint32_t(gpu.rings.size());
+        for (uint32_t j = first; j < end; ++j) gpu.vertexSubfaces[fill[gpu.rings[j]]++] = d;
+    }
     return gpu;
 }
 
-std::vector<glm::vec4> boundaryPointPositions(const PlannedCage& planned) {
+std::vector<uint32_t> subfacesAround(const GpuPlanData& data, std::span<const uint32_t> vertices) {
+    std::vector<uint32_t> out;
+    for (uint32_t v : vertices)
+        out.insert(out.end(), data.vertexSubfaces.begin() + data.vertexSubfaceOffsets[v],
+                   data.vertexSubfaces.begin() + data.vertexSubfaceOffsets[v + 1]);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+std::vector<uint32_t> boundaryPointsAround(const PlannedCage& planned, std::span<const uint32_t> vertices) {
+    const Topology& topology = planned.topology();
+    const uint32_t vertexCount = planned.cage().vertexCount(), edgeCount = topology.edgeCount();
+    std::vector<uint32_t> out;
+    for (uint32_t v : vertices) {
+        out.push_back(v);
+        for (uint32_t k = topology.vertexEdgeOffsets[v]; k < topology.vertexEdgeOffsets[v + 1]; ++k)
+            out.push_back(vertexCount + topology.vertexEdges[k]);
+        for (uint32_t k = topology.vertexFaceOffsets[v]; k < topology.vertexFaceOffsets[v + 1]; ++k)
+            out.push_back(vertexCount + edgeCount + topology.vertexFaces[k]);
+    }
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+glm::vec4 boundaryPointPosition(const PlannedCage& planned, uint32_t id) {
     const Cage& cage = planned.cage();
     const Topology& topology = planned.topology();
-    std::vector<glm::vec4> points;
-    points.reserve(cage.vertexCount() + topology.edgeCount() + cage.faceCount());
-    for (const glm::vec3& p : cage.positions) points.push_back(glm::vec4(p, 1.0f));
-    // A midpoint carries the radius of its whole edge's bounding sphere in w, so both sides of
-    // a split edge size it from the same numbers.
-    for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
-        const glm::vec3& a = cage.positions[topology.edgeVertices[2 * e]];
-        const glm::vec3& b = cage.positions[topology.edgeVertices[2 * e + 1]];
-        points.push_back(glm::vec4(0.5f * (a + b), 0.5f * glm::length(b - a)));
+    if (id < cage.vertexCount()) return glm::vec4(cage.positions[id], 1.0f);
+    id -= cage.vertexCount();
+    if (id < topology.edgeCount()) {
+        // A midpoint carries the radius of its whole edge's bounding sphere, so both sides of a
+        // split edge size it from the same numbers.
+        const glm::vec3& a = cage.positions[topology.edgeVertices[2 * id]];
+        const glm::vec3& b = cage.positions[topology.edgeVertices[2 * id + 1]];
+        return glm::vec4(0.5f * (a + b), 0.5f * glm::length(b - a));
     }
-    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
-        glm::vec3 sum(0.0f);
-        for (uint32_t i = 0; i < cage.faceSize(f); ++i) sum += cage.positions[cage.faceBegin(f)[i]];
-        points.push_back(glm::vec4(sum / float(cage.faceSize(f)), 1.0f));
-    }
+    id -= topology.edgeCount();
+    glm::vec3 sum(0.0f);
+    for (uint32_t i = 0; i < cage.faceSize(id); ++i) sum += cage.positions[cage.faceBegin(id)[i]];
+    return glm::vec4(sum / float(cage.faceSize(id)), 1.0f);
+}
+
+std::vector<glm::vec4> boundaryPointPositions(const PlannedCage& planned) {
+    const uint32_t count = planned.cage().vertexCount() + planned.topology().edgeCount() + planned.cage().faceCount();
+    std::vector<glm::vec4> points(count);
+    for (uint32_t id = 0; id < count; ++id) points[id] = boundaryPointPosition(planned, id);
     return points;
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/vec4.hpp>
@@ -97,11 +98,23 @@ struct GpuPlanData {
     std::vector<GpuSubfaceBoundary> boundaries;  // parallels subfaces
     std::vector<GpuSegment> segments;
     std::vector<GpuPoint> boundaryPoints;        // indexed by boundary point id
+
+    // Not uploaded; for incremental updates. CSR: cage vertex -> the drawn sub-faces whose
+    // 1-ring holds it (whose control points move with it), ascending.
+    std::vector<uint32_t> vertexSubfaceOffsets, vertexSubfaces;
 };
 
+// Sorted, duplicate-free drawn sub-faces whose 1-ring holds one of `vertices`.
+std::vector<uint32_t> subfacesAround(const GpuPlanData& data, std::span<const uint32_t> vertices);
+
+// Ids of the boundary points whose position depends on one of `vertices`: the vertices, the
+// midpoints of their edges and the centres of their faces (see boundaryPointPositions).
+std::vector<uint32_t> boundaryPointsAround(const PlannedCage& planned, std::span<const uint32_t> vertices);
+
 // Positions of every boundary point (for tessellation factors), from the cage positions; a
-// cage-edge midpoint has the radius of that edge's bounding sphere in w.
+// cage-edge midpoint has the radius of that edge's bounding sphere in w, other points 1.
 std::vector<glm::vec4> boundaryPointPositions(const PlannedCage& planned);
+glm::vec4 boundaryPointPosition(const PlannedCage& planned, uint32_t id);
 
 GpuPlanData packPlans(const PlannedCage& planned);
 

@@ -38,7 +38,9 @@ Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cach
                                   VkShaderModule vert, VkShaderModule frag, bool wireframe, bool colorStream) {
     VkPipelineShaderStageCreateInfo stages[2] = {};
     stages[0] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vert, "main"};
-    stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, frag, "main"};
+    const ColorEncoding encoding(pass.colorFormat);
+    stages[1] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, frag, "main",
+                 &encoding.info};
 
     const VkVertexInputBindingDescription bindings[2] = {
         {0, sizeof(MeshVertex), VK_VERTEX_INPUT_RATE_VERTEX},
@@ -199,7 +201,6 @@ void destroyMeshPass(const VulkanContext& ctx, MeshPass& pass) {
 void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarget& target, const MeshView& view,
                     std::span<const MeshDraw> draws) {
     assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
-    const bool srgb = isSrgbFormat(pass.colorFormat);
     beginRendering(cmd, target, true, view.background);
 
     auto draw = [&](const MeshDraw& d, bool wire) {
@@ -209,7 +210,7 @@ void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarge
         push.eye = glm::vec4(view.eye, 1.0f);
         push.color = glm::vec4(wire ? d.wireColor : d.color, 1.0f);
         const float lighting = (wire || !d.lit) ? 1.0f : colorStream ? 2.0f : 0.0f;
-        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, lighting, srgb ? 0.0f : 1.0f, 0.0f);
+        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, lighting, 0.0f, 0.0f);
         vkCmdPushConstants(cmd, pass.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                            sizeof push, &push);
         const VkBuffer buffers[2] = {d.mesh->vertices.buffer, d.mesh->colors.buffer};

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
+#include <tuple>
 
+#include "cpu_grid.h"
 #include "shader_code.h"
 #include "vk_check.h"
 
@@ -20,19 +23,19 @@ struct DrawPush {
     float pixelsPerUnit;
     uint32_t colorMode;
     uint32_t capture;
-    uint32_t gridStride;
 };
 static_assert(sizeof(DrawPush) <= 128, "push constants: 128 bytes guaranteed");
 
 // Mirrors the push blocks of plan_stencils.comp and plan_grid.comp.
 struct ComputePush {
-    uint32_t subfaceCount;
-    uint32_t levelOrFactor;
+    uint32_t subfaceCount;  // workgroups: sub-faces, or entries of the update list
+    uint32_t levelOrPhase;  // stencils: tessellation level; grid: 0 evaluate, 1 copy
     uint32_t groupsPerRow;
-    uint32_t vertexStride;
+    uint32_t listOffset;    // kWholeCage, or where the sub-faces' list starts in updateList
 };
+constexpr uint32_t kWholeCage = UINT32_MAX;
 
-constexpr uint32_t kBindingCount = 15;
+constexpr uint32_t kBindingCount = 18;
 constexpr uint32_t kMaxGroupsPerRow = 65535;
 constexpr uint32_t kCaptureHeaderBytes = 16;
 constexpr VkShaderStageFlags kAllStages = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT |
@@ -76,9 +79,11 @@ Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache 
     const bool tessellated = names.control != nullptr;
     std::vector<VkShaderModule> modules;
     std::vector<VkPipelineShaderStageCreateInfo> stages;
+    const ColorEncoding encoding(pass.colorFormat);
     auto addStage = [&](const char* name, VkShaderStageFlagBits stage) {
         modules.push_back(loadShader(ctx, name));
-        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, modules.back(), "main"});
+        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, modules.back(), "main",
+                          stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
     };
     addStage(names.vertex, VK_SHADER_STAGE_VERTEX_BIT);
     if (tessellated) {
@@ -87,7 +92,19 @@ Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache 
     }
     addStage(names.fragment, VK_SHADER_STAGE_FRAGMENT_BIT);
 
+    // The grid is also a vertex buffer: the device's vertex fetch beats loads from a storage
+    // buffer in the vertex shader (measured on lavapipe, docs/renderer.md).
     VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+    const VkVertexInputBindingDescription gridBinding{0, sizeof(GridVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputAttributeDescription gridAttributes[2] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(GridVertex, position)},
+        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(GridVertex, normal)}};
+    if (!tessellated) {
+        vertexInput.vertexBindingDescriptionCount = 1;
+        vertexInput.pVertexBindingDescriptions = &gridBinding;
+        vertexInput.vertexAttributeDescriptionCount = 2;
+        vertexInput.pVertexAttributeDescriptions = gridAttributes;
+    }
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     assembly.topology = tessellated ? VK_PRIMITIVE_TOPOLOGY_PATCH_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     VkPipelineTessellationStateCreateInfo tessellation{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
@@ -185,11 +202,14 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, PlanPass& pass)
     if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_stencils.comp"), pass.stencils); !s) return s;
     if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_grid.comp"), pass.grid); !s) return s;
     const GraphicsStages tess{"plan.vert", "plan.tesc", "plan.tese", "plan.frag"};
-    const GraphicsStages grid{"plan_grid.vert", nullptr, nullptr, "plan.frag"};
+    // Plain shading and the wireframe pass only normals; the colour modes also the sub-face and (u, v).
+    const GraphicsStages grid{"plan_grid_lit.vert", nullptr, nullptr, "plan_lit.frag"};
+    const GraphicsStages gridColored{"plan_grid.vert", nullptr, nullptr, "plan.frag"};
     if (!ctx.features.tessellationShader)
         return Error{"the Vulkan device '" + ctx.deviceName + "' has no tessellation shaders"};
     if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, false), pass.tessellated); !s) return s;
     if (Status s = assign(createDrawPipeline(ctx, cache, pass, grid, false), pass.gridTriangles); !s) return s;
+    if (Status s = assign(createDrawPipeline(ctx, cache, pass, gridColored, false), pass.gridColored); !s) return s;
     if (ctx.features.fillModeNonSolid) {
         if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, true), pass.tessellatedWire); !s) return s;
         if (Status s = assign(createDrawPipeline(ctx, cache, pass, grid, true), pass.gridWire); !s) return s;
@@ -232,7 +252,7 @@ constexpr VkPipelineStageFlags2 kShaderStagesReading =
     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 
 void dispatchPerSubface(VkCommandBuffer cmd, const PlanPass& pass, VkPipeline pipeline, ComputePush push) {
-    uint32_t count = push.subfaceCount;
+    const uint32_t count = push.subfaceCount;
     if (count == 0) return;
     push.groupsPerRow = std::min(count, kMaxGroupsPerRow);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline);
@@ -241,11 +261,20 @@ void dispatchPerSubface(VkCommandBuffer cmd, const PlanPass& pass, VkPipeline pi
     vkCmdDispatch(cmd, push.groupsPerRow, (count + push.groupsPerRow - 1) / push.groupsPerRow, 1);
 }
 
-// Control points for factors up to 2^level, visible to every later shader stage.
-void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, uint32_t level) {
-    dispatchPerSubface(cmd, pass, pass.stencils, ComputePush{uint32_t(buffers.data.subfaces.size()), level, 0, 0});
-    barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, kShaderStagesReading,
-            VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+// Compute results (control points, grid vertices) before any later shader or vertex fetch.
+void computeWritesBeforeReads(VkCommandBuffer cmd) {
+    barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+            kShaderStagesReading | VK_PIPELINE_STAGE_2_VERTEX_ATTRIBUTE_INPUT_BIT,
+            VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
+}
+
+// Control points for factors up to 2^level, visible to every later shader stage; nothing when
+// they are cached for that level or a higher one.
+void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, uint32_t level) {
+    if (buffers.controlPointLevel != kNoControlPoints && buffers.controlPointLevel >= level) return;
+    dispatchPerSubface(cmd, pass, pass.stencils, ComputePush{uint32_t(buffers.data.subfaces.size()), level, 0, kWholeCage});
+    computeWritesBeforeReads(cmd);
+    buffers.controlPointLevel = level;
 }
 
 uint32_t levelFor(uint32_t factor) {
@@ -254,7 +283,7 @@ uint32_t levelFor(uint32_t factor) {
     return level;
 }
 
-DrawPush drawPush(const PlanView& view, const TessellationSettings* settings, uint32_t gridStride) {
+DrawPush drawPush(const PlanView& view, const TessellationSettings* settings) {
     DrawPush push{};
     push.viewProjection = view.viewProjection;
     push.uniformFactor = settings ? float(settings->uniformFactor) : 0.0f;
@@ -262,7 +291,6 @@ DrawPush drawPush(const PlanView& view, const TessellationSettings* settings, ui
     push.pixelsPerUnit = view.pixelsPerUnit;
     push.colorMode = uint32_t(view.colorBy);
     push.capture = view.capture ? 1u : 0u;
-    push.gridStride = gridStride;
     return push;
 }
 
@@ -271,7 +299,9 @@ DrawPush drawPush(const PlanView& view, const TessellationSettings* settings, ui
 Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& planned) {
     PlanBuffers b;
     b.data = packPlans(planned);
+    b.pointPositionsHost = boundaryPointPositions(planned);
     const GpuPlanData& d = b.data;
+    const std::vector<uint32_t> placeholder(4, 0);
     struct Item {
         Buffer& buffer;
         Result<Buffer> result;
@@ -288,10 +318,16 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
         {b.boundaries, createFilled(ctx, d.boundaries)},
         {b.segments, createFilled(ctx, d.segments)},
         {b.boundaryPoints, createFilled(ctx, d.boundaryPoints)},
-        {b.pointPositions, createFilled(ctx, boundaryPointPositions(planned))},
-        {b.subfaceFactors, createFilled(ctx, std::vector<uint32_t>(d.subfaces.size(), 1))},
-        {b.grid, createFilled(ctx, std::vector<float>(6))},
-        {b.capture, createFilled(ctx, std::vector<uint32_t>(4), VK_BUFFER_USAGE_TRANSFER_DST_BIT)},
+        {b.pointPositions, createFilled(ctx, b.pointPositionsHost)},
+        {b.capture, createFilled(ctx, placeholder, VK_BUFFER_USAGE_TRANSFER_DST_BIT)},
+        // The grid's buffers get their sizes from prepareGrid.
+        {b.subfaceGrid, createFilled(ctx, placeholder)},
+        {b.grid, createFilled(ctx, placeholder, VK_BUFFER_USAGE_VERTEX_BUFFER_BIT)},
+        {b.gridSource, createFilled(ctx, placeholder)},
+        {b.slotSubface, createFilled(ctx, placeholder)},
+        {b.gridIndices, createFilled(ctx, placeholder, VK_BUFFER_USAGE_INDEX_BUFFER_BIT)},
+        // A partial update lists its sub-faces twice at most (phase 1, then phase 2).
+        {b.updateList, createFilled(ctx, std::vector<uint32_t>(2 * d.subfaces.size() + 4), VK_BUFFER_USAGE_TRANSFER_DST_BIT)},
     };
     for (Item& item : items) {
         if (!item.result) {
@@ -305,18 +341,20 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
     return b;
 }
 
-void updatePositions(const PlanBuffers& buffers, const PlannedCage& planned) {
+void updatePositions(PlanBuffers& buffers, const PlannedCage& planned) {
     std::vector<float> positions = cagePositions(planned);
     assert(positions.size() * sizeof(float) <= buffers.positions.size);
     uploadBuffer(buffers.positions, positions.data(), positions.size() * sizeof(float));
-    std::vector<glm::vec4> points = boundaryPointPositions(planned);
-    uploadBuffer(buffers.pointPositions, points.data(), points.size() * sizeof(glm::vec4));
+    buffers.pointPositionsHost = boundaryPointPositions(planned);
+    uploadBuffer(buffers.pointPositions, buffers.pointPositionsHost.data(), buffers.pointPositionsHost.size() * sizeof(glm::vec4));
+    buffers.controlPointLevel = kNoControlPoints;
+    buffers.gridEvaluator = GridEvaluator::None;
 }
 
 void destroyPlanBuffers(const VulkanContext& ctx, PlanBuffers& b) {
     for (Buffer* buffer : {&b.planHeaders, &b.nodes, &b.points, &b.weights, &b.subfaces, &b.rings, &b.positions,
-                           &b.controlPoints, &b.boundaries, &b.segments, &b.boundaryPoints, &b.pointPositions,
-                           &b.subfaceFactors, &b.grid, &b.capture})
+                           &b.controlPoints, &b.boundaries, &b.segments, &b.boundaryPoints, &b.pointPositions, &b.capture,
+                           &b.subfaceGrid, &b.grid, &b.gridSource, &b.slotSubface, &b.gridIndices, &b.updateList})
         destroyBuffer(ctx, *buffer);
     b = PlanBuffers{};
 }
@@ -334,21 +372,22 @@ Result<PlanPass> createPlanPass(const VulkanContext& ctx, VkPipelineCache cache,
 }
 
 void destroyPlanPass(const VulkanContext& ctx, PlanPass& pass) {
-    for (VkPipeline p : {pass.stencils, pass.grid, pass.tessellated, pass.tessellatedWire, pass.gridTriangles, pass.gridWire})
+    for (VkPipeline p : {pass.stencils, pass.grid, pass.tessellated, pass.tessellatedWire, pass.gridTriangles,
+                         pass.gridColored, pass.gridWire})
         if (p) vkDestroyPipeline(ctx.device, p, nullptr);
     if (pass.computeLayout) vkDestroyPipelineLayout(ctx.device, pass.computeLayout, nullptr);
     if (pass.drawLayout) vkDestroyPipelineLayout(ctx.device, pass.drawLayout, nullptr);
     if (pass.pool) vkDestroyDescriptorPool(ctx.device, pass.pool, nullptr);
     if (pass.setLayout) vkDestroyDescriptorSetLayout(ctx.device, pass.setLayout, nullptr);
-    destroyBuffer(ctx, pass.gridIndices);
     pass = PlanPass{};
 }
 
 void bindPlanBuffers(const VulkanContext& ctx, PlanPass& pass, const PlanBuffers& b) {
-    const Buffer* order[kBindingCount] = {&b.planHeaders, &b.nodes,      &b.points,         &b.weights,
-                                          &b.subfaces,    &b.rings,      &b.positions,      &b.controlPoints,
-                                          &b.grid,        &b.boundaries, &b.segments,       &b.boundaryPoints,
-                                          &b.subfaceFactors, &b.pointPositions, &b.capture};
+    // Binding numbers as the shaders declare them.
+    const Buffer* order[kBindingCount] = {&b.planHeaders, &b.nodes,      &b.points,       &b.weights,     &b.subfaces,
+                                          &b.rings,       &b.positions,  &b.controlPoints, &b.grid,       &b.boundaries,
+                                          &b.segments,    &b.boundaryPoints, &b.subfaceGrid, &b.pointPositions,
+                                          &b.capture,     &b.updateList, &b.gridSource,   &b.slotSubface};
     VkDescriptorBufferInfo infos[kBindingCount];
     VkWriteDescriptorSet writes[kBindingCount];
     for (uint32_t i = 0; i < kBindingCount; ++i) {
@@ -372,8 +411,8 @@ uint32_t patchesPerDraw(uint32_t maxFactor) {
     return std::max(1u, 65535u / (side * side));
 }
 
-void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers,
-                       const RenderTarget& target, const PlanView& view, const TessellationSettings& settings) {
+void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,
+                       const PlanView& view, const TessellationSettings& settings) {
     assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
     if (view.capture) {
         vkCmdFillBuffer(cmd, buffers.capture.buffer, 0, 4, 0);
@@ -383,7 +422,7 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuff
     }
     recordStencils(cmd, pass, buffers, maxTessellationLevel(settings));
     beginRendering(cmd, target, true, view.background);
-    const DrawPush push = drawPush(view, &settings, 0);
+    const DrawPush push = drawPush(view, &settings);
     const uint32_t count = uint32_t(buffers.data.subfaces.size());
     const uint32_t perDraw = patchesPerDraw(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
     for (VkPipeline pipeline : {pass.tessellated, view.wireframe ? pass.tessellatedWire : VkPipeline(VK_NULL_HANDLE)}) {
@@ -413,82 +452,198 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuff
     vkCmdEndRendering(cmd);
 }
 
-uint32_t gridVerticesPerSubface(uint32_t factor) { return (factor + 1) * (factor + 1); }
+namespace {
 
-uint32_t gridFactorOf(const GpuPlanData& data, uint32_t drawn, uint32_t factor) {
-    const bool ngon = (data.boundaries[drawn].edges[0].flags & 4u) != 0;
-    return ngon ? std::max(1u, factor / 2) : factor;
+// A buffer of at least `bytes`: `buffer` itself when it is big enough, else a new one.
+Status ensureCapacity(const VulkanContext& ctx, Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage) {
+    bytes = std::max<VkDeviceSize>(bytes, 16);
+    if (buffer.size >= bytes) return success();
+    Result<Buffer> bigger = createBuffer(ctx, bytes, usage);
+    if (!bigger) return bigger.error();
+    destroyBuffer(ctx, buffer);
+    buffer = *bigger;
+    return success();
 }
 
-Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, uint32_t factor) {
-    assert(factor >= 1 && factor <= 64);
-    const GpuPlanData& d = buffers.data;
-    // Non-quads need an even factor so their half-size sub-faces line up with the quads.
-    bool anyNgon = false;
-    for (uint32_t i = 0; i < d.subfaces.size(); ++i) anyNgon |= gridFactorOf(d, i, 2) == 1;
-    if (anyNgon && factor % 2) ++factor;
-    if (buffers.gridFactor == factor && pass.gridIndexFactor == factor) return success();
+template <class T>
+void uploadVector(const Buffer& buffer, const std::vector<T>& values) {
+    if (!values.empty()) uploadBuffer(buffer, values.data(), values.size() * sizeof(T));
+}
 
-    const uint32_t stride = gridVerticesPerSubface(factor);
-    std::vector<uint32_t> factors(d.subfaces.size()), indices;
-    for (uint32_t i = 0; i < d.subfaces.size(); ++i) {
-        uint32_t n = factors[i] = gridFactorOf(d, i, factor), side = n + 1, base = i * stride;
-        for (uint32_t y = 0; y < n; ++y)
-            for (uint32_t x = 0; x < n; ++x) {
-                uint32_t a = base + y * side + x, b = a + 1, c = a + side + 1, e = a + side;
-                indices.insert(indices.end(), {a, b, c, a, c, e});
-            }
+void dispatchGridPhase(VkCommandBuffer cmd, const PlanPass& pass, uint32_t count, uint32_t phase, uint32_t listOffset) {
+    dispatchPerSubface(cmd, pass, pass.grid, ComputePush{count, phase, 0, listOffset});
+    computeWritesBeforeReads(cmd);
+}
+
+// Writes `list` into updateList at `offset` entries (vkCmdUpdateBuffer: at most 64 KiB a call).
+void recordListUpload(VkCommandBuffer cmd, const PlanBuffers& buffers, const std::vector<uint32_t>& list, uint32_t offset) {
+    constexpr size_t kChunk = 65536 / sizeof(uint32_t);
+    for (size_t first = 0; first < list.size(); first += kChunk) {
+        const size_t count = std::min(kChunk, list.size() - first);
+        vkCmdUpdateBuffer(cmd, buffers.updateList.buffer, (offset + first) * sizeof(uint32_t), count * sizeof(uint32_t),
+                          list.data() + first);
     }
-    Result<Buffer> grid = createBuffer(ctx, VkDeviceSize(stride) * d.subfaces.size() * sizeof(GridVertex) + 16,
-                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    if (!grid) return grid.error();
-    Result<Buffer> indexBuffer = createBuffer(ctx, std::max<size_t>(indices.size(), 4) * sizeof(uint32_t),
-                                              VK_BUFFER_USAGE_INDEX_BUFFER_BIT);
-    if (!indexBuffer) {
-        destroyBuffer(ctx, *grid);
-        return indexBuffer.error();
-    }
-    uploadBuffer(*indexBuffer, indices.data(), indices.size() * sizeof(uint32_t));
-    uploadBuffer(buffers.subfaceFactors, factors.data(), factors.size() * sizeof(uint32_t));
-    destroyBuffer(ctx, buffers.grid);
-    destroyBuffer(ctx, pass.gridIndices);
-    buffers.grid = *grid;
-    buffers.gridFactor = factor;
-    pass.gridIndices = *indexBuffer;
-    pass.gridIndexFactor = factor;
+}
+
+}  // namespace
+
+Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, uint32_t factor) {
+    return prepareGrid(ctx, pass, buffers, uniformGridFactors(buffers.data, factor));
+}
+
+Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors) {
+    if (!buffers.gridLayout.subfaceOffset.empty() && buffers.gridLayout.factors == factors) return success();
+    GridLayout layout = buildGridLayout(buffers.data, std::move(factors));
+    const VkDeviceSize gridBytes = VkDeviceSize(layout.slotCount()) * sizeof(GridVertex);
+    if (gridBytes > ctx.properties.limits.maxStorageBufferRange)
+        return Error{"the grid (" + std::to_string(gridBytes >> 20) + " MiB at factor " + std::to_string(layout.maxFactor) +
+                     ") is larger than the Vulkan device's storage buffer range (" +
+                     std::to_string(ctx.properties.limits.maxStorageBufferRange >> 20) +
+                     " MiB): use a lower factor or the tessellated path"};
+    std::vector<glm::uvec2> subfaceGrid(buffers.data.subfaces.size());
+    for (uint32_t d = 0; d < subfaceGrid.size(); ++d)
+        subfaceGrid[d] = {layout.factors.subfaceFactor[d], layout.subfaceOffset[d]};
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    const std::tuple<Buffer*, VkDeviceSize, VkBufferUsageFlags> sizes[] = {
+        {&buffers.grid, gridBytes, storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT},
+        {&buffers.gridSource, layout.source.size() * sizeof(uint32_t), storage},
+        {&buffers.slotSubface, layout.slotSubface.size() * sizeof(uint32_t), storage},
+        {&buffers.subfaceGrid, subfaceGrid.size() * sizeof(glm::uvec2), storage},
+        {&buffers.gridIndices, layout.indices.size() * sizeof(uint32_t), VkBufferUsageFlags(VK_BUFFER_USAGE_INDEX_BUFFER_BIT)}};
+    for (auto [buffer, bytes, usage] : sizes)
+        if (Status s = ensureCapacity(ctx, *buffer, bytes, usage); !s) return s;
+    uploadVector(buffers.gridSource, layout.source);
+    uploadVector(buffers.slotSubface, layout.slotSubface);
+    uploadVector(buffers.subfaceGrid, subfaceGrid);
+    uploadVector(buffers.gridIndices, layout.indices);
+    buffers.gridLayout = std::move(layout);
+    buffers.gridEvaluator = GridEvaluator::None;
     bindPlanBuffers(ctx, pass, buffers);
     return success();
 }
 
-void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers) {
-    assert(buffers.gridFactor > 0 && "prepareGrid first");
-    recordStencils(cmd, pass, buffers, levelFor(buffers.gridFactor));
-    dispatchPerSubface(cmd, pass, pass.grid,
-                       ComputePush{uint32_t(buffers.data.subfaces.size()), buffers.gridFactor, 0,
-                                   gridVerticesPerSubface(buffers.gridFactor)});
-    barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-            kShaderStagesReading | VK_PIPELINE_STAGE_2_HOST_BIT,
-            VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_HOST_READ_BIT);
+GridFactors adaptiveGridFactors(const PlanBuffers& buffers, const PlanView& view, const TessellationSettings& settings) {
+    const AdaptiveView adaptive{view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment};
+    const bool laidOut = !buffers.gridLayout.subfaceOffset.empty();
+    return adaptiveGridFactors(buffers.data, buffers.pointPositionsHost, adaptive,
+                               laidOut ? &buffers.gridLayout.factors : nullptr);
 }
 
-void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
-                const PlanView& view) {
-    recordGridEvaluation(cmd, pass, buffers);
+void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers) {
+    assert(!buffers.gridLayout.subfaceOffset.empty() && "prepareGrid first");
+    recordStencils(cmd, pass, buffers, levelFor(buffers.gridLayout.maxFactor));
+    const uint32_t count = uint32_t(buffers.data.subfaces.size());
+    dispatchGridPhase(cmd, pass, count, 0, kWholeCage);
+    dispatchGridPhase(cmd, pass, count, 1, kWholeCage);
+    // Tests read the grid back on the host.
+    barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
+            VK_ACCESS_2_HOST_READ_BIT);
+    buffers.gridEvaluator = GridEvaluator::Gpu;
+}
+
+void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers) {
+    assert(!buffers.gridLayout.subfaceOffset.empty() && "prepareGrid first");
+    evaluateWholeGridOnCpu(planned, buffers.data, buffers.gridLayout, static_cast<GridVertex*>(buffers.grid.data));
+    buffers.gridEvaluator = GridEvaluator::Cpu;
+}
+
+namespace {
+
+// Indexed GridVertex triangles into `target` (cleared), shaded as the view asks.
+void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices, uint32_t indexCount,
+                     const RenderTarget& target, const PlanView& view) {
+    assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
     beginRendering(cmd, target, true, view.background);
-    DrawPush push = drawPush(view, nullptr, gridVerticesPerSubface(buffers.gridFactor));
+    DrawPush push = drawPush(view, nullptr);
     push.capture = 0;
-    const uint32_t indexCount = uint32_t(pass.gridIndices.size / sizeof(uint32_t));
-    for (VkPipeline pipeline : {pass.gridTriangles, view.wireframe ? pass.gridWire : VkPipeline(VK_NULL_HANDLE)}) {
-        if (!pipeline) continue;
+    const VkPipeline surface = view.colorBy == ColorBy::Shading ? pass.gridTriangles : pass.gridColored;
+    for (VkPipeline pipeline : {surface, view.wireframe ? pass.gridWire : VkPipeline(VK_NULL_HANDLE)}) {
+        if (!pipeline || indexCount == 0) continue;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.drawLayout, 0, 1, &pass.set, 0, nullptr);
-        vkCmdBindIndexBuffer(cmd, pass.gridIndices.buffer, 0, VK_INDEX_TYPE_UINT32);
+        vkCmdBindIndexBuffer(cmd, indices, 0, VK_INDEX_TYPE_UINT32);
+        const VkDeviceSize offset = 0;
+        vkCmdBindVertexBuffers(cmd, 0, 1, &vertices, &offset);
         DrawPush p = push;
         if (pipeline == pass.gridWire) p.colorMode = 0xffffffffu;
         vkCmdPushConstants(cmd, pass.drawLayout, kDrawStages, 0, sizeof(p), &p);
         vkCmdDrawIndexed(cmd, indexCount, 1, 0, 0, 0);
     }
     vkCmdEndRendering(cmd);
+}
+
+}  // namespace
+
+void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
+                    const PlanView& view) {
+    assert(buffers.gridEvaluator != GridEvaluator::None && "fill the grid first");
+    recordTriangles(cmd, pass, buffers.grid.buffer, buffers.gridIndices.buffer, uint32_t(buffers.gridLayout.indices.size()),
+                    target, view);
+}
+
+void recordShadedTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices,
+                           uint32_t indexCount, const RenderTarget& target, const PlanView& view) {
+    PlanView shaded = view;
+    shaded.colorBy = ColorBy::Shading;
+    recordTriangles(cmd, pass, vertices, indices, indexCount, target, shaded);
+}
+
+void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,
+                const PlanView& view) {
+    if (buffers.gridEvaluator == GridEvaluator::None) recordGridEvaluation(cmd, pass, buffers);
+    recordGridDraw(cmd, pass, buffers, target, view);
+}
+
+MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
+                               const PlannedCage& planned, std::span<const uint32_t> vertices) {
+    MoveUpdate update;
+    update.movedVertices = uint32_t(vertices.size());
+    for (uint32_t v : vertices) {
+        const glm::vec3& p = planned.cage().positions[v];
+        const float xyz[3] = {p.x, p.y, p.z};
+        uploadBuffer(buffers.positions, xyz, sizeof xyz, size_t(v) * sizeof xyz);
+    }
+    for (uint32_t id : boundaryPointsAround(planned, vertices)) {
+        buffers.pointPositionsHost[id] = boundaryPointPosition(planned, id);
+        uploadBuffer(buffers.pointPositions, &buffers.pointPositionsHost[id], sizeof(glm::vec4), size_t(id) * sizeof(glm::vec4));
+    }
+    const bool controlPoints = buffers.controlPointLevel != kNoControlPoints;
+    if (!controlPoints && buffers.gridEvaluator != GridEvaluator::Cpu) {
+        buffers.gridEvaluator = GridEvaluator::None;  // re-evaluated whole, control points first
+        return update;
+    }
+    const std::vector<uint32_t> touched = subfacesAround(buffers.data, vertices);
+    const std::vector<uint32_t> copying =
+        buffers.gridEvaluator == GridEvaluator::None ? std::vector<uint32_t>{} : withDependents(buffers.gridLayout, touched);
+    if (touched.empty()) return update;
+
+    const uint32_t touchedCount = uint32_t(touched.size());
+    if (controlPoints || buffers.gridEvaluator == GridEvaluator::Gpu) {
+        // The list is recorded into the command buffer, so updates in flight never see another's.
+        barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+                VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        recordListUpload(cmd, buffers, touched, 0);
+        if (buffers.gridEvaluator == GridEvaluator::Gpu) recordListUpload(cmd, buffers, copying, touchedCount);
+        barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+                VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    }
+    if (controlPoints) {
+        dispatchPerSubface(cmd, pass, pass.stencils, ComputePush{touchedCount, buffers.controlPointLevel, 0, 0});
+        computeWritesBeforeReads(cmd);
+        update.controlPointSubfaces = touchedCount;
+    }
+    if (buffers.gridEvaluator == GridEvaluator::Gpu) {
+        dispatchGridPhase(cmd, pass, touchedCount, 0, 0);
+        dispatchGridPhase(cmd, pass, uint32_t(copying.size()), 1, touchedCount);
+    } else if (buffers.gridEvaluator == GridEvaluator::Cpu) {
+        evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, touched, copying,
+                          static_cast<GridVertex*>(buffers.grid.data));
+    }
+    if (buffers.gridEvaluator != GridEvaluator::None) {
+        update.evaluatedSubfaces = touchedCount;
+        update.copiedSubfaces = uint32_t(copying.size());
+    }
+    return update;
 }
 
 Status enableCapture(const VulkanContext& ctx, PlanBuffers& buffers, uint32_t capacity) {

@@ -1,18 +1,22 @@
-// PlanPass: draws planned limit surfaces (Brainerd et al. 2016 §5-§6) on the GPU.
+// PlanPass: draws planned limit surfaces (Brainerd et al. 2016 §5-§6) with Vulkan.
 //
-// Two paths share one set of buffers (render/gpu_plans.h) and one evaluator
-// (shaders/plan_eval.glsl):
+// Three paths share one set of buffers (render/gpu_plans.h) and one evaluator design
+// (shaders/plan_eval.glsl, the GLSL twin of core/plan_eval.cpp); draw_path.h picks one:
 //   - Tessellated: a compute pass applies each sub-face's stencil prefix for the level the
 //     largest factor needs (a compute pass rather than B16's tessellation-control stage: on
 //     lavapipe compute runs on every core, tessellation on one), then one patch per drawn
 //     sub-face goes through the tessellator; the control stage picks the factors (uniform, or
 //     adaptive by the screen size of a sphere around each edge, equal from both sides; 2k/k
-//     where a split n-gon meets a quad), the evaluation stage walks the quadtree.
-//   - Grid: a compute pass evaluates every sub-face on a uniform grid into a vertex buffer that
-//     is drawn as triangles (what a CPU rasteriser likes best).
-// Boundary vertices are evaluated by their owner in both paths, so shared edges are
-// bit-identical (watertight). Draws are split so that no single draw makes the tessellator
-// emit more than 65,535 vertices (lavapipe corrupts larger ones; platform notes).
+//     where a split n-gon meets a quad), the evaluation stage walks the quadtree. Boundary
+//     vertices are evaluated by their owner (gpu_plans.h), so shared edges are bit-identical.
+//     Draws are split so that no single draw makes the tessellator emit more than 65,535
+//     vertices (lavapipe corrupts larger ones; platform notes).
+//   - Grid: a compute pass evaluates every sub-face on a grid (grid_layout.h: uniform or
+//     adaptive factors, the same ownership) into a vertex buffer drawn as indexed triangles,
+//     what a CPU rasteriser likes best.
+//   - CPU grid: the same grid filled by the multithreaded CPU evaluator (cpu_grid.h).
+// The grid is cached: frames that only move the camera just draw it, and vertex moves
+// re-evaluate only the sub-faces they touch (recordMovedVertices).
 #pragma once
 
 #include <cstdint>
@@ -22,6 +26,7 @@
 #include <glm/mat4x4.hpp>
 
 #include "gpu_plans.h"
+#include "grid_layout.h"
 #include "render_target.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
@@ -35,18 +40,43 @@ struct TessellationSettings {
     float pixelsPerSegment = 8.0f;  // adaptive: target screen length of one segment
 };
 
-// GPU copies of one planned cage. Positions can be refreshed without re-uploading plans.
+// GPU copies of one planned cage.
+//
+// Caching. What the paths compute from positions is kept until something it depends on
+// changes: the control points (for the highest level asked for so far) and the grid (for its
+// layout). updatePositions and a new layout drop them; recordMovedVertices refreshes just the
+// sub-faces a vertex move touches. A view-only frame of the grid paths therefore only draws.
+// Edits that re-plan faces (sharpness, holes, topology) change the buffers' layout: upload the
+// cage again.
+// The flags describe recorded work: submit what was recorded before relying on them.
+//
+// Host writes. Positions, the CPU grid and the layout buffers are written through their
+// mapping: call those functions only while no submitted work uses the buffers (after the
+// fence of the last frame that drew them).
+enum class GridEvaluator : uint8_t { None, Gpu, Cpu };  // who filled the cached grid
+
+inline constexpr uint32_t kNoControlPoints = UINT32_MAX;
+
 struct PlanBuffers {
-    GpuPlanData data;               // what was uploaded, kept for sizes and tests
+    GpuPlanData data;               // what was uploaded, kept for sizes, updates and tests
     Buffer planHeaders, nodes, points, weights, subfaces, rings, positions, controlPoints;
-    Buffer boundaries, segments, boundaryPoints, pointPositions, subfaceFactors, grid, capture;
-    uint32_t gridFactor = 0;        // grid path: factor the grid buffer is laid out for
+    Buffer boundaries, segments, boundaryPoints, pointPositions, capture;
     uint32_t captureCapacity = 0;   // records the capture buffer holds
+    std::vector<glm::vec4> pointPositionsHost;  // what pointPositions holds (adaptive grid factors)
+
+    // Grid paths (prepareGrid): the layout and its buffers.
+    GridLayout gridLayout;
+    Buffer subfaceGrid;             // per drawn sub-face: grid factor n, first slot
+    Buffer grid, gridSource, slotSubface, gridIndices;
+    Buffer updateList;              // drawn sub-faces of partial updates (written by commands)
+
+    uint32_t controlPointLevel = kNoControlPoints;  // the control points serve factors <= 2^level
+    GridEvaluator gridEvaluator = GridEvaluator::None;
 };
 
 Result<PlanBuffers> uploadPlans(const VulkanContext& context, const PlannedCage& planned);
-// After vertex moves: new positions (and boundary point positions) for the same topology.
-void updatePositions(const PlanBuffers& buffers, const PlannedCage& planned);
+// New positions for every vertex (same topology); drops what was cached.
+void updatePositions(PlanBuffers& buffers, const PlannedCage& planned);
 void destroyPlanBuffers(const VulkanContext& context, PlanBuffers& buffers);
 
 struct PlanPass {
@@ -54,19 +84,19 @@ struct PlanPass {
     VkPipelineLayout computeLayout = VK_NULL_HANDLE, drawLayout = VK_NULL_HANDLE;
     VkPipeline stencils = VK_NULL_HANDLE, grid = VK_NULL_HANDLE;
     VkPipeline tessellated = VK_NULL_HANDLE, tessellatedWire = VK_NULL_HANDLE;
-    VkPipeline gridTriangles = VK_NULL_HANDLE, gridWire = VK_NULL_HANDLE;
+    VkPipeline gridTriangles = VK_NULL_HANDLE, gridColored = VK_NULL_HANDLE, gridWire = VK_NULL_HANDLE;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;
     VkFormat colorFormat = VK_FORMAT_UNDEFINED, depthFormat = VK_FORMAT_UNDEFINED;
-    Buffer gridIndices;             // triangle indices of one sub-face grid, per factor in use
-    uint32_t gridIndexFactor = 0;
 };
 
 Result<PlanPass> createPlanPass(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat,
                                 VkFormat depthFormat = VK_FORMAT_D32_SFLOAT);
 void destroyPlanPass(const VulkanContext& context, PlanPass& pass);
 
-// Points the pass's descriptor set at `buffers` (call after uploadPlans / a grid resize).
+// Points the pass's descriptor set at `buffers`: after uploadPlans and enableCapture
+// (prepareGrid rebinds itself when it replaces buffers). One set per pass: a pass draws one
+// cage.
 void bindPlanBuffers(const VulkanContext& context, PlanPass& pass, const PlanBuffers& buffers);
 
 struct PlanView {
@@ -88,26 +118,57 @@ uint32_t maxTessellationLevel(const TessellationSettings& settings);
 // Patches per draw so the tessellator emits at most 65,535 vertices per draw at `maxFactor`.
 uint32_t patchesPerDraw(uint32_t maxFactor);
 
-// Tessellated path: stencils for the needed level, then the patches, into `target` (cleared).
-void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers,
-                       const RenderTarget& target, const PlanView& view, const TessellationSettings& settings);
+// Tessellated path: the stencils for the needed level (unless cached), then the patches, into
+// `target` (cleared).
+void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,
+                       const PlanView& view, const TessellationSettings& settings);
 
-// Grid path: makes sure the grid buffer and indices fit `factor`, then evaluates and draws.
+// ---- grid paths --------------------------------------------------------------------------
+// Every drawn sub-face evaluated on a grid (grid_layout.h) into a vertex buffer that is drawn
+// as indexed triangles; evaluated by a compute shader (DrawPath::Grid) or by the CPU
+// (DrawPath::CpuGrid), then cached until positions or the layout change.
+
+// Lays the grid out for uniform `factor` (1..64) or for `factors` (adaptiveGridFactors),
+// growing buffers when needed. Does nothing when the layout is already that one; otherwise
+// the cached grid is dropped. May replace buffers: the device must be done with them.
 Status prepareGrid(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, uint32_t factor);
-void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
-                const PlanView& view);
-// Only the evaluation part of the grid path (for tests and read-backs).
-void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers);
+Status prepareGrid(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, GridFactors factors);
 
-// Grid vertex layout in PlanBuffers::grid: position and normal, 6 floats.
-struct GridVertex {
-    float position[3];
-    float normal[3];
+// Adaptive factors for `view` and `settings` (uniformFactor 0), keeping the current layout's
+// where they still fit (grid_layout.h); pass them to prepareGrid.
+GridFactors adaptiveGridFactors(const PlanBuffers& buffers, const PlanView& view, const TessellationSettings& settings);
+
+// Fills the whole grid with the compute shader (stencils first unless cached).
+void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers);
+// Fills the whole grid on the CPU (cpu_grid.h), now.
+void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers);
+// Draws the grid as it is (it must have been filled).
+void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
+                    const PlanView& view);
+// Any triangle mesh of GridVertex (a vertex buffer, uint32 indices) drawn as recordGridDraw
+// draws the grid with plain shading: the benchmark's pre-tessellated baseline, so that it
+// differs from a view frame only in where its vertices came from.
+void recordShadedTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices,
+                           uint32_t indexCount, const RenderTarget& target, const PlanView& view);
+// recordGridEvaluation unless the grid is cached, then recordGridDraw.
+void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,
+                const PlanView& view);
+
+// ---- incremental updates ----------------------------------------------------------------
+struct MoveUpdate {
+    uint32_t movedVertices = 0;
+    uint32_t controlPointSubfaces = 0;  // new control points (device)
+    uint32_t evaluatedSubfaces = 0;     // grid phase 1 (device or CPU)
+    uint32_t copiedSubfaces = 0;        // grid phase 2
 };
-// Vertices reserved per drawn sub-face in the grid buffer, and the factor a drawn sub-face uses
-// (quads `factor`, n-gon sub-faces half of it: they are half the size).
-uint32_t gridVerticesPerSubface(uint32_t factor);
-uint32_t gridFactorOf(const GpuPlanData& data, uint32_t drawn, uint32_t factor);
+
+// After planned.moveVertices(vertices, ...): writes the moved positions (and the boundary
+// points around them), then brings what is cached up to date for just the sub-faces whose
+// 1-ring holds a moved vertex: their control points and grid slots, plus the neighbours' copies
+// of their edge vertices. Device work is recorded into `cmd` (outside rendering); a CPU grid is
+// updated now. The result has the same bits as updatePositions and a full evaluation.
+MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
+                               const PlannedCage& planned, std::span<const uint32_t> vertices);
 
 // Capture record written by the tessellated path when PlanView::capture is set.
 struct CaptureRecord {

@@ -35,9 +35,23 @@ RenderTarget subArea(const RenderTarget& target, VkRect2D area);
 // True for formats whose writes the hardware encodes to sRGB.
 bool isSrgbFormat(VkFormat format);
 
+// Specialisation of shaders/color_encoding.glsl for a target format: fragment shaders encode
+// their linear colour to sRGB themselves unless the format does it. Pass `info` as the
+// fragment stage's pSpecializationInfo; it points into this object, so keep it alive (and in
+// place) until the pipeline is created.
+struct ColorEncoding {
+    VkBool32 encodeInShader;
+    VkSpecializationMapEntry entry{0, 0, sizeof(VkBool32)};
+    VkSpecializationInfo info{1, &entry, sizeof(VkBool32), &encodeInShader};
+
+    explicit ColorEncoding(VkFormat target) : encodeInShader(isSrgbFormat(target) ? VK_FALSE : VK_TRUE) {}
+    ColorEncoding(const ColorEncoding&) = delete;
+    ColorEncoding& operator=(const ColorEncoding&) = delete;
+};
+
 // Starts dynamic rendering into target.area with viewport and scissor set to it. With `clear`
-// the area's colour is cleared to `background` (linear; encoded for UNORM targets the way our
-// shaders encode their output) and its depth to 1; without, what earlier passes drew is kept.
+// the area's colour is cleared to `background` (linear; encoded for UNORM targets with the sRGB
+// curve, as the shaders encode their output: ColorEncoding) and its depth to 1; without, what earlier passes drew is kept.
 // Waits for earlier passes' attachment writes and for earlier copies from the colour image.
 // End with vkCmdEndRendering; the layout contract holds afterwards.
 void beginRendering(VkCommandBuffer cmd, const RenderTarget& target, bool clear, const glm::vec3& background);

@@ -54,7 +54,8 @@ struct VulkanContext {
     VkPhysicalDeviceMemoryProperties memoryProperties = {};
     VkPhysicalDeviceFeatures features = {};  // what was enabled
     std::string deviceName;
-    bool isSoftware = false;  // a CPU implementation such as lavapipe
+    bool isSoftware = false;  // a CPU implementation such as lavapipe (then malloc keeps freed
+                              // memory for the process: see keepFreedMemory in vk_context.cpp)
     // Heap-allocated so its address, which the messenger holds, survives moves of the context.
     // Kept by destroyContext, so messages from teardown (leaked objects) can still be read.
     std::unique_ptr<ValidationLog> validation;

@@ -1,5 +1,6 @@
 // Runs the real `quadplan` executable and checks what it prints and its exit status.
 #include <array>
+#include <optional>
 #include <cstring>
 #include <cstdio>
 #include <filesystem>
@@ -156,8 +157,24 @@ std::string tempPng(const std::string& name) {
 
 }  // namespace
 
+// Sets an environment variable for the commands a test runs, and restores it afterwards.
+struct ScopedEnv {
+    std::string name;
+    std::optional<std::string> saved;
+    ScopedEnv(std::string n, const char* value) : name(std::move(n)) {
+        if (const char* old = std::getenv(name.c_str())) saved = old;
+        if (value) setenv(name.c_str(), value, 1);
+        else unsetenv(name.c_str());
+    }
+    ~ScopedEnv() {
+        if (saved) setenv(name.c_str(), saved->c_str(), 1);
+        else unsetenv(name.c_str());
+    }
+};
+
 TEST(CliRender, DefaultSceneHeadlessWithSilentValidation) {
     std::string out = tempPng("default");
+    ScopedEnv noDisplay("DISPLAY", nullptr);
     CommandRun run = runQuadplan(std::string("render ") + QUADPLAN_SCENES_DIR + "/default.json --validate --size 320x240 --out " + out, true);
     ASSERT_EQ(run.status, 0) << run.out;
     EXPECT_EQ(run.out.find("validation:"), std::string::npos) << run.out;
@@ -174,7 +191,8 @@ TEST(CliRender, BothPathsColourModesAndCamera) {
     std::string scene = std::string(QUADPLAN_SCENES_DIR) + "/creased_box.json";
     for (std::string options : {"--path tess --tess 4 --wire", "--path grid --tess 6 --color-by depth",
                                 "--path tess --adaptive 5 --color-by node-kind --no-cage",
-                                "--camera 4,3,5,0,0,0,35 --color-by sharpness"}) {
+                                "--camera 4,3,5,0,0,0,35 --color-by sharpness", "--path cpu --tess 5 --wire",
+                                "--path grid --adaptive 6 --wire", "--path cpu --adaptive 4 --color-by depth"}) {
         std::string out = tempPng("box");
         CommandRun run = runQuadplan("render " + scene + " --validate --size 200x200 " + options + " --out " + out, true);
         ASSERT_EQ(run.status, 0) << options << "\n" << run.out;
@@ -194,6 +212,9 @@ TEST(CliRender, BadRequestsFailWithAMessage) {
                           Case{"--camera 1,2,3 --out /tmp/x.png", "--camera"},
                           Case{"--size 12x9000 --out /tmp/x.png", "--size"},
                           Case{"--color-by rainbow --out /tmp/x.png", "--color-by"},
+                          Case{"--size 800 --out /tmp/x.png", "--size"},
+                          Case{"--path warp --out /tmp/x.png", "--path"},
+                          Case{"--tess 0 --out /tmp/x.png", "--tess"},
                           Case{"--out /nonexistent-dir/x.png", "/nonexistent-dir/x.png"}}) {
         CommandRun run = runQuadplan("render " + scene + " " + c.options, true);
         EXPECT_NE(run.status, 0) << c.options;
@@ -202,6 +223,13 @@ TEST(CliRender, BadRequestsFailWithAMessage) {
     CommandRun missing = runQuadplan("render /nonexistent/cage.obj --out /tmp/x.png", true);
     EXPECT_NE(missing.status, 0);
     EXPECT_NE(missing.out.find("/nonexistent/cage.obj"), std::string::npos);
+    // A device that is not there: the message names what was asked for, and nothing is written.
+    const std::string out = tempPng("nodevice");
+    ScopedEnv device("QUADPLAN_VK_DEVICE", "nonexistent");
+    CommandRun noDevice = runQuadplan("render " + scene + " --out " + out, true);
+    EXPECT_NE(noDevice.status, 0);
+    EXPECT_NE(noDevice.out.find("nonexistent"), std::string::npos) << noDevice.out;
+    EXPECT_FALSE(std::filesystem::exists(out));
 }
 
 namespace {

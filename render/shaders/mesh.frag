@@ -1,17 +1,13 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "mesh_push.glsl"
+#include "color_encoding.glsl"
 
 layout(location = 0) in vec3 inNormal;
 layout(location = 1) in vec3 inWorld;
 layout(location = 2) in vec3 inColor;
 
 layout(location = 0) out vec4 outColor;
-
-// Lighting happens in linear space; an SRGB target encodes on store, a UNORM one needs it here.
-vec3 linearToSrgb(vec3 c) {
-    return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(vec3(0.0031308), c));
-}
 
 void main() {
     vec3 color = inColor;
@@ -31,6 +27,5 @@ void main() {
             color = color * (0.06 + 0.75 * head + 0.25 * fill) + vec3(0.15 * specular);
         }
     }
-    if (pc.params.z > 0.5) color = linearToSrgb(clamp(color, 0.0, 1.0));
-    outColor = vec4(color, 1.0);
+    outColor = encodeColor(color);
 }

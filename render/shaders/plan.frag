@@ -3,6 +3,8 @@
 // (the leaf is found again from the interpolated (u, v), a descent without evaluation).
 #include "plan_eval.glsl"
 #include "plan_draw.glsl"
+#include "plan_lighting.glsl"
+#include "color_encoding.glsl"
 
 layout(location = 1) in vec3 inNormal;
 layout(location = 2) flat in uint inDrawn;
@@ -18,10 +20,10 @@ vec3 ramp(float t) {  // blue -> cyan -> green -> yellow -> red
 
 void main() {
     if (draw.colorMode == 0xffffffffu) {  // tessellation wireframe
-        outColor = vec4(0.08, 0.1, 0.14, 1.0);
+        outColor = encodeColor(kWireColor);
         return;
     }
-    vec3 albedo = vec3(0.72, 0.74, 0.78);
+    vec3 albedo = kPlanAlbedo;
     if (draw.colorMode != COLOR_LIT) {
         Subface f = subfaces[inDrawn];
         Leaf found = findLeaf(f.plan, clamp(toPlanFrame(f.rotation, inUV), 0.0, 1.0));
@@ -36,15 +38,8 @@ void main() {
             albedo = ramp(float(depth) / float(max(planHeaders[f.plan].maxDepth, 1u)));
         } else {
             float sharpness = kind == NODE_CREASE ? uintBitsToFloat(leaf.z) : 0.0;
-            albedo = sharpness > 0.0 ? ramp(sharpness / 10.0) : vec3(0.72, 0.74, 0.78);
+            albedo = sharpness > 0.0 ? ramp(sharpness / 10.0) : kPlanAlbedo;
         }
     }
-    // A key light from the front-right-above and a fill from the upper left, both two-sided
-    // (open cages show their inside).
-    vec3 n = normalize(inNormal);
-    if (!gl_FrontFacing) n = -n;
-    vec3 key = normalize(vec3(0.3, 0.5, 1.0)), fill = normalize(vec3(-0.6, 0.8, -0.2));
-    float diffuse = 0.75 * abs(dot(n, key)) + 0.25 * max(dot(n, fill), 0.0);
-    vec3 color = albedo * (0.18 + 0.82 * diffuse);
-    outColor = vec4(pow(color, vec3(1.0 / 2.2)), 1.0);
+    outColor = encodeColor(lightPlan(albedo, inNormal, gl_FrontFacing));
 }

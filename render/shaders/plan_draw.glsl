@@ -6,7 +6,6 @@ layout(push_constant) uniform DrawPush {
     float pixelsPerUnit;      // projection scale: pixels per unit at w = 1 (viewport height / 2 * P[1][1])
     uint colorMode;           // see plan.frag
     uint capture;             // tessellated path: 1 records every evaluated vertex
-    uint gridStride;          // grid path: vertices reserved per sub-face
 } draw;
 
 layout(std430, set = 0, binding = 13) readonly buffer PointPositions { vec4 pointPositions[]; };

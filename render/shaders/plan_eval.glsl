@@ -102,32 +102,51 @@ void creaseBasisFar(float x, float sharpness, out vec4 b, out vec4 d) {
 vec4 foldNear(vec4 b) { return vec4(0.0, b.y + 2.0 * b.x, b.z - b.x, b.w); }
 vec4 foldFar(vec4 b) { return vec4(b.x, b.y - b.w, b.z + 2.0 * b.w, 0.0); }
 
-// Gregory patch in OpenSubdiv's GREGORY_BASIS order (corner k: P, Ep, Em, Fp, Fm).
+// One Bezier point's share of a sample: value, and derivatives along u and v.
+void addBezier(inout LimitSample r, vec3 cp, float bu, float du, float bv, float dv) {
+    r.position += bu * bv * cp;
+    r.du += du * bv * cp;
+    r.dv += bu * dv * cp;
+}
+
+// Weight of a corner's Fp point against its Fm point (s, t: distances along Ep's and Em's edges).
+float gregoryWeight(float s, float t) {
+    float st = s + t;
+    return st > 0.0 ? s / st : 0.5;
+}
+
+// Gregory patch in OpenSubdiv's GREGORY_BASIS order (corner k: P, Ep, Em, Fp, Fm), written out
+// per corner: as a loop over corners with tables of Bezier indices it took about half of the
+// grid compute pass on lavapipe, although few samples reach it (docs/renderer.md).
 LimitSample gregoryPatch(uint pointBase, uint cpBase, float u, float v) {
     vec4 bu, du, bv, dv;
     bernsteinBasis(u, bu, du);
     bernsteinBasis(v, bv, dv);
-    // Bezier (i, j) of P, Ep, Em and the interior point F, per corner.
-    const ivec2 P[4] = ivec2[4](ivec2(0, 0), ivec2(3, 0), ivec2(3, 3), ivec2(0, 3));
-    const ivec2 EP[4] = ivec2[4](ivec2(1, 0), ivec2(3, 1), ivec2(2, 3), ivec2(0, 2));
-    const ivec2 EM[4] = ivec2[4](ivec2(0, 1), ivec2(2, 0), ivec2(3, 2), ivec2(1, 3));
-    const ivec2 F[4] = ivec2[4](ivec2(1, 1), ivec2(2, 1), ivec2(2, 2), ivec2(1, 2));
-    // Distances along Ep's edge (s) and Em's edge (t) from each corner.
-    float sDist[4] = float[4](u, v, 1.0 - u, 1.0 - v);
-    float tDist[4] = float[4](v, 1.0 - u, 1.0 - v, u);
+    vec3 p[20];
+    for (uint k = 0u; k < 20u; ++k) p[k] = controlPoints[cpBase + points[pointBase + k]].xyz;
+    float g0 = gregoryWeight(u, v), g1 = gregoryWeight(v, 1.0 - u);
+    float g2 = gregoryWeight(1.0 - u, 1.0 - v), g3 = gregoryWeight(1.0 - v, u);
     LimitSample r = LimitSample(vec3(0.0), vec3(0.0), vec3(0.0));
-    for (int k = 0; k < 4; ++k) {
-        float st = sDist[k] + tDist[k];
-        float g = st > 0.0 ? sDist[k] / st : 0.5;
-        ivec2 ij[5] = ivec2[5](P[k], EP[k], EM[k], F[k], F[k]);
-        float blend[5] = float[5](1.0, 1.0, 1.0, g, 1.0 - g);
-        for (int m = 0; m < 5; ++m) {
-            vec3 cp = controlPoints[cpBase + points[pointBase + uint(5 * k + m)]].xyz;
-            r.position += blend[m] * bu[ij[m].x] * bv[ij[m].y] * cp;
-            r.du += blend[m] * du[ij[m].x] * bv[ij[m].y] * cp;
-            r.dv += blend[m] * bu[ij[m].x] * dv[ij[m].y] * cp;
-        }
-    }
+    // Corner 0 at Bezier (0, 0): P (0, 0), Ep (1, 0), Em (0, 1), F (1, 1).
+    addBezier(r, p[0], bu.x, du.x, bv.x, dv.x);
+    addBezier(r, p[1], bu.y, du.y, bv.x, dv.x);
+    addBezier(r, p[2], bu.x, du.x, bv.y, dv.y);
+    addBezier(r, g0 * p[3] + (1.0 - g0) * p[4], bu.y, du.y, bv.y, dv.y);
+    // Corner 1 at (3, 0): P (3, 0), Ep (3, 1), Em (2, 0), F (2, 1).
+    addBezier(r, p[5], bu.w, du.w, bv.x, dv.x);
+    addBezier(r, p[6], bu.w, du.w, bv.y, dv.y);
+    addBezier(r, p[7], bu.z, du.z, bv.x, dv.x);
+    addBezier(r, g1 * p[8] + (1.0 - g1) * p[9], bu.z, du.z, bv.y, dv.y);
+    // Corner 2 at (3, 3): P (3, 3), Ep (2, 3), Em (3, 2), F (2, 2).
+    addBezier(r, p[10], bu.w, du.w, bv.w, dv.w);
+    addBezier(r, p[11], bu.z, du.z, bv.w, dv.w);
+    addBezier(r, p[12], bu.w, du.w, bv.z, dv.z);
+    addBezier(r, g2 * p[13] + (1.0 - g2) * p[14], bu.z, du.z, bv.z, dv.z);
+    // Corner 3 at (0, 3): P (0, 3), Ep (0, 2), Em (1, 3), F (1, 2).
+    addBezier(r, p[15], bu.x, du.x, bv.w, dv.w);
+    addBezier(r, p[16], bu.x, du.x, bv.z, dv.z);
+    addBezier(r, p[17], bu.y, du.y, bv.w, dv.w);
+    addBezier(r, g3 * p[18] + (1.0 - g3) * p[19], bu.y, du.y, bv.z, dv.z);
     return r;
 }
 

@@ -1,5 +1,5 @@
 #version 450
-// Applies the stencil prefix of every drawn sub-face: control points for tessellation level
+// Applies the stencil prefix of drawn sub-faces: control points for tessellation level
 // `level` (factors <= 2^level). One workgroup per sub-face, threads stride over its stencils.
 #define QP_WRITE_CONTROL_POINTS
 #include "plan_eval.glsl"
@@ -9,14 +9,18 @@
 const uint kGroupSize = 64u;
 layout(local_size_x = 64) in;  // = kGroupSize
 layout(push_constant) uniform Push {
-    uint subfaceCount;
+    uint subfaceCount;  // workgroups that do work
     uint level;
     uint groupsPerRow;  // dispatch is 2D when there are more sub-faces than one row allows
+    uint listOffset;    // 0xffffffff: workgroup i is drawn sub-face i; else updateList[listOffset + i]
 } push;
 
+layout(std430, set = 0, binding = 15) readonly buffer UpdateList { uint updateList[]; };
+
 void main() {
-    uint drawn = gl_WorkGroupID.y * push.groupsPerRow + gl_WorkGroupID.x;
-    if (drawn >= push.subfaceCount) return;
+    uint id = gl_WorkGroupID.y * push.groupsPerRow + gl_WorkGroupID.x;
+    if (id >= push.subfaceCount) return;
+    uint drawn = push.listOffset == 0xffffffffu ? id : updateList[push.listOffset + id];
     Subface f = subfaces[drawn];
     uint count = planHeaders[f.plan].stencilCountByLevel[push.level];
     for (uint i = gl_LocalInvocationID.x; i < count; i += kGroupSize)

@@ -1,0 +1,228 @@
+#include "grid_layout.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cassert>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace qp {
+
+namespace {
+
+// GpuEdgeRef::flags and GpuSegment::ownerEdge, as gpu_plans.cpp writes them.
+constexpr uint32_t kReversed = 1, kSplit = 2, kHalf = 4;
+constexpr uint32_t kStartCorner[4] = {0, 1, 3, 0}, kEndCorner[4] = {1, 2, 2, 3};
+
+bool isNgonSubface(const GpuPlanData& data, uint32_t drawn) { return (data.boundaries[drawn].edges[0].flags & kHalf) != 0; }
+
+// Pieces along edge `e` of a drawn sub-face.
+uint32_t edgePieces(const GpuPlanData& data, const GridFactors& factors, uint32_t drawn, uint32_t e) {
+    const GpuEdgeRef& r = data.boundaries[drawn].edges[e];
+    const uint32_t pieces = factors.segmentPieces[r.segment];
+    return (r.flags & kSplit) ? 2 * pieces : pieces;
+}
+
+// A place on a drawn sub-face's boundary: slot (x, y) of its grid.
+struct GridPlace {
+    uint32_t drawn, x, y;
+};
+
+GridPlace cornerPlace(uint32_t drawn, uint32_t corner, uint32_t n) {
+    return {drawn, (corner == 1 || corner == 2) ? n : 0, corner >= 2 ? n : 0};
+}
+
+GridPlace edgePlace(uint32_t drawn, uint32_t e, uint32_t index, uint32_t n) {
+    switch (e) {
+    case 0: return {drawn, index, 0};
+    case 1: return {drawn, n, index};
+    case 2: return {drawn, index, n};
+    default: return {drawn, 0, index};
+    }
+}
+
+// The C++ twin of shaders/plan_boundary.glsl's owner lookup, ending in the owner's grid slot
+// instead of a parameter. Vertex c of k along `segment`, counted in its canonical direction.
+GridPlace segmentOwnerPlace(const GpuPlanData& data, const GridFactors& factors, uint32_t segment, uint32_t c, uint32_t k) {
+    const GpuSegment& s = data.segments[segment];
+    const uint32_t edge = s.ownerEdge & 3, halfOfEdge = (s.ownerEdge >> 2) & 3;
+    const uint32_t local = s.ownerReversed ? k - c : c;
+    const uint32_t numerator = halfOfEdge == 0 ? local : (halfOfEdge - 1) * k + local;
+    const uint32_t denominator = halfOfEdge == 0 ? k : 2 * k;
+    const uint32_t n = factors.subfaceFactor[s.owner];
+    assert(n % denominator == 0 && "an edge's pieces divide the grid factor of the sub-face owning it");
+    return edgePlace(s.owner, edge, numerator * (n / denominator), n);
+}
+
+GridPlace pointOwnerPlace(const GpuPlanData& data, const GridFactors& factors, uint32_t point) {
+    const GpuPoint& p = data.boundaryPoints[point];
+    return cornerPlace(p.owner, p.ownerCorner, factors.subfaceFactor[p.owner]);
+}
+
+// Vertex i of P along edge e of `drawn`.
+GridPlace edgeVertexOwnerPlace(const GpuPlanData& data, const GridFactors& factors, uint32_t drawn, uint32_t e,
+                               uint32_t i, uint32_t pieces) {
+    const GpuSubfaceBoundary& b = data.boundaries[drawn];
+    const GpuEdgeRef& r = b.edges[e];
+    if (i == 0) return pointOwnerPlace(data, factors, b.corners[kStartCorner[e]]);
+    if (i == pieces) return pointOwnerPlace(data, factors, b.corners[kEndCorner[e]]);
+    if (r.flags & kSplit) {
+        const uint32_t k = pieces / 2;
+        if (i == k) return pointOwnerPlace(data, factors, r.midpoint);
+        if (i < k) return segmentOwnerPlace(data, factors, r.segment, i, k);
+        return segmentOwnerPlace(data, factors, r.secondHalf, pieces - i, k);
+    }
+    return segmentOwnerPlace(data, factors, r.segment, (r.flags & kReversed) ? pieces - i : i, pieces);
+}
+
+// Segments needed for a sphere to be `pixelsPerSegment` long on screen (plan_draw.glsl).
+float sphereFactor(const AdaptiveView& view, const glm::vec3& centre, float radius) {
+    const float w = std::max((view.viewProjection * glm::vec4(centre, 1.0f)).w, 1e-4f);
+    return std::clamp(2.0f * radius * view.pixelsPerUnit / w / view.pixelsPerSegment, 1.0f, 64.0f);
+}
+
+uint32_t powerOfTwoAtLeast(float pieces) { return std::bit_ceil(uint32_t(std::ceil(pieces))); }
+
+}  // namespace
+
+uint32_t uniformGridFactor(const GpuPlanData& data, uint32_t factor) {
+    assert(factor >= 1 && factor <= 64);
+    for (uint32_t d = 0; d < data.subfaces.size(); ++d)
+        if (isNgonSubface(data, d)) return factor % 2 ? factor + 1 : factor;
+    return factor;
+}
+
+GridFactors uniformGridFactors(const GpuPlanData& data, uint32_t factor) {
+    factor = uniformGridFactor(data, factor);
+    GridFactors f;
+    f.segmentPieces.assign(data.segments.size(), factor);
+    f.subfaceFactor.resize(data.subfaces.size());
+    for (uint32_t d = 0; d < data.subfaces.size(); ++d) {
+        const bool ngon = isNgonSubface(data, d);
+        f.subfaceFactor[d] = ngon ? std::max(1u, factor / 2) : factor;
+        // n-gon sub-faces are half-size: their spokes and half edges take half the pieces.
+        for (const GpuEdgeRef& r : data.boundaries[d].edges) {
+            if (ngon || (r.flags & kSplit)) f.segmentPieces[r.segment] = std::max(1u, factor / 2);
+            if (r.flags & kSplit) f.segmentPieces[r.secondHalf] = std::max(1u, factor / 2);
+        }
+    }
+    return f;
+}
+
+GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::vec4> points, const AdaptiveView& view,
+                                const GridFactors* previous) {
+    GridFactors f;
+    f.segmentPieces.assign(data.segments.size(), 0);
+    f.subfaceFactor.assign(data.subfaces.size(), 1);
+    auto choose = [&](uint32_t segment, float wanted) {
+        if (f.segmentPieces[segment]) return;  // seen from its other side
+        uint32_t pieces = powerOfTwoAtLeast(wanted);
+        if (previous) {
+            // Only powers of two: a uniform layout's 5 pieces next to 4 would not divide the
+            // sub-face's factor.
+            const uint32_t kept = previous->segmentPieces[segment];
+            if (std::has_single_bit(kept) && wanted <= float(kept) && wanted * 2.5f > float(kept)) pieces = kept;
+        }
+        f.segmentPieces[segment] = pieces;
+    };
+    for (uint32_t d = 0; d < data.subfaces.size(); ++d) {
+        const GpuSubfaceBoundary& b = data.boundaries[d];
+        const bool ngon = isNgonSubface(data, d);
+        for (uint32_t e = 0; e < 4; ++e) {
+            const GpuEdgeRef& r = b.edges[e];
+            if (r.flags & (kSplit | kHalf)) {  // half of a cage edge: sized by the whole edge
+                const glm::vec4& m = points[r.midpoint];
+                const float wanted = 0.5f * sphereFactor(view, glm::vec3(m), m.w);
+                choose(r.segment, wanted);
+                if (r.flags & kSplit) choose(r.secondHalf, wanted);
+                continue;
+            }
+            const uint32_t a = b.corners[kStartCorner[e]], z = b.corners[kEndCorner[e]];
+            const glm::vec3 pa(points[std::min(a, z)]), pz(points[std::max(a, z)]);
+            const float wanted = sphereFactor(view, 0.5f * (pa + pz), 0.5f * glm::length(pz - pa));
+            choose(r.segment, ngon ? 0.5f * wanted : wanted);
+        }
+    }
+    for (uint32_t d = 0; d < data.subfaces.size(); ++d)
+        for (uint32_t e = 0; e < 4; ++e) f.subfaceFactor[d] = std::max(f.subfaceFactor[d], edgePieces(data, f, d, e));
+    return f;
+}
+
+GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors) {
+    GridLayout layout;
+    const uint32_t count = uint32_t(data.subfaces.size());
+    layout.subfaceOffset.resize(count + 1, 0);
+    std::vector<size_t> indexOffset(count + 1, 0);
+    for (uint32_t d = 0; d < count; ++d) {
+        const uint32_t n = factors.subfaceFactor[d];
+        layout.subfaceOffset[d + 1] = layout.subfaceOffset[d] + (n + 1) * (n + 1);
+        indexOffset[d + 1] = indexOffset[d] + 6 * size_t(n) * n;
+        layout.maxFactor = std::max(layout.maxFactor, n);
+    }
+    layout.source.resize(layout.slotCount());
+    layout.slotSubface.resize(layout.slotCount());
+    layout.indices.resize(indexOffset[count]);
+
+    // Per sub-face, the other sub-faces it copies from: its corners' and edges' owners.
+    constexpr uint32_t kMaxOwners = 16;
+    std::vector<std::array<uint32_t, kMaxOwners>> owners(count);
+    std::vector<uint32_t> ownerCount(count, 0);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 64), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t d = range.begin(); d != range.end(); ++d) {
+            const uint32_t n = factors.subfaceFactor[d], side = n + 1, base = layout.subfaceOffset[d];
+            std::fill(layout.slotSubface.begin() + base, layout.slotSubface.begin() + base + side * side, d);
+            for (uint32_t slot = base; slot < base + side * side; ++slot) layout.source[slot] = slot;
+            for (uint32_t e = 0; e < 4; ++e) {
+                const uint32_t pieces = edgePieces(data, factors, d, e);
+                assert(pieces >= 1 && n % pieces == 0 && "a sub-face's factor is a multiple of its edges' pieces");
+                for (uint32_t i = 0; i <= n; ++i) {
+                    const GridPlace here = edgePlace(d, e, i, n);
+                    const uint32_t j = (2 * i * pieces + n) / (2 * n);  // nearest edge vertex (ties: the later one)
+                    const GridPlace owner = edgeVertexOwnerPlace(data, factors, d, e, j, pieces);
+                    const uint32_t ownerSide = factors.subfaceFactor[owner.drawn] + 1;
+                    layout.source[base + here.y * side + here.x] = layout.subfaceOffset[owner.drawn] + owner.y * ownerSide + owner.x;
+                    if (owner.drawn == d) continue;
+                    auto* list = owners[d].data();
+                    if (std::find(list, list + ownerCount[d], owner.drawn) != list + ownerCount[d]) continue;
+                    assert(ownerCount[d] < kMaxOwners);
+                    list[ownerCount[d]++] = owner.drawn;
+                }
+            }
+            uint32_t* index = layout.indices.data() + indexOffset[d];
+            for (uint32_t y = 0; y < n; ++y)
+                for (uint32_t x = 0; x < n; ++x) {
+                    const uint32_t a = base + y * side + x, b = a + 1, c = a + side + 1, e = a + side;
+                    *index++ = a, *index++ = b, *index++ = c, *index++ = a, *index++ = c, *index++ = e;
+                }
+        }
+    });
+    for ([[maybe_unused]] uint32_t s : layout.source) assert(layout.source[s] == s && "copies come from evaluated slots");
+
+    // Invert "d copies from o" into the CSR of o's dependents, in ascending order.
+    layout.dependentOffsets.assign(count + 1, 0);
+    for (uint32_t d = 0; d < count; ++d)
+        for (uint32_t k = 0; k < ownerCount[d]; ++k) ++layout.dependentOffsets[owners[d][k] + 1];
+    for (uint32_t d = 0; d < count; ++d) layout.dependentOffsets[d + 1] += layout.dependentOffsets[d];
+    layout.dependents.resize(layout.dependentOffsets[count]);
+    std::vector<uint32_t> fill(layout.dependentOffsets.begin(), layout.dependentOffsets.end() - 1);
+    for (uint32_t d = 0; d < count; ++d)
+        for (uint32_t k = 0; k < ownerCount[d]; ++k) layout.dependents[fill[owners[d][k]]++] = d;
+    layout.factors = std::move(factors);
+    return layout;
+}
+
+std::vector<uint32_t> withDependents(const GridLayout& layout, std::span<const uint32_t> drawn) {
+    std::vector<uint32_t> out(drawn.begin(), drawn.end());
+    for (uint32_t d : drawn)
+        out.insert(out.end(), layout.dependents.begin() + layout.dependentOffsets[d],
+                   layout.dependents.begin() + layout.dependentOffsets[d + 1]);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
+}  // namespace qp
