@@ -368,6 +368,41 @@ TEST(Document, ADragIsOneHistoryEntry) {
     EXPECT_EQ(doc->planned->cage().positions[0], start);
 }
 
+// The unsaved-changes marker follows the history: back at the saved state the document is
+// clean; a new edit that makes the saved state unreachable (a dropped redo branch, a drag
+// continuing the entry that ended at it) keeps it dirty for good.
+TEST(Document, UndoingBackToTheSavedStateIsClean) {
+    const fs::path dir = scratchDir("clean");
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    const glm::vec3 start = doc->planned->cage().positions[0];
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {start + glm::vec3(1, 0, 0)}}, 1).ok());
+    EXPECT_TRUE(doc->dirty);
+    ASSERT_TRUE(undoEdit(*doc, 2).ok());
+    EXPECT_FALSE(doc->dirty) << "undone back to the file as opened";
+    ASSERT_TRUE(redoEdit(*doc, 3).ok());
+    EXPECT_TRUE(doc->dirty);
+    ASSERT_TRUE(saveDocument(*doc, (dir / "cube.json").string()).ok());
+    EXPECT_FALSE(doc->dirty);
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{1}, {glm::vec3(2, 2, 2)}}, 4).ok());
+    EXPECT_TRUE(doc->dirty);
+    ASSERT_TRUE(jumpToHistory(*doc, 1, 5).ok());
+    EXPECT_FALSE(doc->dirty) << "jumped back to the saved state";
+    ASSERT_TRUE(undoEdit(*doc, 6).ok());
+    EXPECT_TRUE(doc->dirty);
+    // A new edit here drops the redo entry leading to the saved state: dirty from now on.
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{2}, {glm::vec3(3, 3, 3)}}, 7).ok());
+    ASSERT_TRUE(undoEdit(*doc, 8).ok());
+    EXPECT_TRUE(doc->dirty) << "the saved state is not in the history any more";
+    EXPECT_FALSE(doc->savedPosition.has_value());
+    // Saved in the middle of a drag: continuing the drag changes the saved entry.
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {glm::vec3(4, 0, 0)}, false, "move"}, 9).ok());
+    ASSERT_TRUE(saveDocument(*doc, (dir / "cube.json").string()).ok());
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {glm::vec3(5, 0, 0)}, true, "move"}, 10).ok());
+    EXPECT_TRUE(doc->dirty);
+    EXPECT_FALSE(doc->savedPosition.has_value());
+}
+
 TEST(Document, SelectionModesOpsAndIndexChecks) {
     std::unique_ptr<Document> doc = cubeDocument();
     ASSERT_TRUE(doc);

@@ -163,12 +163,33 @@ void pruneSelection(Document& doc) {
     });
 }
 
+// After a new edit: the saved state stays reachable through undo unless the edit dropped the
+// redo entries leading to it, extended the entry that ended at it (a continued drag), or the
+// history's budget dropped the oldest entries up to it.
+void forgetUnreachableSave(Document& doc, const Edit& edit, size_t before, size_t sizeBefore) {
+    if (!doc.savedPosition) return;
+    size_t& saved = *doc.savedPosition;
+    const auto* move = std::get_if<MoveVertices>(&edit);
+    const bool extended = move && move->continueDrag && doc.history.position() == before && doc.history.size() == sizeBefore;
+    if (extended) {
+        if (saved >= before) doc.savedPosition.reset();
+        return;
+    }
+    if (saved > before) {
+        doc.savedPosition.reset();
+        return;
+    }
+    const size_t trimmed = before + 1 > doc.history.position() ? before + 1 - doc.history.position() : 0;
+    if (saved < trimmed) doc.savedPosition.reset();
+    else saved -= trimmed;
+}
+
 // Revisions, dirty flag and the stats panel's record, for any change to the cage.
 void noteChange(Document& doc, const std::string& description, const EditReport& report, uint64_t frame) {
     ++doc.positionRevision;
     if (report.replannedFaces > 0 || report.topologyChanged) ++doc.planRevision;
     if (report.topologyChanged) ++doc.topologyRevision;
-    doc.dirty = true;
+    doc.dirty = !(doc.savedPosition && *doc.savedPosition == doc.history.position());
     doc.lastEdit = LastEdit{description, report, frame};
 }
 
@@ -243,6 +264,7 @@ std::string documentTitle(const Document& doc) {
 Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
     const std::string name = describeEdit(edit);
+    const size_t before = doc.history.position(), sizeBefore = doc.history.size();
     std::optional<TopologyEdit> topology;
     Result<EditReport> report = std::visit(
         [&](const auto& e) -> Result<EditReport> {
@@ -258,6 +280,7 @@ Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
         },
         edit);
     if (!report) return report;
+    forgetUnreachableSave(doc, edit, before, sizeBefore);
     // A drag merged into the previous entry reports only its last step; the history keeps the
     // entry's name.
     noteChange(doc, name, *report, frame);
@@ -374,6 +397,7 @@ Status saveDocument(Document& doc, const std::string& path) {
     if (!saved) return saved;
     doc.path = path;
     doc.dirty = false;
+    doc.savedPosition = doc.history.position();
     return success();
 }
 

@@ -90,6 +90,9 @@ struct Document {
     EditHistory history;
     std::string path;  // file loaded from or last saved to; empty: untitled
     bool dirty = false;
+    // The history position of the state last loaded or saved; unset when no undo or redo can
+    // return to it (a new edit dropped it). Undoing or redoing back to it makes `dirty` false.
+    std::optional<size_t> savedPosition = 0;
     // Revisions the renderer and the pickers compare with what they were built from. Every
     // applied edit, undo or redo bumps positionRevision (a consumer diffs the positions to find
     // which vertices moved); planRevision when plans or tags changed; topologyRevision when

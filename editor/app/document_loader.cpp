@@ -83,7 +83,10 @@ void DocumentLoader::run() {
     Result<std::unique_ptr<Document>> document = createDocument(std::move(scene).value(), documentPath, request.options);
     if (!document) return finish(document.error());
     LoadedDocument loaded{std::move(document).value(), std::move(warnings)};
-    if (request.fromRecovery) loaded.document->dirty = true;  // restored work is still unsaved
+    if (request.fromRecovery) {  // restored work is still unsaved
+        loaded.document->dirty = true;
+        loaded.document->savedPosition.reset();
+    }
     setStage("Done", 1.0f);
     finish(std::move(loaded));
 }
