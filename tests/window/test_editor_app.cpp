@@ -277,6 +277,115 @@ TEST_F(EditorWindow, RealMouseAndKeyboardThroughX) {
     }
 }
 
+// Issue 6 items 3-7 as a person uses them: box select in face mode, extrude, crease and corner
+// tools, undo/redo and a jump in the history, the move handle dragged with real X events, and two
+// viewports with different schemes beside each other, one with its error heat map.
+TEST_F(EditorWindow, SelectsEditsCreasesUndoesAndComparesSchemes) {
+    Result<Scene> scene = loadSceneOrCage((dir / "default.json").string());
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    const Cage& cage = scene->cage;
+    const uint32_t faces = cage.faceCount();
+    ASSERT_EQ(cage.faceSize(0), 4u);
+    const uint32_t a = cage.faceBegin(0)[0], b = cage.faceBegin(0)[1];
+    const bool gestures = haveProgram("xdotool");
+    EditorProcess editor;
+    start(editor,
+          "wait-idle\nwait-frames 2\ndump-state t0.json\n"
+          // Box select over the whole viewport in face mode: the faces the surface shows.
+          "select-mode face\nbox-select 0 5 45 715 695\ndump-state t1.json\n"
+          // Extrude one face, undo, redo.
+          "select face 0\nextrude 0.2\nwait-frames 1\ndump-state t2.json\nundo\ndump-state t3.json\nredo\n"
+          "wait-frames 1\nscreenshot extruded.png\ndump-state t4.json\n"
+          // Crease an edge and corner a vertex through the selection tools.
+          "select edge " + std::to_string(a) + "-" + std::to_string(b) + "\ncrease 3.5\n"
+          "select vertex " + std::to_string(a) + "\ncorner 2\nwait-frames 1\ndump-state t5.json\n"
+          // Back to the document as opened, in one jump.
+          "jump-history 0\nwait-frames 1\ndump-state t6.json\n"
+          // The move handle on one vertex, dragged along x by the test (xdotool).
+          "select vertex " + std::to_string(a) + "\nset-tool move\nwait-frames 2\ndump-state g0.json\n" +
+              (gestures ? "wait-file go\nwait-frames 4\ndump-state g1.json\n" : "") +
+              "set-tool select\n"
+              // Two viewports, plans beside uniform with its error heat map.
+              "set-viewports 2\nset-scheme 1 uniform\nheatmap 1 on\nwait-frames 30\nscreenshot compare.png\n"
+              "dump-state h.json\nquit\nclick-button Discard changes\n",
+          (dir / "default.json").string());
+    json t0 = waitForState(editor, "t0.json"), t1 = waitForState(editor, "t1.json");
+    json t2 = waitForState(editor, "t2.json"), t3 = waitForState(editor, "t3.json"), t4 = waitForState(editor, "t4.json");
+    json t5 = waitForState(editor, "t5.json"), t6 = waitForState(editor, "t6.json"), g0 = waitForState(editor, "g0.json");
+    ASSERT_TRUE(t0.is_object() && t6.is_object() && g0.is_object());
+
+    // Box select: some faces but not the hidden ones behind the surface.
+    const size_t boxed = t1["selection"]["faces"].size();
+    EXPECT_GT(boxed, 10u);
+    EXPECT_LT(boxed, faces) << "box select took faces the surface hides";
+
+    // Extrude adds the face's four sides; undo removes them; redo brings them back.
+    EXPECT_EQ(t2["faces"].get<uint32_t>(), faces + 4);
+    EXPECT_TRUE(t2["last_edit"]["topology_changed"].get<bool>());
+    EXPECT_GT(t2["last_edit"]["replanned_faces"].get<uint32_t>(), 0u);
+    EXPECT_LT(t2["last_edit"]["replanned_faces"].get<uint32_t>(), faces) << "an extrude re-planned everything";
+    EXPECT_EQ(t3["faces"].get<uint32_t>(), faces);
+    EXPECT_EQ(t3["vertices"], t0["vertices"]) << "undo did not restore the cage";
+    EXPECT_EQ(t4["faces"].get<uint32_t>(), faces + 4);
+    EXPECT_EQ(t4["vertices"], t2["vertices"]);
+
+    // Crease and corner, as the history says.
+    EXPECT_NE(t5["creases"].dump().find(json{std::min(a, b), std::max(a, b), 3.5}.dump()), std::string::npos)
+        << t5["creases"].dump();
+    EXPECT_NE(t5["corners"].dump().find(json{a, 2.0}.dump()), std::string::npos) << t5["corners"].dump();
+    EXPECT_EQ(t5["history"]["size"].get<int>(), 3);
+    EXPECT_EQ(t5["history"]["position"].get<int>(), 3);
+
+    // The jump undid all three: the cage and tags as opened, the entries still there to redo.
+    EXPECT_EQ(t6["faces"].get<uint32_t>(), faces);
+    EXPECT_EQ(t6["vertices"], t0["vertices"]);
+    EXPECT_EQ(t6["creases"], t0["creases"]);
+    EXPECT_EQ(t6["corners"], t0["corners"]);
+    EXPECT_EQ(t6["history"]["position"].get<int>(), 0);
+    EXPECT_EQ(t6["history"]["size"].get<int>(), 3);
+    EXPECT_FALSE(t6["dirty"].get<bool>()) << "back at the saved state, the document is clean";
+
+    // The move handle: grab the x arrow half way and drag 60 px along it on screen.
+    ASSERT_TRUE(g0["viewports"][0].contains("gizmo")) << "no move handle for a selected vertex";
+    if (gestures) {
+        const int wx = g0["window"]["x"].get<int>(), wy = g0["window"]["y"].get<int>();
+        auto screen = [&](glm::vec2 p) { return std::to_string(wx + int(p.x)) + " " + std::to_string(wy + int(p.y)); };
+        const json& gizmo = g0["viewports"][0]["gizmo"];
+        const glm::vec2 centre(gizmo["centre"][0].get<float>(), gizmo["centre"][1].get<float>());
+        const glm::vec2 xEnd(gizmo["x"][0].get<float>(), gizmo["x"][1].get<float>());
+        const glm::vec2 grab = 0.5f * (centre + xEnd), along = glm::normalize(xEnd - centre);
+        EXPECT_EQ(xdotool("mousemove " + screen(grab) + " sleep 0.8 mousedown 1 sleep 0.8 mousemove " +
+                          screen(grab + 30.0f * along) + " sleep 0.8 mousemove " + screen(grab + 60.0f * along) +
+                          " sleep 0.8 mouseup 1 sleep 0.5"),
+                  0);
+        writeText(dir / "go", "");
+        json g1 = waitForState(editor, "g1.json");
+        ASSERT_TRUE(g1.is_object());
+        const glm::vec3 moved = vertexOf(g1, a) - vertexOf(g0, a);
+        EXPECT_GT(moved.x, 1e-3f) << "dragging the x arrow did not move the vertex along +x";
+        EXPECT_NEAR(moved.y, 0.0f, 1e-5f);
+        EXPECT_NEAR(moved.z, 0.0f, 1e-5f);
+        EXPECT_EQ(g1["last_edit"]["replanned_faces"], 0) << "a move re-planned faces";
+    }
+
+    // Side by side: plans (exact, no heat map) and uniform with its error coloured.
+    json h = waitForState(editor, "h.json");
+    expectCleanExit(editor);
+    ASSERT_EQ(h["viewports"].size(), 2u);
+    EXPECT_EQ(h["viewports"][0]["scheme"], "plans");
+    EXPECT_EQ(h["viewports"][1]["scheme"], "uniform");
+    EXPECT_TRUE(h["viewports"][1]["drawn"].get<bool>()) << h["viewports"][1]["problem"];
+    const json& heat = h["viewports"][1]["heatmap"];
+    EXPECT_TRUE(heat["on"].get<bool>());
+    EXPECT_TRUE(heat["valid"].get<bool>());
+    EXPECT_GT(heat["max"].get<double>(), 0.0) << "uniform subdivision is not the limit surface";
+    Picture p = loadPng(dir / "compare.png");
+    for (const json& v : h["viewports"]) {
+        const int x = v["rect"][0], y = v["rect"][1], w = v["rect"][2], hh = v["rect"][3];
+        EXPECT_GT(distinctColors(p, x, y, x + w, y + hh), 20u) << "a viewport is blank";
+    }
+}
+
 // Quitting with unsaved changes asks first; Cancel keeps editing; Save on an untitled document
 // asks for a name (Save As) and then quits.
 TEST_F(EditorWindow, ConfirmsBeforeLosingChanges) {
