@@ -914,10 +914,13 @@ void benchEditor(const BenchCage& bench, const BenchArgs& args, Report& report) 
         return;
     }
     const std::string frames = std::to_string(args.repeats * kEditorFramesPerRepeat);
-    std::ofstream(dir / "script.txt") << "wait-idle\nwait-frames 5\nmeasure-frames " << frames << " idle.json\n"
-                                      << "measure-frames " << frames << " orbit.json orbit\nselect-vertex 10\n"
-                                      << "measure-frames " << frames << " drag.json drag\nquit\nclick-button Discard changes\n";
-    const std::string command = "'/proc/self/exe' edit '" + cagePath + "' --no-vsync --size 1280x800 --automation '" +
+    auto out = [&](const char* name) { return (dir / name).string(); };  // the editor runs in our working directory
+    std::ofstream(dir / "script.txt") << "wait-idle\nwait-frames 5\nmeasure-frames " << frames << " " << out("idle.json") << "\n"
+                                      << "measure-frames " << frames << " " << out("orbit.json") << " orbit\nselect-vertex 10\n"
+                                      << "measure-frames " << frames << " " << out("drag.json")
+                                      << " drag\nquit\nclick-button Discard changes\n";
+    const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();  // not the shell's
+    const std::string command = "'" + self + "' edit '" + cagePath + "' --no-vsync --size 1280x800 --automation '" +
                                 (dir / "script.txt").string() + "' --autosave-seconds 3600 > '" + (dir / "editor.log").string() + "' 2>&1";
     const int status = std::system(command.c_str());
     auto load = [&](const char* name) {

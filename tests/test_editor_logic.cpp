@@ -68,7 +68,6 @@ TEST(AutomationScript, RejectsMistakesNamingTheLine) {
         {"action file.teleport\n", "unknown action"},
         {"key hyper\n", "unknown key"},
         {"mouse-down thumb\n", "left, middle or right"},
-        {"set-color-by 0 rainbow\n", "colour mode"},
         {"measure-frames 5 out.json sprint\n", "'drag' or 'orbit'"},
     };
     for (const Case& c : cases) {

@@ -533,7 +533,18 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
             if (!app.catalog.find(a[1])) fail(c, "unknown scheme '" + a[1] + "'; loaded: " + app.catalog.names());
             else app.viewports[i].scheme = a[1];
         }
-        if (n == "set-color-by") app.viewports[i].colorBy = canonicalColorMode(a[1]);
+        if (n == "set-color-by") {
+            // Each scheme lists its own modes, so the check waits until the viewport's scheme is up.
+            const std::string mode = canonicalColorMode(a[1]);
+            const std::vector<std::string>* modes = i < app.renderer.views.size() ? &app.renderer.views[i].colorModes : nullptr;
+            if (modes && std::find(modes->begin(), modes->end(), mode) == modes->end()) {
+                std::string known;
+                for (const std::string& m : *modes) known += (known.empty() ? "" : ", ") + m;
+                fail(c, "viewport " + a[0] + "'s scheme has no colour mode '" + a[1] + "'; it has: " + known);
+            } else {
+                app.viewports[i].colorBy = mode;
+            }
+        }
         if (n == "heatmap") app.viewports[i].heatMap = a[1] == "on";
         if (n == "set-link") {
             app.viewports[i].camera = app.sharedCamera;

@@ -514,6 +514,11 @@ TEST_F(EditorWindow, RejectsABadAutomationScript) {
     start(editor, "wait-frames 2\nselect-vertex banana\n", (dir / "default.json").string());
     EXPECT_EQ(editor.wait(60.0), 2);
     EXPECT_NE(editor.output().find("script.txt:2"), std::string::npos) << editor.output();
+    // Colour modes belong to each scheme: an unknown one stops the run when it is reached.
+    EditorProcess running;
+    start(running, "wait-idle\nwait-frames 2\nset-color-by 0 rainbow\nquit\n", (dir / "default.json").string());
+    EXPECT_EQ(running.wait(kRunSeconds), 3);
+    EXPECT_NE(running.output().find("no colour mode 'rainbow'"), std::string::npos) << running.output();
 }
 
 // Without a display the editor says so and exits non-zero, without touching GLFW.
