@@ -16,7 +16,9 @@
 #include <memory>
 #include <optional>
 #include <thread>
+#include <unistd.h>
 
+#include <nlohmann/json.hpp>
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/far/patchTableFactory.h>
@@ -1070,6 +1072,77 @@ void benchEdit(const BenchCage& bench, const BenchArgs& args, Report& report) {
                                " sub-faces differ from a rebuild: " + differences.front());
 }
 
+// ---- the editor suite ---------------------------------------------------------------------
+// Issue 6 item 11: frame times of the real editor (`quadplan edit`, this executable) on the
+// cage at its default tessellation, through its automation hook (`measure-frames`, medians).
+// It needs a display: run under `xvfb-run -a -s "-screen 0 1280x800x24"`. "ours" is the median
+// interval between frame starts while orbiting (the 3D redrawn every frame) or while dragging a
+// vertex (an edit every frame, drawn in the same frame); the baseline is frames that only redraw
+// the interface (the 3D copied from its cache), measured in the same editor run.
+
+constexpr double kEditorFrameTargetMs = 50.0;
+constexpr uint32_t kEditorFramesPerRepeat = 8;
+
+void benchEditor(const BenchCage& bench, const BenchArgs& args, Report& report) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !display[0]) {
+        report.notes.push_back(bench.name + ": skipped, the editor needs a display (run under xvfb-run)");
+        return;
+    }
+    std::fprintf(stderr, "bench editor: %s (%u faces)\n", bench.name.c_str(), bench.cage.faceCount());
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("quadplan-bench-editor-" + std::to_string(getpid()));
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    const std::string cagePath = (dir / "cage.obj").string();
+    if (Status saved = saveObj(bench.cage, cagePath); !saved) {
+        report.notes.push_back(bench.name + ": " + saved.error().message);
+        return;
+    }
+    const std::string frames = std::to_string(args.repeats * kEditorFramesPerRepeat);
+    auto out = [&](const char* name) { return (dir / name).string(); };  // the editor runs in our working directory
+    std::ofstream(dir / "script.txt") << "wait-idle\nwait-frames 5\nmeasure-frames " << frames << " " << out("idle.json") << "\n"
+                                      << "measure-frames " << frames << " " << out("orbit.json") << " orbit\nselect-vertex 10\n"
+                                      << "measure-frames " << frames << " " << out("drag.json")
+                                      << " drag\nquit\nclick-button Discard changes\n";
+    const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();  // not the shell's
+    const std::string command = "'" + self + "' edit '" + cagePath + "' --no-vsync --size 1280x800 --automation '" +
+                                (dir / "script.txt").string() + "' --autosave-seconds 3600 > '" + (dir / "editor.log").string() + "' 2>&1";
+    const int status = std::system(command.c_str());
+    auto load = [&](const char* name) {
+        std::ifstream in(dir / name);
+        return in ? nlohmann::json::parse(in, nullptr, false) : nlohmann::json();
+    };
+    const nlohmann::json idle = load("idle.json"), orbit = load("orbit.json"), drag = load("drag.json");
+    if (status != 0 || !idle.is_object() || !orbit.is_object() || !drag.is_object()) {
+        report.notes.push_back(bench.name + ": the editor failed (status " + std::to_string(status) + "), see " +
+                               (dir / "editor.log").string());
+        return;
+    }
+    auto medianOf = [](const nlohmann::json& m, const char* group, const char* what) {
+        return m[group][what]["median"].get<double>();
+    };
+    report.notes.push_back(bench.name + ": editor at its default tessellation, plans path " +
+                           orbit["plans_path"].get<std::string>() + ", factors " + orbit["factors"].dump() + ", " +
+                           orbit["triangles"].dump() + " triangles, " + orbit["device"].get<std::string>());
+    for (const auto& [label, m] : {std::pair{"orbit (3D redrawn every frame)", &orbit}, std::pair{"drag a vertex (an edit every frame)", &drag}}) {
+        Row r;
+        r.cage = bench.name;
+        r.faces = bench.cage.faceCount();
+        r.benchmark = std::string("editor frame interval, ") + label + ": CPU " + number(medianOf(*m, "all_frames", "cpu_ms")) +
+                      " ms, GPU " + number(medianOf(*m, "all_frames", "gpu_ms")) + " ms, 3D drawn in " +
+                      std::to_string((*m)["scene_drawn"]["cpu_ms"]["count"].get<int>()) + " of " +
+                      std::to_string((*m)["frames"].get<int>()) + " frames; vs interface-only frames";
+        r.repeats = (*m)["frames"].get<uint32_t>();
+        r.unit = "ms";
+        r.ours = medianOf(*m, "all_frames", "interval_ms");
+        r.baseline = medianOf(idle, "all_frames", "interval_ms");
+        r.target = Target::OursAtMost;
+        r.targetValue = kEditorFrameTargetMs;
+        report.rows.push_back(r);
+    }
+    std::filesystem::remove_all(dir, ec);
+}
+
 // ---- suites ----------------------------------------------------------------------------
 
 struct Suite {
@@ -1083,6 +1156,7 @@ constexpr Suite kSuites[] = {
     {"render", benchRender, kRenderGeneratedFaces},
     {"edit", benchEdit, kEditGeneratedFaces},
     {"displacement", benchDisplacement, 2000},
+    {"editor", benchEditor, 2000},
 };
 
 int runSuite(const Suite& suite, const BenchArgs& args) {
@@ -1174,7 +1248,7 @@ void registerBench(CLI::App& app, int& exitCode) {
     cmd->add_option("--generated-faces", args->generatedFaces,
                     "Faces of the generated torus cage (0: none; default: plans 100000, render " +
                         std::to_string(kRenderGeneratedFaces) + ", edit " + std::to_string(kEditGeneratedFaces) +
-                        ", displacement 2000)");
+                        ", displacement 2000, editor 2000)");
     cmd->add_option("--factors", args->factors, "render: uniform tessellation factors (default 1,2,4,8,16)")
         ->delimiter(',')
         ->check(CLI::Range(1u, 64u));

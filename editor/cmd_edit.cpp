@@ -16,6 +16,7 @@ struct EditArgs {
     double autosaveSeconds = 30.0;
     std::string size = "1280x800";
     uint32_t depth = 6;
+    std::string pluginDir;
 };
 
 int runEdit(const EditArgs& args, bool untitled) {
@@ -27,6 +28,7 @@ int runEdit(const EditArgs& args, bool untitled) {
     options.vsync = !args.noVsync;
     options.autosaveSeconds = args.autosaveSeconds;
     options.planDepth = args.depth;
+    options.pluginDir = args.pluginDir;
     unsigned w = 0, h = 0;
     char x = 0;
     if (std::sscanf(args.size.c_str(), "%u%c%u", &w, &x, &h) != 3 || (x != 'x' && x != 'X') || w < 320 || h < 240 ||
@@ -63,6 +65,8 @@ void registerEdit(CLI::App& app, int& exitCode) {
         ->check(CLI::Range(1.0, 3600.0));
     cmd->add_option("--size", args->size, "Window size, WIDTHxHEIGHT (default 1280x800)");
     cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, 10u));
+    cmd->add_option("--plugin-dir", args->pluginDir,
+                    "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
     cmd->callback([args, cmd, &exitCode] {
         exitCode = runEdit(*args, cmd->count("scene") == 0);
     });

@@ -16,6 +16,8 @@
 //   setDisplacement(d)  optional, after build: the scene's sculpted displacement (or none),
 //                       drawn from the next update() on; displacementChanged(samples) after a
 //                       brush dab changed samples in place (see "Displacement" below)
+//   updateMoved(verts)  only these vertices moved since the last update (an interactive drag):
+//                       a scheme may refresh just what depends on them; default: update()
 //   record(cmd, ...)    clears target.area and draws the surface there; records only
 //   evaluate(...)       the surface on the CPU, for error measurement (thread-safe, const)
 //   destroyGpu()        before the Vulkan context goes away
@@ -54,7 +56,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 2;
+inline constexpr uint32_t kSchemeApiVersion = 3;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -172,6 +174,14 @@ public:
     virtual Status build(const PlannedCage& planned, const SchemeSettings& settings) = 0;
     virtual Status createGpu(const GpuContext& gpu) = 0;
     virtual Status update() = 0;
+    // Like update(), when only `vertices` (sorted, unique) moved since the last update or
+    // updateMoved. The limit over a sub-face depends on its 1-ring only, so a scheme can
+    // refresh just the sub-faces whose 1-ring holds a moved vertex. The host calls it while
+    // the device is not using the scheme's buffers, as for update().
+    virtual Status updateMoved(std::span<const uint32_t> vertices) {
+        (void)vertices;
+        return update();
+    }
     virtual DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) = 0;
     // out[i] = the surface at requests[i]; requests name sub-faces with a surface only. Called
     // concurrently from several threads on disjoint spans.

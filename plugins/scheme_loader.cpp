@@ -182,6 +182,10 @@ Status SchemeInstance::displacementChanged(std::span<const uint32_t> samples) {
     return guarded(name(), "displacement update", [&]() -> Status { return scheme_->displacementChanged(samples); });
 }
 
+Status SchemeInstance::updateMoved(std::span<const uint32_t> vertices) {
+    return guarded(name(), "update", [&]() -> Status { return scheme_->updateMoved(vertices); });
+}
+
 Result<DrawStats> SchemeInstance::record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) {
     return guarded(name(), "recording", [&]() -> Result<DrawStats> { return scheme_->record(cmd, target, view); });
 }

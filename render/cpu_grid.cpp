@@ -24,12 +24,6 @@ void forEachSubface(const uint32_t* list, size_t count, const Body& body) {
     });
 }
 
-glm::vec3 unitNormalOf(const LimitSample& s) {
-    const glm::vec3 normal = glm::cross(s.du, s.dv);
-    const float length = glm::length(normal);
-    return length > 0.0f ? normal / length : glm::vec3(0.0f);
-}
-
 glm::vec3 unitNormalOf(const glm::vec3& du, const glm::vec3& dv) {
     const glm::vec3 normal = glm::cross(du, dv);
     const float length = glm::length(normal);

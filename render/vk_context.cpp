@@ -284,6 +284,7 @@ Result<VulkanContext> createContext(const ContextOptions& requested) {
         ctx.validation->fatal = true;
     }
     if (Status s = initContext(ctx, options); !s) {
+        ctx.validation->fatal = false;  // the failure is the error to report, with its own message
         destroyContext(ctx);
         return Error{"cannot initialise Vulkan: " + s.error().message};
     }

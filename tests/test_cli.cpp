@@ -471,12 +471,14 @@ TEST(CliSchemes, ListsPluginsAndWhatTheyDoWithACage) {
     const nlohmann::json listed = nlohmann::json::parse(cage.out);  // a loop over parse(...)["schemes"] would outlive it
     for (const auto& s : listed["schemes"]) {
         EXPECT_TRUE(s.contains("approximations")) << s;
-        if (s["name"] == "stam")  // the default scene has a boundary rim
+        if (s["name"] == "stam") {  // the default scene has a boundary rim
             EXPECT_NE(s["refusals"].dump().find("stam evaluates closed surfaces only"), std::string::npos) << s;
-        else
+        } else {
             EXPECT_TRUE(s["refusals"].empty()) << s;
-        if (s["name"] == "acc1" || s["name"] == "acc2" || s["name"] == "pn")  // its creases are not drawn sharp
+        }
+        if (s["name"] == "acc1" || s["name"] == "acc2" || s["name"] == "pn") {  // its creases are not drawn sharp
             EXPECT_NE(s["approximations"].dump().find("crease"), std::string::npos) << s;
+        }
     }
     CommandRun broken = runQuadplan(std::string("schemes --plugin-dir ") + QUADPLAN_TEST_PLUGIN_DIR);
     EXPECT_EQ(broken.status, 0);  // the good test module loads

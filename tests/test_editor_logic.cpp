@@ -13,6 +13,7 @@
 #include "cage_pick.h"
 #include "document.h"
 #include "frame_stats.h"
+#include "gizmo.h"
 #include "recovery.h"
 #include "test_cages.h"
 #include "view_camera.h"
@@ -67,7 +68,6 @@ TEST(AutomationScript, RejectsMistakesNamingTheLine) {
         {"action file.teleport\n", "unknown action"},
         {"key hyper\n", "unknown key"},
         {"mouse-down thumb\n", "left, middle or right"},
-        {"set-color-by 0 rainbow\n", "colour mode"},
         {"measure-frames 5 out.json sprint\n", "'drag' or 'orbit'"},
     };
     for (const Case& c : cases) {
@@ -146,9 +146,8 @@ TEST(ViewCamera, SceneCameraRoundTrip) {
 
 // --- picking ------------------------------------------------------------------------------
 
-TEST(CagePick, PicksTheNearestProjectedVertexAndEdge) {
+TEST(CagePick, ADragMovesTheProjectionByThePixelsDragged) {
     const Cage cage = test::makeGrid(3);  // vertices at integer x, y in [0, 3]
-    const Topology topology = buildTopology(cage);
     // Looking straight down -z at the grid's centre; one world unit = 100 pixels.
     ScreenMapping m;
     m.rect = {{10, 20}, {600, 600}};
@@ -156,17 +155,94 @@ TEST(CagePick, PicksTheNearestProjectedVertexAndEdge) {
                        glm::lookAt(glm::vec3(0, 0, 5), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0));
     std::optional<glm::vec2> p = projectToWindow(m, cage.positions[5]);  // (1, 1)
     ASSERT_TRUE(p);
-    EXPECT_EQ(pickVertex(cage, m, *p + glm::vec2(4, -3), 12.0f), 5u);
-    EXPECT_FALSE(pickVertex(cage, m, *p + glm::vec2(40, 0), 12.0f));
-    // Half way between vertices 5 (1,1) and 6 (2,1): the edge, not a vertex.
-    auto edge = pickEdge(cage, topology, m, *p + glm::vec2(50, 2), 6.0f);
-    ASSERT_TRUE(edge);
-    EXPECT_EQ(*edge, std::make_pair(5u, 6u));
     // A drag of (30, -20) pixels moves the projection by exactly that.
     const glm::vec3 offset = dragOffset(m, cage.positions[5], {30, -20});
     std::optional<glm::vec2> moved = projectToWindow(m, cage.positions[5] + offset);
     EXPECT_NEAR(moved->x - p->x, 30.0f, 1e-3f);
     EXPECT_NEAR(moved->y - p->y, -20.0f, 1e-3f);
+}
+
+// --- the transform handle ----------------------------------------------------------------
+
+// Looking down -z at the origin, orthographic, 100 pixels per world unit, in a 600 x 600 view.
+PickView topView() {
+    return PickView{glm::ortho(-3.0f, 3.0f, 3.0f, -3.0f, -10.0f, 10.0f) *
+                        glm::lookAt(glm::vec3(0, 0, 5), glm::vec3(0, 0, 0), glm::vec3(0, 1, 0)),
+                    glm::vec2(600.0f)};
+}
+
+TEST(Gizmo, ShapeHitsAndAxisMoveFollowTheCursor) {
+    const PickView view = topView();
+    TransformFrame frame;
+    frame.pivot = glm::vec3(0.5f, 0.0f, 0.0f);
+    const GizmoShape shape = gizmoShape(GizmoMode::Move, frame, view, glm::vec3(0.5f, 0, 5), glm::vec3(0, 0, -1), true);
+    ASSERT_TRUE(shape.visible);
+    EXPECT_NEAR(shape.centre.x, 350.0f, 1e-3f);
+    EXPECT_NEAR(glm::length(shape.axisEnd[0] - shape.centre), kGizmoPixels, 0.5f) << "the handle keeps its size on screen";
+    EXPECT_NEAR(shape.worldLength, kGizmoPixels / 100.0f, 1e-3f);
+    EXPECT_EQ(hitGizmo(shape, shape.centre + glm::vec2(2, -3)), GizmoHandle::View);
+    EXPECT_EQ(hitGizmo(shape, glm::mix(shape.centre, shape.axisEnd[0], 0.7f) + glm::vec2(0, 3)), GizmoHandle::X);
+    EXPECT_EQ(hitGizmo(shape, glm::mix(shape.centre, shape.axisEnd[1], 0.7f) + glm::vec2(3, 0)), GizmoHandle::Y);
+    EXPECT_EQ(hitGizmo(shape, shape.centre + glm::vec2(60, 60)), GizmoHandle::None);
+    // Grab the x arrow and drag 80 px right and 30 px down: only x changes, by 0.8.
+    const glm::vec2 grab = glm::mix(shape.centre, shape.axisEnd[0], 0.5f);
+    const GizmoDrag drag = dragGizmo(shape, GizmoHandle::X, view, grab, grab + glm::vec2(80, 30), false);
+    EXPECT_NEAR(drag.values.x, 0.8f, 1e-4f);
+    EXPECT_NEAR(drag.values.y, 0.0f, 1e-6f);
+    const glm::vec3 moved = glm::vec3(drag.matrix * glm::vec4(1, 1, 0, 1));
+    EXPECT_NEAR(moved.x, 1.8f, 1e-4f);
+    EXPECT_NEAR(moved.y, 1.0f, 1e-6f);
+    // With snapping: multiples of the power of ten below half the handle (0.45 -> 0.1).
+    const GizmoDrag snapped = dragGizmo(shape, GizmoHandle::X, view, grab, grab + glm::vec2(83, 0), true);
+    EXPECT_NEAR(snapped.values.x, 0.8f, 1e-4f);
+    // The centre square moves in the view plane: (+50, +50) px is (+0.5, -0.5) in x, y (pixel y is down).
+    const GizmoDrag plane = dragGizmo(shape, GizmoHandle::View, view, shape.centre, shape.centre + glm::vec2(50, 50), false);
+    EXPECT_NEAR(plane.values.x, 0.5f, 1e-4f);
+    EXPECT_NEAR(plane.values.y, -0.5f, 1e-4f);
+    EXPECT_NEAR(plane.values.z, 0.0f, 1e-4f);
+}
+
+TEST(Gizmo, PerspectiveAxisDragKeepsTheGrabbedPointUnderTheCursor) {
+    const glm::vec3 eye(3.0f, 2.5f, 6.0f);
+    const PickView view{glm::perspective(glm::radians(40.0f), 1.0f, 0.1f, 50.0f) *
+                            glm::lookAt(eye, glm::vec3(0.0f), glm::vec3(0, 1, 0)),
+                        glm::vec2(800.0f)};
+    TransformFrame frame;
+    const GizmoShape shape = gizmoShape(GizmoMode::Move, frame, view, eye, glm::normalize(-eye), false);
+    const glm::vec3 grabbed = frame.pivot + glm::vec3(0.5f * shape.worldLength, 0, 0);
+    const glm::vec2 start = view.project(grabbed).pixel;
+    const glm::vec3 target = grabbed + glm::vec3(0.7f, 0, 0);
+    const glm::vec2 cursor = view.project(target).pixel;
+    const GizmoDrag drag = dragGizmo(shape, GizmoHandle::X, view, start, cursor, false);
+    EXPECT_NEAR(drag.values.x, 0.7f, 1e-3f);
+    const glm::vec3 after = glm::vec3(drag.matrix * glm::vec4(grabbed, 1.0f));
+    EXPECT_LT(glm::length(view.project(after).pixel - cursor), 0.05f);
+}
+
+TEST(Gizmo, RotateAndScaleHandles) {
+    const PickView view = topView();
+    TransformFrame frame;
+    const GizmoShape ring = gizmoShape(GizmoMode::Rotate, frame, view, glm::vec3(0, 0, 5), glm::vec3(0, 0, -1), true);
+    // The z ring faces the eye: a quarter turn counter-clockwise on screen is +90 degrees about z.
+    const glm::vec2 c = ring.centre;
+    EXPECT_EQ(hitGizmo(ring, c + glm::vec2(kGizmoPixels, 0)), GizmoHandle::Z);
+    EXPECT_EQ(hitGizmo(ring, c + glm::vec2(0, -ring.viewRingRadius)), GizmoHandle::View);
+    const GizmoDrag turn = dragGizmo(ring, GizmoHandle::Z, view, c + glm::vec2(90, 0), c + glm::vec2(0, -90), false);
+    EXPECT_NEAR(turn.values.x, 90.0f, 1e-3f);
+    const glm::vec3 turned = glm::vec3(turn.matrix * glm::vec4(1, 0, 0, 1));
+    EXPECT_NEAR(turned.x, 0.0f, 1e-5f);
+    EXPECT_NEAR(turned.y, 1.0f, 1e-5f);
+    const GizmoDrag snapped = dragGizmo(ring, GizmoHandle::Z, view, c + glm::vec2(90, 0), c + glm::vec2(90, -30), true);
+    EXPECT_NEAR(snapped.values.x, 15.0f, 1e-3f);  // 18.4 degrees snaps to 15
+
+    const GizmoShape boxes = gizmoShape(GizmoMode::Scale, frame, view, glm::vec3(0, 0, 5), glm::vec3(0, 0, -1), true);
+    // Dragging the x box out by the handle's length doubles x; the centre box scales evenly.
+    const GizmoDrag wider = dragGizmo(boxes, GizmoHandle::X, view, boxes.axisEnd[0], boxes.axisEnd[0] + glm::vec2(kGizmoPixels, 0), false);
+    EXPECT_NEAR(wider.values.x, 2.0f, 1e-3f);
+    EXPECT_NEAR(wider.values.y, 1.0f, 1e-6f);
+    const GizmoDrag even = dragGizmo(boxes, GizmoHandle::View, view, c + glm::vec2(40, 0), c + glm::vec2(20, 0), false);
+    EXPECT_NEAR(even.values.x, 0.5f, 1e-4f);
+    EXPECT_NEAR(even.values.z, 0.5f, 1e-4f);
 }
 
 // --- documents ----------------------------------------------------------------------------
@@ -182,30 +258,151 @@ TEST(Document, EditsGoThroughApplyEditAndBadOnesChangeNothing) {
     EXPECT_EQ(moved->replannedFaces, 0u);  // moving vertices re-plans nothing
     EXPECT_EQ(doc->planned->cage().positions[3], start + glm::vec3(0, 1, 0));
     EXPECT_EQ(doc->positionRevision, 1u);
+    EXPECT_EQ(doc->planRevision, 0u);
     EXPECT_TRUE(doc->dirty);
     EXPECT_EQ(documentTitle(*doc), "untitled*");
     EXPECT_EQ(doc->lastEdit->frame, 7u);
+    EXPECT_EQ(doc->lastEdit->description, "move vertex 3");
+    EXPECT_EQ(doc->history.size(), 1u);
 
     EXPECT_FALSE(applyEdit(*doc, MoveVertices{{9999}, {glm::vec3(0)}}, 8).ok());
     EXPECT_FALSE(applyEdit(*doc, MoveVertices{{3}, {glm::vec3(NAN)}}, 8).ok());
     const Cage& cage = doc->planned->cage();
     const uint32_t a = cage.faceBegin(0)[0], b = cage.faceBegin(0)[1], opposite = cage.faceBegin(0)[2];
-    Result<EditReport> notEdge = applyEdit(*doc, SetEdgeSharpness{a, opposite, 1.0f}, 8);
+    Result<EditReport> notEdge = applyEdit(*doc, SetEdgeSharpness{{{a, opposite, 1.0f}}}, 8);
     ASSERT_FALSE(notEdge.ok());
     EXPECT_NE(notEdge.error().message.find("share no edge"), std::string::npos);
-    EXPECT_FALSE(applyEdit(*doc, SetEdgeSharpness{a, b, -1.0f}, 8).ok());
+    EXPECT_FALSE(applyEdit(*doc, SetEdgeSharpness{{{a, b, -1.0f}}}, 8).ok());
+    EXPECT_FALSE(applyEdit(*doc, ExtrudeFaces{{100000}, 0.1f}, 8).ok());
     EXPECT_EQ(doc->planRevision, 0u);
     EXPECT_EQ(doc->lastEdit->frame, 7u);
+    EXPECT_EQ(doc->history.size(), 1u) << "failed edits leave no history entry";
 
-    Result<EditReport> creased = applyEdit(*doc, SetEdgeSharpness{a, b, 3.0f}, 9);
+    Result<EditReport> creased = applyEdit(*doc, SetEdgeSharpness{{{a, b, 3.0f}}}, 9);
     ASSERT_TRUE(creased.ok()) << creased.error().message;
     EXPECT_GT(creased->replannedFaces, 0u);
     EXPECT_EQ(doc->planRevision, 1u);
+    EXPECT_EQ(doc->topologyRevision, 0u);
     EXPECT_FLOAT_EQ(doc->planned->cage().edgeSharpness(a, b), 3.0f);
     EXPECT_TRUE(doc->planned->differencesFromRebuild().empty());
 }
 
-TEST(Document, SelectionTogglesAndChecksIndices) {
+// Every kind of edit through the document, then undo to the start restores the cage exactly,
+// redo reaches the end again, and a jump lands on the state after that entry.
+TEST(Document, EveryEditUndoesRedoesAndJumps) {
+    Scene scene;
+    scene.cage = test::makeGrid(4);  // vertex (x, y) = y * 5 + x, face (x, y) = y * 4 + x
+    Result<std::unique_ptr<Document>> created = createDocument(scene, "", PlanOptions{});
+    ASSERT_TRUE(created.ok()) << created.error().message;
+    Document& doc = **created;
+    const Cage original = doc.planned->cage();
+    std::vector<Cage> states{original};
+    auto apply = [&](const Edit& e) {
+        Result<EditReport> r = applyEdit(doc, e, 1);
+        EXPECT_TRUE(r.ok()) << describeEdit(e) << ": " << (r ? "" : r.error().message);
+        if (r) states.push_back(doc.planned->cage());
+        return r ? *r : EditReport{};
+    };
+    const uint32_t facesBefore = doc.planned->cage().faceCount();
+    EditReport extrude = apply(ExtrudeFaces{{5}, 0.5f});  // the interior face (1, 1)
+    EXPECT_EQ(doc.planned->cage().faceCount(), facesBefore + 4);
+    EXPECT_EQ(extrude.replannedFaces, 13u);  // the face, its 8 neighbours, 4 side quads (docs/editing.md)
+    EXPECT_EQ(doc.selection.mode, SelectionMode::Vertex);  // the result in the current mode: the moved region
+    EXPECT_EQ(doc.selection.vertices.size(), 4u);
+    EXPECT_EQ(doc.topologyRevision, 1u);
+    apply(DeleteFaces{{0}});
+    EXPECT_EQ(doc.planned->cage().faceCount(), facesBefore + 3);
+    // Indices from the current cage: corner k of face f.
+    auto corner = [&](uint32_t f, uint32_t k) { return doc.planned->cage().faceBegin(f)[k]; };
+    const uint32_t last = doc.planned->cage().faceCount() - 1;  // a side quad of the extrusion
+    apply(SplitFace{last, corner(last, 0), corner(last, 2)});
+    EXPECT_EQ(doc.planned->cage().faceCount(), facesBefore + 4);
+    const uint32_t facesBeforeLoop = doc.planned->cage().faceCount();
+    apply(InsertEdgeLoop{corner(1, 0), corner(1, 1), 0.25f});
+    EXPECT_GT(doc.planned->cage().faceCount(), facesBeforeLoop);
+    const uint32_t verticesBeforeMerge = doc.planned->cage().vertexCount();
+    apply(MergeVertices{{corner(3, 0), corner(3, 1)}, MergeTarget::Centroid});
+    EXPECT_EQ(doc.planned->cage().vertexCount(), verticesBeforeMerge - 1);
+    apply(SetEdgeSharpness{{{std::min(corner(4, 0), corner(4, 1)), std::max(corner(4, 0), corner(4, 1)), 2.5f}}});
+    apply(SetVertexSharpness{{{corner(4, 2), kInfiniteSharpness}}});
+    apply(SetHoles{{2}, true});
+    apply(SetCreaseMethod{CreaseMethod::Chaikin});
+    apply(MoveVertices{{corner(6, 0), corner(6, 1)}, {glm::vec3(1, 0, 1), glm::vec3(2, 0, 1)}, false, "move"});
+    ASSERT_EQ(doc.history.size(), states.size() - 1);
+    EXPECT_TRUE(doc.planned->differencesFromRebuild().empty());
+
+    auto same = [](const Cage& a, const Cage& b) {
+        return a.positions == b.positions && a.faceOffsets == b.faceOffsets && a.faceVertices == b.faceVertices &&
+               sameTopologyAndTags(a, b);
+    };
+    while (doc.history.canUndo()) ASSERT_TRUE(undoEdit(doc, 2).ok());
+    EXPECT_TRUE(same(doc.planned->cage(), original)) << "undo to the start did not restore the cage";
+    EXPECT_TRUE(doc.planned->differencesFromRebuild().empty());
+    EXPECT_FALSE(undoEdit(doc, 2).ok());
+    while (doc.history.canRedo()) ASSERT_TRUE(redoEdit(doc, 3).ok());
+    EXPECT_TRUE(same(doc.planned->cage(), states.back()));
+    ASSERT_TRUE(jumpToHistory(doc, 2, 4).ok());
+    EXPECT_TRUE(same(doc.planned->cage(), states[2]));
+    EXPECT_EQ(doc.history.position(), 2u);
+    EXPECT_FALSE(jumpToHistory(doc, 99, 4).ok());
+    // The selection never names elements that no longer exist.
+    for (uint32_t v : doc.selection.vertices) EXPECT_LT(v, doc.planned->cage().vertexCount());
+    // A new edit after the jump drops the entries that could have been redone.
+    apply(MoveVertices{{0}, {glm::vec3(-1, -1, 0)}});
+    EXPECT_EQ(doc.history.size(), 3u);
+}
+
+TEST(Document, ADragIsOneHistoryEntry) {
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    const glm::vec3 start = doc->planned->cage().positions[0];
+    for (int step = 0; step < 5; ++step)
+        ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {start + glm::vec3(0.1f * float(step + 1), 0, 0)}, step > 0, "move"}, 1).ok());
+    EXPECT_EQ(doc->history.size(), 1u);
+    // A second drag of the same vertex is its own entry.
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {start}, false, "move"}, 2).ok());
+    EXPECT_EQ(doc->history.size(), 2u);
+    ASSERT_TRUE(undoEdit(*doc, 3).ok());
+    ASSERT_TRUE(undoEdit(*doc, 3).ok());
+    EXPECT_EQ(doc->planned->cage().positions[0], start);
+}
+
+// The unsaved-changes marker follows the history: back at the saved state the document is
+// clean; a new edit that makes the saved state unreachable (a dropped redo branch, a drag
+// continuing the entry that ended at it) keeps it dirty for good.
+TEST(Document, UndoingBackToTheSavedStateIsClean) {
+    const fs::path dir = scratchDir("clean");
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    const glm::vec3 start = doc->planned->cage().positions[0];
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {start + glm::vec3(1, 0, 0)}}, 1).ok());
+    EXPECT_TRUE(doc->dirty);
+    ASSERT_TRUE(undoEdit(*doc, 2).ok());
+    EXPECT_FALSE(doc->dirty) << "undone back to the file as opened";
+    ASSERT_TRUE(redoEdit(*doc, 3).ok());
+    EXPECT_TRUE(doc->dirty);
+    ASSERT_TRUE(saveDocument(*doc, (dir / "cube.json").string()).ok());
+    EXPECT_FALSE(doc->dirty);
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{1}, {glm::vec3(2, 2, 2)}}, 4).ok());
+    EXPECT_TRUE(doc->dirty);
+    ASSERT_TRUE(jumpToHistory(*doc, 1, 5).ok());
+    EXPECT_FALSE(doc->dirty) << "jumped back to the saved state";
+    ASSERT_TRUE(undoEdit(*doc, 6).ok());
+    EXPECT_TRUE(doc->dirty);
+    // A new edit here drops the redo entry leading to the saved state: dirty from now on.
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{2}, {glm::vec3(3, 3, 3)}}, 7).ok());
+    ASSERT_TRUE(undoEdit(*doc, 8).ok());
+    EXPECT_TRUE(doc->dirty) << "the saved state is not in the history any more";
+    EXPECT_FALSE(doc->savedPosition.has_value());
+    // Saved in the middle of a drag: continuing the drag changes the saved entry.
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {glm::vec3(4, 0, 0)}, false, "move"}, 9).ok());
+    ASSERT_TRUE(saveDocument(*doc, (dir / "cube.json").string()).ok());
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {glm::vec3(5, 0, 0)}, true, "move"}, 10).ok());
+    EXPECT_TRUE(doc->dirty);
+    EXPECT_FALSE(doc->savedPosition.has_value());
+}
+
+TEST(Document, SelectionModesOpsAndIndexChecks) {
     std::unique_ptr<Document> doc = cubeDocument();
     ASSERT_TRUE(doc);
     ASSERT_TRUE(selectVertex(*doc, 4, false).ok());
@@ -216,10 +413,22 @@ TEST(Document, SelectionTogglesAndChecksIndices) {
     EXPECT_FALSE(selectVertex(*doc, 100000, false).ok());
     const Cage& cage = doc->planned->cage();
     ASSERT_TRUE(selectEdge(*doc, cage.faceBegin(0)[1], cage.faceBegin(0)[0]).ok());
-    EXPECT_TRUE(doc->selection.vertices.empty());
-    EXPECT_LT(doc->selection.edge->first, doc->selection.edge->second);
+    EXPECT_EQ(doc->selection.mode, SelectionMode::Edge);
+    ASSERT_EQ(doc->selection.edges.size(), 1u);
+    EXPECT_LT(doc->selection.edges[0].v0, doc->selection.edges[0].v1);
+    const uint32_t faces[] = {0, 1};
+    ASSERT_TRUE(selectElements(*doc, SelectionMode::Face, faces, SelectOp::Replace).ok());
+    const uint32_t remove[] = {0};
+    ASSERT_TRUE(selectElements(*doc, SelectionMode::Face, remove, SelectOp::Remove).ok());
+    EXPECT_EQ(doc->selection.faces, std::vector<uint32_t>{1});
+    setSelectionMode(*doc, SelectionMode::Vertex);  // face 1's corners
+    EXPECT_EQ(doc->selection.vertices.size(), 4u);
+    EXPECT_EQ(selectedFaces(*doc), std::vector<uint32_t>{1});
+    const uint32_t badFace[] = {100000};
+    EXPECT_FALSE(selectElements(*doc, SelectionMode::Face, badFace, SelectOp::Add).ok());
     clearSelection(*doc);
     EXPECT_TRUE(doc->selection.empty());
+    EXPECT_EQ(doc->selection.mode, SelectionMode::Vertex);
 }
 
 TEST(Document, SavesSceneOrCageAtomicallyAndClearsTheMarker) {

@@ -18,8 +18,7 @@ using namespace qp::editor;
 
 namespace {
 
-const AutomationVocabulary kAnyWord{[](std::string_view) { return true; }, [](std::string_view) { return true; },
-                                    [](std::string_view) { return true; }};
+const AutomationVocabulary kAnyWord{[](std::string_view) { return true; }};
 
 std::string parseError(const std::string& script) {
     auto parsed = parseAutomation(script, "s", kAnyWord);

@@ -1,5 +1,5 @@
 // Actions: every command a menu item, a shortcut or the automation hook can run, with its
-// key, label and help text in one table, so the help panel, the menus and the key handler
+// keys, label and help text in one table, so the help panel, the menus and the key handler
 // cannot disagree.
 #pragma once
 
@@ -10,7 +10,7 @@ namespace qp::editor {
 
 struct KeyChord {
     int key = 0;  // GLFW key code; 0: no shortcut
-    bool ctrl = false, shift = false;
+    bool ctrl = false, shift = false, alt = false;
 };
 
 struct ActionInfo {
@@ -19,6 +19,7 @@ struct ActionInfo {
     const char* shortcut;  // as shown to the user; "" when none
     KeyChord chord;
     const char* help;      // tooltip and help panel text
+    KeyChord alternate{};  // a second binding (Ctrl+Y for redo, F9 for vertex mode, ...)
 };
 
 std::span<const ActionInfo> actions();

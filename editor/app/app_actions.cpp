@@ -7,6 +7,7 @@
 #include "actions.h"
 #include "editor_app.h"
 #include "recovery.h"
+#include "tools.h"
 
 namespace qp::editor {
 
@@ -22,7 +23,7 @@ void storeViewState(EditorApp& app, Scene& scene) {
 
 void startLoad(EditorApp& app, LoadRequest request) {
     request.options = PlanOptions{app.options.planDepth, true};
-    app.loader.start(app.ctx, std::move(request));
+    app.loader.start(std::move(request));
     app.ui.status = "Opening " + app.loader.request().path;
 }
 
@@ -131,6 +132,10 @@ void discardRecovery(EditorApp& app) {
 }
 
 bool edit(EditorApp& app, const Edit& e) {
+    if (app.loader.busy()) {
+        app.ui.status = "Wait for the file to finish loading before editing.";
+        return false;
+    }
     Result<EditReport> report = applyEdit(*app.doc, e, app.frame);
     if (!report) {
         showError(app, "Edit failed: " + report.error().message);
@@ -144,8 +149,7 @@ Bounds selectionBounds(const EditorApp& app) {
     if (!doc.planned) return Bounds{};
     const Cage& cage = doc.planned->cage();
     const Bounds model = computeBounds(cage);
-    std::vector<uint32_t> vertices = doc.selection.vertices;
-    if (doc.selection.edge) vertices.insert(vertices.end(), {doc.selection.edge->first, doc.selection.edge->second});
+    const std::vector<uint32_t> vertices = selectedVertices(doc.selection, cage);
     if (vertices.empty()) return model;
     Bounds b{cage.positions[vertices[0]], cage.positions[vertices[0]]};
     for (uint32_t v : vertices) {
@@ -188,10 +192,61 @@ void runAction(EditorApp& app, std::string_view id) {
         app.ui.requestPopup = "Save As";
     } else if (id == "file.quit") {
         requestQuit(app);
-    } else if (id == "edit.undo" || id == "edit.redo") {
-        app.ui.status = "Undo and redo are not available yet: they come with the editing core.";
+    } else if (id == "edit.undo") {
+        undoTool(app);
+    } else if (id == "edit.redo") {
+        redoTool(app);
+    } else if (id == "edit.history") {
+        app.ui.showHistory = !app.ui.showHistory;
+    } else if (id == "select.vertex_mode") {
+        setMode(app, SelectionMode::Vertex);
+    } else if (id == "select.edge_mode") {
+        setMode(app, SelectionMode::Edge);
+    } else if (id == "select.face_mode") {
+        setMode(app, SelectionMode::Face);
+    } else if (id == "select.all") {
+        selectAllElements(app);
     } else if (id == "select.none") {
         clearSelection(*app.doc);
+    } else if (id == "select.invert") {
+        invertSelectedElements(app);
+    } else if (id == "select.grow") {
+        growSelected(app);
+    } else if (id == "select.shrink") {
+        shrinkSelected(app);
+    } else if (id == "tool.select") {
+        app.tools.tool = Tool::Select;
+    } else if (id == "tool.move") {
+        app.tools.tool = Tool::Move;
+    } else if (id == "tool.rotate") {
+        app.tools.tool = Tool::Rotate;
+    } else if (id == "tool.scale") {
+        app.tools.tool = Tool::Scale;
+    } else if (id == "tool.space") {
+        app.tools.space = app.tools.space == TransformSpace::World ? TransformSpace::Local : TransformSpace::World;
+    } else if (id == "mesh.extrude") {
+        extrudeSelection(app);
+    } else if (id == "mesh.delete") {
+        deleteSelection(app);
+    } else if (id == "mesh.split") {
+        splitSelection(app);
+    } else if (id == "mesh.loop_tool") {
+        app.tools.loopTool = !app.tools.loopTool;
+        app.ui.status = app.tools.loopTool ? "Loop tool: click an edge to cut a loop across it (Esc cancels)" : "Loop tool off";
+    } else if (id == "mesh.loop") {
+        loopOnSelectedEdge(app);
+    } else if (id == "mesh.merge") {
+        mergeSelection(app);
+    } else if (id == "mesh.make_face") {
+        makeFaceFromSelection(app);
+    } else if (id == "mesh.hole") {
+        toggleSelectionHoles(app);
+    } else if (id == "crease.apply" || id == "crease.clear") {
+        const bool clear = id == "crease.clear";
+        if (app.doc->selection.mode == SelectionMode::Vertex) cornerSelection(app, clear ? 0.0f : app.tools.cornerSharpness);
+        else creaseSelection(app, clear ? 0.0f : app.tools.edgeSharpness);
+    } else if (id == "view.heatmap") {
+        app.viewports[std::min<size_t>(active, app.viewports.size() - 1)].heatMap ^= true;
     } else if (id == "view.frame") {
         frameSelection(app, active, false);
     } else if (id == "view.frame_all") {

@@ -16,6 +16,8 @@
 #include "file_io.h"
 #include "recovery.h"
 #include "schemes.h"
+#include "tools.h"
+#include "viewport_input.h"
 
 namespace qp::editor {
 
@@ -24,14 +26,12 @@ namespace {
 using json = nlohmann::json;
 
 const AutomationVocabulary& editorVocabulary() {
-    static const AutomationVocabulary words{
-        [](std::string_view id) { return findAction(id) != nullptr; },
-        [](std::string_view name) { return parseColorMode(name).has_value(); },
-        [](std::string_view name) { return parseDrawPath(name).has_value(); }};
+    static const AutomationVocabulary words{[](std::string_view id) { return findAction(id) != nullptr; }};
     return words;
 }
 
 json vec(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
+json vec2(const glm::vec2& v) { return json::array({v.x, v.y}); }
 
 json summaryJson(const Summary& s) { return {{"median", s.median}, {"p90", s.p90}, {"max", s.max}, {"count", s.count}}; }
 
@@ -189,6 +189,11 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         requestQuit(app);
         return false;
     }
+    // A tool that refuses stops the script: its message is the status line.
+    auto tool = [&](bool ok) {
+        if (!ok) fail(c, app.ui.status.empty() ? app.ui.errorMessage : app.ui.status);
+        return true;
+    };
     if (n == "select-vertex") {
         if (needDocument()) report(selectVertex(*app.doc, integer(0), a.size() > 1));
         return true;
@@ -201,43 +206,123 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         clearSelection(*app.doc);
         return true;
     }
+    if (n == "select-mode") {
+        setMode(app, *parseSelectionModeWord(a[0]));
+        return true;
+    }
+    if (n == "select") {
+        if (!needDocument()) return true;
+        const SelectionMode mode = *parseSelectionModeWord(a[0]);
+        const ElementList list = *parseElementList(a[1], mode);
+        const SelectOp op = a.size() > 2 ? *parseSelectOpWord(a[2]) : SelectOp::Replace;
+        report(mode == SelectionMode::Edge ? selectEdges(*app.doc, list.edges, op)
+                                           : selectElements(*app.doc, mode, list.indices, op));
+        return true;
+    }
+    if (n == "box-select") {
+        if (!needDocument()) return true;
+        const uint32_t v = integer(0);
+        if (v >= app.viewports.size()) {
+            fail(c, "there is no viewport " + a[0]);
+            return true;
+        }
+        const float scale = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.0f;
+        boxSelectIn(app, v, glm::vec2(number(1), number(2)) * scale, glm::vec2(number(3), number(4)) * scale,
+                    a.size() > 5 ? *parseSelectOpWord(a[5]) : SelectOp::Replace);
+        return true;
+    }
     if (n == "move-selection") {
         if (!needDocument()) return true;
-        const Document& doc = *app.doc;
-        if (doc.selection.vertices.empty()) {
+        const std::vector<uint32_t> vertices = selectedVertices(app.doc->selection, app.doc->planned->cage());
+        if (vertices.empty()) {
             fail(c, "nothing is selected (select-vertex first)");
             return true;
         }
-        MoveVertices move{doc.selection.vertices, {}};
+        MoveVertices move{vertices, {}};
         for (uint32_t v : move.vertices)
-            move.positions.push_back(doc.planned->cage().positions[v] + glm::vec3(number(0), number(1), number(2)));
+            move.positions.push_back(app.doc->planned->cage().positions[v] + glm::vec3(number(0), number(1), number(2)));
         if (!edit(app, move)) fail(c, app.ui.errorMessage);
+        return true;
+    }
+    if (n == "set-tool") {
+        runAction(app, "tool." + a[0]);
+        return true;
+    }
+    if (n == "set-space") {
+        app.tools.space = a[0] == "world" ? TransformSpace::World : TransformSpace::Local;
+        return true;
+    }
+    if (n == "transform") {
+        if (!needDocument()) return true;
+        const NumericTransform kind = a[0] == "move" ? NumericTransform::Move : a[0] == "rotate" ? NumericTransform::Rotate : NumericTransform::Scale;
+        return tool(transformSelection(app, kind, glm::vec4(number(1), number(2), number(3), a.size() > 4 ? number(4) : 0.0f)));
+    }
+    if (n == "extrude") {
+        if (!needDocument()) return true;
+        if (!a.empty()) app.tools.extrudeDistance = number(0);
+        return tool(extrudeSelection(app));
+    }
+    if (n == "delete") return needDocument() ? tool(deleteSelection(app)) : true;
+    if (n == "split") return needDocument() ? tool(splitSelection(app)) : true;
+    if (n == "loop") {
+        if (!needDocument()) return true;
+        if (a.empty()) return tool(loopOnSelectedEdge(app));
+        return tool(insertLoop(app, integer(0), integer(1), a.size() > 2 ? number(2) : app.tools.loopFraction));
+    }
+    if (n == "merge") {
+        if (!needDocument()) return true;
+        if (!a.empty()) app.tools.mergeTarget = a[0] == "last" ? MergeTarget::Last : MergeTarget::Centroid;
+        return tool(mergeSelection(app));
+    }
+    if (n == "make-face") return needDocument() ? tool(makeFaceFromSelection(app)) : true;
+    if (n == "crease") return needDocument() ? tool(creaseSelection(app, number(0))) : true;
+    if (n == "corner") return needDocument() ? tool(cornerSelection(app, number(0))) : true;
+    if (n == "hole") return needDocument() ? tool(setSelectionHoles(app, a[0] == "on")) : true;
+    if (n == "crease-method") {
+        if (!needDocument()) return true;
+        const CreaseMethod method = a[0] == "chaikin" ? CreaseMethod::Chaikin : CreaseMethod::Normal;
+        if (app.doc->planned->cage().options.creaseMethod != method) tool(setCreaseMethodTool(app, method));
         return true;
     }
     if (n == "set-edge-sharpness") {
         if (!needDocument()) return true;
-        if (!edit(app, SetEdgeSharpness{integer(0), integer(1), number(2)})) fail(c, app.ui.errorMessage);
+        if (!edit(app, SetEdgeSharpness{{{integer(0), integer(1), number(2)}}})) fail(c, app.ui.errorMessage);
         return true;
     }
     if (n == "undo" || n == "redo") {
-        runAction(app, n == "undo" ? "edit.undo" : "edit.redo");  // reserved: reports that it is not available yet
-        std::fprintf(stderr, "automation: line %d: %s is reserved; it is not available in this build\n", c.line, n.c_str());
-        return true;
+        if (!needDocument()) return true;
+        return tool(n == "undo" ? undoTool(app) : redoTool(app));
     }
+    if (n == "jump-history") return needDocument() ? tool(jumpHistoryTool(app, integer(0))) : true;
     if (n == "set-viewports") {
         const uint32_t count = integer(0);
         if (count != 1 && count != 2 && count != 4) fail(c, "the viewport count must be 1, 2 or 4");
         else setViewportCount(app, count);
         return true;
     }
-    if (n == "set-scheme" || n == "set-color-by" || n == "set-link") {
+    if (n == "set-scheme" || n == "set-color-by" || n == "set-link" || n == "heatmap") {
         const uint32_t i = integer(0);
         if (i >= app.viewports.size()) {
             fail(c, "there is no viewport " + a[0] + " (" + std::to_string(app.viewports.size()) + " shown, from 0)");
             return true;
         }
-        if (n == "set-scheme") app.viewports[i].scheme = a[1];
-        if (n == "set-color-by") app.viewports[i].colorBy = colorModeName(*parseColorMode(a[1]));
+        if (n == "set-scheme") {
+            if (!app.catalog.find(a[1])) fail(c, "unknown scheme '" + a[1] + "'; loaded: " + app.catalog.names());
+            else app.viewports[i].scheme = a[1];
+        }
+        if (n == "set-color-by") {
+            // Each scheme lists its own modes, so the check waits until the viewport's scheme is up.
+            const std::string mode = canonicalColorMode(a[1]);
+            const std::vector<std::string>* modes = i < app.renderer.views.size() ? &app.renderer.views[i].colorModes : nullptr;
+            if (modes && std::find(modes->begin(), modes->end(), mode) == modes->end()) {
+                std::string known;
+                for (const std::string& m : *modes) known += (known.empty() ? "" : ", ") + m;
+                fail(c, "viewport " + a[0] + "'s scheme has no colour mode '" + a[1] + "'; it has: " + known);
+            } else {
+                app.viewports[i].colorBy = mode;
+            }
+        }
+        if (n == "heatmap") app.viewports[i].heatMap = a[1] == "on";
         if (n == "set-link") {
             app.viewports[i].camera = app.sharedCamera;
             app.viewports[i].linked = a[1] == "linked";
@@ -254,9 +339,8 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         }
         return true;
     }
-    if (n == "set-draw-path") {
-        app.requestedPath = *parseDrawPath(a[0]);
-        app.drawPath = resolveDrawPath(app.requestedPath, app.ctx);
+    if (n == "set-plans-path" || n == "set-draw-path") {
+        app.plansPath = a[0];
         return true;
     }
     if (n == "mouse-move" || n == "mouse-down" || n == "mouse-up" || n == "scroll" || n == "key-down" ||
@@ -326,14 +410,16 @@ void Automation::measureStep(EditorApp& app) {
         --m.framesLeft;
         if (m.mode == "orbit") orbit(cameraOf(app, app.activeViewport), 4.0f, 0.0f, 400.0f);
         if (m.mode == "drag" && app.doc->planned) {
-            // A drag as a person does it: the selection (or vertex 0) moves a little every frame.
+            // A drag as a person does it: the selection (or vertex 0) moves a little every
+            // frame, all of it one history entry.
             Document& doc = *app.doc;
-            std::vector<uint32_t> vertices = doc.selection.vertices.empty() ? std::vector<uint32_t>{0} : doc.selection.vertices;
+            std::vector<uint32_t> vertices = selectedVertices(doc.selection, doc.planned->cage());
+            if (vertices.empty()) vertices = {0};
             const float step = 0.002f * computeBounds(doc.planned->cage()).diagonal() *
                                (((app.frame - m.firstFrame) / 20) % 2 == 0 ? 1.0f : -1.0f);
-            MoveVertices move{vertices, {}};
+            MoveVertices move{vertices, {}, m.dragStarted};
             for (uint32_t v : vertices) move.positions.push_back(doc.planned->cage().positions[v] + glm::vec3(0, step, 0));
-            edit(app, move);
+            m.dragStarted = edit(app, move);
         }
         return;
     }
@@ -344,13 +430,17 @@ void Automation::measureStep(EditorApp& app) {
                     {"gpu_ms", summaryJson(summarize(app.stats, FrameField::Gpu, 0, filter))},
                     {"interval_ms", summaryJson(summarize(app.stats, FrameField::Interval, 0, filter))}};
     };
+    json factors = json::array(), schemes = json::array();
+    for (const ViewportState& v : app.viewports) factors.push_back(v.factor), schemes.push_back(v.scheme);
     json out = {{"frames", frames},
                 {"all_frames", all(FrameFilter::All)},
                 {"scene_drawn", all(FrameFilter::SceneDrawn)},
                 {"scene_copied", all(FrameFilter::SceneCopied)},
                 {"mode", m.mode.empty() ? "idle" : m.mode},
-                {"draw_path", drawPathName(app.drawPath)},
-                {"grid_factor", app.gridFactor},
+                {"plans_path", app.plansPath},
+                {"factors", factors},
+                {"schemes", schemes},
+                {"last_sync_ms", app.renderer.lastSyncMs},
                 {"viewports", app.viewports.size()},
                 {"faces", app.doc->planned ? app.doc->planned->cage().faceCount() : 0},
                 {"device", app.ctx.deviceName}};
@@ -387,17 +477,48 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     state["vertices"] = vertices;
     state["creases"] = creases;
     state["corners"] = corners;
-    state["selection"] = {{"vertices", doc.selection.vertices},
-                          {"edge", doc.selection.edge ? json{doc.selection.edge->first, doc.selection.edge->second}
-                                                      : json(nullptr)}};
+    json edges = json::array();
+    for (const EdgeKey& e : doc.selection.edges) edges.push_back({e.v0, e.v1});
+    state["selection"] = {{"mode", selectionModeWord(doc.selection.mode)},
+                          {"vertices", doc.selection.vertices},
+                          {"edges", edges},
+                          {"faces", doc.selection.faces}};
+    if (doc.planned) {
+        const Cage& cage = doc.planned->cage();
+        state["holes"] = cage.holes;
+        state["crease_method"] = cage.options.creaseMethod == CreaseMethod::Chaikin ? "chaikin" : "normal";
+        if (cage.faceCount() <= 5000) {
+            json faces = json::array();
+            for (uint32_t f = 0; f < cage.faceCount(); ++f)
+                faces.push_back(std::vector<uint32_t>(cage.faceBegin(f), cage.faceBegin(f) + cage.faceSize(f)));
+            state["face_vertices"] = faces;
+        }
+        state["selected_vertices"] = selectedVertices(doc.selection, cage);
+    }
     if (doc.lastEdit) {
         const EditReport& r = doc.lastEdit->report;
         state["last_edit"] = {{"description", doc.lastEdit->description}, {"replanned_faces", r.replannedFaces},
                               {"updated_subfaces", r.updatedSubfaces}, {"new_plans", r.newPlans},
-                              {"milliseconds", r.milliseconds}, {"frame", doc.lastEdit->frame}};
+                              {"milliseconds", r.milliseconds}, {"frame", doc.lastEdit->frame},
+                              {"topology_changed", r.topologyChanged}};
     } else {
         state["last_edit"] = nullptr;
     }
+    json entries = json::array();
+    for (size_t i = 0; i < doc.history.size(); ++i) {
+        const HistoryEntryInfo e = doc.history.entry(i);
+        entries.push_back({{"name", e.name}, {"replanned_faces", e.report.replannedFaces},
+                           {"milliseconds", e.report.milliseconds}, {"bytes", e.bytes}});
+    }
+    state["history"] = {{"position", doc.history.position()}, {"size", doc.history.size()},
+                        {"bytes", doc.history.bytes()}, {"entries", entries}};
+    const char* tools[] = {"select", "move", "rotate", "scale"};
+    state["tool"] = {{"tool", tools[int(app.tools.tool)]},
+                     {"space", app.tools.space == TransformSpace::World ? "world" : "local"},
+                     {"loop_tool", app.tools.loopTool},
+                     {"visible_only", app.tools.visibleOnly},
+                     {"extrude_distance", app.tools.extrudeDistance}};
+    state["drag"] = app.drag.kind == DragKind::None ? json(nullptr) : json(app.drag.readout);
     const ImGuiIO& io = ImGui::GetIO();
     const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
     json viewports = json::array();
@@ -407,15 +528,46 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
         json entry = {{"scheme", v.scheme},
                       {"color_by", v.colorBy},
                       {"linked", v.linked},
+                      {"factor", v.factor},
                       {"rect", {v.rect.offset.x / scale, v.rect.offset.y / scale, v.rect.extent.width / scale,
                                 v.rect.extent.height / scale}},
                       {"camera", {{"eye", vec(eyePosition(camera))}, {"target", vec(camera.target)},
                                   {"up", vec(upVector(camera))}, {"orthographic", camera.orthographic}}}};
         if (i < app.stats.viewportCounts.size())
             entry["triangles"] = app.stats.viewportCounts[i].triangles, entry["patches"] = app.stats.viewportCounts[i].patches;
+        if (i < app.renderer.views.size()) {
+            const SchemeView& view = app.renderer.views[i];
+            entry["drawn"] = view.instance.has_value();
+            entry["problem"] = view.problem;
+            entry["warnings"] = view.support.approximations;
+            entry["color_modes"] = view.colorModes;
+            entry["setup_ms"] = view.setupMs;
+            entry["update_ms"] = view.updateMs;
+            entry["updated_vertices"] = view.updatedVertices;
+            entry["heatmap"] = {{"on", v.heatMap},
+                                {"valid", view.heat.valid},
+                                {"max", view.heat.maxRelError},
+                                {"rms", view.heat.rmsRelError},
+                                {"samples", view.heat.relError.size()},
+                                {"milliseconds", view.heat.lastMs},
+                                {"subfaces_evaluated", view.heat.lastSubfaces}};
+        }
+        if (std::optional<GizmoShape> gizmo = gizmoIn(app, uint32_t(i))) {
+            const glm::vec2 origin(float(v.rect.offset.x), float(v.rect.offset.y));
+            auto window = [&](glm::vec2 p) { return vec2((origin + p) / scale); };
+            entry["gizmo"] = {{"centre", window(gizmo->centre)},
+                              {"x", window(gizmo->axisEnd[0])},
+                              {"y", window(gizmo->axisEnd[1])},
+                              {"z", window(gizmo->axisEnd[2])},
+                              {"view_ring_radius", gizmo->viewRingRadius / scale},
+                              {"pivot", vec(gizmo->frame.pivot)}};
+        }
         // Where each cage vertex appears (window pixels), so tests can click real vertices.
         if (doc.planned && doc.planned->cage().vertexCount() <= 5000) {
             json projected = json::array();
+            json pickable = json::array();
+            for (bool visible : pickableVertices(app, uint32_t(i))) pickable.push_back(visible);
+            entry["pickable_vertices"] = pickable;
             for (const glm::vec3& p : doc.planned->cage().positions) {
                 const glm::vec4 clip = v.viewProjection * glm::vec4(p, 1.0f);
                 if (clip.w <= 0) {
@@ -438,8 +590,11 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                         {"pixels_per_edge", app.tessellation.pixelsPerEdge},
                         {"cage", app.tessellation.showCage},
                         {"wireframe", app.tessellation.showWireframe},
-                        {"draw_path", drawPathName(app.drawPath)},
-                        {"grid_factor", app.gridFactor}};
+                        {"plans_path", app.plansPath}};
+    state["renderer"] = {{"last_sync_ms", app.renderer.lastSyncMs}};
+    json schemes = json::array();
+    for (const auto& plugin : app.catalog.plugins) schemes.push_back(plugin->name);
+    state["schemes"] = schemes;
     state["frame_times_ms"] = {{"cpu", summaryJson(summarize(app.stats, FrameField::Cpu, 120))},
                                {"gpu", summaryJson(summarize(app.stats, FrameField::Gpu, 120))},
                                {"interval", summaryJson(summarize(app.stats, FrameField::Interval, 120))},
@@ -453,6 +608,11 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     for (const auto& [label, rect] : app.ui.widgets)
         if (!widgets.contains(label)) widgets[label] = {rect[0], rect[1], rect[2], rect[3]};
     state["widgets"] = widgets;
+    // Tools without a tooltip (menus and dialog buttons explain themselves).
+    json untipped = json::array();
+    for (const auto& [label, rect] : app.ui.widgets)
+        if (std::find(app.ui.tooltips.begin(), app.ui.tooltips.end(), label) == app.ui.tooltips.end()) untipped.push_back(label);
+    state["widgets_without_tooltip"] = untipped;
     state["open_popups"] = app.ui.openPopups;
     state["show_help"] = app.ui.showHelp;
     state["recovery"] = {{"directory", app.recoveryDir},

@@ -51,6 +51,7 @@ private:
         std::string mode;  // "": as it comes; "drag": move the selection every frame; "orbit": turn the camera
         std::string path;
         uint64_t firstFrame = 0;
+        bool dragStarted = false;  // "drag": later steps extend the first one's history entry
     };
 
     bool busy() const;

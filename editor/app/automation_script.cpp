@@ -34,15 +34,34 @@ const std::vector<CommandSpec> kCommands = {
     {"select-vertex", {Arg::Int}, {Arg::Word}},
     {"select-edge", {Arg::Int, Arg::Int}, {}},
     {"clear-selection", {}, {}},
+    {"select-mode", {Arg::Word}, {}},
+    {"select", {Arg::Word, Arg::Word}, {Arg::Word}},
+    {"box-select", {Arg::Int, Arg::Float, Arg::Float, Arg::Float, Arg::Float}, {Arg::Word}},
     {"move-selection", {Arg::Float, Arg::Float, Arg::Float}, {}},
+    {"set-tool", {Arg::Word}, {}},
+    {"set-space", {Arg::Word}, {}},
+    {"transform", {Arg::Word, Arg::Float, Arg::Float, Arg::Float}, {Arg::Float}},
+    {"extrude", {}, {Arg::Float}},
+    {"delete", {}, {}},
+    {"split", {}, {}},
+    {"loop", {}, {Arg::Int, Arg::Int, Arg::Float}},
+    {"merge", {}, {Arg::Word}},
+    {"make-face", {}, {}},
+    {"crease", {Arg::Float}, {}},
+    {"corner", {Arg::Float}, {}},
+    {"hole", {Arg::Word}, {}},
+    {"crease-method", {Arg::Word}, {}},
     {"set-edge-sharpness", {Arg::Int, Arg::Int, Arg::Float}, {}},
     {"undo", {}, {}},
     {"redo", {}, {}},
+    {"jump-history", {Arg::Int}, {}},
     {"set-viewports", {Arg::Int}, {}},
     {"set-scheme", {Arg::Int, Arg::Word}, {}},
     {"set-color-by", {Arg::Int, Arg::Word}, {}},
     {"set-link", {Arg::Int, Arg::Word}, {}},
+    {"heatmap", {Arg::Int, Arg::Word}, {}},
     {"set-tessellation", {Arg::Word, Arg::Float}, {}},
+    {"set-plans-path", {Arg::Word}, {}},
     {"set-draw-path", {Arg::Word}, {}},
     {"mouse-move", {Arg::Float, Arg::Float}, {}},
     {"mouse-down", {Arg::Word}, {}},
@@ -73,11 +92,57 @@ int automationKeyCode(std::string_view name) {
     }
     static const std::pair<const char*, int> named[] = {
         {"esc", GLFW_KEY_ESCAPE}, {"escape", GLFW_KEY_ESCAPE}, {"home", GLFW_KEY_HOME}, {"enter", GLFW_KEY_ENTER},
-        {"tab", GLFW_KEY_TAB},    {"space", GLFW_KEY_SPACE},   {"delete", GLFW_KEY_DELETE},
+        {"tab", GLFW_KEY_TAB},    {"space", GLFW_KEY_SPACE},   {"delete", GLFW_KEY_DELETE}, {"backspace", GLFW_KEY_BACKSPACE},
+        {"period", GLFW_KEY_PERIOD}, {"comma", GLFW_KEY_COMMA}, {"kpadd", GLFW_KEY_KP_ADD}, {"kpsubtract", GLFW_KEY_KP_SUBTRACT},
         {"alt", GLFW_KEY_LEFT_ALT}, {"ctrl", GLFW_KEY_LEFT_CONTROL}, {"shift", GLFW_KEY_LEFT_SHIFT}};
     for (auto [text, code] : named)
         if (n == text) return code;
     return -1;
+}
+
+std::optional<SelectionMode> parseSelectionModeWord(const std::string& word) {
+    if (word == "vertex" || word == "vertices") return SelectionMode::Vertex;
+    if (word == "edge" || word == "edges") return SelectionMode::Edge;
+    if (word == "face" || word == "faces") return SelectionMode::Face;
+    return std::nullopt;
+}
+
+std::optional<SelectOp> parseSelectOpWord(const std::string& word) {
+    if (word == "replace") return SelectOp::Replace;
+    if (word == "add") return SelectOp::Add;
+    if (word == "toggle") return SelectOp::Toggle;
+    if (word == "remove") return SelectOp::Remove;
+    return std::nullopt;
+}
+
+std::optional<ElementList> parseElementList(const std::string& text, SelectionMode mode) {
+    ElementList list;
+    std::istringstream items(text);
+    std::string item;
+    while (std::getline(items, item, ',')) {
+        const size_t dash = item.find('-');
+        if ((mode == SelectionMode::Edge) != (dash != std::string::npos)) return std::nullopt;
+        auto index = [](const std::string& t) -> std::optional<uint32_t> {
+            // At most 9 digits: within [0, kMaxAutomationInt] like every other whole number.
+            if (t.empty() || t.size() > 9 || t.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+            return uint32_t(std::strtoul(t.c_str(), nullptr, 10));
+        };
+        if (mode == SelectionMode::Edge) {
+            std::optional<uint32_t> a = index(item.substr(0, dash)), b = index(item.substr(dash + 1));
+            if (!a || !b) return std::nullopt;
+            list.edges.push_back(makeEdgeKey(*a, *b));
+        } else {
+            std::optional<uint32_t> i = index(item);
+            if (!i) return std::nullopt;
+            list.indices.push_back(*i);
+        }
+    }
+    if (list.indices.empty() && list.edges.empty()) return std::nullopt;
+    return list;
+}
+
+const char* selectionModeWord(SelectionMode mode) {
+    return mode == SelectionMode::Vertex ? "vertex" : mode == SelectionMode::Edge ? "edge" : "face";
 }
 
 int automationMouseButton(std::string_view name) {
@@ -88,6 +153,12 @@ int automationMouseButton(std::string_view name) {
 }
 
 namespace {
+
+bool isOneOf(const std::string& word, std::initializer_list<const char*> choices) {
+    for (const char* c : choices)
+        if (word == c) return true;
+    return false;
+}
 
 bool isNumber(const std::string& text, bool integer) {
     if (text.empty()) return false;
@@ -110,11 +181,26 @@ std::string checkWords(const AutomationCommand& c, const AutomationVocabulary& w
     if ((name == "key-down" || name == "key-up" || name == "key") && automationKeyCode(c.args[0]) < 0)
         return "unknown key '" + c.args[0] + "'";
     if (name == "select-vertex" && c.args.size() > 1 && c.args[1] != "add") return "the optional word must be 'add'";
-    if (name == "set-color-by" && !words.isColorMode(c.args[1])) return "colour mode must be shading, node-kind, depth or sharpness";
     if (name == "set-link" && c.args[1] != "linked" && c.args[1] != "independent") return "use 'linked' or 'independent'";
     if (name == "set-tessellation" && c.args[0] != "uniform" && c.args[0] != "adaptive")
         return "use 'uniform FACTOR' or 'adaptive PIXELS'";
-    if (name == "set-draw-path" && !words.isDrawPath(c.args[0])) return "draw path must be auto, tess or grid";
+    if ((name == "set-draw-path" || name == "set-plans-path") && !isOneOf(c.args[0], {"auto", "tess", "grid", "cpu"}))
+        return "the plans path must be auto, tess, grid or cpu";
+    if ((name == "select-mode" || name == "select") && !parseSelectionModeWord(c.args[0])) return "the mode must be vertex, edge or face";
+    if (name == "select" && !parseElementList(c.args[1], *parseSelectionModeWord(c.args[0])))
+        return "list the elements separated by commas (edges as A-B): 1,2,3 or 1-2,2-3";
+    if ((name == "select" && c.args.size() > 2) || (name == "box-select" && c.args.size() > 5))
+        if (!parseSelectOpWord(c.args.back())) return "the operation must be replace, add, toggle or remove";
+    if (name == "set-tool" && !isOneOf(c.args[0], {"select", "move", "rotate", "scale"})) return "the tool must be select, move, rotate or scale";
+    if (name == "set-space" && !isOneOf(c.args[0], {"world", "local"})) return "the space must be world or local";
+    if (name == "transform" && !isOneOf(c.args[0], {"move", "rotate", "scale"}))
+        return "use 'transform move X Y Z', 'transform rotate AX AY AZ DEGREES' or 'transform scale X Y Z'";
+    if (name == "transform" && (c.args[0] == "rotate") != (c.args.size() == 5))
+        return "rotate takes an axis and degrees; move and scale take three numbers";
+    if (name == "loop" && c.args.size() == 1) return "give both vertices of the edge (and optionally the fraction)";
+    if (name == "merge" && !c.args.empty() && !isOneOf(c.args[0], {"centroid", "last"})) return "merge at 'centroid' or 'last'";
+    if ((name == "hole" || name == "heatmap") && !isOneOf(c.args.back(), {"on", "off"})) return "use 'on' or 'off'";
+    if (name == "crease-method" && !isOneOf(c.args[0], {"normal", "chaikin"})) return "the crease method must be normal or chaikin";
     if (name == "measure-frames" && c.args.size() > 2 && c.args[2] != "drag" && c.args[2] != "orbit")
         return "the optional mode must be 'drag' or 'orbit'";
     return {};

@@ -14,7 +14,11 @@
 #include <string_view>
 #include <vector>
 
+#include <optional>
+
 #include "result.h"
+#include "selection.h"
+#include "topology.h"
 
 namespace qp::editor {
 
@@ -27,9 +31,10 @@ struct AutomationCommand {
 inline constexpr long kMaxAutomationInt = 1'000'000'000;
 inline constexpr float kMaxAutomationNumber = 1e9f;
 
-// The words the parser checks against tables that live with the renderer and the actions.
+// The words the parser checks against a table that lives with the editor's actions. (Colour
+// modes are checked when the command runs: they depend on the viewport's scheme.)
 struct AutomationVocabulary {
-    std::function<bool(std::string_view)> isAction, isColorMode, isDrawPath;
+    std::function<bool(std::string_view)> isAction;
 };
 
 // Checks every command's name and arguments; the message names the line at fault.
@@ -40,5 +45,16 @@ Result<std::vector<AutomationCommand>> parseAutomation(std::string_view text, co
 int automationKeyCode(std::string_view name);
 // 0 left, 1 right, 2 middle; -1 when unknown.
 int automationMouseButton(std::string_view name);
+
+// Words of the selection commands: "vertex"/"vertices", "edge(s)", "face(s)"; "replace", "add",
+// "toggle", "remove"; element lists "1,2,3" (vertices, faces) or "1-2,2-3" (edges).
+std::optional<SelectionMode> parseSelectionModeWord(const std::string& word);
+std::optional<SelectOp> parseSelectOpWord(const std::string& word);
+struct ElementList {
+    std::vector<uint32_t> indices;
+    std::vector<EdgeKey> edges;
+};
+std::optional<ElementList> parseElementList(const std::string& text, SelectionMode mode);
+const char* selectionModeWord(SelectionMode mode);
 
 }  // namespace qp::editor

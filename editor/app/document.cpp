@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "obj_io.h"
@@ -16,53 +17,232 @@ std::string lowerExtension(const std::string& path) {
     return ext;
 }
 
-Status checkVertex(const Document& doc, uint32_t v) {
-    if (v >= doc.planned->cage().vertexCount())
+std::string number(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
+}
+
+std::string sharpnessText(float s) { return s >= kInfiniteSharpness ? "infinite" : number(s); }
+
+std::string count(size_t n, const char* singular, const char* plural) {
+    return std::to_string(n) + " " + (n == 1 ? singular : plural);
+}
+
+Status checkVertex(const Cage& cage, uint32_t v) {
+    if (v >= cage.vertexCount())
         return Error{"vertex " + std::to_string(v) + " does not exist (the cage has " +
-                     std::to_string(doc.planned->cage().vertexCount()) + " vertices, numbered from 0)"};
+                     std::to_string(cage.vertexCount()) + " vertices, numbered from 0)"};
     return success();
 }
 
-Status checkEdge(const Document& doc, uint32_t a, uint32_t b) {
-    if (Status s = checkVertex(doc, a); !s) return s;
-    if (Status s = checkVertex(doc, b); !s) return s;
-    if (doc.planned->topology().findEdge(a, b) == UINT32_MAX)
+Status checkFace(const Cage& cage, uint32_t f) {
+    if (f >= cage.faceCount())
+        return Error{"face " + std::to_string(f) + " does not exist (the cage has " + std::to_string(cage.faceCount()) +
+                     " faces, numbered from 0)"};
+    return success();
+}
+
+Status checkEdge(const PlannedCage& planned, uint32_t a, uint32_t b) {
+    if (Status s = checkVertex(planned.cage(), a); !s) return s;
+    if (Status s = checkVertex(planned.cage(), b); !s) return s;
+    if (planned.topology().findEdge(a, b) == UINT32_MAX)
         return Error{"vertices " + std::to_string(a) + " and " + std::to_string(b) + " (numbered from 0) share no edge"};
     return success();
 }
 
-Result<EditReport> apply(Document& doc, const MoveVertices& move) {
+Status checkSharpness(float s, const char* what) {
+    if (!std::isfinite(s) || s < 0.0f) return Error{std::string(what) + " must be a number >= 0"};
+    return success();
+}
+
+// ---- performing each kind of edit through the history ----------------------------------------
+
+Result<EditReport> perform(Document& doc, const MoveVertices& move, const std::string& name) {
     if (move.vertices.size() != move.positions.size()) return Error{"move: one position per vertex is needed"};
     for (size_t i = 0; i < move.vertices.size(); ++i) {
-        if (Status s = checkVertex(doc, move.vertices[i]); !s) return s.error();
+        if (Status s = checkVertex(doc.planned->cage(), move.vertices[i]); !s) return s.error();
         const glm::vec3& p = move.positions[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
             return Error{"move: the new position of vertex " + std::to_string(move.vertices[i]) + " is not finite"};
     }
-    Result<EditReport> report = doc.planned->moveVertices(move.vertices, move.positions);
-    if (report) ++doc.positionRevision;
-    return report;
+    return doc.history.moveVertices(*doc.planned, name, move.vertices, move.positions, move.continueDrag);
 }
 
-Result<EditReport> apply(Document& doc, const SetEdgeSharpness& crease) {
-    if (Status s = checkEdge(doc, crease.a, crease.b); !s) return s.error();
-    if (!std::isfinite(crease.sharpness) || crease.sharpness < 0.0f)
-        return Error{"edge sharpness must be a number >= 0"};
-    Result<EditReport> report = doc.planned->setEdgeSharpness(crease.a, crease.b, crease.sharpness);
-    if (report) ++doc.planRevision;
-    return report;
+Result<EditReport> perform(Document& doc, const SetEdgeSharpness& crease, const std::string& name) {
+    if (crease.edges.empty()) return Error{"no edges to crease: select edges first"};
+    for (const EdgeCrease& e : crease.edges) {
+        if (Status s = checkEdge(*doc.planned, e.v0, e.v1); !s) return s.error();
+        if (Status s = checkSharpness(e.sharpness, "edge sharpness"); !s) return s.error();
+    }
+    return doc.history.setEdgeSharpness(*doc.planned, name, crease.edges);
+}
+
+Result<EditReport> perform(Document& doc, const SetVertexSharpness& corner, const std::string& name) {
+    if (corner.corners.empty()) return Error{"no vertices for a corner: select vertices first"};
+    for (const VertexCorner& c : corner.corners) {
+        if (Status s = checkVertex(doc.planned->cage(), c.vertex); !s) return s.error();
+        if (Status s = checkSharpness(c.sharpness, "corner sharpness"); !s) return s.error();
+    }
+    return doc.history.setVertexSharpness(*doc.planned, name, corner.corners);
+}
+
+Result<EditReport> perform(Document& doc, const SetHoles& holes, const std::string& name) {
+    if (holes.faces.empty()) return Error{"no faces: select faces first"};
+    for (uint32_t f : holes.faces)
+        if (Status s = checkFace(doc.planned->cage(), f); !s) return s.error();
+    return doc.history.setHoles(*doc.planned, name, holes.faces, holes.hole);
+}
+
+Result<EditReport> perform(Document& doc, const SetCreaseMethod& method, const std::string& name) {
+    return doc.history.setCreaseMethod(*doc.planned, name, method.method);
+}
+
+Result<TopologyEdit> operation(const Document& doc, const ExtrudeFaces& e) {
+    if (!std::isfinite(e.distance)) return Error{"extrude: the distance is not a number"};
+    return extrudeFaces(doc.planned->cage(), doc.planned->topology(), e.faces, e.distance);
+}
+Result<TopologyEdit> operation(const Document& doc, const DeleteFaces& e) {
+    return deleteFaces(doc.planned->cage(), doc.planned->topology(), e.faces, true);
+}
+Result<TopologyEdit> operation(const Document& doc, const SplitFace& e) {
+    if (Status s = checkFace(doc.planned->cage(), e.face); !s) return s.error();
+    return splitFace(doc.planned->cage(), doc.planned->topology(), e.face, e.a, e.b);
+}
+Result<TopologyEdit> operation(const Document& doc, const InsertEdgeLoop& e) {
+    return insertEdgeLoop(doc.planned->cage(), doc.planned->topology(), e.a, e.b, e.t);
+}
+Result<TopologyEdit> operation(const Document& doc, const MergeVertices& e) {
+    return mergeVertices(doc.planned->cage(), doc.planned->topology(), e.vertices, e.target);
+}
+Result<TopologyEdit> operation(const Document& doc, const MakeFace& e) {
+    return makeFace(doc.planned->cage(), doc.planned->topology(), e.vertices);
+}
+
+template <class Op>
+Result<EditReport> performTopology(Document& doc, const Op& op, const std::string& name, TopologyEdit* applied) {
+    if (!doc.scene.displacement.empty())
+        return Error{"this scene carries sculpted displacement, which follows the cage's topology: topology edits "
+                     "would invalidate it (vertex moves, creases and holes are fine)"};
+    Result<TopologyEdit> edit = operation(doc, op);
+    if (!edit) return edit.error();
+    *applied = *edit;  // the result selection is read after the history takes the edit
+    return doc.history.applyTopologyEdit(*doc.planned, name, std::move(edit).value());
+}
+
+// After a topology edit: what the operation suggests, in the current mode when it has
+// elements of that mode, else converted from what it has.
+void selectResult(Document& doc, const TopologyEdit& edit) {
+    const Cage& cage = doc.planned->cage();
+    const Topology& topology = doc.planned->topology();
+    Selection result;
+    const SelectionMode mode = doc.selection.mode;
+    if (mode == SelectionMode::Face && !edit.resultFaces.empty()) {
+        result.mode = mode, result.faces = edit.resultFaces;
+    } else if (mode == SelectionMode::Edge && !edit.resultEdges.empty()) {
+        result.mode = mode, result.edges = edit.resultEdges;
+    } else if (mode == SelectionMode::Vertex && !edit.resultVertices.empty()) {
+        result.mode = mode, result.vertices = edit.resultVertices;
+    } else {
+        if (!edit.resultFaces.empty()) result.mode = SelectionMode::Face, result.faces = edit.resultFaces;
+        else if (!edit.resultEdges.empty()) result.mode = SelectionMode::Edge, result.edges = edit.resultEdges;
+        else result.mode = SelectionMode::Vertex, result.vertices = edit.resultVertices;
+        result = convertSelection(result, mode, cage, topology);
+    }
+    doc.selection = std::move(result);
+}
+
+// Drops selected elements that no longer exist (after an undo or redo renumbered the cage).
+void pruneSelection(Document& doc) {
+    const Cage& cage = doc.planned->cage();
+    Selection& s = doc.selection;
+    std::erase_if(s.vertices, [&](uint32_t v) { return v >= cage.vertexCount(); });
+    std::erase_if(s.faces, [&](uint32_t f) { return f >= cage.faceCount(); });
+    std::erase_if(s.edges, [&](const EdgeKey& e) {
+        return e.v1 >= cage.vertexCount() || doc.planned->topology().findEdge(e.v0, e.v1) == UINT32_MAX;
+    });
+}
+
+// After a new edit: the saved state stays reachable through undo unless the edit dropped the
+// redo entries leading to it, extended the entry that ended at it (a continued drag), or the
+// history's budget dropped the oldest entries up to it.
+void forgetUnreachableSave(Document& doc, const Edit& edit, size_t before, size_t sizeBefore) {
+    if (!doc.savedPosition) return;
+    size_t& saved = *doc.savedPosition;
+    const auto* move = std::get_if<MoveVertices>(&edit);
+    const bool extended = move && move->continueDrag && doc.history.position() == before && doc.history.size() == sizeBefore;
+    if (extended) {
+        if (saved >= before) doc.savedPosition.reset();
+        return;
+    }
+    if (saved > before) {
+        doc.savedPosition.reset();
+        return;
+    }
+    const size_t trimmed = before + 1 > doc.history.position() ? before + 1 - doc.history.position() : 0;
+    if (saved < trimmed) doc.savedPosition.reset();
+    else saved -= trimmed;
+}
+
+// Revisions, dirty flag and the stats panel's record, for any change to the cage.
+void noteChange(Document& doc, const std::string& description, const EditReport& report, uint64_t frame) {
+    ++doc.positionRevision;
+    if (report.replannedFaces > 0 || report.topologyChanged) ++doc.planRevision;
+    if (report.topologyChanged) ++doc.topologyRevision;
+    doc.dirty = !(doc.savedPosition && *doc.savedPosition == doc.history.position());
+    doc.lastEdit = LastEdit{description, report, frame};
 }
 
 }  // namespace
 
 std::string describeEdit(const Edit& edit) {
-    if (const auto* move = std::get_if<MoveVertices>(&edit))
-        return move->vertices.size() == 1 ? "move vertex " + std::to_string(move->vertices[0])
-                                          : "move " + std::to_string(move->vertices.size()) + " vertices";
-    const auto& crease = std::get<SetEdgeSharpness>(edit);
-    char text[96];
-    std::snprintf(text, sizeof text, "sharpness of edge %u-%u = %g", crease.a, crease.b, double(crease.sharpness));
-    return text;
+    struct Describe {
+        std::string operator()(const MoveVertices& e) const {
+            const std::string verb = e.name.empty() ? "move" : e.name;
+            std::string lower = verb;
+            std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+            return e.vertices.size() == 1 ? lower + " vertex " + std::to_string(e.vertices[0])
+                                          : lower + " " + std::to_string(e.vertices.size()) + " vertices";
+        }
+        std::string operator()(const SetEdgeSharpness& e) const {
+            if (e.edges.size() == 1)
+                return "sharpness of edge " + std::to_string(e.edges[0].v0) + "-" + std::to_string(e.edges[0].v1) + " = " +
+                       sharpnessText(e.edges[0].sharpness);
+            const bool same = std::all_of(e.edges.begin(), e.edges.end(),
+                                          [&](const EdgeCrease& c) { return c.sharpness == e.edges[0].sharpness; });
+            if (same && !e.edges.empty() && e.edges[0].sharpness == 0.0f) return "clear crease on " + count(e.edges.size(), "edge", "edges");
+            return "sharpness " + (same && !e.edges.empty() ? sharpnessText(e.edges[0].sharpness) + " " : std::string()) +
+                   "on " + count(e.edges.size(), "edge", "edges");
+        }
+        std::string operator()(const SetVertexSharpness& e) const {
+            const bool clear = !e.corners.empty() && e.corners[0].sharpness == 0.0f;
+            return (clear ? std::string("clear corner on ")
+                          : "corner sharpness " + (e.corners.empty() ? std::string() : sharpnessText(e.corners[0].sharpness)) + " on ") +
+                   count(e.corners.size(), "vertex", "vertices");
+        }
+        std::string operator()(const SetHoles& e) const {
+            return std::string(e.hole ? "make hole of " : "fill hole of ") + count(e.faces.size(), "face", "faces");
+        }
+        std::string operator()(const SetCreaseMethod& e) const {
+            return std::string("crease method ") + (e.method == CreaseMethod::Chaikin ? "Chaikin" : "normal");
+        }
+        std::string operator()(const ExtrudeFaces& e) const {
+            return "extrude " + count(e.faces.size(), "face", "faces") + " by " + number(e.distance);
+        }
+        std::string operator()(const DeleteFaces& e) const { return "delete " + count(e.faces.size(), "face", "faces"); }
+        std::string operator()(const SplitFace& e) const {
+            return "split face " + std::to_string(e.face) + " (" + std::to_string(e.a) + "-" + std::to_string(e.b) + ")";
+        }
+        std::string operator()(const InsertEdgeLoop& e) const {
+            return "edge loop through " + std::to_string(e.a) + "-" + std::to_string(e.b) + " at " + number(e.t);
+        }
+        std::string operator()(const MergeVertices& e) const {
+            return "merge " + count(e.vertices.size(), "vertex", "vertices") +
+                   (e.target == MergeTarget::Centroid ? " at the centre" : " at the last");
+        }
+        std::string operator()(const MakeFace& e) const { return "make face from " + count(e.vertices.size(), "vertex", "vertices"); }
+    };
+    return std::visit(Describe{}, edit);
 }
 
 Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string& path, const PlanOptions& options) {
@@ -83,35 +263,118 @@ std::string documentTitle(const Document& doc) {
 
 Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
-    Result<EditReport> report = std::visit([&](const auto& e) { return apply(doc, e); }, edit);
+    const std::string name = describeEdit(edit);
+    const size_t before = doc.history.position(), sizeBefore = doc.history.size();
+    std::optional<TopologyEdit> topology;
+    Result<EditReport> report = std::visit(
+        [&](const auto& e) -> Result<EditReport> {
+            using T = std::decay_t<decltype(e)>;
+            if constexpr (std::is_same_v<T, MoveVertices> || std::is_same_v<T, SetEdgeSharpness> ||
+                          std::is_same_v<T, SetVertexSharpness> || std::is_same_v<T, SetHoles> ||
+                          std::is_same_v<T, SetCreaseMethod>) {
+                return perform(doc, e, name);
+            } else {
+                topology.emplace();
+                return performTopology(doc, e, name, &*topology);
+            }
+        },
+        edit);
     if (!report) return report;
-    doc.dirty = true;
-    doc.lastEdit = LastEdit{describeEdit(edit), *report, frame};
+    forgetUnreachableSave(doc, edit, before, sizeBefore);
+    // A drag merged into the previous entry reports only its last step; the history keeps the
+    // entry's name.
+    noteChange(doc, name, *report, frame);
+    if (topology) selectResult(doc, *topology);
     return report;
 }
 
-Status selectVertex(Document& doc, uint32_t vertex, bool add) {
-    if (Status s = checkVertex(doc, vertex); !s) return s;
-    std::vector<uint32_t>& selected = doc.selection.vertices;
-    if (!add) {
-        doc.selection = Selection{};
-        selected.push_back(vertex);
-        return success();
-    }
-    auto at = std::lower_bound(selected.begin(), selected.end(), vertex);
-    if (at != selected.end() && *at == vertex) selected.erase(at);  // toggles
-    else selected.insert(at, vertex);
+Result<EditReport> undoEdit(Document& doc, uint64_t frame) {
+    if (!doc.planned) return Error{"no cage is open"};
+    if (!doc.history.canUndo()) return Error{"nothing to undo"};
+    const std::string name = doc.history.entry(doc.history.position() - 1).name;
+    Result<EditReport> report = doc.history.undo(*doc.planned);
+    if (!report) return report;
+    noteChange(doc, "undo " + name, *report, frame);
+    pruneSelection(doc);
+    return report;
+}
+
+Result<EditReport> redoEdit(Document& doc, uint64_t frame) {
+    if (!doc.planned) return Error{"no cage is open"};
+    if (!doc.history.canRedo()) return Error{"nothing to redo"};
+    const std::string name = doc.history.entry(doc.history.position()).name;
+    Result<EditReport> report = doc.history.redo(*doc.planned);
+    if (!report) return report;
+    noteChange(doc, "redo " + name, *report, frame);
+    pruneSelection(doc);
+    return report;
+}
+
+Result<EditReport> jumpToHistory(Document& doc, size_t position, uint64_t frame) {
+    if (!doc.planned) return Error{"no cage is open"};
+    if (position > doc.history.size())
+        return Error{"the history has " + std::to_string(doc.history.size()) + " entries; position " +
+                     std::to_string(position) + " does not exist"};
+    if (position == doc.history.position()) return EditReport{};
+    Result<EditReport> report = doc.history.jumpTo(*doc.planned, position);
+    if (!report) return report;
+    noteChange(doc, "jump to history position " + std::to_string(position), *report, frame);
+    pruneSelection(doc);
+    return report;
+}
+
+Status selectElements(Document& doc, SelectionMode mode, std::span<const uint32_t> elements, SelectOp op) {
+    if (!doc.planned) return Error{"no cage is open"};
+    if (mode == SelectionMode::Edge) return Error{"edges are selected by their two vertices"};
+    const Cage& cage = doc.planned->cage();
+    for (uint32_t e : elements)
+        if (Status s = mode == SelectionMode::Vertex ? checkVertex(cage, e) : checkFace(cage, e); !s) return s;
+    setSelectionMode(doc, mode);
+    applyPick(doc.selection, op, elements);
     return success();
+}
+
+Status selectEdges(Document& doc, std::span<const EdgeKey> edges, SelectOp op) {
+    if (!doc.planned) return Error{"no cage is open"};
+    for (const EdgeKey& e : edges)
+        if (Status s = checkEdge(*doc.planned, e.v0, e.v1); !s) return s;
+    setSelectionMode(doc, SelectionMode::Edge);
+    applyPick(doc.selection, op, edges);
+    return success();
+}
+
+void setSelectionMode(Document& doc, SelectionMode mode) {
+    if (doc.selection.mode == mode) return;
+    if (!doc.planned) {
+        doc.selection = Selection{mode};
+        return;
+    }
+    doc.selection = convertSelection(doc.selection, mode, doc.planned->cage(), doc.planned->topology());
+}
+
+void clearSelection(Document& doc) { doc.selection = Selection{doc.selection.mode}; }
+
+Status selectVertex(Document& doc, uint32_t vertex, bool add) {
+    const uint32_t one[] = {vertex};
+    return selectElements(doc, SelectionMode::Vertex, one, add ? SelectOp::Toggle : SelectOp::Replace);
 }
 
 Status selectEdge(Document& doc, uint32_t a, uint32_t b) {
-    if (Status s = checkEdge(doc, a, b); !s) return s;
-    doc.selection = Selection{};
-    doc.selection.edge = std::make_pair(std::min(a, b), std::max(a, b));
-    return success();
+    const EdgeKey one[] = {makeEdgeKey(a, b)};
+    return selectEdges(doc, one, SelectOp::Replace);
 }
 
-void clearSelection(Document& doc) { doc.selection = Selection{}; }
+std::vector<uint32_t> selectedFaces(const Document& doc) {
+    if (!doc.planned) return {};
+    if (doc.selection.mode == SelectionMode::Face) return doc.selection.faces;
+    return convertSelection(doc.selection, SelectionMode::Face, doc.planned->cage(), doc.planned->topology()).faces;
+}
+
+std::vector<EdgeKey> selectedEdges(const Document& doc) {
+    if (!doc.planned) return {};
+    if (doc.selection.mode == SelectionMode::Edge) return doc.selection.edges;
+    return convertSelection(doc.selection, SelectionMode::Edge, doc.planned->cage(), doc.planned->topology()).edges;
+}
 
 Scene sceneToSave(const Document& doc) {
     Scene scene = doc.scene;
@@ -134,6 +397,7 @@ Status saveDocument(Document& doc, const std::string& path) {
     if (!saved) return saved;
     doc.path = path;
     doc.dirty = false;
+    doc.savedPosition = doc.history.position();
     return success();
 }
 

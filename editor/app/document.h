@@ -1,45 +1,79 @@
-// Document: what the editor has open — the scene settings, the planned cage, where it came
-// from and whether it has unsaved changes — and the one function every edit goes through.
+// Document: what the editor has open — the scene settings, the planned cage with its edit
+// history, where it came from, whether it has unsaved changes and the selection — and the one
+// function every edit goes through.
 //
 // applyEdit is the single route from any tool, shortcut or automation command to the cage: it
-// calls the PlannedCage edit (which re-plans only the affected faces), bumps the revisions the
-// renderer watches, marks the document dirty and records the edit's report for the stats
-// panel. Undo/redo (core/edit_history) will hook in here. Vertex indices are 0-based.
+// builds the edit (topology operations of core/topology_edits.h from the current cage), performs
+// it through the EditHistory (core/edit_history.h: PlannedCage re-plans only the affected faces,
+// and the entry can be undone), bumps the revisions the renderer and the pickers watch, marks
+// the document dirty, updates the selection and records the report for the stats panel.
+// undoEdit / redoEdit / jumpToHistory go through the same bookkeeping. Indices are 0-based.
 #pragma once
 
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
-#include <utility>
 #include <variant>
 #include <vector>
 
 #include <glm/vec3.hpp>
 
+#include "edit_history.h"
 #include "plan_database.h"
 #include "planned_cage.h"
 #include "scene.h"
+#include "selection.h"
 
 namespace qp::editor {
 
+// Move, rotate and scale all arrive as new absolute positions. A drag sends one per frame with
+// `continueDrag` set after the first, so the history keeps one entry per drag.
 struct MoveVertices {
     std::vector<uint32_t> vertices;
     std::vector<glm::vec3> positions;  // new absolute positions, one per vertex
+    bool continueDrag = false;
+    std::string name{};  // history entry ("Move", "Rotate", "Scale"); empty: "move N vertices"
 };
 struct SetEdgeSharpness {
+    std::vector<EdgeCrease> edges;  // sharpness 0 clears; >= kInfiniteSharpness is infinitely sharp
+};
+struct SetVertexSharpness {
+    std::vector<VertexCorner> corners;  // sharpness 0 clears
+};
+struct SetHoles {
+    std::vector<uint32_t> faces;
+    bool hole = true;
+};
+struct SetCreaseMethod {
+    CreaseMethod method = CreaseMethod::Normal;
+};
+struct ExtrudeFaces {
+    std::vector<uint32_t> faces;
+    float distance = 0.0f;  // along each region's normal
+};
+struct DeleteFaces {
+    std::vector<uint32_t> faces;
+};
+struct SplitFace {
+    uint32_t face = 0, a = 0, b = 0;
+};
+struct InsertEdgeLoop {
     uint32_t a = 0, b = 0;
-    float sharpness = 0.0f;  // 0 clears the crease; >= kInfiniteSharpness is infinitely sharp
+    float t = 0.5f;  // where the loop crosses edge a-b, from a
 };
-using Edit = std::variant<MoveVertices, SetEdgeSharpness>;
+struct MergeVertices {
+    std::vector<uint32_t> vertices;  // the last survives
+    MergeTarget target = MergeTarget::Centroid;
+};
+struct MakeFace {
+    std::vector<uint32_t> vertices;  // in order around the face (reversed if its neighbours say so)
+};
+using Edit = std::variant<MoveVertices, SetEdgeSharpness, SetVertexSharpness, SetHoles, SetCreaseMethod, ExtrudeFaces,
+                          DeleteFaces, SplitFace, InsertEdgeLoop, MergeVertices, MakeFace>;
 
+// The history entry's name: "move vertex 3", "extrude 2 faces", "sharpness 2.5 on 4 edges", ...
 std::string describeEdit(const Edit& edit);
-
-struct Selection {
-    std::vector<uint32_t> vertices;                        // sorted, unique
-    std::optional<std::pair<uint32_t, uint32_t>> edge;     // (a, b), a < b
-    bool empty() const { return vertices.empty() && !edge; }
-};
 
 struct LastEdit {
     std::string description;
@@ -53,11 +87,19 @@ struct Document {
     Scene scene;
     std::unique_ptr<PlanDatabase> database;  // heap: `planned` points at it
     std::optional<PlannedCage> planned;
+    EditHistory history;
     std::string path;  // file loaded from or last saved to; empty: untitled
     bool dirty = false;
-    // Revisions the renderer compares with what it uploaded.
-    uint64_t positionRevision = 0;  // vertex positions changed
-    uint64_t planRevision = 0;      // plans or tags changed: plan buffers must be rebuilt
+    // The history position of the state last loaded or saved; unset when no undo or redo can
+    // return to it (a new edit dropped it). Undoing or redoing back to it makes `dirty` false.
+    std::optional<size_t> savedPosition = 0;
+    // Revisions the renderer and the pickers compare with what they were built from. Every
+    // applied edit, undo or redo bumps positionRevision (a consumer diffs the positions to find
+    // which vertices moved); planRevision when plans or tags changed; topologyRevision when
+    // faces or vertices were renumbered (then planRevision too).
+    uint64_t positionRevision = 0;
+    uint64_t planRevision = 0;
+    uint64_t topologyRevision = 0;
     Selection selection;
     std::optional<LastEdit> lastEdit;
 };
@@ -69,13 +111,26 @@ Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string&
 std::string documentTitle(const Document& document);
 
 // Applies the edit (see the header comment). Fails, changing nothing, on bad input: indices out
-// of range, no such edge, a negative or non-finite value.
+// of range, no such edge, a negative or non-finite value, an operation the cage refuses.
 Result<EditReport> applyEdit(Document& document, const Edit& edit, uint64_t frame);
+Result<EditReport> undoEdit(Document& document, uint64_t frame);
+Result<EditReport> redoEdit(Document& document, uint64_t frame);
+// Undoes or redoes until `position` entries are applied (0: before the oldest kept entry).
+Result<EditReport> jumpToHistory(Document& document, size_t position, uint64_t frame);
 
-// Selection helpers (the click tools and automation both use them).
+// Selection. selectElements checks the indices (edges must exist) and combines them with `op`
+// in `mode` (switching the selection to that mode first, as setSelectionMode does).
+Status selectElements(Document& document, SelectionMode mode, std::span<const uint32_t> elements, SelectOp op);
+Status selectEdges(Document& document, std::span<const EdgeKey> edges, SelectOp op);
+// Converts the selection (Blender's rules, core/selection.h).
+void setSelectionMode(Document& document, SelectionMode mode);
+void clearSelection(Document& document);
+// Phase-1 helpers, kept for scripts: one vertex (add: toggle it), one edge.
 Status selectVertex(Document& document, uint32_t vertex, bool add);
 Status selectEdge(Document& document, uint32_t a, uint32_t b);
-void clearSelection(Document& document);
+// The selection's faces (face mode: as selected; otherwise faces with every corner selected).
+std::vector<uint32_t> selectedFaces(const Document& document);
+std::vector<EdgeKey> selectedEdges(const Document& document);  // edge mode, or edges between selected vertices
 
 // The scene as it would be saved now: the document's scene with the current cage.
 Scene sceneToSave(const Document& document);

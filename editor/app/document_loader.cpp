@@ -8,15 +8,14 @@ DocumentLoader::~DocumentLoader() {
     if (worker_.joinable()) worker_.join();
 }
 
-void DocumentLoader::waitAndDiscard(const VulkanContext& context) {
+void DocumentLoader::waitAndDiscard() {
     if (worker_.joinable()) worker_.join();
     std::lock_guard lock(mutex_);
-    if (result_ && *result_) destroyPlanBuffers(context, (*result_)->buffers);
     result_.reset();
     running_ = false;
 }
 
-void DocumentLoader::start(const VulkanContext& context, LoadRequest request) {
+void DocumentLoader::start(LoadRequest request) {
     if (worker_.joinable()) worker_.join();
     std::lock_guard lock(mutex_);
     request_ = std::move(request);
@@ -25,7 +24,7 @@ void DocumentLoader::start(const VulkanContext& context, LoadRequest request) {
     stage_ = "Reading";
     fraction_ = 0.0f;
     started_ = std::chrono::steady_clock::now();
-    worker_ = std::thread(&DocumentLoader::run, this, &context);
+    worker_ = std::thread(&DocumentLoader::run, this);
 }
 
 bool DocumentLoader::busy() const {
@@ -65,7 +64,7 @@ void DocumentLoader::setStage(const char* stage, float fraction) {
     fraction_ = fraction;
 }
 
-void DocumentLoader::run(const VulkanContext* context) {
+void DocumentLoader::run() {
     const LoadRequest& request = request_;  // not written while running
     auto finish = [&](Result<LoadedDocument> result) {
         std::lock_guard lock(mutex_);
@@ -83,11 +82,11 @@ void DocumentLoader::run(const VulkanContext* context) {
                                                          : request.path;
     Result<std::unique_ptr<Document>> document = createDocument(std::move(scene).value(), documentPath, request.options);
     if (!document) return finish(document.error());
-    setStage("Uploading to the GPU", 0.8f);
-    Result<PlanBuffers> buffers = uploadPlans(*context, *(*document)->planned);
-    if (!buffers) return finish(buffers.error());
-    LoadedDocument loaded{std::move(document).value(), std::move(buffers).value(), std::move(warnings)};
-    if (request.fromRecovery) loaded.document->dirty = true;  // restored work is still unsaved
+    LoadedDocument loaded{std::move(document).value(), std::move(warnings)};
+    if (request.fromRecovery) {  // restored work is still unsaved
+        loaded.document->dirty = true;
+        loaded.document->savedPosition.reset();
+    }
     setStage("Done", 1.0f);
     finish(std::move(loaded));
 }

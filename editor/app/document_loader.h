@@ -1,8 +1,6 @@
-// DocumentLoader: opens a scene or cage off the UI thread — read, plan every face, upload the
-// plan buffers — so the window keeps drawing (with a progress bar) while a large cage loads.
-//
-// Only device-level Vulkan calls (buffer creation) happen on the worker; the queue, command
-// pool and descriptor sets stay on the UI thread, which adopts the result.
+// DocumentLoader: opens a scene or cage off the UI thread — read, plan every face — so the
+// window keeps drawing (with a progress bar) while a large cage loads. The UI thread adopts
+// the result; the viewports' scheme instances are built from it there (scene_renderer.h).
 #pragma once
 
 #include <chrono>
@@ -14,13 +12,11 @@
 #include <vector>
 
 #include "document.h"
-#include "plan_pass.h"
 
 namespace qp::editor {
 
 struct LoadedDocument {
     std::unique_ptr<Document> document;
-    PlanBuffers buffers;
     std::vector<std::string> warnings;
 };
 
@@ -36,7 +32,7 @@ class DocumentLoader {
 public:
     ~DocumentLoader();
     // Starts loading; call only when idle (not busy() and the last result taken).
-    void start(const VulkanContext& context, LoadRequest request);
+    void start(LoadRequest request);
     bool busy() const;
     // What the worker is doing and how far it is through its stages (0..1).
     std::string stage() const;
@@ -45,11 +41,11 @@ public:
     const LoadRequest& request() const { return request_; }
     // The result once the worker has finished (then the loader is idle again).
     std::optional<Result<LoadedDocument>> take();
-    // Waits for a running load and frees what it made (before the context goes away).
-    void waitAndDiscard(const VulkanContext& context);
+    // Waits for a running load and drops what it made.
+    void waitAndDiscard();
 
 private:
-    void run(const VulkanContext* context);
+    void run();
     void setStage(const char* stage, float fraction);
 
     LoadRequest request_;

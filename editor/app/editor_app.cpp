@@ -11,6 +11,7 @@
 #include <imgui.h>
 
 #include "automation.h"
+#include "overlays.h"
 #include "panels.h"
 #include "recovery.h"
 #include "scene_cache.h"
@@ -90,13 +91,12 @@ Status startVulkan(EditorApp& app) {
     app.imgui = std::move(imgui).value();
     for (auto& timer : app.timers)
         if (Result<GpuTimer> t = createGpuTimer(app.ctx)) timer = *t;  // no timestamps: GPU time unknown
-    app.drawPath = resolveDrawPath(app.requestedPath, app.ctx);
     return success();
 }
 
 void shutDown(EditorApp& app) {
     if (app.ctx.device) {
-        app.loader.waitAndDiscard(app.ctx);
+        app.loader.waitAndDiscard();
         vkDeviceWaitIdle(app.ctx.device);
         destroyImGuiLayer(app.ctx, app.imgui);
         destroySceneRenderer(app.ctx, app.renderer);
@@ -116,6 +116,20 @@ void shutDown(EditorApp& app) {
     glfwTerminate();
 }
 
+// Pixels per world unit at clip w = 1 (the projection's y scale; Vulkan flips y).
+float pixelsPerUnit(const glm::mat4& projection, uint32_t viewportHeight) {
+    return 0.5f * float(viewportHeight) * std::abs(projection[1][1]);
+}
+
+float averageEdgeLength(const Cage& cage) {
+    double total = 0.0;
+    uint32_t edges = 0;
+    for (uint32_t f = 0; f < cage.faceCount(); ++f)
+        for (uint32_t k = 0, n = cage.faceSize(f); k < n; ++k, ++edges)
+            total += glm::length(cage.positions[cage.faceBegin(f)[k]] - cage.positions[cage.faceBegin(f)[(k + 1) % n]]);
+    return edges ? float(total / edges) : 1.0f;
+}
+
 // The scene's view settings become the editor's (after a load).
 void applySceneView(EditorApp& app) {
     const Scene& scene = app.doc->scene;
@@ -124,7 +138,7 @@ void applySceneView(EditorApp& app) {
     for (const Viewport& v : scene.viewports) {
         ViewportState state;
         state.scheme = v.scheme;
-        state.colorBy = parseColorMode(v.colorBy) ? colorModeName(*parseColorMode(v.colorBy)) : "shading";
+        state.colorBy = canonicalColorMode(v.colorBy);
         state.linked = v.camera == CameraLink::Linked;
         app.viewports.push_back(state);
     }
@@ -153,14 +167,17 @@ void adoptFinishedLoad(EditorApp& app) {
     }
     LoadedDocument& result = loaded->value();
     for (const std::string& w : result.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    adoptDocument(app.ctx, app.renderer, *result.document, std::move(result.buffers));
+    // The scheme instances and pickers point into the old document: they go first.
+    releaseSchemes(app.ctx, app.renderer);
+    app.picking = PickCache{};
     app.doc = std::move(result.document);
     ++app.documentGeneration;
-    app.renderer.document = app.doc.get();
     app.drag = Drag{};
+    app.tools.loopTool = false;
     app.autosavedOnce = false;
     applySceneView(app);
     const Cage& cage = app.doc->planned->cage();
+    app.tools.extrudeDistance = 0.5f * averageEdgeLength(cage);
     app.ui.status = (request.fromRecovery ? "Restored unsaved work" : "Opened " + request.path) + " (" +
                     std::to_string(cage.faceCount()) + " faces, " + std::to_string(app.doc->database->size()) +
                     " plans, " + std::to_string(int(std::lround(app.loader.secondsRunning() * 1000))) + " ms)";
@@ -226,34 +243,57 @@ void updateViewMatrices(EditorApp& app) {
     }
 }
 
-// The grid path's factor: the uniform factor, or (adaptive) the one that makes an average cage
-// edge span about `pixelsPerEdge` pixels per segment in the viewport that needs the most,
-// within a per-frame triangle budget.
-uint32_t chooseGridFactor(EditorApp& app) {
+// The tessellation factor asked of viewport `i`'s scheme: the uniform factor, or (adaptive)
+// the one that makes an average cage edge span about `pixelsPerEdge` pixels per segment in
+// that viewport, within a per-frame triangle budget shared by the viewports.
+uint32_t chooseFactor(EditorApp& app, uint32_t i) {
     if (app.tessellation.mode == TessellationMode::Uniform) return uint32_t(std::clamp(app.tessellation.factor, 1, 64));
     if (!app.doc->planned) return 1;
     const Cage& cage = app.doc->planned->cage();
     if (app.edgeLengthRevision != app.doc->positionRevision + (app.doc->planRevision << 32)) {
-        double total = 0.0;
-        uint32_t edges = 0;
-        for (uint32_t f = 0; f < cage.faceCount(); ++f)
-            for (uint32_t k = 0, n = cage.faceSize(f); k < n; ++k, ++edges)
-                total += glm::length(cage.positions[cage.faceBegin(f)[k]] - cage.positions[cage.faceBegin(f)[(k + 1) % n]]);
-        app.averageEdgeLength = edges ? float(total / edges) : 1.0f;
+        app.averageEdgeLength = averageEdgeLength(cage);
         app.edgeLengthRevision = app.doc->positionRevision + (app.doc->planRevision << 32);
     }
     const Bounds bounds = computeBounds(cage);
     const glm::vec3 centre = 0.5f * (bounds.min + bounds.max);
-    float wanted = 1.0f;
-    for (const ViewportState& v : app.viewports) {
-        const glm::mat4 projection = projectionMatrix(v.renderCamera);
-        const float ppu = pixelsPerUnit(projection, v.rect.extent.height);
-        const float depth = v.renderCamera.orthographic ? 1.0f : std::max(glm::length(centre - v.renderCamera.eye), 1e-4f);
-        wanted = std::max(wanted, app.averageEdgeLength * ppu / depth / std::max(app.tessellation.pixelsPerEdge, 1.0f));
-    }
+    const ViewportState& v = app.viewports[i];
+    const float ppu = pixelsPerUnit(projectionMatrix(v.renderCamera), v.rect.extent.height);
+    const float depth = v.renderCamera.orthographic ? 1.0f : std::max(glm::length(centre - v.renderCamera.eye), 1e-4f);
+    const float wanted = app.averageEdgeLength * ppu / depth / std::max(app.tessellation.pixelsPerEdge, 1.0f);
     const double subfaces = std::max<double>(app.doc->planned->subfaceCount(), 1.0);
     const double budget = std::sqrt(kAdaptiveTriangleBudget / (2.0 * subfaces * double(app.viewports.size())));
     return uint32_t(std::clamp<double>(std::ceil(wanted), 1.0, std::clamp(std::floor(budget), 1.0, 64.0)));
+}
+
+std::string resolvedPlansPath(const EditorApp& app) {
+    if (app.plansPath != "auto") return app.plansPath;
+    return app.ctx.isSoftware ? "cpu" : "tess";
+}
+
+// What each viewport asks of its scheme this frame.
+std::vector<SchemeRequest> schemeRequests(EditorApp& app) {
+    std::vector<SchemeRequest> requests;
+    const bool adaptive = app.tessellation.mode == TessellationMode::Adaptive;
+    for (uint32_t i = 0; i < app.viewports.size(); ++i) {
+        ViewportState& v = app.viewports[i];
+        v.factor = chooseFactor(app, i);
+        SchemeRequest r;
+        r.name = v.scheme;
+        r.settings.planDepth = app.options.planDepth;
+        r.settings.tessFactor = v.factor;
+        if (v.scheme == "plans") {
+            const std::string path = resolvedPlansPath(app);
+            r.settings.options = {{"path", path}};
+            if (adaptive && path == "tess") {  // true per-edge adaptive factors on the GPU: no rebuild on zoom
+                r.settings.tessFactor = 8;
+                r.settings.adaptivePixels = std::max(app.tessellation.pixelsPerEdge, 1.0f);
+            }
+        }
+        r.heatMap = v.heatMap;
+        r.heatFactor = std::clamp(v.factor, 4u, 16u);
+        requests.push_back(std::move(r));
+    }
+    return requests;
 }
 
 // Everything the 3D viewports depend on, as bytes: equal keys draw equal pictures.
@@ -263,21 +303,18 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
     appendKey(key, app.documentGeneration);
     appendKey(key, doc.positionRevision);
     appendKey(key, doc.planRevision);
-    appendKey(key, app.renderer.buffers.has_value());
-    appendKey(key, doc.selection.vertices.size());
-    key.append(reinterpret_cast<const char*>(doc.selection.vertices.data()), doc.selection.vertices.size() * sizeof(uint32_t));
-    appendKey(key, doc.selection.edge.value_or(std::pair<uint32_t, uint32_t>(~0u, ~0u)));
-    for (const ViewportDraw& d : draws) {
+    key += app.renderer.overlayKey;
+    for (size_t i = 0; i < draws.size(); ++i) {
+        const ViewportDraw& d = draws[i];
         appendKey(key, d.rect);
         appendKey(key, d.viewProjection);
         appendKey(key, d.pixelsPerUnit);
-        appendKey(key, d.colorBy);
-        appendKey(key, d.drawSurface);
+        key += d.colorBy;
+        if (i < app.renderer.views.size()) {
+            appendKey(key, app.renderer.views[i].drawRevision);
+            appendKey(key, app.renderer.views[i].instance.has_value());
+        }
     }
-    appendKey(key, options.path);
-    appendKey(key, options.tessellation.uniformFactor);
-    appendKey(key, options.tessellation.pixelsPerSegment);
-    appendKey(key, options.gridFactor);
     appendKey(key, options.wireframe);
     appendKey(key, options.cage);
     appendKey(key, app.swapchain.extent);
@@ -285,10 +322,8 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
 }
 
 Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
-    if (Status s = syncDocument(app.ctx, app.renderer, *app.doc); !s) return s;
-    app.gridFactor = effectiveGridFactor(app.renderer, chooseGridFactor(app));
-    if (app.drawPath == DrawPath::Grid)
-        if (Status s = prepareGridFactor(app.ctx, app.renderer, app.gridFactor); !s) return s;
+    const std::vector<SchemeRequest> requests = schemeRequests(app);
+    if (Status s = syncScene(app.ctx, app.renderer, app.catalog, *app.doc, app.documentGeneration, requests); !s) return s;
 
     int w = 0, h = 0;
     glfwGetFramebufferSize(app.window, &w, &h);
@@ -318,17 +353,12 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
         ViewportDraw d;
         d.rect = v.rect;
         d.viewProjection = v.viewProjection;
+        d.eye = v.renderCamera.eye;
         d.pixelsPerUnit = pixelsPerUnit(projectionMatrix(v.renderCamera), v.rect.extent.height);
-        d.colorBy = parseColorMode(v.colorBy).value_or(ColorBy::Shading);
-        d.drawSurface = isSchemeAvailable(v.scheme);
+        d.colorBy = v.colorBy;
         draws.push_back(d);
     }
     DisplayOptions options;
-    options.path = app.drawPath;
-    options.tessellation = app.tessellation.mode == TessellationMode::Uniform
-                               ? TessellationSettings{uint32_t(std::clamp(app.tessellation.factor, 1, 64)), 8.0f}
-                               : TessellationSettings{0, std::max(app.tessellation.pixelsPerEdge, 1.0f)};
-    options.gridFactor = app.gridFactor;
     options.wireframe = app.tessellation.showWireframe;
     options.cage = app.tessellation.showCage;
 
@@ -402,6 +432,7 @@ void runLoop(EditorApp& app) {
         handleShortcuts(app);
         updateViewMatrices(app);
         drawPanels(app);
+        drawViewportOverlays(app);
         ImGui::Render();
 
         autosave(app);
@@ -436,6 +467,10 @@ int runEditorApp(const LaunchOptions& options) {
         shutDown(app);
         return 1;
     }
+    app.catalog = loadPlugins(pluginDirectory(options.pluginDir));
+    for (const PluginProblem& problem : app.catalog.problems) std::fprintf(stderr, "warning: %s\n", problem.message.c_str());
+    if (app.catalog.plugins.empty())
+        app.ui.status = "No scheme plugins were found in " + app.catalog.directory + ": the viewports stay empty.";
     app.lastAutosave = app.lastFrameStart = Clock::now();
     if (std::optional<RecoveryInfo> found = findRecovery(app.recoveryDir)) {
         app.ui.recovery = RecoveryOffer{found->source, found->savedAt};
@@ -444,7 +479,7 @@ int runEditorApp(const LaunchOptions& options) {
     LoadRequest first{options.path};
     first.untitled = options.untitled;
     first.options = PlanOptions{options.planDepth, true};
-    app.loader.start(app.ctx, first);
+    app.loader.start(first);
 
     runLoop(app);
 

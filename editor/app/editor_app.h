@@ -2,8 +2,9 @@
 // renderer around one Document. `runEditorApp` is what `quadplan` and `quadplan edit` call.
 //
 // Per frame (editor_app.cpp): events -> adopt a finished background load -> automation step ->
-// ImGui frame (viewport input, shortcuts, panels) -> autosave -> draw (3D passes, then ImGui in
-// its render pass) -> present. Every change to the cage goes through applyEdit (document.h).
+// ImGui frame (viewport input, shortcuts, panels, gizmo) -> autosave -> draw (each viewport's
+// scheme plugin, the cage overlay, then ImGui in its render pass) -> present. Every change to
+// the cage goes through applyEdit (document.h), so it lands in the undo history.
 #pragma once
 
 #include <array>
@@ -17,11 +18,13 @@
 
 #include "document.h"
 #include "document_loader.h"
-#include "draw_path.h"
 #include "frame_stats.h"
+#include "gizmo.h"
 #include "gpu_timer.h"
 #include "imgui_layer.h"
+#include "pick_cache.h"
 #include "pipeline_cache.h"
+#include "scheme_loader.h"
 #include "scene_cache.h"
 #include "scene_renderer.h"
 #include "swapchain_target.h"
@@ -42,6 +45,7 @@ struct LaunchOptions {
     double autosaveSeconds = 30.0;
     uint32_t width = 1280, height = 800;
     uint32_t planDepth = 6;
+    std::string pluginDir;            // scheme plugins (scheme_loader.h: flag, $QUADPLAN_PLUGIN_DIR, default)
 };
 
 int runEditorApp(const LaunchOptions& options);
@@ -49,26 +53,38 @@ int runEditorApp(const LaunchOptions& options);
 struct ViewportState {
     std::string scheme = "plans";
     std::string colorBy = "shading";
+    bool heatMap = false;  // the scheme's error against the exact limit instead of its shading
     bool linked = true;
     ViewCamera camera;  // used when not linked
     // This frame:
     VkRect2D rect{};    // framebuffer pixels
     glm::mat4 viewProjection{1.0f};
     RenderCamera renderCamera;
+    uint32_t factor = 8;  // tessellation factor asked of the scheme (uniform, or adaptive for this view)
 };
 
-enum class DragKind { None, Orbit, Pan, Zoom, MoveSelection };
+// The tool of the left mouse button in the viewports (Maya's Q, W, E, R).
+enum class Tool : uint8_t { Select, Move, Rotate, Scale };
+
+enum class DragKind { None, Orbit, Pan, Zoom, Press, MoveSelection, BoxSelect, Gizmo };
 
 struct Drag {
     DragKind kind = DragKind::None;
     uint32_t viewport = 0;
     int button = 0;
     glm::vec2 start{0.0f};               // cursor at the start, framebuffer pixels
-    glm::vec3 anchor{0.0f};              // MoveSelection: the grabbed vertex
-    std::vector<uint32_t> vertices;      // MoveSelection: what moves, and from where
+    glm::vec2 cursor{0.0f};              // now
+    SelectOp op = SelectOp::Replace;     // BoxSelect, Press
+    // MoveSelection and Gizmo: what moves, from where, in the view at the start.
+    std::vector<uint32_t> vertices;
     std::vector<glm::vec3> startPositions;
-    glm::mat4 viewProjection{1.0f};      // MoveSelection: the view at the start
+    glm::vec3 anchor{0.0f};
+    glm::mat4 viewProjection{1.0f};
     VkRect2D rect{};
+    bool applied = false;                // an edit was made (later steps extend its history entry)
+    GizmoShape shape;                    // Gizmo: the handle at the start
+    GizmoHandle handle = GizmoHandle::None;
+    std::string readout;                 // what the drag amounts to, shown beside the cursor
 };
 
 // What happens once the user has answered "unsaved changes".
@@ -82,8 +98,27 @@ struct RecoveryOffer {
     bool restoreWhenIdle = false;  // chosen while another load was running
 };
 
+// Settings of the editing tools (the side panel shows and changes them).
+struct ToolSettings {
+    Tool tool = Tool::Select;
+    TransformSpace space = TransformSpace::World;
+    bool visibleOnly = true;           // clicks and boxes skip what the limit surface hides
+    bool facesOnSurface = true;        // face clicks pick the face whose limit patch is under the cursor
+    float extrudeDistance = 0.0f;      // set to half the average edge length when a cage is adopted
+    float loopFraction = 0.5f;         // where a loop from the panel cuts the selected edge
+    bool loopTool = false;             // Ctrl+R: the next click on an edge inserts a loop there
+    MergeTarget mergeTarget = MergeTarget::Centroid;
+    float edgeSharpness = 2.0f, cornerSharpness = 2.0f;
+    // Numeric transform entry, in the tool's space, about the selection's centroid.
+    glm::vec3 moveBy{0.0f};
+    glm::vec3 rotateAxis{0.0f, 0.0f, 1.0f};
+    float rotateDegrees = 90.0f;
+    glm::vec3 scaleBy{1.0f};
+};
+
 struct UiState {
     bool showHelp = false;
+    bool showHistory = true;
     std::string openPath, saveAsPath;
     std::string requestPopup;  // opened at the top level of the next UI pass
     PendingAction pending;
@@ -91,13 +126,17 @@ struct UiState {
     std::string errorMessage;  // shown in the "Error" popup
     std::string status;        // last message, shown in the side panel
     std::optional<RecoveryOffer> recovery;
-    float sharpness = 1.0f;    // the crease tool's value
     std::string title;         // window title last set
     // Automation's `click-button` and the widget rectangles for tests (window coordinates).
     std::string pressLabel;
     bool pressConsumed = false;
     std::vector<std::pair<std::string, std::array<float, 4>>> widgets;
     std::vector<std::string> openPopups;  // dialogs shown in the last frame
+    std::vector<std::string> tooltips;    // labels of widgets drawn with a tooltip this frame
+    // Hover feedback in the viewports (drawn by the overlay, no 3D redraw needed):
+    GizmoHandle gizmoHover = GizmoHandle::None;
+    std::vector<glm::vec3> loopPreview;   // the loop the loop tool would cut, as segment pairs
+    std::string loopPreviewKey;
 };
 
 // A key press as GLFW reported it. Shortcuts read these rather than ImGui 1.86's per-frame key
@@ -115,6 +154,7 @@ struct EditorApp {
     SwapchainTarget swapchain;
     std::optional<PipelineCache> pipelineCache;
     ImGuiLayer imgui;
+    PluginCatalog catalog;             // the scheme plugins (viewports draw through them)
     SceneRenderer renderer;
     SceneCache sceneCache;
     bool sceneRecorded[kFramesInFlight] = {};  // the slot's last frame drew the 3D (its counts are fresh)
@@ -125,6 +165,7 @@ struct EditorApp {
 
     std::unique_ptr<Document> doc;  // never null once started (an empty cage at worst)
     DocumentLoader loader;
+    PickCache picking;
     std::string recoveryDir;
     std::chrono::steady_clock::time_point lastAutosave;
     uint64_t autosavedPositionRevision = 0, autosavedPlanRevision = 0;
@@ -134,12 +175,11 @@ struct EditorApp {
     std::vector<ViewportState> viewports{ViewportState{}};
     uint32_t activeViewport = 0;
     Tessellation tessellation;       // display settings (saved into the scene)
-    DrawPath requestedPath = DrawPath::Auto;
-    DrawPath drawPath = DrawPath::Grid;  // resolved for this device
-    uint32_t gridFactor = 8;         // used this frame
-    float averageEdgeLength = 1.0f;  // for the adaptive grid factor
+    std::string plansPath = "auto";  // the plans scheme's path option (auto: the fastest here)
+    float averageEdgeLength = 1.0f;  // for the adaptive factor
     uint64_t edgeLengthRevision = ~0ull;
     Drag drag;
+    ToolSettings tools;
     UiState ui;
     std::vector<KeyPress> keyPresses;  // since the last frame, from GLFW or automation
 

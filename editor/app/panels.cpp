@@ -9,7 +9,7 @@
 
 #include "actions.h"
 #include "editor_app.h"
-#include "schemes.h"
+#include "tools.h"
 
 namespace qp::editor {
 
@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr float kSidePanelWidth = 340.0f;
+constexpr float kSidePanelWidth = 380.0f;
 
 std::string visibleText(const char* label) {
     std::string text(label);
@@ -36,21 +36,24 @@ bool pressedByAutomation(EditorApp& app, const char* label) {
     return true;
 }
 
-void tooltip(const char* text) {
-    if (text && text[0] && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
+// Every tool widget goes through these: a tooltip, its rectangle for tests, automation presses.
+void tooltip(EditorApp& app, const char* label, const char* text) {
+    if (!text || !text[0]) return;
+    app.ui.tooltips.push_back(visibleText(label));
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
 }
 
 bool button(EditorApp& app, const char* label, const char* help = nullptr) {
     bool pressed = ImGui::Button(label);
     recordWidget(app, label);
-    tooltip(help);
+    tooltip(app, label, help);
     return pressed || pressedByAutomation(app, label);
 }
 
-bool checkbox(EditorApp& app, const char* label, bool* value, const char* help = nullptr) {
+bool checkbox(EditorApp& app, const char* label, bool* value, const char* help) {
     bool changed = ImGui::Checkbox(label, value);
     recordWidget(app, label);
-    tooltip(help);
+    tooltip(app, label, help);
     if (!changed && pressedByAutomation(app, label)) {
         *value = !*value;
         changed = true;
@@ -58,42 +61,83 @@ bool checkbox(EditorApp& app, const char* label, bool* value, const char* help =
     return changed;
 }
 
-bool radio(EditorApp& app, const char* label, bool active, const char* help = nullptr) {
+bool radio(EditorApp& app, const char* label, bool active, const char* help) {
     bool pressed = ImGui::RadioButton(label, active);
     recordWidget(app, label);
-    tooltip(help);
+    tooltip(app, label, help);
     return pressed || pressedByAutomation(app, label);
+}
+
+bool sliderFloat(EditorApp& app, const char* label, float* value, float lo, float hi, const char* format, const char* help,
+                 ImGuiSliderFlags flags = 0) {
+    bool changed = ImGui::SliderFloat(label, value, lo, hi, format, flags);
+    recordWidget(app, label);
+    tooltip(app, label, help);
+    return changed;
+}
+
+bool inputFloat3(EditorApp& app, const char* label, glm::vec3* value, const char* help) {
+    bool changed = ImGui::InputFloat3(label, &value->x, "%.4g");
+    recordWidget(app, label);
+    tooltip(app, label, help);
+    return changed;
 }
 
 void menuAction(EditorApp& app, const char* id, bool enabled = true) {
     const ActionInfo* action = findAction(id);
     bool pressed = ImGui::MenuItem(action->label, action->shortcut, false, enabled);
     recordWidget(app, action->label);
-    tooltip(action->help);
+    tooltip(app, action->label, action->help);
     if ((pressed || pressedByAutomation(app, action->label)) && enabled) runAction(app, id);
+}
+
+// A button running an action: its label and the action's shortcut and help.
+bool actionButton(EditorApp& app, const char* label, const char* id) {
+    const ActionInfo* action = findAction(id);
+    std::string help = action->help;
+    if (action->shortcut[0]) help += std::string(" (") + action->shortcut + ")";
+    if (!button(app, label, help.c_str())) return false;
+    runAction(app, id);
+    return true;
 }
 
 void menuBar(EditorApp& app) {
     if (!ImGui::BeginMainMenuBar()) return;
     const bool idle = !app.loader.busy();
-    const bool undoAvailable = false;  // comes with the editing core's history
+    const bool haveCage = idle && app.doc->planned.has_value();
     if (ImGui::BeginMenu("File")) {
         menuAction(app, "file.open", idle);
-        menuAction(app, "file.save", idle && app.doc->planned.has_value());
-        menuAction(app, "file.save_as", idle && app.doc->planned.has_value());
+        menuAction(app, "file.save", haveCage);
+        menuAction(app, "file.save_as", haveCage);
         ImGui::Separator();
         menuAction(app, "file.quit");
         ImGui::EndMenu();
     }
     recordWidget(app, "File");
     if (ImGui::BeginMenu("Edit")) {
-        menuAction(app, "edit.undo", undoAvailable);
-        menuAction(app, "edit.redo", undoAvailable);
-        ImGui::Separator();
-        menuAction(app, "select.none");
+        menuAction(app, "edit.undo", haveCage && app.doc->history.canUndo());
+        menuAction(app, "edit.redo", haveCage && app.doc->history.canRedo());
+        menuAction(app, "edit.history");
         ImGui::EndMenu();
     }
     recordWidget(app, "Edit");
+    if (ImGui::BeginMenu("Select")) {
+        for (const char* id : {"select.vertex_mode", "select.edge_mode", "select.face_mode"}) menuAction(app, id, haveCage);
+        ImGui::Separator();
+        for (const char* id : {"select.all", "select.none", "select.invert", "select.grow", "select.shrink"})
+            menuAction(app, id, haveCage);
+        ImGui::Separator();
+        for (const char* id : {"tool.select", "tool.move", "tool.rotate", "tool.scale", "tool.space"}) menuAction(app, id);
+        ImGui::EndMenu();
+    }
+    recordWidget(app, "Select");
+    if (ImGui::BeginMenu("Mesh")) {
+        for (const char* id : {"mesh.extrude", "mesh.delete", "mesh.split", "mesh.loop_tool", "mesh.loop", "mesh.merge",
+                               "mesh.make_face", "mesh.hole", "crease.apply", "crease.clear"})
+            menuAction(app, id, haveCage);
+        ImGui::EndMenu();
+    }
+    recordWidget(app, "Mesh");
     if (ImGui::BeginMenu("View")) {
         for (const char* id : {"view.front", "view.back", "view.right", "view.left", "view.top", "view.bottom",
                                "view.projection"})
@@ -111,6 +155,7 @@ void menuBar(EditorApp& app) {
     if (ImGui::BeginMenu("Display")) {
         menuAction(app, "display.cage");
         menuAction(app, "display.wireframe");
+        menuAction(app, "view.heatmap");
         ImGui::EndMenu();
     }
     recordWidget(app, "Display");
@@ -127,15 +172,207 @@ void documentSection(EditorApp& app) {
     const Document& doc = *app.doc;
     ImGui::Text("%s%s", doc.path.empty() ? "untitled" : fs::path(doc.path).filename().c_str(),
                 doc.dirty ? "  (unsaved changes)" : "");
-    if (!doc.path.empty()) tooltip(doc.path.c_str());
+    if (!doc.path.empty() && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", doc.path.c_str());
     if (doc.planned)
         ImGui::Text("%u vertices, %u faces", doc.planned->cage().vertexCount(), doc.planned->cage().faceCount());
     float seconds = float(app.options.autosaveSeconds);
-    if (ImGui::SliderFloat("Autosave (s)", &seconds, 1.0f, 600.0f, "%.0f", ImGuiSliderFlags_Logarithmic))
+    if (sliderFloat(app, "Autosave (s)", &seconds, 1.0f, 600.0f, "%.0f",
+                    "While there are unsaved changes, they are written this often to the recovery\n"
+                    "directory (autosave.json) and offered back after a crash.",
+                    ImGuiSliderFlags_Logarithmic))
         app.options.autosaveSeconds = seconds;
-    tooltip(("While there are unsaved changes, they are written this often to\n" + app.recoveryDir +
-             "/autosave.json and offered back after a crash.")
-                .c_str());
+}
+
+const char* modeName(SelectionMode mode) {
+    return mode == SelectionMode::Vertex ? "vertices" : mode == SelectionMode::Edge ? "edges" : "faces";
+}
+
+void toolsSection(EditorApp& app) {
+    if (!ImGui::CollapsingHeader("Select and transform", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    Document& doc = *app.doc;
+    const SelectionMode mode = doc.selection.mode;
+    if (radio(app, "Vertex", mode == SelectionMode::Vertex, "Select vertices (1 or F9)")) setMode(app, SelectionMode::Vertex);
+    ImGui::SameLine();
+    if (radio(app, "Edge", mode == SelectionMode::Edge, "Select edges (2 or F10)")) setMode(app, SelectionMode::Edge);
+    ImGui::SameLine();
+    if (radio(app, "Face", mode == SelectionMode::Face, "Select faces (3 or F11)")) setMode(app, SelectionMode::Face);
+    const Tool tool = app.tools.tool;
+    if (radio(app, "Select##tool", tool == Tool::Select, "Click, box and drag to select (Q)")) app.tools.tool = Tool::Select;
+    ImGui::SameLine();
+    if (radio(app, "Move##tool", tool == Tool::Move, "Move handle (W): arrows along an axis, centre square in the view plane"))
+        app.tools.tool = Tool::Move;
+    ImGui::SameLine();
+    if (radio(app, "Rotate##tool", tool == Tool::Rotate, "Rotate handle (E): rings about an axis, outer ring about the view"))
+        app.tools.tool = Tool::Rotate;
+    ImGui::SameLine();
+    if (radio(app, "Scale##tool", tool == Tool::Scale, "Scale handle (R): boxes along an axis, centre box evenly"))
+        app.tools.tool = Tool::Scale;
+    const bool world = app.tools.space == TransformSpace::World;
+    if (radio(app, "World axes", world, "The handle and numeric entry use the world's x, y, z (L toggles)"))
+        app.tools.space = TransformSpace::World;
+    ImGui::SameLine();
+    if (radio(app, "Local axes", !world, "z along the selection's normal, x from the world's x (L toggles)"))
+        app.tools.space = TransformSpace::Local;
+    bool hidden = !app.tools.visibleOnly;
+    if (checkbox(app, "Select hidden", &hidden, "Clicks and boxes also take elements the limit surface hides (x-ray)"))
+        app.tools.visibleOnly = !hidden;
+    ImGui::SameLine();
+    checkbox(app, "Faces on surface", &app.tools.facesOnSurface,
+             "Face clicks pick the face whose limit patch is under the cursor (else the cage face)");
+    actionButton(app, "All", "select.all");
+    ImGui::SameLine();
+    actionButton(app, "None", "select.none");
+    ImGui::SameLine();
+    actionButton(app, "Invert", "select.invert");
+    ImGui::SameLine();
+    actionButton(app, "Grow", "select.grow");
+    ImGui::SameLine();
+    actionButton(app, "Shrink", "select.shrink");
+    if (!doc.planned) return;
+    const std::vector<uint32_t> vertices = selectedVertices(doc.selection, doc.planned->cage());
+    ImGui::Text("%zu %s selected (%zu vertices)", doc.selection.size(), modeName(mode), vertices.size());
+    if (vertices.empty()) {
+        ImGui::TextDisabled("Click or drag a box in a viewport to select.");
+        return;
+    }
+    ImGui::BeginDisabled(app.loader.busy());
+    if (vertices.size() == 1) {
+        glm::vec3 p = doc.planned->cage().positions[vertices[0]];
+        const std::string label = "Vertex " + std::to_string(vertices[0]) + "##position";
+        inputFloat3(app, label.c_str(), &p, "Type a new position; Enter applies it");
+        if (ImGui::IsItemDeactivatedAfterEdit()) edit(app, MoveVertices{{vertices[0]}, {p}});
+    } else if (std::optional<TransformFrame> frame = selectionFrame(app)) {
+        ImGui::Text("Pivot (centroid) %.3f, %.3f, %.3f", frame->pivot.x, frame->pivot.y, frame->pivot.z);
+    }
+    ToolSettings& t = app.tools;
+    ImGui::SetNextItemWidth(170);
+    inputFloat3(app, "##moveby", &t.moveBy, "Offset along the axes above (world or local)");
+    ImGui::SameLine();
+    if (button(app, "Move by", "Move the selection by this offset (one undo entry)"))
+        transformSelection(app, NumericTransform::Move, glm::vec4(t.moveBy, 0.0f));
+    ImGui::SetNextItemWidth(170);
+    inputFloat3(app, "##rotateaxis", &t.rotateAxis, "Rotation axis, in the axes above");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(55);
+    ImGui::InputFloat("##degrees", &t.rotateDegrees, 0, 0, "%.1f");
+    recordWidget(app, "##degrees");
+    tooltip(app, "##degrees", "Degrees, counter-clockwise about the axis (right hand)");
+    ImGui::SameLine();
+    if (button(app, "Rotate", "Rotate the selection about its centroid (one undo entry)"))
+        transformSelection(app, NumericTransform::Rotate, glm::vec4(t.rotateAxis, t.rotateDegrees));
+    ImGui::SetNextItemWidth(170);
+    inputFloat3(app, "##scaleby", &t.scaleBy, "Factors along the axes above (0 flattens)");
+    ImGui::SameLine();
+    if (button(app, "Scale", "Scale the selection about its centroid (one undo entry)"))
+        transformSelection(app, NumericTransform::Scale, glm::vec4(t.scaleBy, 0.0f));
+    ImGui::EndDisabled();
+}
+
+void meshSection(EditorApp& app) {
+    if (!ImGui::CollapsingHeader("Mesh", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    ToolSettings& t = app.tools;
+    ImGui::BeginDisabled(app.loader.busy() || !app.doc->planned);
+    ImGui::SetNextItemWidth(120);
+    ImGui::InputFloat("##extrude", &t.extrudeDistance, 0, 0, "%.3f");
+    recordWidget(app, "##extrude");
+    tooltip(app, "##extrude", "Extrude distance along each region's normal (0: in place, then move it)");
+    ImGui::SameLine();
+    actionButton(app, "Extrude", "mesh.extrude");
+    ImGui::SameLine();
+    actionButton(app, "Delete", "mesh.delete");
+    ImGui::SameLine();
+    actionButton(app, "Hole", "mesh.hole");
+    ImGui::SetNextItemWidth(120);
+    sliderFloat(app, "##loopfraction", &t.loopFraction, 0.05f, 0.95f, "at %.2f", "Where the loop cuts the selected edge, from its first vertex");
+    ImGui::SameLine();
+    actionButton(app, "Loop on edge", "mesh.loop");
+    ImGui::SameLine();
+    bool loopTool = t.loopTool;
+    if (checkbox(app, "Loop tool", &loopTool, "Ctrl+R: click an edge to cut a loop where the cursor is (Shift+click: keep cutting)"))
+        t.loopTool = loopTool;
+    actionButton(app, "Split face", "mesh.split");
+    ImGui::SameLine();
+    actionButton(app, "Make face", "mesh.make_face");
+    ImGui::SameLine();
+    actionButton(app, "Merge", "mesh.merge");
+    ImGui::SameLine();
+    bool atLast = t.mergeTarget == MergeTarget::Last;
+    if (checkbox(app, "at last", &atLast, "Merge at the last selected vertex (highest number) instead of the centre"))
+        t.mergeTarget = atLast ? MergeTarget::Last : MergeTarget::Centroid;
+    ImGui::EndDisabled();
+}
+
+void creaseSection(EditorApp& app) {
+    if (!ImGui::CollapsingHeader("Creases and corners", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    ToolSettings& t = app.tools;
+    ImGui::BeginDisabled(app.loader.busy() || !app.doc->planned);
+    const Document& doc = *app.doc;
+    if (doc.planned && doc.selection.mode == SelectionMode::Edge && doc.selection.edges.size() == 1) {
+        const EdgeKey e = doc.selection.edges[0];
+        const float s = doc.planned->cage().edgeSharpness(e.v0, e.v1);
+        ImGui::Text("Edge %u-%u: sharpness %s", e.v0, e.v1, s >= kInfiniteSharpness ? "infinite" : std::to_string(s).substr(0, 5).c_str());
+    }
+    ImGui::SetNextItemWidth(150);
+    sliderFloat(app, "Edge##sharpness", &t.edgeSharpness, 0.0f, kInfiniteSharpness, t.edgeSharpness >= kInfiniteSharpness ? "infinite" : "%.2f",
+                "Semi-sharp crease value for the selected edges (fractional; 10 is infinitely sharp)");
+    ImGui::SameLine();
+    if (button(app, "Inf##edge", "Infinitely sharp (10)")) t.edgeSharpness = kInfiniteSharpness;
+    if (button(app, "Crease edges", "Set the selected edges' sharpness to the value (Shift+E in edge mode)"))
+        creaseSelection(app, t.edgeSharpness);
+    ImGui::SameLine();
+    if (button(app, "Clear##edges", "Remove the selected edges' creases (Alt+E in edge mode)")) creaseSelection(app, 0.0f);
+    ImGui::SetNextItemWidth(150);
+    sliderFloat(app, "Corner##sharpness", &t.cornerSharpness, 0.0f, kInfiniteSharpness,
+                t.cornerSharpness >= kInfiniteSharpness ? "infinite" : "%.2f", "Corner sharpness for the selected vertices");
+    ImGui::SameLine();
+    if (button(app, "Inf##corner", "Infinitely sharp (10)")) t.cornerSharpness = kInfiniteSharpness;
+    if (button(app, "Set corners", "Set the selected vertices' corner sharpness (Shift+E in vertex mode)"))
+        cornerSelection(app, t.cornerSharpness);
+    ImGui::SameLine();
+    if (button(app, "Clear##corners", "Remove the selected vertices' corners (Alt+E in vertex mode)")) cornerSelection(app, 0.0f);
+    const bool chaikin = doc.planned && doc.planned->cage().options.creaseMethod == CreaseMethod::Chaikin;
+    ImGui::TextUnformatted("Crease method");
+    ImGui::SameLine();
+    if (radio(app, "Normal##method", !chaikin, "OpenSubdiv's uniform crease rule (re-plans every face)"))
+        setCreaseMethodTool(app, CreaseMethod::Normal);
+    ImGui::SameLine();
+    if (radio(app, "Chaikin##method", chaikin, "Chaikin: sharpness averaged along crease chains (re-plans every face)"))
+        setCreaseMethodTool(app, CreaseMethod::Chaikin);
+    if (button(app, "Make holes", "The selected faces get no surface (H toggles)")) setSelectionHoles(app, true);
+    ImGui::SameLine();
+    if (button(app, "Fill holes", "The selected hole faces get their surface back")) setSelectionHoles(app, false);
+    ImGui::EndDisabled();
+}
+
+void historySection(EditorApp& app) {
+    if (!app.ui.showHistory) return;
+    if (!ImGui::CollapsingHeader("History", ImGuiTreeNodeFlags_DefaultOpen)) return;
+    Document& doc = *app.doc;
+    const EditHistory& h = doc.history;
+    ImGui::BeginDisabled(app.loader.busy() || !doc.planned);
+    actionButton(app, "Undo", "edit.undo");
+    ImGui::SameLine();
+    actionButton(app, "Redo", "edit.redo");
+    ImGui::SameLine();
+    ImGui::Text("%zu of %zu, %.1f KB", h.position(), h.size(), double(h.bytes()) / 1024.0);
+    ImGui::BeginChild("historylist", ImVec2(0, 130), true);
+    std::optional<size_t> jump;
+    if (ImGui::Selectable("(as opened)", h.position() == 0)) jump = 0;
+    for (size_t i = 0; i < h.size(); ++i) {
+        const HistoryEntryInfo entry = h.entry(i);
+        char label[256];
+        std::snprintf(label, sizeof label, "%zu %s  (%u faces, %.2f ms)##h%zu", i + 1, entry.name.c_str(),
+                      entry.report.replannedFaces, entry.report.milliseconds, i);
+        if (i >= h.position()) ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        if (ImGui::Selectable(label, i + 1 == h.position())) jump = i + 1;
+        if (i >= h.position()) ImGui::PopStyleColor();
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("Click to go to the state after this edit (undone edits are greyed; they can be redone)");
+        if (i + 1 == h.position() && ImGui::IsWindowAppearing()) ImGui::SetScrollHereY();
+    }
+    ImGui::EndChild();
+    ImGui::EndDisabled();
+    if (jump) jumpHistoryTool(app, *jump);
 }
 
 void displaySection(EditorApp& app) {
@@ -157,59 +394,25 @@ void displaySection(EditorApp& app) {
         t.mode = TessellationMode::Adaptive;
     if (t.mode == TessellationMode::Uniform) {
         ImGui::SliderInt("Factor", &t.factor, 1, 64);
-        tooltip("Segments per face edge");
+        recordWidget(app, "Factor");
+        tooltip(app, "Factor", "Segments per face edge");
     } else {
-        ImGui::SliderFloat("Pixels", &t.pixelsPerEdge, 2.0f, 64.0f, "%.0f px");
-        tooltip("Target on-screen length of one tessellation segment");
+        sliderFloat(app, "Pixels", &t.pixelsPerEdge, 2.0f, 64.0f, "%.0f px", "Target on-screen length of one tessellation segment");
     }
-    const char* paths[] = {"auto", "tessellated", "grid"};
-    int path = int(app.requestedPath);
-    if (ImGui::Combo("Draw path", &path, paths, 3)) {
-        app.requestedPath = DrawPath(path);
-        app.drawPath = resolveDrawPath(app.requestedPath, app.ctx);
-    }
-    tooltip("tessellated: one patch per sub-face through the tessellator (true adaptive factors);\n"
-            "grid: a compute pass evaluates a uniform grid per sub-face (faster on CPU devices;\n"
-            "adaptive mode then picks one factor per frame). auto: grid on CPU devices.");
-    ImGui::Text("Drawing: %s path%s", drawPathName(app.drawPath),
-                app.drawPath == DrawPath::Grid ? (", factor " + std::to_string(app.gridFactor)).c_str() : "");
+    const char* paths[] = {"auto", "tess", "grid", "cpu"};
+    int path = int(std::find(std::begin(paths), std::end(paths), app.plansPath) - std::begin(paths));
+    if (ImGui::Combo("Plans path", &path, paths, 4)) app.plansPath = paths[std::clamp(path, 0, 3)];
+    recordWidget(app, "Plans path");
+    tooltip(app, "Plans path",
+            "How the plans scheme draws: tess: one patch per sub-face through the tessellator (per-edge adaptive);\n"
+            "grid: a compute pass evaluates a grid every frame; cpu: the CPU evaluator fills a grid on every core once\n"
+            "per edit (camera moves only draw, drags re-evaluate only the sub-faces they touch).\n"
+            "auto: cpu on a CPU device (lavapipe: fastest, docs/editor.md), tess on a GPU.");
+    std::string factors;
+    for (const ViewportState& v : app.viewports) factors += (factors.empty() ? "" : ", ") + std::to_string(v.factor);
+    ImGui::Text("Factor per view: %s", factors.c_str());
     checkbox(app, "Cage overlay", &t.showCage, "The cage's edges; creases from yellow (soft) to red (infinitely sharp) (C)");
-    checkbox(app, "Tessellation wireframe", &t.showWireframe, "Lines along the tessellated triangles (W)");
-}
-
-void selectionSection(EditorApp& app) {
-    if (!ImGui::CollapsingHeader("Selection", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    Document& doc = *app.doc;
-    if (!doc.planned) return;
-    ImGui::BeginDisabled(app.loader.busy());
-    const Cage& cage = doc.planned->cage();
-    if (doc.selection.vertices.size() == 1) {
-        const uint32_t v = doc.selection.vertices[0];
-        ImGui::Text("Vertex %u", v);
-        glm::vec3 p = cage.positions[v];
-        ImGui::InputFloat3("Position", &p.x, "%.4f");
-        tooltip("Type a new position; Enter applies it");
-        if (ImGui::IsItemDeactivatedAfterEdit()) edit(app, MoveVertices{{v}, {p}});
-    } else if (!doc.selection.vertices.empty()) {
-        ImGui::Text("%zu vertices (drag one of them to move all)", doc.selection.vertices.size());
-    }
-    if (doc.selection.edge) {
-        auto [a, b] = *doc.selection.edge;
-        const float current = cage.edgeSharpness(a, b);
-        ImGui::Text("Edge %u - %u, sharpness %s", a, b,
-                    current >= kInfiniteSharpness ? "infinite" : std::to_string(current).substr(0, 4).c_str());
-        ImGui::SliderFloat("Sharpness", &app.ui.sharpness, 0.0f, kInfiniteSharpness, "%.2f");
-        tooltip("Semi-sharp crease value; 10 or more is infinitely sharp");
-        if (button(app, "Apply sharpness", "Set the selected edge's sharpness to the slider's value"))
-            edit(app, SetEdgeSharpness{a, b, app.ui.sharpness});
-        ImGui::SameLine();
-        if (button(app, "Infinite", "Make the selected edge infinitely sharp"))
-            edit(app, SetEdgeSharpness{a, b, kInfiniteSharpness});
-        ImGui::SameLine();
-        if (button(app, "Clear crease", "Remove the selected edge's crease")) edit(app, SetEdgeSharpness{a, b, 0.0f});
-    }
-    if (doc.selection.empty()) ImGui::TextWrapped("Click near a vertex or an edge in a viewport to select it.");
-    ImGui::EndDisabled();
+    checkbox(app, "Tessellation wireframe", &t.showWireframe, "Lines along the tessellated triangles (Shift+W)");
 }
 
 void statsSection(EditorApp& app) {
@@ -221,22 +424,31 @@ void statsSection(EditorApp& app) {
     if (doc.lastEdit) {
         const EditReport& r = doc.lastEdit->report;
         ImGui::TextWrapped("Last edit: %s", doc.lastEdit->description.c_str());
-        ImGui::Text("  re-planned %u faces, %u new plans", r.replannedFaces, r.newPlans);
-        ImGui::Text("  %u sub-faces updated, %.2f ms", r.updatedSubfaces, r.milliseconds);
+        ImGui::Text("  re-planned %u faces in %.2f ms", r.replannedFaces, r.milliseconds);
+        ImGui::Text("  %u new plans, %u sub-faces updated", r.newPlans, r.updatedSubfaces);
     } else {
         ImGui::TextUnformatted("Last edit: none");
     }
+    ImGui::Text("Scheme updates %.1f ms (last change)", app.renderer.lastSyncMs);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Scheme rebuilds or updates after the last change, heat maps and cage lines, on the UI thread");
     const Summary cpu = summarize(app.stats, FrameField::Cpu, 120);
     const Summary drawn = summarize(app.stats, FrameField::Gpu, 120, FrameFilter::SceneDrawn);
     const Summary copied = summarize(app.stats, FrameField::Gpu, 120, FrameFilter::SceneCopied);
     ImGui::Text("Frame CPU %.1f ms (median of %zu)", cpu.median, cpu.count);
     ImGui::Text("GPU %.1f ms with 3D (%zu), %.1f ms UI only (%zu)", drawn.median, drawn.count, copied.median, copied.count);
-    tooltip("CPU: input, UI and recording up to submission. GPU: device time from timestamps, for frames\n"
-            "that drew the viewports and for frames that only redrew the interface over the cached 3D.");
-    for (size_t i = 0; i < app.stats.viewportCounts.size() && i < app.viewports.size(); ++i)
-        ImGui::Text("View %zu: %llu triangles, %llu patches", i + 1,
-                    (unsigned long long)app.stats.viewportCounts[i].triangles,
-                    (unsigned long long)app.stats.viewportCounts[i].patches);
+    if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("CPU: input, UI, scheme updates and recording up to submission. GPU: device time from timestamps,\n"
+                          "for frames that drew the viewports and for frames that only redrew the interface.");
+    for (size_t i = 0; i < app.viewports.size(); ++i) {
+        const SchemeView* view = i < app.renderer.views.size() ? &app.renderer.views[i] : nullptr;
+        const ViewportCounts counts = i < app.stats.viewportCounts.size() ? app.stats.viewportCounts[i] : ViewportCounts{};
+        ImGui::Text("View %zu %s: %llu triangles, %llu patches", i + 1, app.viewports[i].scheme.c_str(),
+                    (unsigned long long)counts.triangles, (unsigned long long)counts.patches);
+        if (view && view->instance)
+            ImGui::TextDisabled("  setup %.0f ms, update %.1f ms%s", view->setupMs, view->updateMs,
+                                view->heat.valid ? (", heat map " + std::to_string(int(view->heat.lastMs)) + " ms").c_str() : "");
+    }
     ImGui::TextDisabled("%s", app.ctx.deviceName.c_str());
 }
 
@@ -247,10 +459,15 @@ void sidePanel(EditorApp& app) {
     ImGui::Begin("##side", nullptr,
                  ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
                      ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings);
+    ImGui::PushItemWidth(-90.0f);
     documentSection(app);
+    toolsSection(app);
+    meshSection(app);
+    creaseSection(app);
+    historySection(app);
     displaySection(app);
-    selectionSection(app);
     statsSection(app);
+    ImGui::PopItemWidth();
     ImGui::Separator();
     ImGui::TextWrapped("%s", app.ui.status.c_str());
     ImGui::End();
@@ -260,29 +477,44 @@ void viewportBars(EditorApp& app) {
     const float scale = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.0f;
     for (size_t i = 0; i < app.viewports.size(); ++i) {
         ViewportState& v = app.viewports[i];
+        const SchemeView* view = i < app.renderer.views.size() ? &app.renderer.views[i] : nullptr;
         ImGui::SetNextWindowPos(ImVec2(float(v.rect.offset.x) / scale + 6.0f, float(v.rect.offset.y) / scale + 6.0f));
         ImGui::SetNextWindowBgAlpha(0.55f);
         const std::string id = std::to_string(i);
         ImGui::Begin(("##viewport" + id).c_str(), nullptr,
                      ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
                          ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoMove);
-        ImGui::SetNextItemWidth(80.0f);
-        if (ImGui::BeginCombo(("##scheme" + id).c_str(), v.scheme.c_str())) {
-            for (const char* s : availableSchemes())
-                if (ImGui::Selectable(s, v.scheme == s)) v.scheme = s;
+        ImGui::PushTextWrapPos(std::max(200.0f, float(v.rect.extent.width) / scale - 30.0f));
+        ImGui::SetNextItemWidth(90.0f);
+        const std::string schemeCombo = "##scheme" + id;
+        if (ImGui::BeginCombo(schemeCombo.c_str(), v.scheme.c_str())) {
+            for (const auto& plugin : app.catalog.plugins) {
+                if (ImGui::Selectable(plugin->name.c_str(), v.scheme == plugin->name)) v.scheme = plugin->name;
+                if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", plugin->summary.c_str());
+            }
             ImGui::EndCombo();
         }
-        tooltip("Patching scheme drawn in this viewport");
+        recordWidget(app, schemeCombo.c_str());
+        tooltip(app, schemeCombo.c_str(), "Patching scheme drawn in this viewport (the loaded plugins)");
         ImGui::SameLine();
         ImGui::SetNextItemWidth(100.0f);
-        if (ImGui::BeginCombo(("##color" + id).c_str(), v.colorBy.c_str())) {
-            for (const char* c : colorModeNames())
-                if (ImGui::Selectable(c, v.colorBy == c)) v.colorBy = c;
+        const std::string colorCombo = "##color" + id;
+        const std::vector<std::string> modes = view ? view->colorModes : std::vector<std::string>{"shading"};
+        // What is drawn: the chosen mode when this scheme offers it, else its first.
+        const bool offered = std::find(modes.begin(), modes.end(), v.colorBy) != modes.end();
+        const std::string shown = offered ? v.colorBy : modes.front();
+        if (ImGui::BeginCombo(colorCombo.c_str(), shown.c_str())) {
+            for (const std::string& c : modes)
+                if (ImGui::Selectable(c.c_str(), shown == c)) v.colorBy = c;
             ImGui::EndCombo();
         }
-        tooltip("Colour by: shading, node kind, plan depth or crease sharpness");
+        recordWidget(app, colorCombo.c_str());
+        tooltip(app, colorCombo.c_str(), "Colour by: the modes this scheme offers (plans on its GPU paths: node kind, plan depth, sharpness)");
+        ImGui::SameLine();
+        checkbox(app, ("Error##heat" + id).c_str(), &v.heatMap,
+                 "Heat map: this scheme's distance from the exact limit surface, relative to the cage's size (Shift+H)");
         // Narrow viewports get the bar on two lines, so it never covers its neighbour.
-        if (float(v.rect.extent.width) / scale > 360.0f) ImGui::SameLine();
+        if (float(v.rect.extent.width) / scale > 430.0f) ImGui::SameLine();
         bool linked = v.linked;
         if (checkbox(app, ("Linked##" + id).c_str(), &linked, "Share the camera with the other linked viewports")) {
             if (!linked) v.camera = app.sharedCamera;
@@ -294,15 +526,18 @@ void viewportBars(EditorApp& app) {
         if (button(app, ((camera.orthographic ? "Ortho##" : "Persp##") + id).c_str(),
                    "Toggle perspective / orthographic (Numpad 5)"))
             camera.orthographic = !camera.orthographic;
-        if (!isSchemeAvailable(v.scheme))
-            ImGui::TextColored(ImVec4(1, 0.6f, 0.3f, 1), "Scheme '%s' is not available in this build", v.scheme.c_str());
+        if (view && !view->problem.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "%s", view->problem.c_str());
+        if (view)
+            for (const std::string& warning : view->support.approximations)
+                ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "! %s", warning.c_str());
+        ImGui::PopTextWrapPos();
         ImGui::End();
     }
 }
 
 void helpWindow(EditorApp& app) {
     if (!app.ui.showHelp) return;
-    ImGui::SetNextWindowSize(ImVec2(620, 520), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(720, 600), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowPos(ImVec2(60, 60), ImGuiCond_FirstUseEver);
     if (!ImGui::Begin("Help", &app.ui.showHelp)) return ImGui::End();
     ImGui::TextUnformatted("Keyboard (when the pointer is not in a text field)");
@@ -331,6 +566,16 @@ void helpWindow(EditorApp& app) {
         }
         ImGui::EndTable();
     }
+    ImGui::Spacing();
+    ImGui::TextWrapped("Selection: Shift adds, Ctrl removes, Ctrl+Shift toggles (clicks and boxes). Only what the limit "
+                       "surface leaves visible is picked unless 'Select hidden' is on. In face mode a click picks the face "
+                       "whose limit patch is under the cursor.");
+    ImGui::TextWrapped("Handles (W, E, R): drag an axis (red x, green y, blue z) or the white centre handle; hold Ctrl to "
+                       "snap (moves to a power of ten, 15 degrees, scale steps of 0.1); right click or Esc cancels. One drag "
+                       "is one undo entry. Numeric entry is in the side panel, in world or local axes (L).");
+    ImGui::TextWrapped("Every edit re-plans only the faces it affects; the Stats panel shows how many and how long. "
+                       "The heat map (Error check box, Shift+H) colours a viewport's scheme by its distance from the exact "
+                       "limit surface relative to the cage's bounding-box diagonal, on the log scale shown.");
     ImGui::Spacing();
     ImGui::TextWrapped("Unsaved work is autosaved to %s/autosave.json and offered back at the next start "
                        "after a crash. Automation commands and file details: docs/editor.md.",
@@ -485,6 +730,7 @@ float sidePanelWidth() { return kSidePanelWidth; }
 
 void drawPanels(EditorApp& app) {
     app.ui.widgets.clear();
+    app.ui.tooltips.clear();
     app.ui.openPopups.clear();
     menuBar(app);
     viewportBars(app);

@@ -1,17 +1,27 @@
 #include "scene_renderer.h"
 
 #include <algorithm>
+#include <chrono>
 
+#include "face_config.h"
+#include "scheme_host.h"
+#include "surface_error.h"
+#include "transform.h"
 #include "vk_check.h"
 
 namespace qp::editor {
 
 namespace {
 
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
+
 constexpr VkQueryPipelineStatisticFlags kStatistics =
     VK_QUERY_PIPELINE_STATISTIC_INPUT_ASSEMBLY_PRIMITIVES_BIT | VK_QUERY_PIPELINE_STATISTIC_CLIPPING_INVOCATIONS_BIT;
 
-const glm::vec3 kSelectedVertexColor(1.0f, 0.35f, 0.0f), kSelectedEdgeColor(0.0f, 0.85f, 1.0f);
+const glm::vec3 kSelectedColor(1.0f, 0.35f, 0.0f), kSelectedEdgeColor(0.0f, 0.85f, 1.0f);
+const glm::vec3 kVertexDotColor(0.02f, 0.02f, 0.02f), kHoleColor(0.35f, 0.45f, 0.75f);
+constexpr float kCageDepthBias = 0.002f, kOverlayDepthBias = 0.004f;
 
 // Writes `vertices` into `buffer`, growing it when needed (the caller made sure it is idle).
 Status fillLineBuffer(const VulkanContext& ctx, Buffer& buffer, uint32_t& count, const std::vector<LineVertex>& vertices) {
@@ -27,32 +37,138 @@ Status fillLineBuffer(const VulkanContext& ctx, Buffer& buffer, uint32_t& count,
     return success();
 }
 
-// A small 3D cross on each selected vertex and the selected edge, drawn over the cage.
-std::vector<LineVertex> selectionLines(const Document& doc) {
+void cross(std::vector<LineVertex>& lines, const glm::vec3& p, float size, const glm::vec3& color) {
+    for (int axis = 0; axis < 3; ++axis) {
+        glm::vec3 offset(0.0f);
+        offset[axis] = size;
+        lines.push_back({p - offset, color});
+        lines.push_back({p + offset, color});
+    }
+}
+
+// A polyline on the limit surface: `at(t)` gives (sub-face, u, v) for t in [0, 1].
+template <class At>
+void limitCurve(const PlannedCage& planned, At at, int segments, const glm::vec3& color, std::vector<LineVertex>& lines) {
+    glm::vec3 previous(0.0f);
+    bool havePrevious = false;
+    for (int i = 0; i <= segments; ++i) {
+        const auto [subface, u, v] = at(float(i) / float(segments));
+        if (!planned.hasSurface(subface)) {
+            havePrevious = false;
+            continue;
+        }
+        const glm::vec3 p = planned.evaluate(subface, u, v).position;
+        if (havePrevious) {
+            lines.push_back({previous, color});
+            lines.push_back({p, color});
+        }
+        previous = p;
+        havePrevious = true;
+    }
+}
+
+struct SubfacePoint {
+    uint32_t subface;
+    float u, v;
+};
+
+// The limit curve over edge k (corner k to k + 1) of face f: the boundary of its limit patch.
+void limitEdgeCurve(const PlannedCage& planned, uint32_t f, uint32_t k, const glm::vec3& color, std::vector<LineVertex>& lines) {
+    const uint32_t n = planned.cage().faceSize(f), first = planned.firstSubface(f);
+    constexpr int kSegments = 8;
+    if (n == 4) {
+        limitCurve(planned, [&](float t) {
+            const float uv[4][2] = {{t, 0.0f}, {1.0f, t}, {1.0f - t, 1.0f}, {0.0f, 1.0f - t}};
+            return SubfacePoint{first, uv[k][0], uv[k][1]};
+        }, kSegments, color, lines);
+        return;
+    }
+    // n-gon: sub-face k holds the first half (corner 0 to 1), sub-face k + 1 the second (corner 3 to 0).
+    limitCurve(planned, [&](float t) { return SubfacePoint{first + k, t, 0.0f}; }, kSegments / 2, color, lines);
+    limitCurve(planned, [&](float t) { return SubfacePoint{first + (k + 1) % n, 0.0f, 1.0f - t}; }, kSegments / 2, color, lines);
+}
+
+// A selected face: its limit patch's outline and a few iso-lines across it, so the highlight
+// lies on the surface whichever scheme draws it.
+void limitFaceHatch(const PlannedCage& planned, uint32_t f, const glm::vec3& color, std::vector<LineVertex>& lines) {
+    const uint32_t n = planned.cage().faceSize(f), first = planned.firstSubface(f);
+    for (uint32_t k = 0; k < n; ++k) limitEdgeCurve(planned, f, k, color, lines);
+    const std::vector<float> levels = n == 4 ? std::vector<float>{0.25f, 0.5f, 0.75f} : std::vector<float>{0.5f};
+    for (uint32_t s = first; s < first + subfaceCount(n); ++s)
+        for (float level : levels) {
+            limitCurve(planned, [&](float t) { return SubfacePoint{s, level, t}; }, 6, color, lines);
+            limitCurve(planned, [&](float t) { return SubfacePoint{s, t, level}; }, 6, color, lines);
+        }
+}
+
+// Selection, corners, holes and (in vertex mode) every vertex, drawn over the cage.
+std::vector<LineVertex> overlayLines(const Document& doc) {
     std::vector<LineVertex> lines;
-    const Cage& cage = doc.planned->cage();
-    const float size = 0.015f * std::max(computeBounds(cage).diagonal(), 1e-3f);
-    for (uint32_t v : doc.selection.vertices) {
-        if (v >= cage.vertexCount()) continue;
-        for (int axis = 0; axis < 3; ++axis) {
-            glm::vec3 offset(0.0f);
-            offset[axis] = size;
-            lines.push_back({cage.positions[v] - offset, kSelectedVertexColor});
-            lines.push_back({cage.positions[v] + offset, kSelectedVertexColor});
+    const PlannedCage& planned = *doc.planned;
+    const Cage& cage = planned.cage();
+    const Topology& topology = planned.topology();
+    const float size = 0.012f * std::max(computeBounds(cage).diagonal(), 1e-3f);
+    const Selection& s = doc.selection;
+    if (s.mode == SelectionMode::Vertex && cage.vertexCount() <= 20000)
+        for (const glm::vec3& p : cage.positions) cross(lines, p, 0.25f * size, kVertexDotColor);
+    for (uint32_t f : cage.holes) {  // a hole: its diagonals, from each corner to the centre
+        const glm::vec3 centre = centroid(cage, std::span<const uint32_t>(cage.faceBegin(f), cage.faceSize(f)));
+        for (uint32_t k = 0; k < cage.faceSize(f); ++k) {
+            lines.push_back({glm::mix(cage.positions[cage.faceBegin(f)[k]], centre, 0.15f), kHoleColor});
+            lines.push_back({glm::mix(cage.positions[cage.faceBegin(f)[k]], centre, 0.85f), kHoleColor});
         }
     }
-    if (doc.selection.edge) {
-        auto [a, b] = *doc.selection.edge;
-        if (a < cage.vertexCount() && b < cage.vertexCount()) {
-            lines.push_back({cage.positions[a], kSelectedEdgeColor});
-            lines.push_back({cage.positions[b], kSelectedEdgeColor});
+    for (const VertexCorner& c : cage.corners)  // a corner: a star in its sharpness's colour
+        if (c.vertex < cage.vertexCount()) cross(lines, cage.positions[c.vertex], 1.3f * size, sharpnessRampColor(c.sharpness));
+    for (uint32_t v : s.vertices)
+        if (v < cage.vertexCount()) cross(lines, cage.positions[v], size, kSelectedColor);
+    for (const EdgeKey& e : s.edges) {
+        const uint32_t edge = e.v1 < cage.vertexCount() ? topology.findEdge(e.v0, e.v1) : UINT32_MAX;
+        if (edge == UINT32_MAX) continue;
+        lines.push_back({cage.positions[e.v0], kSelectedEdgeColor});
+        lines.push_back({cage.positions[e.v1], kSelectedEdgeColor});
+        // ... and the limit curve it shapes (through the first face that has it)
+        const uint32_t f = topology.edgeFaces[topology.edgeFaceOffsets[edge]];
+        for (uint32_t k = 0; k < cage.faceSize(f); ++k)
+            if (topology.faceEdges[cage.faceOffsets[f] + k] == edge) {
+                limitEdgeCurve(planned, f, k, kSelectedEdgeColor, lines);
+                break;
+            }
+    }
+    for (uint32_t f : s.faces) {
+        if (f >= cage.faceCount()) continue;
+        const uint32_t n = cage.faceSize(f);
+        for (uint32_t k = 0; k < n; ++k) {  // the cage face's outline
+            lines.push_back({cage.positions[cage.faceBegin(f)[k]], kSelectedColor});
+            lines.push_back({cage.positions[cage.faceBegin(f)[(k + 1) % n]], kSelectedColor});
         }
+        limitFaceHatch(planned, f, kSelectedColor, lines);
     }
     return lines;
 }
 
-// The plan passes' compute stages rewrite buffers (control points, the grid) that the previous
-// viewport's (or frame's) draws read: those reads must finish first.
+// Lines are drawn depth-tested against the surface; this pulls them toward the eye by a small
+// constant in normalized depth so lines on or just under the surface (the highlight's limit
+// curves, cage edges where the surface bulges out) still show. The screen position is unchanged.
+glm::mat4 withDepthBias(const glm::mat4& viewProjection, float bias) {
+    glm::mat4 shift(1.0f);
+    shift[3][2] = -bias;  // z_clip - bias * w
+    return shift * viewProjection;
+}
+
+std::string selectionKey(const Document& doc) {
+    const Selection& s = doc.selection;
+    std::string key(1, char(s.mode));
+    key.append(reinterpret_cast<const char*>(s.vertices.data()), s.vertices.size() * sizeof(uint32_t));
+    key.push_back('|');
+    key.append(reinterpret_cast<const char*>(s.edges.data()), s.edges.size() * sizeof(EdgeKey));
+    key.push_back('|');
+    key.append(reinterpret_cast<const char*>(s.faces.data()), s.faces.size() * sizeof(uint32_t));
+    return key;
+}
+
+// The plans' GPU paths evaluate in compute passes that rewrite buffers the previous frame's
+// (or viewport's) draws read: those reads must finish first. Harmless for the other schemes.
 void barrierBeforeEvaluation(VkCommandBuffer cmd) {
     VkMemoryBarrier2 barrier{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
     barrier.srcStageMask = VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_2_TESSELLATION_CONTROL_SHADER_BIT |
@@ -67,21 +183,128 @@ void barrierBeforeEvaluation(VkCommandBuffer cmd) {
     vkCmdPipelineBarrier2(cmd, &dependency);
 }
 
-bool sameSelection(const Selection& a, const Selection& b) { return a.vertices == b.vertices && a.edge == b.edge; }
+bool sameSettings(const SchemeSettings& a, const SchemeSettings& b) {
+    return a.tessFactor == b.tessFactor && a.adaptivePixels == b.adaptivePixels && a.planDepth == b.planDepth &&
+           a.options == b.options;
+}
+
+void destroyHeat(const VulkanContext& ctx, HeatMap& heat) {
+    if (heat.mesh.indexCount) destroyMesh(ctx, heat.mesh);
+    heat = HeatMap{};
+}
+
+void destroyView(const VulkanContext& ctx, SchemeView& view) {
+    if (view.instance) (void)view.instance->destroyGpu();
+    view.instance.reset();
+    destroyHeat(ctx, view.heat);
+}
+
+// A new instance for the request (failures become view.problem).
+void buildView(SceneRenderer& r, const PluginCatalog& catalog, const Document& doc, SchemeView& view,
+               const SchemeRequest& request) {
+    const VulkanContext& ctx = *r.gpu.vulkan;
+    destroyView(ctx, view);
+    view.built = request;
+    view.problem.clear();
+    view.support = SupportReport{};
+    view.colorModes = {"shading"};
+    ++view.drawRevision;
+    const auto start = Clock::now();
+    Result<PreparedScheme> prepared = prepareScheme(catalog, request.name, *doc.planned, r.features, request.settings,
+                                                    r.gpu, doc.path.empty() ? "the cage" : doc.path);
+    view.setupMs = msSince(start);
+    if (!prepared) {
+        view.problem = prepared.error().message;
+        return;
+    }
+    view.support = prepared->support;
+    view.instance.emplace(std::move(prepared->instance));
+    if (Result<std::vector<std::string>> modes = view.instance->colorModes(); modes && !modes->empty())
+        view.colorModes = *modes;
+}
+
+// Heat map of the view's scheme: the whole grid, or (after a move) the sub-faces listed.
+Status updateHeat(const VulkanContext& ctx, const Document& doc, SchemeView& view, const std::vector<uint32_t>* moved) {
+    HeatMap& heat = view.heat;
+    const PlannedCage& planned = *doc.planned;
+    const auto start = Clock::now();
+    const bool whole = !moved || !heat.valid;
+    if (whole) {
+        destroyHeat(ctx, heat);
+        heat.grid = buildSubfaceGrid(planned, std::max(1u, view.built.heatFactor));
+        heat.index = VertexSubfaceIndex(planned, heat.grid.subfaces);
+        heat.relError.assign(heat.grid.samples.size(), 0.0f);
+    }
+    std::vector<uint32_t> touched;  // positions in heat.grid.subfaces
+    std::vector<SampleRequest> samples;
+    if (whole) {
+        samples = heat.grid.samples;
+    } else {
+        touched = heat.index.touched(*moved);
+        for (uint32_t i : touched)
+            samples.insert(samples.end(), heat.grid.samples.begin() + heat.grid.firstSample[i],
+                           heat.grid.samples.begin() + heat.grid.firstSample[i + 1]);
+    }
+    std::vector<SurfacePoint> points(samples.size());
+    if (!samples.empty())
+        if (Status s = view.instance->evaluate(samples, points); !s) return s;
+    const double diagonal = std::max(double(computeBounds(planned.cage()).diagonal()), 1e-12);
+    const SurfaceError error = measureSurfaceError(planned, samples, points, diagonal);
+    std::vector<MeshVertex> vertices = meshVertices(points);
+    std::vector<glm::vec3> colors(points.size());
+    for (size_t k = 0; k < points.size(); ++k) colors[k] = heatColorLinear(error.relError[k]);
+    if (whole) {
+        heat.relError = error.relError;
+        if (!vertices.empty()) {
+            Result<GpuMesh> mesh = uploadMesh(ctx, vertices, heat.grid.indices, colors);
+            if (!mesh) return mesh.error();
+            heat.mesh = *mesh;
+        }
+        heat.lastSubfaces = uint32_t(heat.grid.subfaces.size());
+    } else {  // rewrite the touched ranges in place (the caller waited for the device)
+        auto* mappedVertices = static_cast<MeshVertex*>(heat.mesh.vertices.data);
+        auto* mappedColors = static_cast<glm::vec3*>(heat.mesh.colors.data);
+        size_t k = 0;
+        for (uint32_t i : touched)
+            for (uint32_t j = heat.grid.firstSample[i]; j < heat.grid.firstSample[i + 1]; ++j, ++k) {
+                heat.relError[j] = error.relError[k];
+                if (mappedVertices) mappedVertices[j] = vertices[k];
+                if (mappedColors) mappedColors[j] = colors[k];
+            }
+        heat.lastSubfaces = uint32_t(touched.size());
+    }
+    double sumSquares = 0.0, maximum = 0.0;
+    for (float e : heat.relError) {
+        sumSquares += double(e) * double(e);
+        maximum = std::max(maximum, double(e));
+    }
+    heat.maxRelError = maximum;
+    heat.rmsRelError = heat.relError.empty() ? 0.0 : std::sqrt(sumSquares / double(heat.relError.size()));
+    heat.valid = true;
+    heat.lastMs = msSince(start);
+    ++view.drawRevision;
+    return success();
+}
 
 }  // namespace
 
+glm::vec3 sharpnessRampColor(float sharpness) {
+    const float t = std::min(sharpness / kInfiniteSharpness, 1.0f);
+    return glm::mix(glm::vec3(1.0f, 0.85f, 0.1f), glm::vec3(0.9f, 0.05f, 0.02f), t);
+}
+
 Result<SceneRenderer> createSceneRenderer(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat) {
     SceneRenderer r;
-    Result<PlanPass> plan = createPlanPass(ctx, cache, colorFormat);
-    if (!plan) return plan.error();
-    r.plan = *plan;
+    r.gpu = GpuContext{&ctx, cache, colorFormat, VK_FORMAT_D32_SFLOAT};
     Result<LinePass> lines = createLinePass(ctx, cache, colorFormat);
-    if (!lines) {
-        destroySceneRenderer(ctx, r);
-        return lines.error();
-    }
+    if (!lines) return lines.error();
     r.lines = *lines;
+    Result<MeshPass> heat = createMeshPass(ctx, cache, colorFormat);
+    if (!heat) {
+        destroySceneRenderer(ctx, r);
+        return heat.error();
+    }
+    r.heatPass = *heat;
     if (ctx.features.pipelineStatisticsQuery) {
         for (VkQueryPool& pool : r.statistics) {
             VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
@@ -97,98 +320,142 @@ Result<SceneRenderer> createSceneRenderer(const VulkanContext& ctx, VkPipelineCa
     return r;
 }
 
+void releaseSchemes(const VulkanContext& ctx, SceneRenderer& r) {
+    if (r.views.empty()) return;
+    vkQueueWaitIdle(ctx.queue);
+    for (SchemeView& view : r.views) destroyView(ctx, view);
+    r.views.clear();
+    r.generation = r.planRevision = r.positionRevision = ~0ull;
+}
+
 void destroySceneRenderer(const VulkanContext& ctx, SceneRenderer& r) {
-    if (r.buffers) destroyPlanBuffers(ctx, *r.buffers);
+    releaseSchemes(ctx, r);
     destroyBuffer(ctx, r.cageLines);
     destroyBuffer(ctx, r.overlayLines);
     for (VkQueryPool pool : r.statistics)
         if (pool) vkDestroyQueryPool(ctx.device, pool, nullptr);
     if (r.lines.pipeline) destroyLinePass(ctx, r.lines);
-    if (r.plan.setLayout) destroyPlanPass(ctx, r.plan);
+    if (r.heatPass.layout) destroyMeshPass(ctx, r.heatPass);
     r = SceneRenderer{};
 }
 
-void adoptDocument(const VulkanContext& ctx, SceneRenderer& r, const Document& doc, PlanBuffers buffers) {
-    vkQueueWaitIdle(ctx.queue);
-    if (r.buffers) destroyPlanBuffers(ctx, *r.buffers);
-    r.buffers = std::move(buffers);
-    bindPlanBuffers(ctx, r.plan, *r.buffers);
-    r.document = &doc;
-    r.planRevision = doc.planRevision;
-    r.positionRevision = ~doc.positionRevision;  // lines still to build
-    r.selection = Selection{{~0u}, std::nullopt};
-    const Cage& cage = doc.planned->cage();
-    r.hasNonQuads = false;
-    for (uint32_t f = 0; f < cage.faceCount(); ++f) r.hasNonQuads |= cage.faceSize(f) != 4;
-}
-
-Status syncDocument(const VulkanContext& ctx, SceneRenderer& r, const Document& doc) {
+Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog& catalog, const Document& doc,
+                 uint64_t generation, std::span<const SchemeRequest> requests) {
     if (!doc.planned) return success();
-    if (r.document != &doc || r.planRevision != doc.planRevision) {
-        Result<PlanBuffers> uploaded = uploadPlans(ctx, *doc.planned);
-        if (!uploaded) return uploaded.error();
-        adoptDocument(ctx, r, doc, std::move(uploaded).value());
+    const Cage& cage = doc.planned->cage();
+    const bool newPlans = r.generation != generation || r.planRevision != doc.planRevision;
+    const bool newPositions = newPlans || r.positionRevision != doc.positionRevision;
+    std::vector<uint32_t> moved;
+    if (newPositions && !newPlans) moved = movedVertices(r.positions, cage.positions);
+    const std::string overlay = selectionKey(doc);
+
+    // Decide first, so the device is drained once and only when something changes.
+    if (r.views.size() > requests.size()) {
+        vkQueueWaitIdle(ctx.queue);
+        for (size_t i = requests.size(); i < r.views.size(); ++i) destroyView(ctx, r.views[i]);
     }
-    const bool positionsChanged = r.positionRevision != doc.positionRevision;
-    const bool selectionChanged = positionsChanged || !sameSelection(r.selection, doc.selection);
-    if (!positionsChanged && !selectionChanged) return success();
+    r.views.resize(requests.size());
+    std::vector<char> rebuild(requests.size()), heatWhole(requests.size()), heatOff(requests.size());
+    bool work = newPositions || overlay != r.overlayKey;
+    for (size_t i = 0; i < requests.size(); ++i) {
+        const SchemeView& view = r.views[i];
+        const SchemeRequest& want = requests[i];
+        rebuild[i] = newPlans || view.generation != generation || want.name != view.built.name ||
+                     !sameSettings(want.settings, view.built.settings);
+        heatWhole[i] = want.heatMap && (rebuild[i] || !view.heat.valid || want.heatFactor != view.built.heatFactor);
+        heatOff[i] = !want.heatMap && view.heat.valid;
+        work |= rebuild[i] || heatWhole[i] || heatOff[i];
+    }
+    if (!work) return success();
+
+    const auto start = Clock::now();
     VK_CHECK(vkQueueWaitIdle(ctx.queue));
-    if (positionsChanged) {
-        updatePositions(*r.buffers, *doc.planned);
-        if (Status s = fillLineBuffer(ctx, r.cageLines, r.cageLineCount, cageLines(doc.planned->cage())); !s) return s;
-        r.positionRevision = doc.positionRevision;
+    if (newPlans) r.features = analyzeCage(cage, doc.planned->topology());
+    for (size_t i = 0; i < requests.size(); ++i) {
+        SchemeView& view = r.views[i];
+        if (rebuild[i]) {
+            buildView(r, catalog, doc, view, requests[i]);
+            view.generation = generation;
+            view.planRevision = doc.planRevision;
+        } else if (!moved.empty() && view.instance) {
+            const auto updateStart = Clock::now();
+            if (Status s = view.instance->updateMoved(moved); !s) {
+                view.problem = s.error().message;
+                destroyView(ctx, view);
+            }
+            view.updateMs = msSince(updateStart);
+            view.updatedVertices = uint32_t(moved.size());
+            ++view.drawRevision;
+        }
+        view.built.heatMap = requests[i].heatMap;
+        view.built.heatFactor = requests[i].heatFactor;
+        if (heatOff[i] || !view.instance) {
+            if (view.heat.valid) ++view.drawRevision;
+            destroyHeat(ctx, view.heat);
+        } else if (requests[i].heatMap && (heatWhole[i] || !moved.empty())) {
+            if (Status s = updateHeat(ctx, doc, view, heatWhole[i] ? nullptr : &moved); !s) {
+                view.problem = "heat map: " + s.error().message;
+                destroyHeat(ctx, view.heat);
+            }
+        }
     }
-    if (Status s = fillLineBuffer(ctx, r.overlayLines, r.overlayLineCount, selectionLines(doc)); !s) return s;
-    r.selection = doc.selection;
+    if (newPositions) {
+        if (Status s = fillLineBuffer(ctx, r.cageLines, r.cageLineCount, cageLines(cage)); !s) return s;
+        r.positions = cage.positions;
+    }
+    if (Status s = fillLineBuffer(ctx, r.overlayLines, r.overlayLineCount, overlayLines(doc)); !s) return s;
+    r.overlayKey = overlay;
+    r.generation = generation;
+    r.planRevision = doc.planRevision;
+    r.positionRevision = doc.positionRevision;
+    r.lastSyncMs = msSince(start);
     return success();
-}
-
-uint32_t effectiveGridFactor(const SceneRenderer& r, uint32_t factor) {
-    factor = std::clamp(factor, 1u, 64u);
-    return r.hasNonQuads && factor % 2 ? factor + 1 : factor;
-}
-
-Status prepareGridFactor(const VulkanContext& ctx, SceneRenderer& r, uint32_t factor) {
-    if (!r.buffers) return success();
-    factor = effectiveGridFactor(r, factor);
-    GridFactors factors = uniformGridFactors(r.buffers->data, factor);
-    if (!r.buffers->gridLayout.subfaceOffset.empty() && r.buffers->gridLayout.factors == factors) return success();
-    VK_CHECK(vkQueueWaitIdle(ctx.queue));
-    return prepareGrid(ctx, r.plan, *r.buffers, std::move(factors));
 }
 
 void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const RenderTarget& target,
                  std::span<const ViewportDraw> viewports, const DisplayOptions& options) {
     const VkQueryPool pool = r.statistics[slot];
-    const uint32_t count = std::min<uint32_t>(uint32_t(viewports.size()), kMaxViewports);
+    const uint32_t count = std::min<uint32_t>(uint32_t(std::min(viewports.size(), r.views.size())), kMaxViewports);
     if (pool) vkCmdResetQueryPool(cmd, pool, 0, kMaxViewports);
     r.recordedViewports[slot] = count;
     r.recordedWire[slot] = options.wireframe;
-    r.recordedPath[slot] = options.path;
     for (uint32_t i = 0; i < count; ++i) {
         const ViewportDraw& v = viewports[i];
+        SchemeView& view = r.views[i];
         const RenderTarget area = subArea(target, v.rect);
-        const bool surface = v.drawSurface && r.buffers && r.buffers->data.subfaces.size() > 0;
-        r.recordedSurface[slot][i] = surface && pool;
-        if (!surface) {
+        r.recordedSurface[slot][i] = false;
+        r.recordedPatches[slot][i] = 0;
+        if (!view.instance) {
             beginRendering(cmd, area, true, options.background);
             vkCmdEndRendering(cmd);
             continue;
         }
-        PlanView view;
-        view.viewProjection = v.viewProjection;
-        view.pixelsPerUnit = v.pixelsPerUnit;
-        view.background = options.background;
-        view.colorBy = v.colorBy;
-        view.wireframe = options.wireframe;
-        barrierBeforeEvaluation(cmd);
         if (pool) vkCmdBeginQuery(cmd, pool, i, 0);
-        if (options.path == DrawPath::Grid) recordGrid(cmd, r.plan, *r.buffers, area, view);
-        else recordTessellated(cmd, r.plan, *r.buffers, area, view, options.tessellation);
+        if (view.heat.valid) {
+            const MeshDraw draw{&view.heat.mesh, glm::vec3(0.8f), true, options.wireframe};
+            recordMeshPass(cmd, r.heatPass, area, MeshView{v.viewProjection, v.eye, options.background},
+                           view.heat.mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
+        } else {
+            DrawView drawView;
+            drawView.viewProjection = v.viewProjection;
+            drawView.eye = v.eye;
+            drawView.background = options.background;
+            drawView.pixelsPerUnit = v.pixelsPerUnit;
+            drawView.wireframe = options.wireframe;
+            drawView.colorBy = std::find(view.colorModes.begin(), view.colorModes.end(), v.colorBy) != view.colorModes.end()
+                                   ? v.colorBy
+                                   : view.colorModes.front();
+            barrierBeforeEvaluation(cmd);
+            Result<DrawStats> drawn = view.instance->record(cmd, area, drawView);
+            if (drawn) r.recordedPatches[slot][i] = drawn->patches;
+        }
         if (pool) vkCmdEndQuery(cmd, pool, i);
+        r.recordedSurface[slot][i] = pool != VK_NULL_HANDLE;
         if (options.cage && r.cageLineCount > 0)
-            recordLines(cmd, r.lines, area, v.viewProjection, r.cageLines, r.cageLineCount);
-        if (r.overlayLineCount > 0) recordLines(cmd, r.lines, area, v.viewProjection, r.overlayLines, r.overlayLineCount);
+            recordLines(cmd, r.lines, area, withDepthBias(v.viewProjection, kCageDepthBias), r.cageLines, r.cageLineCount);
+        if (r.overlayLineCount > 0)
+            recordLines(cmd, r.lines, area, withDepthBias(v.viewProjection, kOverlayDepthBias), r.overlayLines,
+                        r.overlayLineCount);
     }
 }
 
@@ -203,7 +470,7 @@ std::vector<ViewportCounts> readViewportCounts(const VulkanContext& ctx, const S
             vkGetQueryPoolResults(ctx.device, r.statistics[slot], i, 1, sizeof values, values, sizeof values,
                                   VK_QUERY_RESULT_64_BIT) == VK_SUCCESS) {
             c.triangles = values[1] / passes;
-            c.patches = r.recordedPath[slot] == DrawPath::Grid ? r.buffers->data.subfaces.size() : values[0] / passes;
+            c.patches = r.recordedPatches[slot][i];
         }
         counts.push_back(c);
     }

@@ -1,84 +1,125 @@
-// SceneRenderer: the 3D part of an editor frame — every viewport's limit surface (PlanPass),
-// cage overlay and selection highlight (LinePass) — recorded into sub-areas of any
-// RenderTarget, so the window and offscreen paths draw the same way.
+// SceneRenderer: the 3D part of an editor frame. Every viewport draws its limit surface through
+// the viewport's own scheme plugin instance (plugins/scheme_api.h: `plans` is one of them, so
+// renderer changes reach the editor through plugins/plans), or, in heat-map mode, the scheme's
+// surface coloured by its distance from the exact limit surface (plugins/surface_error.h); then
+// the cage and the selection (LinePass) over it. Drawn into sub-areas of any RenderTarget.
 //
-// GPU copies follow the Document by revision. Anything a frame in flight may read (plan
-// buffers, positions, the descriptor set, line buffers) is only rewritten after the queue is
-// idle, so edits cost one pipeline drain; that keeps the frames-in-flight overlap for the
-// common case, frames without edits.
+// GPU copies follow the Document by revision (document.h). syncScene brings them up to date
+// once per frame: a new topology or new plans/tags rebuild the instances; vertex moves alone go
+// to Scheme::updateMoved with the vertices that moved (found by diffing positions), so a drag
+// re-evaluates only what it touched; camera-only frames do no scheme work at all. Anything a
+// frame in flight may read is rewritten only after the queue is idle, so a frame with changes
+// drains the pipeline once; frames without keep the frames-in-flight overlap.
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "document.h"
-#include "draw_path.h"
 #include "line_pass.h"
-#include "plan_pass.h"
+#include "mesh_pass.h"
+#include "scheme_loader.h"
+#include "scheme_support.h"
+#include "subface_index.h"
 #include "swapchain_target.h"
 
 namespace qp::editor {
 
 inline constexpr uint32_t kMaxViewports = 4;
 
+// What a viewport asks to be drawn with this frame.
+struct SchemeRequest {
+    std::string name = "plans";
+    SchemeSettings settings;
+    bool heatMap = false;
+    uint32_t heatFactor = 8;  // error samples per sub-face edge
+};
+
+// The scheme's error against the exact limit on a sample grid, drawn as a coloured mesh.
+struct HeatMap {
+    SubfaceGrid grid;
+    VertexSubfaceIndex index;   // vertex -> grid sub-faces, for updates after moves
+    std::vector<float> relError;
+    GpuMesh mesh;               // positions of the scheme's surface, colours of its error
+    double maxRelError = 0.0, rmsRelError = 0.0;
+    double lastMs = 0.0;        // the last (re)computation
+    uint32_t lastSubfaces = 0;  // sub-faces it re-evaluated
+    bool valid = false;
+};
+
+// One viewport's scheme instance and what it was made from.
+struct SchemeView {
+    SchemeRequest built;                     // what the instance (or the failure) is for
+    std::optional<SchemeInstance> instance;  // empty: nothing drawn (see problem)
+    SupportReport support;                   // approximations: warnings shown in the viewport
+    std::string problem;                     // why nothing is drawn: unknown, refused, failed
+    std::vector<std::string> colorModes{"shading"};
+    uint64_t generation = ~0ull, planRevision = ~0ull;
+    double setupMs = 0.0;   // build + GPU + first update, the last time it was made
+    double updateMs = 0.0;  // the last update after a move
+    uint32_t updatedVertices = 0;
+    HeatMap heat;
+    uint64_t drawRevision = 0;  // changes whenever what this viewport draws may have changed
+};
+
+// One viewport of a frame.
 struct ViewportDraw {
     VkRect2D rect{};
     glm::mat4 viewProjection{1.0f};
+    glm::vec3 eye{0.0f};
     float pixelsPerUnit = 1.0f;  // plan_pass.h pixelsPerUnit() for the rect's height
-    ColorBy colorBy = ColorBy::Shading;
-    bool drawSurface = true;     // false: the viewport's scheme is not available; clear only
+    std::string colorBy = "shading";
 };
 
 struct DisplayOptions {
-    DrawPath path = DrawPath::Grid;            // resolved (never Auto)
-    TessellationSettings tessellation;         // tessellated path
-    uint32_t gridFactor = 8;                   // grid path (see prepareGridFactor)
     bool wireframe = false, cage = true;
     glm::vec3 background{0.22f, 0.23f, 0.25f};
 };
 
-// What the GPU drew in one viewport, from pipeline-statistics queries: triangles rasterised
-// for the surface (the wireframe overlay's second pass not counted) and patches (tessellated
-// path: patch primitives; grid path: the sub-faces evaluated).
+// What the GPU drew in one viewport, from pipeline-statistics queries (triangles rasterised
+// for the surface), and what the scheme said it submitted.
 struct ViewportCounts {
     uint64_t triangles = 0, patches = 0;
 };
 
 struct SceneRenderer {
-    PlanPass plan;
+    GpuContext gpu;
     LinePass lines;
-    std::optional<PlanBuffers> buffers;
+    MeshPass heatPass;
     Buffer cageLines, overlayLines;
     uint32_t cageLineCount = 0, overlayLineCount = 0;
-    bool hasNonQuads = false;
-    // What the GPU copies were made from.
-    const Document* document = nullptr;
-    uint64_t planRevision = 0, positionRevision = 0;
-    Selection selection;
+    std::vector<SchemeView> views;  // one per viewport
+    // What the copies were made from.
+    uint64_t generation = ~0ull, planRevision = ~0ull, positionRevision = ~0ull;
+    std::vector<glm::vec3> positions;  // as last synced, to find the vertices an edit moved
+    std::string overlayKey;
+    CageFeatures features;
+    double lastSyncMs = 0.0;  // scheme updates, heat maps and line buffers of the last change
     // Per frame-in-flight slot: statistics queries and what they were recorded for.
     VkQueryPool statistics[kFramesInFlight] = {};
     uint32_t recordedViewports[kFramesInFlight] = {};
     bool recordedWire[kFramesInFlight] = {};
     bool recordedSurface[kFramesInFlight][kMaxViewports] = {};
-    DrawPath recordedPath[kFramesInFlight] = {};
+    uint64_t recordedPatches[kFramesInFlight][kMaxViewports] = {};
 };
 
 Result<SceneRenderer> createSceneRenderer(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat);
 void destroySceneRenderer(const VulkanContext& context, SceneRenderer& renderer);
 
-// Takes over plan buffers uploaded elsewhere (the loading thread) for `document`.
-void adoptDocument(const VulkanContext& context, SceneRenderer& renderer, const Document& document, PlanBuffers buffers);
-// Brings the GPU copies up to date with `document` (uploads, position updates, line buffers).
-Status syncDocument(const VulkanContext& context, SceneRenderer& renderer, const Document& document);
+// Destroys every scheme instance and heat map (after waiting for the device): before the
+// document they point at goes away.
+void releaseSchemes(const VulkanContext& context, SceneRenderer& renderer);
 
-// The grid factor the grid path will really use for `factor` (n-gons need even factors).
-uint32_t effectiveGridFactor(const SceneRenderer& renderer, uint32_t factor);
-// Lays the grid out for `factor` (waiting for the device when it changes).
-Status prepareGridFactor(const VulkanContext& context, SceneRenderer& renderer, uint32_t factor);
+// Brings instances, heat maps and line buffers up to date with `document` (adopted as
+// `generation`) and the viewports' requests. Scheme failures become SchemeView::problem;
+// an error here is a Vulkan failure of the editor's own buffers.
+Status syncScene(const VulkanContext& context, SceneRenderer& renderer, const PluginCatalog& catalog,
+                 const Document& document, uint64_t generation, std::span<const SchemeRequest> requests);
 
 // Records every viewport into `target` (areas from ViewportDraw::rect), the statistics
 // queries into `slot`'s pool. Areas outside the viewports are left as they are.
@@ -86,8 +127,10 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& renderer, uint32_t slot, co
                  std::span<const ViewportDraw> viewports, const DisplayOptions& options);
 
 // Counts of the frame last recorded in `slot`; call once the slot's fence has signalled.
-// Empty when the device has no pipeline-statistics queries or the slot recorded nothing.
 std::vector<ViewportCounts> readViewportCounts(const VulkanContext& context, const SceneRenderer& renderer,
                                                uint32_t slot);
+
+// Colour of a crease or corner of this sharpness (LinePass's ramp: yellow soft, red infinite).
+glm::vec3 sharpnessRampColor(float sharpness);
 
 }  // namespace qp::editor

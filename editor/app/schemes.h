@@ -1,24 +1,14 @@
-// Names a viewport can show: patching schemes and colour modes. Scene files keep both as
-// open-ended strings (plugins add schemes); until the scheme plugins land, `plans` is the only
-// scheme this build draws, and a viewport naming another says so instead of drawing.
+// Colour-mode names a viewport can ask its scheme for. Scene files keep schemes and colour
+// modes as open-ended strings (each scheme plugin lists its own modes: Scheme::colorModes);
+// this maps the scene format's older spellings to the plugins' names.
 #pragma once
 
-#include <optional>
-#include <span>
 #include <string>
 #include <string_view>
 
-#include "plan_pass.h"
-
 namespace qp::editor {
 
-std::span<const char* const> availableSchemes();
-bool isSchemeAvailable(std::string_view scheme);
-
-// Colour modes offered in the UI, in order: shading, node-kind, depth, sharpness.
-std::span<const char* const> colorModeNames();
-// Also accepts the scene format's older spellings ("patch-kind", "plan-depth").
-std::optional<ColorBy> parseColorMode(std::string_view name);
-const char* colorModeName(ColorBy mode);
+// "patch-kind" -> "node-kind", "plan-depth" -> "depth"; anything else as it is ("shading" when empty).
+std::string canonicalColorMode(std::string_view name);
 
 }  // namespace qp::editor

@@ -1,20 +1,23 @@
 #include "viewport_input.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <utility>
 
+#include <GLFW/glfw3.h>
 #include <imgui.h>
 
 #include "actions.h"
 #include "cage_pick.h"
 #include "editor_app.h"
+#include "tools.h"
 
 namespace qp::editor {
 
 namespace {
 
-constexpr float kVertexPickRadius = 12.0f;  // framebuffer pixels
-constexpr float kEdgePickRadius = 6.0f;
+constexpr float kDragThreshold = 4.0f;  // framebuffer pixels before a press becomes a drag
 
 glm::vec2 cursorInFramebuffer() {
     const ImGuiIO& io = ImGui::GetIO();
@@ -32,67 +35,215 @@ int viewportAt(const EditorApp& app, glm::vec2 p) {
     return -1;
 }
 
-ScreenMapping mappingOf(const ViewportState& v) { return {v.viewProjection, v.rect}; }
+glm::vec2 viewportOrigin(const ViewportState& v) { return {float(v.rect.offset.x), float(v.rect.offset.y)}; }
 
-// Left click without Alt: pick a vertex (and grab the selection to move it), else an edge.
-void clickSelect(EditorApp& app, uint32_t viewport, glm::vec2 cursor, bool add) {
-    Document& doc = *app.doc;
-    if (!doc.planned) return;
-    const ViewportState& v = app.viewports[viewport];
-    const Cage& cage = doc.planned->cage();
-    if (std::optional<uint32_t> vertex = pickVertex(cage, mappingOf(v), cursor, kVertexPickRadius)) {
-        const bool selected = std::binary_search(doc.selection.vertices.begin(), doc.selection.vertices.end(), *vertex);
-        if (add || !selected) (void)selectVertex(doc, *vertex, add);
-        if (add) return;
-        Drag& d = app.drag;
-        d = Drag{DragKind::MoveSelection, viewport, 0, cursor};
-        d.anchor = cage.positions[*vertex];
-        d.vertices = doc.selection.vertices;
-        for (uint32_t s : d.vertices) d.startPositions.push_back(cage.positions[s]);
-        d.viewProjection = v.viewProjection;
-        d.rect = v.rect;
-        return;
-    }
-    if (add) return;
-    if (auto edge = pickEdge(cage, doc.planned->topology(), mappingOf(v), cursor, kEdgePickRadius))
-        (void)selectEdge(doc, edge->first, edge->second);
-    else
-        clearSelection(doc);
+// Plain: replace; Shift: add; Ctrl: remove; Ctrl+Shift: toggle.
+SelectOp selectOp(const ImGuiIO& io) {
+    if (io.KeyCtrl && io.KeyShift) return SelectOp::Toggle;
+    if (io.KeyCtrl) return SelectOp::Remove;
+    if (io.KeyShift) return SelectOp::Add;
+    return SelectOp::Replace;
 }
 
-void startDrag(EditorApp& app, DragKind kind, uint32_t viewport, int button, glm::vec2 cursor) {
-    app.drag = Drag{kind, viewport, button, cursor};
+bool isSelected(const Document& doc, const PickHit& hit) {
+    const Selection& s = doc.selection;
+    if (hit.mode != s.mode) return false;
+    switch (hit.mode) {
+    case SelectionMode::Vertex: return std::binary_search(s.vertices.begin(), s.vertices.end(), hit.element);
+    case SelectionMode::Edge: return std::binary_search(s.edges.begin(), s.edges.end(), hit.edge);
+    case SelectionMode::Face: return std::binary_search(s.faces.begin(), s.faces.end(), hit.element);
+    }
+    return false;
+}
+
+// Starts moving the whole selection with the cursor, in the view plane through `anchor`.
+void startMove(EditorApp& app, Drag& d, const glm::vec3& anchor) {
+    const Cage& cage = app.doc->planned->cage();
+    const ViewportState& v = app.viewports[d.viewport];
+    d.kind = DragKind::MoveSelection;
+    d.vertices = selectedVertices(app.doc->selection, cage);
+    d.startPositions = positionsOf(cage, d.vertices);
+    d.anchor = anchor;
+    d.viewProjection = v.viewProjection;
+    d.rect = v.rect;
+}
+
+// Where the pressed element is, for a view-plane move that keeps it under the cursor.
+glm::vec3 anchorOf(const EditorApp& app, const PickHit& hit) {
+    const Cage& cage = app.doc->planned->cage();
+    switch (hit.mode) {
+    case SelectionMode::Vertex: return cage.positions[hit.element];
+    case SelectionMode::Edge: return glm::mix(cage.positions[hit.edge.v0], cage.positions[hit.edge.v1], hit.edgeT);
+    case SelectionMode::Face: return centroid(cage, std::span<const uint32_t>(cage.faceBegin(hit.element), cage.faceSize(hit.element)));
+    }
+    return glm::vec3(0.0f);
+}
+
+void applyMove(EditorApp& app, Drag& d, const std::vector<glm::vec3>& positions, const char* name) {
+    MoveVertices move{d.vertices, positions, d.applied, name};
+    if (edit(app, move)) d.applied = true;
+    else d = Drag{};
 }
 
 void continueDrag(EditorApp& app, glm::vec2 cursor, glm::vec2 delta) {
     Drag& d = app.drag;
+    d.cursor = cursor;
     ViewCamera& camera = cameraOf(app, d.viewport);
     const float height = float(app.viewports[std::min<size_t>(d.viewport, app.viewports.size() - 1)].rect.extent.height);
     switch (d.kind) {
-        case DragKind::Orbit: orbit(camera, delta.x, delta.y, height); break;
-        case DragKind::Pan: pan(camera, delta.x, delta.y, height); break;
-        case DragKind::Zoom: dolly(camera, -delta.y * 0.02f); break;
-        case DragKind::MoveSelection: {
-            if (delta == glm::vec2(0.0f) || d.vertices.empty()) break;
-            // From the start of the drag, not frame to frame, so nothing drifts.
-            const glm::vec3 offset = dragOffset({d.viewProjection, d.rect}, d.anchor, cursor - d.start);
-            MoveVertices move{d.vertices, d.startPositions};
-            for (glm::vec3& p : move.positions) p += offset;
-            if (!edit(app, move)) d = Drag{};
-            break;
+    case DragKind::Orbit: orbit(camera, delta.x, delta.y, height); break;
+    case DragKind::Pan: pan(camera, delta.x, delta.y, height); break;
+    case DragKind::Zoom: dolly(camera, -delta.y * 0.02f); break;
+    case DragKind::Press: {
+        if (glm::length(cursor - d.start) < kDragThreshold || !app.doc->planned) break;
+        startMove(app, d, d.anchor);
+        [[fallthrough]];
+    }
+    case DragKind::MoveSelection: {
+        if (d.vertices.empty() || (delta == glm::vec2(0.0f) && d.applied)) break;
+        // From the start of the drag, not frame to frame, so nothing drifts.
+        const glm::vec3 offset = dragOffset({d.viewProjection, d.rect}, d.anchor, cursor - d.start);
+        std::vector<glm::vec3> positions = d.startPositions;
+        for (glm::vec3& p : positions) p += offset;
+        char text[96];
+        std::snprintf(text, sizeof text, "move %.3f %.3f %.3f", offset.x, offset.y, offset.z);
+        d.readout = text;
+        applyMove(app, d, positions, "");
+        break;
+    }
+    case DragKind::Gizmo: {
+        if (delta == glm::vec2(0.0f) && d.applied) break;
+        const ViewportState& v = app.viewports[d.viewport];
+        const PickView view{d.viewProjection, glm::vec2(float(d.rect.extent.width), float(d.rect.extent.height))};
+        const glm::vec2 origin = viewportOrigin(v);
+        const GizmoDrag g = dragGizmo(d.shape, d.handle, view, d.start - origin, cursor - origin, ImGui::GetIO().KeyCtrl);
+        Result<std::vector<glm::vec3>> positions = transformPoints(d.startPositions, g.matrix);
+        if (!positions) break;  // a degenerate scale: keep the last good step
+        const char* name = d.shape.mode == GizmoMode::Move ? "move" : d.shape.mode == GizmoMode::Rotate ? "rotate" : "scale";
+        char text[96];
+        if (d.shape.mode == GizmoMode::Rotate) std::snprintf(text, sizeof text, "rotate %.1f deg", g.values.x);
+        else std::snprintf(text, sizeof text, "%s %.3f %.3f %.3f", name, g.values.x, g.values.y, g.values.z);
+        d.readout = text;
+        applyMove(app, d, *positions, name);
+        break;
+    }
+    case DragKind::BoxSelect:
+    case DragKind::None: break;
+    }
+}
+
+void finishDrag(EditorApp& app) {
+    Drag d = std::exchange(app.drag, Drag{});
+    if (d.kind == DragKind::Press) {  // a click on an element: select just it
+        PickHit hit = pickAt(app, d.viewport, d.start);
+        applyPickHit(app, hit, SelectOp::Replace);
+    } else if (d.kind == DragKind::BoxSelect) {
+        if (glm::length(d.cursor - d.start) < kDragThreshold) applyPickHit(app, PickHit{}, d.op);  // a click on nothing
+        else boxSelectIn(app, d.viewport, d.start, d.cursor, d.op);
+    }
+}
+
+void leftPress(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
+    const ImGuiIO& io = ImGui::GetIO();
+    if (io.KeyAlt) {
+        app.drag = Drag{DragKind::Orbit, viewport, ImGuiMouseButton_Left, cursor, cursor};
+        return;
+    }
+    if (!app.doc->planned) return;
+    if (app.tools.loopTool) {
+        const PickHit hit = pickEdgeAt(app, viewport, cursor);
+        if (!hit.hit) {
+            app.ui.status = "Loop tool: no edge under the cursor";
+            return;
         }
-        case DragKind::None: break;
+        const float t = std::clamp(hit.edgeT, 0.02f, 0.98f);
+        if (insertLoop(app, hit.edge.v0, hit.edge.v1, t) && !io.KeyShift) app.tools.loopTool = false;  // Shift: keep cutting
+        return;
+    }
+    if (std::optional<GizmoShape> shape = gizmoIn(app, viewport)) {
+        const GizmoHandle handle = hitGizmo(*shape, cursor - viewportOrigin(app.viewports[viewport]));
+        if (handle != GizmoHandle::None) {
+            Drag& d = app.drag;
+            d = Drag{DragKind::Gizmo, viewport, ImGuiMouseButton_Left, cursor, cursor};
+            startMove(app, d, shape->frame.pivot);
+            d.kind = DragKind::Gizmo;
+            d.shape = *shape;
+            d.handle = handle;
+            return;
+        }
+    }
+    const SelectOp op = selectOp(io);
+    const PickHit hit = pickAt(app, viewport, cursor);
+    if (!hit.hit) {
+        app.drag = Drag{DragKind::BoxSelect, viewport, ImGuiMouseButton_Left, cursor, cursor};
+        app.drag.op = op;
+        return;
+    }
+    if (op != SelectOp::Replace) {
+        applyPickHit(app, hit, op);
+        return;
+    }
+    if (!isSelected(*app.doc, hit)) applyPickHit(app, hit, SelectOp::Replace);
+    app.drag = Drag{DragKind::Press, viewport, ImGuiMouseButton_Left, cursor, cursor};
+    app.drag.anchor = anchorOf(app, hit);
+    app.drag.viewProjection = app.viewports[viewport].viewProjection;
+    app.drag.rect = app.viewports[viewport].rect;
+}
+
+// What the loop tool would cut under the cursor, for the overlay.
+void updateLoopPreview(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
+    const PickHit hit = pickEdgeAt(app, viewport, cursor);
+    if (!hit.hit) {
+        app.ui.loopPreview.clear();
+        app.ui.loopPreviewKey.clear();
+        return;
+    }
+    const float t = std::round(std::clamp(hit.edgeT, 0.02f, 0.98f) * 50.0f) / 50.0f;
+    char key[64];
+    std::snprintf(key, sizeof key, "%u-%u@%.2f#%llu", hit.edge.v0, hit.edge.v1, double(t),
+                  (unsigned long long)app.doc->positionRevision);
+    if (app.ui.loopPreviewKey == key) return;
+    app.ui.loopPreviewKey = key;
+    app.ui.loopPreview.clear();
+    Result<TopologyEdit> loop = insertEdgeLoop(app.doc->planned->cage(), app.doc->planned->topology(), hit.edge.v0, hit.edge.v1, t);
+    if (!loop) return;
+    for (const EdgeKey& e : loop->resultEdges) {
+        app.ui.loopPreview.push_back(loop->cage.positions[e.v0]);
+        app.ui.loopPreview.push_back(loop->cage.positions[e.v1]);
     }
 }
 
 }  // namespace
 
+std::optional<GizmoShape> gizmoIn(const EditorApp& app, uint32_t viewport) {
+    if (app.tools.tool == Tool::Select || viewport >= app.viewports.size()) return std::nullopt;
+    std::optional<TransformFrame> frame = selectionFrame(app);
+    if (!frame) return std::nullopt;
+    const ViewportState& v = app.viewports[viewport];
+    const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
+    const GizmoMode mode = app.tools.tool == Tool::Move ? GizmoMode::Move : app.tools.tool == Tool::Rotate ? GizmoMode::Rotate : GizmoMode::Scale;
+    const RenderCamera& c = v.renderCamera;
+    GizmoShape shape = gizmoShape(mode, *frame, view, c.eye, glm::normalize(c.target - c.eye), c.orthographic);
+    if (!shape.visible) return std::nullopt;
+    return shape;
+}
+
+void cancelDrag(EditorApp& app) {
+    Drag d = std::exchange(app.drag, Drag{});
+    if ((d.kind == DragKind::MoveSelection || d.kind == DragKind::Gizmo) && d.applied) {
+        undoTool(app);
+        app.ui.status = "Cancelled the drag";
+    }
+}
+
 void handleViewportInput(EditorApp& app) {
     const ImGuiIO& io = ImGui::GetIO();
     const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
     const glm::vec2 cursor = cursorInFramebuffer();
+    app.ui.gizmoHover = GizmoHandle::None;
     if (app.drag.kind != DragKind::None) {
-        if (!io.MouseDown[app.drag.button]) app.drag = Drag{};
+        if (app.drag.button == ImGuiMouseButton_Left && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) cancelDrag(app);
+        else if (!io.MouseDown[app.drag.button]) finishDrag(app);
         else continueDrag(app, cursor, glm::vec2(io.MouseDelta.x, io.MouseDelta.y) * scale);
         return;
     }
@@ -101,26 +252,45 @@ void handleViewportInput(EditorApp& app) {
     if (hovered < 0) return;
     const uint32_t viewport = uint32_t(hovered);
     app.activeViewport = viewport;
+    if (std::optional<GizmoShape> shape = gizmoIn(app, viewport))
+        app.ui.gizmoHover = hitGizmo(*shape, cursor - viewportOrigin(app.viewports[viewport]));
+    if (app.tools.loopTool && app.doc->planned) updateLoopPreview(app, viewport, cursor);
     if (io.MouseWheel != 0.0f) dolly(cameraOf(app, viewport), io.MouseWheel);
     if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-        if (io.KeyAlt) startDrag(app, DragKind::Orbit, viewport, ImGuiMouseButton_Left, cursor);
-        else clickSelect(app, viewport, cursor, io.KeyShift);
+        leftPress(app, viewport, cursor);
     } else if (ImGui::IsMouseClicked(ImGuiMouseButton_Middle)) {
         const DragKind kind = io.KeyCtrl ? DragKind::Zoom : (io.KeyAlt || io.KeyShift) ? DragKind::Pan : DragKind::Orbit;
-        startDrag(app, kind, viewport, ImGuiMouseButton_Middle, cursor);
-    } else if (ImGui::IsMouseClicked(ImGuiMouseButton_Right) && io.KeyAlt) {
-        startDrag(app, DragKind::Zoom, viewport, ImGuiMouseButton_Right, cursor);
+        app.drag = Drag{kind, viewport, ImGuiMouseButton_Middle, cursor, cursor};
+    } else if (ImGui::IsMouseClicked(ImGuiMouseButton_Right)) {
+        if (io.KeyAlt) app.drag = Drag{DragKind::Zoom, viewport, ImGuiMouseButton_Right, cursor, cursor};
+        else if (app.tools.loopTool) app.tools.loopTool = false;
     }
 }
 
 void handleShortcuts(EditorApp& app) {
     std::vector<KeyPress> presses = std::exchange(app.keyPresses, {});
     if (ImGui::GetIO().WantTextInput || ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId)) return;
-    for (const KeyPress& press : presses)
+    auto matches = [](const KeyChord& c, const KeyPress& p) {
+        return c.key != 0 && c.key == p.key && c.ctrl == p.ctrl && c.shift == p.shift && c.alt == p.alt;
+    };
+    for (const KeyPress& press : presses) {
+        if (press.key == GLFW_KEY_ESCAPE && !press.ctrl && !press.shift && !press.alt) {
+            if (app.drag.kind != DragKind::None) {
+                cancelDrag(app);
+                continue;
+            }
+            if (app.tools.loopTool) {
+                app.tools.loopTool = false;
+                app.ui.status = "Loop tool off";
+                continue;
+            }
+        }
         for (const ActionInfo& action : actions())
-            if (action.chord.key == press.key && action.chord.ctrl == press.ctrl && action.chord.shift == press.shift &&
-                !press.alt)
+            if (matches(action.chord, press) || matches(action.alternate, press)) {
                 runAction(app, action.id);
+                break;
+            }
+    }
 }
 
 }  // namespace qp::editor

@@ -1,18 +1,32 @@
 // Mouse and keyboard in the viewports, read from Dear ImGui's input state (which the GLFW
 // backend fills from real events and the automation hook from synthetic ones), so both drive
-// the same code. Navigation follows Maya and Blender; see actions.h for the bindings.
+// the same code. Navigation follows Maya and Blender; see actions.cpp for the bindings.
 #pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "gizmo.h"
 
 namespace qp::editor {
 
 struct EditorApp;
 
-// Camera drags, wheel zoom, click to select, drag a selected vertex to move the selection.
-// Ignores the mouse while ImGui wants it (over a panel) unless a drag is already under way.
+// Camera drags, wheel zoom, clicks and boxes that select, drags that move the selection, the
+// transform handle, the loop tool. Ignores the mouse while ImGui wants it (over a panel)
+// unless a drag is already under way.
 void handleViewportInput(EditorApp& app);
 
 // Runs the actions whose shortcuts were pressed since the last frame (EditorApp::keyPresses),
-// unless a text field has the keyboard or a dialog is open.
+// unless a text field has the keyboard or a dialog is open. Esc first cancels a drag or the
+// loop tool.
 void handleShortcuts(EditorApp& app);
+
+// Ends a drag in progress; a cancelled move or transform puts the selection back.
+void cancelDrag(EditorApp& app);
+
+// The transform handle in a viewport (viewport pixels), when the tool shows one and something
+// is selected.
+std::optional<GizmoShape> gizmoIn(const EditorApp& app, uint32_t viewport);
 
 }  // namespace qp::editor

@@ -7,7 +7,9 @@
 //
 // Options: path=auto|tess|grid|cpu, the renderer's paths (render/draw_path.h: auto is cpu on a
 // CPU device, tess on a GPU). The grid paths keep their evaluated grid between frames, so a
-// frame whose camera moved but whose cage did not only draws.
+// frame whose camera moved but whose cage did not only draws, and after updateMoved (the
+// editor's drags) the next frame re-evaluates only the sub-faces whose 1-ring holds a moved
+// vertex (recordMovedVertices).
 //
 // Displacement: all three paths draw it (render/plan_pass.h, setPlanDisplacement) at a uniform
 // factor of at least the tiles' required one (displacedGridFactor, at most 64); a screen-adaptive
@@ -15,6 +17,7 @@
 // changed samples are re-evaluated (recordDisplacementChange).
 #include <algorithm>
 #include <cstdio>
+#include <iterator>
 
 #include "draw_path.h"
 #include "plan_pass.h"
@@ -86,7 +89,22 @@ public:
     }
 
     Status update() override {
+        pendingMoves_.clear();
         if (haveBuffers_) updatePositions(buffers_, *planned_);  // drops the cached grid
+        return success();
+    }
+
+    // Only these vertices moved: the next record() refreshes just the sub-faces around them,
+    // recording the device part into its command buffer (evaluate() reads planned_ directly).
+    Status updateMoved(std::span<const uint32_t> vertices) override {
+        if (!haveBuffers_) return success();
+        // The partial refresh re-evaluates the undisplaced surface only; with a displacement the
+        // whole grid is evaluated again.
+        if (displacement_) return update();
+        std::vector<uint32_t> merged;
+        std::set_union(pendingMoves_.begin(), pendingMoves_.end(), vertices.begin(), vertices.end(),
+                       std::back_inserter(merged));
+        pendingMoves_ = std::move(merged);
         return success();
     }
 
@@ -107,6 +125,10 @@ public:
 
         // The host side of the frame (grid layout, the CPU-evaluated grid). The callers submit
         // and wait between frames, so no earlier frame still reads what it writes.
+        if (!pendingMoves_.empty()) {
+            recordMovedVertices(cmd, pass_, buffers_, *planned_, pendingMoves_);
+            pendingMoves_.clear();
+        }
         if (Status prepared = preparePlanFrame(*ctx_, pass_, buffers_, *planned_, path_, planView, tessellation);
             !prepared) {
             std::fprintf(stderr, "plans: %s\n", prepared.error().message.c_str());
@@ -176,6 +198,7 @@ private:
     PlanPass pass_;
     PlanBuffers buffers_;
     bool haveBuffers_ = false;
+    std::vector<uint32_t> pendingMoves_;  // sorted: vertices moved since the last frame (updateMoved)
 };
 
 }  // namespace

@@ -186,7 +186,7 @@ TEST_F(EditorWindow, AutomationEditsSavesAndRedraws) {
     const json rect = s0["viewports"][0]["rect"];
     const int x0 = rect[0].get<int>(), y0 = rect[1].get<int>();
     const int x1 = x0 + rect[2].get<int>(), y1 = y0 + rect[3].get<int>();
-    EXPECT_GT(distinctColors(p0, x0, y0, x1, y1), 40u) << "the viewport looks blank";
+    EXPECT_GT(distinctColors(p0, x0, y0, x1, y1), 20u) << "the viewport looks blank";
     EXPECT_GT(distinctColors(p0, x1, 0, p0.width, p0.height), 5u) << "the side panel looks blank";
     EXPECT_GT(differingPixels(p0, p1), 500u) << "moving a vertex and creasing an edge changed nothing on screen";
 
@@ -194,12 +194,12 @@ TEST_F(EditorWindow, AutomationEditsSavesAndRedraws) {
     Picture resized = loadPng(dir / "resized.png");
     ASSERT_EQ(resized.width, 900);
     ASSERT_EQ(resized.height, 620);
-    EXPECT_GT(distinctColors(resized, 0, 30, 270, 620), 40u);
-    EXPECT_GT(distinctColors(resized, 290, 30, 560, 620), 40u);
+    EXPECT_GT(distinctColors(resized, 0, 30, 270, 620), 20u);
+    EXPECT_GT(distinctColors(resized, 290, 30, 560, 620), 20u);
 }
 
 // Real X events: a mouse drag on a cage vertex moves it, a numpad key changes the view, a click
-// on an ImGui radio button switches to four viewports.
+// on an ImGui radio button switches to face selection, Ctrl+4 to four viewports.
 TEST_F(EditorWindow, RealMouseAndKeyboardThroughX) {
     if (!haveProgram("xdotool")) GTEST_SKIP() << "SKIPPED: xdotool is not installed (scripts/install-deps.sh)";
     EditorProcess editor;
@@ -219,9 +219,11 @@ TEST_F(EditorWindow, RealMouseAndKeyboardThroughX) {
     const json& view = r0["viewports"][0];
     const float vx = view["rect"][0], vy = view["rect"][1], vw = view["rect"][2], vh = view["rect"][3];
     const json& projected = view["projected_vertices"];
+    const json& pickable = view["pickable_vertices"];  // not hidden by the limit surface
+    ASSERT_EQ(pickable.size(), projected.size());
     int chosen = -1;
     for (size_t i = 0; i < projected.size() && chosen < 0; ++i) {
-        if (projected[i].is_null()) continue;
+        if (projected[i].is_null() || !pickable[i].get<bool>()) continue;
         const float x = projected[i][0], y = projected[i][1];
         if (x < vx + 60 || x > vx + vw - 60 || y < vy + 80 || y > vy + vh - 60) continue;
         bool isolated = true;
@@ -257,19 +259,130 @@ TEST_F(EditorWindow, RealMouseAndKeyboardThroughX) {
     const glm::vec3 target(camera["target"][0], camera["target"][1], camera["target"][2]);
     EXPECT_GT(glm::normalize(eye - target).y, 0.999f) << "Numpad 7 did not give the top view";
 
-    // 3. Click the "4" radio button in the side panel.
-    const std::array<float, 4> four = widgetRect(r2, "4");
-    EXPECT_EQ(xdotool("mousemove " + screen(four[0] + four[2] / 2, four[1] + four[3] / 2) + " sleep 0.3 click 1 sleep 0.5"),
+    // 3. Click the "Face" radio button in the side panel, then Ctrl+4 over the viewport.
+    const std::array<float, 4> face = widgetRect(r2, "Face");
+    EXPECT_EQ(xdotool("mousemove " + screen(face[0] + face[2] / 2, face[1] + face[3] / 2) + " sleep 0.3 click 1 sleep 0.5"),
               0);
+    EXPECT_EQ(xdotool("mousemove " + screen(vx + vw / 2, vy + vh / 2) + " sleep 0.3 key ctrl+4 sleep 0.5"), 0);
     writeText(dir / "go3", "");
     json r3 = waitForState(editor, "r3.json");
     expectCleanExit(editor);
     ASSERT_TRUE(r3.is_object());
-    EXPECT_EQ(r3["viewports"].size(), 4u) << "the click on the radio button did not reach ImGui";
+    EXPECT_EQ(r3["selection"]["mode"], "face") << "the click on the radio button did not reach ImGui";
+    EXPECT_EQ(r3["viewports"].size(), 4u) << "Ctrl+4 did not give four viewports";
     Picture p = loadPng(dir / "r3.png");
     for (const json& v : r3["viewports"]) {
         const int x = v["rect"][0], y = v["rect"][1], w = v["rect"][2], h = v["rect"][3];
         EXPECT_GT(distinctColors(p, x, y, x + w, y + h), 20u) << "a viewport is blank";
+    }
+}
+
+// Issue 6 items 3-7 as a person uses them: box select in face mode, extrude, crease and corner
+// tools, undo/redo and a jump in the history, the move handle dragged with real X events, and two
+// viewports with different schemes beside each other, one with its error heat map.
+TEST_F(EditorWindow, SelectsEditsCreasesUndoesAndComparesSchemes) {
+    Result<Scene> scene = loadSceneOrCage((dir / "default.json").string());
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    const Cage& cage = scene->cage;
+    const uint32_t faces = cage.faceCount();
+    ASSERT_EQ(cage.faceSize(0), 4u);
+    const uint32_t a = cage.faceBegin(0)[0], b = cage.faceBegin(0)[1];
+    const bool gestures = haveProgram("xdotool");
+    EditorProcess editor;
+    start(editor,
+          "wait-idle\nwait-frames 2\ndump-state t0.json\n"
+          // Box select over the whole viewport in face mode: the faces the surface shows.
+          "select-mode face\nbox-select 0 5 45 715 695\ndump-state t1.json\n"
+          // Extrude one face, undo, redo.
+          "select face 0\nextrude 0.2\nwait-frames 1\ndump-state t2.json\nundo\ndump-state t3.json\nredo\n"
+          "wait-frames 1\nscreenshot extruded.png\ndump-state t4.json\n"
+          // Crease an edge and corner a vertex through the selection tools.
+          "select edge " + std::to_string(a) + "-" + std::to_string(b) + "\ncrease 3.5\n"
+          "select vertex " + std::to_string(a) + "\ncorner 2\nwait-frames 1\ndump-state t5.json\n"
+          // Back to the document as opened, in one jump.
+          "jump-history 0\nwait-frames 1\ndump-state t6.json\n"
+          // The move handle on one vertex, dragged along x by the test (xdotool).
+          "select vertex " + std::to_string(a) + "\nset-tool move\nwait-frames 2\ndump-state g0.json\n" +
+              (gestures ? "wait-file go\nwait-frames 4\ndump-state g1.json\n" : "") +
+              "set-tool select\n"
+              // Two viewports, plans beside uniform with its error heat map.
+              "set-viewports 2\nset-scheme 1 uniform\nheatmap 1 on\nwait-frames 30\nscreenshot compare.png\n"
+              "dump-state h.json\nquit\nclick-button Discard changes\n",
+          (dir / "default.json").string());
+    json t0 = waitForState(editor, "t0.json"), t1 = waitForState(editor, "t1.json");
+    json t2 = waitForState(editor, "t2.json"), t3 = waitForState(editor, "t3.json"), t4 = waitForState(editor, "t4.json");
+    json t5 = waitForState(editor, "t5.json"), t6 = waitForState(editor, "t6.json"), g0 = waitForState(editor, "g0.json");
+    ASSERT_TRUE(t0.is_object() && t6.is_object() && g0.is_object());
+
+    // Box select: some faces but not the hidden ones behind the surface.
+    const size_t boxed = t1["selection"]["faces"].size();
+    EXPECT_GT(boxed, 10u);
+    EXPECT_LT(boxed, faces) << "box select took faces the surface hides";
+
+    // Extrude adds the face's four sides; undo removes them; redo brings them back.
+    EXPECT_EQ(t2["faces"].get<uint32_t>(), faces + 4);
+    EXPECT_TRUE(t2["last_edit"]["topology_changed"].get<bool>());
+    EXPECT_GT(t2["last_edit"]["replanned_faces"].get<uint32_t>(), 0u);
+    EXPECT_LT(t2["last_edit"]["replanned_faces"].get<uint32_t>(), faces) << "an extrude re-planned everything";
+    EXPECT_EQ(t3["faces"].get<uint32_t>(), faces);
+    EXPECT_EQ(t3["vertices"], t0["vertices"]) << "undo did not restore the cage";
+    EXPECT_EQ(t4["faces"].get<uint32_t>(), faces + 4);
+    EXPECT_EQ(t4["vertices"], t2["vertices"]);
+
+    // Crease and corner, as the history says.
+    EXPECT_NE(t5["creases"].dump().find(json{std::min(a, b), std::max(a, b), 3.5}.dump()), std::string::npos)
+        << t5["creases"].dump();
+    EXPECT_NE(t5["corners"].dump().find(json{a, 2.0}.dump()), std::string::npos) << t5["corners"].dump();
+    EXPECT_EQ(t5["history"]["size"].get<int>(), 3);
+    EXPECT_EQ(t5["history"]["position"].get<int>(), 3);
+
+    // The jump undid all three: the cage and tags as opened, the entries still there to redo.
+    EXPECT_EQ(t6["faces"].get<uint32_t>(), faces);
+    EXPECT_EQ(t6["vertices"], t0["vertices"]);
+    EXPECT_EQ(t6["creases"], t0["creases"]);
+    EXPECT_EQ(t6["corners"], t0["corners"]);
+    EXPECT_EQ(t6["history"]["position"].get<int>(), 0);
+    EXPECT_EQ(t6["history"]["size"].get<int>(), 3);
+    EXPECT_FALSE(t6["dirty"].get<bool>()) << "back at the saved state, the document is clean";
+
+    // The move handle: grab the x arrow half way and drag 60 px along it on screen.
+    ASSERT_TRUE(g0["viewports"][0].contains("gizmo")) << "no move handle for a selected vertex";
+    if (gestures) {
+        const int wx = g0["window"]["x"].get<int>(), wy = g0["window"]["y"].get<int>();
+        auto screen = [&](glm::vec2 p) { return std::to_string(wx + int(p.x)) + " " + std::to_string(wy + int(p.y)); };
+        const json& gizmo = g0["viewports"][0]["gizmo"];
+        const glm::vec2 centre(gizmo["centre"][0].get<float>(), gizmo["centre"][1].get<float>());
+        const glm::vec2 xEnd(gizmo["x"][0].get<float>(), gizmo["x"][1].get<float>());
+        const glm::vec2 grab = 0.5f * (centre + xEnd), along = glm::normalize(xEnd - centre);
+        EXPECT_EQ(xdotool("mousemove " + screen(grab) + " sleep 0.8 mousedown 1 sleep 0.8 mousemove " +
+                          screen(grab + 30.0f * along) + " sleep 0.8 mousemove " + screen(grab + 60.0f * along) +
+                          " sleep 0.8 mouseup 1 sleep 0.5"),
+                  0);
+        writeText(dir / "go", "");
+        json g1 = waitForState(editor, "g1.json");
+        ASSERT_TRUE(g1.is_object());
+        const glm::vec3 moved = vertexOf(g1, a) - vertexOf(g0, a);
+        EXPECT_GT(moved.x, 1e-3f) << "dragging the x arrow did not move the vertex along +x";
+        EXPECT_NEAR(moved.y, 0.0f, 1e-5f);
+        EXPECT_NEAR(moved.z, 0.0f, 1e-5f);
+        EXPECT_EQ(g1["last_edit"]["replanned_faces"], 0) << "a move re-planned faces";
+    }
+
+    // Side by side: plans (exact, no heat map) and uniform with its error coloured.
+    json h = waitForState(editor, "h.json");
+    expectCleanExit(editor);
+    ASSERT_EQ(h["viewports"].size(), 2u);
+    EXPECT_EQ(h["viewports"][0]["scheme"], "plans");
+    EXPECT_EQ(h["viewports"][1]["scheme"], "uniform");
+    EXPECT_TRUE(h["viewports"][1]["drawn"].get<bool>()) << h["viewports"][1]["problem"];
+    const json& heat = h["viewports"][1]["heatmap"];
+    EXPECT_TRUE(heat["on"].get<bool>());
+    EXPECT_TRUE(heat["valid"].get<bool>());
+    EXPECT_GT(heat["max"].get<double>(), 0.0) << "uniform subdivision is not the limit surface";
+    Picture p = loadPng(dir / "compare.png");
+    for (const json& v : h["viewports"]) {
+        const int x = v["rect"][0], y = v["rect"][1], w = v["rect"][2], hh = v["rect"][3];
+        EXPECT_GT(distinctColors(p, x, y, x + w, y + hh), 20u) << "a viewport is blank";
     }
 }
 
@@ -365,9 +478,9 @@ TEST_F(EditorWindow, EditsShowInTheNextFrameOnA2000FaceCage) {
         json m = readJson(dir / (std::string(mode) + ".json"));
         ASSERT_TRUE(m.is_object()) << mode;
         const json& drawn = m["scene_drawn"];
-        std::printf("[ measure  ] %-5s %u faces, %s path, grid factor %d: 3D drawn in %d of %d frames; median CPU %.1f ms, "
+        std::printf("[ measure  ] %-5s %u faces, plans path %s, factor %s: 3D drawn in %d of %d frames; median CPU %.1f ms, "
                     "GPU %.1f ms, interval %.1f ms\n",
-                    mode, m["faces"].get<unsigned>(), m["draw_path"].get<std::string>().c_str(), m["grid_factor"].get<int>(),
+                    mode, m["faces"].get<unsigned>(), m["plans_path"].get<std::string>().c_str(), m["factors"].dump().c_str(),
                     drawn["cpu_ms"]["count"].get<int>(), m["frames"].get<int>(),
                     m["all_frames"]["cpu_ms"]["median"].get<double>(), m["all_frames"]["gpu_ms"]["median"].get<double>(),
                     m["all_frames"]["interval_ms"]["median"].get<double>());
@@ -376,7 +489,7 @@ TEST_F(EditorWindow, EditsShowInTheNextFrameOnA2000FaceCage) {
     }
     EXPECT_EQ(d["last_edit"]["description"], "move vertex 10");
     EXPECT_EQ(d["last_edit"]["replanned_faces"], 0);
-    EXPECT_GT(distinctColors(loadPng(dir / "drag.png"), 0, 40, 700, 650), 40u);
+    EXPECT_GT(distinctColors(loadPng(dir / "drag.png"), 0, 40, 700, 650), 20u);
 }
 
 // A file that cannot be read gives an error dialog and an empty editor, not a crash; saving
@@ -402,6 +515,11 @@ TEST_F(EditorWindow, RejectsABadAutomationScript) {
     start(editor, "wait-frames 2\nselect-vertex banana\n", (dir / "default.json").string());
     EXPECT_EQ(editor.wait(60.0), 2);
     EXPECT_NE(editor.output().find("script.txt:2"), std::string::npos) << editor.output();
+    // Colour modes belong to each scheme: an unknown one stops the run when it is reached.
+    EditorProcess running;
+    start(running, "wait-idle\nwait-frames 2\nset-color-by 0 rainbow\nquit\n", (dir / "default.json").string());
+    EXPECT_EQ(running.wait(kRunSeconds), 3);
+    EXPECT_NE(running.output().find("no colour mode 'rainbow'"), std::string::npos) << running.output();
 }
 
 // Without a display the editor says so and exits non-zero, without touching GLFW.

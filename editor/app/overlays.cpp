@@ -1,0 +1,137 @@
+// Viewport overlays drawn with Dear ImGui over the cached 3D picture, so hovering and dragging
+// them needs no 3D redraw: the transform handle, the box of a box selection, the loop the loop
+// tool would cut, the readout of a drag, and the heat map's colour scale.
+#include <cmath>
+#include <cstdio>
+
+#include <imgui.h>
+
+#include "editor_app.h"
+#include "overlays.h"
+#include "surface_error.h"
+#include "viewport_input.h"
+
+namespace qp::editor {
+
+namespace {
+
+ImU32 rgba(float r, float g, float b, float a = 1.0f) { return ImGui::ColorConvertFloat4ToU32(ImVec4(r, g, b, a)); }
+
+const ImU32 kAxisColors[3] = {rgba(0.92f, 0.22f, 0.2f), rgba(0.35f, 0.85f, 0.25f), rgba(0.25f, 0.5f, 1.0f)};
+const ImU32 kHover = rgba(1.0f, 0.9f, 0.2f), kViewHandle = rgba(0.9f, 0.9f, 0.9f), kShadow = rgba(0, 0, 0, 0.45f);
+
+struct ToWindow {
+    glm::vec2 origin;  // viewport offset, framebuffer pixels
+    float scale;       // framebuffer pixels per window pixel
+    ImVec2 operator()(glm::vec2 p) const { return ImVec2((origin.x + p.x) / scale, (origin.y + p.y) / scale); }
+};
+
+float framebufferScale() {
+    const ImGuiIO& io = ImGui::GetIO();
+    return io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
+}
+
+void drawGizmo(ImDrawList* list, const GizmoShape& shape, const ToWindow& at, GizmoHandle hot, bool dragging) {
+    auto colorOf = [&](GizmoHandle h, ImU32 base) { return h == hot ? kHover : base; };
+    auto shown = [&](GizmoHandle h) { return !dragging || h == hot; };
+    const ImVec2 centre = at(shape.centre);
+    for (int i = 0; i < 3; ++i) {
+        const GizmoHandle h = GizmoHandle(int(GizmoHandle::X) + i);
+        if (!shown(h)) continue;
+        const ImU32 color = colorOf(h, kAxisColors[i]);
+        if (shape.mode == GizmoMode::Rotate) {
+            std::vector<ImVec2> points;
+            for (const glm::vec2& p : shape.ring[i]) points.push_back(at(p));
+            list->AddPolyline(points.data(), int(points.size()), kShadow, 0, 4.5f);
+            list->AddPolyline(points.data(), int(points.size()), color, 0, 2.5f);
+            continue;
+        }
+        const ImVec2 end = at(shape.axisEnd[i]);
+        list->AddLine(centre, end, kShadow, 5.0f);
+        list->AddLine(centre, end, color, 3.0f);
+        glm::vec2 direction(end.x - centre.x, end.y - centre.y);
+        if (glm::length(direction) < 1.0f) continue;  // the axis points at the eye
+        direction = glm::normalize(direction);
+        const glm::vec2 across(-direction.y, direction.x), e(end.x, end.y);
+        if (shape.mode == GizmoMode::Move) {
+            const glm::vec2 tip = e + direction * 14.0f, left = e + across * 6.0f, right = e - across * 6.0f;
+            list->AddTriangleFilled(ImVec2(tip.x, tip.y), ImVec2(left.x, left.y), ImVec2(right.x, right.y), color);
+        } else {
+            list->AddRectFilled(ImVec2(e.x - 6, e.y - 6), ImVec2(e.x + 6, e.y + 6), color);
+        }
+    }
+    if (!shown(GizmoHandle::View)) return;
+    const ImU32 view = colorOf(GizmoHandle::View, kViewHandle);
+    if (shape.mode == GizmoMode::Rotate) {
+        list->AddCircle(centre, shape.viewRingRadius / at.scale, kShadow, 96, 4.0f);
+        list->AddCircle(centre, shape.viewRingRadius / at.scale, view, 96, 2.0f);
+    } else {
+        const float h = shape.centreHalf / at.scale;
+        list->AddRectFilled(ImVec2(centre.x - h, centre.y - h), ImVec2(centre.x + h, centre.y + h), rgba(1, 1, 1, 0.25f));
+        list->AddRect(ImVec2(centre.x - h, centre.y - h), ImVec2(centre.x + h, centre.y + h), view, 0.0f, 0, 2.0f);
+    }
+}
+
+// The heat map's scale: one colour per decade (plugins/surface_error.h), labelled.
+void drawHeatLegend(ImDrawList* list, const HeatMap& heat, ImVec2 corner) {
+    constexpr float kWidth = 280.0f, kHeight = 12.0f;
+    const ImVec2 bar(corner.x + 10.0f, corner.y - 52.0f);
+    list->AddRectFilled(ImVec2(bar.x - 6, bar.y - 22), ImVec2(bar.x + kWidth + 6, bar.y + kHeight + 30), rgba(0, 0, 0, 0.55f), 4.0f);
+    const double decades = std::log10(kHeatHigh / kHeatLow);
+    for (int x = 0; x < int(kWidth); ++x) {
+        const double value = kHeatLow * std::pow(10.0, decades * (double(x) + 0.5) / double(kWidth));
+        const glm::vec3 c = heatColorSrgb(value);
+        list->AddRectFilled(ImVec2(bar.x + float(x), bar.y), ImVec2(bar.x + float(x) + 1.0f, bar.y + kHeight), rgba(c.r, c.g, c.b));
+    }
+    const int steps = int(std::lround(decades));
+    for (int d = 0; d <= steps; ++d) {
+        const float x = bar.x + kWidth * float(d) / float(steps);
+        char label[16];
+        std::snprintf(label, sizeof label, "1e%d", int(std::lround(std::log10(kHeatLow))) + d);
+        list->AddLine(ImVec2(x, bar.y + kHeight), ImVec2(x, bar.y + kHeight + 3), rgba(1, 1, 1));
+        list->AddText(ImVec2(x - 10.0f, bar.y + kHeight + 3), rgba(1, 1, 1), label);
+    }
+    char text[128];
+    std::snprintf(text, sizeof text, "error / diagonal: max %.2e, rms %.2e", heat.maxRelError, heat.rmsRelError);
+    list->AddText(ImVec2(bar.x, bar.y - 18), rgba(1, 1, 1), text);
+}
+
+}  // namespace
+
+void drawViewportOverlays(EditorApp& app) {
+    const float scale = framebufferScale();
+    ImDrawList* list = ImGui::GetBackgroundDrawList();
+    const Drag& d = app.drag;
+    for (uint32_t i = 0; i < app.viewports.size(); ++i) {
+        const ViewportState& v = app.viewports[i];
+        const ToWindow at{{float(v.rect.offset.x), float(v.rect.offset.y)}, scale};
+        list->PushClipRect(at({0, 0}), at({float(v.rect.extent.width), float(v.rect.extent.height)}), true);
+        if (i < app.renderer.views.size() && app.renderer.views[i].heat.valid)
+            drawHeatLegend(list, app.renderer.views[i].heat, at({0, float(v.rect.extent.height)}));
+        if (d.kind == DragKind::Gizmo && d.viewport == i) {
+            drawGizmo(list, d.shape, at, d.handle, true);
+        } else if (std::optional<GizmoShape> shape = gizmoIn(app, i)) {
+            drawGizmo(list, *shape, at, i == app.activeViewport ? app.ui.gizmoHover : GizmoHandle::None, false);
+        }
+        if (app.tools.loopTool && i == app.activeViewport && !app.ui.loopPreview.empty()) {
+            const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
+            for (size_t k = 0; k + 1 < app.ui.loopPreview.size(); k += 2) {
+                const PickView::Projected a = view.project(app.ui.loopPreview[k]), b = view.project(app.ui.loopPreview[k + 1]);
+                if (a.inFront && b.inFront) list->AddLine(at(a.pixel), at(b.pixel), kHover, 2.5f);
+            }
+        }
+        list->PopClipRect();
+    }
+    if (d.kind == DragKind::BoxSelect && glm::length(d.cursor - d.start) >= 4.0f) {
+        const ImVec2 a(d.start.x / scale, d.start.y / scale), b(d.cursor.x / scale, d.cursor.y / scale);
+        list->AddRectFilled(a, b, rgba(0.3f, 0.6f, 1.0f, 0.15f));
+        list->AddRect(a, b, rgba(0.5f, 0.8f, 1.0f, 0.9f), 0.0f, 0, 1.5f);
+    }
+    if (!d.readout.empty() && (d.kind == DragKind::MoveSelection || d.kind == DragKind::Gizmo)) {
+        const ImVec2 at(d.cursor.x / scale + 18.0f, d.cursor.y / scale + 8.0f);
+        list->AddText(ImVec2(at.x + 1, at.y + 1), rgba(0, 0, 0), d.readout.c_str());
+        list->AddText(at, rgba(1, 1, 1), d.readout.c_str());
+    }
+}
+
+}  // namespace qp::editor
