@@ -38,6 +38,14 @@ add_test(NAME cli.bench_render_smoke
          COMMAND quadplan bench render --repeats 1 --generated-faces 500 --no-shared --factors 2)
 set_tests_properties(cli.bench_render_smoke PROPERTIES PASS_REGULAR_EXPRESSION "\\| 2 \\| 2 \\| [0-9]+ \\|" TIMEOUT 60)
 
+# The schemes suite on a tiny cage at one factor: every scheme plugin against pre-tessellated
+# triangles; a row for a scheme with its ratio.
+add_test(NAME cli.bench_schemes_smoke
+         COMMAND quadplan bench schemes --repeats 1 --generated-faces 300 --no-shared --factors 2)
+set_tests_properties(cli.bench_schemes_smoke PROPERTIES
+                     PASS_REGULAR_EXPRESSION "\\| scheme [a-z0-9-]+, factor 2: frame [^|]+\\| 1 \\| [0-9.]+ ms \\| [0-9.]+ ms \\| [0-9.]+ \\|"
+                     TIMEOUT 60)
+
 # Scheme plugins: the comparison of the built-in schemes on the default scene, as JSON.
 file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/test-output)
 add_test(NAME cli.compare_smoke
