@@ -12,7 +12,7 @@ import pathlib
 import re
 import sys
 
-SUITES = ["plans", "edit", "render", "schemes", "displacement"]
+SUITES = ["plans", "edit", "render", "schemes", "displacement", "editor"]
 
 
 def slug(text):
