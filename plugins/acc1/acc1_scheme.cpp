@@ -2,15 +2,9 @@
 // non-quad cages) cage a bicubic Bezier geometry patch and two tangent patches whose cross
 // product is the shading normal, 40 control points.
 //
-// Drawing: path=tess (default) draws one patch primitive per quad through the tessellator, the
-// 40 points in a storage buffer, position and normal evaluated in acc1.tese; path=cpu
-// evaluates the patches on a sub-face grid on all cores and draws the triangles
-// (grid_drawing.h). update() rebuilds the patches from the cage's positions.
+// Drawn through the tessellator (acc1.tesc, acc1.tese) or on the CPU grid: tess_patch_scheme.h.
 #include "acc1.h"
-#include "grid_drawing.h"
-#include "module_shader_code.h"
-#include "scheme_api.h"
-#include "tess_patch_pass.h"
+#include "tess_patch_scheme.h"
 
 namespace qp {
 namespace {
@@ -28,105 +22,17 @@ constexpr FeatureRule kRules[] = {
     {CageFeature::NonManifold, Handling::Unsupported, "acc1 needs a manifold cage (a fan of quads around every vertex)"},
 };
 
-class Acc1Scheme final : public Scheme {
-public:
-    SupportReport support(const CageFeatures& features, const SchemeSettings& settings) const override {
-        SupportReport report = assessSupport(kRules, features);
-        checkPatchOptions(report, settings, "acc1");
-        return report;
+struct Acc1Traits {
+    static constexpr const char* kName = "acc1";
+    static constexpr const char* kTessControl = "acc1.tesc";
+    static constexpr const char* kTessEvaluation = "acc1.tese";
+    using Data = Acc1Patches;
+    static std::span<const FeatureRule> rules() { return kRules; }
+    static Result<Data> build(const Cage& cage) { return buildAcc1(cage, {}, kName); }
+    static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v) {
+        const Acc1Sample s = evaluateAcc1(data, subface, u, v);
+        return SurfacePoint{s.position, s.normal, s.du, s.dv, s.valid};
     }
-
-    Status build(const PlannedCage& planned, const SchemeSettings& settings) override {
-        planned_ = &planned;
-        settings_ = settings;
-        Result<PatchPath> path = patchPathOption(settings, "acc1");
-        if (!path) return path.error();
-        path_ = *path;
-        if (Status built = rebuild(); !built) return built;
-        prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
-        return success();
-    }
-
-    Status createGpu(const GpuContext& gpu) override {
-        ctx_ = gpu.vulkan;
-        // The grid draws the CPU path, and the tessellated path while displaced.
-        if (Status grid = createGridDrawing(grid_, gpu); !grid) return grid;
-        if (path_ == PatchPath::Cpu) return success();
-        Result<TessPatchPass> pass =
-            createTessPatchPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat,
-                                {moduleShaderCode("tess_patch.vert"), moduleShaderCode("acc1.tesc"), moduleShaderCode("acc1.tese")});
-        if (!pass) return Error{"acc1: " + pass.error().message + " (use --option path=cpu)"};
-        pass_ = *pass;
-        havePass_ = true;
-        return success();
-    }
-
-    Status update() override {
-        if (Status built = rebuild(); !built) return built;
-        if (onGrid()) return updateGridDrawing(grid_, *this);
-        if (!havePass_) return success();
-        const std::vector<glm::vec4> points = paddedPoints(patches_.controlPoints);
-        return uploadTessPatches(*ctx_, pass_, points.data(), points.size() * sizeof(glm::vec4), patches_.stats.patches);
-    }
-
-    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        if (onGrid()) return recordGridDrawing(cmd, grid_, target, view, patches_.stats.patches);
-        const uint32_t factor = patchFactor();
-        recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false});
-        return DrawStats{patches_.stats.patches, factor ? patches_.stats.patches * tessTriangles(factor, false) : 0};
-    }
-
-    // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the
-    // CPU grid (grid_drawing.h) whichever path was chosen; evaluate() stays undisplaced.
-    Status setDisplacement(const Displacement* displacement) override {
-        setGridDisplacement(grid_, displacement);
-        return success();
-    }
-
-    void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
-        for (size_t i = 0; i < requests.size(); ++i) {
-            const Acc1Sample s = evaluateAcc1(patches_, requests[i].subface, requests[i].u, requests[i].v);
-            out[i] = SurfacePoint{s.position, s.normal, s.du, s.dv, s.valid};
-        }
-    }
-
-    SchemeStats stats() const override {
-        return SchemeStats{patches_.stats.patches, patches_.stats.controlPoints,
-                           onGrid() ? gridDrawingBytes(grid_) : pass_.patchData.size};
-    }
-
-    void destroyGpu() override {
-        if (!ctx_) return;
-        destroyGridDrawing(grid_);
-        if (havePass_) destroyTessPatchPass(*ctx_, pass_);
-        havePass_ = false;
-        ctx_ = nullptr;
-    }
-
-private:
-    bool onGrid() const { return path_ == PatchPath::Cpu || grid_.displacement; }
-
-    Status rebuild() {
-        Result<Acc1Patches> patches = buildAcc1(planned_->cage(), {}, "acc1");
-        if (!patches) return patches.error();
-        patches_ = std::move(*patches);
-        return success();
-    }
-
-    // Segments per patch edge: a patch of a refined cage covers half a sub-face edge.
-    uint32_t patchFactor() const {
-        if (settings_.adaptivePixels > 0.0f) return 0;
-        return patches_.source.steps.empty() ? settings_.tessFactor : std::max(1u, settings_.tessFactor / 2);
-    }
-
-    const PlannedCage* planned_ = nullptr;
-    SchemeSettings settings_;
-    PatchPath path_ = PatchPath::Tessellated;
-    Acc1Patches patches_;
-    const VulkanContext* ctx_ = nullptr;
-    TessPatchPass pass_;
-    bool havePass_ = false;
-    GridDrawing grid_;
 };
 
 }  // namespace
@@ -135,4 +41,4 @@ private:
 QUADPLAN_EXPORT_SCHEME("acc1",
                        "Loop-Schaefer 2008 bicubic patches with tangent patches (ACC-1): 40 control points per quad, "
                        "drawn through the tessellator",
-                       qp::Acc1Scheme)
+                       qp::TessPatchScheme<qp::Acc1Traits>)

@@ -1,0 +1,124 @@
+// A scheme whose surface is a set of patches built from the cage on the CPU, drawn one patch
+// primitive per patch through the tessellator (path=tess, the default: the control points in a
+// storage buffer, the surface evaluated in the module's .tese) or on a sub-face grid evaluated
+// on all cores (path=cpu, and whenever displaced: grid_drawing.h). update() rebuilds the patches
+// from the cage's positions. acc1 and acc2 differ only in their patches, given by `Traits`:
+//
+//   struct Traits {
+//       static constexpr const char* kName;              // the scheme's name, e.g. "acc1"
+//       static constexpr const char* kTessControl, *kTessEvaluation;  // its shaders (module files)
+//       static std::span<const FeatureRule> rules();     // what it does with each cage feature
+//       using Data = ...;                                // .controlPoints, .stats, .source.steps
+//       static Result<Data> build(const Cage& cage);
+//       static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v);
+//   };
+#pragma once
+
+#include "grid_drawing.h"
+#include "module_shader_code.h"
+#include "scheme_api.h"
+#include "tess_patch_pass.h"
+
+namespace qp {
+
+template <class Traits>
+class TessPatchScheme final : public Scheme {
+public:
+    SupportReport support(const CageFeatures& features, const SchemeSettings& settings) const override {
+        SupportReport report = assessSupport(Traits::rules(), features);
+        checkPatchOptions(report, settings, Traits::kName);
+        return report;
+    }
+
+    Status build(const PlannedCage& planned, const SchemeSettings& settings) override {
+        planned_ = &planned;
+        settings_ = settings;
+        Result<PatchPath> path = patchPathOption(settings, Traits::kName);
+        if (!path) return path.error();
+        path_ = *path;
+        if (Status built = rebuild(); !built) return built;
+        prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
+        return success();
+    }
+
+    Status createGpu(const GpuContext& gpu) override {
+        ctx_ = gpu.vulkan;
+        // The grid draws the CPU path, and the tessellated path while displaced.
+        if (Status grid = createGridDrawing(grid_, gpu); !grid) return grid;
+        if (path_ == PatchPath::Cpu) return success();
+        Result<TessPatchPass> pass = createTessPatchPass(
+            *ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat,
+            {moduleShaderCode("tess_patch.vert"), moduleShaderCode(Traits::kTessControl), moduleShaderCode(Traits::kTessEvaluation)});
+        if (!pass) return Error{std::string(Traits::kName) + ": " + pass.error().message + " (use --option path=cpu)"};
+        pass_ = *pass;
+        havePass_ = true;
+        return success();
+    }
+
+    Status update() override {
+        if (Status built = rebuild(); !built) return built;
+        if (onGrid()) return updateGridDrawing(grid_, *this);
+        if (!havePass_) return success();
+        const std::vector<glm::vec4> points = paddedPoints(data_.controlPoints);
+        return uploadTessPatches(*ctx_, pass_, points.data(), points.size() * sizeof(glm::vec4), data_.stats.patches);
+    }
+
+    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+        if (onGrid()) return recordGridDrawing(cmd, grid_, target, view, data_.stats.patches);
+        const uint32_t factor = patchFactor();
+        recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false});
+        return DrawStats{data_.stats.patches, factor ? data_.stats.patches * tessTriangles(factor, false) : 0};
+    }
+
+    // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the
+    // CPU grid whichever path was chosen; evaluate() stays undisplaced.
+    Status setDisplacement(const Displacement* displacement) override {
+        setGridDisplacement(grid_, displacement);
+        return success();
+    }
+
+    void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
+        for (size_t i = 0; i < requests.size(); ++i)
+            out[i] = Traits::evaluate(data_, requests[i].subface, requests[i].u, requests[i].v);
+    }
+
+    SchemeStats stats() const override {
+        return SchemeStats{data_.stats.patches, data_.stats.controlPoints,
+                           onGrid() ? gridDrawingBytes(grid_) : pass_.patchData.size};
+    }
+
+    void destroyGpu() override {
+        if (!ctx_) return;
+        destroyGridDrawing(grid_);
+        if (havePass_) destroyTessPatchPass(*ctx_, pass_);
+        havePass_ = false;
+        ctx_ = nullptr;
+    }
+
+private:
+    bool onGrid() const { return path_ == PatchPath::Cpu || grid_.displacement; }
+
+    Status rebuild() {
+        Result<typename Traits::Data> built = Traits::build(planned_->cage());
+        if (!built) return built.error();
+        data_ = std::move(*built);
+        return success();
+    }
+
+    // Segments per patch edge: a patch of a refined cage covers half a sub-face edge.
+    uint32_t patchFactor() const {
+        if (settings_.adaptivePixels > 0.0f) return 0;
+        return data_.source.steps.empty() ? settings_.tessFactor : std::max(1u, settings_.tessFactor / 2);
+    }
+
+    const PlannedCage* planned_ = nullptr;
+    SchemeSettings settings_;
+    PatchPath path_ = PatchPath::Tessellated;
+    typename Traits::Data data_;
+    const VulkanContext* ctx_ = nullptr;
+    TessPatchPass pass_;
+    bool havePass_ = false;
+    GridDrawing grid_;
+};
+
+}  // namespace qp
