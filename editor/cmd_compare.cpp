@@ -14,7 +14,6 @@
 // refused the cage, failed), the others drawn and reported; 1 when nothing could be (bad
 // input, no Vulkan, no scheme drawn, the image not written); 4 when --validate saw messages.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -80,17 +79,6 @@ std::vector<std::string> splitList(const std::string& text) {
         start = comma + 1;
     }
     return items;
-}
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
-
-double msSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::string sci(double value) {
@@ -342,29 +330,14 @@ int runCompare(const CompareArgs& args) {
             // Frames as if the cage moved every frame: the update, then the draw, timed; the last
             // one stays in the tile.
             const RenderTarget tile = subArea(renderTarget(*target), layout.tile(i, false));
-            std::vector<double> frames, draws;
             Status ok = success();
-            for (uint32_t k = 0; k <= args.repeats && ok; ++k) {
-                const auto start = std::chrono::steady_clock::now();
-                ok = scheme.update();
-                Result<DrawStats> drawn = DrawStats{};
-                if (ok)
-                    ok = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-                        beginGpuTimer(cmd, *timer);
-                        drawn = scheme.record(cmd, tile, view);
-                        endGpuTimer(cmd, *timer);
-                    });
-                if (ok && !drawn) ok = drawn.error();
-                if (!ok) break;
-                r.draw = *drawn;
-                const double wall = msSince(start);
-                Result<double> gpuMs = readGpuTimerMs(ctx, *timer);
-                if (k == 0) continue;  // warm-up: first use of pipelines and caches
-                frames.push_back(wall);
-                draws.push_back(gpuMs ? *gpuMs : 0.0);
+            if (Result<SchemeFrameTimes> times = timeSchemeFrames(ctx, scheme, tile, view, *timer, args.repeats)) {
+                r.draw = times->draw;
+                r.frameMs = times->frameMs;
+                r.drawMs = times->drawMs;
+            } else {
+                ok = times.error();
             }
-            r.frameMs = median(frames);
-            r.drawMs = median(draws);
 
             // The error on the sample grid, and its heat map in the tile below.
             std::vector<SurfacePoint> points(grid.samples.size());

@@ -1,6 +1,10 @@
 #include "scheme_host.h"
 
+#include <algorithm>
 #include <chrono>
+#include <vector>
+
+#include "vk_commands.h"
 
 namespace qp {
 
@@ -10,7 +14,42 @@ double msSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    const size_t n = values.size();
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
 }  // namespace
+
+Result<SchemeFrameTimes> timeSchemeFrames(const VulkanContext& ctx, SchemeInstance& scheme, const RenderTarget& target,
+                                          const DrawView& view, const GpuTimer& timer, uint32_t repeats) {
+    SchemeFrameTimes times;
+    std::vector<double> frames, draws;
+    for (uint32_t k = 0; k <= repeats; ++k) {
+        const auto start = std::chrono::steady_clock::now();
+        if (Status updated = scheme.update(); !updated) return updated.error();
+        Result<DrawStats> drawn = DrawStats{};
+        if (Status submitted = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+                beginGpuTimer(cmd, timer);
+                drawn = scheme.record(cmd, target, view);
+                endGpuTimer(cmd, timer);
+            });
+            !submitted)
+            return submitted.error();
+        if (!drawn) return drawn.error();
+        times.draw = *drawn;
+        const double wall = msSince(start);
+        Result<double> gpuMs = readGpuTimerMs(ctx, timer);
+        if (k == 0) continue;  // warm-up
+        frames.push_back(wall);
+        draws.push_back(gpuMs ? *gpuMs : 0.0);
+    }
+    times.frameMs = median(frames);
+    times.drawMs = median(draws);
+    return times;
+}
 
 std::string unknownSchemeMessage(const PluginCatalog& catalog, const std::string& name) {
     std::string message = "unknown scheme '" + name + "'; available schemes: " + catalog.names() + " (from " +

@@ -4,6 +4,7 @@
 
 #include <string>
 
+#include "gpu_timer.h"
 #include "scheme_loader.h"
 
 namespace qp {
@@ -25,6 +26,17 @@ Result<PreparedScheme> prepareScheme(const PluginCatalog& catalog, const std::st
                                      const CageFeatures& features, const SchemeSettings& settings,
                                      const GpuContext& gpu, const std::string& source,
                                      const Displacement* displacement = nullptr);
+
+// Frame times of a prepared scheme as if the cage moved every frame: update(), then record()
+// into `target` in one submission, `repeats` times after one untimed warm-up (first use of
+// pipelines and caches). Medians of the wall time (update + record + submit) and of the GPU
+// time of the draw; `draw` is the last frame's. What compare and the Python module report.
+struct SchemeFrameTimes {
+    DrawStats draw;
+    double frameMs = 0.0, drawMs = 0.0;
+};
+Result<SchemeFrameTimes> timeSchemeFrames(const VulkanContext& context, SchemeInstance& scheme, const RenderTarget& target,
+                                          const DrawView& view, const GpuTimer& timer, uint32_t repeats);
 
 // "unknown scheme 'x'; available schemes: a, b (and what failed to load, if anything)".
 std::string unknownSchemeMessage(const PluginCatalog& catalog, const std::string& name);

@@ -1,7 +1,6 @@
 #include "headless_renderer.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -36,17 +35,6 @@ struct Defer {
     std::function<void()> run;
     ~Defer() { run(); }
 };
-
-double msSince(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 Status checkSize(uint32_t width, uint32_t height) {
     if (width < 16 || height < 16 || width > 8192 || height > 8192)
@@ -374,29 +362,14 @@ Result<std::vector<SchemeComparison>> HeadlessRenderer::compare(const SceneDocum
         SchemeInstance& scheme = prepared->instance;
         r.approximations = prepared->support.approximations;
         r.setupMs = prepared->setupMs();
-        std::vector<double> frames, draws;
         Status ok = success();
-        for (uint32_t k = 0; k <= request.repeats && ok; ++k) {
-            const auto start = std::chrono::steady_clock::now();
-            ok = scheme.update();
-            Result<DrawStats> drawn = DrawStats{};
-            if (ok)
-                ok = submitAndWait(context_, [&](VkCommandBuffer cmd) {
-                    beginGpuTimer(cmd, *timer);
-                    drawn = scheme.record(cmd, renderTarget(*target), view);
-                    endGpuTimer(cmd, *timer);
-                });
-            if (ok && !drawn) ok = drawn.error();
-            if (!ok) break;
-            r.draw = *drawn;
-            const double wall = msSince(start);
-            Result<double> gpuMs = readGpuTimerMs(context_, *timer);
-            if (k == 0) continue;  // warm-up: first use of pipelines and caches
-            frames.push_back(wall);
-            draws.push_back(gpuMs ? *gpuMs : 0.0);
+        if (Result<SchemeFrameTimes> times = timeSchemeFrames(context_, scheme, renderTarget(*target), view, *timer, request.repeats)) {
+            r.draw = times->draw;
+            r.frameMs = times->frameMs;
+            r.drawMs = times->drawMs;
+        } else {
+            ok = times.error();
         }
-        r.frameMs = median(frames);
-        r.drawMs = median(draws);
         std::vector<SurfacePoint> points(grid.samples.size());
         if (ok) ok = scheme.evaluate(grid.samples, points);
         Result<SchemeStats> stats = ok ? scheme.stats() : Result<SchemeStats>(ok.error());
