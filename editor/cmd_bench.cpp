@@ -543,6 +543,22 @@ std::string cellWithCpu(const FrameKind& k) {
     return number(k.medianMs()) + " (" + number(k.medianRatio()) + "x; CPU " + number(k.medianCpuRatio()) + "x)";
 }
 
+// The render and schemes suites' baseline at uniform `factor`: the plans grid evaluated once
+// on the CPU and copied into a mesh of its own (replacing `mesh`), drawn with
+// recordShadedTriangles, i.e. the limit of this device for those triangles.
+Status preparePreTessellated(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, const PlannedCage& planned,
+                             uint32_t factor, GpuMesh& mesh) {
+    if (Status s = prepareGrid(ctx, pass, buffers, factor); !s) return s;
+    evaluateGridOnCpu(planned, buffers);
+    const GridLayout& layout = buffers.gridLayout;
+    destroyMesh(ctx, mesh);
+    Result<GpuMesh> uploaded =
+        uploadMesh(ctx, {static_cast<const MeshVertex*>(buffers.grid.data), layout.slotCount()}, layout.indices);
+    if (!uploaded) return uploaded.error();
+    mesh = std::move(uploaded).value();
+    return success();
+}
+
 void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) {
     const std::string& name = bench.name;
     std::fprintf(stderr, "bench render: %s (%u faces)\n", name.c_str(), bench.cage.faceCount());
@@ -616,15 +632,11 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
         for (uint32_t factor : args.factors) {
             const TessellationSettings settings{factor, 8.0f};
             // The grid and, from it, the pre-tessellated triangles.
-            if (Status s = prepareGrid(ctx, pass, buffers, factor); !s) {
+            if (Status s = preparePreTessellated(ctx, pass, buffers, planned, factor, preMesh); !s) {
                 report.notes.push_back(name + ", factor " + std::to_string(factor) + ": not measured, " + s.error().message);
                 continue;
             }
-            evaluateGridOnCpu(planned, buffers);
             const GridLayout& layout = buffers.gridLayout;
-            destroyMesh(ctx, preMesh);
-            if (!take(uploadMesh(ctx, {static_cast<const MeshVertex*>(buffers.grid.data), layout.slotCount()}, layout.indices), preMesh))
-                break;
             const uint32_t gridFactor = layout.maxFactor, triangles = uint32_t(layout.indices.size() / 3);
 
             auto dropAll = [&] {
@@ -885,18 +897,12 @@ void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report)
 
         for (uint32_t factor : args.factors) {
             const std::string at = ", factor " + std::to_string(factor);
-            // The baseline, as in the render suite: the plans grid evaluated once, copied into
-            // buffers of its own, drawn with the grid's plain-shading pipeline.
-            if (Status s = prepareGrid(ctx, pass, buffers, factor); !s) {
+            // The baseline, as in the render suite.
+            if (Status s = preparePreTessellated(ctx, pass, buffers, planned, factor, preMesh); !s) {
                 report.notes.push_back(name + at + ": not measured, " + s.error().message);
                 continue;
             }
-            evaluateGridOnCpu(planned, buffers);
-            const GridLayout& layout = buffers.gridLayout;
-            destroyMesh(ctx, preMesh);
-            if (!take(uploadMesh(ctx, {static_cast<const MeshVertex*>(buffers.grid.data), layout.slotCount()}, layout.indices), preMesh))
-                break;
-            const uint32_t preTriangles = uint32_t(layout.indices.size() / 3);
+            const uint32_t preTriangles = uint32_t(buffers.gridLayout.indices.size() / 3);
             auto drawPre = [&](VkCommandBuffer cmd) {
                 recordShadedTriangles(cmd, pass, preMesh.vertices.buffer, preMesh.indices.buffer, preMesh.indexCount, rt, view);
             };
