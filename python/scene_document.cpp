@@ -16,54 +16,11 @@ Status checkVertices(const Cage& cage, std::span<const uint32_t> vertices) {
     return success();
 }
 
-size_t displacementBytes(const Displacement& d) {
-    return d.samples.capacity() * sizeof(float) + d.layout.subfaces.capacity() * sizeof(DisplacementSubface) +
-           d.layout.segments.capacity() * sizeof(DisplacementSegment);
-}
-
 bool endsWith(const std::string& text, const std::string& suffix) {
     return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 }  // namespace
-
-// A history entry that changes the displacement only: a brush stroke (its sample changes) or a
-// whole new displacement (resolution change, clear). The surface's plans are untouched, so the
-// report is empty.
-class DisplacementEdit : public CustomEdit {
-public:
-    DisplacementEdit(SceneDocument* document, StrokeRecord stroke) : document_(document), stroke_(std::move(stroke)) {}
-    DisplacementEdit(SceneDocument* document, Displacement before, Displacement after)
-        : document_(document), swap_(Swap{std::move(before), std::move(after)}) {}
-
-    Result<EditReport> redo(PlannedCage&) override { return apply(true); }
-    Result<EditReport> undo(PlannedCage&) override { return apply(false); }
-    size_t bytes() const override {
-        return swap_ ? displacementBytes(swap_->before) + displacementBytes(swap_->after)
-                     : stroke_.changes.capacity() * sizeof(SampleChange);
-    }
-
-private:
-    Result<EditReport> apply(bool forward) {
-        Displacement& d = document_->scene_.displacement;
-        if (swap_) {
-            d = forward ? swap_->after : swap_->before;
-            document_->samples_.reset();  // a new layout needs a new cache
-        } else if (forward) {
-            redoStroke(d, stroke_);  // idempotent: perform() calls it right after the stroke
-        } else {
-            undoStroke(d, stroke_);
-        }
-        return EditReport{};
-    }
-
-    struct Swap {
-        Displacement before, after;
-    };
-    SceneDocument* document_;
-    StrokeRecord stroke_;
-    std::optional<Swap> swap_;
-};
 
 Result<std::unique_ptr<SceneDocument>> SceneDocument::create(Scene scene, const PlanOptions& options,
                                                              const std::string& source) {
@@ -128,6 +85,12 @@ void SceneDocument::releaseUnusedPlans() {
     database_->releaseUnused(inUse);
     sizeAtLastRelease_ = database_->size();
     plansInUseAtLastRelease_ = used;
+}
+
+DisplacementListener SceneDocument::listener() {
+    return [this](const DisplacementChange& change) {
+        if (change.newLayout) samples_.reset();  // a new layout needs a new cache
+    };
 }
 
 const SculptSamples& SceneDocument::sculptSamples() {
@@ -247,19 +210,12 @@ Result<EditOutcome> SceneDocument::makeFace(std::span<const uint32_t> vertices) 
 // ---- displacement -----------------------------------------------------------------------
 
 Result<EditOutcome> SceneDocument::replaceDisplacement(const std::string& name, Displacement next) {
-    auto edit = std::make_unique<DisplacementEdit>(this, scene_.displacement, std::move(next));
+    auto edit = std::make_unique<DisplacementEdit>(scene_.displacement, scene_.displacement, std::move(next), listener());
     return finish(name, history_.perform(*planned_, name, std::move(edit)));
 }
 
-static Status checkResolution(uint32_t resolution) {
-    if (!isPowerOfTwo(resolution) || resolution > kMaxDisplacementResolution)
-        return Error{"resolution must be a power of two between 1 and " + std::to_string(kMaxDisplacementResolution) +
-                     ", got " + std::to_string(resolution)};
-    return success();
-}
-
 Result<EditOutcome> SceneDocument::setDisplacementResolution(uint32_t resolution) {
-    if (Status ok = checkResolution(resolution); !ok) return ok.error();
+    if (Status ok = checkDisplacementResolution(resolution); !ok) return ok.error();
     if (scene_.displacement.empty())
         return replaceDisplacement("New displacement", makeDisplacement(cage(), planned_->topology(), resolution));
     const std::vector<uint32_t> resolutions(scene_.displacement.layout.subfaces.size(), resolution);
@@ -281,15 +237,15 @@ Result<EditOutcome> SceneDocument::stroke(const StrokeOptions& options, std::spa
         if (!std::isfinite(path[i].x) || !std::isfinite(path[i].y) || !std::isfinite(path[i].z))
             return Error{"point " + std::to_string(i + 1) + " of the stroke is not a finite position"};
     if (scene_.displacement.empty()) {
-        if (Status ok = checkResolution(newResolution); !ok) return ok.error();
+        if (Status ok = checkDisplacementResolution(newResolution); !ok) return ok.error();
         Result<EditOutcome> created =
             replaceDisplacement("New displacement", makeDisplacement(cage(), planned_->topology(), newResolution));
         if (!created) return created.error();
     }
     StrokeRecord record = applyStroke(scene_.displacement, sculptSamples(), options, path);
     const uint32_t dabs = record.dabs, changed = uint32_t(record.changes.size());
-    Result<EditOutcome> outcome =
-        finish("Stroke", history_.perform(*planned_, "Stroke", std::make_unique<DisplacementEdit>(this, std::move(record))));
+    auto edit = std::make_unique<DisplacementEdit>(scene_.displacement, std::move(record), listener());
+    Result<EditOutcome> outcome = finish("Stroke", history_.perform(*planned_, "Stroke", std::move(edit)));
     if (outcome) outcome->dabs = dabs, outcome->changedSamples = changed;
     return outcome;
 }

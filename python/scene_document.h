@@ -23,6 +23,7 @@
 #include <glm/vec3.hpp>
 
 #include "brush.h"
+#include "displacement_edit.h"
 #include "edit_history.h"
 #include "planned_cage.h"
 #include "scene.h"
@@ -116,8 +117,8 @@ private:
     void releaseUnusedPlans();
     static constexpr uint32_t kMinPlansBetweenReleases = 256;
     const SculptSamples& sculptSamples();
+    DisplacementListener listener();  // for DisplacementEdit: drops the cache on a new layout
 
-    friend class DisplacementEdit;
     Scene scene_;  // its cage is not kept current: planned_ holds the cage
     std::shared_ptr<PlanDatabase> database_;
     std::optional<PlannedCage> planned_;
