@@ -129,6 +129,7 @@ void Sculptor::beginStroke() {
     ++stroke_;
     touched_.clear();
     dabs_ = 0;
+    strokePoint_.reset();
 }
 
 std::vector<uint32_t> Sculptor::changedSamples() const {
@@ -267,30 +268,43 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
     return changed;
 }
 
-uint32_t Sculptor::dabsAlong(const StrokeOptions& options, std::span<const glm::vec3> path) {
-    if (path.empty()) return 0;
-    const float spacing = options.spacing > 0.0f ? options.spacing : 0.25f * options.brush.radius;
-    uint32_t changed = dab(options.brush, options.mirror, path[0]);
-    // Distance left until the next dab, carried across the polyline's corners. Dab k of a
-    // segment sits at untilNext + k * spacing, computed from k in double: summing spacings in
-    // float stops advancing once the sum dwarfs the spacing, and the loop would never end.
-    double untilNext = spacing;
-    for (size_t i = 1; i < path.size(); ++i) {
-        const glm::vec3 a = path[i - 1], b = path[i];
-        const double length = glm::length(glm::dvec3(b) - glm::dvec3(a));
-        if (length < untilNext) {
-            untilNext -= length;
-            continue;
-        }
-        // A dab that rounding puts a hair past the segment's end still counts (paths through
-        // grid points at whole spacings get the dab at each point).
-        const uint64_t dabs = uint64_t((length - untilNext) / spacing + 1e-5) + 1;
-        for (uint64_t k = 0; k < dabs; ++k) {
-            const double at = untilNext + double(k) * spacing;
-            changed += dab(options.brush, options.mirror, a + (b - a) * float(at / length));
-        }
-        untilNext = untilNext + double(dabs) * spacing - length;
+uint32_t Sculptor::dabTo(const StrokeOptions& options, const glm::vec3& point, std::vector<uint32_t>* reached) {
+    auto dabAt = [&](const glm::vec3& centre) {
+        const uint32_t changed = dab(options.brush, options.mirror, centre);
+        if (reached) reached->insert(reached->end(), affected_.begin(), affected_.end());
+        return changed;
+    };
+    const double spacing = options.spacing > 0.0f ? options.spacing : 0.25 * double(options.brush.radius);
+    if (!strokePoint_) {
+        strokePoint_ = point;
+        untilNext_ = spacing;
+        return dabAt(point);
     }
+    // Dab k of the segment sits at untilNext_ + k * spacing, computed from k in double: summing
+    // spacings in float stops advancing once the sum dwarfs the spacing, and the loop would
+    // never end.
+    const glm::vec3 a = *strokePoint_, b = point;
+    strokePoint_ = point;
+    const double length = glm::length(glm::dvec3(b) - glm::dvec3(a));
+    if (length < untilNext_) {
+        untilNext_ -= length;
+        return 0;
+    }
+    // A dab that rounding puts a hair past the segment's end still counts (paths through grid
+    // points at whole spacings get the dab at each point).
+    const uint64_t dabs = uint64_t((length - untilNext_) / spacing + 1e-5) + 1;
+    uint32_t changed = 0;
+    for (uint64_t k = 0; k < dabs; ++k) {
+        const double at = untilNext_ + double(k) * spacing;
+        changed += dabAt(a + (b - a) * float(at / length));
+    }
+    untilNext_ = untilNext_ + double(dabs) * spacing - length;
+    return changed;
+}
+
+uint32_t Sculptor::dabsAlong(const StrokeOptions& options, std::span<const glm::vec3> path) {
+    uint32_t changed = 0;
+    for (const glm::vec3& point : path) changed += dabTo(options, point);
     return changed;
 }
 

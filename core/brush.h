@@ -99,7 +99,13 @@ public:
     // One dab (and its mirror image). Returns the number of samples it changed.
     uint32_t dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& centre);
 
-    // Dabs along a polyline; one call is one stroke when wrapped in begin/endStroke.
+    // Continues the stroke to `point`: the stroke's first call dabs at the point; later calls
+    // dab every `spacing` along the straight segment from the previous point, carrying the
+    // distance left over to the next call, so a path given in pieces (an editor stroke: one
+    // cursor position per frame) dabs exactly where the whole polyline would. `reached`, when
+    // given, collects every dab's lastDabSamples() (what to upload).
+    uint32_t dabTo(const StrokeOptions& options, const glm::vec3& point, std::vector<uint32_t>* reached = nullptr);
+    // dabTo for each point of a polyline.
     uint32_t dabsAlong(const StrokeOptions& options, std::span<const glm::vec3> path);
 
     // Samples changed since the stroke began (sorted).
@@ -111,12 +117,15 @@ public:
 
     void beginStroke();
     StrokeRecord endStroke();
+    uint32_t dabCount() const { return dabs_; }  // in the stroke so far
 
 private:
     Displacement& displacement_;
     const SculptSamples& samples_;
     glm::vec3 mirrorCentre_;
     uint32_t dabs_ = 0;
+    std::optional<glm::vec3> strokePoint_;  // dabTo's previous point in this stroke
+    double untilNext_ = 0.0;                // and the distance from it to the next dab
 
     // Per sample: the stroke serial when first touched, and the value before it.
     std::vector<uint32_t> touchedInStroke_;

@@ -368,6 +368,33 @@ TEST(Brush, DabsAreSpacedAlongThePath) {
     EXPECT_EQ(applyStroke(s.displacement, *s.samples, options, path).dabs, 46u);
 }
 
+// The editor feeds a stroke one cursor position per frame: dabTo in pieces must dab where the
+// whole polyline does (the spacing's leftover carries over), and `reached` lists every dab's
+// samples.
+TEST(Brush, AStrokeGivenInPiecesDabsWhereTheWholePathDoes) {
+    Sculpt whole(test::makeGrid(4), 4), pieces(test::makeGrid(4), 4);
+    const std::vector<glm::vec3> path = {{0.5f, 0.5f, 0.0f}, {1.2f, 0.6f, 0.0f}, {1.3f, 0.6f, 0.0f}, {3.5f, 2.0f, 0.0f}};
+    StrokeOptions options{{BrushKind::Raise, 0.4f, 0.1f, Falloff::Smooth}};
+    options.spacing = 0.3f;
+    const StrokeRecord expected = applyStroke(whole.displacement, *whole.samples, options, path);
+
+    Sculptor sculptor(pieces.displacement, *pieces.samples);
+    sculptor.beginStroke();
+    std::vector<uint32_t> reached;
+    for (const glm::vec3& p : path) sculptor.dabTo(options, p, &reached);
+    const StrokeRecord record = sculptor.endStroke();
+    EXPECT_EQ(record.dabs, expected.dabs);
+    EXPECT_EQ(pieces.displacement.samples, whole.displacement.samples);
+    std::sort(reached.begin(), reached.end());
+    for (const SampleChange& c : record.changes)
+        EXPECT_TRUE(std::binary_search(reached.begin(), reached.end(), c.sample)) << "changed but not reported: " << c.sample;
+
+    // A new stroke starts afresh: its first call dabs at once.
+    sculptor.beginStroke();
+    EXPECT_GT(sculptor.dabTo(options, path[0]), 0u);
+    EXPECT_EQ(sculptor.endStroke().dabs, 1u);
+}
+
 TEST(Brush, ValidationAndUploadRanges) {
     EXPECT_FALSE(validateBrush({BrushKind::Raise, 0.0f, 0.1f, Falloff::Smooth}));
     EXPECT_FALSE(validateBrush({BrushKind::Smooth, 1.0f, 1.5f, Falloff::Smooth}));
