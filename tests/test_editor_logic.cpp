@@ -2,6 +2,7 @@
 // picking, the document's edit route and saving, recovery files, frame statistics.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
@@ -400,6 +401,112 @@ TEST(Document, UndoingBackToTheSavedStateIsClean) {
     ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {glm::vec3(5, 0, 0)}, true, "move"}, 10).ok());
     EXPECT_TRUE(doc->dirty);
     EXPECT_FALSE(doc->savedPosition.has_value());
+}
+
+// A stroke in the editor spans frames: dabs as the cursor moves, one history entry at the end.
+// Its samples reach the renderer (unsyncedSamples) after every dab and after undo and redo;
+// cancelling puts every sample back; the brushes' cache follows vertex moves.
+TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    // From inside a sub-face across its edge into the next face.
+    const glm::vec3 a = doc->planned->evaluate(0, 0.3f, 0.5f).position, b = doc->planned->evaluate(0, 1.0f, 0.7f).position;
+    ASSERT_TRUE(beginStroke(*doc, 8, 1).ok());
+    EXPECT_EQ(doc->history.size(), 1u) << "the first stroke makes a displacement: its own entry";
+    EXPECT_EQ(doc->displacementRevision, 1u);
+    StrokeOptions options;
+    options.brush = Brush{BrushKind::Raise, 0.2f, 0.1f, Falloff::Smooth};
+    const uint64_t samplesBefore = doc->sampleRevision;
+    EXPECT_GT(strokeTo(*doc, options, a), 0u);
+    EXPECT_GT(doc->sampleRevision, samplesBefore);
+    const std::vector<uint32_t> firstDab = takeUnsyncedSamples(*doc);
+    EXPECT_FALSE(firstDab.empty());
+    EXPECT_TRUE(std::is_sorted(firstDab.begin(), firstDab.end()));
+    EXPECT_TRUE(takeUnsyncedSamples(*doc).empty()) << "taken once";
+    for (int k = 1; k <= 8; ++k) strokeTo(*doc, options, glm::mix(a, b, float(k) / 8.0f));  // one frame each
+    EXPECT_FALSE(takeUnsyncedSamples(*doc).empty());
+    Result<EditReport> ended = endStroke(*doc, "Raise stroke", 2);
+    ASSERT_TRUE(ended.ok()) << ended.error().message;
+    EXPECT_EQ(ended->replannedFaces, 0u);
+    ASSERT_EQ(doc->history.size(), 2u);
+    EXPECT_EQ(doc->history.entry(1).name, "Raise stroke");
+    EXPECT_TRUE(doc->dirty);
+    const std::vector<float> sculpted = doc->scene.displacement.samples;
+    EXPECT_GT(*std::max_element(sculpted.begin(), sculpted.end()), 0.0f);
+
+    // The same path given whole to applyStroke dabs at the same places: the same samples.
+    Displacement whole = makeDisplacement(doc->planned->cage(), doc->planned->topology(), 8);
+    std::vector<glm::vec3> path{a};
+    for (int k = 1; k <= 8; ++k) path.push_back(glm::mix(a, b, float(k) / 8.0f));
+    applyStroke(whole, SculptSamples::build(*doc->planned, whole.layout), options, path);
+    EXPECT_EQ(whole.samples, sculpted);
+
+    takeUnsyncedSamples(*doc);
+    ASSERT_TRUE(undoEdit(*doc, 3).ok());
+    EXPECT_TRUE(std::all_of(doc->scene.displacement.samples.begin(), doc->scene.displacement.samples.end(),
+                            [](float x) { return x == 0.0f; }));
+    EXPECT_FALSE(takeUnsyncedSamples(*doc).empty()) << "undo must tell the renderer";
+    ASSERT_TRUE(redoEdit(*doc, 4).ok());
+    EXPECT_EQ(doc->scene.displacement.samples, sculpted);
+
+    // Cancelled: the samples go back, no entry.
+    ASSERT_TRUE(beginStroke(*doc, 8, 5).ok());
+    options.brush.kind = BrushKind::Lower;
+    strokeTo(*doc, options, b);
+    EXPECT_NE(doc->scene.displacement.samples, sculpted);
+    cancelStroke(*doc);
+    EXPECT_EQ(doc->scene.displacement.samples, sculpted);
+    EXPECT_EQ(doc->history.size(), 2u);
+    EXPECT_FALSE(strokeActive(*doc));
+
+    // A vertex move refreshes the brushes' positions (as a fresh cache would have them).
+    const glm::vec3 moved = doc->planned->cage().positions[0] + glm::vec3(0.0f, 0.0f, 0.3f);
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {moved}}, 6).ok());
+    ASSERT_TRUE(doc->sculptSamples.has_value());
+    const SculptSamples fresh = SculptSamples::build(*doc->planned, doc->scene.displacement.layout);
+    for (uint32_t s = 0; s < fresh.sampleCount(); ++s) {
+        if (!fresh.hasSite(s)) continue;
+        ASSERT_EQ(doc->sculptSamples->position(s), fresh.position(s)) << "sample " << s;
+    }
+
+    // Topology edits are refused while there is displacement; clearing it is undoable.
+    EXPECT_FALSE(applyEdit(*doc, DeleteFaces{{0}}, 7).ok());
+    ASSERT_TRUE(clearDisplacement(*doc, 8).ok());
+    EXPECT_TRUE(doc->scene.displacement.empty());
+    EXPECT_FALSE(doc->sculptSamples.has_value()) << "a new layout needs a new cache";
+    ASSERT_TRUE(undoEdit(*doc, 9).ok());
+    EXPECT_EQ(doc->scene.displacement.samples, sculpted);
+}
+
+// Resampling to a finer resolution keeps the shape and is one undoable entry; bad resolutions
+// are refused with the allowed range.
+TEST(Document, DisplacementResolutionResamplesAndRefusesBadValues) {
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    Result<EditReport> bad = setDisplacementResolution(*doc, 12, 1);
+    ASSERT_FALSE(bad.ok());
+    EXPECT_NE(bad.error().message.find("power of two between 1 and 64"), std::string::npos) << bad.error().message;
+    EXPECT_FALSE(setDisplacementResolution(*doc, 128, 1).ok());
+    EXPECT_TRUE(doc->history.size() == 0 && doc->scene.displacement.empty());
+    ASSERT_TRUE(setDisplacementResolution(*doc, 4, 1).ok());
+    ASSERT_TRUE(beginStroke(*doc, 4, 2).ok());
+    StrokeOptions options;
+    options.brush = Brush{BrushKind::Raise, 0.4f, 0.2f, Falloff::Smooth};
+    strokeTo(*doc, options, doc->planned->evaluate(0, 0.5f, 0.5f).position);
+    ASSERT_TRUE(endStroke(*doc, "Raise stroke", 3).ok());
+    const Displacement coarse = doc->scene.displacement;
+    const uint64_t revision = doc->displacementRevision;
+    ASSERT_TRUE(setDisplacementResolution(*doc, 16, 4).ok());
+    EXPECT_GT(doc->displacementRevision, revision);
+    const Displacement& fine = doc->scene.displacement;
+    EXPECT_GT(fine.samples.size(), coarse.samples.size());
+    for (uint32_t s = 0; s < fine.layout.subfaces.size(); ++s)
+        for (float u : {0.0f, 0.3f, 0.5f, 1.0f})
+            for (float v : {0.0f, 0.25f, 0.75f})
+                EXPECT_NEAR(evaluateDisplacement(fine, s, u, v).value, evaluateDisplacement(coarse, s, u, v).value, 1e-6f)
+                    << "sub-face " << s << " at " << u << ", " << v;
+    ASSERT_TRUE(undoEdit(*doc, 5).ok());
+    EXPECT_EQ(doc->scene.displacement, coarse);
 }
 
 TEST(Document, SelectionModesOpsAndIndexChecks) {

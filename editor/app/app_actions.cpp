@@ -7,6 +7,7 @@
 #include "actions.h"
 #include "editor_app.h"
 #include "recovery.h"
+#include "sculpt_tool.h"
 #include "tools.h"
 
 namespace qp::editor {
@@ -222,6 +223,12 @@ void runAction(EditorApp& app, std::string_view id) {
         app.tools.tool = Tool::Rotate;
     } else if (id == "tool.scale") {
         app.tools.tool = Tool::Scale;
+    } else if (id == "tool.sculpt") {
+        app.tools.tool = Tool::Sculpt;
+    } else if (id == "sculpt.smaller") {
+        scaleBrushRadius(app, 1.0f / 1.25f);
+    } else if (id == "sculpt.larger") {
+        scaleBrushRadius(app, 1.25f);
     } else if (id == "tool.space") {
         app.tools.space = app.tools.space == TransformSpace::World ? TransformSpace::Local : TransformSpace::World;
     } else if (id == "mesh.extrude") {

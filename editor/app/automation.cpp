@@ -248,6 +248,21 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         runAction(app, "tool." + a[0]);
         return true;
     }
+    if (n == "brush") {
+        SculptSettings& s = app.tools.sculpt;
+        s.kind = *brushKindFromName(a[0]);
+        s.radius = number(1);
+        s.strength = number(2);
+        if (a.size() > 3) s.falloff = *falloffFromName(a[3]);
+        if (a.size() > 4) s.mirror = *mirrorAxisFromName(a[4]);
+        return true;
+    }
+    if (n == "displacement-resolution") {
+        if (!needDocument()) return true;
+        app.tools.sculpt.resolution = integer(0);
+        return tool(applyDisplacementResolution(app));
+    }
+    if (n == "clear-displacement") return needDocument() ? tool(clearDisplacementTool(app)) : true;
     if (n == "set-space") {
         app.tools.space = a[0] == "world" ? TransformSpace::World : TransformSpace::Local;
         return true;
@@ -512,12 +527,26 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     }
     state["history"] = {{"position", doc.history.position()}, {"size", doc.history.size()},
                         {"bytes", doc.history.bytes()}, {"entries", entries}};
-    const char* tools[] = {"select", "move", "rotate", "scale"};
+    const char* tools[] = {"select", "move", "rotate", "scale", "sculpt"};
     state["tool"] = {{"tool", tools[int(app.tools.tool)]},
                      {"space", app.tools.space == TransformSpace::World ? "world" : "local"},
                      {"loop_tool", app.tools.loopTool},
                      {"visible_only", app.tools.visibleOnly},
                      {"extrude_distance", app.tools.extrudeDistance}};
+    const SculptSettings& brush = app.tools.sculpt;
+    state["brush"] = {{"kind", brushKindName(brush.kind)}, {"radius", brush.radius}, {"strength", brush.strength},
+                      {"falloff", falloffName(brush.falloff)}, {"resolution", brush.resolution},
+                      {"hover", app.ui.brushHover ? json(vec(app.ui.brushHover->position)) : json(nullptr)}};
+    const Displacement& displacement = doc.scene.displacement;
+    if (displacement.empty()) {
+        state["displacement"] = nullptr;
+    } else {
+        uint32_t nonzero = 0;
+        float largest = 0.0f;
+        for (float x : displacement.samples) nonzero += x != 0.0f, largest = std::max(largest, std::fabs(x));
+        state["displacement"] = {{"samples", displacement.samples.size()}, {"nonzero", nonzero}, {"max_abs", largest},
+                                 {"revision", doc.displacementRevision}, {"sample_revision", doc.sampleRevision}};
+    }
     state["drag"] = app.drag.kind == DragKind::None ? json(nullptr) : json(app.drag.readout);
     const ImGuiIO& io = ImGui::GetIO();
     const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
@@ -544,6 +573,8 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
             entry["setup_ms"] = view.setupMs;
             entry["update_ms"] = view.updateMs;
             entry["updated_vertices"] = view.updatedVertices;
+            entry["displacement_ms"] = view.displacementMs;
+            entry["updated_samples"] = view.updatedSamples;
             entry["heatmap"] = {{"on", v.heatMap},
                                 {"valid", view.heat.valid},
                                 {"max", view.heat.maxRelError},

@@ -9,6 +9,8 @@
 
 #include <GLFW/glfw3.h>
 
+#include "brush.h"
+
 namespace qp::editor {
 
 namespace {
@@ -39,6 +41,9 @@ const std::vector<CommandSpec> kCommands = {
     {"box-select", {Arg::Int, Arg::Float, Arg::Float, Arg::Float, Arg::Float}, {Arg::Word}},
     {"move-selection", {Arg::Float, Arg::Float, Arg::Float}, {}},
     {"set-tool", {Arg::Word}, {}},
+    {"brush", {Arg::Word, Arg::Float, Arg::Float}, {Arg::Word, Arg::Word}},
+    {"displacement-resolution", {Arg::Int}, {}},
+    {"clear-displacement", {}, {}},
     {"set-space", {Arg::Word}, {}},
     {"transform", {Arg::Word, Arg::Float, Arg::Float, Arg::Float}, {Arg::Float}},
     {"extrude", {}, {Arg::Float}},
@@ -191,7 +196,13 @@ std::string checkWords(const AutomationCommand& c, const AutomationVocabulary& w
         return "list the elements separated by commas (edges as A-B): 1,2,3 or 1-2,2-3";
     if ((name == "select" && c.args.size() > 2) || (name == "box-select" && c.args.size() > 5))
         if (!parseSelectOpWord(c.args.back())) return "the operation must be replace, add, toggle or remove";
-    if (name == "set-tool" && !isOneOf(c.args[0], {"select", "move", "rotate", "scale"})) return "the tool must be select, move, rotate or scale";
+    if (name == "set-tool" && !isOneOf(c.args[0], {"select", "move", "rotate", "scale", "sculpt"}))
+        return "the tool must be select, move, rotate, scale or sculpt";
+    if (name == "brush") {
+        if (!brushKindFromName(c.args[0])) return "the brush must be raise, lower, smooth, flatten or erase";
+        if (c.args.size() > 3 && !falloffFromName(c.args[3])) return "the falloff must be smooth, linear, constant or sphere";
+        if (c.args.size() > 4 && !mirrorAxisFromName(c.args[4])) return "the mirror axis must be none, x, y or z";
+    }
     if (name == "set-space" && !isOneOf(c.args[0], {"world", "local"})) return "the space must be world or local";
     if (name == "transform" && !isOneOf(c.args[0], {"move", "rotate", "scale"}))
         return "use 'transform move X Y Z', 'transform rotate AX AY AZ DEGREES' or 'transform scale X Y Z'";

@@ -1,10 +1,12 @@
 #include "document.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
+#include "displacement_edit.h"
 #include "obj_io.h"
 
 namespace qp::editor {
@@ -163,14 +165,13 @@ void pruneSelection(Document& doc) {
     });
 }
 
-// After a new edit: the saved state stays reachable through undo unless the edit dropped the
-// redo entries leading to it, extended the entry that ended at it (a continued drag), or the
-// history's budget dropped the oldest entries up to it.
-void forgetUnreachableSave(Document& doc, const Edit& edit, size_t before, size_t sizeBefore) {
+// After a new history entry: the saved state stays reachable through undo unless the entry
+// dropped the redo entries leading to it, extended the entry that ended at it (a continued
+// drag), or the history's budget dropped the oldest entries up to it.
+void forgetUnreachableSave(Document& doc, bool extendedDrag, size_t before, size_t sizeBefore) {
     if (!doc.savedPosition) return;
     size_t& saved = *doc.savedPosition;
-    const auto* move = std::get_if<MoveVertices>(&edit);
-    const bool extended = move && move->continueDrag && doc.history.position() == before && doc.history.size() == sizeBefore;
+    const bool extended = extendedDrag && doc.history.position() == before && doc.history.size() == sizeBefore;
     if (extended) {
         if (saved >= before) doc.savedPosition.reset();
         return;
@@ -184,6 +185,14 @@ void forgetUnreachableSave(Document& doc, const Edit& edit, size_t before, size_
     else saved -= trimmed;
 }
 
+// The brushes' sample cache after a change of the surface: moved sub-faces re-evaluated, a
+// new topology or new plans a new cache.
+void keepSculptSamples(Document& doc, const EditReport& report) {
+    if (!doc.sculptSamples) return;
+    if (report.topologyChanged || report.replannedFaces > 0) doc.sculptSamples.reset();
+    else if (!report.updatedSubfaceList.empty()) doc.sculptSamples->refresh(*doc.planned, report.updatedSubfaceList);
+}
+
 // Revisions, dirty flag and the stats panel's record, for any change to the cage.
 void noteChange(Document& doc, const std::string& description, const EditReport& report, uint64_t frame) {
     ++doc.positionRevision;
@@ -191,6 +200,40 @@ void noteChange(Document& doc, const std::string& description, const EditReport&
     if (report.topologyChanged) ++doc.topologyRevision;
     doc.dirty = !(doc.savedPosition && *doc.savedPosition == doc.history.position());
     doc.lastEdit = LastEdit{description, report, frame};
+    keepSculptSamples(doc, report);
+}
+
+// The history's DisplacementEdit entries report here (performed, undone or redone), so the
+// renderer and the brushes see every change whichever route made it.
+DisplacementListener displacementListener(Document& doc) {
+    return [&doc](const DisplacementChange& change) {
+        if (change.newLayout) {
+            ++doc.displacementRevision;
+            doc.unsyncedSamples.clear();
+            doc.sculptSamples.reset();
+            return;
+        }
+        ++doc.sampleRevision;
+        for (const SampleChange& c : change.samples) doc.unsyncedSamples.push_back(c.sample);
+    };
+}
+
+// Records a displacement entry the history just took (the listener already bumped revisions).
+Result<EditReport> performDisplacementEdit(Document& doc, const std::string& name, std::unique_ptr<CustomEdit> edit,
+                                           uint64_t frame) {
+    const size_t before = doc.history.position(), sizeBefore = doc.history.size();
+    Result<EditReport> report = doc.history.perform(*doc.planned, name, std::move(edit));
+    if (!report) return report;
+    forgetUnreachableSave(doc, false, before, sizeBefore);
+    doc.dirty = !(doc.savedPosition && *doc.savedPosition == doc.history.position());
+    doc.lastEdit = LastEdit{name, *report, frame};
+    return report;
+}
+
+Result<EditReport> replaceDisplacement(Document& doc, const std::string& name, Displacement next, uint64_t frame) {
+    auto edit = std::make_unique<DisplacementEdit>(doc.scene.displacement, doc.scene.displacement, std::move(next),
+                                                   displacementListener(doc));
+    return performDisplacementEdit(doc, name, std::move(edit), frame);
 }
 
 }  // namespace
@@ -280,7 +323,8 @@ Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
         },
         edit);
     if (!report) return report;
-    forgetUnreachableSave(doc, edit, before, sizeBefore);
+    const auto* move = std::get_if<MoveVertices>(&edit);
+    forgetUnreachableSave(doc, move && move->continueDrag, before, sizeBefore);
     // A drag merged into the previous entry reports only its last step; the history keeps the
     // entry's name.
     noteChange(doc, name, *report, frame);
@@ -374,6 +418,84 @@ std::vector<EdgeKey> selectedEdges(const Document& doc) {
     if (!doc.planned) return {};
     if (doc.selection.mode == SelectionMode::Edge) return doc.selection.edges;
     return convertSelection(doc.selection, SelectionMode::Edge, doc.planned->cage(), doc.planned->topology()).edges;
+}
+
+// ---- displacement ---------------------------------------------------------------------------
+
+Status beginStroke(Document& doc, uint32_t newResolution, uint64_t frame) {
+    if (!doc.planned) return Error{"no cage is open"};
+    if (doc.sculptor) return Error{"a stroke is already in progress"};
+    if (doc.scene.displacement.empty()) {
+        if (Status ok = checkDisplacementResolution(newResolution); !ok) return ok;
+        Result<EditReport> created = replaceDisplacement(
+            doc, "New displacement", makeDisplacement(doc.planned->cage(), doc.planned->topology(), newResolution), frame);
+        if (!created) return created.error();
+    }
+    doc.sculptor.emplace(doc.scene.displacement, sculptSamplesOf(doc));
+    doc.sculptor->beginStroke();
+    return success();
+}
+
+bool strokeActive(const Document& doc) { return doc.sculptor.has_value(); }
+
+uint32_t strokeTo(Document& doc, const StrokeOptions& options, const glm::vec3& point) {
+    assert(doc.sculptor && "strokeTo outside beginStroke / endStroke");
+    const size_t before = doc.unsyncedSamples.size();
+    const uint32_t changed = doc.sculptor->dabTo(options, point, &doc.unsyncedSamples);
+    if (doc.unsyncedSamples.size() != before) ++doc.sampleRevision;
+    return changed;
+}
+
+Result<EditReport> endStroke(Document& doc, const std::string& name, uint64_t frame) {
+    if (!doc.sculptor) return Error{"no stroke is in progress"};
+    StrokeRecord record = doc.sculptor->endStroke();
+    doc.sculptor.reset();
+    if (record.changes.empty()) return EditReport{};
+    // perform() re-applies the `after` values: the listener then lists the samples once more,
+    // which costs one idempotent upload.
+    auto edit = std::make_unique<DisplacementEdit>(doc.scene.displacement, std::move(record), displacementListener(doc));
+    return performDisplacementEdit(doc, name, std::move(edit), frame);
+}
+
+void cancelStroke(Document& doc) {
+    if (!doc.sculptor) return;
+    const StrokeRecord record = doc.sculptor->endStroke();
+    doc.sculptor.reset();
+    undoStroke(doc.scene.displacement, record);
+    ++doc.sampleRevision;
+    for (const SampleChange& c : record.changes) doc.unsyncedSamples.push_back(c.sample);
+}
+
+Result<EditReport> setDisplacementResolution(Document& doc, uint32_t resolution, uint64_t frame) {
+    if (!doc.planned) return Error{"no cage is open"};
+    if (doc.sculptor) return Error{"finish the stroke first"};
+    if (Status ok = checkDisplacementResolution(resolution); !ok) return ok.error();
+    const Displacement& d = doc.scene.displacement;
+    if (d.empty())
+        return replaceDisplacement(doc, "New displacement",
+                                   makeDisplacement(doc.planned->cage(), doc.planned->topology(), resolution), frame);
+    const std::vector<uint32_t> resolutions(d.layout.subfaces.size(), resolution);
+    return replaceDisplacement(doc, "Displacement resolution " + std::to_string(resolution),
+                               resampleDisplacement(d, resolutions), frame);
+}
+
+Result<EditReport> clearDisplacement(Document& doc, uint64_t frame) {
+    if (!doc.planned) return Error{"no cage is open"};
+    if (doc.sculptor) return Error{"finish the stroke first"};
+    if (doc.scene.displacement.empty()) return Error{"the scene has no displacement to clear"};
+    return replaceDisplacement(doc, "Clear displacement", Displacement{}, frame);
+}
+
+const SculptSamples& sculptSamplesOf(Document& doc) {
+    if (!doc.sculptSamples) doc.sculptSamples.emplace(SculptSamples::build(*doc.planned, doc.scene.displacement.layout));
+    return *doc.sculptSamples;
+}
+
+std::vector<uint32_t> takeUnsyncedSamples(Document& doc) {
+    std::vector<uint32_t> samples = std::exchange(doc.unsyncedSamples, {});
+    std::sort(samples.begin(), samples.end());
+    samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
+    return samples;
 }
 
 Scene sceneToSave(const Document& doc) {

@@ -19,10 +19,12 @@
 
 #include <glm/vec3.hpp>
 
+#include "brush.h"
 #include "edit_history.h"
 #include "plan_database.h"
 #include "planned_cage.h"
 #include "scene.h"
+#include "sculpt_samples.h"
 #include "selection.h"
 
 namespace qp::editor {
@@ -102,6 +104,19 @@ struct Document {
     uint64_t topologyRevision = 0;
     Selection selection;
     std::optional<LastEdit> lastEdit;
+
+    // Sculpted displacement (scene.displacement; the functions under "Displacement" below).
+    // displacementRevision changes whenever it was replaced whole (new, resampled, cleared, or
+    // such an edit undone); sampleRevision whenever samples changed in place (a dab, a stroke
+    // undone or redone), the samples then being appended to unsyncedSamples until the renderer
+    // has taken them (takeUnsyncedSamples).
+    uint64_t displacementRevision = 0, sampleRevision = 0;
+    std::vector<uint32_t> unsyncedSamples;
+    // Where the samples lie on the limit surface (built on the first stroke of a layout,
+    // refreshed after vertex moves, dropped after new plans or a new layout), and the stroke
+    // in progress.
+    std::optional<SculptSamples> sculptSamples;
+    std::optional<Sculptor> sculptor;
 };
 
 // Plans `scene`'s cage into a new document (planning runs in parallel; can take seconds).
@@ -131,6 +146,29 @@ Status selectEdge(Document& document, uint32_t a, uint32_t b);
 // The selection's faces (face mode: as selected; otherwise faces with every corner selected).
 std::vector<uint32_t> selectedFaces(const Document& document);
 std::vector<EdgeKey> selectedEdges(const Document& document);  // edge mode, or edges between selected vertices
+
+// ---- Displacement ------------------------------------------------------------------------
+// A stroke spans many frames: beginStroke, dabs as the cursor moves, then endStroke records
+// the whole stroke as ONE history entry (undo per stroke) or cancelStroke restores the samples.
+// A scene without displacement gets a zero one at `newResolution` on the first stroke (its own
+// history entry, "New displacement"). Strokes reach across faces, creases and extraordinary
+// vertices without seams (core/brush.h); they move no cage vertex and re-plan nothing.
+Status beginStroke(Document& document, uint32_t newResolution, uint64_t frame);
+bool strokeActive(const Document& document);
+// Continues the stroke to a point near the limit surface (Sculptor::dabTo: the first call dabs
+// there, later ones every spacing along the way). Returns the samples changed.
+uint32_t strokeTo(Document& document, const StrokeOptions& options, const glm::vec3& point);
+// Ends the stroke: a history entry called `name` when it changed any sample (the report says
+// nothing was re-planned), nothing otherwise.
+Result<EditReport> endStroke(Document& document, const std::string& name, uint64_t frame);
+void cancelStroke(Document& document);
+// Every sub-face at `resolution` (resampled: the shape stays), or a new zero displacement.
+Result<EditReport> setDisplacementResolution(Document& document, uint32_t resolution, uint64_t frame);
+Result<EditReport> clearDisplacement(Document& document, uint64_t frame);
+// The samples cache for the current layout (built on first use).
+const SculptSamples& sculptSamplesOf(Document& document);
+// The samples changed in place since the last call (sorted, each once).
+std::vector<uint32_t> takeUnsyncedSamples(Document& document);
 
 // The scene as it would be saved now: the document's scene with the current cage.
 Scene sceneToSave(const Document& document);

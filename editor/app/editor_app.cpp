@@ -187,8 +187,10 @@ void adoptFinishedLoad(EditorApp& app) {
 void autosave(EditorApp& app) {
     const Document& doc = *app.doc;
     if (!doc.dirty || !doc.planned || app.recoveryDir.empty()) return;
+    // Both displacement revisions only grow, so their sum changes whenever either does.
+    const uint64_t displacement = doc.displacementRevision + doc.sampleRevision;
     const bool changed = !app.autosavedOnce || app.autosavedPositionRevision != doc.positionRevision ||
-                         app.autosavedPlanRevision != doc.planRevision;
+                         app.autosavedPlanRevision != doc.planRevision || app.autosavedDisplacementRevision != displacement;
     const double since = std::chrono::duration<double>(Clock::now() - app.lastAutosave).count();
     if (!changed || since < app.options.autosaveSeconds) return;
     Scene scene = sceneToSave(doc);
@@ -201,6 +203,7 @@ void autosave(EditorApp& app) {
     app.autosavedOnce = true;
     app.autosavedPositionRevision = doc.positionRevision;
     app.autosavedPlanRevision = doc.planRevision;
+    app.autosavedDisplacementRevision = displacement;
     app.ui.status = "Autosaved to " + app.recoveryDir;
 }
 
@@ -323,7 +326,10 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
 
 Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     const std::vector<SchemeRequest> requests = schemeRequests(app);
-    if (Status s = syncScene(app.ctx, app.renderer, app.catalog, *app.doc, app.documentGeneration, requests); !s) return s;
+    const std::vector<uint32_t> changedSamples = takeUnsyncedSamples(*app.doc);
+    if (Status s = syncScene(app.ctx, app.renderer, app.catalog, *app.doc, app.documentGeneration, requests, changedSamples);
+        !s)
+        return s;
 
     int w = 0, h = 0;
     glfwGetFramebufferSize(app.window, &w, &h);

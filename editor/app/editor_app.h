@@ -27,6 +27,7 @@
 #include "scheme_loader.h"
 #include "scene_cache.h"
 #include "scene_renderer.h"
+#include "sculpt_tool.h"
 #include "swapchain_target.h"
 #include "view_camera.h"
 
@@ -63,10 +64,10 @@ struct ViewportState {
     uint32_t factor = 8;  // tessellation factor asked of the scheme (uniform, or adaptive for this view)
 };
 
-// The tool of the left mouse button in the viewports (Maya's Q, W, E, R).
-enum class Tool : uint8_t { Select, Move, Rotate, Scale };
+// The tool of the left mouse button in the viewports (Maya's Q, W, E, R; B for the brush).
+enum class Tool : uint8_t { Select, Move, Rotate, Scale, Sculpt };
 
-enum class DragKind { None, Orbit, Pan, Zoom, Press, MoveSelection, BoxSelect, Gizmo };
+enum class DragKind { None, Orbit, Pan, Zoom, Press, MoveSelection, BoxSelect, Gizmo, Sculpt };
 
 struct Drag {
     DragKind kind = DragKind::None;
@@ -85,6 +86,8 @@ struct Drag {
     GizmoShape shape;                    // Gizmo: the handle at the start
     GizmoHandle handle = GizmoHandle::None;
     std::string readout;                 // what the drag amounts to, shown beside the cursor
+    StrokeOptions stroke;                // Sculpt: the brush, with the modifiers held at the start
+    uint32_t strokeDabs = 0;
 };
 
 // What happens once the user has answered "unsaved changes".
@@ -114,6 +117,7 @@ struct ToolSettings {
     glm::vec3 rotateAxis{0.0f, 0.0f, 1.0f};
     float rotateDegrees = 90.0f;
     glm::vec3 scaleBy{1.0f};
+    SculptSettings sculpt;
 };
 
 struct UiState {
@@ -137,6 +141,8 @@ struct UiState {
     GizmoHandle gizmoHover = GizmoHandle::None;
     std::vector<glm::vec3> loopPreview;   // the loop the loop tool would cut, as segment pairs
     std::string loopPreviewKey;
+    std::optional<SurfaceHit> brushHover;  // the sculpt tool: the surface under the cursor
+    uint32_t brushViewport = 0;
 };
 
 // A key press as GLFW reported it. Shortcuts read these rather than ImGui 1.86's per-frame key
@@ -168,7 +174,7 @@ struct EditorApp {
     PickCache picking;
     std::string recoveryDir;
     std::chrono::steady_clock::time_point lastAutosave;
-    uint64_t autosavedPositionRevision = 0, autosavedPlanRevision = 0;
+    uint64_t autosavedPositionRevision = 0, autosavedPlanRevision = 0, autosavedDisplacementRevision = 0;
     bool autosavedOnce = false;
 
     ViewCamera sharedCamera;

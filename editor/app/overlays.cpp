@@ -1,6 +1,6 @@
 // Viewport overlays drawn with Dear ImGui over the cached 3D picture, so hovering and dragging
 // them needs no 3D redraw: the transform handle, the box of a box selection, the loop the loop
-// tool would cut, the readout of a drag, and the heat map's colour scale.
+// tool would cut, the sculpt brush, the readout of a drag, and the heat map's colour scale.
 #include <cmath>
 #include <cstdio>
 
@@ -96,6 +96,36 @@ void drawHeatLegend(ImDrawList* list, const HeatMap& heat, ImVec2 corner) {
     list->AddText(ImVec2(bar.x, bar.y - 18), rgba(1, 1, 1), text);
 }
 
+// The brush: a circle of its radius on the tangent plane at the surface under the cursor, and
+// a tick along the normal; in its stroke's colour while painting.
+void drawBrush(ImDrawList* list, const EditorApp& app, const ViewportState& v, const ToWindow& at) {
+    const SurfaceHit& hit = *app.ui.brushHover;
+    const bool stroking = app.drag.kind == DragKind::Sculpt;
+    const StrokeOptions options = stroking ? app.drag.stroke : sculptStrokeOptions(app, ImGui::GetIO().KeyCtrl, ImGui::GetIO().KeyShift);
+    const float radius = options.brush.radius;
+    const glm::vec3 n = hit.normal;
+    const glm::vec3 t = glm::normalize(std::abs(n.x) < 0.9f ? glm::cross(n, glm::vec3(1, 0, 0)) : glm::cross(n, glm::vec3(0, 1, 0)));
+    const glm::vec3 b = glm::cross(n, t);
+    const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
+    const bool lowering = options.brush.kind == BrushKind::Lower;
+    const ImU32 color = options.brush.kind == BrushKind::Raise ? rgba(1.0f, 0.55f, 0.2f)
+                        : lowering                             ? rgba(0.35f, 0.65f, 1.0f)
+                                                               : rgba(0.85f, 0.85f, 0.85f);
+    std::vector<ImVec2> points;
+    constexpr int kSegments = 64;
+    for (int k = 0; k < kSegments; ++k) {
+        const float angle = 6.2831853f * float(k) / float(kSegments);
+        const PickView::Projected p = view.project(hit.position + radius * (std::cos(angle) * t + std::sin(angle) * b));
+        if (!p.inFront) return;
+        points.push_back(at(p.pixel));
+    }
+    list->AddPolyline(points.data(), int(points.size()), kShadow, ImDrawFlags_Closed, 3.5f);
+    list->AddPolyline(points.data(), int(points.size()), color, ImDrawFlags_Closed, stroking ? 2.0f : 1.5f);
+    const PickView::Projected centre = view.project(hit.position);
+    const PickView::Projected tip = view.project(hit.position + (lowering ? -0.5f : 0.5f) * radius * n);
+    if (centre.inFront && tip.inFront) list->AddLine(at(centre.pixel), at(tip.pixel), color, 1.5f);
+}
+
 }  // namespace
 
 void drawViewportOverlays(EditorApp& app) {
@@ -120,6 +150,7 @@ void drawViewportOverlays(EditorApp& app) {
                 if (a.inFront && b.inFront) list->AddLine(at(a.pixel), at(b.pixel), kHover, 2.5f);
             }
         }
+        if (app.ui.brushHover && app.ui.brushViewport == i) drawBrush(list, app, v, at);
         list->PopClipRect();
     }
     if (d.kind == DragKind::BoxSelect && glm::length(d.cursor - d.start) >= 4.0f) {
@@ -127,7 +158,7 @@ void drawViewportOverlays(EditorApp& app) {
         list->AddRectFilled(a, b, rgba(0.3f, 0.6f, 1.0f, 0.15f));
         list->AddRect(a, b, rgba(0.5f, 0.8f, 1.0f, 0.9f), 0.0f, 0, 1.5f);
     }
-    if (!d.readout.empty() && (d.kind == DragKind::MoveSelection || d.kind == DragKind::Gizmo)) {
+    if (!d.readout.empty() && (d.kind == DragKind::MoveSelection || d.kind == DragKind::Gizmo || d.kind == DragKind::Sculpt)) {
         const ImVec2 at(d.cursor.x / scale + 18.0f, d.cursor.y / scale + 8.0f);
         list->AddText(ImVec2(at.x + 1, at.y + 1), rgba(0, 0, 0), d.readout.c_str());
         list->AddText(at, rgba(1, 1, 1), d.readout.c_str());

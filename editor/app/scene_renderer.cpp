@@ -199,6 +199,21 @@ void destroyView(const VulkanContext& ctx, SchemeView& view) {
     destroyHeat(ctx, view.heat);
 }
 
+const Displacement* displacementOf(const Document& doc) {
+    return doc.scene.displacement.empty() ? nullptr : &doc.scene.displacement;
+}
+
+// A new displacement (or none) for an instance, or samples changed in place.
+Status syncDisplacement(SchemeView& view, const Document& doc, bool newDisplacement,
+                        std::span<const uint32_t> changedSamples) {
+    if (newDisplacement) {
+        if (Status s = view.instance->setDisplacement(displacementOf(doc)); !s) return s;
+        return view.instance->update();
+    }
+    if (doc.scene.displacement.empty() || changedSamples.empty()) return success();
+    return view.instance->displacementChanged(changedSamples);
+}
+
 // A new instance for the request (failures become view.problem).
 void buildView(SceneRenderer& r, const PluginCatalog& catalog, const Document& doc, SchemeView& view,
                const SchemeRequest& request) {
@@ -211,7 +226,8 @@ void buildView(SceneRenderer& r, const PluginCatalog& catalog, const Document& d
     ++view.drawRevision;
     const auto start = Clock::now();
     Result<PreparedScheme> prepared = prepareScheme(catalog, request.name, *doc.planned, r.features, request.settings,
-                                                    r.gpu, doc.path.empty() ? "the cage" : doc.path);
+                                                    r.gpu, doc.path.empty() ? "the cage" : doc.path,
+                                                    displacementOf(doc));
     view.setupMs = msSince(start);
     if (!prepared) {
         view.problem = prepared.error().message;
@@ -325,7 +341,7 @@ void releaseSchemes(const VulkanContext& ctx, SceneRenderer& r) {
     vkQueueWaitIdle(ctx.queue);
     for (SchemeView& view : r.views) destroyView(ctx, view);
     r.views.clear();
-    r.generation = r.planRevision = r.positionRevision = ~0ull;
+    r.generation = r.planRevision = r.positionRevision = r.displacementRevision = r.sampleRevision = ~0ull;
 }
 
 void destroySceneRenderer(const VulkanContext& ctx, SceneRenderer& r) {
@@ -340,10 +356,12 @@ void destroySceneRenderer(const VulkanContext& ctx, SceneRenderer& r) {
 }
 
 Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog& catalog, const Document& doc,
-                 uint64_t generation, std::span<const SchemeRequest> requests) {
+                 uint64_t generation, std::span<const SchemeRequest> requests, std::span<const uint32_t> changedSamples) {
     if (!doc.planned) return success();
     const Cage& cage = doc.planned->cage();
     const bool newPlans = r.generation != generation || r.planRevision != doc.planRevision;
+    const bool newDisplacement = newPlans || r.displacementRevision != doc.displacementRevision;
+    const bool newSamples = !newDisplacement && r.sampleRevision != doc.sampleRevision;
     const bool newPositions = newPlans || r.positionRevision != doc.positionRevision;
     std::vector<uint32_t> moved;
     if (newPositions && !newPlans) moved = movedVertices(r.positions, cage.positions);
@@ -356,7 +374,7 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     }
     r.views.resize(requests.size());
     std::vector<char> rebuild(requests.size()), heatWhole(requests.size()), heatOff(requests.size());
-    bool work = newPositions || overlay != r.overlayKey;
+    bool work = newPositions || newDisplacement || newSamples || overlay != r.overlayKey;
     for (size_t i = 0; i < requests.size(); ++i) {
         const SchemeView& view = r.views[i];
         const SchemeRequest& want = requests[i];
@@ -387,6 +405,16 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
             view.updatedVertices = uint32_t(moved.size());
             ++view.drawRevision;
         }
+        if (!rebuild[i] && view.instance && (newDisplacement || newSamples)) {
+            const auto updateStart = Clock::now();
+            if (Status s = syncDisplacement(view, doc, newDisplacement, changedSamples); !s) {
+                view.problem = s.error().message;
+                destroyView(ctx, view);
+            }
+            view.displacementMs = msSince(updateStart);
+            view.updatedSamples = newDisplacement ? uint32_t(doc.scene.displacement.samples.size()) : uint32_t(changedSamples.size());
+            ++view.drawRevision;
+        }
         view.built.heatMap = requests[i].heatMap;
         view.built.heatFactor = requests[i].heatFactor;
         if (heatOff[i] || !view.instance) {
@@ -408,6 +436,8 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     r.generation = generation;
     r.planRevision = doc.planRevision;
     r.positionRevision = doc.positionRevision;
+    r.displacementRevision = doc.displacementRevision;
+    r.sampleRevision = doc.sampleRevision;
     r.lastSyncMs = msSince(start);
     return success();
 }

@@ -1,6 +1,7 @@
 // SceneRenderer: the 3D part of an editor frame. Every viewport draws its limit surface through
 // the viewport's own scheme plugin instance (plugins/scheme_api.h: `plans` is one of them, so
-// renderer changes reach the editor through plugins/plans), or, in heat-map mode, the scheme's
+// renderer changes reach the editor through plugins/plans) with the scene's sculpted
+// displacement (after a dab only the changed samples: Scheme::displacementChanged), or, in heat-map mode, the scheme's
 // surface coloured by its distance from the exact limit surface (plugins/surface_error.h); then
 // the cage and the selection (LinePass) over it. Drawn into sub-areas of any RenderTarget.
 //
@@ -63,6 +64,8 @@ struct SchemeView {
     double setupMs = 0.0;   // build + GPU + first update, the last time it was made
     double updateMs = 0.0;  // the last update after a move
     uint32_t updatedVertices = 0;
+    double displacementMs = 0.0;  // the last displacement update (a dab, a new displacement)
+    uint32_t updatedSamples = 0;
     HeatMap heat;
     uint64_t drawRevision = 0;  // changes whenever what this viewport draws may have changed
 };
@@ -96,6 +99,7 @@ struct SceneRenderer {
     std::vector<SchemeView> views;  // one per viewport
     // What the copies were made from.
     uint64_t generation = ~0ull, planRevision = ~0ull, positionRevision = ~0ull;
+    uint64_t displacementRevision = ~0ull, sampleRevision = ~0ull;
     std::vector<glm::vec3> positions;  // as last synced, to find the vertices an edit moved
     std::string overlayKey;
     CageFeatures features;
@@ -116,10 +120,12 @@ void destroySceneRenderer(const VulkanContext& context, SceneRenderer& renderer)
 void releaseSchemes(const VulkanContext& context, SceneRenderer& renderer);
 
 // Brings instances, heat maps and line buffers up to date with `document` (adopted as
-// `generation`) and the viewports' requests. Scheme failures become SchemeView::problem;
-// an error here is a Vulkan failure of the editor's own buffers.
+// `generation`) and the viewports' requests; `changedSamples` are the displacement samples
+// changed in place since the last call (takeUnsyncedSamples). Scheme failures become
+// SchemeView::problem; an error here is a Vulkan failure of the editor's own buffers.
 Status syncScene(const VulkanContext& context, SceneRenderer& renderer, const PluginCatalog& catalog,
-                 const Document& document, uint64_t generation, std::span<const SchemeRequest> requests);
+                 const Document& document, uint64_t generation, std::span<const SchemeRequest> requests,
+                 std::span<const uint32_t> changedSamples);
 
 // Records every viewport into `target` (areas from ViewportDraw::rect), the statistics
 // queries into `slot`'s pool. Areas outside the viewports are left as they are.

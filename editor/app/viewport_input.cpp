@@ -10,6 +10,7 @@
 
 #include "actions.h"
 #include "cage_pick.h"
+#include "sculpt_tool.h"
 #include "editor_app.h"
 #include "tools.h"
 
@@ -87,6 +88,7 @@ void applyMove(EditorApp& app, Drag& d, const std::vector<glm::vec3>& positions,
 
 void continueDrag(EditorApp& app, glm::vec2 cursor, glm::vec2 delta) {
     Drag& d = app.drag;
+    if (d.kind == DragKind::Sculpt) return continueSculptStroke(app, cursor);  // it keeps its own cursor
     d.cursor = cursor;
     ViewCamera& camera = cameraOf(app, d.viewport);
     const float height = float(app.viewports[std::min<size_t>(d.viewport, app.viewports.size() - 1)].rect.extent.height);
@@ -128,11 +130,13 @@ void continueDrag(EditorApp& app, glm::vec2 cursor, glm::vec2 delta) {
         break;
     }
     case DragKind::BoxSelect:
+    case DragKind::Sculpt:
     case DragKind::None: break;
     }
 }
 
 void finishDrag(EditorApp& app) {
+    if (app.drag.kind == DragKind::Sculpt) return finishSculptStroke(app);
     Drag d = std::exchange(app.drag, Drag{});
     if (d.kind == DragKind::Press) {  // a click on an element: select just it
         PickHit hit = pickAt(app, d.viewport, d.start);
@@ -150,6 +154,10 @@ void leftPress(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
         return;
     }
     if (!app.doc->planned) return;
+    if (app.tools.tool == Tool::Sculpt && !app.tools.loopTool) {
+        startSculptStroke(app, viewport, cursor, io.KeyCtrl, io.KeyShift);
+        return;
+    }
     if (app.tools.loopTool) {
         const PickHit hit = pickEdgeAt(app, viewport, cursor);
         if (!hit.hit) {
@@ -216,7 +224,9 @@ void updateLoopPreview(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
 }  // namespace
 
 std::optional<GizmoShape> gizmoIn(const EditorApp& app, uint32_t viewport) {
-    if (app.tools.tool == Tool::Select || viewport >= app.viewports.size()) return std::nullopt;
+    const Tool tool = app.tools.tool;
+    if ((tool != Tool::Move && tool != Tool::Rotate && tool != Tool::Scale) || viewport >= app.viewports.size())
+        return std::nullopt;
     std::optional<TransformFrame> frame = selectionFrame(app);
     if (!frame) return std::nullopt;
     const ViewportState& v = app.viewports[viewport];
@@ -229,6 +239,7 @@ std::optional<GizmoShape> gizmoIn(const EditorApp& app, uint32_t viewport) {
 }
 
 void cancelDrag(EditorApp& app) {
+    if (app.drag.kind == DragKind::Sculpt) return cancelSculptStroke(app);
     Drag d = std::exchange(app.drag, Drag{});
     if ((d.kind == DragKind::MoveSelection || d.kind == DragKind::Gizmo) && d.applied) {
         undoTool(app);
@@ -241,10 +252,15 @@ void handleViewportInput(EditorApp& app) {
     const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
     const glm::vec2 cursor = cursorInFramebuffer();
     app.ui.gizmoHover = GizmoHandle::None;
+    app.ui.brushHover.reset();
     if (app.drag.kind != DragKind::None) {
         if (app.drag.button == ImGuiMouseButton_Left && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) cancelDrag(app);
         else if (!io.MouseDown[app.drag.button]) finishDrag(app);
         else continueDrag(app, cursor, glm::vec2(io.MouseDelta.x, io.MouseDelta.y) * scale);
+        if (app.drag.kind == DragKind::Sculpt) {  // the brush circle follows the stroke
+            app.ui.brushHover = surfaceUnderCursor(app, app.drag.viewport, cursor);
+            app.ui.brushViewport = app.drag.viewport;
+        }
         return;
     }
     if (io.WantCaptureMouse || app.loader.busy()) return;
@@ -255,6 +271,10 @@ void handleViewportInput(EditorApp& app) {
     if (std::optional<GizmoShape> shape = gizmoIn(app, viewport))
         app.ui.gizmoHover = hitGizmo(*shape, cursor - viewportOrigin(app.viewports[viewport]));
     if (app.tools.loopTool && app.doc->planned) updateLoopPreview(app, viewport, cursor);
+    if (app.tools.tool == Tool::Sculpt && app.doc->planned) {
+        app.ui.brushHover = surfaceUnderCursor(app, viewport, cursor);
+        app.ui.brushViewport = viewport;
+    }
     if (io.MouseWheel != 0.0f) dolly(cameraOf(app, viewport), io.MouseWheel);
     if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
         leftPress(app, viewport, cursor);

@@ -1,0 +1,154 @@
+#include "sculpt_tool.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <imgui.h>
+
+#include "editor_app.h"
+#include "sculpt_samples.h"
+
+namespace qp::editor {
+
+namespace {
+
+float modelDiagonal(const EditorApp& app) { return std::max(computeBounds(app.doc->planned->cage()).diagonal(), 1e-6f); }
+
+bool canSculpt(EditorApp& app) {
+    if (app.doc->planned && !app.loader.busy()) return true;
+    app.ui.status = "No cage is open (or a file is still loading).";
+    return false;
+}
+
+std::string strokeName(const StrokeOptions& options, uint32_t dabs) {
+    std::string name = brushKindName(options.brush.kind);
+    name[0] = char(std::toupper(name[0]));
+    return name + " stroke (" + std::to_string(dabs) + (dabs == 1 ? " dab)" : " dabs)");
+}
+
+void dabReadout(EditorApp& app) {
+    const Drag& d = app.drag;
+    char text[96];
+    std::snprintf(text, sizeof text, "%s: %u dabs", brushKindName(d.stroke.brush.kind), d.strokeDabs);
+    app.drag.readout = text;
+}
+
+}  // namespace
+
+std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
+    if (!app.doc->planned || viewport >= app.viewports.size()) return std::nullopt;
+    const ViewportState& v = app.viewports[viewport];
+    const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
+    const glm::vec2 pixel = cursor - glm::vec2(float(v.rect.offset.x), float(v.rect.offset.y));
+    const PlannedCage& planned = *app.doc->planned;
+    const LimitPicker::Hit hit = limitPicker(app.picking, *app.doc, app.documentGeneration).intersect(planned, view.rayThrough(pixel));
+    if (hit.subface == kNoHit) return std::nullopt;
+    const LimitSample sample = planned.evaluate(hit.subface, hit.u, hit.v);
+    return SurfaceHit{hit.position, limitNormal(planned, hit.subface, hit.u, hit.v, sample)};
+}
+
+StrokeOptions sculptStrokeOptions(const EditorApp& app, bool ctrl, bool shift) {
+    const SculptSettings& s = app.tools.sculpt;
+    StrokeOptions options;
+    options.brush.kind = s.kind;
+    if (ctrl && s.kind == BrushKind::Raise) options.brush.kind = BrushKind::Lower;
+    else if (ctrl && s.kind == BrushKind::Lower) options.brush.kind = BrushKind::Raise;
+    if (shift) options.brush.kind = BrushKind::Smooth;
+    options.brush.radius = s.radius * modelDiagonal(app);
+    options.brush.strength = s.strength;
+    const bool blends = options.brush.kind != BrushKind::Raise && options.brush.kind != BrushKind::Lower;
+    if (blends) options.brush.strength = std::min(options.brush.strength, 1.0f);
+    options.brush.falloff = s.falloff;
+    options.mirror = s.mirror;
+    return options;
+}
+
+bool startSculptStroke(EditorApp& app, uint32_t viewport, glm::vec2 cursor, bool ctrl, bool shift) {
+    if (!canSculpt(app)) return false;
+    const std::optional<SurfaceHit> hit = surfaceUnderCursor(app, viewport, cursor);
+    if (!hit) {
+        app.ui.status = "Sculpt: no surface under the cursor";
+        return false;
+    }
+    const StrokeOptions options = sculptStrokeOptions(app, ctrl, shift);
+    if (Status valid = validateBrush(options.brush); !valid) {
+        showError(app, "Sculpt: " + valid.error().message);
+        return false;
+    }
+    if (Status begun = beginStroke(*app.doc, app.tools.sculpt.resolution, app.frame); !begun) {
+        showError(app, "Sculpt: " + begun.error().message);
+        return false;
+    }
+    Drag& d = app.drag;
+    d = Drag{DragKind::Sculpt, viewport, ImGuiMouseButton_Left, cursor, cursor};
+    d.stroke = options;
+    d.strokeDabs = 0;
+    strokeTo(*app.doc, options, hit->position);
+    d.strokeDabs = app.doc->sculptor ? app.doc->sculptor->dabCount() : 0;
+    dabReadout(app);
+    return true;
+}
+
+void continueSculptStroke(EditorApp& app, glm::vec2 cursor) {
+    Drag& d = app.drag;
+    if (d.kind != DragKind::Sculpt || !strokeActive(*app.doc) || cursor == d.cursor) return;
+    d.cursor = cursor;
+    // Off the surface the stroke pauses; it resumes from its last point.
+    const std::optional<SurfaceHit> hit = surfaceUnderCursor(app, d.viewport, cursor);
+    if (!hit) return;
+    strokeTo(*app.doc, d.stroke, hit->position);
+    d.strokeDabs = app.doc->sculptor->dabCount();
+    dabReadout(app);
+}
+
+void finishSculptStroke(EditorApp& app) {
+    const Drag d = std::exchange(app.drag, Drag{});
+    if (!strokeActive(*app.doc)) return;
+    Result<EditReport> report = endStroke(*app.doc, strokeName(d.stroke, d.strokeDabs), app.frame);
+    if (!report) {
+        showError(app, "Sculpt: " + report.error().message);
+        return;
+    }
+    app.ui.status = strokeName(d.stroke, d.strokeDabs) + ": nothing re-planned";
+}
+
+void cancelSculptStroke(EditorApp& app) {
+    app.drag = Drag{};
+    if (!strokeActive(*app.doc)) return;
+    cancelStroke(*app.doc);
+    app.ui.status = "Cancelled the stroke";
+}
+
+bool applyDisplacementResolution(EditorApp& app) {
+    if (!canSculpt(app)) return false;
+    const uint32_t resolution = app.tools.sculpt.resolution;
+    Result<EditReport> report = setDisplacementResolution(*app.doc, resolution, app.frame);
+    if (!report) {
+        showError(app, "Displacement: " + report.error().message);
+        return false;
+    }
+    app.ui.status = "Displacement tiles at " + std::to_string(resolution) + " x " + std::to_string(resolution) + " (" +
+                    std::to_string(app.doc->scene.displacement.samples.size()) + " samples)";
+    return true;
+}
+
+bool clearDisplacementTool(EditorApp& app) {
+    if (!canSculpt(app)) return false;
+    Result<EditReport> report = clearDisplacement(*app.doc, app.frame);
+    if (!report) {
+        showError(app, "Displacement: " + report.error().message);
+        return false;
+    }
+    app.ui.status = "Cleared the displacement (undo brings it back)";
+    return true;
+}
+
+void scaleBrushRadius(EditorApp& app, float factor) {
+    float& radius = app.tools.sculpt.radius;
+    radius = std::clamp(radius * factor, 0.001f, 0.5f);
+    char text[64];
+    std::snprintf(text, sizeof text, "Brush radius %.1f%% of the model's size", double(radius) * 100.0);
+    app.ui.status = text;
+}
+
+}  // namespace qp::editor

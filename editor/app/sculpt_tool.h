@@ -1,0 +1,53 @@
+// The sculpt tool (B): a left drag over the limit surface paints displacement with the brush
+// of ToolSettings::sculpt (core/brush.h: raise, lower, smooth, flatten, erase; radius,
+// strength, falloff, mirror). Ctrl swaps raise and lower, Shift smooths, for the stroke they
+// start. One stroke is one undo entry; a right click or Esc during the stroke puts the samples
+// back. Strokes sample the undisplaced limit surface under the cursor (the brushes act on
+// limit positions, so a stroke lands where the brush circle shows it).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "brush.h"
+
+namespace qp::editor {
+
+struct EditorApp;
+
+// What the panel, the shortcuts and automation change.
+struct SculptSettings {
+    BrushKind kind = BrushKind::Raise;
+    float radius = 0.05f;    // fraction of the cage's bounding-box diagonal
+    float strength = 0.05f;  // brush.h's meaning per kind
+    Falloff falloff = Falloff::Smooth;
+    MirrorAxis mirror = MirrorAxis::None;
+    uint32_t resolution = 16;  // of a new displacement, and what "Apply resolution" sets
+};
+
+// The limit surface under a cursor (framebuffer pixels) and its unit normal there.
+struct SurfaceHit {
+    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f};
+};
+std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, glm::vec2 cursor);
+
+// The brush in world units, with the modifiers' changes (Ctrl: raise <-> lower, Shift: smooth).
+StrokeOptions sculptStrokeOptions(const EditorApp& app, bool ctrl, bool shift);
+
+// A stroke: start (false when nothing is under the cursor or the stroke cannot begin),
+// continue with each new cursor position, finish (one history entry) or cancel.
+bool startSculptStroke(EditorApp& app, uint32_t viewport, glm::vec2 cursor, bool ctrl, bool shift);
+void continueSculptStroke(EditorApp& app, glm::vec2 cursor);
+void finishSculptStroke(EditorApp& app);
+void cancelSculptStroke(EditorApp& app);
+
+// Panel buttons: every sub-face at the settings' resolution (resampled), or no displacement.
+bool applyDisplacementResolution(EditorApp& app);
+bool clearDisplacementTool(EditorApp& app);
+
+// Multiplies the brush radius (the [ and ] keys), within 0.1% .. 50% of the diagonal.
+void scaleBrushRadius(EditorApp& app, float factor);
+
+}  // namespace qp::editor
