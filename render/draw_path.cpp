@@ -1,5 +1,7 @@
 #include "draw_path.h"
 
+#include "displaced_grid_factors.h"
+
 #include <cassert>
 
 namespace qp {
@@ -29,8 +31,10 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
                         DrawPath path, const PlanView& view, const TessellationSettings& settings) {
     assert(path != DrawPath::Auto && "resolveDrawPath first");
     if (path == DrawPath::Tessellated) return success();
-    Status laidOut = settings.uniformFactor ? prepareGrid(ctx, pass, buffers, settings.uniformFactor)
-                                            : prepareGrid(ctx, pass, buffers, adaptiveGridFactors(buffers, view, settings));
+    GridFactors factors = settings.uniformFactor ? uniformGridFactors(buffers.data, settings.uniformFactor)
+                                                 : adaptiveGridFactors(buffers, view, settings);
+    if (buffers.displacement) factors = displacedGridFactors(buffers.data, *buffers.displacement, std::move(factors));
+    Status laidOut = prepareGrid(ctx, pass, buffers, std::move(factors));
     if (!laidOut) return laidOut;
     // A grid filled by the other evaluator is equally good; only a missing one is filled.
     if (path == DrawPath::CpuGrid && buffers.gridEvaluator == GridEvaluator::None) evaluateGridOnCpu(planned, buffers);

@@ -25,8 +25,8 @@ const char* drawPathName(DrawPath path);                        // "auto", "tess
 std::optional<DrawPath> parseDrawPath(std::string_view name);
 
 // One frame, in two steps. preparePlanFrame does the host side: the grid paths lay the grid
-// out for the settings (adaptive ones for `view`) and the CPU grid is filled when it is not
-// cached. recordPlanFrame records the device side into `target` (cleared): the tessellated
+// out for the settings (adaptive ones for `view`; raised where there is sculpted displacement,
+// displaced_grid_factors.h) and the CPU grid is filled when it is not cached. recordPlanFrame records the device side into `target` (cleared): the tessellated
 // path, or the grid (evaluated by the compute shader when not cached) drawn as triangles.
 // A frame whose view moved but whose cage did not costs only the drawing on the grid paths
 // (with adaptive factors: until a segment needs other factors). `path` is resolved.

@@ -9,7 +9,6 @@ namespace qp {
 
 namespace {
 
-constexpr uint32_t kReversed = 1, kSplit = 2, kHalf = 4;
 constexpr uint32_t kFirstHalf = 1 << 2, kSecondHalf = 2 << 2;  // GpuSegment::ownerEdge
 
 // Sub-face edge e runs from corner kEdgeStart[e] to corner kEdgeEnd[e].
@@ -70,10 +69,10 @@ struct BoundaryBuilder {
                     ref.midpoint = midpoint(cageEdge);
                     ref.segment = segment(a, ref.midpoint, drawn, e | kFirstHalf);
                     ref.secondHalf = segment(ref.midpoint, z, drawn, e | kSecondHalf);
-                    ref.flags = kSplit;
+                    ref.flags = kEdgeRefSplit;
                 } else {
                     ref.segment = segment(a, z, drawn, e);
-                    ref.flags = a > z ? kReversed : 0;
+                    ref.flags = a > z ? kEdgeRefReversed : 0;
                 }
             }
         } else {
@@ -86,12 +85,12 @@ struct BoundaryBuilder {
             for (uint32_t e = 0; e < 4; ++e) {
                 uint32_t a = b.corners[kEdgeStart[e]], z = b.corners[kEdgeEnd[e]];
                 b.edges[e].segment = segment(a, z, drawn, e);
-                b.edges[e].flags = a > z ? kReversed : 0;
+                b.edges[e].flags = a > z ? kEdgeRefReversed : 0;
             }
             // Edges 0 and 3 are halves of cage edges: their factor comes from the whole edge.
-            b.edges[0].flags |= kHalf;
+            b.edges[0].flags |= kEdgeRefHalf;
             b.edges[0].midpoint = b.corners[1];
-            b.edges[3].flags |= kHalf;
+            b.edges[3].flags |= kEdgeRefHalf;
             b.edges[3].midpoint = b.corners[3];
         }
         for (uint32_t c = 0; c < 4; ++c) point(b.corners[c], drawn, c);

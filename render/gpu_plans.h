@@ -65,6 +65,7 @@ struct GpuEdgeRef {
     uint32_t midpoint;  // split and half edges: the cage edge's midpoint
     uint32_t secondHalf;  // split edges: the second half's segment
 };
+constexpr uint32_t kEdgeRefReversed = 1, kEdgeRefSplit = 2, kEdgeRefHalf = 4;  // GpuEdgeRef::flags
 
 struct GpuSubfaceBoundary {
     GpuEdgeRef edges[4];

@@ -15,16 +15,15 @@ namespace qp {
 namespace {
 
 // GpuEdgeRef::flags and GpuSegment::ownerEdge, as gpu_plans.cpp writes them.
-constexpr uint32_t kReversed = 1, kSplit = 2, kHalf = 4;
 constexpr uint32_t kStartCorner[4] = {0, 1, 3, 0}, kEndCorner[4] = {1, 2, 2, 3};
 
-bool isNgonSubface(const GpuPlanData& data, uint32_t drawn) { return (data.boundaries[drawn].edges[0].flags & kHalf) != 0; }
+bool isNgonSubface(const GpuPlanData& data, uint32_t drawn) { return (data.boundaries[drawn].edges[0].flags & kEdgeRefHalf) != 0; }
 
 // Pieces along edge `e` of a drawn sub-face.
 uint32_t edgePieces(const GpuPlanData& data, const GridFactors& factors, uint32_t drawn, uint32_t e) {
     const GpuEdgeRef& r = data.boundaries[drawn].edges[e];
     const uint32_t pieces = factors.segmentPieces[r.segment];
-    return (r.flags & kSplit) ? 2 * pieces : pieces;
+    return (r.flags & kEdgeRefSplit) ? 2 * pieces : pieces;
 }
 
 // A place on a drawn sub-face's boundary: slot (x, y) of its grid.
@@ -70,13 +69,13 @@ GridPlace edgeVertexOwnerPlace(const GpuPlanData& data, const GridFactors& facto
     const GpuEdgeRef& r = b.edges[e];
     if (i == 0) return pointOwnerPlace(data, factors, b.corners[kStartCorner[e]]);
     if (i == pieces) return pointOwnerPlace(data, factors, b.corners[kEndCorner[e]]);
-    if (r.flags & kSplit) {
+    if (r.flags & kEdgeRefSplit) {
         const uint32_t k = pieces / 2;
         if (i == k) return pointOwnerPlace(data, factors, r.midpoint);
         if (i < k) return segmentOwnerPlace(data, factors, r.segment, i, k);
         return segmentOwnerPlace(data, factors, r.secondHalf, pieces - i, k);
     }
-    return segmentOwnerPlace(data, factors, r.segment, (r.flags & kReversed) ? pieces - i : i, pieces);
+    return segmentOwnerPlace(data, factors, r.segment, (r.flags & kEdgeRefReversed) ? pieces - i : i, pieces);
 }
 
 // Segments needed for a sphere to be `pixelsPerSegment` long on screen (plan_draw.glsl).
@@ -106,8 +105,8 @@ GridFactors uniformGridFactors(const GpuPlanData& data, uint32_t factor) {
         f.subfaceFactor[d] = ngon ? std::max(1u, factor / 2) : factor;
         // n-gon sub-faces are half-size: their spokes and half edges take half the pieces.
         for (const GpuEdgeRef& r : data.boundaries[d].edges) {
-            if (ngon || (r.flags & kSplit)) f.segmentPieces[r.segment] = std::max(1u, factor / 2);
-            if (r.flags & kSplit) f.segmentPieces[r.secondHalf] = std::max(1u, factor / 2);
+            if (ngon || (r.flags & kEdgeRefSplit)) f.segmentPieces[r.segment] = std::max(1u, factor / 2);
+            if (r.flags & kEdgeRefSplit) f.segmentPieces[r.secondHalf] = std::max(1u, factor / 2);
         }
     }
     return f;
@@ -134,11 +133,11 @@ GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::ve
         const bool ngon = isNgonSubface(data, d);
         for (uint32_t e = 0; e < 4; ++e) {
             const GpuEdgeRef& r = b.edges[e];
-            if (r.flags & (kSplit | kHalf)) {  // half of a cage edge: sized by the whole edge
+            if (r.flags & (kEdgeRefSplit | kEdgeRefHalf)) {  // half of a cage edge: sized by the whole edge
                 const glm::vec4& m = points[r.midpoint];
                 const float wanted = 0.5f * sphereFactor(view, glm::vec3(m), m.w);
                 choose(r.segment, wanted);
-                if (r.flags & kSplit) choose(r.secondHalf, wanted);
+                if (r.flags & kEdgeRefSplit) choose(r.secondHalf, wanted);
                 continue;
             }
             const uint32_t a = b.corners[kStartCorner[e]], z = b.corners[kEndCorner[e]];

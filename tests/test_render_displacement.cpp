@@ -3,6 +3,7 @@
 // vertices bit-identical, and a brush dab's incremental update equal to a full evaluation.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -15,6 +16,7 @@
 #include "brush.h"
 #include "camera.h"
 #include "cpu_grid.h"
+#include "displaced_grid_factors.h"
 #include "displaced_mesh.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
@@ -213,6 +215,47 @@ TEST_F(DisplacementRender, GridPathsDrawTheDisplacedSurfaceWatertight) {
             if (HasFatalFailure()) return;
         }
         destroyPlanBuffers(ctx, buffers);
+    }
+}
+
+// A displacement sculpted in one place: the grid follows the tiles there (every non-zero
+// sample a vertex) and keeps the asked-for factor where D is zero; still exact and watertight
+// bit for bit across the change of factor, on both evaluators.
+TEST_F(DisplacementRender, GridFactorsRiseOnlyWhereTheDisplacementIsNotZero) {
+    for (auto& [name, cage] : displacementCages()) {
+        PlanDatabase db;
+        PlannedCage planned = planCage(cage, db);
+        const float diagonal = computeBounds(planned.cage()).diagonal();
+        Displacement d = makeDisplacement(planned.cage(), planned.topology(), 16);
+        const SculptSamples samples = SculptSamples::build(planned, d.layout);
+        uint32_t centre = samples.sampleCount() / 3;
+        while (!samples.hasSite(centre)) ++centre;
+        StrokeOptions options{{BrushKind::Raise, 0.12f * diagonal, 0.1f, Falloff::Smooth}};
+        applyStroke(d, samples, options, std::vector<glm::vec3>{samples.position(centre)});
+        PlanBuffers buffers = upload(planned, d);
+        const GridFactors base = uniformGridFactors(buffers.data, 2);
+        const GridFactors raised = displacedGridFactors(buffers.data, d, base);
+        uint32_t fine = 0, kept = 0;
+        for (uint32_t drawn = 0; drawn < buffers.data.subfaces.size(); ++drawn) {
+            const uint32_t s = buffers.data.subfaces[drawn].subface;
+            bool zero = true;
+            for (uint32_t j = 0; j <= 16; ++j)
+                for (uint32_t i = 0; i <= 16; ++i) zero &= d.samples[gridSample(d.layout, s, i, j)] == 0.0f;
+            const uint32_t n = raised.subfaceFactor[drawn];
+            EXPECT_TRUE(std::has_single_bit(n)) << name << ": sub-face " << s << " factor " << n;
+            if (!zero) {
+                EXPECT_GE(n, 16u) << name << ": sub-face " << s << " is displaced";
+            }
+            fine += n >= 16;
+            kept += n == base.subfaceFactor[drawn];
+        }
+        EXPECT_GT(fine, 0u) << name;
+        EXPECT_GT(kept, 0u) << name << ": every sub-face was raised";
+        ASSERT_TRUE(prepareGrid(ctx, pass, buffers, raised).ok());
+        checkDisplacedGrid(planned, d, buffers, fillGrid(planned, buffers, true), name + ", compute shader");
+        checkDisplacedGrid(planned, d, buffers, fillGrid(planned, buffers, false), name + ", CPU evaluator");
+        destroyPlanBuffers(ctx, buffers);
+        if (HasFatalFailure()) return;
     }
 }
 

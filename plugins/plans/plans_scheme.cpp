@@ -11,10 +11,13 @@
 // editor's drags) the next frame re-evaluates only the sub-faces whose 1-ring holds a moved
 // vertex (recordMovedVertices).
 //
-// Displacement: all three paths draw it (render/plan_pass.h, setPlanDisplacement) at a uniform
-// factor of at least the tiles' required one (displacedGridFactor, at most 64); a screen-adaptive
-// setting then draws uniformly at that factor. After a dab only the sub-faces that read the
-// changed samples are re-evaluated (recordDisplacementChange).
+// Displacement: all three paths draw it (render/plan_pass.h, setPlanDisplacement). The grid
+// paths keep the requested (uniform or screen-adaptive) factors where the displacement is zero
+// and raise them to the tiles' resolutions where it is not (render/displaced_grid_factors.h),
+// so a sculpted patch costs triangles only where it is; the tessellated path draws uniformly at
+// the tiles' required factor (displacedGridFactor, at most 64). After a dab only the sub-faces
+// that read the changed samples are re-evaluated (recordDisplacementChange), unless the dab
+// reached zero tiles, whose factors then grow (a new grid layout, evaluated whole).
 #include <algorithm>
 #include <cstdio>
 #include <iterator>
@@ -117,7 +120,9 @@ public:
         planView.colorBy = colorBy(view.colorBy);
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
         if (settings_.adaptivePixels > 0.0f) tessellation = {0, settings_.adaptivePixels};
-        if (displacement_)  // every stored sample a vertex: the factor follows the tiles
+        // Every stored sample a vertex: the grid paths raise the factors where the displacement
+        // is not zero (displaced_grid_factors.h); the tessellator takes one uniform factor.
+        if (displacement_ && path_ == DrawPath::Tessellated)
             tessellation = {std::min(displacedGridFactor(*planned_, *displacement_,
                                                          tessellation.uniformFactor ? tessellation.uniformFactor : 1u),
                                      64u),
