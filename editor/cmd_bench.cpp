@@ -1330,7 +1330,8 @@ void benchEdit(const BenchCage& bench, const BenchArgs& args, Report& report) {
 // cage at its default tessellation, through its automation hook (`measure-frames`, medians).
 // It needs a display: run under `xvfb-run -a -s "-screen 0 1280x800x24"`. "ours" is the median
 // interval between frame starts while orbiting (the 3D redrawn every frame) or while dragging a
-// vertex (an edit every frame, drawn in the same frame); the baseline is frames that only redraw
+// vertex (an edit every frame, drawn in the same frame) or sculpting (a dab of the default brush
+// every frame, its samples uploaded and drawn in the same frame); the baseline is frames that only redraw
 // the interface (the 3D copied from its cache), measured in the same editor run.
 
 constexpr double kEditorFrameTargetMs = 50.0;
@@ -1355,8 +1356,9 @@ void benchEditor(const BenchCage& bench, const BenchArgs& args, Report& report) 
     auto out = [&](const char* name) { return (dir / name).string(); };  // the editor runs in our working directory
     std::ofstream(dir / "script.txt") << "wait-idle\nwait-frames 5\nmeasure-frames " << frames << " " << out("idle.json") << "\n"
                                       << "measure-frames " << frames << " " << out("orbit.json") << " orbit\nselect-vertex 10\n"
-                                      << "measure-frames " << frames << " " << out("drag.json")
-                                      << " drag\nquit\nclick-button Discard changes\n";
+                                      << "measure-frames " << frames << " " << out("drag.json") << " drag\n"
+                                      << "measure-frames " << frames << " " << out("sculpt.json")
+                                      << " sculpt\nquit\nclick-button Discard changes\n";
     const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();  // not the shell's
     const std::string command = "'" + self + "' edit '" + cagePath + "' --no-vsync --size 1280x800 --automation '" +
                                 (dir / "script.txt").string() + "' --autosave-seconds 3600 > '" + (dir / "editor.log").string() + "' 2>&1";
@@ -1365,8 +1367,9 @@ void benchEditor(const BenchCage& bench, const BenchArgs& args, Report& report) 
         std::ifstream in(dir / name);
         return in ? nlohmann::json::parse(in, nullptr, false) : nlohmann::json();
     };
-    const nlohmann::json idle = load("idle.json"), orbit = load("orbit.json"), drag = load("drag.json");
-    if (status != 0 || !idle.is_object() || !orbit.is_object() || !drag.is_object()) {
+    const nlohmann::json idle = load("idle.json"), orbit = load("orbit.json"), drag = load("drag.json"),
+                         sculpt = load("sculpt.json");
+    if (status != 0 || !idle.is_object() || !orbit.is_object() || !drag.is_object() || !sculpt.is_object()) {
         report.notes.push_back(bench.name + ": the editor failed (status " + std::to_string(status) + "), see " +
                                (dir / "editor.log").string());
         return;
@@ -1377,7 +1380,9 @@ void benchEditor(const BenchCage& bench, const BenchArgs& args, Report& report) 
     report.notes.push_back(bench.name + ": editor at its default tessellation, plans path " +
                            orbit["plans_path"].get<std::string>() + ", factors " + orbit["factors"].dump() + ", " +
                            orbit["triangles"].dump() + " triangles, " + orbit["device"].get<std::string>());
-    for (const auto& [label, m] : {std::pair{"orbit (3D redrawn every frame)", &orbit}, std::pair{"drag a vertex (an edit every frame)", &drag}}) {
+    for (const auto& [label, m] : {std::pair{"orbit (3D redrawn every frame)", &orbit},
+                                   std::pair{"drag a vertex (an edit every frame)", &drag},
+                                   std::pair{"sculpt (a brush dab every frame, default brush)", &sculpt}}) {
         Row r;
         r.cage = bench.name;
         r.faces = bench.cage.faceCount();

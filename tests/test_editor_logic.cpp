@@ -69,7 +69,7 @@ TEST(AutomationScript, RejectsMistakesNamingTheLine) {
         {"action file.teleport\n", "unknown action"},
         {"key hyper\n", "unknown key"},
         {"mouse-down thumb\n", "left, middle or right"},
-        {"measure-frames 5 out.json sprint\n", "'drag' or 'orbit'"},
+        {"measure-frames 5 out.json sprint\n", "'drag', 'orbit' or 'sculpt'"},
     };
     for (const Case& c : cases) {
         Result<std::vector<AutomationCommand>> parsed = parseAutomation(c.text, "script");

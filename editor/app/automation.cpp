@@ -436,6 +436,19 @@ void Automation::measureStep(EditorApp& app) {
             for (uint32_t v : vertices) move.positions.push_back(doc.planned->cage().positions[v] + glm::vec3(0, step, 0));
             m.dragStarted = edit(app, move);
         }
+        if (m.mode == "sculpt" && app.doc->planned) {
+            // A stroke with one dab every frame, at sample positions spread over the surface
+            // (the brush of the Sculpt panel); the whole run is one history entry.
+            Document& doc = *app.doc;
+            if (!m.dragStarted) m.dragStarted = beginStroke(doc, app.tools.sculpt.resolution, app.frame).ok();
+            if (m.dragStarted) {
+                const SculptSamples& samples = *doc.sculptSamples;
+                uint32_t sample = uint32_t((app.frame - m.firstFrame) * 2654435761ull % samples.sampleCount());
+                while (!samples.hasSite(sample)) sample = (sample + 1) % samples.sampleCount();
+                strokeDab(doc, sculptStrokeOptions(app, false, false), samples.position(sample));
+                if (m.framesLeft == 0) (void)endStroke(doc, "Measured stroke", app.frame);
+            }
+        }
         return;
     }
     if (--m.settleFrames > 0) return;  // GPU times arrive a frame or two later

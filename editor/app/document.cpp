@@ -446,6 +446,15 @@ uint32_t strokeTo(Document& doc, const StrokeOptions& options, const glm::vec3& 
     return changed;
 }
 
+uint32_t strokeDab(Document& doc, const StrokeOptions& options, const glm::vec3& centre) {
+    assert(doc.sculptor && "strokeDab outside beginStroke / endStroke");
+    const uint32_t changed = doc.sculptor->dab(options.brush, options.mirror, centre);
+    const std::span<const uint32_t> reached = doc.sculptor->lastDabSamples();
+    doc.unsyncedSamples.insert(doc.unsyncedSamples.end(), reached.begin(), reached.end());
+    if (!reached.empty()) ++doc.sampleRevision;
+    return changed;
+}
+
 Result<EditReport> endStroke(Document& doc, const std::string& name, uint64_t frame) {
     if (!doc.sculptor) return Error{"no stroke is in progress"};
     StrokeRecord record = doc.sculptor->endStroke();

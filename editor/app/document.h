@@ -158,6 +158,8 @@ bool strokeActive(const Document& document);
 // Continues the stroke to a point near the limit surface (Sculptor::dabTo: the first call dabs
 // there, later ones every spacing along the way). Returns the samples changed.
 uint32_t strokeTo(Document& document, const StrokeOptions& options, const glm::vec3& point);
+// One dab at `centre` within the stroke, wherever the previous one was (measurements, tests).
+uint32_t strokeDab(Document& document, const StrokeOptions& options, const glm::vec3& centre);
 // Ends the stroke: a history entry called `name` when it changed any sample (the report says
 // nothing was re-planned), nothing otherwise.
 Result<EditReport> endStroke(Document& document, const std::string& name, uint64_t frame);

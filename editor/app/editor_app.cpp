@@ -178,6 +178,7 @@ void adoptFinishedLoad(EditorApp& app) {
     applySceneView(app);
     const Cage& cage = app.doc->planned->cage();
     app.tools.extrudeDistance = 0.5f * averageEdgeLength(cage);
+    app.tools.sculpt.resolution = defaultDisplacementResolution(app.doc->planned->subfaceCount());
     app.ui.status = (request.fromRecovery ? "Restored unsaved work" : "Opened " + request.path) + " (" +
                     std::to_string(cage.faceCount()) + " faces, " + std::to_string(app.doc->database->size()) +
                     " plans, " + std::to_string(int(std::lround(app.loader.secondsRunning() * 1000))) + " ms)";

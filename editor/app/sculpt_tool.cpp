@@ -143,6 +143,13 @@ bool clearDisplacementTool(EditorApp& app) {
     return true;
 }
 
+uint32_t defaultDisplacementResolution(uint32_t subfaces) {
+    constexpr uint32_t kSampleBudget = 1u << 17;
+    uint32_t resolution = 16;
+    while (resolution > 1 && uint64_t(subfaces) * resolution * resolution > kSampleBudget) resolution /= 2;
+    return resolution;
+}
+
 void scaleBrushRadius(EditorApp& app, float factor) {
     float& radius = app.tools.sculpt.radius;
     radius = std::clamp(radius * factor, 0.001f, 0.5f);

@@ -47,6 +47,11 @@ void cancelSculptStroke(EditorApp& app);
 bool applyDisplacementResolution(EditorApp& app);
 bool clearDisplacementTool(EditorApp& app);
 
+// The resolution a new displacement gets on a cage of this many sub-faces: 16, or less so that
+// the whole surface holds at most about 128k samples (sculpted all over, every sample is a grid
+// vertex: on lavapipe about 100 ms a frame at that size, docs/editor.md).
+uint32_t defaultDisplacementResolution(uint32_t subfaces);
+
 // Multiplies the brush radius (the [ and ] keys), within 0.1% .. 50% of the diagonal.
 void scaleBrushRadius(EditorApp& app, float factor);
 

@@ -198,6 +198,67 @@ TEST_F(EditorWindow, AutomationEditsSavesAndRedraws) {
     EXPECT_GT(distinctColors(resized, 290, 30, 560, 620), 20u);
 }
 
+// The sculpt tool: a drag over the surface is one stroke (one undo entry after the
+// "New displacement" one), drawn at once with only the changed samples uploaded; undo and redo
+// redraw; Save writes the displacement; a right click during a stroke cancels it.
+TEST_F(EditorWindow, SculptsStrokesUndoesCancelsAndSaves) {
+    const int cx = 360, cy = 380;  // the front wall of the default scene in a 1100x700 window
+    std::string stroke = "mouse-move " + std::to_string(cx - 70) + " " + std::to_string(cy) + "\nmouse-down left\nwait-frames 1\n";
+    for (int x = cx - 60; x <= cx + 70; x += 10)
+        stroke += "mouse-move " + std::to_string(x) + " " + std::to_string(cy) + "\nwait-frames 1\n";
+    EditorProcess editor;
+    start(editor,
+          "wait-idle\nwait-frames 3\ndump-state k0.json\nscreenshot before.png\n"
+          "set-tool sculpt\nbrush raise 0.06 0.12 smooth\n" + stroke +
+          "mouse-up left\nwait-frames 3\nscreenshot sculpted.png\ndump-state k1.json\n"
+          "undo\nwait-frames 3\nscreenshot undone.png\ndump-state k2.json\n"
+          "redo\naction file.save\nwait-frames 2\n"
+          "brush lower 0.06 0.12\n" + stroke +
+          "mouse-down right\nwait-frames 1\nmouse-up right\nmouse-up left\nwait-frames 3\ndump-state k3.json\nquit\n",
+          (dir / "default.json").string());
+    json k0 = waitForState(editor, "k0.json"), k1 = waitForState(editor, "k1.json"), k2 = waitForState(editor, "k2.json"),
+         k3 = waitForState(editor, "k3.json");
+    expectCleanExit(editor);
+    ASSERT_TRUE(k0.is_object() && k1.is_object() && k2.is_object() && k3.is_object());
+
+    EXPECT_TRUE(k0["displacement"].is_null());
+    EXPECT_EQ(k1["tool"]["tool"], "sculpt");
+    ASSERT_TRUE(k1["displacement"].is_object()) << "the stroke made no displacement";
+    const int samples = k1["displacement"]["samples"].get<int>(), nonzero = k1["displacement"]["nonzero"].get<int>();
+    EXPECT_GT(nonzero, 50);
+    EXPECT_LT(nonzero, samples / 4) << "a local stroke changed most of the surface";
+    EXPECT_GT(k1["displacement"]["max_abs"].get<double>(), 0.0);
+    ASSERT_EQ(k1["history"]["size"], 2);
+    EXPECT_EQ(k1["history"]["entries"][0]["name"], "New displacement");
+    EXPECT_EQ(k1["history"]["entries"][1]["name"].get<std::string>().rfind("Raise stroke (", 0), 0u)
+        << k1["history"]["entries"][1]["name"];
+    EXPECT_EQ(k1["history"]["entries"][1]["replanned_faces"], 0);
+    EXPECT_TRUE(k1["dirty"].get<bool>());
+    const json& view = k1["viewports"][0];
+    EXPECT_EQ(view["problem"], "");
+    EXPECT_GT(view["updated_samples"].get<int>(), 0);
+    EXPECT_LT(view["updated_samples"].get<int>(), samples) << "the renderer was sent every sample, not the stroke's";
+
+    EXPECT_EQ(k2["displacement"]["nonzero"], 0) << "undo left samples displaced";
+    EXPECT_EQ(k3["history"]["size"], 2) << "a cancelled stroke made a history entry";
+    EXPECT_EQ(k3["displacement"]["nonzero"], nonzero) << "a cancelled stroke left samples changed";
+    EXPECT_EQ(k3["displacement"]["max_abs"], k1["displacement"]["max_abs"]);
+
+    // Saved after the redo: the stroke's samples are in the file.
+    Result<Scene> saved = loadSceneOrCage((dir / "default.json").string());
+    ASSERT_TRUE(saved.ok()) << saved.error().message;
+    ASSERT_FALSE(saved->displacement.empty());
+    EXPECT_EQ(int(saved->displacement.samples.size()), samples);
+    EXPECT_EQ(int(std::count_if(saved->displacement.samples.begin(), saved->displacement.samples.end(),
+                                [](float x) { return x != 0.0f; })),
+              nonzero);
+
+    // Pictures: the stroke shows, and undo takes it away again.
+    const Picture before = loadPng(dir / "before.png"), sculpted = loadPng(dir / "sculpted.png"), undone = loadPng(dir / "undone.png");
+    EXPECT_GT(differingPixels(before, sculpted), 400u) << "the stroke did not show";
+    EXPECT_GT(differingPixels(undone, sculpted), 400u) << "undo did not show";
+}
+
 // Real X events: a mouse drag on a cage vertex moves it, a numpad key changes the view, a click
 // on an ImGui radio button switches to face selection, Ctrl+4 to four viewports.
 TEST_F(EditorWindow, RealMouseAndKeyboardThroughX) {
