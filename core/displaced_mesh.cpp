@@ -8,6 +8,23 @@
 
 namespace qp {
 
+namespace {
+
+// D at grid vertex (i, j) of n: one formula for the full build and the incremental update.
+DisplacementValue displacementAt(const Displacement& displacement, uint32_t subface, uint32_t i, uint32_t j, uint32_t n) {
+    if (displacement.empty()) return DisplacementValue{};
+    return evaluateDisplacement(displacement, subface, float(i) / float(n), float(j) / float(n));
+}
+
+void displaceVertex(DisplacedMesh& mesh, uint32_t vertex, const DisplacementValue& d) {
+    const SurfaceFrame& f = mesh.frames[vertex];
+    const DisplacedPoint p = displacePoint(f.position, f.du, f.dv, f.normal, d);
+    mesh.positions[vertex] = p.position;
+    mesh.normals[vertex] = p.normal;
+}
+
+}  // namespace
+
 uint32_t requiredMeshFactor(const PlannedCage& planned, const DisplacementLayout& layout) {
     uint32_t factor = 1;
     for (uint32_t face = 0; face < planned.cage().faceCount(); ++face) {
@@ -54,6 +71,7 @@ Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displ
         }
     mesh.positions.resize(vertices);
     mesh.normals.resize(vertices);
+    mesh.frames.resize(vertices);
 
     // Without displacement the layout still names the shared boundaries and their owners.
     const DisplacementLayout fallback =
@@ -67,8 +85,7 @@ Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displ
                 const float u = float(i) / float(n), v = float(j) / float(n);
                 const SurfaceFrame own = surface(s, u, v);
                 glm::vec3 position = own.position, normal = own.normal;
-                DisplacementValue d;
-                if (!displacement.empty()) d = evaluateDisplacement(displacement, s, u, v);
+                const DisplacementValue d = displacementAt(displacement, s, i, j, n);
                 {
                     // The boundary's owner evaluates the limit there, from integers.
                     const DisplacementSubface& sf = layout.subfaces[s];
@@ -105,9 +122,9 @@ Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displ
                         }
                     }
                 }
-                DisplacedPoint p = displacePoint(position, own.du, own.dv, normal, d);
-                mesh.positions[mesh.gridOffset[g] + j * (n + 1) + i] = p.position;
-                mesh.normals[mesh.gridOffset[g] + j * (n + 1) + i] = p.normal;
+                const uint32_t vertex = mesh.gridOffset[g] + j * (n + 1) + i;
+                mesh.frames[vertex] = SurfaceFrame{position, own.du, own.dv, normal};
+                displaceVertex(mesh, vertex, d);
             }
     });
     for (size_t g = 0; g < mesh.gridSubface.size(); ++g) {
@@ -119,6 +136,15 @@ Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displ
             }
     }
     return mesh;
+}
+
+void redisplaceGrids(DisplacedMesh& mesh, const Displacement& displacement, std::span<const uint32_t> grids) {
+    tbb::parallel_for(size_t(0), grids.size(), [&](size_t k) {
+        const uint32_t g = grids[k], s = mesh.gridSubface[g], n = mesh.gridFactor[g];
+        for (uint32_t j = 0; j <= n; ++j)
+            for (uint32_t i = 0; i <= n; ++i)
+                displaceVertex(mesh, mesh.gridOffset[g] + j * (n + 1) + i, displacementAt(displacement, s, i, j, n));
+    });
 }
 
 }  // namespace qp

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -21,6 +22,12 @@
 
 namespace qp {
 
+// Any surface over the same sub-faces (a patching scheme's): position, derivatives and the unit
+// normal the surface is displaced along, at (sub-face, u, v). Called concurrently.
+struct SurfaceFrame {
+    glm::vec3 position{0.0f}, du{0.0f}, dv{0.0f}, normal{0.0f};
+};
+
 struct DisplacedMesh {
     uint32_t factor = 0;                // quads' intervals per side
     std::vector<uint32_t> gridSubface;  // the sub-face of each grid
@@ -28,6 +35,9 @@ struct DisplacedMesh {
     std::vector<uint32_t> gridOffset;   // its first vertex; (n+1)^2 vertices, u fastest
     std::vector<glm::vec3> positions, normals;
     std::vector<uint32_t> indices;      // triangles, counter-clockwise like the cage
+    // Per vertex, what it was displaced from: the owner's position and normal on boundaries,
+    // its own sub-face's derivatives (redisplaceGrids starts from these).
+    std::vector<SurfaceFrame> frames;
 };
 
 // The smallest factor at which every sample is a mesh vertex: the required tessellation
@@ -37,11 +47,6 @@ uint32_t requiredMeshFactor(const PlannedCage& planned, const DisplacementLayout
 // factor in 1..128; even when the cage has non-quads. An empty displacement displaces nothing.
 Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displacement& displacement, uint32_t factor);
 
-// Any surface over the same sub-faces (a patching scheme's): position, derivatives and the unit
-// normal the surface is displaced along, at (sub-face, u, v). Called concurrently.
-struct SurfaceFrame {
-    glm::vec3 position{0.0f}, du{0.0f}, dv{0.0f}, normal{0.0f};
-};
 using SurfaceFunction = std::function<SurfaceFrame(uint32_t subface, float u, float v)>;
 
 // The same mesh over `surface` instead of the limit surface: each scheme displaces along its
@@ -49,5 +54,9 @@ using SurfaceFunction = std::function<SurfaceFrame(uint32_t subface, float u, fl
 // result is watertight bit for bit even where the scheme's own surface is not.
 Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displacement& displacement, uint32_t factor,
                                          const SurfaceFunction& surface);
+
+// After samples changed in place (same layout): recomputes the positions and normals of these
+// grids (indices into gridSubface) from the kept frames, with the bits a full build would give.
+void redisplaceGrids(DisplacedMesh& mesh, const Displacement& displacement, std::span<const uint32_t> grids);
 
 }  // namespace qp

@@ -24,40 +24,42 @@ void setGridDisplacement(GridDrawing& drawing, const Displacement* displacement)
 
 Status updateGridDrawing(GridDrawing& drawing, const Scheme& scheme) {
     if (!drawing.context || drawing.grid.samples.empty()) return success();
-    std::vector<MeshVertex> vertices;
-    std::vector<uint32_t> displacedIndices;
-    if (drawing.displacement) {
-        Result<SchemeMesh> displaced = displacedSchemeMesh(
-            scheme, *drawing.planned, *drawing.displacement, displacedGridFactor(*drawing.planned, *drawing.displacement, drawing.factor));
-        if (!displaced) return displaced.error();
-        vertices = std::move(displaced->vertices);
-        displacedIndices = std::move(displaced->indices);
-    } else {
-        std::vector<SurfacePoint> points(drawing.grid.samples.size());
-        evaluateParallel(scheme, drawing.grid.samples, points);
-        vertices = meshVertices(points);
-    }
     if (drawing.mesh.indexCount) destroyMesh(*drawing.context, drawing.mesh);
     drawing.mesh = GpuMesh{};
-    Result<GpuMesh> mesh = uploadMesh(*drawing.context, vertices, drawing.displacement ? displacedIndices : drawing.grid.indices);
+    if (drawing.displacement)
+        return buildDisplacedDrawing(drawing.displaced, *drawing.context, scheme, *drawing.planned, *drawing.displacement,
+                                     displacedGridFactor(*drawing.planned, *drawing.displacement, drawing.factor));
+    destroyDisplacedDrawing(drawing.displaced);
+    std::vector<SurfacePoint> points(drawing.grid.samples.size());
+    evaluateParallel(scheme, drawing.grid.samples, points);
+    Result<GpuMesh> mesh = uploadMesh(*drawing.context, meshVertices(points), drawing.grid.indices);
     if (!mesh) return mesh.error();
     drawing.mesh = *mesh;
     return success();
 }
 
-DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, const RenderTarget& target,
-                            const DrawView& view, uint64_t patches) {
-    MeshDraw draw{&drawing.mesh, glm::vec3(0.8f), true, view.wireframe};
-    recordMeshPass(cmd, drawing.pass, target, MeshView{view.viewProjection, view.eye, view.background},
-                   drawing.mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-    return DrawStats{patches, drawing.mesh.indexCount / 3};
+void gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> samples) {
+    if (drawing.displacement) updateDisplacedDrawing(drawing.displaced, *drawing.displacement, samples);
 }
 
-uint64_t gridDrawingBytes(const GridDrawing& drawing) { return drawing.mesh.vertices.size + drawing.mesh.indices.size; }
+DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, const RenderTarget& target,
+                            const DrawView& view, uint64_t patches) {
+    const GpuMesh& mesh = drawing.displacement ? drawing.displaced.gpu : drawing.mesh;
+    MeshDraw draw{&mesh, glm::vec3(0.8f), true, view.wireframe};
+    recordMeshPass(cmd, drawing.pass, target, MeshView{view.viewProjection, view.eye, view.background},
+                   mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
+    return DrawStats{patches, mesh.indexCount / 3};
+}
+
+uint64_t gridDrawingBytes(const GridDrawing& drawing) {
+    return drawing.mesh.vertices.size + drawing.mesh.indices.size + drawing.displaced.gpu.vertices.size +
+           drawing.displaced.gpu.indices.size;
+}
 
 void destroyGridDrawing(GridDrawing& drawing) {
     if (!drawing.context) return;
     if (drawing.mesh.indexCount) destroyMesh(*drawing.context, drawing.mesh);
+    destroyDisplacedDrawing(drawing.displaced);
     destroyMeshPass(*drawing.context, drawing.pass);
     drawing.context = nullptr;
 }

@@ -5,12 +5,13 @@
 //
 // Displacement (Scheme::setDisplacement): with one set, update() draws the scheme's own surface
 // displaced along its own normal, watertight, on a grid of at least displacedGridFactor
-// (displacedSchemeMesh, scheme_support.h). Schemes with a tessellated path draw through this
-// grid while displaced.
+// (displaced_drawing.h), and gridDisplacementChanged re-displaces only what a dab reached.
+// Schemes with a tessellated path draw through this grid while displaced.
 #pragma once
 
 #include <cstdint>
 
+#include "displaced_drawing.h"
 #include "mesh_pass.h"
 #include "scheme_api.h"
 #include "scheme_support.h"
@@ -24,7 +25,8 @@ struct GridDrawing {
     const Displacement* displacement = nullptr;  // non-empty, or none
     const VulkanContext* context = nullptr;
     MeshPass pass;
-    GpuMesh mesh;
+    GpuMesh mesh;                 // without displacement
+    DisplacedDrawing displaced;   // with it
 };
 
 // The grid for `factor` segments per quad sub-face edge (build time; no device needed).
@@ -36,6 +38,8 @@ void setGridDisplacement(GridDrawing& drawing, const Displacement* displacement)
 // Evaluates `scheme` on the grid (displaced, if set) and uploads the triangles (no-op before
 // createGridDrawing).
 Status updateGridDrawing(GridDrawing& drawing, const Scheme& scheme);
+// Scheme::displacementChanged: brings the displaced mesh up to date around these samples.
+void gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> samples);
 // Clears target.area and draws; `patches` is what the scheme reports as drawn, the triangles
 // are the uploaded mesh's.
 DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, const RenderTarget& target,

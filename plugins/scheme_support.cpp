@@ -84,21 +84,15 @@ uint32_t displacedGridFactor(const PlannedCage& planned, const Displacement& dis
     return std::min(factor, 2 * kMaxDisplacementResolution);
 }
 
-Result<SchemeMesh> displacedSchemeMesh(const Scheme& scheme, const PlannedCage& planned, const Displacement& displacement,
-                                       uint32_t factor) {
-    Result<DisplacedMesh> mesh = buildDisplacedMesh(planned, displacement, factor, [&scheme](uint32_t s, float u, float v) {
+Result<DisplacedMesh> displacedSchemeMesh(const Scheme& scheme, const PlannedCage& planned,
+                                          const Displacement& displacement, uint32_t factor) {
+    return buildDisplacedMesh(planned, displacement, factor, [&scheme](uint32_t s, float u, float v) {
         const SampleRequest request{s, u, v};
         SurfacePoint point;
         scheme.evaluate(std::span<const SampleRequest>(&request, 1), std::span<SurfacePoint>(&point, 1));
         if (!point.hasDerivatives) point.du = point.dv = glm::vec3(0.0f);  // displacePoint falls back to the normal
         return SurfaceFrame{point.position, point.du, point.dv, point.normal};
     });
-    if (!mesh) return mesh.error();
-    SchemeMesh out;
-    out.vertices.resize(mesh->positions.size());
-    for (size_t i = 0; i < out.vertices.size(); ++i) out.vertices[i] = {mesh->positions[i], mesh->normals[i]};
-    out.indices = std::move(mesh->indices);
-    return out;
 }
 
 }  // namespace qp

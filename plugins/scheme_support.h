@@ -13,6 +13,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "displaced_mesh.h"
 #include "mesh_pass.h"
 #include "scheme_api.h"
 
@@ -59,12 +60,9 @@ uint32_t displacedGridFactor(const PlannedCage& planned, const Displacement& dis
 
 // The displaced triangle mesh of `scheme`'s own surface (its evaluate(): position, derivatives,
 // the normal it shades with): buildDisplacedMesh over the scheme, so boundary vertices come from
-// their owner and the mesh is watertight bit for bit. For schemes that draw a CPU mesh.
-struct SchemeMesh {
-    std::vector<MeshVertex> vertices;
-    std::vector<uint32_t> indices;
-};
-Result<SchemeMesh> displacedSchemeMesh(const Scheme& scheme, const PlannedCage& planned, const Displacement& displacement,
-                                       uint32_t factor);
+// their owner and the mesh is watertight bit for bit. For schemes that draw a CPU mesh
+// (displaced_drawing.h keeps it for incremental updates).
+Result<DisplacedMesh> displacedSchemeMesh(const Scheme& scheme, const PlannedCage& planned,
+                                          const Displacement& displacement, uint32_t factor);
 
 }  // namespace qp

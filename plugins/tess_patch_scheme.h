@@ -76,6 +76,11 @@ public:
         setGridDisplacement(grid_, displacement);
         return success();
     }
+    // After a dab: only the sub-faces reading the changed samples are re-displaced.
+    Status displacementChanged(std::span<const uint32_t> samples) override {
+        gridDisplacementChanged(grid_, samples);
+        return success();
+    }
 
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
         for (size_t i = 0; i < requests.size(); ++i)

@@ -12,6 +12,7 @@
 
 #include "displaced_mesh.h"
 #include "displacement.h"
+#include "displacement_users.h"
 #include "generated_cage.h"
 #include "planned_cage.h"
 #include "sculpt_samples.h"
@@ -428,6 +429,37 @@ TEST(DisplacedMesh, SharedBoundaryVerticesAreBitIdentical) {
             else
                 EXPECT_GT(std::count(matched.begin(), matched.end(), true), 0) << name;
         }
+    }
+}
+
+// After samples change in place, re-displacing the grids of the sub-faces that read them gives
+// the bits of a full rebuild: no other grid needs to change.
+TEST(DisplacedMesh, RedisplacingTheReadersOfChangedSamplesEqualsARebuild) {
+    for (auto& [name, cage] : testCages()) {
+        Planned p(cage);
+        const float diagonal = computeBounds(cage).diagonal();
+        Displacement d = randomDisplacement(*p.cage, 4, 5);
+        for (float& s : d.samples) s *= 0.01f * diagonal;
+        const uint32_t factor = requiredMeshFactor(*p.cage, d.layout);
+        Result<DisplacedMesh> mesh = buildDisplacedMesh(*p.cage, d, factor);
+        ASSERT_TRUE(mesh) << mesh.error().message;
+        // Change every 7th sample: tiles, segments and points alike.
+        std::vector<uint32_t> changed;
+        for (uint32_t k = 3; k < d.samples.size(); k += 7) changed.push_back(k), d.samples[k] += 0.005f * diagonal;
+        std::vector<uint32_t> gridOf(p.cage->subfaceCount(), UINT32_MAX), grids;
+        for (uint32_t g = 0; g < mesh->gridSubface.size(); ++g) gridOf[mesh->gridSubface[g]] = g;
+        for (uint32_t s : subfacesReadingSamples(d.layout, buildDisplacementUsers(d.layout), changed))
+            if (gridOf[s] != UINT32_MAX) grids.push_back(gridOf[s]);
+        EXPECT_GT(grids.size(), 0u);
+        redisplaceGrids(*mesh, d, grids);
+        Result<DisplacedMesh> rebuilt = buildDisplacedMesh(*p.cage, d, factor);
+        ASSERT_TRUE(rebuilt) << rebuilt.error().message;
+        ASSERT_EQ(mesh->positions.size(), rebuilt->positions.size());
+        for (size_t v = 0; v < mesh->positions.size(); ++v)
+            for (int axis = 0; axis < 3; ++axis) {
+                ASSERT_EQ(bits(mesh->positions[v][axis]), bits(rebuilt->positions[v][axis])) << name << " vertex " << v;
+                ASSERT_EQ(bits(mesh->normals[v][axis]), bits(rebuilt->normals[v][axis])) << name << " vertex " << v;
+            }
     }
 }
 

@@ -222,28 +222,41 @@ TEST(SchemePlugins, DrawWithValidationSilentAndTheSamePictureThroughBothPaths) {
 // Displaced, every path draws the scheme's own surface moved along its own normal on the CPU
 // grid: the tessellated and grid paths give the same picture, different from the undisplaced
 // one, with the displaced mesh's triangles; removing the displacement restores the patches.
-TEST(SchemePlugins, DrawTheDisplacementOnTheirOwnSurface) {
-    Result<VulkanContext> context = test::createTestContext();
-    ASSERT_TRUE(context.ok()) << context.error().message;
-    VulkanContext& ctx = *context;
-    const Cage cube = perturbedCube(3);
-    PlanDatabase database;
-    Result<PlannedCage> planned = PlannedCage::create(cube, database, PlanOptions{}, "cube");
-    ASSERT_TRUE(planned.ok());
-    Displacement bumps = makeDisplacement(planned->cage(), planned->topology(), 8);
-    const float amplitude = 0.04f * computeBounds(cube).diagonal();
-    for (size_t i = 0; i < bumps.samples.size(); ++i) bumps.samples[i] = amplitude * std::sin(0.37f * float(i));
-    const GpuContext gpu{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
-    const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
-    const Bounds bounds = computeBounds(cube);
-    const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
-    DrawView view;
-    view.viewProjection = viewProjection(camera);
-    view.eye = camera.eye;
-    constexpr uint32_t kSize = 160;
-    Result<OffscreenTarget> target = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
-    ASSERT_TRUE(target.ok());
-    auto draw = [&](SchemeInstance& instance) {
+// A cube with sculpted bumps, an offscreen target and a camera: what the displacement tests of
+// the schemes draw.
+class DisplacedSchemes : public ::testing::Test {
+protected:
+    void SetUp() override {
+        Result<VulkanContext> context = test::createTestContext();
+        ASSERT_TRUE(context.ok()) << context.error().message;
+        ctx = std::move(*context);
+        haveContext = true;
+        const Cage cube = perturbedCube(3);
+        Result<PlannedCage> created = PlannedCage::create(cube, database, PlanOptions{}, "cube");
+        ASSERT_TRUE(created.ok());
+        planned.emplace(std::move(created).value());
+        bumps = makeDisplacement(planned->cage(), planned->topology(), 8);
+        const float amplitude = 0.04f * computeBounds(cube).diagonal();
+        for (size_t i = 0; i < bumps.samples.size(); ++i) bumps.samples[i] = amplitude * std::sin(0.37f * float(i));
+        gpu = GpuContext{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+        features = analyzeCage(planned->cage(), planned->topology());
+        const Bounds bounds = computeBounds(cube);
+        const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+        view.viewProjection = viewProjection(camera);
+        view.eye = camera.eye;
+        Result<OffscreenTarget> created2 = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+        ASSERT_TRUE(created2.ok());
+        target.emplace(*created2);
+    }
+
+    void TearDown() override {
+        if (!haveContext) return;
+        if (target) destroyOffscreenTarget(ctx, *target);
+        EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
+        destroyContext(ctx);
+    }
+
+    Picture draw(SchemeInstance& instance) {
         Picture picture;
         Result<DrawStats> drawn = DrawStats{};
         EXPECT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { drawn = instance.record(cmd, renderTarget(*target), view); }).ok());
@@ -251,7 +264,24 @@ TEST(SchemePlugins, DrawTheDisplacementOnTheirOwnSurface) {
         Result<std::vector<uint8_t>> pixels = readPixels(ctx, *target);
         if (pixels) picture.pixels = std::move(*pixels);
         return picture;
-    };
+    }
+
+    static constexpr uint32_t kSize = 160;
+    VulkanContext ctx;
+    bool haveContext = false;
+    PlanDatabase database;
+    std::optional<PlannedCage> planned;
+    Displacement bumps;
+    GpuContext gpu;
+    CageFeatures features;
+    DrawView view;
+    std::optional<OffscreenTarget> target;
+};
+
+// Displaced, every path draws the scheme's own surface moved along its own normal on the CPU
+// grid: the tessellated and grid paths give the same picture, different from the undisplaced
+// one, with the displaced mesh's triangles; removing the displacement restores the patches.
+TEST_F(DisplacedSchemes, DrawTheDisplacementOnTheirOwnSurface) {
     for (const char* name : {"acc1", "acc2", "pn", "stam"}) {
         SCOPED_TRACE(name);
         std::vector<Picture> displaced;
@@ -266,7 +296,7 @@ TEST(SchemePlugins, DrawTheDisplacementOnTheirOwnSurface) {
             EXPECT_FALSE(mentions(bumped->support.approximations, "drawn without the sculpted displacement"));
             const Picture flat = draw(plain->instance);
             displaced.push_back(draw(bumped->instance));
-            Result<SchemeMesh> mesh = displacedSchemeMesh(bumped->instance.scheme(), *planned, bumps,
+            Result<DisplacedMesh> mesh = displacedSchemeMesh(bumped->instance.scheme(), *planned, bumps,
                                                           displacedGridFactor(*planned, bumps, settings.tessFactor));
             ASSERT_TRUE(mesh.ok());
             EXPECT_EQ(displaced.back().stats.triangles, mesh->indices.size() / 3) << path;
@@ -282,9 +312,37 @@ TEST(SchemePlugins, DrawTheDisplacementOnTheirOwnSurface) {
             EXPECT_LT(differingPixels(displaced[0], displaced[1], 40), 0.001) << "tess and cpu paths differ when displaced";
         }
     }
-    destroyOffscreenTarget(ctx, *target);
-    EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
-    destroyContext(ctx);
+}
+
+
+// After a dab (samples changed in place) displacementChanged re-displaces only what the dab
+// reached, and the picture is exactly the one a full update draws, for every scheme that draws
+// a CPU mesh.
+TEST_F(DisplacedSchemes, ADabUpdatesThePictureExactlyAsAFullUpdate) {
+    for (const char* name : {"uniform", "osd-fas", "acc1", "acc2", "pn", "stam"}) {
+        SCOPED_TRACE(name);
+        SchemeSettings settings;
+        settings.tessFactor = 8;
+        Result<PreparedScheme> prepared = prepareScheme(catalog(), name, *planned, features, settings, gpu, "cube", &bumps);
+        ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+        const Picture before = draw(prepared->instance);
+        // A dab's worth of change: a run of tile samples and a shared point.
+        std::vector<uint32_t> changed;
+        const uint32_t first = bumps.layout.tileSampleBegin() + 40;
+        for (uint32_t k = first; k < first + 60; ++k) changed.push_back(k);
+        changed.push_back(5);
+        const std::vector<float> saved = bumps.samples;
+        for (uint32_t k : changed) bumps.samples[k] += 0.05f * computeBounds(planned->cage()).diagonal();
+        ASSERT_TRUE(prepared->instance.displacementChanged(changed).ok());
+        const Picture updated = draw(prepared->instance);
+        ASSERT_TRUE(prepared->instance.update().ok());
+        const Picture rebuilt = draw(prepared->instance);
+        EXPECT_GT(differingPixels(before, updated, 40), 0.0005) << "the change did not show";
+        EXPECT_EQ(updated.pixels, rebuilt.pixels) << "the incremental update differs from a full update";
+        EXPECT_EQ(updated.stats.triangles, rebuilt.stats.triangles);
+        bumps.samples = saved;
+        EXPECT_TRUE(prepared->instance.destroyGpu().ok());
+    }
 }
 
 // ---- The tessellation shaders against the CPU evaluation -----------------------------------

@@ -125,7 +125,8 @@ template <class Op>
 Result<EditReport> performTopology(Document& doc, const Op& op, const std::string& name, TopologyEdit* applied) {
     if (!doc.scene.displacement.empty())
         return Error{"this scene carries sculpted displacement, which follows the cage's topology: topology edits "
-                     "would invalidate it (vertex moves, creases and holes are fine)"};
+                     "would invalidate it (vertex moves, creases and holes are fine). Clear it first (Sculpt panel: "
+                     "Clear; undo brings it back)"};
     Result<TopologyEdit> edit = operation(doc, op);
     if (!edit) return edit.error();
     *applied = *edit;  // the result selection is read after the history takes the edit

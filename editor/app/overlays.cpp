@@ -96,8 +96,8 @@ void drawHeatLegend(ImDrawList* list, const HeatMap& heat, ImVec2 corner) {
     list->AddText(ImVec2(bar.x, bar.y - 18), rgba(1, 1, 1), text);
 }
 
-// The brush: a circle of its radius on the tangent plane at the surface under the cursor, and
-// a tick along the normal; in its stroke's colour while painting.
+// The brush: a circle of its radius on the tangent plane at the surface under the cursor (lifted
+// to the displaced surface), and a tick along the normal; in its stroke's colour while painting.
 void drawBrush(ImDrawList* list, const EditorApp& app, const ViewportState& v, const ToWindow& at) {
     const SurfaceHit& hit = *app.ui.brushHover;
     const bool stroking = app.drag.kind == DragKind::Sculpt;
@@ -115,14 +115,14 @@ void drawBrush(ImDrawList* list, const EditorApp& app, const ViewportState& v, c
     constexpr int kSegments = 64;
     for (int k = 0; k < kSegments; ++k) {
         const float angle = 6.2831853f * float(k) / float(kSegments);
-        const PickView::Projected p = view.project(hit.position + radius * (std::cos(angle) * t + std::sin(angle) * b));
+        const PickView::Projected p = view.project(hit.displaced + radius * (std::cos(angle) * t + std::sin(angle) * b));
         if (!p.inFront) return;
         points.push_back(at(p.pixel));
     }
     list->AddPolyline(points.data(), int(points.size()), kShadow, ImDrawFlags_Closed, 3.5f);
     list->AddPolyline(points.data(), int(points.size()), color, ImDrawFlags_Closed, stroking ? 2.0f : 1.5f);
-    const PickView::Projected centre = view.project(hit.position);
-    const PickView::Projected tip = view.project(hit.position + (lowering ? -0.5f : 0.5f) * radius * n);
+    const PickView::Projected centre = view.project(hit.displaced);
+    const PickView::Projected tip = view.project(hit.displaced + (lowering ? -0.5f : 0.5f) * radius * n);
     if (centre.inFront && tip.inFront) list->AddLine(at(centre.pixel), at(tip.pixel), color, 1.5f);
 }
 

@@ -44,7 +44,10 @@ std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, 
     const LimitPicker::Hit hit = limitPicker(app.picking, *app.doc, app.documentGeneration).intersect(planned, view.rayThrough(pixel));
     if (hit.subface == kNoHit) return std::nullopt;
     const LimitSample sample = planned.evaluate(hit.subface, hit.u, hit.v);
-    return SurfaceHit{hit.position, limitNormal(planned, hit.subface, hit.u, hit.v, sample)};
+    SurfaceHit out{hit.position, limitNormal(planned, hit.subface, hit.u, hit.v, sample), hit.position};
+    const Displacement& d = app.doc->scene.displacement;
+    if (!d.empty()) out.displaced += evaluateDisplacement(d, hit.subface, hit.u, hit.v).value * out.normal;
+    return out;
 }
 
 StrokeOptions sculptStrokeOptions(const EditorApp& app, bool ctrl, bool shift) {

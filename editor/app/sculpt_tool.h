@@ -27,9 +27,10 @@ struct SculptSettings {
     uint32_t resolution = 16;  // of a new displacement, and what "Apply resolution" sets
 };
 
-// The limit surface under a cursor (framebuffer pixels) and its unit normal there.
+// The limit surface under a cursor (framebuffer pixels), its unit normal there, and where the
+// displaced surface is at that point (position + D normal: where the brush circle is drawn).
 struct SurfaceHit {
-    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f};
+    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, displaced{0.0f};
 };
 std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, glm::vec2 cursor);
 

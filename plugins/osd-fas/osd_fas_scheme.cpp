@@ -5,7 +5,8 @@
 //
 // Displacement: the patches' surface (evaluateFas) on a grid of at least the tessellation
 // factor and the tiles' required factor, displaced along its own normal and made watertight
-// through displacedSchemeMesh (scheme_support.h).
+// through a DisplacedDrawing (displaced_drawing.h: a dab re-displaces only what it reached).
+#include "displaced_drawing.h"
 #include "mesh_pass.h"
 #include "osd_fas_patches.h"
 #include "scheme_api.h"
@@ -47,16 +48,15 @@ public:
         updateFasPoints(patches_, planned_->cage().positions);
         if (!ctx_) return success();
         if (displacement_) {
-            Result<SchemeMesh> displaced =
-                displacedSchemeMesh(*this, *planned_, *displacement_, displacedGridFactor(*planned_, *displacement_, factor_));
-            if (!displaced) return displaced.error();
             if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
-            triangles_ = displaced->indices.size() / 3;
-            Result<GpuMesh> mesh = uploadMesh(*ctx_, displaced->vertices, displaced->indices);
-            if (!mesh) return mesh.error();
-            mesh_ = *mesh;
+            mesh_ = GpuMesh{};
+            const uint32_t factor = displacedGridFactor(*planned_, *displacement_, factor_);
+            if (Status built = buildDisplacedDrawing(displaced_, *ctx_, *this, *planned_, *displacement_, factor); !built)
+                return built;
+            triangles_ = displaced_.gpu.indexCount / 3;
             return success();
         }
+        destroyDisplacedDrawing(displaced_);
         triangles_ = patches_.indices.size() / 3;
         std::vector<glm::vec3> positions, normals;
         tessellateFas(patches_, positions, normals);
@@ -71,14 +71,19 @@ public:
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        MeshDraw draw{&mesh_, glm::vec3(0.8f), true, view.wireframe};
+        MeshDraw draw{displacement_ ? &displaced_.gpu : &mesh_, glm::vec3(0.8f), true, view.wireframe};
         recordMeshPass(cmd, pass_, target, MeshView{view.viewProjection, view.eye, view.background},
-                       mesh_.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
+                       draw.mesh->indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
         return DrawStats{patches_.layout.size(), triangles_};
     }
 
     Status setDisplacement(const Displacement* displacement) override {
         displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
+        return success();
+    }
+
+    Status displacementChanged(std::span<const uint32_t> samples) override {
+        if (displacement_) updateDisplacedDrawing(displaced_, *displacement_, samples);
         return success();
     }
 
@@ -93,13 +98,14 @@ public:
         SchemeStats stats;
         stats.patches = patches_.layout.size();
         stats.controlPoints = patches_.points.size() - planned_->cage().vertexCount();
-        stats.gpuBytes = mesh_.vertices.size + mesh_.indices.size;
+        stats.gpuBytes = mesh_.vertices.size + mesh_.indices.size + displaced_.gpu.vertices.size + displaced_.gpu.indices.size;
         return stats;
     }
 
     void destroyGpu() override {
         if (!ctx_) return;
         if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        destroyDisplacedDrawing(displaced_);
         destroyMeshPass(*ctx_, pass_);
         ctx_ = nullptr;
     }
@@ -112,7 +118,8 @@ private:
     const Displacement* displacement_ = nullptr;
     const VulkanContext* ctx_ = nullptr;
     MeshPass pass_;
-    GpuMesh mesh_;
+    GpuMesh mesh_;                // undisplaced
+    DisplacedDrawing displaced_;  // with a displacement
 };
 
 }  // namespace

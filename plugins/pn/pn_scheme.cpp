@@ -102,6 +102,11 @@ public:
         setGridDisplacement(grid_, displacement);
         return success();
     }
+    // After a dab: only the sub-faces reading the changed samples are re-displaced.
+    Status displacementChanged(std::span<const uint32_t> samples) override {
+        gridDisplacementChanged(grid_, samples);
+        return success();
+    }
 
     // du, dv are PN's shading frame: the cubic geometry's derivatives projected onto the plane
     // of the normal patch's normal (as acc1 returns its tangent patches). The geometry is only

@@ -8,11 +8,12 @@
 //
 // Displacement: the refined surface (sampleRefined, its own normals) on a grid of at least
 // 2^L and at least the tiles' required factor, displaced and made watertight through
-// displacedSchemeMesh (scheme_support.h).
+// a DisplacedDrawing (displaced_drawing.h: a dab re-displaces only what it reached).
 #include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "displaced_drawing.h"
 #include "mesh_pass.h"
 #include "scheme_api.h"
 #include "scheme_support.h"
@@ -76,15 +77,13 @@ public:
         triangles_ = indices_.size() / 3;
         if (indices_.empty()) return success();
         if (displacement_) {
-            Result<SchemeMesh> displaced = displacedSchemeMesh(
-                *this, *planned_, *displacement_, displacedGridFactor(*planned_, *displacement_, 1u << level_));
-            if (!displaced) return displaced.error();
-            triangles_ = displaced->indices.size() / 3;
-            Result<GpuMesh> mesh = uploadMesh(*ctx_, displaced->vertices, displaced->indices);
-            if (!mesh) return mesh.error();
-            mesh_ = *mesh;
+            const uint32_t factor = displacedGridFactor(*planned_, *displacement_, 1u << level_);
+            if (Status built = buildDisplacedDrawing(displaced_, *ctx_, *this, *planned_, *displacement_, factor); !built)
+                return built;
+            triangles_ = displaced_.gpu.indexCount / 3;
             return success();
         }
+        destroyDisplacedDrawing(displaced_);
         std::vector<MeshVertex> vertices(finest_.size());
         for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = {finest_[i], normals_[i]};
         Result<GpuMesh> mesh = uploadMesh(*ctx_, vertices, indices_);
@@ -95,14 +94,20 @@ public:
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         const MeshView meshView{view.viewProjection, view.eye, view.background};
-        MeshDraw draw{&mesh_, glm::vec3(0.8f), true, view.wireframe};
+        const GpuMesh& mesh = displacement_ ? displaced_.gpu : mesh_;
+        MeshDraw draw{&mesh, glm::vec3(0.8f), true, view.wireframe};
         recordMeshPass(cmd, pass_, target, meshView,
-                       mesh_.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
+                       mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
         return DrawStats{0, triangles_};
     }
 
     Status setDisplacement(const Displacement* displacement) override {
         displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
+        return success();
+    }
+
+    Status displacementChanged(std::span<const uint32_t> samples) override {
+        if (displacement_) updateDisplacedDrawing(displaced_, *displacement_, samples);
         return success();
     }
 
@@ -116,13 +121,14 @@ public:
     SchemeStats stats() const override {
         SchemeStats stats;
         stats.controlPoints = refinement_.levelOffset.empty() ? 0 : refinement_.levelOffset.back() - refinement_.levelOffset[1];
-        stats.gpuBytes = mesh_.vertices.size + mesh_.indices.size;
+        stats.gpuBytes = mesh_.vertices.size + mesh_.indices.size + displaced_.gpu.vertices.size + displaced_.gpu.indices.size;
         return stats;
     }
 
     void destroyGpu() override {
         if (!ctx_) return;
         if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
+        destroyDisplacedDrawing(displaced_);
         destroyMeshPass(*ctx_, pass_);
         ctx_ = nullptr;
     }
@@ -145,7 +151,8 @@ private:
 
     const VulkanContext* ctx_ = nullptr;
     MeshPass pass_;
-    GpuMesh mesh_;
+    GpuMesh mesh_;                // undisplaced
+    DisplacedDrawing displaced_;  // with a displacement
 };
 
 }  // namespace
