@@ -496,6 +496,12 @@ Result<EditReport> clearDisplacement(Document& doc, uint64_t frame) {
     return replaceDisplacement(doc, "Clear displacement", Displacement{}, frame);
 }
 
+glm::vec3 mirrorCentreOf(const Document& doc) {
+    if (doc.sculptSamples) return doc.sculptSamples->centre();
+    const Bounds bounds = computeBounds(doc.planned->cage());
+    return 0.5f * (bounds.min + bounds.max);
+}
+
 const SculptSamples& sculptSamplesOf(Document& doc) {
     if (!doc.sculptSamples) doc.sculptSamples.emplace(SculptSamples::build(*doc.planned, doc.scene.displacement.layout));
     return *doc.sculptSamples;

@@ -167,6 +167,9 @@ void cancelStroke(Document& document);
 // Every sub-face at `resolution` (resampled: the shape stays), or a new zero displacement.
 Result<EditReport> setDisplacementResolution(Document& document, uint32_t resolution, uint64_t frame);
 Result<EditReport> clearDisplacement(Document& document, uint64_t frame);
+// Where the mirror planes of mirrored strokes pass (the samples' bounding-box centre, as the
+// brushes use; the cage's before the first stroke).
+glm::vec3 mirrorCentreOf(const Document& document);
 // The samples cache for the current layout (built on first use).
 const SculptSamples& sculptSamplesOf(Document& document);
 // The samples changed in place since the last call (sorted, each once).

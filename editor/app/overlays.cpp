@@ -98,32 +98,46 @@ void drawHeatLegend(ImDrawList* list, const HeatMap& heat, ImVec2 corner) {
 
 // The brush: a circle of its radius on the tangent plane at the surface under the cursor (lifted
 // to the displaced surface), and a tick along the normal; in its stroke's colour while painting.
-void drawBrush(ImDrawList* list, const EditorApp& app, const ViewportState& v, const ToWindow& at) {
-    const SurfaceHit& hit = *app.ui.brushHover;
-    const bool stroking = app.drag.kind == DragKind::Sculpt;
-    const StrokeOptions options = stroking ? app.drag.stroke : sculptStrokeOptions(app, ImGui::GetIO().KeyCtrl, ImGui::GetIO().KeyShift);
-    const float radius = options.brush.radius;
-    const glm::vec3 n = hit.normal;
-    const glm::vec3 t = glm::normalize(std::abs(n.x) < 0.9f ? glm::cross(n, glm::vec3(1, 0, 0)) : glm::cross(n, glm::vec3(0, 1, 0)));
-    const glm::vec3 b = glm::cross(n, t);
-    const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
-    const bool lowering = options.brush.kind == BrushKind::Lower;
-    const ImU32 color = options.brush.kind == BrushKind::Raise ? rgba(1.0f, 0.55f, 0.2f)
-                        : lowering                             ? rgba(0.35f, 0.65f, 1.0f)
-                                                               : rgba(0.85f, 0.85f, 0.85f);
+void drawBrushCircle(ImDrawList* list, const PickView& view, const ToWindow& at, const glm::vec3& centre,
+                     const glm::vec3& normal, float radius, bool lowering, ImU32 color, float thickness) {
+    const glm::vec3 t =
+        glm::normalize(std::abs(normal.x) < 0.9f ? glm::cross(normal, glm::vec3(1, 0, 0)) : glm::cross(normal, glm::vec3(0, 1, 0)));
+    const glm::vec3 b = glm::cross(normal, t);
     std::vector<ImVec2> points;
     constexpr int kSegments = 64;
     for (int k = 0; k < kSegments; ++k) {
         const float angle = 6.2831853f * float(k) / float(kSegments);
-        const PickView::Projected p = view.project(hit.displaced + radius * (std::cos(angle) * t + std::sin(angle) * b));
+        const PickView::Projected p = view.project(centre + radius * (std::cos(angle) * t + std::sin(angle) * b));
         if (!p.inFront) return;
         points.push_back(at(p.pixel));
     }
-    list->AddPolyline(points.data(), int(points.size()), kShadow, ImDrawFlags_Closed, 3.5f);
-    list->AddPolyline(points.data(), int(points.size()), color, ImDrawFlags_Closed, stroking ? 2.0f : 1.5f);
-    const PickView::Projected centre = view.project(hit.displaced);
-    const PickView::Projected tip = view.project(hit.displaced + (lowering ? -0.5f : 0.5f) * radius * n);
-    if (centre.inFront && tip.inFront) list->AddLine(at(centre.pixel), at(tip.pixel), color, 1.5f);
+    list->AddPolyline(points.data(), int(points.size()), kShadow, ImDrawFlags_Closed, thickness + 2.0f);
+    list->AddPolyline(points.data(), int(points.size()), color, ImDrawFlags_Closed, thickness);
+    const PickView::Projected c = view.project(centre), tip = view.project(centre + (lowering ? -0.5f : 0.5f) * radius * normal);
+    if (c.inFront && tip.inFront) list->AddLine(at(c.pixel), at(tip.pixel), color, 1.5f);
+}
+
+// The brush: a circle of its radius on the tangent plane at the surface under the cursor (lifted
+// to the displaced surface), a tick along the normal, in its stroke's colour while painting;
+// with mirror symmetry a fainter one where the mirrored dab lands.
+void drawBrush(ImDrawList* list, const EditorApp& app, const ViewportState& v, const ToWindow& at) {
+    const SurfaceHit& hit = *app.ui.brushHover;
+    const bool stroking = app.drag.kind == DragKind::Sculpt;
+    const StrokeOptions options = stroking ? app.drag.stroke : sculptStrokeOptions(app, ImGui::GetIO().KeyCtrl, ImGui::GetIO().KeyShift);
+    const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
+    const bool lowering = options.brush.kind == BrushKind::Lower;
+    const glm::vec3 rgb = options.brush.kind == BrushKind::Raise ? glm::vec3(1.0f, 0.55f, 0.2f)
+                          : lowering                             ? glm::vec3(0.35f, 0.65f, 1.0f)
+                                                                 : glm::vec3(0.85f);
+    const float radius = options.brush.radius;
+    drawBrushCircle(list, view, at, hit.displaced, hit.normal, radius, lowering, rgba(rgb.r, rgb.g, rgb.b), stroking ? 2.0f : 1.5f);
+    if (options.mirror == MirrorAxis::None) return;
+    const int axis = int(options.mirror) - 1;
+    const glm::vec3 mirrorCentre = mirrorCentreOf(*app.doc);
+    glm::vec3 centre = hit.displaced, normal = hit.normal;
+    centre[axis] = 2.0f * mirrorCentre[axis] - centre[axis];
+    normal[axis] = -normal[axis];
+    drawBrushCircle(list, view, at, centre, normal, radius, lowering, rgba(rgb.r, rgb.g, rgb.b, 0.5f), 1.0f);
 }
 
 }  // namespace
