@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include "brush.h"
+#include "displacement_edit.h"
 #include "displacement.h"
 #include "planned_cage.h"
 #include "sculpt_samples.h"
@@ -393,6 +394,46 @@ TEST(Brush, AStrokeGivenInPiecesDabsWhereTheWholePathDoes) {
     sculptor.beginStroke();
     EXPECT_GT(sculptor.dabTo(options, path[0]), 0u);
     EXPECT_EQ(sculptor.endStroke().dabs, 1u);
+}
+
+// The history entry of a stroke or a replacement: redo and undo restore the bits, and the
+// listener hears of every change (the editor's renderer and caches depend on it).
+TEST(DisplacementEdit, StrokesAndReplacementsUndoRedoAndTellTheListener) {
+    Sculpt s(test::makeGrid(4), 4);
+    std::vector<DisplacementChange> heard;  // spans not kept: heardSamples has the copies
+    std::vector<std::vector<SampleChange>> heardSamples;
+    auto listener = [&](const DisplacementChange& c) {
+        heard.push_back(c);
+        heardSamples.emplace_back(c.samples.begin(), c.samples.end());
+    };
+    const std::vector<float> zero = s.displacement.samples;
+    StrokeOptions options{{BrushKind::Raise, 0.6f, 0.2f, Falloff::Smooth}};
+    StrokeRecord record = applyStroke(s.displacement, *s.samples, options, std::vector<glm::vec3>{{1.5f, 1.5f, 0.0f}});
+    ASSERT_FALSE(record.changes.empty());
+    const std::vector<float> raised = s.displacement.samples;
+    EditHistory history;
+    ASSERT_TRUE(history.perform(*s.planned, "Stroke", std::make_unique<DisplacementEdit>(s.displacement, record, listener)).ok());
+    EXPECT_EQ(s.displacement.samples, raised) << "performing re-applies the after values";
+    ASSERT_TRUE(history.undo(*s.planned).ok());
+    EXPECT_EQ(s.displacement.samples, zero);
+    ASSERT_TRUE(history.redo(*s.planned).ok());
+    EXPECT_EQ(s.displacement.samples, raised);
+    ASSERT_EQ(heard.size(), 3u);
+    for (size_t k = 0; k < heard.size(); ++k) {
+        EXPECT_FALSE(heard[k].newLayout);
+        EXPECT_EQ(heardSamples[k].size(), record.changes.size());
+    }
+    const Displacement before = s.displacement;
+    Displacement cleared;
+    ASSERT_TRUE(history.perform(*s.planned, "Clear", std::make_unique<DisplacementEdit>(s.displacement, before, cleared, listener)).ok());
+    EXPECT_TRUE(s.displacement.empty());
+    ASSERT_TRUE(history.undo(*s.planned).ok());
+    EXPECT_EQ(s.displacement, before);
+    EXPECT_TRUE(heard.back().newLayout);
+    EXPECT_GT(history.bytes(), displacementBytes(before)) << "the replacement's memory counts in the history's budget";
+    EXPECT_FALSE(checkDisplacementResolution(12));
+    EXPECT_FALSE(checkDisplacementResolution(0));
+    EXPECT_TRUE(checkDisplacementResolution(64));
 }
 
 TEST(Brush, ValidationAndUploadRanges) {
