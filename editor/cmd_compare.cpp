@@ -315,7 +315,11 @@ int runCompare(const CompareArgs& args) {
             settings.planDepth = args.depth;
             for (const auto& [scheme, option] : options)
                 if (scheme == r.name) settings.options.push_back(option);
-            Result<PreparedScheme> prepared = prepareScheme(catalog, r.name, *planned, features, settings, gpu, args.path);
+            // The tiles show the scene's sculpted displacement; the error is the undisplaced
+            // surface's (Scheme::evaluate), against the exact limit surface.
+            const Displacement* displacement = scene->displacement.empty() ? nullptr : &scene->displacement;
+            Result<PreparedScheme> prepared =
+                prepareScheme(catalog, r.name, *planned, features, settings, gpu, args.path, displacement);
             if (!prepared) {
                 r.reason = prepared.error().message;
                 std::fprintf(stderr, "error: %s\n", r.reason.c_str());

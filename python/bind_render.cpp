@@ -195,7 +195,8 @@ installed with this module).
              py::arg("tess") = py::none(), py::arg("adaptive") = py::none(), py::arg("wireframe") = false,
              py::arg("cage") = py::none(), py::arg("color_by") = "shading", py::arg("options") = py::none(),
              py::arg("out") = py::none(), py::arg("renderer") = py::none(),
-             R"doc(Draws the limit surface through a scheme plugin, as `quadplan render` does, and returns the picture
+             R"doc(Draws the limit surface through a scheme plugin (with the scene's sculpted displacement, each scheme
+along its own normal), as `quadplan render` does, and returns the picture
 as a (height, width, 4) uint8 array (sRGB, rows top to bottom); out="file.png" also writes it.
 
 scheme: a loaded plugin ("plans", "osd-fas", "uniform", ...); camera: a quadplan.Camera (default:

@@ -63,6 +63,11 @@ Result<PlannedAtDepth> plannedAtDepth(const SceneDocument& document, uint32_t de
     return out;
 }
 
+// The scene's sculpted displacement, for the schemes to draw (none when it has none).
+const Displacement* displacementOf(const SceneDocument& document) {
+    return document.displacement().empty() ? nullptr : &document.displacement();
+}
+
 }  // namespace
 
 void setDefaultPluginDirectory(const std::string& directory) {
@@ -172,7 +177,8 @@ Result<RenderedImage> HeadlessRenderer::render(const SceneDocument& document, co
     if (!camera) return camera.error();
 
     const CageFeatures features = analyzeCage(planned.cage(), planned.topology());
-    Result<PreparedScheme> prepared = prepareScheme(catalog_, request.scheme, planned, features, settings, gpu(), document.source());
+    Result<PreparedScheme> prepared = prepareScheme(catalog_, request.scheme, planned, features, settings, gpu(),
+                                                    document.source(), displacementOf(document));
     if (!prepared) return prepared.error();
     Defer releaseScheme{[&] { (void)prepared->instance.destroyGpu(); }};
     Result<std::vector<std::string>> modes = prepared->instance.colorModes();
@@ -353,7 +359,9 @@ Result<std::vector<SchemeComparison>> HeadlessRenderer::compare(const SceneDocum
         settings.planDepth = request.depth;
         for (const auto& [scheme, option] : request.options)
             if (scheme == name) settings.options.push_back(option);
-        Result<PreparedScheme> prepared = prepareScheme(catalog_, name, planned, features, settings, gpu(), document.source());
+        // The pictures show the displacement; the error is the undisplaced surface's.
+        Result<PreparedScheme> prepared =
+            prepareScheme(catalog_, name, planned, features, settings, gpu(), document.source(), displacementOf(document));
         if (!prepared) {
             r.reason = prepared.error().message;
             results.push_back(std::move(r));

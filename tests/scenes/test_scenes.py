@@ -237,11 +237,17 @@ def test_stroke_displaces_and_undoes(cube, renderer, view, golden):
     samples = cube.displacement_samples
     assert samples.max() > 0 and samples.min() >= 0  # a raise brush only raises
     golden("stroke", cube.render_displaced(size=SIZE, camera=view, cage=False, renderer=renderer))
+    # render() draws it through the scheme (compared with the undone stroke below).
+    plans = cube.render("plans", size=SIZE, camera=view, cage=False, renderer=renderer)
     with pytest.raises(qp.Error, match="displacement"):
         cube.extrude([0], 0.5)
     # Two history entries: the zero displacement and the stroke.
     cube.undo()
     assert cube.has_displacement and cube.displacement_samples.max() == 0
+    flat = cube.render("plans", size=SIZE, camera=view, cage=False, renderer=renderer)
+    # A gentle bump: its shading differs by more than 8 levels on ~190 pixels here.
+    bumped_pixels = (np.abs(plans.astype(int) - flat.astype(int)).max(axis=2) > 8).sum()
+    assert bumped_pixels > 0.005 * SIZE[0] * SIZE[1], "the stroke does not show in render()"
     cube.undo()
     assert not cube.has_displacement
     cube.redo(); cube.redo()
