@@ -80,12 +80,14 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
     }
     result.fullUploadMs = medianOf(full);
 
-    // A brush a few faces wide (4% of the bounding-box diagonal) with every brush, and a big
-    // one (12%, about 9 times the samples) raising.
+    // A brush a few faces wide (4% of the bounding-box diagonal) with every brush, and big ones
+    // (12% and 20%, about 9 and 25 times the samples): raising, and the two brushes whose
+    // new values read more than the sample itself.
     const float diagonal = computeBounds(cage).diagonal();
-    const std::pair<BrushKind, float> brushes[] = {{BrushKind::Raise, 0.04f},   {BrushKind::Smooth, 0.04f},
-                                                   {BrushKind::Flatten, 0.04f}, {BrushKind::Erase, 0.04f},
-                                                   {BrushKind::Raise, 0.12f}};
+    const std::pair<BrushKind, float> brushes[] = {
+        {BrushKind::Raise, 0.04f}, {BrushKind::Smooth, 0.04f}, {BrushKind::Flatten, 0.04f},
+        {BrushKind::Erase, 0.04f}, {BrushKind::Raise, 0.12f},  {BrushKind::Raise, 0.20f},
+        {BrushKind::Smooth, 0.20f}, {BrushKind::Flatten, 0.20f}};
     std::vector<uint32_t> sited;
     for (uint32_t i = 0; i < samples.sampleCount(); ++i)
         if (samples.hasSite(i)) sited.push_back(i);
