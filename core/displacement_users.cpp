@@ -1,6 +1,7 @@
 #include "displacement_users.h"
 
 #include <algorithm>
+#include <bit>
 
 namespace qp {
 
@@ -41,28 +42,41 @@ DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout) {
 
 std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, const DisplacementUsers& users,
                                              std::span<const uint32_t> samples) {
-    std::vector<uint32_t> out;
-    const uint32_t segmentBegin = layout.segmentSampleBegin(), tileBegin = layout.tileSampleBegin();
-    auto append = [&](const std::vector<uint32_t>& offsets, const std::vector<uint32_t>& values, uint32_t key) {
-        out.insert(out.end(), values.begin() + offsets[key], values.begin() + offsets[key + 1]);
+    // A bitmap of sub-faces (sorted and unique for free). A brush's samples come in runs from
+    // one tile or segment: the last run's range skips the search for the rest of it.
+    std::vector<uint64_t> reading((layout.subfaces.size() + 63) / 64, 0);
+    auto mark = [&](uint32_t subface) { reading[subface / 64] |= uint64_t(1) << (subface % 64); };
+    auto markAll = [&](const std::vector<uint32_t>& offsets, const std::vector<uint32_t>& values, uint32_t key) {
+        for (uint32_t k = offsets[key]; k < offsets[key + 1]; ++k) mark(values[k]);
     };
+    const uint32_t segmentBegin = layout.segmentSampleBegin(), tileBegin = layout.tileSampleBegin();
+    uint32_t runBegin = 0, runEnd = 0;  // samples of the last tile or segment found
     for (uint32_t sample : samples) {
+        if (sample >= runBegin && sample < runEnd) continue;
         if (sample < segmentBegin) {
-            append(users.pointOffsets, users.pointSubfaces, sample);
+            markAll(users.pointOffsets, users.pointSubfaces, sample);
         } else if (sample < tileBegin) {
             // Segments are stored in offset order; the last one starting at or before the
             // sample holds it (segments without interior samples share their successor's offset).
             auto it = std::upper_bound(layout.segments.begin(), layout.segments.end(), sample,
                                        [](uint32_t x, const DisplacementSegment& s) { return x < s.offset; });
-            append(users.segmentOffsets, users.segmentSubfaces, uint32_t(it - layout.segments.begin()) - 1);
+            const uint32_t segment = uint32_t(it - layout.segments.begin()) - 1;
+            markAll(users.segmentOffsets, users.segmentSubfaces, segment);
+            runBegin = layout.segments[segment].offset;
+            runEnd = runBegin + layout.segments[segment].resolution - 1;
         } else if (sample < layout.sampleCount) {
             auto it = std::upper_bound(layout.subfaces.begin(), layout.subfaces.end(), sample,
                                        [](uint32_t x, const DisplacementSubface& s) { return x < s.interiorOffset; });
-            out.push_back(uint32_t(it - layout.subfaces.begin()) - 1);
+            const uint32_t subface = uint32_t(it - layout.subfaces.begin()) - 1;
+            mark(subface);
+            const uint32_t R = layout.subfaces[subface].resolution;
+            runBegin = layout.subfaces[subface].interiorOffset;
+            runEnd = runBegin + (R - 1) * (R - 1);
         }
     }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+    std::vector<uint32_t> out;
+    for (uint32_t word = 0; word < reading.size(); ++word)
+        for (uint64_t bits = reading[word]; bits; bits &= bits - 1) out.push_back(word * 64 + uint32_t(std::countr_zero(bits)));
     return out;
 }
 
