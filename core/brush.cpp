@@ -52,6 +52,11 @@ std::string number(float value) {
 // Values are never written as -0, so equal values always have equal bits.
 float canonicalZero(float value) { return value + 0.0f; }
 
+// Dabs reaching fewer samples run on the calling thread.
+constexpr size_t kSerialDab = 8192;
+// Flatten's sums: samples per partial sum.
+constexpr size_t kSumChunk = 4096;
+
 }  // namespace
 
 std::optional<BrushKind> brushKindFromName(std::string_view name) { return fromName(kBrushNames, name); }
@@ -162,7 +167,8 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
     }
 
     affected_.clear();
-    samples_.query(centres[0], brush.radius, affected_);
+    squaredDistances_.clear();
+    samples_.query(centres[0], brush.radius, affected_, centreCount == 1 ? &squaredDistances_ : nullptr);
     if (centreCount > 1) {
         // The mirror image's samples, less those the dab itself reached.
         ++dabSerial_;
@@ -174,32 +180,75 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
                         affected_.end());
     }
     if (affected_.empty()) return 0;
+    const size_t count = affected_.size();
 
+    // Big dabs spread their passes over the cores; each element depends on old values only.
+    auto forEach = [count](size_t grain, const auto& body) {
+        if (count < kSerialDab) {
+            body(size_t(0), count);
+            return;
+        }
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, count, grain),
+                          [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+    };
+
+    // Weights per centre (the mirror image's in the second half).
     std::vector<float>& values = displacement_.samples;
-    auto weight = [&](uint32_t sample, uint32_t c) {
-        float distance = glm::length(samples_.position(sample) - centres[c]);
+    weights_.resize(2 * count);
+    auto weightAt = [&](float distance) {
         if (distance > brush.radius) return 0.0f;
         return brush.strength * falloffWeight(brush.falloff, distance / brush.radius);
     };
+    forEach(4096, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+            const uint32_t s = affected_[k];
+            if (centreCount == 1) {
+                weights_[k] = weightAt(std::sqrt(squaredDistances_[k]));  // glm::length's sqrt(dot)
+                weights_[count + k] = 0.0f;
+                continue;
+            }
+            weights_[k] = weightAt(glm::length(samples_.position(s) - centres[0]));
+            weights_[count + k] = weightAt(glm::length(samples_.position(s) - centres[1]));
+        }
+    });
     auto displaced = [&](uint32_t sample) { return samples_.position(sample) + values[sample] * samples_.normal(sample); };
 
-    // Flatten: per centre, the plane through the weighted mean displaced point.
+    // Flatten: per centre, the plane through the weighted mean displaced point. Sums over
+    // fixed chunks added in order, so the result does not depend on the threads.
     glm::vec3 planePoint[2], planeNormal[2];
     bool havePlane[2] = {false, false};
     if (brush.kind == BrushKind::Flatten) {
-        for (uint32_t c = 0; c < centreCount; ++c) {
-            glm::vec3 point(0.0f), normal(0.0f);
+        struct Sums {
+            glm::vec3 point{0.0f}, normal{0.0f};
             float total = 0.0f;
-            for (uint32_t s : affected_) {
-                float w = weight(s, c);
-                if (w <= 0.0f) continue;
-                point += w * displaced(s);
-                normal += w * samples_.normal(s);
-                total += w;
+        };
+        const size_t chunks = (count + kSumChunk - 1) / kSumChunk;
+        std::vector<Sums> partial(2 * chunks);
+        auto sumChunk = [&](size_t chunk) {
+            for (uint32_t c = 0; c < centreCount; ++c) {
+                Sums& sum = partial[c * chunks + chunk];
+                for (size_t k = chunk * kSumChunk; k < std::min(count, (chunk + 1) * kSumChunk); ++k) {
+                    const float w = weights_[c * count + k];
+                    if (w <= 0.0f) continue;
+                    const uint32_t s = affected_[k];
+                    sum.point += w * displaced(s);
+                    sum.normal += w * samples_.normal(s);
+                    sum.total += w;
+                }
             }
-            if (total > 0.0f && glm::length(normal) > 0.0f) {
-                planePoint[c] = point / total;
-                planeNormal[c] = glm::normalize(normal);
+        };
+        if (chunks == 1) sumChunk(0);
+        else tbb::parallel_for(size_t(0), chunks, sumChunk);
+        for (uint32_t c = 0; c < centreCount; ++c) {
+            Sums sum;
+            for (size_t chunk = 0; chunk < chunks; ++chunk) {
+                sum.point += partial[c * chunks + chunk].point;
+                sum.normal += partial[c * chunks + chunk].normal;
+                sum.total += partial[c * chunks + chunk].total;
+            }
+            if (sum.total > 0.0f && glm::length(sum.normal) > 0.0f) {
+                planePoint[c] = sum.point / sum.total;
+                planeNormal[c] = glm::normalize(sum.normal);
                 havePlane[c] = true;
             }
         }
@@ -207,11 +256,11 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
 
     // New values from old ones only, then written together: the dab and its mirror image do
     // not see each other's effect, so neither order nor overlap breaks the symmetry.
-    newValues_.resize(affected_.size());
+    newValues_.resize(count);
     auto update = [&](size_t k) {
         const uint32_t s = affected_[k];
         const float d = values[s];
-        float w[2] = {weight(s, 0), centreCount > 1 ? weight(s, 1) : 0.0f};
+        float w[2] = {weights_[k], weights_[count + k]};
         float total = w[0] + w[1];
         float next = d;
         switch (brush.kind) {
@@ -243,14 +292,9 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
         }
         newValues_[k] = canonicalZero(next);
     };
-    // Each new value reads old values only: big dabs spread over the cores.
-    if (affected_.size() < 8192) {
-        for (size_t k = 0; k < affected_.size(); ++k) update(k);
-    } else {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, affected_.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
-            for (size_t k = r.begin(); k != r.end(); ++k) update(k);
-        });
-    }
+    forEach(2048, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) update(k);
+    });
 
     uint32_t changed = 0;
     for (size_t k = 0; k < affected_.size(); ++k) {

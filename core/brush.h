@@ -127,7 +127,7 @@ private:
     // Scratch reused between dabs; dabStamp_ tells the mirror image's samples from the dab's.
     std::vector<uint32_t> affected_, dabStamp_;
     uint32_t dabSerial_ = 0;
-    std::vector<float> newValues_;
+    std::vector<float> squaredDistances_, weights_, newValues_;
 };
 
 // One whole stroke: begin, dabs along the path, end.

@@ -77,8 +77,10 @@ public:
         return {neighbours_.data() + neighbourOffsets_[sample], neighbours_.data() + neighbourOffsets_[sample + 1]};
     }
 
-    // Appends every sited sample whose position lies within `radius` of `centre` (unordered).
-    void query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out) const;
+    // Appends every sited sample whose position lies within `radius` of `centre` (unordered),
+    // and with `squaredDistances` the squared distance of each (glm::dot(p - centre, p - centre)).
+    void query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out,
+               std::vector<float>* squaredDistances = nullptr) const;
 
     // Centre of the positions' bounding box (the mirror planes pass through it).
     glm::vec3 centre() const { return 0.5f * (boundsMin_ + boundsMax_); }
@@ -101,6 +103,10 @@ private:
     float cellSize_ = 1.0f, slack_ = 0.0f;
     std::vector<uint64_t> cellKeys_;
     std::vector<uint32_t> cellOffsets_, cellSamples_;
+    // The positions of cellSamples_ in their order (queries read them in sequence, not
+    // scattered over positions_), and where each sited sample is in it.
+    std::vector<glm::vec3> cellPositions_;
+    std::vector<uint32_t> cellIndexOfSample_;
     // Kept between index builds: fresh allocations of this size cost page faults every time.
     std::vector<uint32_t> scratchSited_;
     std::vector<std::pair<uint64_t, uint32_t>> scratchKeyed_;
