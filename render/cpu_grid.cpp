@@ -1,9 +1,14 @@
 #include "cpu_grid.h"
 
+#include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 
 #include <glm/geometric.hpp>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 #include "patch_basis.h"
 
 #include <tbb/blocked_range.h>
@@ -15,6 +20,7 @@ namespace {
 
 // Sub-faces per task: a few thousand evaluations, so scheduling is noise.
 constexpr size_t kGrain = 16;
+constexpr uint32_t kMaxGridFactor = 64;
 
 // Drawn sub-faces list[0 .. count), or 0 .. count when `list` is null.
 template <class Body>
@@ -43,32 +49,146 @@ GridFrame frameOf(const PlannedCage& planned, const LimitSample& s, uint32_t sub
     return frame;
 }
 
-// s + D N along the frame's unit normal, with displacePoint's shading normal.
-GridVertex displacedVertex(const GridFrame& frame, const Displacement& displacement, uint32_t subface, float u, float v) {
-    const DisplacedPoint p = displacePoint(frame.position, frame.du, frame.dv, unitNormalOf(frame.du, frame.dv),
-                                           evaluateDisplacement(displacement, subface, u, v));
-    return GridVertex{{p.position.x, p.position.y, p.position.z}, {p.normal.x, p.normal.y, p.normal.z}};
-}
-
-// Where phase 1 writes: the grid, and with a displacement optionally the frames.
+// Where phase 1 writes: the grid, or with a displacement the frames (displaced afterwards,
+// a sub-face at a time, by displaceSlots).
 struct Output {
     GridVertex* grid;
     const Displacement* displacement;
     GridFrame* frames;
 
     // Slot `slot` of sub-face `subface` at (u, v): the limit point and the unit normal of
-    // du x dv (zero where that vanishes), or with a displacement the displaced vertex.
+    // du x dv (zero where that vanishes), or with a displacement the frame.
     void write(const PlannedCage& planned, uint32_t slot, const LimitSample& s, uint32_t subface, float u, float v) const {
         if (!displacement) {
             const glm::vec3 n = unitNormalOf(s.du, s.dv);
             grid[slot] = GridVertex{{s.position.x, s.position.y, s.position.z}, {n.x, n.y, n.z}};
             return;
         }
-        const GridFrame frame = frameOf(planned, s, subface, u, v);
-        if (frames) frames[slot] = frame;
-        grid[slot] = displacedVertex(frame, *displacement, subface, u, v);
+        frames[slot] = frameOf(planned, s, subface, u, v);
     }
 };
+
+// ---- displacing slots from their frames ------------------------------------------------
+// s + D N along the frame's unit normal (unitNormalOf) with displacePoint's shading normal,
+// for many slots at once: frames and D values are gathered into a structure of arrays and
+// the arithmetic runs on SSE lanes, four slots per instruction. Each lane performs
+// displacePoint's and unitNormalOf's IEEE operations in their order (no fused multiply-add:
+// the build does not enable FMA), so a slot gets the same bits as the scalar functions,
+// which the other targets use and the tests compare with.
+class SlotDisplacer {
+public:
+    explicit SlotDisplacer(GridVertex* grid) : grid_(grid) {}
+    ~SlotDisplacer() { flush(); }
+
+    void add(uint32_t slot, const GridFrame& f, const DisplacementValue& d) {
+        const uint32_t k = count_++;
+        slot_[k] = slot;
+        px_[k] = f.position.x, py_[k] = f.position.y, pz_[k] = f.position.z;
+        ux_[k] = f.du.x, uy_[k] = f.du.y, uz_[k] = f.du.z;
+        vx_[k] = f.dv.x, vy_[k] = f.dv.y, vz_[k] = f.dv.z;
+        d_[k] = d.value, ddu_[k] = d.du, ddv_[k] = d.dv;
+        if (count_ == kSize) flush();
+    }
+
+    void flush() {
+        uint32_t k = 0;
+#if defined(__SSE2__)
+        for (; k + 4 <= count_; k += 4) displaceFour(k);
+#endif
+        for (; k < count_; ++k) {
+            const glm::vec3 du(ux_[k], uy_[k], uz_[k]), dv(vx_[k], vy_[k], vz_[k]);
+            const DisplacedPoint p = displacePoint(glm::vec3(px_[k], py_[k], pz_[k]), du, dv, unitNormalOf(du, dv),
+                                                   DisplacementValue{d_[k], ddu_[k], ddv_[k]});
+            grid_[slot_[k]] = GridVertex{{p.position.x, p.position.y, p.position.z}, {p.normal.x, p.normal.y, p.normal.z}};
+        }
+        count_ = 0;
+    }
+
+private:
+    static constexpr uint32_t kSize = 64;
+
+#if defined(__SSE2__)
+    void displaceFour(uint32_t k) {
+        auto load = [k](const float* a) { return _mm_loadu_ps(a + k); };
+        auto cross = [](__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz, __m128* c) {
+            c[0] = _mm_sub_ps(_mm_mul_ps(ay, bz), _mm_mul_ps(by, az));
+            c[1] = _mm_sub_ps(_mm_mul_ps(az, bx), _mm_mul_ps(bz, ax));
+            c[2] = _mm_sub_ps(_mm_mul_ps(ax, by), _mm_mul_ps(bx, ay));
+        };
+        auto length = [](const __m128* c) {  // glm::length: sqrt((x x + y y) + z z)
+            return _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(c[0], c[0]), _mm_mul_ps(c[1], c[1])), _mm_mul_ps(c[2], c[2])));
+        };
+        const __m128 ux = load(ux_), uy = load(uy_), uz = load(uz_), vx = load(vx_), vy = load(vy_), vz = load(vz_);
+        const __m128 zero = _mm_setzero_ps();
+        // unitNormalOf: (du x dv) / length, zero where the length is not positive.
+        __m128 c[3];
+        cross(ux, uy, uz, vx, vy, vz, c);
+        const __m128 l = length(c), positive = _mm_cmpgt_ps(l, zero);
+        __m128 n[3];
+        for (int a = 0; a < 3; ++a) n[a] = _mm_and_ps(positive, _mm_div_ps(c[a], l));
+        // displacePoint.
+        const __m128 d = load(d_), ddu = load(ddu_), ddv = load(ddv_);
+        const __m128 p[3] = {_mm_add_ps(load(px_), _mm_mul_ps(d, n[0])), _mm_add_ps(load(py_), _mm_mul_ps(d, n[1])),
+                             _mm_add_ps(load(pz_), _mm_mul_ps(d, n[2]))};
+        const __m128 fux = _mm_add_ps(ux, _mm_mul_ps(ddu, n[0])), fuy = _mm_add_ps(uy, _mm_mul_ps(ddu, n[1])),
+                     fuz = _mm_add_ps(uz, _mm_mul_ps(ddu, n[2]));
+        const __m128 fvx = _mm_add_ps(vx, _mm_mul_ps(ddv, n[0])), fvy = _mm_add_ps(vy, _mm_mul_ps(ddv, n[1])),
+                     fvz = _mm_add_ps(vz, _mm_mul_ps(ddv, n[2]));
+        __m128 m[3];
+        cross(fux, fuy, fuz, fvx, fvy, fvz, m);
+        const __m128 ml = length(m), shaded = _mm_cmpgt_ps(ml, zero);
+        __m128 normal[3];
+        for (int a = 0; a < 3; ++a)
+            normal[a] = _mm_or_ps(_mm_and_ps(shaded, _mm_div_ps(m[a], ml)), _mm_andnot_ps(shaded, n[a]));
+        alignas(16) float out[6][4];
+        for (int a = 0; a < 3; ++a) {
+            _mm_store_ps(out[a], p[a]);
+            _mm_store_ps(out[3 + a], normal[a]);
+        }
+        for (uint32_t lane = 0; lane < 4; ++lane)
+            grid_[slot_[k + lane]] = GridVertex{{out[0][lane], out[1][lane], out[2][lane]}, {out[3][lane], out[4][lane], out[5][lane]}};
+    }
+#endif
+
+    GridVertex* grid_;
+    uint32_t count_ = 0;
+    uint32_t slot_[kSize];
+    float px_[kSize], py_[kSize], pz_[kSize], ux_[kSize], uy_[kSize], uz_[kSize], vx_[kSize], vy_[kSize], vz_[kSize];
+    float d_[kSize], ddu_[kSize], ddv_[kSize];
+};
+
+// Displaces the evaluated slots of drawn sub-face `drawn` from their frames: all of them, or
+// with `cells` (R x R flags of its displacement grid) those in a flagged cell, the cell
+// evaluateDisplacement reads at the slot. Returns how many.
+uint32_t displaceSlots(const GpuPlanData& data, const GridLayout& layout, uint32_t drawn, const Displacement& displacement,
+                       const bool* cells, const GridFrame* frames, GridVertex* grid) {
+    const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
+    const uint32_t first = layout.subfaceOffset[drawn];
+    const SubfaceDisplacement D(displacement, subface);
+    const uint32_t R = D.resolution();
+    // (u, v) of column / row k as slotParameter computes them, and where in the displacement
+    // grid evaluateDisplacement finds them (displacementCell splits into u and v).
+    float at[kMaxGridFactor + 1];
+    DisplacementCell along[kMaxGridFactor + 1];  // i and fx of column k (= j and fy of row k)
+    for (uint32_t k = 0; k <= n; ++k) {
+        at[k] = float(k) / float(n);
+        along[k] = displacementCell(R, at[k], at[k]);
+    }
+    SlotDisplacer displacer(grid);
+    uint32_t count = 0;
+    for (uint32_t y = 0; y <= n; ++y) {
+        const bool* row = cells ? cells + along[y].j * R : nullptr;
+        const uint32_t* source = layout.source.data() + first + y * (n + 1);
+        for (uint32_t x = 0; x <= n; ++x) {
+            const uint32_t slot = first + y * (n + 1) + x;
+            if (source[x] != slot || (row && !row[along[x].i])) continue;
+            const DisplacementCell c{along[x].i, along[y].j, along[x].fx, along[y].fy};
+            displacer.add(slot, frames[slot], D.isBilinear(c, at[x], at[y]) ? D.bilinear(c) : D.evaluate(at[x], at[y]));
+            ++count;
+        }
+    }
+    return count;
+}
 
 bool isSingleBicubic(const Plan& plan) {
     return plan.nodes.size() == 1 && (plan.nodes[0].kind == NodeKind::Regular || plan.nodes[0].kind == NodeKind::Crease);
@@ -156,21 +276,37 @@ void evaluatePhase(const PlannedCage& planned, const GpuPlanData& data, const Gr
     forEachSubface(list, count, [&](uint32_t drawn) {
         const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
         const Plan& plan = planned.database().plan(planned.subfacePlan(subface));
-        if (isSingleBicubic(plan)) return evaluateBicubicSubface(planned, plan, subface, layout, drawn, out);
-        const uint32_t first = layout.subfaceOffset[drawn], end = layout.subfaceOffset[drawn + 1];
-        for (uint32_t slot = first; slot < end; ++slot) {
-            if (layout.source[slot] != slot) continue;
-            float u, v;
-            slotParameter(slot - first, n, u, v);
-            out.write(planned, slot, planned.evaluate(subface, u, v), subface, u, v);
+        if (isSingleBicubic(plan)) {
+            evaluateBicubicSubface(planned, plan, subface, layout, drawn, out);
+        } else {
+            const uint32_t first = layout.subfaceOffset[drawn], end = layout.subfaceOffset[drawn + 1];
+            for (uint32_t slot = first; slot < end; ++slot) {
+                if (layout.source[slot] != slot) continue;
+                float u, v;
+                slotParameter(slot - first, n, u, v);
+                out.write(planned, slot, planned.evaluate(subface, u, v), subface, u, v);
+            }
         }
+        if (out.displacement) displaceSlots(data, layout, drawn, *out.displacement, nullptr, out.frames, out.grid);
     });
 }
 
 void copyPhase(const GridLayout& layout, const uint32_t* list, size_t count, GridVertex* grid) {
     forEachSubface(list, count, [&](uint32_t drawn) {
-        for (uint32_t slot = layout.subfaceOffset[drawn]; slot < layout.subfaceOffset[drawn + 1]; ++slot)
+        // Copied slots lie on the sub-face's boundary: rows 0 and n, columns 0 and n.
+        const uint32_t first = layout.subfaceOffset[drawn], n = layout.factors.subfaceFactor[drawn];
+        auto copy = [&](uint32_t slot) {
             if (layout.source[slot] != slot) grid[slot] = grid[layout.source[slot]];
+        };
+        for (uint32_t y = 0; y <= n; ++y) {
+            const uint32_t row = first + y * (n + 1);
+            if (y == 0 || y == n) {
+                for (uint32_t x = 0; x <= n; ++x) copy(row + x);
+            } else {
+                copy(row);
+                copy(row + n);
+            }
+        }
     });
 }
 
@@ -189,20 +325,52 @@ void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data,
     copyPhase(layout, nullptr, data.subfaces.size(), grid);
 }
 
-void redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
-                         std::span<const uint32_t> copy, const Displacement& displacement, const GridFrame* frames,
-                         GridVertex* grid) {
-    forEachSubface(evaluate.data(), evaluate.size(), [&](uint32_t drawn) {
-        const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
-        const uint32_t first = layout.subfaceOffset[drawn], end = layout.subfaceOffset[drawn + 1];
-        for (uint32_t slot = first; slot < end; ++slot) {
-            if (layout.source[slot] != slot) continue;
-            float u, v;
-            slotParameter(slot - first, n, u, v);
-            grid[slot] = displacedVertex(frames[slot], displacement, subface, u, v);
+namespace {
+
+// Cells (i, j), 0 <= i, j < R, of a sub-face's displacement grid whose D reads a changed
+// sample (evaluateDisplacement): one of its four corners, or, in the row of cells along an
+// edge finer than the grid, a sample of that edge's segments.
+void markChangedCells(const DisplacementLayout& layout, uint32_t subface, SampleMarks changed, bool* cells) {
+    const DisplacementSubface& sf = layout.subfaces[subface];
+    const uint32_t R = sf.resolution, side = R + 1;
+    bool point[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
+    for (uint32_t j = 0; j < side; ++j)
+        for (uint32_t i = 0; i < side; ++i) point[j * side + i] = changed.marked(gridSample(layout, subface, i, j));
+    for (uint32_t j = 0; j < R; ++j)
+        for (uint32_t i = 0; i < R; ++i)
+            cells[j * R + i] = point[j * side + i] || point[j * side + i + 1] || point[(j + 1) * side + i] ||
+                               point[(j + 1) * side + i + 1];
+    for (uint32_t e = 0; e < 4; ++e) {
+        const DisplacementEdge& edge = sf.edges[e];
+        if (!(edge.flags & kEdgeFiner)) continue;
+        bool any = false;
+        for (uint32_t segment : {edge.segment, edge.secondHalf}) {
+            if (segment == kNoSegment) continue;
+            const DisplacementSegment& s = layout.segments[segment];
+            for (uint32_t k = 0; k <= s.resolution && !any; ++k) any = changed.marked(segmentSample(s, k));
         }
+        if (!any) continue;
+        for (uint32_t k = 0; k < R; ++k) {
+            const uint32_t i = e == 0 || e == 2 ? k : e == 1 ? R - 1 : 0;
+            const uint32_t j = e == 1 || e == 3 ? k : e == 2 ? R - 1 : 0;
+            cells[j * R + i] = true;
+        }
+    }
+}
+
+}  // namespace
+
+uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
+                             std::span<const uint32_t> copy, const Displacement& displacement, SampleMarks changed,
+                             const GridFrame* frames, GridVertex* grid) {
+    std::atomic<uint32_t> displaced{0};
+    forEachSubface(evaluate.data(), evaluate.size(), [&](uint32_t drawn) {
+        bool cells[kMaxDisplacementResolution * kMaxDisplacementResolution];
+        markChangedCells(displacement.layout, data.subfaces[drawn].subface, changed, cells);
+        displaced += displaceSlots(data, layout, drawn, displacement, cells, frames, grid);
     });
     copyPhase(layout, copy.data(), copy.size(), grid);
+    return displaced;
 }
 
 }  // namespace qp

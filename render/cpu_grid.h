@@ -35,8 +35,8 @@ struct GridFrame {
 // cage `data` was packed from, with current control points. With a `displacement` (matching
 // `planned`), evaluated slots hold the displaced point and displacePoint's shading normal (as
 // shaders/plan_grid.comp does); phase 2 copies carry them to the neighbours, so shared
-// vertices stay bit-identical. With `frames` as well (layout.slotCount() of them), each
-// evaluated slot's frame is kept there.
+// vertices stay bit-identical. A displacement needs `frames` (layout.slotCount() of them):
+// each evaluated slot's frame is kept there.
 void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
                        std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid,
                        const Displacement* displacement = nullptr, GridFrame* frames = nullptr);
@@ -45,10 +45,21 @@ void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, cons
 void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
                             GridVertex* grid, const Displacement* displacement = nullptr, GridFrame* frames = nullptr);
 
-// After only the displacement's samples changed: phase 1 for `evaluate` from the kept frames
-// (no surface evaluation), then phase 2 for `copy`. The same bits as evaluateGridOnCpu.
-void redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
-                         std::span<const uint32_t> copy, const Displacement& displacement, const GridFrame* frames,
-                         GridVertex* grid);
+// Samples a brush dab changed: sample s is marked when stamps[s] == serial (a stamp array
+// reused between dabs, with a new serial each time, needs no clearing).
+struct SampleMarks {
+    const uint32_t* stamps;
+    uint32_t serial;
+    bool marked(uint32_t sample) const { return stamps[sample] == serial; }
+};
+
+// After only the displacement's samples changed (those in `changed`): phase 1 from the kept
+// frames (no surface evaluation) for the slots of the drawn sub-faces in `evaluate` whose D
+// reads a changed sample (evaluateDisplacement: the four grid samples around the slot, and
+// the samples of an edge finer than the grid in the row of cells along it), then phase 2 for
+// `copy`. The same bits as evaluateGridOnCpu. Returns the number of slots displaced.
+uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
+                             std::span<const uint32_t> copy, const Displacement& displacement, SampleMarks changed,
+                             const GridFrame* frames, GridVertex* grid);
 
 }  // namespace qp

@@ -15,6 +15,7 @@
 #include "brush.h"
 #include "camera.h"
 #include "cpu_grid.h"
+#include "displacement_users.h"
 #include "displaced_mesh.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
@@ -313,6 +314,64 @@ TEST_F(DisplacementRender, DabUpdatesExactlyWhatAFullEvaluationWould) {
             EXPECT_EQ(std::memcmp(updated.data(), full.data(), full.size() * sizeof(GridVertex)), 0)
                 << what << ": the updated grid differs from a full evaluation";
         }
+        destroyPlanBuffers(ctx, buffers);
+    }
+}
+
+// Big brushes on the CPU grid re-displace only the slots whose D reads a changed sample, from
+// the kept frames, a few at a time on SIMD lanes or one by one: strokes of every brush kind, with
+// mirror symmetry, over resolutions that differ between neighbours (edges finer than their
+// grid), leave the grid bit for bit as a full evaluation does, while re-displacing fewer slots
+// than the sub-faces they touch hold.
+TEST_F(DisplacementRender, LargeBrushStrokesOnTheCpuGridEqualAFullEvaluationBitForBit) {
+    struct Stroke {
+        BrushKind kind;
+        float radius, strength;  // radius in bounding-box diagonals
+        MirrorAxis mirror;
+    };
+    const Stroke strokes[] = {{BrushKind::Raise, 0.12f, 0.05f, MirrorAxis::None},  {BrushKind::Raise, 0.2f, 0.05f, MirrorAxis::X},
+                              {BrushKind::Smooth, 0.2f, 0.5f, MirrorAxis::None},   {BrushKind::Flatten, 0.2f, 0.5f, MirrorAxis::None},
+                              {BrushKind::Lower, 0.12f, 0.05f, MirrorAxis::Y},     {BrushKind::Erase, 0.2f, 0.3f, MirrorAxis::None}};
+    for (auto& [name, cage] : displacementCages()) {
+        PlanDatabase db;
+        PlannedCage planned = planCage(cage, db);
+        const float diagonal = computeBounds(planned.cage()).diagonal();
+        Displacement d = randomDisplacement(planned, 8, 0.002f * diagonal, 9);
+        const SculptSamples samples = SculptSamples::build(planned, d.layout);
+        PlanBuffers buffers = upload(planned, d);
+        ASSERT_TRUE(prepareGrid(ctx, pass, buffers, std::min(requiredMeshFactor(planned, d.layout), 64u)).ok());
+        fillGrid(planned, buffers, false);
+        std::vector<uint32_t> sited;
+        for (uint32_t i = 0; i < samples.sampleCount(); ++i)
+            if (samples.hasSite(i)) sited.push_back(i);
+        std::mt19937 rng(3);
+        uint64_t displaced = 0, slotsOfTouched = 0;
+        for (const Stroke& stroke : strokes) {
+            const std::string what = name + ", " + brushKindName(stroke.kind) + " " + std::to_string(stroke.radius);
+            const Brush brush{stroke.kind, stroke.radius * diagonal, stroke.strength, Falloff::Smooth};
+            Sculptor sculptor(d, samples);
+            sculptor.beginStroke();
+            for (int dab = 0; dab < 4; ++dab) {
+                sculptor.dab(brush, stroke.mirror, samples.position(sited[rng() % sited.size()]));
+                const DisplacementUpdate update =
+                    recordDisplacementChange(VK_NULL_HANDLE, pass, buffers, planned, sculptor.lastDabSamples());
+                displaced += update.displacedSlots;
+                for (uint32_t s : subfacesReadingSamples(d.layout, buffers.displacementUsers, sculptor.lastDabSamples())) {
+                    const uint32_t drawn = buffers.drawnOfSubface[s];
+                    if (drawn == UINT32_MAX) continue;
+                    for (uint32_t slot = buffers.gridLayout.subfaceOffset[drawn]; slot < buffers.gridLayout.subfaceOffset[drawn + 1]; ++slot)
+                        slotsOfTouched += buffers.gridLayout.source[slot] == slot;
+                }
+            }
+            ASSERT_FALSE(sculptor.endStroke().changes.empty()) << what;
+            const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+            const std::vector<GridVertex> updated(grid, grid + buffers.gridLayout.slotCount());
+            const std::vector<GridVertex> full = fillGrid(planned, buffers, false);
+            ASSERT_EQ(std::memcmp(updated.data(), full.data(), full.size() * sizeof(GridVertex)), 0)
+                << what << ": the updated grid differs from a full evaluation";
+        }
+        EXPECT_GT(displaced, 0u) << name;
+        EXPECT_LT(displaced, slotsOfTouched) << name << ": every slot of the touched sub-faces was re-displaced";
         destroyPlanBuffers(ctx, buffers);
     }
 }
