@@ -218,6 +218,26 @@ glm::vec2 edgePoint(uint32_t edge, float t) {
     }
 }
 
+namespace {
+
+// gridSample of point `along` (0 < along < R) of sub-face edge `edge`: R intervals on the
+// sub-face edge; its segment has as many or more (a power of two times).
+uint32_t edgeGridSample(const DisplacementLayout& layout, const DisplacementSubface& sf, uint32_t edge, uint32_t along) {
+    const DisplacementEdge& e = sf.edges[edge];
+    const uint32_t R = sf.resolution;
+    uint32_t segment = e.segment, k = along, intervals = R;  // edgeSite, inline
+    if (!(e.flags & kEdgeSplit)) {
+        if (e.flags & kEdgeReversed) k = R - along;
+    } else {
+        intervals = R / 2;
+        if (2 * along > R) segment = e.secondHalf, k = R - along;
+    }
+    const DisplacementSegment& seg = layout.segments[segment];
+    return segmentSample(seg, k * (seg.resolution / intervals));
+}
+
+}  // namespace
+
 uint32_t gridSample(const DisplacementLayout& layout, uint32_t subface, uint32_t i, uint32_t j) {
     const DisplacementSubface& sf = layout.subfaces[subface];
     const uint32_t R = sf.resolution;
@@ -227,10 +247,23 @@ uint32_t gridSample(const DisplacementLayout& layout, uint32_t subface, uint32_t
     uint32_t along = edge == 0 || edge == 2 ? i : j;
     if (along == 0) return sf.corners[kEdgeStart[edge]];
     if (along == R) return sf.corners[kEdgeEnd[edge]];
-    // R intervals on the sub-face edge; the segment has as many or more (a power of two times).
-    EdgeSite site = edgeSite(sf, edge, along, R);
-    const DisplacementSegment& seg = layout.segments[site.segment];
-    return segmentSample(seg, site.k * (seg.resolution / site.intervals));
+    return edgeGridSample(layout, sf, edge, along);
+}
+
+void gridSamples(const DisplacementLayout& layout, uint32_t subface, uint32_t* out) {
+    const DisplacementSubface& sf = layout.subfaces[subface];
+    const uint32_t R = sf.resolution, side = R + 1;
+    for (uint32_t j = 1; j < R; ++j)
+        for (uint32_t i = 1; i < R; ++i) out[j * side + i] = sf.interiorOffset + (j - 1) * (R - 1) + (i - 1);
+    // Corners 0..3 at (0,0) (R,0) (R,R) (0,R); edges 0 and 2 along rows 0 and R, 1 and 3 along
+    // columns R and 0.
+    out[0] = sf.corners[0], out[R] = sf.corners[1], out[R * side + R] = sf.corners[2], out[R * side] = sf.corners[3];
+    for (uint32_t k = 1; k < R; ++k) {
+        out[k] = edgeGridSample(layout, sf, 0, k);
+        out[k * side + R] = edgeGridSample(layout, sf, 1, k);
+        out[R * side + k] = edgeGridSample(layout, sf, 2, k);
+        out[k * side] = edgeGridSample(layout, sf, 3, k);
+    }
 }
 
 DisplacementValue evaluateSegment(const Displacement& d, uint32_t segment, float t) {
@@ -305,9 +338,10 @@ SubfaceDisplacement::SubfaceDisplacement(const Displacement& d, uint32_t subface
     : displacement_(d), subface_(d.layout.subfaces[subface]), resolution_(subface_.resolution), finer_(0) {
     for (uint32_t e = 0; e < 4; ++e)
         if (subface_.edges[e].flags & kEdgeFiner) finer_ |= 1u << e;
-    const uint32_t side = resolution_ + 1;
-    for (uint32_t j = 0; j < side; ++j)
-        for (uint32_t i = 0; i < side; ++i) grid_[j * side + i] = d.samples[gridSample(d.layout, subface, i, j)];
+    const uint32_t count = (resolution_ + 1) * (resolution_ + 1);
+    uint32_t samples[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
+    gridSamples(d.layout, subface, samples);
+    for (uint32_t k = 0; k < count; ++k) grid_[k] = d.samples[samples[k]];
 }
 
 DisplacementValue SubfaceDisplacement::evaluateNearEdges(float u, float v) const {

@@ -168,15 +168,21 @@ public:
     // where evaluate() is the bilinear interpolant alone (inside the sub-face, off the strips of
     // edges finer than the grid), and that interpolant.
     bool isBilinear(const DisplacementCell& c, float u, float v) const {
-        const bool onEdge = u == 0.0f || u == 1.0f || v == 0.0f || v == 1.0f;
-        const bool inStrip = (c.j == 0 && (finer_ & 1)) || (c.i == resolution_ - 1 && (finer_ & 2)) ||
-                             (c.j == resolution_ - 1 && (finer_ & 4)) || (c.i == 0 && (finer_ & 8));
-        return !onEdge && !inStrip;
+        return isBilinearAlongU(c.i, u) && isBilinearAlongV(c.j, v);
     }
     DisplacementValue bilinear(const DisplacementCell& c) const {
         const float* g = grid_ + c.j * (resolution_ + 1) + c.i;
         return bilinearDisplacement(g[0], g[1], g[resolution_ + 1], g[resolution_ + 2], c, float(resolution_));
     }
+    // isBilinear's conditions on u (cell column i) and on v (cell row j), and the grid values,
+    // row-major ((R+1)^2, i fastest), for callers that interpolate many points at once.
+    bool isBilinearAlongU(uint32_t i, float u) const {
+        return u != 0.0f && u != 1.0f && !(i == resolution_ - 1 && (finer_ & 2)) && !(i == 0 && (finer_ & 8));
+    }
+    bool isBilinearAlongV(uint32_t j, float v) const {
+        return v != 0.0f && v != 1.0f && !(j == 0 && (finer_ & 1)) && !(j == resolution_ - 1 && (finer_ & 4));
+    }
+    const float* grid() const { return grid_; }
 
 private:
     DisplacementValue evaluateNearEdges(float u, float v) const;  // evaluateDisplacement's whole formula
@@ -193,6 +199,8 @@ DisplacementValue evaluateSegment(const Displacement& displacement, uint32_t seg
 
 // Sample index of grid point (i, j), 0 <= i, j <= R, of a sub-face.
 uint32_t gridSample(const DisplacementLayout& layout, uint32_t subface, uint32_t i, uint32_t j);
+// gridSample of every grid point of a sub-face, row-major ((R+1)^2 of them, i fastest).
+void gridSamples(const DisplacementLayout& layout, uint32_t subface, uint32_t* out);
 
 // Sample index of sample k (0..S) of a segment.
 inline uint32_t segmentSample(const DisplacementSegment& s, uint32_t k) {
