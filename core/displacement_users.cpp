@@ -37,42 +37,31 @@ DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout) {
     DisplacementUsers users;
     buildCsr(layout.pointCount, points, users.pointOffsets, users.pointSubfaces);
     buildCsr(uint32_t(layout.segments.size()), segments, users.segmentOffsets, users.segmentSubfaces);
+    users.holder.resize(layout.sampleCount - layout.pointCount);
+    for (uint32_t g = 0; g < layout.segments.size(); ++g) {
+        const DisplacementSegment& s = layout.segments[g];
+        std::fill_n(users.holder.begin() + (s.offset - layout.pointCount), s.resolution - 1, g);
+    }
+    for (uint32_t f = 0; f < layout.subfaces.size(); ++f) {
+        const DisplacementSubface& sf = layout.subfaces[f];
+        std::fill_n(users.holder.begin() + (sf.interiorOffset - layout.pointCount), (sf.resolution - 1) * (sf.resolution - 1), f);
+    }
     return users;
 }
 
 std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, const DisplacementUsers& users,
                                              std::span<const uint32_t> samples) {
-    // A bitmap of sub-faces (sorted and unique for free). A brush's samples come in runs from
-    // one tile or segment: the last run's range skips the search for the rest of it.
+    // A bitmap of sub-faces: sorted and unique for free.
     std::vector<uint64_t> reading((layout.subfaces.size() + 63) / 64, 0);
     auto mark = [&](uint32_t subface) { reading[subface / 64] |= uint64_t(1) << (subface % 64); };
     auto markAll = [&](const std::vector<uint32_t>& offsets, const std::vector<uint32_t>& values, uint32_t key) {
         for (uint32_t k = offsets[key]; k < offsets[key + 1]; ++k) mark(values[k]);
     };
     const uint32_t segmentBegin = layout.segmentSampleBegin(), tileBegin = layout.tileSampleBegin();
-    uint32_t runBegin = 0, runEnd = 0;  // samples of the last tile or segment found
     for (uint32_t sample : samples) {
-        if (sample >= runBegin && sample < runEnd) continue;
-        if (sample < segmentBegin) {
-            markAll(users.pointOffsets, users.pointSubfaces, sample);
-        } else if (sample < tileBegin) {
-            // Segments are stored in offset order; the last one starting at or before the
-            // sample holds it (segments without interior samples share their successor's offset).
-            auto it = std::upper_bound(layout.segments.begin(), layout.segments.end(), sample,
-                                       [](uint32_t x, const DisplacementSegment& s) { return x < s.offset; });
-            const uint32_t segment = uint32_t(it - layout.segments.begin()) - 1;
-            markAll(users.segmentOffsets, users.segmentSubfaces, segment);
-            runBegin = layout.segments[segment].offset;
-            runEnd = runBegin + layout.segments[segment].resolution - 1;
-        } else if (sample < layout.sampleCount) {
-            auto it = std::upper_bound(layout.subfaces.begin(), layout.subfaces.end(), sample,
-                                       [](uint32_t x, const DisplacementSubface& s) { return x < s.interiorOffset; });
-            const uint32_t subface = uint32_t(it - layout.subfaces.begin()) - 1;
-            mark(subface);
-            const uint32_t R = layout.subfaces[subface].resolution;
-            runBegin = layout.subfaces[subface].interiorOffset;
-            runEnd = runBegin + (R - 1) * (R - 1);
-        }
+        if (sample < segmentBegin) markAll(users.pointOffsets, users.pointSubfaces, sample);
+        else if (sample < tileBegin) markAll(users.segmentOffsets, users.segmentSubfaces, users.holder[sample - segmentBegin]);
+        else if (sample < layout.sampleCount) mark(users.holder[sample - segmentBegin]);
     }
     std::vector<uint32_t> out;
     for (uint32_t word = 0; word < reading.size(); ++word)
