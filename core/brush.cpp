@@ -54,7 +54,7 @@ float canonicalZero(float value) { return value + 0.0f; }
 
 // Dabs reaching fewer samples run on the calling thread.
 constexpr size_t kSerialDab = 8192;
-// Flatten's sums: samples per partial sum.
+// Flatten's sums and the writes: samples per chunk.
 constexpr size_t kSumChunk = 4096;
 
 }  // namespace
@@ -296,17 +296,38 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
         for (size_t k = begin; k < end; ++k) update(k);
     });
 
-    uint32_t changed = 0;
-    for (size_t k = 0; k < affected_.size(); ++k) {
-        const uint32_t s = affected_[k];
-        if (newValues_[k] == values[s] && std::signbit(newValues_[k]) == std::signbit(values[s])) continue;
-        if (touchedInStroke_[s] != stroke_) {
-            touchedInStroke_[s] = stroke_;
-            before_[s] = values[s];
-            touched_.push_back(s);
+    // The writes and the stroke's bookkeeping: every sample once, so chunks run on any core;
+    // samples the stroke touches for the first time join touched_ in chunk order.
+    const size_t chunks = (count + kSumChunk - 1) / kSumChunk;
+    firstTouches_.resize(count);
+    chunkCounts_.assign(2 * chunks, 0);  // per chunk: samples changed, first touches
+    auto writeChunk = [&](size_t chunk) {
+        const size_t begin = chunk * kSumChunk, end = std::min(count, begin + kSumChunk);
+        uint32_t changed = 0, first = 0;
+        for (size_t k = begin; k < end; ++k) {
+            const uint32_t s = affected_[k];
+            if (newValues_[k] == values[s] && std::signbit(newValues_[k]) == std::signbit(values[s])) continue;
+            if (touchedInStroke_[s] != stroke_) {
+                touchedInStroke_[s] = stroke_;
+                before_[s] = values[s];
+                firstTouches_[begin + first++] = s;
+            }
+            values[s] = newValues_[k];
+            ++changed;
         }
-        values[s] = newValues_[k];
-        ++changed;
+        chunkCounts_[2 * chunk] = changed;
+        chunkCounts_[2 * chunk + 1] = first;
+    };
+    if (count < kSerialDab) {
+        for (size_t chunk = 0; chunk < chunks; ++chunk) writeChunk(chunk);
+    } else {
+        tbb::parallel_for(size_t(0), chunks, writeChunk);
+    }
+    uint32_t changed = 0;
+    for (size_t chunk = 0; chunk < chunks; ++chunk) {
+        changed += chunkCounts_[2 * chunk];
+        const auto first = firstTouches_.begin() + std::ptrdiff_t(chunk * kSumChunk);
+        touched_.insert(touched_.end(), first, first + chunkCounts_[2 * chunk + 1]);
     }
     return changed;
 }

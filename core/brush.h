@@ -128,6 +128,7 @@ private:
     std::vector<uint32_t> affected_, dabStamp_;
     uint32_t dabSerial_ = 0;
     std::vector<float> squaredDistances_, weights_, newValues_;
+    std::vector<uint32_t> firstTouches_, chunkCounts_;
 };
 
 // One whole stroke: begin, dabs along the path, end.

@@ -282,13 +282,19 @@ void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uin
         lo[axis] = int64_t(std::floor((a - indexMin_[axis]) / cellSize_)) + kCellBias;
         hi[axis] = int64_t(std::floor((b - indexMin_[axis]) / cellSize_)) + kCellBias;
     }
+    // Columns are visited in key order: each search starts where the last one ended and
+    // gallops, so a big sphere costs about one step per column, not a search of every cell.
+    auto it = cellKeys_.begin();
+    const auto end = cellKeys_.end();
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
         for (int64_t y = lo[1]; y <= hi[1]; ++y) {
             // Cells along z with fixed (x, y) are consecutive keys: one search per column.
             uint64_t first = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(lo[2]);
             uint64_t last = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(hi[2]);
-            auto it = std::lower_bound(cellKeys_.begin(), cellKeys_.end(), first);
-            for (; it != cellKeys_.end() && *it <= last; ++it) {
+            ptrdiff_t step = 1;
+            while (step < end - it && it[step] < first) step *= 2;
+            it = std::lower_bound(it + step / 2, it + std::min(step, ptrdiff_t(end - it)), first);
+            for (; it != end && *it <= last; ++it) {
                 size_t cell = size_t(it - cellKeys_.begin());
                 for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
                     const glm::vec3 d = cellPositions_[k] - centre;
