@@ -4,9 +4,11 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 #if defined(__SSE2__)
+#include <xmmintrin.h>
 #include <emmintrin.h>
 #endif
 #include "patch_basis.h"
@@ -36,155 +38,188 @@ glm::vec3 unitNormalOf(const glm::vec3& du, const glm::vec3& dv) {
     return length > 0.0f ? normal / length : glm::vec3(0.0f);
 }
 
-// The frame a displaced slot is built from: at sub-face corners the derivatives
-// kCornerNormalStep inside (shaders/displacement.glsl, evaluateWithNormal, says why).
-GridFrame frameOf(const PlannedCage& planned, const LimitSample& s, uint32_t subface, float u, float v) {
-    GridFrame frame{s.position, s.du, s.dv};
-    if ((u == 0.0f || u == 1.0f) && (v == 0.0f || v == 1.0f)) {
-        const LimitSample inside = planned.evaluate(subface, u + (u < 0.5f ? kCornerNormalStep : -kCornerNormalStep),
-                                                    v + (v < 0.5f ? kCornerNormalStep : -kCornerNormalStep));
-        frame.du = inside.du;
-        frame.dv = inside.dv;
-    }
-    return frame;
-}
-
 // Where phase 1 writes: the grid, or with a displacement the frames (displaced afterwards,
 // a sub-face at a time, by displaceSlots).
 struct Output {
     GridVertex* grid;
     const Displacement* displacement;
-    GridFrame* frames;
+    GridFrames* frames;
+    const GridLayout& layout;
 
     // Slot `slot` of sub-face `subface` at (u, v): the limit point and the unit normal of
-    // du x dv (zero where that vanishes), or with a displacement the frame.
+    // du x dv (zero where that vanishes), or with a displacement the frame: the limit point
+    // and its derivatives, at sub-face corners those kCornerNormalStep inside
+    // (shaders/displacement.glsl, evaluateWithNormal, says why).
     void write(const PlannedCage& planned, uint32_t slot, const LimitSample& s, uint32_t subface, float u, float v) const {
         if (!displacement) {
             const glm::vec3 n = unitNormalOf(s.du, s.dv);
             grid[slot] = GridVertex{{s.position.x, s.position.y, s.position.z}, {n.x, n.y, n.z}};
             return;
         }
-        frames[slot] = frameOf(planned, s, subface, u, v);
+        glm::vec3 du = s.du, dv = s.dv;
+        if ((u == 0.0f || u == 1.0f) && (v == 0.0f || v == 1.0f)) {
+            const LimitSample inside = planned.evaluate(subface, u + (u < 0.5f ? kCornerNormalStep : -kCornerNormalStep),
+                                                        v + (v < 0.5f ? kCornerNormalStep : -kCornerNormalStep));
+            du = inside.du;
+            dv = inside.dv;
+        }
+        const uint32_t drawn = layout.slotSubface[slot], first = layout.subfaceOffset[drawn];
+        const uint32_t stride = layout.subfaceOffset[drawn + 1] - first;
+        float* frame = frames->block(layout, drawn) + (slot - first);
+        const float components[kFrameComponents] = {s.position.x, s.position.y, s.position.z, du.x, du.y, du.z,
+                                                    dv.x,         dv.y,         dv.z};
+        for (uint32_t c = 0; c < kFrameComponents; ++c) frame[c * stride] = components[c];
     }
 };
 
 // ---- displacing slots from their frames ------------------------------------------------
 // s + D N along the frame's unit normal (unitNormalOf) with displacePoint's shading normal,
-// for many slots at once: frames and D values are gathered into a structure of arrays and
-// the arithmetic runs on SSE lanes, four slots per instruction. Each lane performs
-// displacePoint's and unitNormalOf's IEEE operations in their order (no fused multiply-add:
-// the build does not enable FMA), so a slot gets the same bits as the scalar functions,
-// which the other targets use and the tests compare with.
-class SlotDisplacer {
-public:
-    explicit SlotDisplacer(GridVertex* grid) : grid_(grid) {}
-    ~SlotDisplacer() { flush(); }
+// four consecutive slots of a row at once: their frame components are consecutive
+// (GridFrames), so with SSE each operation runs on four lanes, and so does D's bilinear
+// interpolant. Each lane performs the IEEE operations of displacePoint, unitNormalOf and
+// bilinearDisplacement in their order (no fused multiply-add: the build does not enable FMA),
+// so the bits are those of the scalar functions, which builds without SSE use.
+constexpr uint32_t kLanes = 4;
+static_assert(sizeof(GridVertex) == 6 * sizeof(float));
 
-    void add(uint32_t slot, const GridFrame& f, const DisplacementValue& d) {
-        const uint32_t k = count_++;
-        slot_[k] = slot;
-        px_[k] = f.position.x, py_[k] = f.position.y, pz_[k] = f.position.z;
-        ux_[k] = f.du.x, uy_[k] = f.du.y, uz_[k] = f.du.z;
-        vx_[k] = f.dv.x, vy_[k] = f.dv.y, vz_[k] = f.dv.z;
-        d_[k] = d.value, ddu_[k] = d.du, ddv_[k] = d.dv;
-        if (count_ == kSize) flush();
-    }
-
-    void flush() {
-        uint32_t k = 0;
+// Slot k < 4 of the four: frame component c at frame[c * stride + k]; D at value[k], du[k],
+// dv[k]. Writes the displaced vertex of slot k to vertices[k] where take[k].
+void displaceFour(const float* frame, uint32_t stride, const float* value, const float* du, const float* dv,
+                  const bool* take, GridVertex* vertices) {
 #if defined(__SSE2__)
-        for (; k + 4 <= count_; k += 4) displaceFour(k);
-#endif
-        for (; k < count_; ++k) {
-            const glm::vec3 du(ux_[k], uy_[k], uz_[k]), dv(vx_[k], vy_[k], vz_[k]);
-            const DisplacedPoint p = displacePoint(glm::vec3(px_[k], py_[k], pz_[k]), du, dv, unitNormalOf(du, dv),
-                                                   DisplacementValue{d_[k], ddu_[k], ddv_[k]});
-            grid_[slot_[k]] = GridVertex{{p.position.x, p.position.y, p.position.z}, {p.normal.x, p.normal.y, p.normal.z}};
-        }
-        count_ = 0;
+    auto component = [&](uint32_t c) { return _mm_loadu_ps(frame + size_t(c) * stride); };
+    auto cross = [](__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz, __m128(&c)[3]) {
+        c[0] = _mm_sub_ps(_mm_mul_ps(ay, bz), _mm_mul_ps(by, az));
+        c[1] = _mm_sub_ps(_mm_mul_ps(az, bx), _mm_mul_ps(bz, ax));
+        c[2] = _mm_sub_ps(_mm_mul_ps(ax, by), _mm_mul_ps(bx, ay));
+    };
+    auto length = [](const __m128(&c)[3]) {  // glm::length: sqrt((x x + y y) + z z)
+        return _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(c[0], c[0]), _mm_mul_ps(c[1], c[1])), _mm_mul_ps(c[2], c[2])));
+    };
+    const __m128 ux = component(3), uy = component(4), uz = component(5);
+    const __m128 vx = component(6), vy = component(7), vz = component(8);
+    const __m128 zero = _mm_setzero_ps();
+    // unitNormalOf: (du x dv) / length, zero where the length is not positive.
+    __m128 c[3];
+    cross(ux, uy, uz, vx, vy, vz, c);
+    const __m128 l = length(c), positive = _mm_cmpgt_ps(l, zero);
+    __m128 n[3];
+    for (int a = 0; a < 3; ++a) n[a] = _mm_and_ps(positive, _mm_div_ps(c[a], l));
+    // displacePoint.
+    const __m128 d = _mm_loadu_ps(value), ddu = _mm_loadu_ps(du), ddv = _mm_loadu_ps(dv);
+    __m128 p[3];
+    for (int a = 0; a < 3; ++a) p[a] = _mm_add_ps(component(a), _mm_mul_ps(d, n[a]));
+    __m128 m[3];
+    cross(_mm_add_ps(ux, _mm_mul_ps(ddu, n[0])), _mm_add_ps(uy, _mm_mul_ps(ddu, n[1])), _mm_add_ps(uz, _mm_mul_ps(ddu, n[2])),
+          _mm_add_ps(vx, _mm_mul_ps(ddv, n[0])), _mm_add_ps(vy, _mm_mul_ps(ddv, n[1])), _mm_add_ps(vz, _mm_mul_ps(ddv, n[2])), m);
+    const __m128 ml = length(m), shaded = _mm_cmpgt_ps(ml, zero);
+    __m128 normal[3];
+    for (int a = 0; a < 3; ++a) normal[a] = _mm_or_ps(_mm_and_ps(shaded, _mm_div_ps(m[a], ml)), _mm_andnot_ps(shaded, n[a]));
+    if (take[0] && take[1] && take[2] && take[3]) {
+        // Four whole vertices: (px py pz nx) per slot, then the slots' (ny nz) pairs.
+        __m128 a0 = p[0], a1 = p[1], a2 = p[2], a3 = normal[0];
+        _MM_TRANSPOSE4_PS(a0, a1, a2, a3);
+        const __m128 b01 = _mm_unpacklo_ps(normal[1], normal[2]), b23 = _mm_unpackhi_ps(normal[1], normal[2]);
+        alignas(16) float packed[6 * kLanes];
+        _mm_store_ps(packed + 0, a0);
+        _mm_store_ps(packed + 4, _mm_movelh_ps(b01, a1));
+        _mm_store_ps(packed + 8, _mm_shuffle_ps(a1, b01, _MM_SHUFFLE(3, 2, 3, 2)));
+        _mm_store_ps(packed + 12, a2);
+        _mm_store_ps(packed + 16, _mm_movelh_ps(b23, a3));
+        _mm_store_ps(packed + 20, _mm_shuffle_ps(a3, b23, _MM_SHUFFLE(3, 2, 3, 2)));
+        std::memcpy(vertices, packed, sizeof packed);
+        return;
     }
-
-private:
-    static constexpr uint32_t kSize = 64;
-
-#if defined(__SSE2__)
-    void displaceFour(uint32_t k) {
-        auto load = [k](const float* a) { return _mm_loadu_ps(a + k); };
-        auto cross = [](__m128 ax, __m128 ay, __m128 az, __m128 bx, __m128 by, __m128 bz, __m128* c) {
-            c[0] = _mm_sub_ps(_mm_mul_ps(ay, bz), _mm_mul_ps(by, az));
-            c[1] = _mm_sub_ps(_mm_mul_ps(az, bx), _mm_mul_ps(bz, ax));
-            c[2] = _mm_sub_ps(_mm_mul_ps(ax, by), _mm_mul_ps(bx, ay));
-        };
-        auto length = [](const __m128* c) {  // glm::length: sqrt((x x + y y) + z z)
-            return _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(c[0], c[0]), _mm_mul_ps(c[1], c[1])), _mm_mul_ps(c[2], c[2])));
-        };
-        const __m128 ux = load(ux_), uy = load(uy_), uz = load(uz_), vx = load(vx_), vy = load(vy_), vz = load(vz_);
-        const __m128 zero = _mm_setzero_ps();
-        // unitNormalOf: (du x dv) / length, zero where the length is not positive.
-        __m128 c[3];
-        cross(ux, uy, uz, vx, vy, vz, c);
-        const __m128 l = length(c), positive = _mm_cmpgt_ps(l, zero);
-        __m128 n[3];
-        for (int a = 0; a < 3; ++a) n[a] = _mm_and_ps(positive, _mm_div_ps(c[a], l));
-        // displacePoint.
-        const __m128 d = load(d_), ddu = load(ddu_), ddv = load(ddv_);
-        const __m128 p[3] = {_mm_add_ps(load(px_), _mm_mul_ps(d, n[0])), _mm_add_ps(load(py_), _mm_mul_ps(d, n[1])),
-                             _mm_add_ps(load(pz_), _mm_mul_ps(d, n[2]))};
-        const __m128 fux = _mm_add_ps(ux, _mm_mul_ps(ddu, n[0])), fuy = _mm_add_ps(uy, _mm_mul_ps(ddu, n[1])),
-                     fuz = _mm_add_ps(uz, _mm_mul_ps(ddu, n[2]));
-        const __m128 fvx = _mm_add_ps(vx, _mm_mul_ps(ddv, n[0])), fvy = _mm_add_ps(vy, _mm_mul_ps(ddv, n[1])),
-                     fvz = _mm_add_ps(vz, _mm_mul_ps(ddv, n[2]));
-        __m128 m[3];
-        cross(fux, fuy, fuz, fvx, fvy, fvz, m);
-        const __m128 ml = length(m), shaded = _mm_cmpgt_ps(ml, zero);
-        __m128 normal[3];
-        for (int a = 0; a < 3; ++a)
-            normal[a] = _mm_or_ps(_mm_and_ps(shaded, _mm_div_ps(m[a], ml)), _mm_andnot_ps(shaded, n[a]));
-        alignas(16) float out[6][4];
-        for (int a = 0; a < 3; ++a) {
-            _mm_store_ps(out[a], p[a]);
-            _mm_store_ps(out[3 + a], normal[a]);
-        }
-        for (uint32_t lane = 0; lane < 4; ++lane)
-            grid_[slot_[k + lane]] = GridVertex{{out[0][lane], out[1][lane], out[2][lane]}, {out[3][lane], out[4][lane], out[5][lane]}};
+    alignas(16) float out[6][kLanes];
+    for (int a = 0; a < 3; ++a) {
+        _mm_store_ps(out[a], p[a]);
+        _mm_store_ps(out[3 + a], normal[a]);
+    }
+    for (uint32_t k = 0; k < kLanes; ++k)
+        if (take[k]) vertices[k] = GridVertex{{out[0][k], out[1][k], out[2][k]}, {out[3][k], out[4][k], out[5][k]}};
+#else
+    for (uint32_t k = 0; k < kLanes; ++k) {
+        if (!take[k]) continue;
+        auto at = [&](uint32_t c) { return frame[size_t(c) * stride + k]; };
+        const glm::vec3 dU(at(3), at(4), at(5)), dV(at(6), at(7), at(8));
+        const DisplacedPoint p = displacePoint(glm::vec3(at(0), at(1), at(2)), dU, dV, unitNormalOf(dU, dV),
+                                               DisplacementValue{value[k], du[k], dv[k]});
+        vertices[k] = GridVertex{{p.position.x, p.position.y, p.position.z}, {p.normal.x, p.normal.y, p.normal.z}};
     }
 #endif
+}
 
-    GridVertex* grid_;
-    uint32_t count_ = 0;
-    uint32_t slot_[kSize];
-    float px_[kSize], py_[kSize], pz_[kSize], ux_[kSize], uy_[kSize], uz_[kSize], vx_[kSize], vy_[kSize], vz_[kSize];
-    float d_[kSize], ddu_[kSize], ddv_[kSize];
-};
+// bilinearDisplacement at four points of one cell row (row j of the grid, at fy): lane k in
+// cell column i[k] at fx[k].
+void bilinearFour(const float* grid, uint32_t R, uint32_t j, float fy, const uint32_t* i, const float* fx, float* value,
+                  float* du, float* dv) {
+    const float* row0 = grid + j * (R + 1);
+    const float* row1 = row0 + R + 1;
+#if defined(__SSE2__)
+    const __m128 g00 = _mm_setr_ps(row0[i[0]], row0[i[1]], row0[i[2]], row0[i[3]]);
+    const __m128 g10 = _mm_setr_ps(row0[i[0] + 1], row0[i[1] + 1], row0[i[2] + 1], row0[i[3] + 1]);
+    const __m128 g01 = _mm_setr_ps(row1[i[0]], row1[i[1]], row1[i[2]], row1[i[3]]);
+    const __m128 g11 = _mm_setr_ps(row1[i[0] + 1], row1[i[1] + 1], row1[i[2] + 1], row1[i[3] + 1]);
+    const __m128 one = _mm_set1_ps(1.0f), x = _mm_loadu_ps(fx), y = _mm_set1_ps(fy), r = _mm_set1_ps(float(R));
+    auto lerp = [&](__m128 a, __m128 b, __m128 f) {  // displacementLerp: (1 - f) a + f b
+        return _mm_add_ps(_mm_mul_ps(_mm_sub_ps(one, f), a), _mm_mul_ps(f, b));
+    };
+    _mm_storeu_ps(value, lerp(lerp(g00, g10, x), lerp(g01, g11, x), y));
+    _mm_storeu_ps(du, _mm_mul_ps(r, lerp(_mm_sub_ps(g10, g00), _mm_sub_ps(g11, g01), y)));
+    _mm_storeu_ps(dv, _mm_mul_ps(r, lerp(_mm_sub_ps(g01, g00), _mm_sub_ps(g11, g10), x)));
+#else
+    for (uint32_t k = 0; k < kLanes; ++k) {
+        const DisplacementValue d =
+            bilinearDisplacement(row0[i[k]], row0[i[k] + 1], row1[i[k]], row1[i[k] + 1], {i[k], j, fx[k], fy}, float(R));
+        value[k] = d.value, du[k] = d.du, dv[k] = d.dv;
+    }
+#endif
+}
 
-// Displaces the evaluated slots of drawn sub-face `drawn` from their frames: all of them, or
-// with `cells` (R x R flags of its displacement grid) those in a flagged cell, the cell
-// evaluateDisplacement reads at the slot. Returns how many.
+// Displaces the evaluated slots of drawn sub-face `drawn` from its frames (its GridFrames
+// block): all of them, or with `cells` (R x R flags of its displacement grid) those in a
+// flagged cell, the cell evaluateDisplacement reads at the slot. Returns how many.
 uint32_t displaceSlots(const GpuPlanData& data, const GridLayout& layout, uint32_t drawn, const Displacement& displacement,
-                       const bool* cells, const GridFrame* frames, GridVertex* grid) {
+                       const bool* cells, const float* frames, GridVertex* grid) {
     const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
-    const uint32_t first = layout.subfaceOffset[drawn];
+    const uint32_t first = layout.subfaceOffset[drawn], side = n + 1, stride = side * side;
     const SubfaceDisplacement D(displacement, subface);
     const uint32_t R = D.resolution();
-    // (u, v) of column / row k as slotParameter computes them, and where in the displacement
-    // grid evaluateDisplacement finds them (displacementCell splits into u and v).
-    float at[kMaxGridFactor + 1];
-    DisplacementCell along[kMaxGridFactor + 1];  // i and fx of column k (= j and fy of row k)
+    // Per column (and row) k: (u, v) as slotParameter computes them, where in the displacement
+    // grid evaluateDisplacement finds them (displacementCell splits into u and v), and whether
+    // D is the bilinear interpolant there. Padded to whole lanes (cell 0, not bilinear).
+    constexpr uint32_t kRow = kMaxGridFactor + kLanes;
+    float at[kRow] = {}, fraction[kRow] = {};
+    uint32_t cell[kRow] = {};
+    bool bilinear[kRow] = {}, take[kRow] = {};
     for (uint32_t k = 0; k <= n; ++k) {
         at[k] = float(k) / float(n);
-        along[k] = displacementCell(R, at[k], at[k]);
+        const DisplacementCell c = displacementCell(R, at[k], at[k]);
+        cell[k] = c.i, fraction[k] = c.fx;
+        bilinear[k] = D.isBilinearAlongU(c.i, at[k]);
     }
-    SlotDisplacer displacer(grid);
+    alignas(16) float value[kRow] = {}, du[kRow] = {}, dv[kRow] = {};
     uint32_t count = 0;
     for (uint32_t y = 0; y <= n; ++y) {
-        const bool* row = cells ? cells + along[y].j * R : nullptr;
-        const uint32_t* source = layout.source.data() + first + y * (n + 1);
+        const bool* cellRow = cells ? cells + cell[y] * R : nullptr;
+        const uint32_t row = first + y * side;
+        uint32_t taken = 0;
         for (uint32_t x = 0; x <= n; ++x) {
-            const uint32_t slot = first + y * (n + 1) + x;
-            if (source[x] != slot || (row && !row[along[x].i])) continue;
-            const DisplacementCell c{along[x].i, along[y].j, along[x].fx, along[y].fy};
-            displacer.add(slot, frames[slot], D.isBilinear(c, at[x], at[y]) ? D.bilinear(c) : D.evaluate(at[x], at[y]));
-            ++count;
+            take[x] = layout.source[row + x] == row + x && (!cellRow || cellRow[cell[x]]);
+            taken += take[x];
+        }
+        if (taken == 0) continue;
+        count += taken;
+        const bool rowBilinear = D.isBilinearAlongV(cell[y], at[y]);
+        for (uint32_t x0 = 0; x0 <= n; x0 += kLanes) {
+            if (!(take[x0] || take[x0 + 1] || take[x0 + 2] || take[x0 + 3])) continue;
+            if (rowBilinear) bilinearFour(D.grid(), R, cell[y], fraction[y], cell + x0, fraction + x0, value + x0, du + x0, dv + x0);
+            for (uint32_t x = x0; x < x0 + kLanes; ++x) {
+                if (!take[x] || (rowBilinear && bilinear[x])) continue;
+                const DisplacementValue d = D.evaluate(at[x], at[y]);
+                value[x] = d.value, du[x] = d.du, dv[x] = d.dv;
+            }
+            displaceFour(frames + y * side + x0, stride, value + x0, du + x0, dv + x0, take + x0, grid + row + x0);
         }
     }
     return count;
@@ -287,7 +322,8 @@ void evaluatePhase(const PlannedCage& planned, const GpuPlanData& data, const Gr
                 out.write(planned, slot, planned.evaluate(subface, u, v), subface, u, v);
             }
         }
-        if (out.displacement) displaceSlots(data, layout, drawn, *out.displacement, nullptr, out.frames, out.grid);
+        if (out.displacement)
+            displaceSlots(data, layout, drawn, *out.displacement, nullptr, out.frames->block(layout, drawn), out.grid);
     });
 }
 
@@ -314,14 +350,14 @@ void copyPhase(const GridLayout& layout, const uint32_t* list, size_t count, Gri
 
 void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
                        std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid,
-                       const Displacement* displacement, GridFrame* frames) {
-    evaluatePhase(planned, data, layout, evaluate.data(), evaluate.size(), Output{grid, displacement, frames});
+                       const Displacement* displacement, GridFrames* frames) {
+    evaluatePhase(planned, data, layout, evaluate.data(), evaluate.size(), Output{grid, displacement, frames, layout});
     copyPhase(layout, copy.data(), copy.size(), grid);
 }
 
 void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                            GridVertex* grid, const Displacement* displacement, GridFrame* frames) {
-    evaluatePhase(planned, data, layout, nullptr, data.subfaces.size(), Output{grid, displacement, frames});
+                            GridVertex* grid, const Displacement* displacement, GridFrames* frames) {
+    evaluatePhase(planned, data, layout, nullptr, data.subfaces.size(), Output{grid, displacement, frames, layout});
     copyPhase(layout, nullptr, data.subfaces.size(), grid);
 }
 
@@ -333,9 +369,10 @@ namespace {
 void markChangedCells(const DisplacementLayout& layout, uint32_t subface, SampleMarks changed, bool* cells) {
     const DisplacementSubface& sf = layout.subfaces[subface];
     const uint32_t R = sf.resolution, side = R + 1;
+    uint32_t samples[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
+    gridSamples(layout, subface, samples);
     bool point[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
-    for (uint32_t j = 0; j < side; ++j)
-        for (uint32_t i = 0; i < side; ++i) point[j * side + i] = changed.marked(gridSample(layout, subface, i, j));
+    for (uint32_t k = 0; k < side * side; ++k) point[k] = changed.marked(samples[k]);
     for (uint32_t j = 0; j < R; ++j)
         for (uint32_t i = 0; i < R; ++i)
             cells[j * R + i] = point[j * side + i] || point[j * side + i + 1] || point[(j + 1) * side + i] ||
@@ -362,12 +399,12 @@ void markChangedCells(const DisplacementLayout& layout, uint32_t subface, Sample
 
 uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
                              std::span<const uint32_t> copy, const Displacement& displacement, SampleMarks changed,
-                             const GridFrame* frames, GridVertex* grid) {
+                             const GridFrames& frames, GridVertex* grid) {
     std::atomic<uint32_t> displaced{0};
     forEachSubface(evaluate.data(), evaluate.size(), [&](uint32_t drawn) {
         bool cells[kMaxDisplacementResolution * kMaxDisplacementResolution];
         markChangedCells(displacement.layout, data.subfaces[drawn].subface, changed, cells);
-        displaced += displaceSlots(data, layout, drawn, displacement, cells, frames, grid);
+        displaced += displaceSlots(data, layout, drawn, displacement, cells, frames.block(layout, drawn), grid);
     });
     copyPhase(layout, copy.data(), copy.size(), grid);
     return displaced;

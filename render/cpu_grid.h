@@ -9,8 +9,8 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
-#include "displacement.h"
 #include "displacement.h"
 #include "grid_layout.h"
 #include "planned_cage.h"
@@ -22,12 +22,24 @@ namespace qp {
 // (shaders/displacement.glsl, evaluateWithNormal, has the same constant and says why).
 constexpr float kCornerNormalStep = 1.0f / 64.0f;
 
-// What the grid keeps per evaluated slot when there is a displacement (optional): the
-// undisplaced limit point and the derivatives it is displaced and shaded with (at sub-face
-// corners those kCornerNormalStep inside). A brush dab then re-displaces slots from them
-// without evaluating the surface again (redisplaceGridOnCpu).
-struct GridFrame {
-    glm::vec3 position, du, dv;
+// What the grid keeps per evaluated slot when there is a displacement: the undisplaced limit
+// point and the derivatives it is displaced and shaded with (at sub-face corners those
+// kCornerNormalStep inside). A brush dab then re-displaces slots from them without evaluating
+// the surface again (redisplaceGridOnCpu). Stored as a structure of arrays per drawn
+// sub-face, so that consecutive slots of a row load into SIMD lanes together: in the block of
+// drawn sub-face d, component c (position x, y, z, du x, y, z, dv x, y, z) of its local slot k
+// is at block(layout, d)[c * (n + 1)^2 + k].
+constexpr uint32_t kFrameComponents = 9;
+struct GridFrames {
+    std::vector<float> components;  // kFrameComponents per slot, then padding for whole lanes
+
+    void resize(const GridLayout& layout) { components.resize(size_t(kFrameComponents) * layout.slotCount() + 4); }
+    float* block(const GridLayout& layout, uint32_t drawn) {
+        return components.data() + size_t(kFrameComponents) * layout.subfaceOffset[drawn];
+    }
+    const float* block(const GridLayout& layout, uint32_t drawn) const {
+        return components.data() + size_t(kFrameComponents) * layout.subfaceOffset[drawn];
+    }
 };
 
 // Phase 1 (evaluated slots) for the drawn sub-faces in `evaluate`, then phase 2 (copied
@@ -35,15 +47,15 @@ struct GridFrame {
 // cage `data` was packed from, with current control points. With a `displacement` (matching
 // `planned`), evaluated slots hold the displaced point and displacePoint's shading normal (as
 // shaders/plan_grid.comp does); phase 2 copies carry them to the neighbours, so shared
-// vertices stay bit-identical. A displacement needs `frames` (layout.slotCount() of them):
-// each evaluated slot's frame is kept there.
+// vertices stay bit-identical. A displacement needs `frames` (resized for `layout`): each
+// evaluated slot's frame is kept there.
 void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
                        std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid,
-                       const Displacement* displacement = nullptr, GridFrame* frames = nullptr);
+                       const Displacement* displacement = nullptr, GridFrames* frames = nullptr);
 
 // Both phases for every drawn sub-face.
 void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                            GridVertex* grid, const Displacement* displacement = nullptr, GridFrame* frames = nullptr);
+                            GridVertex* grid, const Displacement* displacement = nullptr, GridFrames* frames = nullptr);
 
 // Samples a brush dab changed: sample s is marked when stamps[s] == serial (a stamp array
 // reused between dabs, with a new serial each time, needs no clearing).
@@ -60,6 +72,6 @@ struct SampleMarks {
 // `copy`. The same bits as evaluateGridOnCpu. Returns the number of slots displaced.
 uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
                              std::span<const uint32_t> copy, const Displacement& displacement, SampleMarks changed,
-                             const GridFrame* frames, GridVertex* grid);
+                             const GridFrames& frames, GridVertex* grid);
 
 }  // namespace qp

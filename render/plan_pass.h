@@ -28,7 +28,7 @@
 #include "displacement.h"
 #include "displacement_users.h"
 #include "gpu_plans.h"
-#include "cpu_grid.h"  // GridFrame
+#include "cpu_grid.h"  // GridFrames
 #include "grid_layout.h"
 #include "render_target.h"
 #include "vk_buffer.h"
@@ -80,7 +80,7 @@ struct PlanBuffers {
     // and the samples; 16-byte placeholders (no sub-face record) when there is none.
     Buffer displacementSubfaces, displacementSegments, displacementSamples;
     const Displacement* displacement = nullptr;  // what the buffers hold; null: none
-    std::vector<GridFrame> gridFrames;           // CPU grid with displacement: frames of evaluated slots
+    GridFrames gridFrames;                       // CPU grid with displacement: frames of evaluated slots
     DisplacementUsers displacementUsers;         // which sub-faces read each sample
     std::vector<uint32_t> drawnOfSubface;        // PlannedCage sub-face -> drawn index (or UINT32_MAX)
     std::vector<uint32_t> changedStamps;         // CPU grid: samples of the last dab (SampleMarks)
