@@ -166,18 +166,22 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
         if (std::abs(centres[1][axis] - centre[axis]) > 1e-6f * brush.radius) centreCount = 2;
     }
 
+    // The samples reached and where the spatial index keeps their positions and normals
+    // (read from there: in sequence rather than scattered).
     affected_.clear();
-    squaredDistances_.clear();
-    samples_.query(centres[0], brush.radius, affected_, centreCount == 1 ? &squaredDistances_ : nullptr);
+    indexed_.clear();
+    samples_.query(centres[0], brush.radius, affected_, &indexed_);
     if (centreCount > 1) {
         // The mirror image's samples, less those the dab itself reached.
         ++dabSerial_;
         for (uint32_t s : affected_) dabStamp_[s] = dabSerial_;
         const size_t own = affected_.size();
-        samples_.query(centres[1], brush.radius, affected_);
-        affected_.erase(std::remove_if(affected_.begin() + std::ptrdiff_t(own), affected_.end(),
-                                       [&](uint32_t s) { return dabStamp_[s] == dabSerial_; }),
-                        affected_.end());
+        samples_.query(centres[1], brush.radius, affected_, &indexed_);
+        size_t kept = own;
+        for (size_t k = own; k < affected_.size(); ++k)
+            if (dabStamp_[affected_[k]] != dabSerial_) affected_[kept] = affected_[k], indexed_[kept++] = indexed_[k];
+        affected_.resize(kept);
+        indexed_.resize(kept);
     }
     if (affected_.empty()) return 0;
     const size_t count = affected_.size();
@@ -199,19 +203,15 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
         if (distance > brush.radius) return 0.0f;
         return brush.strength * falloffWeight(brush.falloff, distance / brush.radius);
     };
+    auto position = [&](size_t k) -> const glm::vec3& { return samples_.indexedPosition(indexed_[k]); };
+    auto normal = [&](size_t k) -> const glm::vec3& { return samples_.indexedNormal(indexed_[k]); };
     forEach(4096, [&](size_t begin, size_t end) {
         for (size_t k = begin; k < end; ++k) {
-            const uint32_t s = affected_[k];
-            if (centreCount == 1) {
-                weights_[k] = weightAt(std::sqrt(squaredDistances_[k]));  // glm::length's sqrt(dot)
-                weights_[count + k] = 0.0f;
-                continue;
-            }
-            weights_[k] = weightAt(glm::length(samples_.position(s) - centres[0]));
-            weights_[count + k] = weightAt(glm::length(samples_.position(s) - centres[1]));
+            weights_[k] = weightAt(glm::length(position(k) - centres[0]));
+            weights_[count + k] = centreCount > 1 ? weightAt(glm::length(position(k) - centres[1])) : 0.0f;
         }
     });
-    auto displaced = [&](uint32_t sample) { return samples_.position(sample) + values[sample] * samples_.normal(sample); };
+    auto displaced = [&](size_t k) { return position(k) + values[affected_[k]] * normal(k); };
 
     // Flatten: per centre, the plane through the weighted mean displaced point. Sums over
     // fixed chunks added in order, so the result does not depend on the threads.
@@ -230,9 +230,8 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
                 for (size_t k = chunk * kSumChunk; k < std::min(count, (chunk + 1) * kSumChunk); ++k) {
                     const float w = weights_[c * count + k];
                     if (w <= 0.0f) continue;
-                    const uint32_t s = affected_[k];
-                    sum.point += w * displaced(s);
-                    sum.normal += w * samples_.normal(s);
+                    sum.point += w * displaced(k);
+                    sum.normal += w * normal(k);
                     sum.total += w;
                 }
             }
@@ -281,9 +280,9 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
             float delta = 0.0f;
             for (uint32_t c = 0; c < centreCount; ++c) {
                 if (w[c] <= 0.0f || !havePlane[c]) continue;
-                float along = glm::dot(planeNormal[c], samples_.normal(s));
+                float along = glm::dot(planeNormal[c], normal(k));
                 if (std::abs(along) < 0.1f) continue;  // the plane is nearly parallel to the normal
-                float target = d + glm::dot(planeNormal[c], planePoint[c] - displaced(s)) / along;
+                float target = d + glm::dot(planeNormal[c], planePoint[c] - displaced(k)) / along;
                 delta += scale * w[c] * (target - d);
             }
             next = d + delta;

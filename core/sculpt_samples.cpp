@@ -186,7 +186,10 @@ void SculptSamples::refresh(const PlannedCage& planned, std::span<const uint32_t
     std::vector<glm::vec3> before(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) before[i] = positions_[samples[i]];
     evaluateSites(planned, samples);
-    for (uint32_t sample : samples) cellPositions_[cellIndexOfSample_[sample]] = positions_[sample];
+    for (uint32_t sample : samples) {
+        cellPositions_[cellIndexOfSample_[sample]] = positions_[sample];
+        cellNormals_[cellIndexOfSample_[sample]] = normals_[sample];
+    }
     // The index files samples by where they were when it was built; queries widen by how far
     // any sample has moved since (slack), and the index is rebuilt once that grows past half
     // a cell, so a small edit costs only the evaluation.
@@ -236,7 +239,7 @@ void SculptSamples::buildIndex() {
             boundsMin_ = glm::min(boundsMin_, positions_[i]);
             boundsMax_ = glm::max(boundsMax_, positions_[i]);
         }
-    cellKeys_.clear(), cellOffsets_.assign(1, 0), cellSamples_.clear(), cellPositions_.clear();
+    cellKeys_.clear(), cellOffsets_.assign(1, 0), cellSamples_.clear(), cellPositions_.clear(), cellNormals_.clear();
     cellIndexOfSample_.assign(sites_.size(), UINT32_MAX);
     slack_ = 0.0f;
     if (sited.empty()) {
@@ -256,6 +259,7 @@ void SculptSamples::buildIndex() {
     tbb::parallel_sort(keyed.begin(), keyed.end());
     cellSamples_.reserve(keyed.size());
     cellPositions_.reserve(keyed.size());
+    cellNormals_.reserve(keyed.size());
     for (size_t i = 0; i < keyed.size(); ++i) {
         if (i == 0 || keyed[i].first != keyed[i - 1].first) {
             if (i) cellOffsets_.push_back(uint32_t(i));
@@ -263,13 +267,14 @@ void SculptSamples::buildIndex() {
         }
         cellSamples_.push_back(keyed[i].second);
         cellPositions_.push_back(positions_[keyed[i].second]);
+        cellNormals_.push_back(normals_[keyed[i].second]);
         cellIndexOfSample_[keyed[i].second] = uint32_t(i);
     }
     cellOffsets_.push_back(uint32_t(keyed.size()));
 }
 
 void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out,
-                          std::vector<float>* squaredDistances) const {
+                          std::vector<uint32_t>* indexed) const {
     if (cellKeys_.empty() || !(radius >= 0.0f)) return;
     const float r2 = radius * radius;
     const float reach = radius + slack_;  // samples are filed where they were at the last build
@@ -298,10 +303,9 @@ void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uin
                 size_t cell = size_t(it - cellKeys_.begin());
                 for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
                     const glm::vec3 d = cellPositions_[k] - centre;
-                    const float d2 = glm::dot(d, d);
-                    if (d2 > r2) continue;
+                    if (glm::dot(d, d) > r2) continue;
                     out.push_back(cellSamples_[k]);
-                    if (squaredDistances) squaredDistances->push_back(d2);
+                    if (indexed) indexed->push_back(k);
                 }
             }
         }
