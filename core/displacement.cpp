@@ -334,13 +334,16 @@ DisplacementValue evaluateDisplacement(const Displacement& d, uint32_t subface, 
                           [&](uint32_t i, uint32_t j) { return d.samples[gridSample(d.layout, subface, i, j)]; });
 }
 
-SubfaceDisplacement::SubfaceDisplacement(const Displacement& d, uint32_t subface)
+SubfaceDisplacement::SubfaceDisplacement(const Displacement& d, uint32_t subface, const uint32_t* samples)
     : displacement_(d), subface_(d.layout.subfaces[subface]), resolution_(subface_.resolution), finer_(0) {
     for (uint32_t e = 0; e < 4; ++e)
         if (subface_.edges[e].flags & kEdgeFiner) finer_ |= 1u << e;
     const uint32_t count = (resolution_ + 1) * (resolution_ + 1);
-    uint32_t samples[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
-    gridSamples(d.layout, subface, samples);
+    uint32_t gathered[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
+    if (!samples) {
+        gridSamples(d.layout, subface, gathered);
+        samples = gathered;
+    }
     for (uint32_t k = 0; k < count; ++k) grid_[k] = d.samples[samples[k]];
 }
 

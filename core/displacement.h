@@ -155,7 +155,8 @@ inline DisplacementValue bilinearDisplacement(float g00, float g10, float g01, f
 // references to the displacement, whose samples must not change meanwhile.
 class SubfaceDisplacement {
 public:
-    SubfaceDisplacement(const Displacement& displacement, uint32_t subface);
+    // `samples`: the sub-face's gridSamples, when the caller has them already.
+    SubfaceDisplacement(const Displacement& displacement, uint32_t subface, const uint32_t* samples = nullptr);
 
     uint32_t resolution() const { return resolution_; }
     DisplacementValue evaluate(float u, float v) const {

@@ -178,12 +178,13 @@ void bilinearFour(const float* grid, uint32_t R, uint32_t j, float fy, const uin
 
 // Displaces the evaluated slots of drawn sub-face `drawn` from its frames (its GridFrames
 // block): all of them, or with `cells` (R x R flags of its displacement grid) those in a
-// flagged cell, the cell evaluateDisplacement reads at the slot. Returns how many.
+// flagged cell, the cell evaluateDisplacement reads at the slot. `samples`: its gridSamples
+// if at hand. Returns how many.
 uint32_t displaceSlots(const GpuPlanData& data, const GridLayout& layout, uint32_t drawn, const Displacement& displacement,
-                       const bool* cells, const float* frames, GridVertex* grid) {
+                       const bool* cells, const uint32_t* samples, const float* frames, GridVertex* grid) {
     const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
     const uint32_t first = layout.subfaceOffset[drawn], side = n + 1, stride = side * side;
-    const SubfaceDisplacement D(displacement, subface);
+    const SubfaceDisplacement D(displacement, subface, samples);
     const uint32_t R = D.resolution();
     // Per column (and row) k: (u, v) as slotParameter computes them, where in the displacement
     // grid evaluateDisplacement finds them (displacementCell splits into u and v), and whether
@@ -323,7 +324,7 @@ void evaluatePhase(const PlannedCage& planned, const GpuPlanData& data, const Gr
             }
         }
         if (out.displacement)
-            displaceSlots(data, layout, drawn, *out.displacement, nullptr, out.frames->block(layout, drawn), out.grid);
+            displaceSlots(data, layout, drawn, *out.displacement, nullptr, nullptr, out.frames->block(layout, drawn), out.grid);
     });
 }
 
@@ -365,18 +366,21 @@ namespace {
 
 // Cells (i, j), 0 <= i, j < R, of a sub-face's displacement grid whose D reads a changed
 // sample (evaluateDisplacement): one of its four corners, or, in the row of cells along an
-// edge finer than the grid, a sample of that edge's segments.
-void markChangedCells(const DisplacementLayout& layout, uint32_t subface, SampleMarks changed, bool* cells) {
+// edge finer than the grid, a sample of that edge's segments. `samples`: its gridSamples.
+// Returns whether any cell is.
+bool markChangedCells(const DisplacementLayout& layout, uint32_t subface, const uint32_t* samples, SampleMarks changed,
+                      bool* cells) {
     const DisplacementSubface& sf = layout.subfaces[subface];
     const uint32_t R = sf.resolution, side = R + 1;
-    uint32_t samples[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
-    gridSamples(layout, subface, samples);
     bool point[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
     for (uint32_t k = 0; k < side * side; ++k) point[k] = changed.marked(samples[k]);
+    bool anyCell = false;
     for (uint32_t j = 0; j < R; ++j)
-        for (uint32_t i = 0; i < R; ++i)
+        for (uint32_t i = 0; i < R; ++i) {
             cells[j * R + i] = point[j * side + i] || point[j * side + i + 1] || point[(j + 1) * side + i] ||
                                point[(j + 1) * side + i + 1];
+            anyCell = anyCell || cells[j * R + i];
+        }
     for (uint32_t e = 0; e < 4; ++e) {
         const DisplacementEdge& edge = sf.edges[e];
         if (!(edge.flags & kEdgeFiner)) continue;
@@ -392,7 +396,9 @@ void markChangedCells(const DisplacementLayout& layout, uint32_t subface, Sample
             const uint32_t j = e == 1 || e == 3 ? k : e == 2 ? R - 1 : 0;
             cells[j * R + i] = true;
         }
+        anyCell = true;
     }
+    return anyCell;
 }
 
 }  // namespace
@@ -403,8 +409,11 @@ uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, 
     std::atomic<uint32_t> displaced{0};
     forEachSubface(evaluate.data(), evaluate.size(), [&](uint32_t drawn) {
         bool cells[kMaxDisplacementResolution * kMaxDisplacementResolution];
-        markChangedCells(displacement.layout, data.subfaces[drawn].subface, changed, cells);
-        displaced += displaceSlots(data, layout, drawn, displacement, cells, frames.block(layout, drawn), grid);
+        const uint32_t subface = data.subfaces[drawn].subface;
+        uint32_t samples[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
+        gridSamples(displacement.layout, subface, samples);
+        if (!markChangedCells(displacement.layout, subface, samples, changed, cells)) return;
+        displaced += displaceSlots(data, layout, drawn, displacement, cells, samples, frames.block(layout, drawn), grid);
     });
     copyPhase(layout, copy.data(), copy.size(), grid);
     return displaced;
