@@ -96,7 +96,7 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
     Sculptor sculptor(displacement, samples);
     for (auto [kind, fraction] : brushes) {
         const Brush brush{kind, fraction * diagonal, kind == BrushKind::Raise ? 0.05f : 0.5f, Falloff::Smooth};
-        std::vector<double> update, upload, total, bytes, reached, subfaces;
+        std::vector<double> update, upload, total, bytes, reached, subfaces, slots;
         sculptor.beginStroke();
         for (uint32_t r = 0; r < repeats; ++r) {
             const glm::vec3 centre = samples.position(sited[rng() % sited.size()]);
@@ -115,12 +115,13 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
             bytes.push_back(double(gpu.uploadedSamples) * sizeof(float));
             reached.push_back(double(sculptor.lastDabSamples().size()));
             subfaces.push_back(double(gpu.evaluatedSubfaces));
+            slots.push_back(double(gpu.displacedSlots));
         }
         sculptor.endStroke();
         if (std::memcmp(buffers.displacementSamples.data, displacement.samples.data(), displacement.samples.size() * sizeof(float)))
             result.error = "the Vulkan sample buffer differs from the samples (upload ranges miss a change)";
         result.dabs.push_back({kind, brush.radius, repeats, medianOf(update), medianOf(upload), medianOf(total),
-                               medianOf(bytes), medianOf(subfaces), medianOf(reached)});
+                               medianOf(bytes), medianOf(subfaces), medianOf(slots), medianOf(reached)});
     }
     destroyPlanBuffers(ctx, buffers);
     destroyPlanPass(ctx, *pass);
