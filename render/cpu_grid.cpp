@@ -48,8 +48,8 @@ struct Output {
 
     // Slot `slot` of sub-face `subface` at (u, v): the limit point and the unit normal of
     // du x dv (zero where that vanishes), or with a displacement the frame: the limit point
-    // and its derivatives, at sub-face corners those kCornerNormalStep inside
-    // (shaders/displacement.glsl, evaluateWithNormal, says why).
+    // and its derivatives, at sub-face corners where they vanish those kCornerNormalStep
+    // inside (cornerDerivativesVanish).
     void write(const PlannedCage& planned, uint32_t slot, const LimitSample& s, uint32_t subface, float u, float v) const {
         if (!displacement) {
             const glm::vec3 n = unitNormalOf(s.du, s.dv);
@@ -60,8 +60,10 @@ struct Output {
         if ((u == 0.0f || u == 1.0f) && (v == 0.0f || v == 1.0f)) {
             const LimitSample inside = planned.evaluate(subface, u + (u < 0.5f ? kCornerNormalStep : -kCornerNormalStep),
                                                         v + (v < 0.5f ? kCornerNormalStep : -kCornerNormalStep));
-            du = inside.du;
-            dv = inside.dv;
+            if (cornerDerivativesVanish(du, dv, inside.du, inside.dv)) {
+                du = inside.du;
+                dv = inside.dv;
+            }
         }
         const uint32_t drawn = layout.slotSubface[slot], first = layout.subfaceOffset[drawn];
         const uint32_t stride = layout.subfaceOffset[drawn + 1] - first;

@@ -11,20 +11,30 @@
 #include <span>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
 #include "displacement.h"
 #include "grid_layout.h"
 #include "planned_cage.h"
 
 namespace qp {
 
-// With displacement, a sub-face corner is displaced and shaded with the derivatives this far
-// inside the sub-face (in u and v): at extraordinary vertices they vanish at the corner
-// (shaders/displacement.glsl, evaluateWithNormal, has the same constant and says why).
+// With displacement, a sub-face corner is displaced and shaded with its own derivatives (at
+// smooth extraordinary vertices they give the exact limit normal; those a step inside are
+// tilted by 1-10 degrees there), unless they vanish: |du x dv| at most kCornerVanishing times
+// that kCornerNormalStep inside the sub-face (in u and v), whose derivatives are then used. At
+// some extraordinary vertices the plans' Gregory corners have none (shaders/displacement.glsl,
+// evaluateWithNormal, has the same rule and constants and says more).
 constexpr float kCornerNormalStep = 1.0f / 64.0f;
+constexpr float kCornerVanishing = 1e-3f;
+inline bool cornerDerivativesVanish(const glm::vec3& du, const glm::vec3& dv, const glm::vec3& insideDu,
+                                    const glm::vec3& insideDv) {
+    return !(glm::length(glm::cross(du, dv)) > kCornerVanishing * glm::length(glm::cross(insideDu, insideDv)));
+}
 
 // What the grid keeps per evaluated slot when there is a displacement: the undisplaced limit
-// point and the derivatives it is displaced and shaded with (at sub-face corners those
-// kCornerNormalStep inside). A brush dab then re-displaces slots from them without evaluating
+// point and the derivatives it is displaced and shaded with (at sub-face corners where they
+// vanish, those kCornerNormalStep inside). A brush dab then re-displaces slots from them without evaluating
 // the surface again (redisplaceGridOnCpu). Stored as a structure of arrays per drawn
 // sub-face, so that consecutive slots of a row load into SIMD lanes together: in the block of
 // drawn sub-face d, component c (position x, y, z, du x, y, z, dv x, y, z) of its local slot k
