@@ -52,6 +52,11 @@ std::string number(float value) {
 // Values are never written as -0, so equal values always have equal bits.
 float canonicalZero(float value) { return value + 0.0f; }
 
+// Dabs reaching fewer samples run on the calling thread.
+constexpr size_t kSerialDab = 8192;
+// Flatten's sums and the writes: samples per chunk.
+constexpr size_t kSumChunk = 4096;
+
 }  // namespace
 
 std::optional<BrushKind> brushKindFromName(std::string_view name) { return fromName(kBrushNames, name); }
@@ -162,45 +167,88 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
         if (std::abs(centres[1][axis] - centre[axis]) > 1e-6f * brush.radius) centreCount = 2;
     }
 
+    // The samples reached and where the spatial index keeps their positions and normals
+    // (read from there: in sequence rather than scattered).
     affected_.clear();
-    samples_.query(centres[0], brush.radius, affected_);
+    indexed_.clear();
+    samples_.query(centres[0], brush.radius, affected_, &indexed_);
     if (centreCount > 1) {
         // The mirror image's samples, less those the dab itself reached.
         ++dabSerial_;
         for (uint32_t s : affected_) dabStamp_[s] = dabSerial_;
         const size_t own = affected_.size();
-        samples_.query(centres[1], brush.radius, affected_);
-        affected_.erase(std::remove_if(affected_.begin() + std::ptrdiff_t(own), affected_.end(),
-                                       [&](uint32_t s) { return dabStamp_[s] == dabSerial_; }),
-                        affected_.end());
+        samples_.query(centres[1], brush.radius, affected_, &indexed_);
+        size_t kept = own;
+        for (size_t k = own; k < affected_.size(); ++k)
+            if (dabStamp_[affected_[k]] != dabSerial_) affected_[kept] = affected_[k], indexed_[kept++] = indexed_[k];
+        affected_.resize(kept);
+        indexed_.resize(kept);
     }
     if (affected_.empty()) return 0;
+    const size_t count = affected_.size();
 
+    // Big dabs spread their passes over the cores; each element depends on old values only.
+    auto forEach = [count](size_t grain, const auto& body) {
+        if (count < kSerialDab) {
+            body(size_t(0), count);
+            return;
+        }
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, count, grain),
+                          [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
+    };
+
+    // Weights per centre (the mirror image's in the second half).
     std::vector<float>& values = displacement_.samples;
-    auto weight = [&](uint32_t sample, uint32_t c) {
-        float distance = glm::length(samples_.position(sample) - centres[c]);
+    weights_.resize(2 * count);
+    auto weightAt = [&](float distance) {
         if (distance > brush.radius) return 0.0f;
         return brush.strength * falloffWeight(brush.falloff, distance / brush.radius);
     };
-    auto displaced = [&](uint32_t sample) { return samples_.position(sample) + values[sample] * samples_.normal(sample); };
+    auto position = [&](size_t k) -> const glm::vec3& { return samples_.indexedPosition(indexed_[k]); };
+    auto normal = [&](size_t k) -> const glm::vec3& { return samples_.indexedNormal(indexed_[k]); };
+    forEach(4096, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) {
+            weights_[k] = weightAt(glm::length(position(k) - centres[0]));
+            weights_[count + k] = centreCount > 1 ? weightAt(glm::length(position(k) - centres[1])) : 0.0f;
+        }
+    });
+    auto displaced = [&](size_t k) { return position(k) + values[affected_[k]] * normal(k); };
 
-    // Flatten: per centre, the plane through the weighted mean displaced point.
+    // Flatten: per centre, the plane through the weighted mean displaced point. Sums over
+    // fixed chunks added in order, so the result does not depend on the threads.
     glm::vec3 planePoint[2], planeNormal[2];
     bool havePlane[2] = {false, false};
     if (brush.kind == BrushKind::Flatten) {
-        for (uint32_t c = 0; c < centreCount; ++c) {
-            glm::vec3 point(0.0f), normal(0.0f);
+        struct Sums {
+            glm::vec3 point{0.0f}, normal{0.0f};
             float total = 0.0f;
-            for (uint32_t s : affected_) {
-                float w = weight(s, c);
-                if (w <= 0.0f) continue;
-                point += w * displaced(s);
-                normal += w * samples_.normal(s);
-                total += w;
+        };
+        const size_t chunks = (count + kSumChunk - 1) / kSumChunk;
+        std::vector<Sums> partial(2 * chunks);
+        auto sumChunk = [&](size_t chunk) {
+            for (uint32_t c = 0; c < centreCount; ++c) {
+                Sums& sum = partial[c * chunks + chunk];
+                for (size_t k = chunk * kSumChunk; k < std::min(count, (chunk + 1) * kSumChunk); ++k) {
+                    const float w = weights_[c * count + k];
+                    if (w <= 0.0f) continue;
+                    sum.point += w * displaced(k);
+                    sum.normal += w * normal(k);
+                    sum.total += w;
+                }
             }
-            if (total > 0.0f && glm::length(normal) > 0.0f) {
-                planePoint[c] = point / total;
-                planeNormal[c] = glm::normalize(normal);
+        };
+        if (chunks == 1) sumChunk(0);
+        else tbb::parallel_for(size_t(0), chunks, sumChunk);
+        for (uint32_t c = 0; c < centreCount; ++c) {
+            Sums sum;
+            for (size_t chunk = 0; chunk < chunks; ++chunk) {
+                sum.point += partial[c * chunks + chunk].point;
+                sum.normal += partial[c * chunks + chunk].normal;
+                sum.total += partial[c * chunks + chunk].total;
+            }
+            if (sum.total > 0.0f && glm::length(sum.normal) > 0.0f) {
+                planePoint[c] = sum.point / sum.total;
+                planeNormal[c] = glm::normalize(sum.normal);
                 havePlane[c] = true;
             }
         }
@@ -208,11 +256,11 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
 
     // New values from old ones only, then written together: the dab and its mirror image do
     // not see each other's effect, so neither order nor overlap breaks the symmetry.
-    newValues_.resize(affected_.size());
+    newValues_.resize(count);
     auto update = [&](size_t k) {
         const uint32_t s = affected_[k];
         const float d = values[s];
-        float w[2] = {weight(s, 0), centreCount > 1 ? weight(s, 1) : 0.0f};
+        float w[2] = {weights_[k], weights_[count + k]};
         float total = w[0] + w[1];
         float next = d;
         switch (brush.kind) {
@@ -233,9 +281,9 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
             float delta = 0.0f;
             for (uint32_t c = 0; c < centreCount; ++c) {
                 if (w[c] <= 0.0f || !havePlane[c]) continue;
-                float along = glm::dot(planeNormal[c], samples_.normal(s));
+                float along = glm::dot(planeNormal[c], normal(k));
                 if (std::abs(along) < 0.1f) continue;  // the plane is nearly parallel to the normal
-                float target = d + glm::dot(planeNormal[c], planePoint[c] - displaced(s)) / along;
+                float target = d + glm::dot(planeNormal[c], planePoint[c] - displaced(k)) / along;
                 delta += scale * w[c] * (target - d);
             }
             next = d + delta;
@@ -244,26 +292,42 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
         }
         newValues_[k] = canonicalZero(next);
     };
-    // Each new value reads old values only: big dabs spread over the cores.
-    if (affected_.size() < 8192) {
-        for (size_t k = 0; k < affected_.size(); ++k) update(k);
-    } else {
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, affected_.size(), 2048), [&](const tbb::blocked_range<size_t>& r) {
-            for (size_t k = r.begin(); k != r.end(); ++k) update(k);
-        });
-    }
+    forEach(2048, [&](size_t begin, size_t end) {
+        for (size_t k = begin; k < end; ++k) update(k);
+    });
 
-    uint32_t changed = 0;
-    for (size_t k = 0; k < affected_.size(); ++k) {
-        const uint32_t s = affected_[k];
-        if (newValues_[k] == values[s] && std::signbit(newValues_[k]) == std::signbit(values[s])) continue;
-        if (touchedInStroke_[s] != stroke_) {
-            touchedInStroke_[s] = stroke_;
-            before_[s] = values[s];
-            touched_.push_back(s);
+    // The writes and the stroke's bookkeeping: every sample once, so chunks run on any core;
+    // samples the stroke touches for the first time join touched_ in chunk order.
+    const size_t chunks = (count + kSumChunk - 1) / kSumChunk;
+    firstTouches_.resize(count);
+    chunkCounts_.assign(2 * chunks, 0);  // per chunk: samples changed, first touches
+    auto writeChunk = [&](size_t chunk) {
+        const size_t begin = chunk * kSumChunk, end = std::min(count, begin + kSumChunk);
+        uint32_t changed = 0, first = 0;
+        for (size_t k = begin; k < end; ++k) {
+            const uint32_t s = affected_[k];
+            if (newValues_[k] == values[s] && std::signbit(newValues_[k]) == std::signbit(values[s])) continue;
+            if (touchedInStroke_[s] != stroke_) {
+                touchedInStroke_[s] = stroke_;
+                before_[s] = values[s];
+                firstTouches_[begin + first++] = s;
+            }
+            values[s] = newValues_[k];
+            ++changed;
         }
-        values[s] = newValues_[k];
-        ++changed;
+        chunkCounts_[2 * chunk] = changed;
+        chunkCounts_[2 * chunk + 1] = first;
+    };
+    if (count < kSerialDab) {
+        for (size_t chunk = 0; chunk < chunks; ++chunk) writeChunk(chunk);
+    } else {
+        tbb::parallel_for(size_t(0), chunks, writeChunk);
+    }
+    uint32_t changed = 0;
+    for (size_t chunk = 0; chunk < chunks; ++chunk) {
+        changed += chunkCounts_[2 * chunk];
+        const auto first = firstTouches_.begin() + std::ptrdiff_t(chunk * kSumChunk);
+        touched_.insert(touched_.end(), first, first + chunkCounts_[2 * chunk + 1]);
     }
     return changed;
 }

@@ -134,9 +134,10 @@ private:
     uint32_t stroke_ = 1;
 
     // Scratch reused between dabs; dabStamp_ tells the mirror image's samples from the dab's.
-    std::vector<uint32_t> affected_, dabStamp_;
+    std::vector<uint32_t> affected_, indexed_, dabStamp_;
     uint32_t dabSerial_ = 0;
-    std::vector<float> newValues_;
+    std::vector<float> weights_, newValues_;
+    std::vector<uint32_t> firstTouches_, chunkCounts_;
 };
 
 // One whole stroke: begin, dabs along the path, end.

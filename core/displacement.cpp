@@ -53,7 +53,7 @@ void assignResolutionsAndOffsets(DisplacementLayout& layout) {
     layout.sampleCount = offset;
 }
 
-float lerp(float a, float b, float f) { return (1.0f - f) * a + f * b; }
+float lerp(float a, float b, float f) { return displacementLerp(a, b, f); }
 
 // Value and d/dt of a segment at canonical t. On a sample (f = 0 or 1) the value is that
 // sample's bits, so a corner reached through any of its segments reads the same bits.
@@ -218,6 +218,26 @@ glm::vec2 edgePoint(uint32_t edge, float t) {
     }
 }
 
+namespace {
+
+// gridSample of point `along` (0 < along < R) of sub-face edge `edge`: R intervals on the
+// sub-face edge; its segment has as many or more (a power of two times).
+uint32_t edgeGridSample(const DisplacementLayout& layout, const DisplacementSubface& sf, uint32_t edge, uint32_t along) {
+    const DisplacementEdge& e = sf.edges[edge];
+    const uint32_t R = sf.resolution;
+    uint32_t segment = e.segment, k = along, intervals = R;  // edgeSite, inline
+    if (!(e.flags & kEdgeSplit)) {
+        if (e.flags & kEdgeReversed) k = R - along;
+    } else {
+        intervals = R / 2;
+        if (2 * along > R) segment = e.secondHalf, k = R - along;
+    }
+    const DisplacementSegment& seg = layout.segments[segment];
+    return segmentSample(seg, k * (seg.resolution / intervals));
+}
+
+}  // namespace
+
 uint32_t gridSample(const DisplacementLayout& layout, uint32_t subface, uint32_t i, uint32_t j) {
     const DisplacementSubface& sf = layout.subfaces[subface];
     const uint32_t R = sf.resolution;
@@ -227,34 +247,46 @@ uint32_t gridSample(const DisplacementLayout& layout, uint32_t subface, uint32_t
     uint32_t along = edge == 0 || edge == 2 ? i : j;
     if (along == 0) return sf.corners[kEdgeStart[edge]];
     if (along == R) return sf.corners[kEdgeEnd[edge]];
-    // R intervals on the sub-face edge; the segment has as many or more (a power of two times).
-    EdgeSite site = edgeSite(sf, edge, along, R);
-    const DisplacementSegment& seg = layout.segments[site.segment];
-    return segmentSample(seg, site.k * (seg.resolution / site.intervals));
+    return edgeGridSample(layout, sf, edge, along);
+}
+
+void gridSamples(const DisplacementLayout& layout, uint32_t subface, uint32_t* out) {
+    const DisplacementSubface& sf = layout.subfaces[subface];
+    const uint32_t R = sf.resolution, side = R + 1;
+    for (uint32_t j = 1; j < R; ++j)
+        for (uint32_t i = 1; i < R; ++i) out[j * side + i] = sf.interiorOffset + (j - 1) * (R - 1) + (i - 1);
+    // Corners 0..3 at (0,0) (R,0) (R,R) (0,R); edges 0 and 2 along rows 0 and R, 1 and 3 along
+    // columns R and 0.
+    out[0] = sf.corners[0], out[R] = sf.corners[1], out[R * side + R] = sf.corners[2], out[R * side] = sf.corners[3];
+    for (uint32_t k = 1; k < R; ++k) {
+        out[k] = edgeGridSample(layout, sf, 0, k);
+        out[k * side + R] = edgeGridSample(layout, sf, 1, k);
+        out[R * side + k] = edgeGridSample(layout, sf, 2, k);
+        out[k * side] = edgeGridSample(layout, sf, 3, k);
+    }
 }
 
 DisplacementValue evaluateSegment(const Displacement& d, uint32_t segment, float t) {
     return segmentValue(d.layout, d.samples, segment, t);
 }
 
-DisplacementValue evaluateDisplacement(const Displacement& d, uint32_t subface, float u, float v) {
-    const DisplacementLayout& layout = d.layout;
-    const std::vector<float>& samples = d.samples;
-    const DisplacementSubface& sf = layout.subfaces[subface];
+namespace {
+
+// evaluateDisplacement's formula; `G(i, j)` gives grid point (i, j)'s value. Both callers
+// run these same operations, so they get the same bits.
+template <class Grid>
+DisplacementValue evaluateOnGrid(const DisplacementLayout& layout, const std::vector<float>& samples,
+                                 const DisplacementSubface& sf, float u, float v, const Grid& G) {
     u = std::clamp(u, 0.0f, 1.0f);
     v = std::clamp(v, 0.0f, 1.0f);
     const uint32_t R = sf.resolution;
     const float Rf = float(R);
-    const float x = u * Rf, y = v * Rf;
-    const uint32_t i = std::min(uint32_t(x), R - 1), j = std::min(uint32_t(y), R - 1);
-    const float fx = x - float(i), fy = y - float(j);
-    auto G = [&](uint32_t gi, uint32_t gj) { return samples[gridSample(layout, subface, gi, gj)]; };
+    const DisplacementCell cell = displacementCell(R, u, v);
+    const uint32_t i = cell.i, j = cell.j;
+    const float fx = cell.fx, fy = cell.fy;
     const float g00 = G(i, j), g10 = G(i + 1, j), g01 = G(i, j + 1), g11 = G(i + 1, j + 1);
 
-    DisplacementValue out;
-    out.value = lerp(lerp(g00, g10, fx), lerp(g01, g11, fx), fy);
-    out.du = Rf * lerp(g10 - g00, g11 - g01, fy);
-    out.dv = Rf * lerp(g01 - g00, g11 - g10, fx);
+    DisplacementValue out = bilinearDisplacement(g00, g10, g01, g11, cell, Rf);
 
     // Boundary strips of edges finer than the grid: (E - L) fading over one cell.
     auto finer = [&](uint32_t e) { return (sf.edges[e].flags & kEdgeFiner) != 0; };
@@ -293,6 +325,32 @@ DisplacementValue evaluateDisplacement(const Displacement& d, uint32_t subface, 
     else if (v == 1.0f) out.value = edgeValue(layout, samples, sf.edges[2], u, true).value;
     else if (u == 0.0f) out.value = edgeValue(layout, samples, sf.edges[3], v, true).value;
     return out;
+}
+
+}  // namespace
+
+DisplacementValue evaluateDisplacement(const Displacement& d, uint32_t subface, float u, float v) {
+    return evaluateOnGrid(d.layout, d.samples, d.layout.subfaces[subface], u, v,
+                          [&](uint32_t i, uint32_t j) { return d.samples[gridSample(d.layout, subface, i, j)]; });
+}
+
+SubfaceDisplacement::SubfaceDisplacement(const Displacement& d, uint32_t subface, const uint32_t* samples)
+    : displacement_(d), subface_(d.layout.subfaces[subface]), resolution_(subface_.resolution), finer_(0) {
+    for (uint32_t e = 0; e < 4; ++e)
+        if (subface_.edges[e].flags & kEdgeFiner) finer_ |= 1u << e;
+    const uint32_t count = (resolution_ + 1) * (resolution_ + 1);
+    uint32_t gathered[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
+    if (!samples) {
+        gridSamples(d.layout, subface, gathered);
+        samples = gathered;
+    }
+    for (uint32_t k = 0; k < count; ++k) grid_[k] = d.samples[samples[k]];
+}
+
+DisplacementValue SubfaceDisplacement::evaluateNearEdges(float u, float v) const {
+    const uint32_t side = resolution_ + 1;
+    return evaluateOnGrid(displacement_.layout, displacement_.samples, subface_, u, v,
+                          [&](uint32_t i, uint32_t j) { return grid_[j * side + i]; });
 }
 
 std::vector<uint32_t> subfaceResolutions(const DisplacementLayout& layout) {
@@ -350,17 +408,6 @@ uint32_t requiredTessellationFactor(const DisplacementLayout& layout, uint32_t s
     uint32_t factor = layout.subfaces[subface].resolution;
     for (uint32_t e = 0; e < 4; ++e) factor = std::max(factor, requiredEdgeFactor(layout, subface, e));
     return factor;
-}
-
-DisplacedPoint displacePoint(const glm::vec3& position, const glm::vec3& du, const glm::vec3& dv,
-                             const glm::vec3& unitNormal, const DisplacementValue& d) {
-    DisplacedPoint out;
-    out.position = position + d.value * unitNormal;
-    glm::vec3 fu = du + d.du * unitNormal, fv = dv + d.dv * unitNormal;
-    glm::vec3 n = glm::cross(fu, fv);
-    float length = glm::length(n);
-    out.normal = length > 0.0f ? n / length : unitNormal;
-    return out;
 }
 
 }  // namespace qp

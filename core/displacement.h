@@ -28,6 +28,9 @@
 #include <span>
 #include <vector>
 
+#include <algorithm>
+
+#include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -123,11 +126,82 @@ struct DisplacementValue {
 // Derivatives are those of the inside formula (one-sided on edges).
 DisplacementValue evaluateDisplacement(const Displacement& displacement, uint32_t subface, float u, float v);
 
+// The pieces of evaluateDisplacement that a sub-face's inside shares with its fast path
+// (SubfaceDisplacement): which grid cell (u, v) falls in, and the bilinear interpolant there.
+struct DisplacementCell {
+    uint32_t i, j;   // the cell's corner (i, j); 0 <= i, j < R
+    float fx, fy;    // position inside the cell, in [0, 1]
+};
+inline DisplacementCell displacementCell(uint32_t resolution, float u, float v) {
+    const float Rf = float(resolution);
+    const float x = u * Rf, y = v * Rf;
+    const uint32_t i = std::min(uint32_t(x), resolution - 1), j = std::min(uint32_t(y), resolution - 1);
+    return {i, j, x - float(i), y - float(j)};
+}
+inline float displacementLerp(float a, float b, float f) { return (1.0f - f) * a + f * b; }
+// Grid values g_ij at the cell's corners, R the resolution.
+inline DisplacementValue bilinearDisplacement(float g00, float g10, float g01, float g11, const DisplacementCell& c,
+                                              float Rf) {
+    DisplacementValue out;
+    out.value = displacementLerp(displacementLerp(g00, g10, c.fx), displacementLerp(g01, g11, c.fx), c.fy);
+    out.du = Rf * displacementLerp(g10 - g00, g11 - g01, c.fy);
+    out.dv = Rf * displacementLerp(g01 - g00, g11 - g10, c.fx);
+    return out;
+}
+
+// One sub-face's D for evaluating it at many points (a renderer's grid): its (R+1)^2 grid
+// samples gathered once, and inside the sub-face, away from edges finer than the grid, the
+// bilinear interpolant inline. evaluate(u, v) has evaluateDisplacement's bits. Holds
+// references to the displacement, whose samples must not change meanwhile.
+class SubfaceDisplacement {
+public:
+    // `samples`: the sub-face's gridSamples, when the caller has them already.
+    SubfaceDisplacement(const Displacement& displacement, uint32_t subface, const uint32_t* samples = nullptr);
+
+    uint32_t resolution() const { return resolution_; }
+    DisplacementValue evaluate(float u, float v) const {
+        u = std::clamp(u, 0.0f, 1.0f);
+        v = std::clamp(v, 0.0f, 1.0f);
+        const DisplacementCell c = displacementCell(resolution_, u, v);
+        return isBilinear(c, u, v) ? bilinear(c) : evaluateNearEdges(u, v);
+    }
+    // For callers that find the cell themselves (u, v in [0, 1], c = displacementCell(R, u, v)):
+    // where evaluate() is the bilinear interpolant alone (inside the sub-face, off the strips of
+    // edges finer than the grid), and that interpolant.
+    bool isBilinear(const DisplacementCell& c, float u, float v) const {
+        return isBilinearAlongU(c.i, u) && isBilinearAlongV(c.j, v);
+    }
+    DisplacementValue bilinear(const DisplacementCell& c) const {
+        const float* g = grid_ + c.j * (resolution_ + 1) + c.i;
+        return bilinearDisplacement(g[0], g[1], g[resolution_ + 1], g[resolution_ + 2], c, float(resolution_));
+    }
+    // isBilinear's conditions on u (cell column i) and on v (cell row j), and the grid values,
+    // row-major ((R+1)^2, i fastest), for callers that interpolate many points at once.
+    bool isBilinearAlongU(uint32_t i, float u) const {
+        return u != 0.0f && u != 1.0f && !(i == resolution_ - 1 && (finer_ & 2)) && !(i == 0 && (finer_ & 8));
+    }
+    bool isBilinearAlongV(uint32_t j, float v) const {
+        return v != 0.0f && v != 1.0f && !(j == 0 && (finer_ & 1)) && !(j == resolution_ - 1 && (finer_ & 4));
+    }
+    const float* grid() const { return grid_; }
+
+private:
+    DisplacementValue evaluateNearEdges(float u, float v) const;  // evaluateDisplacement's whole formula
+
+    const Displacement& displacement_;
+    const DisplacementSubface& subface_;
+    uint32_t resolution_;
+    uint32_t finer_;  // bit e: edge e is finer than the grid (kEdgeFiner)
+    float grid_[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];  // row-major, u fastest
+};
+
 // Value of segment `segment` at canonical parameter t in [0, 1] (no snapping), and d/dt.
 DisplacementValue evaluateSegment(const Displacement& displacement, uint32_t segment, float t);
 
 // Sample index of grid point (i, j), 0 <= i, j <= R, of a sub-face.
 uint32_t gridSample(const DisplacementLayout& layout, uint32_t subface, uint32_t i, uint32_t j);
+// gridSample of every grid point of a sub-face, row-major ((R+1)^2 of them, i fastest).
+void gridSamples(const DisplacementLayout& layout, uint32_t subface, uint32_t* out);
 
 // Sample index of sample k (0..S) of a segment.
 inline uint32_t segmentSample(const DisplacementSegment& s, uint32_t k) {
@@ -179,7 +253,16 @@ uint32_t requiredTessellationFactor(const DisplacementLayout& layout, uint32_t s
 struct DisplacedPoint {
     glm::vec3 position, normal;
 };
-DisplacedPoint displacePoint(const glm::vec3& position, const glm::vec3& du, const glm::vec3& dv,
-                             const glm::vec3& unitNormal, const DisplacementValue& d);
+// Inline: renderers call it for every vertex of a grid.
+inline DisplacedPoint displacePoint(const glm::vec3& position, const glm::vec3& du, const glm::vec3& dv,
+                                    const glm::vec3& unitNormal, const DisplacementValue& d) {
+    DisplacedPoint out;
+    out.position = position + d.value * unitNormal;
+    const glm::vec3 fu = du + d.du * unitNormal, fv = dv + d.dv * unitNormal;
+    const glm::vec3 n = glm::cross(fu, fv);
+    const float length = glm::length(n);
+    out.normal = length > 0.0f ? n / length : unitNormal;
+    return out;
+}
 
 }  // namespace qp

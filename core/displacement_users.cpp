@@ -1,6 +1,7 @@
 #include "displacement_users.h"
 
 #include <algorithm>
+#include <bit>
 
 namespace qp {
 
@@ -36,33 +37,35 @@ DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout) {
     DisplacementUsers users;
     buildCsr(layout.pointCount, points, users.pointOffsets, users.pointSubfaces);
     buildCsr(uint32_t(layout.segments.size()), segments, users.segmentOffsets, users.segmentSubfaces);
+    users.holder.resize(layout.sampleCount - layout.pointCount);
+    for (uint32_t g = 0; g < layout.segments.size(); ++g) {
+        const DisplacementSegment& s = layout.segments[g];
+        std::fill_n(users.holder.begin() + (s.offset - layout.pointCount), s.resolution - 1, g);
+    }
+    for (uint32_t f = 0; f < layout.subfaces.size(); ++f) {
+        const DisplacementSubface& sf = layout.subfaces[f];
+        std::fill_n(users.holder.begin() + (sf.interiorOffset - layout.pointCount), (sf.resolution - 1) * (sf.resolution - 1), f);
+    }
     return users;
 }
 
 std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, const DisplacementUsers& users,
                                              std::span<const uint32_t> samples) {
-    std::vector<uint32_t> out;
-    const uint32_t segmentBegin = layout.segmentSampleBegin(), tileBegin = layout.tileSampleBegin();
-    auto append = [&](const std::vector<uint32_t>& offsets, const std::vector<uint32_t>& values, uint32_t key) {
-        out.insert(out.end(), values.begin() + offsets[key], values.begin() + offsets[key + 1]);
+    // A bitmap of sub-faces: sorted and unique for free.
+    std::vector<uint64_t> reading((layout.subfaces.size() + 63) / 64, 0);
+    auto mark = [&](uint32_t subface) { reading[subface / 64] |= uint64_t(1) << (subface % 64); };
+    auto markAll = [&](const std::vector<uint32_t>& offsets, const std::vector<uint32_t>& values, uint32_t key) {
+        for (uint32_t k = offsets[key]; k < offsets[key + 1]; ++k) mark(values[k]);
     };
+    const uint32_t segmentBegin = layout.segmentSampleBegin(), tileBegin = layout.tileSampleBegin();
     for (uint32_t sample : samples) {
-        if (sample < segmentBegin) {
-            append(users.pointOffsets, users.pointSubfaces, sample);
-        } else if (sample < tileBegin) {
-            // Segments are stored in offset order; the last one starting at or before the
-            // sample holds it (segments without interior samples share their successor's offset).
-            auto it = std::upper_bound(layout.segments.begin(), layout.segments.end(), sample,
-                                       [](uint32_t x, const DisplacementSegment& s) { return x < s.offset; });
-            append(users.segmentOffsets, users.segmentSubfaces, uint32_t(it - layout.segments.begin()) - 1);
-        } else if (sample < layout.sampleCount) {
-            auto it = std::upper_bound(layout.subfaces.begin(), layout.subfaces.end(), sample,
-                                       [](uint32_t x, const DisplacementSubface& s) { return x < s.interiorOffset; });
-            out.push_back(uint32_t(it - layout.subfaces.begin()) - 1);
-        }
+        if (sample < segmentBegin) markAll(users.pointOffsets, users.pointSubfaces, sample);
+        else if (sample < tileBegin) markAll(users.segmentOffsets, users.segmentSubfaces, users.holder[sample - segmentBegin]);
+        else if (sample < layout.sampleCount) mark(users.holder[sample - segmentBegin]);
     }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
+    std::vector<uint32_t> out;
+    for (uint32_t word = 0; word < reading.size(); ++word)
+        for (uint64_t bits = reading[word]; bits; bits &= bits - 1) out.push_back(word * 64 + uint32_t(std::countr_zero(bits)));
     return out;
 }
 

@@ -19,6 +19,8 @@ namespace qp {
 struct DisplacementUsers {
     std::vector<uint32_t> pointOffsets, pointSubfaces;      // CSR: point -> sub-faces
     std::vector<uint32_t> segmentOffsets, segmentSubfaces;  // CSR: segment -> sub-faces
+    // Per sample past the points: its segment, or for a tile sample its sub-face.
+    std::vector<uint32_t> holder;
 };
 DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout);
 

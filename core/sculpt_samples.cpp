@@ -186,6 +186,10 @@ void SculptSamples::refresh(const PlannedCage& planned, std::span<const uint32_t
     std::vector<glm::vec3> before(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) before[i] = positions_[samples[i]];
     evaluateSites(planned, samples);
+    for (uint32_t sample : samples) {
+        cellPositions_[cellIndexOfSample_[sample]] = positions_[sample];
+        cellNormals_[cellIndexOfSample_[sample]] = normals_[sample];
+    }
     // The index files samples by where they were when it was built; queries widen by how far
     // any sample has moved since (slack), and the index is rebuilt once that grows past half
     // a cell, so a small edit costs only the evaluation.
@@ -235,7 +239,8 @@ void SculptSamples::buildIndex() {
             boundsMin_ = glm::min(boundsMin_, positions_[i]);
             boundsMax_ = glm::max(boundsMax_, positions_[i]);
         }
-    cellKeys_.clear(), cellOffsets_.assign(1, 0), cellSamples_.clear();
+    cellKeys_.clear(), cellOffsets_.assign(1, 0), cellSamples_.clear(), cellPositions_.clear(), cellNormals_.clear();
+    cellIndexOfSample_.assign(sites_.size(), UINT32_MAX);
     slack_ = 0.0f;
     if (sited.empty()) {
         boundsMin_ = boundsMax_ = glm::vec3(0.0f);
@@ -253,17 +258,23 @@ void SculptSamples::buildIndex() {
     });
     tbb::parallel_sort(keyed.begin(), keyed.end());
     cellSamples_.reserve(keyed.size());
+    cellPositions_.reserve(keyed.size());
+    cellNormals_.reserve(keyed.size());
     for (size_t i = 0; i < keyed.size(); ++i) {
         if (i == 0 || keyed[i].first != keyed[i - 1].first) {
             if (i) cellOffsets_.push_back(uint32_t(i));
             cellKeys_.push_back(keyed[i].first);
         }
         cellSamples_.push_back(keyed[i].second);
+        cellPositions_.push_back(positions_[keyed[i].second]);
+        cellNormals_.push_back(normals_[keyed[i].second]);
+        cellIndexOfSample_[keyed[i].second] = uint32_t(i);
     }
     cellOffsets_.push_back(uint32_t(keyed.size()));
 }
 
-void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out) const {
+void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out,
+                          std::vector<uint32_t>* indexed) const {
     if (cellKeys_.empty() || !(radius >= 0.0f)) return;
     const float r2 = radius * radius;
     const float reach = radius + slack_;  // samples are filed where they were at the last build
@@ -276,18 +287,25 @@ void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uin
         lo[axis] = int64_t(std::floor((a - indexMin_[axis]) / cellSize_)) + kCellBias;
         hi[axis] = int64_t(std::floor((b - indexMin_[axis]) / cellSize_)) + kCellBias;
     }
+    // Columns are visited in key order: each search starts where the last one ended and
+    // gallops, so a big sphere costs about one step per column, not a search of every cell.
+    auto it = cellKeys_.begin();
+    const auto end = cellKeys_.end();
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
         for (int64_t y = lo[1]; y <= hi[1]; ++y) {
             // Cells along z with fixed (x, y) are consecutive keys: one search per column.
             uint64_t first = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(lo[2]);
             uint64_t last = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(hi[2]);
-            auto it = std::lower_bound(cellKeys_.begin(), cellKeys_.end(), first);
-            for (; it != cellKeys_.end() && *it <= last; ++it) {
+            ptrdiff_t step = 1;
+            while (step < end - it && it[step] < first) step *= 2;
+            it = std::lower_bound(it + step / 2, it + std::min(step, ptrdiff_t(end - it)), first);
+            for (; it != end && *it <= last; ++it) {
                 size_t cell = size_t(it - cellKeys_.begin());
                 for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
-                    uint32_t sample = cellSamples_[k];
-                    glm::vec3 d = positions_[sample] - centre;
-                    if (glm::dot(d, d) <= r2) out.push_back(sample);
+                    const glm::vec3 d = cellPositions_[k] - centre;
+                    if (glm::dot(d, d) > r2) continue;
+                    out.push_back(cellSamples_[k]);
+                    if (indexed) indexed->push_back(k);
                 }
             }
         }

@@ -77,8 +77,14 @@ public:
         return {neighbours_.data() + neighbourOffsets_[sample], neighbours_.data() + neighbourOffsets_[sample + 1]};
     }
 
-    // Appends every sited sample whose position lies within `radius` of `centre` (unordered).
-    void query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out) const;
+    // Appends every sited sample whose position lies within `radius` of `centre` (unordered),
+    // and with `indexed` where each is in the spatial index (indexedPosition, indexedNormal).
+    void query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out,
+               std::vector<uint32_t>* indexed = nullptr) const;
+    // The index's copies of position(sample) and normal(sample), same bits, in the order of its
+    // cells: what a query finds lies close together there, not scattered over the samples.
+    const glm::vec3& indexedPosition(uint32_t k) const { return cellPositions_[k]; }
+    const glm::vec3& indexedNormal(uint32_t k) const { return cellNormals_[k]; }
 
     // Centre of the positions' bounding box (the mirror planes pass through it).
     glm::vec3 centre() const { return 0.5f * (boundsMin_ + boundsMax_); }
@@ -101,6 +107,10 @@ private:
     float cellSize_ = 1.0f, slack_ = 0.0f;
     std::vector<uint64_t> cellKeys_;
     std::vector<uint32_t> cellOffsets_, cellSamples_;
+    // The positions and normals of cellSamples_ in their order, and where each sited sample
+    // is in it.
+    std::vector<glm::vec3> cellPositions_, cellNormals_;
+    std::vector<uint32_t> cellIndexOfSample_;
     // Kept between index builds: fresh allocations of this size cost page faults every time.
     std::vector<uint32_t> scratchSited_;
     std::vector<std::pair<uint64_t, uint32_t>> scratchKeyed_;

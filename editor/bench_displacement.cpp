@@ -80,12 +80,14 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
     }
     result.fullUploadMs = medianOf(full);
 
-    // A brush a few faces wide (4% of the bounding-box diagonal) with every brush, and a big
-    // one (12%, about 9 times the samples) raising.
+    // A brush a few faces wide (4% of the bounding-box diagonal) with every brush, and big ones
+    // (12% and 20%, about 9 and 25 times the samples): raising, and the two brushes whose
+    // new values read more than the sample itself.
     const float diagonal = computeBounds(cage).diagonal();
-    const std::pair<BrushKind, float> brushes[] = {{BrushKind::Raise, 0.04f},   {BrushKind::Smooth, 0.04f},
-                                                   {BrushKind::Flatten, 0.04f}, {BrushKind::Erase, 0.04f},
-                                                   {BrushKind::Raise, 0.12f}};
+    const std::pair<BrushKind, float> brushes[] = {
+        {BrushKind::Raise, 0.04f}, {BrushKind::Smooth, 0.04f}, {BrushKind::Flatten, 0.04f},
+        {BrushKind::Erase, 0.04f}, {BrushKind::Raise, 0.12f},  {BrushKind::Raise, 0.20f},
+        {BrushKind::Smooth, 0.20f}, {BrushKind::Flatten, 0.20f}};
     std::vector<uint32_t> sited;
     for (uint32_t i = 0; i < samples.sampleCount(); ++i)
         if (samples.hasSite(i)) sited.push_back(i);
@@ -94,7 +96,7 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
     Sculptor sculptor(displacement, samples);
     for (auto [kind, fraction] : brushes) {
         const Brush brush{kind, fraction * diagonal, kind == BrushKind::Raise ? 0.05f : 0.5f, Falloff::Smooth};
-        std::vector<double> update, upload, total, bytes, reached, subfaces;
+        std::vector<double> update, upload, total, bytes, reached, subfaces, slots;
         sculptor.beginStroke();
         for (uint32_t r = 0; r < repeats; ++r) {
             const glm::vec3 centre = samples.position(sited[rng() % sited.size()]);
@@ -113,12 +115,13 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
             bytes.push_back(double(gpu.uploadedSamples) * sizeof(float));
             reached.push_back(double(sculptor.lastDabSamples().size()));
             subfaces.push_back(double(gpu.evaluatedSubfaces));
+            slots.push_back(double(gpu.displacedSlots));
         }
         sculptor.endStroke();
         if (std::memcmp(buffers.displacementSamples.data, displacement.samples.data(), displacement.samples.size() * sizeof(float)))
             result.error = "the Vulkan sample buffer differs from the samples (upload ranges miss a change)";
         result.dabs.push_back({kind, brush.radius, repeats, medianOf(update), medianOf(upload), medianOf(total),
-                               medianOf(bytes), medianOf(subfaces), medianOf(reached)});
+                               medianOf(bytes), medianOf(subfaces), medianOf(slots), medianOf(reached)});
     }
     destroyPlanBuffers(ctx, buffers);
     destroyPlanPass(ctx, *pass);

@@ -26,6 +26,7 @@ struct DabMeasurement {
     double totalMs = 0.0;      // per dab, median of the sums
     double bytes = 0.0;        // median sample bytes copied per dab
     double gridSubfaces = 0.0; // median sub-faces whose grid slots were re-evaluated
+    double gridSlots = 0.0;    // median grid slots re-displaced (those whose D reads a changed sample)
     double samplesReached = 0.0;  // median samples within the radius
 };
 

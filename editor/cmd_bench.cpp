@@ -1172,7 +1172,8 @@ void benchDisplacement(const BenchCage& bench, const BenchArgs& args, Report& re
         r.faces = bench.cage.faceCount();
         r.benchmark = std::string(brushKindName(m.brush)) + " dab, radius " + number(m.radius) + ": CPU update " +
                       number(m.updateMs) + " ms + GPU buffers " + number(m.uploadMs) + " ms (" + number(m.bytes / 1024.0) +
-                      " KiB of samples, grid of " + number(m.gridSubfaces) + " sub-faces; " + number(m.samplesReached) +
+                      " KiB of samples, " + number(m.gridSlots) + " grid slots of " + number(m.gridSubfaces) +
+                      " sub-faces; " + number(m.samplesReached) +
                       " samples in reach) vs uploading every sample and re-evaluating the whole grid; 2nd: building "
                       "the samples cache";
         r.repeats = m.repeats;

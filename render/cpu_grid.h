@@ -9,25 +9,47 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
-#include "displacement.h"
+#include <glm/geometric.hpp>
+
 #include "displacement.h"
 #include "grid_layout.h"
 #include "planned_cage.h"
 
 namespace qp {
 
-// With displacement, a sub-face corner is displaced and shaded with the derivatives this far
-// inside the sub-face (in u and v): at extraordinary vertices they vanish at the corner
-// (shaders/displacement.glsl, evaluateWithNormal, has the same constant and says why).
+// With displacement, a sub-face corner is displaced and shaded with its own derivatives (at
+// smooth extraordinary vertices they give the exact limit normal; those a step inside are
+// tilted by 1-10 degrees there), unless they vanish: |du x dv| at most kCornerVanishing times
+// that kCornerNormalStep inside the sub-face (in u and v), whose derivatives are then used. At
+// some extraordinary vertices the plans' Gregory corners have none (shaders/displacement.glsl,
+// evaluateWithNormal, has the same rule and constants and says more).
 constexpr float kCornerNormalStep = 1.0f / 64.0f;
+constexpr float kCornerVanishing = 1e-3f;
+inline bool cornerDerivativesVanish(const glm::vec3& du, const glm::vec3& dv, const glm::vec3& insideDu,
+                                    const glm::vec3& insideDv) {
+    return !(glm::length(glm::cross(du, dv)) > kCornerVanishing * glm::length(glm::cross(insideDu, insideDv)));
+}
 
-// What the grid keeps per evaluated slot when there is a displacement (optional): the
-// undisplaced limit point and the derivatives it is displaced and shaded with (at sub-face
-// corners those kCornerNormalStep inside). A brush dab then re-displaces slots from them
-// without evaluating the surface again (redisplaceGridOnCpu).
-struct GridFrame {
-    glm::vec3 position, du, dv;
+// What the grid keeps per evaluated slot when there is a displacement: the undisplaced limit
+// point and the derivatives it is displaced and shaded with (at sub-face corners where they
+// vanish, those kCornerNormalStep inside). A brush dab then re-displaces slots from them without evaluating
+// the surface again (redisplaceGridOnCpu). Stored as a structure of arrays per drawn
+// sub-face, so that consecutive slots of a row load into SIMD lanes together: in the block of
+// drawn sub-face d, component c (position x, y, z, du x, y, z, dv x, y, z) of its local slot k
+// is at block(layout, d)[c * (n + 1)^2 + k].
+constexpr uint32_t kFrameComponents = 9;
+struct GridFrames {
+    std::vector<float> components;  // kFrameComponents per slot, then padding for whole lanes
+
+    void resize(const GridLayout& layout) { components.resize(size_t(kFrameComponents) * layout.slotCount() + 4); }
+    float* block(const GridLayout& layout, uint32_t drawn) {
+        return components.data() + size_t(kFrameComponents) * layout.subfaceOffset[drawn];
+    }
+    const float* block(const GridLayout& layout, uint32_t drawn) const {
+        return components.data() + size_t(kFrameComponents) * layout.subfaceOffset[drawn];
+    }
 };
 
 // Phase 1 (evaluated slots) for the drawn sub-faces in `evaluate`, then phase 2 (copied
@@ -35,20 +57,31 @@ struct GridFrame {
 // cage `data` was packed from, with current control points. With a `displacement` (matching
 // `planned`), evaluated slots hold the displaced point and displacePoint's shading normal (as
 // shaders/plan_grid.comp does); phase 2 copies carry them to the neighbours, so shared
-// vertices stay bit-identical. With `frames` as well (layout.slotCount() of them), each
+// vertices stay bit-identical. A displacement needs `frames` (resized for `layout`): each
 // evaluated slot's frame is kept there.
 void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
                        std::span<const uint32_t> evaluate, std::span<const uint32_t> copy, GridVertex* grid,
-                       const Displacement* displacement = nullptr, GridFrame* frames = nullptr);
+                       const Displacement* displacement = nullptr, GridFrames* frames = nullptr);
 
 // Both phases for every drawn sub-face.
 void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
-                            GridVertex* grid, const Displacement* displacement = nullptr, GridFrame* frames = nullptr);
+                            GridVertex* grid, const Displacement* displacement = nullptr, GridFrames* frames = nullptr);
 
-// After only the displacement's samples changed: phase 1 for `evaluate` from the kept frames
-// (no surface evaluation), then phase 2 for `copy`. The same bits as evaluateGridOnCpu.
-void redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
-                         std::span<const uint32_t> copy, const Displacement& displacement, const GridFrame* frames,
-                         GridVertex* grid);
+// Samples a brush dab changed: sample s is marked when stamps[s] == serial (a stamp array
+// reused between dabs, with a new serial each time, needs no clearing).
+struct SampleMarks {
+    const uint32_t* stamps;
+    uint32_t serial;
+    bool marked(uint32_t sample) const { return stamps[sample] == serial; }
+};
+
+// After only the displacement's samples changed (those in `changed`): phase 1 from the kept
+// frames (no surface evaluation) for the slots of the drawn sub-faces in `evaluate` whose D
+// reads a changed sample (evaluateDisplacement: the four grid samples around the slot, and
+// the samples of an edge finer than the grid in the row of cells along it), then phase 2 for
+// `copy`. The same bits as evaluateGridOnCpu. Returns the number of slots displaced.
+uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
+                             std::span<const uint32_t> copy, const Displacement& displacement, SampleMarks changed,
+                             const GridFrames& frames, GridVertex* grid);
 
 }  // namespace qp

@@ -555,10 +555,10 @@ void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers
 
 void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers) {
     assert(!buffers.gridLayout.subfaceOffset.empty() && "prepareGrid first");
-    if (buffers.displacement) buffers.gridFrames.resize(buffers.gridLayout.slotCount());
+    if (buffers.displacement) buffers.gridFrames.resize(buffers.gridLayout);
     else buffers.gridFrames = {};
     evaluateWholeGridOnCpu(planned, buffers.data, buffers.gridLayout, static_cast<GridVertex*>(buffers.grid.data),
-                           buffers.displacement, buffers.displacement ? buffers.gridFrames.data() : nullptr);
+                           buffers.displacement, buffers.displacement ? &buffers.gridFrames : nullptr);
     buffers.gridEvaluator = GridEvaluator::Cpu;
 }
 
@@ -645,7 +645,7 @@ GridRefresh recordGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuf
     } else if (buffers.gridEvaluator == GridEvaluator::Cpu) {
         evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, touched, copying,
                           static_cast<GridVertex*>(buffers.grid.data), buffers.displacement,
-                          buffers.displacement ? buffers.gridFrames.data() : nullptr);
+                          buffers.displacement ? &buffers.gridFrames : nullptr);
     }
     if (buffers.gridEvaluator != GridEvaluator::None) {
         update.evaluatedSubfaces = touchedCount;
@@ -727,10 +727,18 @@ DisplacementUpdate recordDisplacementChange(VkCommandBuffer cmd, const PlanPass&
         if (buffers.drawnOfSubface[s] != UINT32_MAX) touched.push_back(buffers.drawnOfSubface[s]);
     std::sort(touched.begin(), touched.end());
     if (buffers.gridEvaluator == GridEvaluator::Cpu) {
-        // The surface did not move: re-displace the kept frames, no evaluation.
+        // The surface did not move: re-displace the kept frames where D changed, no evaluation.
         const std::vector<uint32_t> copying = withDependents(buffers.gridLayout, touched);
-        redisplaceGridOnCpu(buffers.data, buffers.gridLayout, touched, copying, *buffers.displacement,
-                            buffers.gridFrames.data(), static_cast<GridVertex*>(buffers.grid.data));
+        std::vector<uint32_t>& stamps = buffers.changedStamps;
+        if (stamps.size() != values.size()) stamps.assign(values.size(), 0);
+        if (++buffers.changedSerial == 0) {  // wrapped: old stamps could match again
+            std::fill(stamps.begin(), stamps.end(), 0);
+            buffers.changedSerial = 1;
+        }
+        for (uint32_t s : samples) stamps[s] = buffers.changedSerial;
+        update.displacedSlots = redisplaceGridOnCpu(buffers.data, buffers.gridLayout, touched, copying, *buffers.displacement,
+                                                    SampleMarks{stamps.data(), buffers.changedSerial},
+                                                    buffers.gridFrames, static_cast<GridVertex*>(buffers.grid.data));
         update.evaluatedSubfaces = uint32_t(touched.size());
         update.copiedSubfaces = uint32_t(copying.size());
         return update;

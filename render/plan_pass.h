@@ -28,7 +28,7 @@
 #include "displacement.h"
 #include "displacement_users.h"
 #include "gpu_plans.h"
-#include "cpu_grid.h"  // GridFrame
+#include "cpu_grid.h"  // GridFrames
 #include "grid_layout.h"
 #include "render_target.h"
 #include "vk_buffer.h"
@@ -80,9 +80,11 @@ struct PlanBuffers {
     // and the samples; 16-byte placeholders (no sub-face record) when there is none.
     Buffer displacementSubfaces, displacementSegments, displacementSamples;
     const Displacement* displacement = nullptr;  // what the buffers hold; null: none
-    std::vector<GridFrame> gridFrames;           // CPU grid with displacement: frames of evaluated slots
+    GridFrames gridFrames;                       // CPU grid with displacement: frames of evaluated slots
     DisplacementUsers displacementUsers;         // which sub-faces read each sample
     std::vector<uint32_t> drawnOfSubface;        // PlannedCage sub-face -> drawn index (or UINT32_MAX)
+    std::vector<uint32_t> changedStamps;         // CPU grid: samples of the last dab (SampleMarks)
+    uint32_t changedSerial = 0;
 };
 
 Result<PlanBuffers> uploadPlans(const VulkanContext& context, const PlannedCage& planned);
@@ -195,11 +197,13 @@ struct DisplacementUpdate {
     uint32_t uploadedSamples = 0;
     uint32_t evaluatedSubfaces = 0;  // grid slots re-evaluated (device or CPU)
     uint32_t copiedSubfaces = 0;
+    uint32_t displacedSlots = 0;     // CPU grid: slots re-displaced (those reading a changed sample)
 };
 // After a dab changed `samples` in place (same layout; any order, repeats allowed): copies
 // their blocks (uploadRanges, core/brush.h) into the device's samples and brings a cached grid
 // up to date for just the sub-faces that read them (device work recorded into `cmd`, outside
-// rendering; a CPU grid now). The result equals setPlanDisplacement and a full evaluation.
+// rendering; a CPU grid now, re-displacing only the slots whose D reads one of `samples`).
+// The result equals setPlanDisplacement and a full evaluation.
 DisplacementUpdate recordDisplacementChange(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
                                             const PlannedCage& planned, std::span<const uint32_t> samples);
 

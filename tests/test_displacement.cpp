@@ -195,6 +195,35 @@ TEST(DisplacementEval, GridPointsReadTheirSamples) {
     }
 }
 
+// The renderers' per-sub-face evaluator (gathered grid, inline bilinear inside) returns
+// evaluateDisplacement's bits: on grid lines and edges, in the strips of edges finer than the
+// grid, at random points, and clamped outside [0, 1].
+TEST(DisplacementEval, SubfaceDisplacementHasEvaluateDisplacementsBits) {
+    for (auto& [name, cage] : testCages()) {
+        Planned p(cage);
+        Displacement d = randomDisplacement(*p.cage, 16, 13);
+        std::mt19937 rng(4);
+        std::uniform_real_distribution<float> param(-0.05f, 1.05f);
+        uint32_t strips = 0;
+        for (uint32_t s = 0; s < d.layout.subfaces.size(); ++s) {
+            const SubfaceDisplacement D(d, s);
+            for (uint32_t e = 0; e < 4; ++e) strips += (d.layout.subfaces[s].edges[e].flags & kEdgeFiner) != 0;
+            std::vector<glm::vec2> points;
+            for (uint32_t n : {1u, 3u, 32u, 64u})
+                for (uint32_t y = 0; y <= n; ++y)
+                    for (uint32_t x = 0; x <= n; ++x) points.push_back({float(x) / float(n), float(y) / float(n)});
+            for (int k = 0; k < 200; ++k) points.push_back({param(rng), param(rng)});
+            for (const glm::vec2& uv : points) {
+                const DisplacementValue a = evaluateDisplacement(d, s, uv.x, uv.y), b = D.evaluate(uv.x, uv.y);
+                ASSERT_EQ(bits(a.value), bits(b.value)) << name << " sub-face " << s << " at " << uv.x << ", " << uv.y;
+                ASSERT_EQ(bits(a.du), bits(b.du)) << name << " sub-face " << s << " at " << uv.x << ", " << uv.y;
+                ASSERT_EQ(bits(a.dv), bits(b.dv)) << name << " sub-face " << s << " at " << uv.x << ", " << uv.y;
+            }
+        }
+        EXPECT_GT(strips, 0u) << name << ": no edge finer than its grid was tried";
+    }
+}
+
 TEST(DisplacementEval, DerivativesMatchFiniteDifferences) {
     Planned p(test::makeMixedGrid());
     Displacement d = randomDisplacement(*p.cage, 8, 5);

@@ -12,13 +12,17 @@
 #include <tuple>
 
 #include <glm/geometric.hpp>
+#include <opensubdiv/far/primvarRefiner.h>
 
 #include "brush.h"
 #include "camera.h"
 #include "cpu_grid.h"
 #include "displaced_grid_factors.h"
 #include "displaced_mesh.h"
+#include "displacement_users.h"
+#include "generated_cage.h"
 #include "offscreen_target.h"
+#include "osd_refiner.h"
 #include "plan_pass.h"
 #include "planned_cage.h"
 #include "render_test_support.h"
@@ -64,12 +68,17 @@ PlannedCage planCage(const Cage& cage, PlanDatabase& db) {
 }
 
 // The reference: s + D N of the limit surface at (sub-face, u, v), N the unit normal of
-// du x dv, at sub-face corners a hair inside (the renderer's rule: the derivatives vanish at
-// extraordinary vertices).
+// du x dv, at sub-face corners where those vanish a step inside (the renderers' rule,
+// cornerDerivativesVanish: at some extraordinary vertices the corner has none).
 DisplacedPoint referencePoint(const PlannedCage& planned, const Displacement& d, uint32_t subface, float u, float v) {
     const LimitSample s = planned.evaluate(subface, u, v);
     const bool corner = (u == 0.0f || u == 1.0f) && (v == 0.0f || v == 1.0f);
-    const LimitSample at = corner ? planned.evaluate(subface, u + (u < 0.5f ? kCornerNormalStep : -kCornerNormalStep), v + (v < 0.5f ? kCornerNormalStep : -kCornerNormalStep)) : s;
+    LimitSample at = s;
+    if (corner) {
+        const LimitSample inside = planned.evaluate(subface, u + (u < 0.5f ? kCornerNormalStep : -kCornerNormalStep),
+                                                    v + (v < 0.5f ? kCornerNormalStep : -kCornerNormalStep));
+        if (cornerDerivativesVanish(s.du, s.dv, inside.du, inside.dv)) at = inside;
+    }
     const glm::vec3 n = glm::normalize(glm::cross(at.du, at.dv));
     return displacePoint(s.position, at.du, at.dv, n, evaluateDisplacement(d, subface, u, v));
 }
@@ -117,6 +126,37 @@ uint32_t expectWatertight(const DisplacementLayout& layout, const std::vector<ui
     }
     EXPECT_GT(shared, 0u) << what;
     return shared;
+}
+
+// OpenSubdiv's exact limit normal at every cage vertex (limit tangents after two uniform
+// levels, so that the masks see quads only); zero where the tangents are degenerate.
+std::vector<glm::dvec3> exactVertexNormals(const Cage& cage) {
+    struct Point {
+        glm::dvec3 p{0.0};
+        void Clear() { p = glm::dvec3(0.0); }
+        void AddWithWeight(const Point& s, float w) { p += double(w) * s.p; }
+    };
+    auto created = createRefiner(cage, "test cage");
+    EXPECT_TRUE(created.ok());
+    OpenSubdiv::Far::TopologyRefiner& refiner = **created;
+    OpenSubdiv::Far::TopologyRefiner::UniformOptions options(2);
+    options.fullTopologyInLastLevel = true;  // Limit needs the last level's full topology
+    refiner.RefineUniform(options);
+    std::vector<Point> base(cage.vertexCount()), one(refiner.GetLevel(1).GetNumVertices()),
+        two(refiner.GetLevel(2).GetNumVertices()), limit(two.size()), tangent1(two.size()), tangent2(two.size());
+    for (uint32_t v = 0; v < cage.vertexCount(); ++v) base[v].p = glm::dvec3(cage.positions[v]);
+    OpenSubdiv::Far::PrimvarRefiner primvar(refiner);
+    Point *b = base.data(), *o = one.data(), *t = two.data(), *l = limit.data(), *t1 = tangent1.data(), *t2 = tangent2.data();
+    primvar.Interpolate(1, b, o);
+    primvar.Interpolate(2, o, t);
+    primvar.Limit(t, l, t1, t2);
+    std::vector<glm::dvec3> normals(cage.vertexCount());
+    for (uint32_t v = 0; v < cage.vertexCount(); ++v) {
+        const int child = refiner.GetLevel(1).GetVertexChildVertex(refiner.GetLevel(0).GetVertexChildVertex(int(v)));
+        const glm::dvec3 n = glm::cross(tangent1[child].p, tangent2[child].p);
+        normals[v] = glm::length(n) > 0.0 ? glm::normalize(n) : glm::dvec3(0.0);
+    }
+    return normals;
 }
 
 struct DisplacementRender : ::testing::Test {
@@ -355,6 +395,122 @@ TEST_F(DisplacementRender, DabUpdatesExactlyWhatAFullEvaluationWould) {
             const std::vector<GridVertex> full = fillGrid(planned, buffers, gpu);
             EXPECT_EQ(std::memcmp(updated.data(), full.data(), full.size() * sizeof(GridVertex)), 0)
                 << what << ": the updated grid differs from a full evaluation";
+        }
+        destroyPlanBuffers(ctx, buffers);
+    }
+}
+
+// Big brushes on the CPU grid re-displace only the slots whose D reads a changed sample, from
+// the kept frames, a few at a time on SIMD lanes or one by one: strokes of every brush kind, with
+// mirror symmetry, over resolutions that differ between neighbours (edges finer than their
+// grid), leave the grid bit for bit as a full evaluation does, while re-displacing fewer slots
+// than the sub-faces they touch hold.
+TEST_F(DisplacementRender, LargeBrushStrokesOnTheCpuGridEqualAFullEvaluationBitForBit) {
+    struct Stroke {
+        BrushKind kind;
+        float radius, strength;  // radius in bounding-box diagonals
+        MirrorAxis mirror;
+    };
+    const Stroke strokes[] = {{BrushKind::Raise, 0.12f, 0.05f, MirrorAxis::None},  {BrushKind::Raise, 0.2f, 0.05f, MirrorAxis::X},
+                              {BrushKind::Smooth, 0.2f, 0.5f, MirrorAxis::None},   {BrushKind::Flatten, 0.2f, 0.5f, MirrorAxis::None},
+                              {BrushKind::Lower, 0.12f, 0.05f, MirrorAxis::Y},     {BrushKind::Erase, 0.2f, 0.3f, MirrorAxis::None}};
+    for (auto& [name, cage] : displacementCages()) {
+        PlanDatabase db;
+        PlannedCage planned = planCage(cage, db);
+        const float diagonal = computeBounds(planned.cage()).diagonal();
+        Displacement d = randomDisplacement(planned, 8, 0.002f * diagonal, 9);
+        const SculptSamples samples = SculptSamples::build(planned, d.layout);
+        PlanBuffers buffers = upload(planned, d);
+        ASSERT_TRUE(prepareGrid(ctx, pass, buffers, std::min(requiredMeshFactor(planned, d.layout), 64u)).ok());
+        fillGrid(planned, buffers, false);
+        std::vector<uint32_t> sited;
+        for (uint32_t i = 0; i < samples.sampleCount(); ++i)
+            if (samples.hasSite(i)) sited.push_back(i);
+        std::mt19937 rng(3);
+        uint64_t displaced = 0, slotsOfTouched = 0;
+        for (const Stroke& stroke : strokes) {
+            const std::string what = name + ", " + brushKindName(stroke.kind) + " " + std::to_string(stroke.radius);
+            const Brush brush{stroke.kind, stroke.radius * diagonal, stroke.strength, Falloff::Smooth};
+            Sculptor sculptor(d, samples);
+            sculptor.beginStroke();
+            for (int dab = 0; dab < 4; ++dab) {
+                sculptor.dab(brush, stroke.mirror, samples.position(sited[rng() % sited.size()]));
+                const DisplacementUpdate update =
+                    recordDisplacementChange(VK_NULL_HANDLE, pass, buffers, planned, sculptor.lastDabSamples());
+                displaced += update.displacedSlots;
+                for (uint32_t s : subfacesReadingSamples(d.layout, buffers.displacementUsers, sculptor.lastDabSamples())) {
+                    const uint32_t drawn = buffers.drawnOfSubface[s];
+                    if (drawn == UINT32_MAX) continue;
+                    for (uint32_t slot = buffers.gridLayout.subfaceOffset[drawn]; slot < buffers.gridLayout.subfaceOffset[drawn + 1]; ++slot)
+                        slotsOfTouched += buffers.gridLayout.source[slot] == slot;
+                }
+            }
+            ASSERT_FALSE(sculptor.endStroke().changes.empty()) << what;
+            const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+            const std::vector<GridVertex> updated(grid, grid + buffers.gridLayout.slotCount());
+            const std::vector<GridVertex> full = fillGrid(planned, buffers, false);
+            ASSERT_EQ(std::memcmp(updated.data(), full.data(), full.size() * sizeof(GridVertex)), 0)
+                << what << ": the updated grid differs from a full evaluation";
+        }
+        EXPECT_GT(displaced, 0u) << name;
+        EXPECT_LT(displaced, slotsOfTouched) << name << ": every slot of the touched sub-faces was re-displaced";
+        destroyPlanBuffers(ctx, buffers);
+    }
+}
+
+// At an extraordinary vertex the grid paths move the surface along the limit normal there,
+// like every other vertex: a sub-face corner is displaced along the normal of its own
+// derivatives, which at smooth EVs is OpenSubdiv's exact limit normal; only where they vanish
+// do the paths take them a step inside. (Taking them a step inside everywhere tilted the
+// EV's normal by 0.9 degrees at the cube's valence-3 corners, 1.6-1.8 at valence 5 and up to
+// 10 at catmark_car's valence 6: a strong raise pushed the EV sideways by D sin(tilt), a
+// spike at the corner.)
+TEST_F(DisplacementRender, ExtraordinaryCornersAreDisplacedAlongTheLimitNormal) {
+    const std::pair<std::string, Cage> cages[] = {{"subdivided cube", test::makeSubdividedCube()},
+                                                  {"benchmark cage", makeBenchmarkCage(300, 3)}};
+    for (const auto& [name, cage] : cages) {
+        PlanDatabase db;
+        PlannedCage planned = planCage(cage, db);
+        const std::vector<glm::dvec3> exact = exactVertexNormals(planned.cage());
+        const Topology& topology = planned.topology();
+        const float diagonal = computeBounds(planned.cage()).diagonal();
+        Displacement d = makeDisplacement(planned.cage(), topology, 4);
+        const float D = 0.05f * diagonal;
+        std::fill(d.samples.begin(), d.samples.end(), D);
+        PlanBuffers buffers = upload(planned, d);
+        ASSERT_TRUE(prepareGrid(ctx, pass, buffers, std::min(requiredMeshFactor(planned, d.layout), 64u)).ok());
+        for (bool gpu : {false, true}) {
+            const std::string what = name + (gpu ? ", compute shader" : ", CPU evaluator");
+            const std::vector<GridVertex> grid = fillGrid(planned, buffers, gpu);
+            const GridLayout& layout = buffers.gridLayout;
+            double worst = 0.0;
+            uint32_t corners = 0;
+            for (uint32_t drawn = 0; drawn < buffers.data.subfaces.size(); ++drawn) {
+                const uint32_t s = buffers.data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
+                for (uint32_t c = 0; c < 4; ++c) {
+                    // Owned corners at cage vertices of valence other than 4, off boundaries and creases.
+                    const uint32_t vertex = d.layout.subfaces[s].corners[c];
+                    if (vertex >= planned.cage().vertexCount()) continue;
+                    const uint32_t valence = topology.vertexEdgeCount(vertex);
+                    bool sharp = planned.cage().vertexSharpness(vertex) > 0.0f;
+                    for (uint32_t k = topology.vertexEdgeOffsets[vertex]; k < topology.vertexEdgeOffsets[vertex + 1]; ++k) {
+                        const uint32_t e = topology.vertexEdges[k];
+                        sharp = sharp || planned.cage().edgeSharpness(topology.edgeVertices[2 * e], topology.edgeVertices[2 * e + 1]) > 0.0f;
+                    }
+                    if (valence == 4 || sharp || topology.vertexFaceCount(vertex) != valence) continue;
+                    const uint32_t x = c == 1 || c == 2 ? n : 0, y = c >= 2 ? n : 0;
+                    const uint32_t slot = layout.subfaceOffset[drawn] + y * (n + 1) + x;
+                    if (layout.source[slot] != slot) continue;
+                    const LimitSample at = planned.evaluate(s, kCornerU[c], kCornerV[c]);
+                    const glm::dvec3 moved = (glm::dvec3(positionOf(grid[slot])) - glm::dvec3(at.position)) / double(D);
+                    worst = std::max(worst, std::min(glm::length(moved - exact[vertex]), glm::length(moved + exact[vertex])));
+                    ++corners;
+                }
+            }
+            EXPECT_GT(corners, 0u) << what;
+            // |moved - N| is the tilt in radians: 0.1 degrees.
+            EXPECT_LE(worst, 0.1 * 3.14159265 / 180.0) << what << ": an extraordinary corner was displaced "
+                                                        << worst * 180.0 / 3.14159265 << " degrees off the limit normal";
         }
         destroyPlanBuffers(ctx, buffers);
     }

@@ -146,9 +146,10 @@ vec3 evaluateDisplacement(uint subface, vec2 uv) {
 
 // The limit sample of drawn sub-face `drawn` at uv and the unit normal to shade and displace
 // with: the normal of du x dv (zero where that vanishes). With displacement, at the sub-face's
-// corners the derivatives and normal a hair inside the sub-face instead (cpu_grid.cpp does the
-// same): at an extraordinary vertex the Gregory corner's derivatives vanish — exactly on the
-// CPU, as rounding noise on the device, which no threshold tells from a tiny face reliably —
+// corners the corner's own derivatives — at smooth extraordinary vertices they give the exact
+// limit normal — unless they vanish next to those a step inside, and then the ones inside
+// (cpu_grid.h, cornerDerivativesVanish, has the same rule and constants): at some extraordinary
+// vertices the Gregory corner has none — exactly on the CPU, as rounding noise on the device —
 // and a vertex must not be left undisplaced or pushed (or shaded) along noise. One evaluator
 // call site, so the shaders stay small.
 //
@@ -156,25 +157,28 @@ vec3 evaluateDisplacement(uint subface, vec2 uv) {
 // computes whenever there is displacement (plan_pass.cpp, recordStencils); a step between
 // those levels would read control points the stencil pass has not written.
 const float kCornerNormalStep = 1.0 / 64.0;
+const float kCornerVanishing = 1e-3;
 LimitSample evaluateWithNormal(uint drawn, vec2 uv, out vec3 unitNormal) {
     bool corner = (uv.x == 0.0 || uv.x == 1.0) && (uv.y == 0.0 || uv.y == 1.0);
-    bool stepInside = corner && hasDisplacement();
+    bool lookInside = corner && hasDisplacement();
     LimitSample first;
-    unitNormal = vec3(0.0);
     vec2 at = uv;
     [[dont_unroll]] for (uint attempt = 0u; attempt < 2u; ++attempt) {
         LimitSample s = evaluateSubface(drawn, at);
-        if (attempt == 0u) first = s;
-        if (attempt == 1u || !stepInside) {
+        if (attempt == 0u) {
+            first = s;
+            if (!lookInside) break;
+            at = vec2(uv.x + (uv.x < 0.5 ? kCornerNormalStep : -kCornerNormalStep), uv.y + (uv.y < 0.5 ? kCornerNormalStep : -kCornerNormalStep));
+            continue;
+        }
+        if (!(length(cross(first.du, first.dv)) > kCornerVanishing * length(cross(s.du, s.dv)))) {
             first.du = s.du;
             first.dv = s.dv;
-            vec3 n = cross(s.du, s.dv);
-            float len = length(n);
-            unitNormal = len > 0.0 ? n / len : vec3(0.0);
-            break;
         }
-        at = vec2(uv.x + (uv.x < 0.5 ? kCornerNormalStep : -kCornerNormalStep), uv.y + (uv.y < 0.5 ? kCornerNormalStep : -kCornerNormalStep));
     }
+    vec3 n = cross(first.du, first.dv);
+    float len = length(n);
+    unitNormal = len > 0.0 ? n / len : vec3(0.0);
     return first;
 }
 
