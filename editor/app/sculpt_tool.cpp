@@ -1,6 +1,7 @@
 #include "sculpt_tool.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 
 #include <imgui.h>
