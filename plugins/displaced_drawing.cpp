@@ -20,11 +20,13 @@ Status buildDisplacedDrawing(DisplacedDrawing& drawing, const VulkanContext& con
     if (!gpu) return gpu.error();
     drawing.gpu = *gpu;
     drawing.context = &context;
+    drawing.displacement = &displacement;
     return success();
 }
 
-void updateDisplacedDrawing(DisplacedDrawing& drawing, const Displacement& displacement, std::span<const uint32_t> samples) {
-    if (!drawing.context) return;
+Status updateDisplacedDrawing(DisplacedDrawing& drawing, std::span<const uint32_t> samples) {
+    if (!drawing.context) return success();
+    const Displacement& displacement = *drawing.displacement;
     std::vector<uint32_t> grids;
     for (uint32_t s : subfacesReadingSamples(displacement.layout, drawing.users, samples))
         if (drawing.gridOfSubface[s] != UINT32_MAX) grids.push_back(drawing.gridOfSubface[s]);
@@ -37,12 +39,14 @@ void updateDisplacedDrawing(DisplacedDrawing& drawing, const Displacement& displ
         for (uint32_t k = 0; k < count; ++k) vertices[k] = {m.positions[first + k], m.normals[first + k]};
         uploadBuffer(drawing.gpu.vertices, vertices.data(), count * sizeof(MeshVertex), size_t(first) * sizeof(MeshVertex));
     }
+    return success();
 }
 
 void destroyDisplacedDrawing(DisplacedDrawing& drawing) {
     if (drawing.context && drawing.gpu.indexCount) destroyMesh(*drawing.context, drawing.gpu);
     drawing.gpu = GpuMesh{};
     drawing.context = nullptr;
+    drawing.displacement = nullptr;
 }
 
 }  // namespace qp

@@ -24,6 +24,7 @@ struct DisplacedDrawing {
     std::vector<uint32_t> gridOfSubface;  // PlannedCage sub-face -> its grid in `mesh` (or UINT32_MAX)
     GpuMesh gpu;
     const VulkanContext* context = nullptr;
+    const Displacement* displacement = nullptr;  // what it was built from (samples change in place)
 };
 
 // Builds the scheme's displaced mesh at `factor` (displacedGridFactor) and uploads it, replacing
@@ -31,10 +32,10 @@ struct DisplacedDrawing {
 Status buildDisplacedDrawing(DisplacedDrawing& drawing, const VulkanContext& context, const Scheme& scheme,
                              const PlannedCage& planned, const Displacement& displacement, uint32_t factor);
 
-// `samples` changed in place (the layout is the one built from). The device must not be using
-// the vertex buffer (Scheme::displacementChanged's contract).
-void updateDisplacedDrawing(DisplacedDrawing& drawing, const Displacement& displacement,
-                            std::span<const uint32_t> samples);
+// `samples` of the displacement it was built from changed in place; a no-op when nothing was
+// built. The device must not be using the vertex buffer (Scheme::displacementChanged's
+// contract), so a scheme's displacementChanged can simply return this.
+Status updateDisplacedDrawing(DisplacedDrawing& drawing, std::span<const uint32_t> samples);
 
 void destroyDisplacedDrawing(DisplacedDrawing& drawing);
 

@@ -18,8 +18,9 @@ Status createGridDrawing(GridDrawing& drawing, const GpuContext& gpu) {
     return success();
 }
 
-void setGridDisplacement(GridDrawing& drawing, const Displacement* displacement) {
+Status setGridDisplacement(GridDrawing& drawing, const Displacement* displacement) {
     drawing.displacement = displacement && !displacement->empty() ? displacement : nullptr;
+    return success();
 }
 
 Status updateGridDrawing(GridDrawing& drawing, const Scheme& scheme) {
@@ -38,8 +39,8 @@ Status updateGridDrawing(GridDrawing& drawing, const Scheme& scheme) {
     return success();
 }
 
-void gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> samples) {
-    if (drawing.displacement) updateDisplacedDrawing(drawing.displaced, *drawing.displacement, samples);
+Status gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> samples) {
+    return updateDisplacedDrawing(drawing.displaced, samples);
 }
 
 DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, const RenderTarget& target,

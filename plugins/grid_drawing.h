@@ -34,12 +34,12 @@ void prepareGridDrawing(GridDrawing& drawing, const PlannedCage& planned, uint32
 Status createGridDrawing(GridDrawing& drawing, const GpuContext& gpu);
 // Scheme::setDisplacement's argument: drawn from the next updateGridDrawing on; nullptr or an
 // empty one removes it.
-void setGridDisplacement(GridDrawing& drawing, const Displacement* displacement);
+Status setGridDisplacement(GridDrawing& drawing, const Displacement* displacement);
 // Evaluates `scheme` on the grid (displaced, if set) and uploads the triangles (no-op before
 // createGridDrawing).
 Status updateGridDrawing(GridDrawing& drawing, const Scheme& scheme);
 // Scheme::displacementChanged: brings the displaced mesh up to date around these samples.
-void gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> samples);
+Status gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> samples);
 // Clears target.area and draws; `patches` is what the scheme reports as drawn, the triangles
 // are the uploaded mesh's.
 DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, const RenderTarget& target,

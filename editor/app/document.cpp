@@ -194,14 +194,19 @@ void keepSculptSamples(Document& doc, const EditReport& report) {
     else if (!report.updatedSubfaceList.empty()) doc.sculptSamples->refresh(*doc.planned, report.updatedSubfaceList);
 }
 
-// Revisions, dirty flag and the stats panel's record, for any change to the cage.
+// Dirty flag, the stats panel's record and the brushes' cache, after any history step.
+void noteHistoryStep(Document& doc, const std::string& description, const EditReport& report, uint64_t frame) {
+    doc.dirty = !(doc.savedPosition && *doc.savedPosition == doc.history.position());
+    doc.lastEdit = LastEdit{description, report, frame};
+    keepSculptSamples(doc, report);
+}
+
+// The same with the revisions the renderer and pickers watch, for any change to the cage.
 void noteChange(Document& doc, const std::string& description, const EditReport& report, uint64_t frame) {
     ++doc.positionRevision;
     if (report.replannedFaces > 0 || report.topologyChanged) ++doc.planRevision;
     if (report.topologyChanged) ++doc.topologyRevision;
-    doc.dirty = !(doc.savedPosition && *doc.savedPosition == doc.history.position());
-    doc.lastEdit = LastEdit{description, report, frame};
-    keepSculptSamples(doc, report);
+    noteHistoryStep(doc, description, report, frame);
 }
 
 // The history's DisplacementEdit entries report here (performed, undone or redone), so the
@@ -226,8 +231,7 @@ Result<EditReport> performDisplacementEdit(Document& doc, const std::string& nam
     Result<EditReport> report = doc.history.perform(*doc.planned, name, std::move(edit));
     if (!report) return report;
     forgetUnreachableSave(doc, false, before, sizeBefore);
-    doc.dirty = !(doc.savedPosition && *doc.savedPosition == doc.history.position());
-    doc.lastEdit = LastEdit{name, *report, frame};
+    noteHistoryStep(doc, name, *report, frame);
     return report;
 }
 

@@ -98,15 +98,8 @@ public:
 
     // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the
     // CPU grid (grid_drawing.h) whichever path was chosen; evaluate() stays undisplaced.
-    Status setDisplacement(const Displacement* displacement) override {
-        setGridDisplacement(grid_, displacement);
-        return success();
-    }
-    // After a dab: only the sub-faces reading the changed samples are re-displaced.
-    Status displacementChanged(std::span<const uint32_t> samples) override {
-        gridDisplacementChanged(grid_, samples);
-        return success();
-    }
+    Status setDisplacement(const Displacement* displacement) override { return setGridDisplacement(grid_, displacement); }
+    Status displacementChanged(std::span<const uint32_t> samples) override { return gridDisplacementChanged(grid_, samples); }
 
     // du, dv are PN's shading frame: the cubic geometry's derivatives projected onto the plane
     // of the normal patch's normal (as acc1 returns its tangent patches). The geometry is only

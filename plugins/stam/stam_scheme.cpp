@@ -63,15 +63,8 @@ public:
 
     // Sculpted displacement: Stam's surface moved along its own normal (grid_drawing.h);
     // evaluate() stays undisplaced.
-    Status setDisplacement(const Displacement* displacement) override {
-        setGridDisplacement(grid_, displacement);
-        return success();
-    }
-    // After a dab: only the sub-faces reading the changed samples are re-displaced.
-    Status displacementChanged(std::span<const uint32_t> samples) override {
-        gridDisplacementChanged(grid_, samples);
-        return success();
-    }
+    Status setDisplacement(const Displacement* displacement) override { return setGridDisplacement(grid_, displacement); }
+    Status displacementChanged(std::span<const uint32_t> samples) override { return gridDisplacementChanged(grid_, samples); }
 
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
         for (size_t i = 0; i < requests.size(); ++i) {

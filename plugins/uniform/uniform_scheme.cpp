@@ -107,8 +107,7 @@ public:
     }
 
     Status displacementChanged(std::span<const uint32_t> samples) override {
-        if (displacement_) updateDisplacedDrawing(displaced_, *displacement_, samples);
-        return success();
+        return updateDisplacedDrawing(displaced_, samples);
     }
 
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
