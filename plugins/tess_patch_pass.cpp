@@ -8,6 +8,7 @@
 
 #include "plan_pass.h"  // patchesPerDraw: the same lavapipe limit as the plans' tessellated path
 #include "shader_code.h"
+#include "shared_pipelines.h"
 #include "vk_check.h"
 
 namespace qp {
@@ -111,7 +112,9 @@ void bindBuffers(const VulkanContext& ctx, const TessPatchPass& pass) {
     vkUpdateDescriptorSets(ctx.device, 2, writes, 0, nullptr);
 }
 
-Status initPass(const VulkanContext& ctx, VkPipelineCache cache, TessPatchPass& pass, const TessPatchShaders& shaders) {
+// The layouts and pipelines of one scheme's shaders: made once per device, formats and shaders
+// (render/shared_pipelines.h).
+Status initPipelines(const VulkanContext& ctx, VkPipelineCache cache, TessPatchPass& pass, const TessPatchShaders& shaders) {
     if (!ctx.features.tessellationShader) return Error{"the device (" + ctx.deviceName + ") has no tessellation shaders"};
     VkDescriptorSetLayoutBinding bindings[2] = {
         {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
@@ -128,6 +131,32 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, TessPatchPass& 
     layoutInfo.pushConstantRangeCount = 1;
     layoutInfo.pPushConstantRanges = &range;
     VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &pass.layout));
+
+    std::span<const uint32_t> fragment = shaderCode("mesh.frag");
+    if (shaders.vertex.empty() || shaders.control.empty() || shaders.evaluation.empty() || fragment.empty())
+        return Error{"a tessellation stage is missing from the module (is it in quadplan_scheme_shaders?)"};
+    VkShaderModule modules[4] = {createModule(ctx, shaders.vertex), createModule(ctx, shaders.control),
+                                 createModule(ctx, shaders.evaluation), createModule(ctx, fragment)};
+    Result<VkPipeline> solid = createPipeline(ctx, cache, pass, modules, false);
+    Result<VkPipeline> wire = VK_NULL_HANDLE;
+    if (solid && ctx.features.fillModeNonSolid) wire = createPipeline(ctx, cache, pass, modules, true);
+    for (VkShaderModule m : modules) vkDestroyShaderModule(ctx.device, m, nullptr);
+    if (solid) pass.solid = *solid;
+    if (!solid) return solid.error();
+    if (!wire) return wire.error();
+    pass.wire = *wire;
+    return success();
+}
+
+void destroyPipelines(const VulkanContext& ctx, TessPatchPass& pass) {
+    for (VkPipeline p : {pass.solid, pass.wire})
+        if (p) vkDestroyPipeline(ctx.device, p, nullptr);
+    if (pass.layout) vkDestroyPipelineLayout(ctx.device, pass.layout, nullptr);
+    if (pass.setLayout) vkDestroyDescriptorSetLayout(ctx.device, pass.setLayout, nullptr);
+}
+
+// The pass's own descriptor set and buffers.
+Status initInstance(const VulkanContext& ctx, TessPatchPass& pass) {
     VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2};
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
@@ -150,21 +179,15 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, TessPatchPass& 
     pass.capture = *capture;
     std::memset(pass.capture.data, 0, kCaptureHeaderBytes);
     bindBuffers(ctx, pass);
-
-    std::span<const uint32_t> fragment = shaderCode("mesh.frag");
-    if (shaders.vertex.empty() || shaders.control.empty() || shaders.evaluation.empty() || fragment.empty())
-        return Error{"a tessellation stage is missing from the module (is it in quadplan_scheme_shaders?)"};
-    VkShaderModule modules[4] = {createModule(ctx, shaders.vertex), createModule(ctx, shaders.control),
-                                 createModule(ctx, shaders.evaluation), createModule(ctx, fragment)};
-    Result<VkPipeline> solid = createPipeline(ctx, cache, pass, modules, false);
-    Result<VkPipeline> wire = VK_NULL_HANDLE;
-    if (solid && ctx.features.fillModeNonSolid) wire = createPipeline(ctx, cache, pass, modules, true);
-    for (VkShaderModule m : modules) vkDestroyShaderModule(ctx.device, m, nullptr);
-    if (solid) pass.solid = *solid;
-    if (!solid) return solid.error();
-    if (!wire) return wire.error();
-    pass.wire = *wire;
     return success();
+}
+
+// FNV-1a of the scheme's stages: the shared pipelines' key, whatever address the module has.
+uint64_t shaderHash(const TessPatchShaders& shaders) {
+    uint64_t hash = 1469598103934665603ull;
+    for (std::span<const uint32_t> code : {shaders.vertex, shaders.control, shaders.evaluation})
+        for (uint32_t word : code) hash = (hash ^ word) * 1099511628211ull;
+    return hash;
 }
 
 void barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
@@ -184,10 +207,23 @@ void barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2
 
 Result<TessPatchPass> createTessPatchPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
                                           VkFormat depthFormat, const TessPatchShaders& shaders) {
-    TessPatchPass pass;
-    pass.colorFormat = colorFormat;
-    pass.depthFormat = depthFormat;
-    if (Status s = initPass(ctx, cache, pass, shaders); !s) {
+    const std::string key = sharedPassKey("tess-patch", colorFormat, depthFormat) + ":" + std::to_string(shaderHash(shaders));
+    Result<TessPatchPass> shared = sharedDeviceObject<TessPatchPass>(
+        ctx, key,
+        [&]() -> Result<TessPatchPass> {
+            TessPatchPass pipelines;
+            pipelines.colorFormat = colorFormat;
+            pipelines.depthFormat = depthFormat;
+            if (Status s = initPipelines(ctx, cache, pipelines, shaders); !s) {
+                destroyPipelines(ctx, pipelines);
+                return s.error();
+            }
+            return pipelines;
+        },
+        destroyPipelines);
+    if (!shared) return shared.error();
+    TessPatchPass pass = *shared;
+    if (Status s = initInstance(ctx, pass); !s) {
         destroyTessPatchPass(ctx, pass);
         return s.error();
     }
@@ -195,11 +231,8 @@ Result<TessPatchPass> createTessPatchPass(const VulkanContext& ctx, VkPipelineCa
 }
 
 void destroyTessPatchPass(const VulkanContext& ctx, TessPatchPass& pass) {
-    for (VkPipeline p : {pass.solid, pass.wire})
-        if (p) vkDestroyPipeline(ctx.device, p, nullptr);
-    if (pass.layout) vkDestroyPipelineLayout(ctx.device, pass.layout, nullptr);
+    // The pipelines and layouts stay with the device (render/shared_pipelines.h).
     if (pass.pool) vkDestroyDescriptorPool(ctx.device, pass.pool, nullptr);
-    if (pass.setLayout) vkDestroyDescriptorSetLayout(ctx.device, pass.setLayout, nullptr);
     if (pass.patchData.buffer) destroyBuffer(ctx, pass.patchData);
     if (pass.capture.buffer) destroyBuffer(ctx, pass.capture);
     pass = TessPatchPass{};

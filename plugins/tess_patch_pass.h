@@ -48,7 +48,9 @@ struct TessPatchPass {
     uint32_t captureCapacity = 0;
 };
 
-// Fails with a message when the device has no tessellation shaders.
+// Fails with a message when the device has no tessellation shaders. The layouts and pipelines
+// are made once per device, formats and shaders and shared (render/shared_pipelines.h); the
+// descriptor set and buffers are the pass's own, and destroyTessPatchPass frees only those.
 Result<TessPatchPass> createTessPatchPass(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat,
                                           VkFormat depthFormat, const TessPatchShaders& shaders);
 void destroyTessPatchPass(const VulkanContext& context, TessPatchPass& pass);

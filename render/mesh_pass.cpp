@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "shader_code.h"
+#include "shared_pipelines.h"
 #include "vk_check.h"
 
 namespace qp {
@@ -139,6 +140,13 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, MeshPass& pass)
     return success();
 }
 
+void destroyPipelines(const VulkanContext& ctx, MeshPass& pass) {
+    if (pass.solid) vkDestroyPipeline(ctx.device, pass.solid, nullptr);
+    if (pass.solidColored) vkDestroyPipeline(ctx.device, pass.solidColored, nullptr);
+    if (pass.wireframe) vkDestroyPipeline(ctx.device, pass.wireframe, nullptr);
+    if (pass.layout) vkDestroyPipelineLayout(ctx.device, pass.layout, nullptr);
+}
+
 }  // namespace
 
 Result<GpuMesh> uploadMesh(const VulkanContext& ctx, std::span<const MeshVertex> vertices,
@@ -180,22 +188,23 @@ void destroyMesh(const VulkanContext& ctx, GpuMesh& mesh) {
 
 Result<MeshPass> createMeshPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
                                 VkFormat depthFormat) {
-    MeshPass pass;
-    pass.colorFormat = colorFormat;
-    pass.depthFormat = depthFormat;
-    if (Status s = initPass(ctx, cache, pass); !s) {
-        destroyMeshPass(ctx, pass);
-        return s.error();
-    }
-    return pass;
+    return sharedDeviceObject<MeshPass>(
+        ctx, sharedPassKey("mesh", colorFormat, depthFormat),
+        [&]() -> Result<MeshPass> {
+            MeshPass pass;
+            pass.colorFormat = colorFormat;
+            pass.depthFormat = depthFormat;
+            if (Status s = initPass(ctx, cache, pass); !s) {
+                destroyPipelines(ctx, pass);
+                return s.error();
+            }
+            return pass;
+        },
+        destroyPipelines);
 }
 
-void destroyMeshPass(const VulkanContext& ctx, MeshPass& pass) {
-    if (pass.solid) vkDestroyPipeline(ctx.device, pass.solid, nullptr);
-    if (pass.solidColored) vkDestroyPipeline(ctx.device, pass.solidColored, nullptr);
-    if (pass.wireframe) vkDestroyPipeline(ctx.device, pass.wireframe, nullptr);
-    if (pass.layout) vkDestroyPipelineLayout(ctx.device, pass.layout, nullptr);
-    pass = MeshPass{};
+void destroyMeshPass(const VulkanContext&, MeshPass& pass) {
+    pass = MeshPass{};  // the pipelines are the device's (shared_pipelines.h)
 }
 
 void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarget& target, const MeshView& view,

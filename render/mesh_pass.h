@@ -47,9 +47,11 @@ struct MeshPass {
     VkFormat depthFormat = VK_FORMAT_UNDEFINED;
 };
 
-// Builds the pipelines for targets of the given formats through `cache` (may be null).
+// The pipelines for targets of the given formats, built through `cache` (may be null) by the
+// first request on a device and shared by every later one (shared_pipelines.h).
 Result<MeshPass> createMeshPass(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat,
                                 VkFormat depthFormat = VK_FORMAT_D32_SFLOAT);
+// Forgets the handles; the device keeps the pipelines until destroyContext.
 void destroyMeshPass(const VulkanContext& context, MeshPass& pass);
 
 struct MeshView {

@@ -10,6 +10,7 @@
 #include "brush.h"  // uploadRanges
 #include "cpu_grid.h"
 #include "shader_code.h"
+#include "shared_pipelines.h"
 #include "vk_check.h"
 
 namespace qp {
@@ -163,7 +164,8 @@ Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache 
     return pipeline;
 }
 
-Status initPass(const VulkanContext& ctx, VkPipelineCache cache, PlanPass& pass) {
+// The pass's layouts and pipelines: made once per device and formats (shared_pipelines.h).
+Status initPipelines(const VulkanContext& ctx, VkPipelineCache cache, PlanPass& pass) {
     VkDescriptorSetLayoutBinding bindings[kBindingCount];
     for (uint32_t b = 0; b < kBindingCount; ++b)
         bindings[b] = {b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kAllStages, nullptr};
@@ -182,18 +184,6 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, PlanPass& pass)
     VkPushConstantRange drawRange{kDrawStages, 0, sizeof(DrawPush)};
     layoutInfo.pPushConstantRanges = &drawRange;
     VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &pass.drawLayout));
-
-    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindingCount};
-    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = 1;
-    poolInfo.pPoolSizes = &poolSize;
-    VK_CHECK(vkCreateDescriptorPool(ctx.device, &poolInfo, nullptr, &pass.pool));
-    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    allocInfo.descriptorPool = pass.pool;
-    allocInfo.descriptorSetCount = 1;
-    allocInfo.pSetLayouts = &pass.setLayout;
-    VK_CHECK(vkAllocateDescriptorSets(ctx.device, &allocInfo, &pass.set));
 
     auto assign = [](Result<VkPipeline> r, VkPipeline& out) -> Status {
         if (!r) return r.error();
@@ -215,6 +205,31 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, PlanPass& pass)
         if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, true), pass.tessellatedWire); !s) return s;
         if (Status s = assign(createDrawPipeline(ctx, cache, pass, grid, true), pass.gridWire); !s) return s;
     }
+    return success();
+}
+
+void destroyPipelines(const VulkanContext& ctx, PlanPass& pass) {
+    for (VkPipeline p : {pass.stencils, pass.grid, pass.tessellated, pass.tessellatedWire, pass.gridTriangles,
+                         pass.gridColored, pass.gridWire})
+        if (p) vkDestroyPipeline(ctx.device, p, nullptr);
+    if (pass.computeLayout) vkDestroyPipelineLayout(ctx.device, pass.computeLayout, nullptr);
+    if (pass.drawLayout) vkDestroyPipelineLayout(ctx.device, pass.drawLayout, nullptr);
+    if (pass.setLayout) vkDestroyDescriptorSetLayout(ctx.device, pass.setLayout, nullptr);
+}
+
+// The pass's own descriptor set (one cage per pass).
+Status allocateSet(const VulkanContext& ctx, PlanPass& pass) {
+    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindingCount};
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = 1;
+    poolInfo.pPoolSizes = &poolSize;
+    VK_CHECK(vkCreateDescriptorPool(ctx.device, &poolInfo, nullptr, &pass.pool));
+    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    allocInfo.descriptorPool = pass.pool;
+    allocInfo.descriptorSetCount = 1;
+    allocInfo.pSetLayouts = &pass.setLayout;
+    VK_CHECK(vkAllocateDescriptorSets(ctx.device, &allocInfo, &pass.set));
     return success();
 }
 
@@ -372,10 +387,22 @@ void destroyPlanBuffers(const VulkanContext& ctx, PlanBuffers& b) {
 
 Result<PlanPass> createPlanPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
                                 VkFormat depthFormat) {
-    PlanPass pass;
-    pass.colorFormat = colorFormat;
-    pass.depthFormat = depthFormat;
-    if (Status s = initPass(ctx, cache, pass); !s) {
+    Result<PlanPass> shared = sharedDeviceObject<PlanPass>(
+        ctx, sharedPassKey("plan", colorFormat, depthFormat),
+        [&]() -> Result<PlanPass> {
+            PlanPass pipelines;
+            pipelines.colorFormat = colorFormat;
+            pipelines.depthFormat = depthFormat;
+            if (Status s = initPipelines(ctx, cache, pipelines); !s) {
+                destroyPipelines(ctx, pipelines);
+                return s.error();
+            }
+            return pipelines;
+        },
+        destroyPipelines);
+    if (!shared) return shared.error();
+    PlanPass pass = *shared;
+    if (Status s = allocateSet(ctx, pass); !s) {
         destroyPlanPass(ctx, pass);
         return s.error();
     }
@@ -383,14 +410,8 @@ Result<PlanPass> createPlanPass(const VulkanContext& ctx, VkPipelineCache cache,
 }
 
 void destroyPlanPass(const VulkanContext& ctx, PlanPass& pass) {
-    for (VkPipeline p : {pass.stencils, pass.grid, pass.tessellated, pass.tessellatedWire, pass.gridTriangles,
-                         pass.gridColored, pass.gridWire})
-        if (p) vkDestroyPipeline(ctx.device, p, nullptr);
-    if (pass.computeLayout) vkDestroyPipelineLayout(ctx.device, pass.computeLayout, nullptr);
-    if (pass.drawLayout) vkDestroyPipelineLayout(ctx.device, pass.drawLayout, nullptr);
     if (pass.pool) vkDestroyDescriptorPool(ctx.device, pass.pool, nullptr);
-    if (pass.setLayout) vkDestroyDescriptorSetLayout(ctx.device, pass.setLayout, nullptr);
-    pass = PlanPass{};
+    pass = PlanPass{};  // the pipelines and layouts are the device's (shared_pipelines.h)
 }
 
 void bindPlanBuffers(const VulkanContext& ctx, PlanPass& pass, const PlanBuffers& b) {
@@ -676,6 +697,21 @@ MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBu
     }
     const std::vector<uint32_t> touched = subfacesAround(buffers.data, vertices);
     const GridRefresh refresh = recordGridRefresh(cmd, pass, buffers, planned, touched, controlPoints);
+    update.controlPointSubfaces = refresh.controlPointSubfaces;
+    update.evaluatedSubfaces = refresh.evaluatedSubfaces;
+    update.copiedSubfaces = refresh.copiedSubfaces;
+    return update;
+}
+
+MoveUpdate recordSubfaceRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
+                                const PlannedCage& planned, const std::vector<uint32_t>& drawn) {
+    MoveUpdate update;
+    const bool controlPoints = buffers.controlPointLevel != kNoControlPoints;
+    if (!controlPoints && buffers.gridEvaluator == GridEvaluator::Gpu) {
+        buffers.gridEvaluator = GridEvaluator::None;  // re-evaluated whole, control points first
+        return update;
+    }
+    const GridRefresh refresh = recordGridRefresh(cmd, pass, buffers, planned, drawn, controlPoints);
     update.controlPointSubfaces = refresh.controlPointSubfaces;
     update.evaluatedSubfaces = refresh.evaluatedSubfaces;
     update.copiedSubfaces = refresh.copiedSubfaces;

@@ -74,6 +74,9 @@ struct PlanBuffers {
     Buffer updateList;              // drawn sub-faces of partial updates (written by commands)
 
     uint32_t controlPointLevel = kNoControlPoints;  // the control points serve factors <= 2^level
+    // Control points each drawn sub-face's range holds (plan_update.h; empty until the first
+    // update in place: then the stencil counts packPlans gave them).
+    std::vector<uint32_t> controlPointCapacity;
     GridEvaluator gridEvaluator = GridEvaluator::None;
 
     // Sculpted displacement (setPlanDisplacement): DisplacementLayout's subfaces and segments
@@ -103,8 +106,12 @@ struct PlanPass {
     VkFormat colorFormat = VK_FORMAT_UNDEFINED, depthFormat = VK_FORMAT_UNDEFINED;
 };
 
+// The layouts and pipelines are made once per device and formats and shared by every pass
+// (shared_pipelines.h: a new pass, for a rebuild or another viewport, compiles nothing); the
+// descriptor pool and set are the pass's own.
 Result<PlanPass> createPlanPass(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat,
                                 VkFormat depthFormat = VK_FORMAT_D32_SFLOAT);
+// Frees the pass's descriptor pool; the shared pipelines stay with the device.
 void destroyPlanPass(const VulkanContext& context, PlanPass& pass);
 
 // Points the pass's descriptor set at `buffers`: after uploadPlans and enableCapture
@@ -182,6 +189,13 @@ struct MoveUpdate {
 // updated now. The result has the same bits as updatePositions and a full evaluation.
 MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
                                const PlannedCage& planned, std::span<const uint32_t> vertices);
+
+// Brings what is cached up to date for the drawn sub-faces `drawn` (sorted, unique) whose
+// control points or plans changed: their control points (when cached), their grid slots and
+// the neighbours' copies of their edge vertices, as recordMovedVertices does after a move.
+// Device work is recorded into `cmd` (outside rendering); a CPU grid is updated now.
+MoveUpdate recordSubfaceRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
+                                const PlannedCage& planned, const std::vector<uint32_t>& drawn);
 
 // ---- sculpted displacement (docs/displacement.md) ------------------------------------------
 // Every path draws s + D N with displacePoint's shading normal: the grid paths in the slots

@@ -9,6 +9,7 @@
 #include <malloc.h>
 #endif
 
+#include "shared_pipelines.h"
 #include "vk_check.h"
 
 namespace qp {
@@ -294,6 +295,7 @@ Result<VulkanContext> createContext(const ContextOptions& requested) {
 void destroyContext(VulkanContext& ctx) {
     if (ctx.device) {
         vkDeviceWaitIdle(ctx.device);
+        releaseSharedObjects(ctx);
         if (ctx.commandPool) vkDestroyCommandPool(ctx.device, ctx.commandPool, nullptr);
         vkDestroyDevice(ctx.device, nullptr);
     }
