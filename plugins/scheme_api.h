@@ -18,6 +18,8 @@
 //                       brush dab changed samples in place (see "Displacement" below)
 //   updateMoved(verts)  only these vertices moved since the last update (an interactive drag):
 //                       a scheme may refresh just what depends on them; default: update()
+//   updatePlans(change) a tag or topology edit changed the planned cage in place: a scheme may
+//                       update just the sub-faces it re-planned; default: ask for a rebuild
 //   record(cmd, ...)    clears target.area and draws the surface there; records only
 //   evaluate(...)       the surface on the CPU, for error measurement (thread-safe, const)
 //   destroyGpu()        before the Vulkan context goes away
@@ -56,7 +58,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 3;
+inline constexpr uint32_t kSchemeApiVersion = 4;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -161,6 +163,18 @@ struct SurfacePoint {
     bool hasDerivatives = false;
 };
 
+// What a tag or topology edit did to the planned cage a scheme was built for (PlannedCage is
+// edited in place: core/planned_cage.h EditReport).
+struct PlanChange {
+    std::span<const uint32_t> subfaces;  // sorted: sub-faces whose plan, rotation or control
+                                         // points changed (the numbering after the edit)
+    bool topologyChanged = false;        // faces or vertices were renumbered; `subfaces` is empty
+};
+enum class PlanUpdate : uint8_t {
+    Updated,  // record() and evaluate() now show the edited cage
+    Rebuild,  // the host must make a new instance (build, createGpu, update)
+};
+
 // ---- The scheme ----------------------------------------------------------------------------
 
 class Scheme {
@@ -182,6 +196,19 @@ public:
         (void)vertices;
         return update();
     }
+    // The planned cage given to build() was edited in place (tags re-planned some sub-faces, or
+    // a topology edit renumbered it). A scheme that can update what it keeps for just
+    // `change.subfaces` does so and returns Updated; Rebuild (the default) or a failure makes the
+    // host build a new instance instead (a failure is reported, the picture never goes stale).
+    // Called while the device is not using the scheme's buffers, as update() is. A displacement
+    // set before stays set and must still match the sub-faces.
+    virtual Result<PlanUpdate> updatePlans(const PlanChange& change) {
+        (void)change;
+        return PlanUpdate::Rebuild;
+    }
+    // True when updatePlans can update in place (at least for some edits): `quadplan schemes`
+    // and the editor say which schemes rebuild after an edit.
+    virtual bool updatesPlansInPlace() const { return false; }
     virtual DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) = 0;
     // out[i] = the surface at requests[i]; requests name sub-faces with a surface only. Called
     // concurrently from several threads on disjoint spans.

@@ -186,6 +186,18 @@ Status SchemeInstance::updateMoved(std::span<const uint32_t> vertices) {
     return guarded(name(), "update", [&]() -> Status { return scheme_->updateMoved(vertices); });
 }
 
+Result<PlanUpdate> SchemeInstance::updatePlans(const PlanChange& change) {
+    return guarded(name(), "plan update", [&]() -> Result<PlanUpdate> { return scheme_->updatePlans(change); });
+}
+
+bool SchemeInstance::updatesPlansInPlace() const {
+    try {
+        return scheme_->updatesPlansInPlace();
+    } catch (...) {
+        return false;
+    }
+}
+
 Result<DrawStats> SchemeInstance::record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) {
     return guarded(name(), "recording", [&]() -> Result<DrawStats> { return scheme_->record(cmd, target, view); });
 }

@@ -75,6 +75,8 @@ public:
     Status setDisplacement(const Displacement* displacement);
     Status displacementChanged(std::span<const uint32_t> samples);
     Status updateMoved(std::span<const uint32_t> vertices);  // Scheme::updateMoved
+    Result<PlanUpdate> updatePlans(const PlanChange& change);  // Scheme::updatePlans
+    bool updatesPlansInPlace() const;
     Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view);
     // All requests, in parallel (scheme_support.h: evaluateParallel).
     Status evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const;

@@ -100,10 +100,8 @@ struct BoundaryBuilder {
 
 }  // namespace
 
-GpuPlanData packPlans(const PlannedCage& planned) {
-    GpuPlanData gpu;
-    const PlanDatabase& database = planned.database();
-    for (uint32_t id = 0; id < database.size(); ++id) {
+void appendPlanTables(GpuPlanData& gpu, const PlanDatabase& database) {
+    for (uint32_t id = uint32_t(gpu.plans.size()); id < database.size(); ++id) {
         const Plan& plan = database.plan(id);
         GpuPlanHeader header{};
         header.rootNode = uint32_t(gpu.nodes.size());
@@ -124,6 +122,12 @@ GpuPlanData packPlans(const PlannedCage& planned) {
         gpu.weights.insert(gpu.weights.end(), plan.stencilWeights.begin(), plan.stencilWeights.end());
         gpu.plans.push_back(header);
     }
+}
+
+GpuPlanData packPlans(const PlannedCage& planned) {
+    GpuPlanData gpu;
+    const PlanDatabase& database = planned.database();
+    appendPlanTables(gpu, database);
 
     const Cage& cage = planned.cage();
     const Topology& topology = planned.topology();

@@ -119,4 +119,8 @@ glm::vec4 boundaryPointPosition(const PlannedCage& planned, uint32_t id);
 
 GpuPlanData packPlans(const PlannedCage& planned);
 
+// Appends the database's plans that `gpu` does not have yet (ids gpu.plans.size() onwards): the
+// plan tables only ever grow, so plan ids stay the database's.
+void appendPlanTables(GpuPlanData& gpu, const PlanDatabase& database);
+
 }  // namespace qp

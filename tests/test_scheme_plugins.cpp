@@ -345,6 +345,64 @@ TEST_F(DisplacedSchemes, ADabUpdatesThePictureExactlyAsAFullUpdate) {
     }
 }
 
+// A tag edit reaches `plans` in place on every path, with the picture of a new instance; a
+// hole (or a topology edit) and every other scheme ask for a rebuild (issue 15).
+TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
+    // The edge nearest the camera, so that the crease shows.
+    const Topology& topology = planned->topology();
+    const Cage& cage = planned->cage();
+    uint32_t a = 0, b = 0;
+    float nearest = INFINITY;
+    for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
+        const uint32_t v0 = topology.edgeVertices[2 * e], v1 = topology.edgeVertices[2 * e + 1];
+        const float distance = glm::length(0.5f * (cage.positions[v0] + cage.positions[v1]) - view.eye);
+        if (distance < nearest) nearest = distance, a = v0, b = v1;
+    }
+    for (const char* path : {"tess", "grid", "cpu"}) {
+        SCOPED_TRACE(path);
+        SchemeSettings settings;
+        settings.tessFactor = 8;
+        settings.options = {{"path", path}};
+        Result<PreparedScheme> prepared = prepareScheme(catalog(), "plans", *planned, features, settings, gpu, "cube");
+        ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+        EXPECT_TRUE(prepared->instance.updatesPlansInPlace());
+        const Picture before = draw(prepared->instance);
+        Result<EditReport> crease = planned->setEdgeSharpness(a, b, kInfiniteSharpness);
+        ASSERT_TRUE(crease.ok());
+        std::vector<uint32_t> subfaces = crease->updatedSubfaceList;
+        for (uint32_t f : crease->replannedFaceList) subfaces.push_back(planned->firstSubface(f));  // quads: one each
+        std::sort(subfaces.begin(), subfaces.end());
+        subfaces.erase(std::unique(subfaces.begin(), subfaces.end()), subfaces.end());
+        Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{subfaces, false});
+        ASSERT_TRUE(updated.ok()) << updated.error().message;
+        EXPECT_EQ(*updated, PlanUpdate::Updated);
+        const Picture inPlace = draw(prepared->instance);
+        Result<PreparedScheme> fresh = prepareScheme(catalog(), "plans", *planned, features, settings, gpu, "cube");
+        ASSERT_TRUE(fresh.ok());
+        EXPECT_GT(differingPixels(before, inPlace, 8), 0.004) << "the crease does not show";
+        EXPECT_EQ(inPlace.pixels, draw(fresh->instance).pixels) << "in place differs from a new instance";
+        Result<EditReport> hole = planned->setHole(2, true);
+        ASSERT_TRUE(hole.ok());
+        Result<PlanUpdate> holeUpdate = prepared->instance.updatePlans(PlanChange{std::vector<uint32_t>{2}, false});
+        ASSERT_TRUE(holeUpdate.ok());
+        EXPECT_EQ(*holeUpdate, PlanUpdate::Rebuild) << "a hole cannot be applied in place yet";
+        ASSERT_TRUE(planned->setHole(2, false).ok());
+        ASSERT_TRUE(planned->setEdgeSharpness(a, b, 0.0f).ok());
+        EXPECT_TRUE(prepared->instance.destroyGpu().ok());
+        EXPECT_TRUE(fresh->instance.destroyGpu().ok());
+    }
+    for (const char* name : {"uniform", "osd-fas", "acc1", "acc2", "pn", "stam"}) {
+        SCOPED_TRACE(name);
+        Result<PreparedScheme> prepared = prepareScheme(catalog(), name, *planned, features, SchemeSettings{}, gpu, "cube");
+        ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+        EXPECT_FALSE(prepared->instance.updatesPlansInPlace());
+        Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{std::vector<uint32_t>{0}, false});
+        ASSERT_TRUE(updated.ok());
+        EXPECT_EQ(*updated, PlanUpdate::Rebuild);
+        EXPECT_TRUE(prepared->instance.destroyGpu().ok());
+    }
+}
+
 // ---- The tessellation shaders against the CPU evaluation -----------------------------------
 
 namespace {

@@ -18,12 +18,18 @@
 // the tiles' required factor (displacedGridFactor, at most 64). After a dab only the sub-faces
 // that read the changed samples are re-evaluated (recordDisplacementChange), unless the dab
 // reached zero tiles, whose factors then grow (a new grid layout, evaluated whole).
+//
+// Tag edits (sharpness, corners, the crease method) update in place (updatePlans,
+// render/plan_update.h): the re-planned sub-faces' records are rewritten, new plans appended,
+// control-point ranges re-allocated, and the next record() re-evaluates just those sub-faces
+// and the neighbours that copy their edges. Holes and topology edits rebuild the instance.
 #include <algorithm>
 #include <cstdio>
 #include <iterator>
 
 #include "draw_path.h"
 #include "plan_pass.h"
+#include "plan_update.h"
 #include "vk_commands.h"
 #include "scheme_api.h"
 #include "scheme_support.h"
@@ -91,8 +97,27 @@ public:
         return success();
     }
 
+    Result<PlanUpdate> updatePlans(const PlanChange& change) override {
+        if (!haveBuffers_ || change.topologyChanged) return PlanUpdate::Rebuild;
+        Result<PlanTableUpdate> updated = updatePlanTables(*ctx_, pass_, buffers_, *planned_, change.subfaces);
+        if (!updated) return updated.error();
+        if (!updated->applied) return PlanUpdate::Rebuild;
+        if (displacement_) {  // as updateMoved: the partial refresh draws the undisplaced surface
+            if (Status s = update(); !s) return s.error();
+            return PlanUpdate::Updated;
+        }
+        std::vector<uint32_t> merged;
+        std::set_union(pendingRefresh_.begin(), pendingRefresh_.end(), updated->refresh.begin(), updated->refresh.end(),
+                       std::back_inserter(merged));
+        pendingRefresh_ = std::move(merged);
+        return PlanUpdate::Updated;
+    }
+
+    bool updatesPlansInPlace() const override { return true; }
+
     Status update() override {
         pendingMoves_.clear();
+        pendingRefresh_.clear();
         if (haveBuffers_) updatePositions(buffers_, *planned_);  // drops the cached grid
         return success();
     }
@@ -133,6 +158,10 @@ public:
         if (!pendingMoves_.empty()) {
             recordMovedVertices(cmd, pass_, buffers_, *planned_, pendingMoves_);
             pendingMoves_.clear();
+        }
+        if (!pendingRefresh_.empty()) {
+            recordSubfaceRefresh(cmd, pass_, buffers_, *planned_, pendingRefresh_);
+            pendingRefresh_.clear();
         }
         if (Status prepared = preparePlanFrame(*ctx_, pass_, buffers_, *planned_, path_, planView, tessellation);
             !prepared) {
@@ -203,7 +232,8 @@ private:
     PlanPass pass_;
     PlanBuffers buffers_;
     bool haveBuffers_ = false;
-    std::vector<uint32_t> pendingMoves_;  // sorted: vertices moved since the last frame (updateMoved)
+    std::vector<uint32_t> pendingMoves_;    // sorted: vertices moved since the last frame (updateMoved)
+    std::vector<uint32_t> pendingRefresh_;  // sorted drawn sub-faces re-planned since the last frame
 };
 
 }  // namespace

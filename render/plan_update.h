@@ -1,0 +1,50 @@
+// Plan updates in place: after a tag edit re-planned some sub-faces (edge or vertex sharpness,
+// the crease method), bring a cage's GPU copies (plan_pass.h PlanBuffers) up to date for just
+// those sub-faces instead of uploading the cage again.
+//
+// What changes and how it is kept:
+//   - plan tables (headers, nodes, points, weights) only grow: plans new to the database are
+//     appended (gpu_plans.h appendPlanTables), the buffers grown by half again when full;
+//   - the re-planned sub-faces' records (plan, rotation) and rings are rewritten where they are;
+//   - control points are sub-allocated: a sub-face keeps its range while its new plan needs no
+//     more stencils than the range holds, and otherwise gets a new range at the end; the ranges
+//     left behind are garbage, and once garbage is more than half of the buffer the ranges are
+//     packed again (every control point is then recomputed at the next draw);
+//   - what is cached (control points, the evaluated grid) is refreshed for those sub-faces and
+//     the neighbours that copy their edge vertices (recordSubfaceRefresh), so the frame after
+//     the edit costs what the edit touched.
+// The result equals uploadPlans of the edited cage in everything a draw reads (tests compare
+// the pictures and the grid bit for bit).
+//
+// Changes it does not apply in place (the caller uploads the cage again, with the reason):
+// a renumbering (topology edits), a sub-face that gained or lost its surface (holes), a ring
+// that changed.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "plan_pass.h"
+
+namespace qp {
+
+struct PlanTableUpdate {
+    bool applied = false;  // false: nothing was changed; `reason` says why (upload the cage again)
+    std::string reason;
+    uint32_t rewrittenSubfaces = 0;    // drawn sub-faces whose record was rewritten
+    uint32_t appendedPlans = 0;
+    uint32_t relocatedSubfaces = 0;    // got a new control-point range
+    bool compacted = false;            // the control-point ranges were packed again
+    std::vector<uint32_t> refresh;     // drawn sub-faces to pass to recordSubfaceRefresh
+};
+
+// `subfaces`: PlannedCage sub-faces (any order, repeats allowed) whose plan, rotation or
+// control points the edit changed (EditReport::updatedSubfaceList and the sub-faces of
+// replannedFaceList). Writes the host-visible buffers directly: the device must be done with
+// them. Fails only when a buffer cannot grow (out of memory): then upload the cage again.
+Result<PlanTableUpdate> updatePlanTables(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers,
+                                         const PlannedCage& planned, std::span<const uint32_t> subfaces);
+
+}  // namespace qp
