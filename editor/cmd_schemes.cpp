@@ -39,7 +39,15 @@ int runSchemes(const SchemesArgs& args) {
     if (!args.json) std::printf("scheme plugins in %s:\n", catalog.directory.c_str());
     for (const auto& plugin : catalog.plugins) {
         nlohmann::json entry = {{"name", plugin->name}, {"summary", plugin->summary}, {"path", plugin->path}};
-        if (!args.json) std::printf("  %-10s %s\n", plugin->name.c_str(), plugin->summary.c_str());
+        // How a tag or topology edit reaches it: in place (Scheme::updatePlans) or a new instance.
+        Result<SchemeInstance> probe = SchemeInstance::create(plugin);
+        const bool inPlace = probe && probe->updatesPlansInPlace();
+        entry["after_edits"] = inPlace ? "updates in place" : "rebuilds";
+        if (!args.json)
+            std::printf("  %-10s %s\n             after a tag or topology edit: %s\n", plugin->name.c_str(),
+                        plugin->summary.c_str(),
+                        inPlace ? "updates the re-planned sub-faces in place (tag edits; topology edits rebuild)"
+                                : "rebuilds the whole instance");
         if (features) {
             Result<SchemeInstance> instance = SchemeInstance::create(plugin);
             Result<SupportReport> report = instance ? instance->support(*features, SchemeSettings{})

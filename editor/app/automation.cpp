@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <iterator>
 
@@ -67,6 +68,7 @@ void Automation::fail(const AutomationCommand& c, const std::string& message) {
 
 void Automation::beforeFrame(EditorApp& app) {
     if (failed_) return;
+    writeFrameTimings(app);
     if (keyUpAfterFrame_) {
         std::erase(synthetic_.keysDown, keyUpAfterFrame_);
         keyUpAfterFrame_ = 0;
@@ -411,12 +413,46 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         stopOnFatalError(app, "drawing failed: vkQueueSubmit: VK_ERROR_DEVICE_LOST (simulated by automation)");
         return false;
     }
+    if (n == "time-frame") {
+        // The next command runs in this frame (no yield), so the frame timed is the one it shows in.
+        frameTimings_.push_back({a[1], a[0], app.frame});
+        return true;
+    }
     if (n == "log") {
         std::fprintf(stderr, "automation: %s\n", a.empty() ? "" : a[0].c_str());
         return true;
     }
     fail(c, "not implemented");
     return true;
+}
+
+void Automation::writeFrameTimings(EditorApp& app) {
+    // stats.samples.back() is frame app.frame - 1; the timed frame and the one after must be in.
+    const std::deque<FrameSample>& samples = app.stats.samples;
+    std::erase_if(frameTimings_, [&](const FrameTiming& t) {
+        if (app.frame < t.frame + 2) return false;
+        const uint64_t age = app.frame - 1 - t.frame;  // of the timed frame
+        json line = {{"label", t.label}, {"frame", t.frame}};
+        if (age < samples.size() && age >= 1) {
+            const FrameSample& shown = samples[samples.size() - 1 - age];
+            const FrameSample& next = samples[samples.size() - age];
+            line["cpu_ms"] = shown.cpuMs;
+            line["interval_ms"] = next.intervalMs;
+            line["scene_drawn"] = shown.sceneDrawn;
+        } else {
+            line["error"] = "the frame's statistics were cleared (measure-frames ran in between)";
+        }
+        if (app.doc && app.doc->lastEdit && app.doc->lastEdit->frame == t.frame)
+            line["plan_engine_ms"] = app.doc->lastEdit->report.milliseconds;
+        std::vector<json> views;
+        for (const SchemeView& view : app.renderer.views)
+            views.push_back({{"scheme", view.built.name}, {"plan_update_ms", view.planUpdateMs},
+                             {"in_place", view.planUpdateInPlace}, {"note", view.planUpdateNote},
+                             {"setup_ms", view.setupMs}});
+        line["views"] = views;
+        std::ofstream(t.path, std::ios::app) << line.dump() << "\n";
+        return true;
+    });
 }
 
 void Automation::measureStep(EditorApp& app) {
@@ -529,6 +565,10 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                               {"updated_subfaces", r.updatedSubfaces}, {"new_plans", r.newPlans},
                               {"milliseconds", r.milliseconds}, {"frame", doc.lastEdit->frame},
                               {"topology_changed", r.topologyChanged}};
+        if (app.lastEditFrame.frame == doc.lastEdit->frame)
+            state["last_edit"]["shown_in_frame"] = {{"cpu_ms", app.lastEditFrame.cpuMs},
+                                                    {"interval_ms", app.lastEditFrame.intervalMs},
+                                                    {"scheme_updates_ms", app.lastEditFrame.syncMs}};
     } else {
         state["last_edit"] = nullptr;
     }
@@ -584,6 +624,8 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
             entry["warnings"] = view.support.approximations;
             entry["color_modes"] = view.colorModes;
             entry["setup_ms"] = view.setupMs;
+            entry["plan_update"] = {{"milliseconds", view.planUpdateMs}, {"in_place", view.planUpdateInPlace},
+                                    {"note", view.planUpdateNote}};
             entry["update_ms"] = view.updateMs;
             entry["updated_vertices"] = view.updatedVertices;
             entry["displacement_ms"] = view.displacementMs;

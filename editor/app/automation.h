@@ -54,6 +54,14 @@ private:
         bool dragStarted = false;  // "drag": later steps extend the first one's history entry
     };
 
+    // `time-frame FILE LABEL`: the frame the next command runs in, appended to FILE as a JSON
+    // line (its CPU time, the interval to the frame after it) once that frame has passed.
+    struct FrameTiming {
+        std::string label, path;
+        uint64_t frame = 0;
+    };
+    void writeFrameTimings(EditorApp& app);
+
     bool busy() const;
     bool execute(EditorApp& app, const AutomationCommand& command);  // false: yields for a frame
     void fail(const AutomationCommand& command, const std::string& message);
@@ -74,6 +82,7 @@ private:
     int keyUpAfterFrame_ = 0;  // `key NAME`: release on the next frame
     Synthetic synthetic_;
     Measurement measurement_;
+    std::vector<FrameTiming> frameTimings_;
 };
 
 Result<std::unique_ptr<Automation>> loadAutomation(const std::string& path);

@@ -79,6 +79,7 @@ const std::vector<CommandSpec> kCommands = {
     {"screenshot", {Arg::Text}, {}},
     {"dump-state", {Arg::Text}, {}},
     {"measure-frames", {Arg::Int, Arg::Word}, {Arg::Word}},
+    {"time-frame", {Arg::Word, Arg::Text}, {}},
     {"log", {}, {Arg::Text}},
     {"simulate-device-loss", {}, {}},
 };

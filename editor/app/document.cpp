@@ -204,7 +204,10 @@ void noteHistoryStep(Document& doc, const std::string& description, const EditRe
 // The same with the revisions the renderer and pickers watch, for any change to the cage.
 void noteChange(Document& doc, const std::string& description, const EditReport& report, uint64_t frame) {
     ++doc.positionRevision;
-    if (report.replannedFaces > 0 || report.topologyChanged) ++doc.planRevision;
+    if (report.replannedFaces > 0 || report.topologyChanged) {
+        ++doc.planRevision;
+        accumulateReport(doc.unsyncedPlanChange, report);
+    }
     if (report.topologyChanged) ++doc.topologyRevision;
     noteHistoryStep(doc, description, report, frame);
 }
@@ -516,6 +519,10 @@ std::vector<uint32_t> takeUnsyncedSamples(Document& doc) {
     std::sort(samples.begin(), samples.end());
     samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
     return samples;
+}
+
+EditReport takeUnsyncedPlanChange(Document& doc) {
+    return std::exchange(doc.unsyncedPlanChange, {});
 }
 
 Scene sceneToSave(const Document& doc) {

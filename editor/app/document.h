@@ -112,6 +112,9 @@ struct Document {
     // has taken them (takeUnsyncedSamples).
     uint64_t displacementRevision = 0, sampleRevision = 0;
     std::vector<uint32_t> unsyncedSamples;
+    // What tag and topology edits (and their undo and redo) re-planned since the renderer last
+    // took it (takeUnsyncedPlanChange): the sub-faces a scheme may update in place.
+    EditReport unsyncedPlanChange;
     // Where the samples lie on the limit surface (built on the first stroke of a layout,
     // refreshed after vertex moves, dropped after new plans or a new layout), and the stroke
     // in progress.
@@ -174,6 +177,9 @@ glm::vec3 mirrorCentreOf(const Document& document);
 const SculptSamples& sculptSamplesOf(Document& document);
 // The samples changed in place since the last call (sorted, each once).
 std::vector<uint32_t> takeUnsyncedSamples(Document& document);
+// The plans changed since the last call (EditReport lists sorted; topologyChanged after a
+// renumbering), reset to nothing.
+EditReport takeUnsyncedPlanChange(Document& document);
 
 // The scene as it would be saved now: the document's scene with the current cage.
 Scene sceneToSave(const Document& document);

@@ -328,7 +328,9 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
 Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     const std::vector<SchemeRequest> requests = schemeRequests(app);
     const std::vector<uint32_t> changedSamples = takeUnsyncedSamples(*app.doc);
-    if (Status s = syncScene(app.ctx, app.renderer, app.catalog, *app.doc, app.documentGeneration, requests, changedSamples);
+    const EditReport planChange = takeUnsyncedPlanChange(*app.doc);
+    if (Status s = syncScene(app.ctx, app.renderer, app.catalog, *app.doc, app.documentGeneration, requests, changedSamples,
+                             planChange);
         !s)
         return s;
 
@@ -391,6 +393,9 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     sample.cpuMs = cpuMs + msSince(recordStart);
     sample.intervalMs = app.frame == 0 ? 0.0 : std::chrono::duration<double, std::milli>(frameStart - app.lastFrameStart).count();
     app.lastFrameStart = frameStart;
+    if (app.lastEditFrame.frame + 1 == app.frame) app.lastEditFrame.intervalMs = sample.intervalMs;
+    if (app.doc->lastEdit && app.doc->lastEdit->frame == app.frame && app.lastEditFrame.frame != app.frame)
+        app.lastEditFrame = {app.frame, sample.cpuMs, -1.0, app.renderer.lastSyncMs};
     std::vector<uint8_t> pixels;
     const bool screenshot = !app.pendingScreenshot.empty();
     if (Status s = endFrame(app.ctx, app.swapchain, frame, screenshot ? &pixels : nullptr); !s) return s;

@@ -190,6 +190,13 @@ struct EditorApp {
     std::vector<KeyPress> keyPresses;  // since the last frame, from GLFW or automation
 
     FrameStats stats;
+    // The frame that showed the last edit (the one it was applied in): its CPU time, which holds
+    // the plan engine's work and every viewport's update, and the interval until the next frame.
+    struct EditFrame {
+        uint64_t frame = ~0ull;
+        double cpuMs = 0.0, intervalMs = -1.0;  // interval < 0 until the next frame starts
+        double syncMs = 0.0;                    // scheme updates in it (SceneRenderer::lastSyncMs)
+    } lastEditFrame;
     uint64_t frame = 0;  // frames presented
     std::chrono::steady_clock::time_point lastFrameStart;
     std::unique_ptr<Automation> automation;

@@ -1,6 +1,7 @@
 #include "panels.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -504,6 +505,16 @@ void statsSection(EditorApp& app) {
         ImGui::TextWrapped("Last edit: %s", doc.lastEdit->description.c_str());
         ImGui::Text("  re-planned %u faces in %.2f ms", r.replannedFaces, r.milliseconds);
         ImGui::Text("  %u new plans, %u sub-faces updated", r.newPlans, r.updatedSubfaces);
+        // The whole cost side by side: the plan engine, then the frame that showed the edit.
+        const EditorApp::EditFrame& shown = app.lastEditFrame;
+        if (shown.frame == doc.lastEdit->frame) {
+            ImGui::Text("  plan engine %.2f ms | its frame %.1f ms CPU%s", r.milliseconds, shown.cpuMs,
+                        shown.intervalMs >= 0.0 ? (", " + std::to_string(int(std::lround(shown.intervalMs))) + " ms to the next").c_str() : "");
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("Plan engine: re-planning the faces the edit affects. Its frame: the CPU time of the frame\n"
+                                  "that applied and drew the edit (input, UI, plan engine, every viewport's scheme update,\n"
+                                  "recording), and the interval until the next frame started.");
+        }
     } else {
         ImGui::TextUnformatted("Last edit: none");
     }
@@ -526,6 +537,8 @@ void statsSection(EditorApp& app) {
         if (view && view->instance)
             ImGui::TextDisabled("  setup %.0f ms, update %.1f ms%s", view->setupMs, view->updateMs,
                                 view->heat.valid ? (", heat map " + std::to_string(int(view->heat.lastMs)) + " ms").c_str() : "");
+        if (view && !view->planUpdateNote.empty())
+            ImGui::TextDisabled("  last edit: %s, %.1f ms", view->planUpdateNote.c_str(), view->planUpdateMs);
     }
     ImGui::TextDisabled("%s", app.ctx.deviceName.c_str());
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 
 #include "face_config.h"
 #include "scheme_host.h"
@@ -239,6 +240,32 @@ void buildView(SceneRenderer& r, const PluginCatalog& catalog, const Document& d
         view.colorModes = *modes;
 }
 
+// A tag or topology edit for an instance that may take it in place: true when it did
+// (Scheme::updatePlans); false when it must be rebuilt, planUpdateNote saying why.
+bool updatePlansInPlace(SchemeView& view, const Document& doc, const EditReport& change) {
+    const auto start = Clock::now();
+    std::vector<uint32_t> subfaces = change.updatedSubfaceList;
+    if (!change.topologyChanged)
+        for (uint32_t f : change.replannedFaceList)
+            for (uint32_t s = doc.planned->firstSubface(f); s < doc.planned->firstSubface(f + 1); ++s) subfaces.push_back(s);
+    std::sort(subfaces.begin(), subfaces.end());
+    subfaces.erase(std::unique(subfaces.begin(), subfaces.end()), subfaces.end());
+    Result<PlanUpdate> updated = view.instance->updatePlans(PlanChange{subfaces, change.topologyChanged});
+    view.planUpdateMs = msSince(start);
+    view.planUpdateInPlace = updated && *updated == PlanUpdate::Updated;
+    if (view.planUpdateInPlace) {
+        view.planUpdateNote = "in place, " + std::to_string(subfaces.size()) + " sub-faces";
+        ++view.drawRevision;
+        return true;
+    }
+    view.planUpdateNote = !updated ? "rebuilt: the update in place failed (" + updated.error().message + ")"
+                          : !view.instance->updatesPlansInPlace() ? "rebuilt (the scheme does not update plans in place)"
+                          : change.topologyChanged                ? "rebuilt (topology edit)"
+                                                                  : "rebuilt (the scheme asked for it)";
+    if (!updated) std::fprintf(stderr, "%s: %s\n", view.built.name.c_str(), view.planUpdateNote.c_str());
+    return false;
+}
+
 // Heat map of the view's scheme: the whole grid, or (after a move) the sub-faces listed.
 Status updateHeat(const VulkanContext& ctx, const Document& doc, SchemeView& view, const std::vector<uint32_t>* moved) {
     HeatMap& heat = view.heat;
@@ -356,15 +383,19 @@ void destroySceneRenderer(const VulkanContext& ctx, SceneRenderer& r) {
 }
 
 Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog& catalog, const Document& doc,
-                 uint64_t generation, std::span<const SchemeRequest> requests, std::span<const uint32_t> changedSamples) {
+                 uint64_t generation, std::span<const SchemeRequest> requests, std::span<const uint32_t> changedSamples,
+                 const EditReport& planChange) {
     if (!doc.planned) return success();
     const Cage& cage = doc.planned->cage();
-    const bool newPlans = r.generation != generation || r.planRevision != doc.planRevision;
-    const bool newDisplacement = newPlans || r.displacementRevision != doc.displacementRevision;
+    const bool newDocument = r.generation != generation;
+    const bool newPlans = newDocument || r.planRevision != doc.planRevision;
+    // Rebuilt instances get the displacement as they are made; the others keep theirs.
+    const bool newDisplacement = newDocument || r.displacementRevision != doc.displacementRevision;
     const bool newSamples = !newDisplacement && r.sampleRevision != doc.sampleRevision;
     const bool newPositions = newPlans || r.positionRevision != doc.positionRevision;
     std::vector<uint32_t> moved;
-    if (newPositions && !newPlans) moved = movedVertices(r.positions, cage.positions);
+    if (newPositions && !newDocument && !planChange.topologyChanged && r.positions.size() == cage.positions.size())
+        moved = movedVertices(r.positions, cage.positions);
     const std::string overlay = selectionKey(doc);
 
     // Decide first, so the device is drained once and only when something changes.
@@ -373,16 +404,17 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
         for (size_t i = requests.size(); i < r.views.size(); ++i) destroyView(ctx, r.views[i]);
     }
     r.views.resize(requests.size());
-    std::vector<char> rebuild(requests.size()), heatWhole(requests.size()), heatOff(requests.size());
+    std::vector<char> rebuild(requests.size()), replan(requests.size()), heatWhole(requests.size()), heatOff(requests.size());
     bool work = newPositions || newDisplacement || newSamples || overlay != r.overlayKey;
     for (size_t i = 0; i < requests.size(); ++i) {
         const SchemeView& view = r.views[i];
         const SchemeRequest& want = requests[i];
-        rebuild[i] = newPlans || view.generation != generation || want.name != view.built.name ||
-                     !sameSettings(want.settings, view.built.settings);
+        rebuild[i] = newDocument || view.generation != generation || want.name != view.built.name ||
+                     !sameSettings(want.settings, view.built.settings) || (newPlans && !view.instance);
+        replan[i] = !rebuild[i] && newPlans;
         heatWhole[i] = want.heatMap && (rebuild[i] || !view.heat.valid || want.heatFactor != view.built.heatFactor);
         heatOff[i] = !want.heatMap && view.heat.valid;
-        work |= rebuild[i] || heatWhole[i] || heatOff[i];
+        work |= rebuild[i] || replan[i] || heatWhole[i] || heatOff[i];
     }
     if (!work) return success();
 
@@ -391,11 +423,17 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     if (newPlans) r.features = analyzeCage(cage, doc.planned->topology());
     for (size_t i = 0; i < requests.size(); ++i) {
         SchemeView& view = r.views[i];
+        if (replan[i] && !updatePlansInPlace(view, doc, planChange)) rebuild[i] = true;
         if (rebuild[i]) {
+            const auto buildStart = Clock::now();
             buildView(r, catalog, doc, view, requests[i]);
             view.generation = generation;
             view.planRevision = doc.planRevision;
-        } else if (!moved.empty() && view.instance) {
+            if (replan[i]) view.planUpdateMs = msSince(buildStart);
+        } else if (replan[i]) {
+            view.planRevision = doc.planRevision;
+        }
+        if (!rebuild[i] && !moved.empty() && view.instance) {
             const auto updateStart = Clock::now();
             if (Status s = view.instance->updateMoved(moved); !s) {
                 view.problem = s.error().message;
@@ -420,8 +458,10 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
         if (heatOff[i] || !view.instance) {
             if (view.heat.valid) ++view.drawRevision;
             destroyHeat(ctx, view.heat);
-        } else if (requests[i].heatMap && (heatWhole[i] || !moved.empty())) {
-            if (Status s = updateHeat(ctx, doc, view, heatWhole[i] ? nullptr : &moved); !s) {
+        } else if (requests[i].heatMap && (heatWhole[i] || replan[i] || !moved.empty())) {
+            // After new plans the error may change wherever the surface did: measured again whole.
+            const bool whole = heatWhole[i] || replan[i];
+            if (Status s = updateHeat(ctx, doc, view, whole ? nullptr : &moved); !s) {
                 view.problem = "heat map: " + s.error().message;
                 destroyHeat(ctx, view.heat);
             }

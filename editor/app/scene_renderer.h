@@ -62,6 +62,11 @@ struct SchemeView {
     std::vector<std::string> colorModes{"shading"};
     uint64_t generation = ~0ull, planRevision = ~0ull;
     double setupMs = 0.0;   // build + GPU + first update, the last time it was made
+    // The last tag or topology edit reached this viewport in planUpdateMs, in place
+    // (Scheme::updatePlans) or by a new instance; planUpdateNote says which (and why a rebuild).
+    double planUpdateMs = 0.0;
+    bool planUpdateInPlace = false;
+    std::string planUpdateNote;
     double updateMs = 0.0;  // the last update after a move
     uint32_t updatedVertices = 0;
     double displacementMs = 0.0;  // the last displacement update (a dab, a new displacement)
@@ -121,11 +126,14 @@ void releaseSchemes(const VulkanContext& context, SceneRenderer& renderer);
 
 // Brings instances, heat maps and line buffers up to date with `document` (adopted as
 // `generation`) and the viewports' requests; `changedSamples` are the displacement samples
-// changed in place since the last call (takeUnsyncedSamples). Scheme failures become
-// SchemeView::problem; an error here is a Vulkan failure of the editor's own buffers.
+// changed in place since the last call (takeUnsyncedSamples), `planChange` what edits re-planned
+// since then (takeUnsyncedPlanChange): instances whose scheme updates plans in place get just
+// those sub-faces, the others (and any whose update fails or asks for it) are rebuilt. Scheme
+// failures become SchemeView::problem; an error here is a Vulkan failure of the editor's own
+// buffers.
 Status syncScene(const VulkanContext& context, SceneRenderer& renderer, const PluginCatalog& catalog,
                  const Document& document, uint64_t generation, std::span<const SchemeRequest> requests,
-                 std::span<const uint32_t> changedSamples);
+                 std::span<const uint32_t> changedSamples, const EditReport& planChange);
 
 // Records every viewport into `target` (areas from ViewportDraw::rect), the statistics
 // queries into `slot`'s pool. Areas outside the viewports are left as they are.
