@@ -1415,7 +1415,7 @@ void benchEditor(const BenchCage& bench, const BenchArgs& args, Report& report) 
         r.faces = bench.cage.faceCount();
         r.benchmark = "editor, the frame showing: " + e.label + ": CPU " + number(e.cpuMs) + " ms (plan engine " +
                       number(e.planEngineMs) + " ms), interval to the next " + number(e.intervalMs) + " ms" +
-                      (e.viewNote.empty() ? std::string() : "; viewport 1 " + e.viewNote) +
+                      (e.viewNote.empty() || e.kind == EditKind::View ? std::string() : "; viewport 1 " + e.viewNote) +
                       (e.kind == EditKind::View ? std::string("; target 50 ms") : std::string("; vs a vertex-drag frame (CPU)"));
         r.repeats = e.count;
         r.unit = "ms";

@@ -15,6 +15,7 @@
 #include "document.h"
 #include "frame_stats.h"
 #include "gizmo.h"
+#include "pick_cache.h"
 #include "recovery.h"
 #include "test_cages.h"
 #include "view_camera.h"
@@ -290,6 +291,39 @@ TEST(Document, EditsGoThroughApplyEditAndBadOnesChangeNothing) {
 
 // Every kind of edit through the document, then undo to the start restores the cage exactly,
 // redo reaches the end again, and a jump lands on the state after that entry.
+// After tag edits (a crease, a hole) the limit picker re-samples only what changed and picks
+// exactly what a new one picks; the plan change reaches the renderer once.
+TEST(Document, PickingFollowsTagEditsWithoutARebuild) {
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    PickCache cache;
+    (void)limitPicker(cache, *doc, 1);
+    EXPECT_EQ(cache.limitBuilds, 1u);
+    const Cage& cage = doc->planned->cage();
+    const uint32_t a = cage.faceBegin(0)[0], b = cage.faceBegin(0)[1];
+    ASSERT_TRUE(applyEdit(*doc, SetEdgeSharpness{{{a, b, 5.0f}}}, 1).ok());
+    ASSERT_TRUE(applyEdit(*doc, SetHoles{{1}, true}, 2).ok());
+    const EditReport change = takeUnsyncedPlanChange(*doc);
+    EXPECT_FALSE(change.topologyChanged);
+    EXPECT_FALSE(change.replannedFaceList.empty());
+    EXPECT_TRUE(takeUnsyncedPlanChange(*doc).replannedFaceList.empty()) << "taken once";
+    const LimitPicker& updated = limitPicker(cache, *doc, 1);
+    EXPECT_EQ(cache.limitBuilds, 1u) << "a tag edit rebuilt the picker";
+    const LimitPicker fresh(*doc->planned);
+    const Bounds bounds = computeBounds(cage);
+    const glm::vec3 centre = 0.5f * (bounds.min + bounds.max);
+    int hits = 0;
+    for (int i = 0; i < 64; ++i) {
+        const glm::vec3 direction = glm::normalize(glm::vec3(std::cos(0.7f * i), std::sin(1.3f * i), std::cos(0.3f * i + 1.0f)));
+        const Ray ray{centre + 3.0f * bounds.diagonal() * direction, -direction};
+        const LimitPicker::Hit x = updated.intersect(*doc->planned, ray), y = fresh.intersect(*doc->planned, ray);
+        EXPECT_EQ(x.subface, y.subface) << "ray " << i;
+        EXPECT_EQ(x.position, y.position) << "ray " << i;
+        hits += x.subface != kNoHit;
+    }
+    EXPECT_GT(hits, 32);
+}
+
 TEST(Document, EveryEditUndoesRedoesAndJumps) {
     Scene scene;
     scene.cage = test::makeGrid(4);  // vertex (x, y) = y * 5 + x, face (x, y) = y * 4 + x

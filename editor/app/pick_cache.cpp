@@ -1,5 +1,6 @@
 #include "pick_cache.h"
 
+#include <algorithm>
 #include <chrono>
 #include <numeric>
 
@@ -7,11 +8,34 @@ namespace qp::editor {
 
 namespace {
 
+std::vector<uint32_t> plansAndRotations(const PlannedCage& planned) {
+    std::vector<uint32_t> out(2 * size_t(planned.subfaceCount()));
+    for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+        out[2 * s] = planned.subfacePlan(s);
+        out[2 * s + 1] = planned.subfaceRotation(s);
+    }
+    return out;
+}
+
 void resetIfStale(PickCache& c, const Document& doc, uint64_t generation) {
     if (c.generation == generation && c.planRevision == doc.planRevision) return;
+    if (c.generation == generation && c.topologyRevision == doc.topologyRevision && c.limit &&
+        c.limitPlans.size() == 2 * size_t(doc.planned->subfaceCount())) {
+        // Tags changed, the numbering did not: the limit picker re-samples just the sub-faces
+        // whose plan (a hole has none) or rotation changed; the cage raycaster does not care.
+        const std::vector<uint32_t> now = plansAndRotations(*doc.planned);
+        for (uint32_t s = 0; s < doc.planned->subfaceCount(); ++s)
+            if (now[2 * s] != c.limitPlans[2 * s] || now[2 * s + 1] != c.limitPlans[2 * s + 1]) c.replanned.push_back(s);
+        c.limitPlans = now;
+        c.planRevision = doc.planRevision;
+        return;
+    }
+    const uint32_t builds = c.limitBuilds;
     c = PickCache{};
+    c.limitBuilds = builds;
     c.generation = generation;
     c.planRevision = doc.planRevision;
+    c.topologyRevision = doc.topologyRevision;
     std::vector<uint32_t> all(doc.planned->subfaceCount());
     std::iota(all.begin(), all.end(), 0u);
     c.index = VertexSubfaceIndex(*doc.planned, all);
@@ -34,10 +58,18 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
     const std::vector<glm::vec3>& positions = doc.planned->cage().positions;
     if (!c.limit) {
         c.limit.emplace(*doc.planned);
-    } else if (c.limitRevision != doc.positionRevision) {
-        EditReport moved;  // the sub-faces whose control points changed
-        moved.updatedSubfaceList = c.index.touched(movedVertices(c.limitPositions, positions));
-        c.limit->update(*doc.planned, moved);
+        ++c.limitBuilds;
+        c.limitPlans = plansAndRotations(*doc.planned);
+        c.replanned.clear();
+    } else if (c.limitRevision != doc.positionRevision || !c.replanned.empty()) {
+        EditReport changed;  // the sub-faces whose control points or plans changed
+        changed.updatedSubfaceList = c.index.touched(movedVertices(c.limitPositions, positions));
+        changed.updatedSubfaceList.insert(changed.updatedSubfaceList.end(), c.replanned.begin(), c.replanned.end());
+        std::sort(changed.updatedSubfaceList.begin(), changed.updatedSubfaceList.end());
+        changed.updatedSubfaceList.erase(std::unique(changed.updatedSubfaceList.begin(), changed.updatedSubfaceList.end()),
+                                         changed.updatedSubfaceList.end());
+        c.replanned.clear();
+        c.limit->update(*doc.planned, changed);
     } else {
         return *c.limit;
     }

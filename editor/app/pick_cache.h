@@ -1,7 +1,8 @@
 // PickCache: the structures picking needs (core/picking.h), kept in step with the document:
 // the cage raycaster (rebuilt after any change: ~2 ms on 2,000 faces) and the limit-surface
 // picker (built on first use; after vertex moves only the sub-faces whose 1-ring holds a moved
-// vertex are re-sampled; rebuilt after new plans or topology).
+// vertex are re-sampled, after tag edits only the sub-faces whose plan or rotation changed, found
+// by comparing them with what it was sampled from; rebuilt after a topology change).
 #pragma once
 
 #include <cstdint>
@@ -15,13 +16,16 @@
 namespace qp::editor {
 
 struct PickCache {
-    uint64_t generation = ~0ull, planRevision = ~0ull;
+    uint64_t generation = ~0ull, planRevision = ~0ull, topologyRevision = ~0ull;
     uint64_t cageRevision = ~0ull, limitRevision = ~0ull;  // positionRevision each was made for
     std::optional<CageRaycaster> cage;
     std::optional<LimitPicker> limit;
     std::vector<glm::vec3> limitPositions;  // what `limit` was sampled from
+    std::vector<uint32_t> limitPlans;       // ... and each sub-face's plan and rotation then
+    std::vector<uint32_t> replanned;        // sub-faces re-planned since `limit` was sampled
     VertexSubfaceIndex index;               // vertex -> sub-faces seeing it
     double lastLimitMs = 0.0;
+    uint32_t limitBuilds = 0;               // times the limit picker was built whole
 };
 
 // Up to date for `document` (adopted as `generation`); the document must have a cage.
