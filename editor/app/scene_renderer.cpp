@@ -240,6 +240,50 @@ void buildView(SceneRenderer& r, const PluginCatalog& catalog, const Document& d
         view.colorModes = *modes;
 }
 
+// Keeps `view`'s instance for later (evicting the oldest parked one); `view` is left empty.
+void park(const VulkanContext& ctx, SceneRenderer& r, const Document& doc, SchemeView& view) {
+    if (!view.instance) return destroyView(ctx, view);
+    if (r.parked.size() == kMaxParkedInstances) {
+        destroyView(ctx, r.parked.front().view);
+        r.parked.erase(r.parked.begin());
+    }
+    destroyHeat(ctx, view.heat);
+    r.parked.push_back({std::move(view), doc.positionRevision, doc.displacementRevision, doc.sampleRevision});
+    view = SchemeView{};
+}
+
+// Parked instances of another document, or made before the plans or the displacement changed,
+// show what no longer is: destroyed (the device is idle).
+void dropStaleParked(const VulkanContext& ctx, SceneRenderer& r, const Document& doc, uint64_t generation) {
+    std::erase_if(r.parked, [&](ParkedInstance& p) {
+        const bool stale = p.view.generation != generation || p.view.planRevision != doc.planRevision ||
+                           p.displacementRevision != doc.displacementRevision || p.sampleRevision != doc.sampleRevision;
+        if (stale) destroyView(ctx, p.view);
+        return stale;
+    });
+}
+
+// A parked instance for `request` into `view` (brought to the current positions): true when
+// there was one.
+bool unpark(SceneRenderer& r, const Document& doc, uint64_t generation, const SchemeRequest& request, SchemeView& view) {
+    for (auto p = r.parked.begin(); p != r.parked.end(); ++p) {
+        if (p->view.built.name != request.name || !sameSettings(p->view.built.settings, request.settings) ||
+            p->view.generation != generation || p->view.planRevision != doc.planRevision ||
+            p->displacementRevision != doc.displacementRevision || p->sampleRevision != doc.sampleRevision)
+            continue;
+        const auto start = Clock::now();
+        if (p->positionRevision != doc.positionRevision)
+            if (Status s = p->view.instance->update(); !s) return false;  // stays parked; dropped as stale later
+        view = std::move(p->view);
+        r.parked.erase(p);
+        view.setupMs = msSince(start);
+        view.planUpdateNote = "reused (the viewport showed it before)";
+        ++view.drawRevision;
+        return true;
+    }
+    return false;
+}
+
 // A tag or topology edit for an instance that may take it in place: true when it did
 // (Scheme::updatePlans); false when it must be rebuilt, planUpdateNote saying why.
 bool updatePlansInPlace(SchemeView& view, const Document& doc, const EditReport& change) {
@@ -364,10 +408,12 @@ Result<SceneRenderer> createSceneRenderer(const VulkanContext& ctx, VkPipelineCa
 }
 
 void releaseSchemes(const VulkanContext& ctx, SceneRenderer& r) {
-    if (r.views.empty()) return;
+    if (r.views.empty() && r.parked.empty()) return;
     vkQueueWaitIdle(ctx.queue);
     for (SchemeView& view : r.views) destroyView(ctx, view);
+    for (ParkedInstance& p : r.parked) destroyView(ctx, p.view);
     r.views.clear();
+    r.parked.clear();
     r.generation = r.planRevision = r.positionRevision = r.displacementRevision = r.sampleRevision = ~0ull;
 }
 
@@ -399,13 +445,11 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     const std::string overlay = selectionKey(doc);
 
     // Decide first, so the device is drained once and only when something changes.
-    if (r.views.size() > requests.size()) {
-        vkQueueWaitIdle(ctx.queue);
-        for (size_t i = requests.size(); i < r.views.size(); ++i) destroyView(ctx, r.views[i]);
-    }
+    std::vector<SchemeView> closed;  // views of viewports that went away: parked below
+    for (size_t i = requests.size(); i < r.views.size(); ++i) closed.push_back(std::move(r.views[i]));
     r.views.resize(requests.size());
     std::vector<char> rebuild(requests.size()), replan(requests.size()), heatWhole(requests.size()), heatOff(requests.size());
-    bool work = newPositions || newDisplacement || newSamples || overlay != r.overlayKey;
+    bool work = newPositions || newDisplacement || newSamples || overlay != r.overlayKey || !closed.empty();
     for (size_t i = 0; i < requests.size(); ++i) {
         const SchemeView& view = r.views[i];
         const SchemeRequest& want = requests[i];
@@ -421,10 +465,20 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     const auto start = Clock::now();
     VK_CHECK(vkQueueWaitIdle(ctx.queue));
     if (newPlans) r.features = analyzeCage(cage, doc.planned->topology());
+    for (SchemeView& view : closed) park(ctx, r, doc, view);
+    if (newPlans && !newDocument)  // parked instances that can take the edit in place stay usable
+        for (ParkedInstance& p : r.parked)
+            if (p.view.generation == generation && p.view.planRevision == r.planRevision &&
+                updatePlansInPlace(p.view, doc, planChange))
+                p.view.planRevision = doc.planRevision;
+    dropStaleParked(ctx, r, doc, generation);
     for (size_t i = 0; i < requests.size(); ++i) {
         SchemeView& view = r.views[i];
         if (replan[i] && !updatePlansInPlace(view, doc, planChange)) rebuild[i] = true;
-        if (rebuild[i]) {
+        if (rebuild[i] && !newDocument && !replan[i] && view.instance) park(ctx, r, doc, view);  // another scheme or settings
+        if (rebuild[i] && !replan[i] && unpark(r, doc, generation, requests[i], view)) {
+            rebuild[i] = false;
+        } else if (rebuild[i]) {
             const auto buildStart = Clock::now();
             buildView(r, catalog, doc, view, requests[i]);
             view.generation = generation;

@@ -6,7 +6,9 @@
 // the cage and the selection (LinePass) over it. Drawn into sub-areas of any RenderTarget.
 //
 // GPU copies follow the Document by revision (document.h). syncScene brings them up to date
-// once per frame: a new topology or new plans/tags rebuild the instances; vertex moves alone go
+// once per frame: tag and topology edits go to Scheme::updatePlans (a scheme that cannot take
+// one in place is rebuilt); an instance whose viewport switches scheme or closes is parked and
+// reused when it is asked for again while the plans are as they were; vertex moves alone go
 // to Scheme::updateMoved with the vertices that moved (found by diffing positions), so a drag
 // re-evaluates only what it touched; camera-only frames do no scheme work at all. Anything a
 // frame in flight may read is rewritten only after the queue is idle, so a frame with changes
@@ -75,6 +77,15 @@ struct SchemeView {
     uint64_t drawRevision = 0;  // changes whenever what this viewport draws may have changed
 };
 
+// An instance no viewport shows any more (its viewport switched to another scheme or was
+// closed), kept while the document's plans and displacement stay as they were, so that switching
+// back or showing the viewport again reuses it instead of building a new one.
+struct ParkedInstance {
+    SchemeView view;  // without its heat map
+    uint64_t positionRevision = 0, displacementRevision = 0, sampleRevision = 0;
+};
+inline constexpr size_t kMaxParkedInstances = 4;
+
 // One viewport of a frame.
 struct ViewportDraw {
     VkRect2D rect{};
@@ -102,6 +113,7 @@ struct SceneRenderer {
     Buffer cageLines, overlayLines;
     uint32_t cageLineCount = 0, overlayLineCount = 0;
     std::vector<SchemeView> views;  // one per viewport
+    std::vector<ParkedInstance> parked;  // oldest first, at most kMaxParkedInstances
     // What the copies were made from.
     uint64_t generation = ~0ull, planRevision = ~0ull, positionRevision = ~0ull;
     uint64_t displacementRevision = ~0ull, sampleRevision = ~0ull;
