@@ -126,9 +126,17 @@ void appendPlanTables(GpuPlanData& gpu, const PlanDatabase& database) {
 
 GpuPlanData packPlans(const PlannedCage& planned) {
     GpuPlanData gpu;
-    const PlanDatabase& database = planned.database();
-    appendPlanTables(gpu, database);
+    appendPlanTables(gpu, planned.database());
+    packSubfaces(gpu, planned);
+    return gpu;
+}
 
+void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
+    const PlanDatabase& database = planned.database();
+    gpu.subfaces.clear();
+    gpu.rings.clear();
+    gpu.controlPointCount = 0;
+    gpu.segments.clear();
     const Cage& cage = planned.cage();
     const Topology& topology = planned.topology();
     std::vector<std::pair<uint32_t, uint32_t>> faceAndCorner;  // per drawn sub-face
@@ -171,7 +179,6 @@ GpuPlanData packPlans(const PlannedCage& planned) {
         const uint32_t end = d + 1 < gpu.subfaces.size() ? gpu.subfaces[d + 1].ringOffset : uint32_t(gpu.rings.size());
         for (uint32_t j = first; j < end; ++j) gpu.vertexSubfaces[fill[gpu.rings[j]]++] = d;
     }
-    return gpu;
 }
 
 std::vector<uint32_t> subfacesAround(const GpuPlanData& data, std::span<const uint32_t> vertices) {

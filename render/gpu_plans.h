@@ -119,6 +119,11 @@ glm::vec4 boundaryPointPosition(const PlannedCage& planned, uint32_t id);
 
 GpuPlanData packPlans(const PlannedCage& planned);
 
+// The sub-face part of packPlans (sub-faces, rings, control-point offsets, boundaries, segments,
+// boundary points, the vertex CSR), replacing what `gpu` had; the plan tables stay (they must
+// hold every plan the cage uses: appendPlanTables).
+void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned);
+
 // Appends the database's plans that `gpu` does not have yet (ids gpu.plans.size() onwards): the
 // plan tables only ever grow, so plan ids stay the database's.
 void appendPlanTables(GpuPlanData& gpu, const PlanDatabase& database);

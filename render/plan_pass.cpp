@@ -526,7 +526,12 @@ Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffer
 
 Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors) {
     if (!buffers.gridLayout.subfaceOffset.empty() && buffers.gridLayout.factors == factors) return success();
-    GridLayout layout = buildGridLayout(buffers.data, std::move(factors));
+    if (Status s = installGridLayout(ctx, pass, buffers, buildGridLayout(buffers.data, std::move(factors))); !s) return s;
+    buffers.gridEvaluator = GridEvaluator::None;
+    return success();
+}
+
+Status installGridLayout(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridLayout layout) {
     const VkDeviceSize gridBytes = VkDeviceSize(layout.slotCount()) * sizeof(GridVertex);
     if (gridBytes > ctx.properties.limits.maxStorageBufferRange)
         return Error{"the grid (" + std::to_string(gridBytes >> 20) + " MiB at factor " + std::to_string(layout.maxFactor) +
@@ -550,7 +555,6 @@ Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffer
     uploadVector(buffers.subfaceGrid, subfaceGrid);
     uploadVector(buffers.gridIndices, layout.indices);
     buffers.gridLayout = std::move(layout);
-    buffers.gridEvaluator = GridEvaluator::None;
     bindPlanBuffers(ctx, pass, buffers);
     return success();
 }

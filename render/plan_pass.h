@@ -154,6 +154,11 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
 Status prepareGrid(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, uint32_t factor);
 Status prepareGrid(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, GridFactors factors);
 
+// Makes `layout` (built for buffers.data) the grid's, growing and filling the layout buffers,
+// and leaves the grid's vertices as they are (the caller fills what changed; prepareGrid drops
+// them). May replace buffers: the device must be done with them.
+Status installGridLayout(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, GridLayout layout);
+
 // Adaptive factors for `view` and `settings` (uniformFactor 0), keeping the current layout's
 // where they still fit (grid_layout.h); pass them to prepareGrid.
 GridFactors adaptiveGridFactors(const PlanBuffers& buffers, const PlanView& view, const TessellationSettings& settings);

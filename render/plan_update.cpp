@@ -1,6 +1,7 @@
 #include "plan_update.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace qp {
 
@@ -36,6 +37,181 @@ bool sameVertices(std::span<const uint32_t> a, std::span<const uint32_t> b) {
     return x == y;
 }
 
+std::span<const uint32_t> ringOf(const GpuPlanData& data, uint32_t drawn) {
+    const uint32_t begin = data.subfaces[drawn].ringOffset;
+    const uint32_t end = drawn + 1 < data.subfaces.size() ? data.subfaces[drawn + 1].ringOffset : uint32_t(data.rings.size());
+    return {data.rings.data() + begin, end - begin};
+}
+
+// Plans new to the database into the tables (and their buffers).
+Status appendNewPlans(const VulkanContext& ctx, PlanBuffers& buffers, const PlanDatabase& database, PlanTableUpdate& update,
+                      bool& rebind) {
+    GpuPlanData& data = buffers.data;
+    const size_t oldPlans = data.plans.size(), oldNodes = data.nodes.size(), oldPoints = data.points.size(),
+                 oldWeights = data.weights.size();
+    appendPlanTables(data, database);
+    update.appendedPlans = uint32_t(data.plans.size() - oldPlans);
+    if (update.appendedPlans == 0) return success();
+    Status stored = storeTail(ctx, buffers.planHeaders, data.plans, oldPlans, rebind);
+    if (stored) stored = storeTail(ctx, buffers.nodes, data.nodes, oldNodes, rebind);
+    if (stored) stored = storeTail(ctx, buffers.points, data.points, oldPoints, rebind);
+    if (stored) stored = storeTail(ctx, buffers.weights, data.weights, oldWeights, rebind);
+    if (!stored) {  // tables that grew already hold the new plans too; the rest is as before
+        data.plans.resize(oldPlans);
+        data.nodes.resize(oldNodes);
+        data.points.resize(oldPoints);
+        data.weights.resize(oldWeights);
+    }
+    return stored;
+}
+
+// The owner (PlannedCage sub-face, its edge or corner) of what `drawn`'s edge e or corner c
+// shows: equal before and after a change means that part of its grid copies the same bits.
+struct EdgeOwners {
+    uint64_t segment[4], secondHalf[4], corner[4];
+    uint32_t flags[4];
+};
+EdgeOwners ownersOf(const GpuPlanData& data, uint32_t drawn) {
+    const GpuSubfaceBoundary& b = data.boundaries[drawn];
+    auto segmentOwner = [&](uint32_t segment) {
+        const GpuSegment& g = data.segments[segment];
+        return uint64_t(data.subfaces[g.owner].subface) << 8 | uint64_t(g.ownerEdge) << 1 | g.ownerReversed;
+    };
+    EdgeOwners o{};
+    for (uint32_t e = 0; e < 4; ++e) {
+        o.flags[e] = b.edges[e].flags;
+        o.segment[e] = segmentOwner(b.edges[e].segment);
+        o.secondHalf[e] = (b.edges[e].flags & kEdgeRefSplit) ? segmentOwner(b.edges[e].secondHalf) : 0;
+        const GpuPoint& p = data.boundaryPoints[b.corners[e]];
+        o.corner[e] = uint64_t(data.subfaces[p.owner].subface) << 8 | p.ownerCorner;
+    }
+    return o;
+}
+bool operator==(const EdgeOwners& a, const EdgeOwners& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// Sub-faces gained or lost their surface (holes): the sub-face tables are packed again; the
+// plan tables, every kept sub-face's control-point range and the evaluated grid stay, so only
+// what now has another owner (and the sub-faces that gained a surface) is evaluated again.
+Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, const PlannedCage& planned,
+                      const std::vector<uint32_t>& changed, PlanTableUpdate& update, bool& rebind) {
+    GpuPlanData& data = buffers.data;
+    const PlanDatabase& database = planned.database();
+    const GpuPlanData old = data;  // sub-face part; the plan tables are copied too (cheap next to a rebuild)
+    const std::vector<uint32_t> oldDrawnOf = buffers.drawnOfSubface, oldCapacity = buffers.controlPointCapacity;
+    packSubfaces(data, planned);
+    const uint32_t count = uint32_t(data.subfaces.size());
+    std::vector<uint32_t> drawnOf(planned.subfaceCount(), UINT32_MAX), oldOf(count, UINT32_MAX);
+    for (uint32_t d = 0; d < count; ++d) {
+        drawnOf[data.subfaces[d].subface] = d;
+        oldOf[d] = oldDrawnOf[data.subfaces[d].subface];
+    }
+
+    // Control points: kept sub-faces keep their ranges (and cached values); new ones go at the end.
+    std::vector<uint32_t>& capacity = buffers.controlPointCapacity;
+    capacity.assign(count, 0);
+    uint32_t end = old.controlPointCount;
+    for (uint32_t d = 0; d < count; ++d) {
+        const uint32_t stencils = database.plan(data.subfaces[d].plan).stencilCount();
+        if (oldOf[d] != UINT32_MAX && oldCapacity[oldOf[d]] >= stencils) {
+            data.subfaces[d].cpOffset = old.subfaces[oldOf[d]].cpOffset;
+            capacity[d] = oldCapacity[oldOf[d]];
+        } else {
+            data.subfaces[d].cpOffset = end;
+            capacity[d] = stencils;
+            end += stencils;
+            ++update.relocatedSubfaces;
+        }
+    }
+    data.controlPointCount = end;
+
+    // What to evaluate again: changed sub-faces, new ones, and every sub-face whose edges or
+    // corners now come from another owner (with that owner).
+    std::vector<uint32_t>& refresh = update.refresh;
+    for (uint32_t s : changed)
+        if (drawnOf[s] != UINT32_MAX) refresh.push_back(drawnOf[s]);
+    bool sameStructure = true;  // every kept sub-face's edges split as before
+    for (uint32_t d = 0; d < count; ++d) {
+        if (oldOf[d] == UINT32_MAX) {
+            refresh.push_back(d);
+            continue;
+        }
+        const EdgeOwners now = ownersOf(data, d), before = ownersOf(old, oldOf[d]);
+        if (now == before) continue;
+        refresh.push_back(d);
+        const GpuSubfaceBoundary& b = data.boundaries[d];
+        for (uint32_t e = 0; e < 4; ++e) {
+            sameStructure &= now.flags[e] == before.flags[e];
+            refresh.push_back(data.segments[b.edges[e].segment].owner);
+            if (b.edges[e].flags & kEdgeRefSplit) refresh.push_back(data.segments[b.edges[e].secondHalf].owner);
+            refresh.push_back(data.boundaryPoints[b.corners[e]].owner);
+        }
+    }
+    std::sort(refresh.begin(), refresh.end());
+    refresh.erase(std::unique(refresh.begin(), refresh.end()), refresh.end());
+
+    // The grid: the same factors for what was there, the old vertices moved to their new slots.
+    GridLayout& layout = buffers.gridLayout;
+    if (!layout.subfaceOffset.empty()) {
+        GridFactors factors;
+        factors.segmentPieces.assign(data.segments.size(), 0);
+        factors.subfaceFactor.assign(count, 0);
+        bool known = sameStructure && buffers.displacement == nullptr;
+        for (uint32_t d = 0; d < count && known; ++d) {
+            if (oldOf[d] == UINT32_MAX) continue;
+            factors.subfaceFactor[d] = layout.factors.subfaceFactor[oldOf[d]];
+            const GpuSubfaceBoundary &b = data.boundaries[d], &ob = old.boundaries[oldOf[d]];
+            for (uint32_t e = 0; e < 4; ++e) {
+                factors.segmentPieces[b.edges[e].segment] = layout.factors.segmentPieces[ob.edges[e].segment];
+                if (b.edges[e].flags & kEdgeRefSplit)
+                    factors.segmentPieces[b.edges[e].secondHalf] = layout.factors.segmentPieces[ob.edges[e].secondHalf];
+            }
+        }
+        for (uint32_t piece : factors.segmentPieces) known &= piece > 0;  // a segment only new sub-faces have
+        for (uint32_t d = 0; d < count && known; ++d) {
+            const GpuSubfaceBoundary& b = data.boundaries[d];
+            uint32_t& n = factors.subfaceFactor[d];
+            for (uint32_t e = 0; e < 4; ++e) {
+                const uint32_t pieces = factors.segmentPieces[b.edges[e].segment] * ((b.edges[e].flags & kEdgeRefSplit) ? 2 : 1);
+                if (oldOf[d] == UINT32_MAX) n = std::max(n, pieces);  // the adaptive rule (uniform: equal)
+                else known &= n % pieces == 0;
+            }
+        }
+        if (known) {
+            const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+            const std::vector<GridVertex> before(grid, grid + layout.slotCount());
+            const GridLayout oldLayout = layout;
+            if (Status s = installGridLayout(ctx, pass, buffers, buildGridLayout(data, std::move(factors))); !s) return s;
+            auto* slots = static_cast<GridVertex*>(buffers.grid.data);
+            for (uint32_t d = 0; d < count; ++d)
+                if (oldOf[d] != UINT32_MAX)
+                    std::copy(before.begin() + oldLayout.subfaceOffset[oldOf[d]], before.begin() + oldLayout.subfaceOffset[oldOf[d] + 1],
+                              slots + layout.subfaceOffset[d]);
+        } else {
+            layout = GridLayout{};  // laid out and evaluated whole at the next draw
+            buffers.gridEvaluator = GridEvaluator::None;
+            update.gridDropped = true;
+        }
+    }
+
+    buffers.drawnOfSubface = std::move(drawnOf);
+    const VkDeviceSize listBytes = (2 * VkDeviceSize(count) + 4) * sizeof(uint32_t);
+    if (listBytes > buffers.updateList.size) {
+        Result<Buffer> list = createBuffer(ctx, listBytes + listBytes / 2,
+                                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
+        if (!list) return list.error();
+        destroyBuffer(ctx, buffers.updateList);
+        buffers.updateList = *list;
+        rebind = true;
+    }
+    Status stored = storeTail(ctx, buffers.rings, data.rings, 0, rebind);
+    if (stored) stored = storeTail(ctx, buffers.boundaries, data.boundaries, 0, rebind);
+    if (stored) stored = storeTail(ctx, buffers.segments, data.segments, 0, rebind);
+    if (stored) stored = storeTail(ctx, buffers.boundaryPoints, data.boundaryPoints, 0, rebind);
+    if (stored) stored = storeTail(ctx, buffers.subfaces, data.subfaces, 0, rebind);
+    update.rewrittenSubfaces = count;
+    return stored;
+}
+
 }  // namespace
 
 Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
@@ -52,16 +228,14 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
 
     // Check everything first, so that a change this cannot apply leaves the buffers untouched.
+    bool drawnSetChanged = false;
     for (uint32_t s : changed) {
         const uint32_t drawn = buffers.drawnOfSubface[s];
         if (planned.hasSurface(s) != (drawn != UINT32_MAX)) {
-            update.reason = "sub-face " + std::to_string(s) + (drawn == UINT32_MAX ? " gained" : " lost") + " its surface";
-            return update;
+            drawnSetChanged = true;
+            continue;
         }
-        if (drawn == UINT32_MAX) continue;
-        const uint32_t end = drawn + 1 < data.subfaces.size() ? data.subfaces[drawn + 1].ringOffset : uint32_t(data.rings.size());
-        const std::span<const uint32_t> old(data.rings.data() + data.subfaces[drawn].ringOffset, end - data.subfaces[drawn].ringOffset);
-        if (!sameVertices(old, planned.subfaceRing(s))) {
+        if (drawn != UINT32_MAX && !sameVertices(ringOf(data, drawn), planned.subfaceRing(s))) {
             update.reason = "the 1-ring of sub-face " + std::to_string(s) + " changed";
             return update;
         }
@@ -74,54 +248,40 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
         for (uint32_t d = 0; d < data.subfaces.size(); ++d) capacity[d] = database.plan(data.subfaces[d].plan).stencilCount();
     }
 
-    // Plans new to the database.
-    const size_t oldPlans = data.plans.size(), oldNodes = data.nodes.size(), oldPoints = data.points.size(),
-                 oldWeights = data.weights.size();
-    appendPlanTables(data, database);
-    update.appendedPlans = uint32_t(data.plans.size() - oldPlans);
     bool rebind = false;
-    if (update.appendedPlans > 0) {
-        Status stored = storeTail(ctx, buffers.planHeaders, data.plans, oldPlans, rebind);
-        if (stored) stored = storeTail(ctx, buffers.nodes, data.nodes, oldNodes, rebind);
-        if (stored) stored = storeTail(ctx, buffers.points, data.points, oldPoints, rebind);
-        if (stored) stored = storeTail(ctx, buffers.weights, data.weights, oldWeights, rebind);
-        if (!stored) {
-            // Tables that grew already hold the new plans too; the rest is as before.
-            data.plans.resize(oldPlans);
-            data.nodes.resize(oldNodes);
-            data.points.resize(oldPoints);
-            data.weights.resize(oldWeights);
-            if (rebind) bindPlanBuffers(ctx, pass, buffers);
-            return stored.error();
-        }
+    if (Status s = appendNewPlans(ctx, buffers, database, update, rebind); !s) {
+        if (rebind) bindPlanBuffers(ctx, pass, buffers);
+        return s.error();
     }
-
-    // Records, rings and control-point ranges of the changed sub-faces.
-    uint64_t live = 0;
-    for (uint32_t d = 0; d < data.subfaces.size(); ++d) live += capacity[d];
-    for (uint32_t s : changed) {
-        const uint32_t drawn = buffers.drawnOfSubface[s];
-        if (drawn == UINT32_MAX) continue;
-        GpuSubface& record = data.subfaces[drawn];
-        record.plan = planned.subfacePlan(s);
-        record.rotation = planned.subfaceRotation(s);
-        const std::span<const uint32_t> ring = planned.subfaceRing(s);
-        std::copy(ring.begin(), ring.end(), data.rings.begin() + record.ringOffset);
-        uploadBuffer(buffers.rings, ring.data(), ring.size_bytes(), size_t(record.ringOffset) * sizeof(uint32_t));
-        const uint32_t stencils = database.plan(record.plan).stencilCount();
-        if (stencils > capacity[drawn]) {
-            live += stencils - capacity[drawn];
-            record.cpOffset = data.controlPointCount;
-            data.controlPointCount += stencils;
-            capacity[drawn] = stencils;
-            ++update.relocatedSubfaces;
+    if (drawnSetChanged) {
+        if (Status s = repackDrawnSet(ctx, pass, buffers, planned, changed, update, rebind); !s) return s.error();
+    } else {
+        // Records, rings and control-point ranges of the changed sub-faces, where they are.
+        for (uint32_t s : changed) {
+            const uint32_t drawn = buffers.drawnOfSubface[s];
+            if (drawn == UINT32_MAX) continue;
+            GpuSubface& record = data.subfaces[drawn];
+            record.plan = planned.subfacePlan(s);
+            record.rotation = planned.subfaceRotation(s);
+            const std::span<const uint32_t> ring = planned.subfaceRing(s);
+            std::copy(ring.begin(), ring.end(), data.rings.begin() + record.ringOffset);
+            uploadBuffer(buffers.rings, ring.data(), ring.size_bytes(), size_t(record.ringOffset) * sizeof(uint32_t));
+            const uint32_t stencils = database.plan(record.plan).stencilCount();
+            if (stencils > capacity[drawn]) {
+                record.cpOffset = data.controlPointCount;
+                data.controlPointCount += stencils;
+                capacity[drawn] = stencils;
+                ++update.relocatedSubfaces;
+            }
+            update.refresh.push_back(drawn);
+            ++update.rewrittenSubfaces;
         }
-        update.refresh.push_back(drawn);
-        ++update.rewrittenSubfaces;
+        std::sort(update.refresh.begin(), update.refresh.end());
     }
-    std::sort(update.refresh.begin(), update.refresh.end());
 
     // Pack the ranges again once more than half of the buffer is garbage.
+    uint64_t live = 0;
+    for (uint32_t c : capacity) live += c;
     if (data.controlPointCount > 4096 && uint64_t(data.controlPointCount) > 2 * live) {
         uint32_t next = 0;
         for (uint32_t d = 0; d < data.subfaces.size(); ++d) {
@@ -138,13 +298,12 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
         Result<Buffer> bigger = createBuffer(ctx, controlBytes + controlBytes / 2, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
         if (!bigger) return bigger.error();
         // Cached control points stay valid where they are (coherent, mapped memory).
-        std::copy_n(static_cast<const char*>(buffers.controlPoints.data), buffers.controlPoints.size,
-                    static_cast<char*>(bigger->data));
+        std::memcpy(bigger->data, buffers.controlPoints.data, buffers.controlPoints.size);
         destroyBuffer(ctx, buffers.controlPoints);
         buffers.controlPoints = *bigger;
         rebind = true;
     }
-    if (update.compacted) uploadBuffer(buffers.subfaces, data.subfaces.data(), bytesOf(data.subfaces));
+    if (update.compacted || drawnSetChanged) uploadBuffer(buffers.subfaces, data.subfaces.data(), bytesOf(data.subfaces));
     else
         for (uint32_t drawn : update.refresh)
             uploadBuffer(buffers.subfaces, &data.subfaces[drawn], sizeof(GpuSubface), size_t(drawn) * sizeof(GpuSubface));

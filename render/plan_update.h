@@ -1,5 +1,5 @@
 // Plan updates in place: after a tag edit re-planned some sub-faces (edge or vertex sharpness,
-// the crease method), bring a cage's GPU copies (plan_pass.h PlanBuffers) up to date for just
+// the crease method, holes), bring a cage's GPU copies (plan_pass.h PlanBuffers) up to date for just
 // those sub-faces instead of uploading the cage again.
 //
 // What changes and how it is kept:
@@ -16,9 +16,13 @@
 // The result equals uploadPlans of the edited cage in everything a draw reads (tests compare
 // the pictures and the grid bit for bit).
 //
+// Holes (a sub-face gains or loses its surface) change the drawn set: the sub-face tables are
+// packed again (O(cage) bookkeeping, no evaluation), every kept sub-face keeps its control-point
+// range, grid factors and evaluated vertices (moved to their new slots), and only the sub-faces
+// whose edges or corners now have another owner are evaluated again.
+//
 // Changes it does not apply in place (the caller uploads the cage again, with the reason):
-// a renumbering (topology edits), a sub-face that gained or lost its surface (holes), a ring
-// that changed.
+// a renumbering (topology edits), a ring that changed.
 #pragma once
 
 #include <cstdint>
@@ -37,6 +41,9 @@ struct PlanTableUpdate {
     uint32_t appendedPlans = 0;
     uint32_t relocatedSubfaces = 0;    // got a new control-point range
     bool compacted = false;            // the control-point ranges were packed again
+    bool gridDropped = false;          // holes: the grid could not keep its factors (a segment
+                                       // only new sub-faces have, an edge split otherwise): it is
+                                       // laid out and evaluated whole at the next draw
     std::vector<uint32_t> refresh;     // drawn sub-faces to pass to recordSubfaceRefresh
 };
 

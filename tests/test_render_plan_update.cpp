@@ -131,11 +131,18 @@ TEST_F(PlanUpdateTest, TagEditsInPlaceEqualAFreshUploadOnEveryPath) {
             const uint32_t e = topology.edgeCount() / 3;
             const uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
             const uint32_t corner = planned.cage().vertexCount() / 2;
+            // Holes: a face in the middle and the last but one (an n-gon on the mixed grid), made
+            // and filled again: the drawn set changes, ownership moves to the neighbours.
+            const uint32_t middle = planned.cage().faceCount() / 2, late = planned.cage().faceCount() - 2;
             std::vector<std::function<Result<EditReport>()>> edits = {
                 [&] { return planned.setEdgeSharpness(a, b, 2.5f); },
                 [&] { return planned.setEdgeSharpness(a, b, kInfiniteSharpness); },
                 [&] { return planned.setVertexSharpness(corner, 3.0f); },
+                [&] { return planned.setHole(middle, true); },
+                [&] { return planned.setHole(late, true); },
                 [&] { return planned.setEdgeSharpness(a, b, 0.0f); },
+                [&] { return planned.setHole(middle, false); },
+                [&] { return planned.setHole(late, false); },
                 [&] { return planned.setCreaseMethod(CreaseMethod::Chaikin); },
             };
             for (size_t k = 0; k < edits.size(); ++k) {
@@ -145,8 +152,12 @@ TEST_F(PlanUpdateTest, TagEditsInPlaceEqualAFreshUploadOnEveryPath) {
                 Result<PlanTableUpdate> updated = updatePlanTables(ctx, pass, buffers, planned, subfacesOf(planned, *report));
                 ASSERT_TRUE(updated.ok()) << updated.error().message;
                 ASSERT_TRUE(updated->applied) << updated->reason;
-                EXPECT_EQ(updated->rewrittenSubfaces, updated->refresh.size());
-                if (k < 3) EXPECT_LT(updated->refresh.size(), buffers.data.subfaces.size());
+                if (k < 8 && buffers.data.subfaces.size() > 100) {
+                    EXPECT_LT(updated->refresh.size(), buffers.data.subfaces.size() / 10) << "refreshed more than the edit touched";
+                }
+                if (k == 3 && path != DrawPath::Tessellated && name != "mixed grid") {
+                    EXPECT_FALSE(updated->gridDropped) << "a quad hole re-laid the grid out whole";
+                }
                 const std::vector<uint8_t> inPlace = draw(pass, buffers, planned, path, settings, &updated->refresh);
 
                 PlanBuffers fresh = upload(freshPass, planned);
@@ -162,10 +173,11 @@ TEST_F(PlanUpdateTest, TagEditsInPlaceEqualAFreshUploadOnEveryPath) {
                     EXPECT_EQ(std::memcmp(buffers.grid.data, fresh.grid.data, fresh.gridLayout.slotCount() * sizeof(GridVertex)), 0)
                         << "the grid updated in place differs from a full evaluation";
                 }
-                if (path != DrawPath::CpuGrid && buffers.controlPointLevel == fresh.controlPointLevel)
+                if (path != DrawPath::CpuGrid && buffers.controlPointLevel == fresh.controlPointLevel) {
                     for (uint32_t d = 0; d < fresh.data.subfaces.size(); ++d)
                         ASSERT_TRUE(controlPointsOf(buffers, planned, d) == controlPointsOf(fresh, planned, d))
                             << "control points of drawn sub-face " << d;
+                }
                 destroyPlanBuffers(ctx, fresh);
             }
             destroyPlanBuffers(ctx, buffers);
@@ -180,12 +192,13 @@ TEST_F(PlanUpdateTest, ChangesItCannotApplyAreRefusedAndChangeNothing) {
     PlannedCage planned = std::move(created).value();
     PlanBuffers buffers = upload(pass, planned);
     const GpuPlanData before = buffers.data;
-    Result<EditReport> hole = planned.setHole(3, true);
-    ASSERT_TRUE(hole.ok());
-    Result<PlanTableUpdate> updated = updatePlanTables(ctx, pass, buffers, planned, subfacesOf(planned, *hole));
+    // A topology edit renumbers the sub-faces: only a new upload can follow it.
+    Result<EditReport> removed = planned.removeFace(0);
+    ASSERT_TRUE(removed.ok());
+    Result<PlanTableUpdate> updated = updatePlanTables(ctx, pass, buffers, planned, subfacesOf(planned, *removed));
     ASSERT_TRUE(updated.ok());
     EXPECT_FALSE(updated->applied);
-    EXPECT_NE(updated->reason.find("lost its surface"), std::string::npos) << updated->reason;
+    EXPECT_NE(updated->reason.find("renumbered"), std::string::npos) << updated->reason;
     EXPECT_EQ(buffers.data.plans.size(), before.plans.size());
     EXPECT_EQ(std::memcmp(buffers.data.subfaces.data(), before.subfaces.data(), before.subfaces.size() * sizeof(GpuSubface)), 0);
     destroyPlanBuffers(ctx, buffers);

@@ -19,10 +19,11 @@
 // that read the changed samples are re-evaluated (recordDisplacementChange), unless the dab
 // reached zero tiles, whose factors then grow (a new grid layout, evaluated whole).
 //
-// Tag edits (sharpness, corners, the crease method) update in place (updatePlans,
+// Tag edits (sharpness, corners, the crease method, holes) update in place (updatePlans,
 // render/plan_update.h): the re-planned sub-faces' records are rewritten, new plans appended,
-// control-point ranges re-allocated, and the next record() re-evaluates just those sub-faces
-// and the neighbours that copy their edges. Holes and topology edits rebuild the instance.
+// control-point ranges re-allocated (holes: the sub-face tables packed again, the grid kept),
+// and the next record() re-evaluates just those sub-faces and the neighbours whose edges
+// changed owner. Topology edits rebuild the instance.
 #include <algorithm>
 #include <cstdio>
 #include <iterator>
