@@ -52,11 +52,12 @@
 #include "planned_cage.h"
 #include "render_target.h"
 #include "result.h"
+#include "shading.h"
 #include "vk_context.h"
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 3;
+inline constexpr uint32_t kSchemeApiVersion = 4;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -138,6 +139,7 @@ struct DrawView {
     float pixelsPerUnit = 1.0f;       // for screen-adaptive factors (render/plan_pass.h)
     bool wireframe = false;           // tessellation wireframe over the surface, if supported
     std::string colorBy = "shading";  // one of Scheme::colorModes()
+    Shading shading = Shading::Studio;  // how "shading" (and every colour mode) is lit
 };
 
 // What the last record() submitted.
