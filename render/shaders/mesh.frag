@@ -31,9 +31,9 @@ void main() {
     vec3 light = pc.params.z > 0.5 ? matcapLight(viewNormalFrom(pc.viewProj, n), highlight) : studioLight(n, toEye, highlight);
     vec3 color;
     if (pc.params.y > 1.5) {
-        // Colour streams (heat maps): the colour blended over the lit surface, so the scale
-        // stays readable in the shadows and the form still shows through it.
-        color = inColor * (0.3 + 0.75 * light) + 0.6 * highlight;
+        // Colour streams (heat maps): the colour as the albedo under the light, with a floor so
+        // that the hue stays readable against the legend in the shadows, and the form shows.
+        color = inColor * (0.35 + 0.8 * light) + 0.5 * highlight;
     } else {
         color = inColor * light + highlight;
     }
