@@ -96,10 +96,11 @@ bool actionButton(EditorApp& app, const char* label, const char* id) {
     return true;
 }
 
-bool tabItem(EditorApp& app, const char* label) {
+bool tabItem(EditorApp& app, const char* label, const char* help) {
     const bool pressed = pressedByAutomation(app, label);
     const bool open = ImGui::BeginTabItem(label, nullptr, pressed ? ImGuiTabItemFlags_SetSelected : 0);
     recordWidget(app, label);
+    tooltip(app, label, help);
     return open;
 }
 

@@ -30,7 +30,7 @@ void menuAction(EditorApp& app, const char* id, bool enabled = true);  // a menu
 bool actionButton(EditorApp& app, const char* label, const char* id);  // a button running an action
 // A tab of the side panel (between ImGui::BeginTabBar and EndTabBar); `click-button` selects it.
 // True while it is the open tab: then call ImGui::EndTabItem.
-bool tabItem(EditorApp& app, const char* label);
+bool tabItem(EditorApp& app, const char* label, const char* help);
 // Whether the key queue answered the dialog drawn now with `key` (consumed).
 bool takeDialogKey(EditorApp& app, DialogKey key);
 

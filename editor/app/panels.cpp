@@ -119,22 +119,22 @@ void sidePanel(EditorApp& app) {
     ImGui::TextWrapped("%s", app.ui.status.c_str());
     // Tabs, so that every section is reachable at 1280x800 without scrolling past the others.
     if (ImGui::BeginTabBar("##sidetabs")) {
-        if (tabItem(app, "Model")) {
+        if (tabItem(app, "Model", "Select and transform, mesh edits, creases and corners")) {
             toolsSection(app);
             meshSection(app);
             creaseSection(app);
             ImGui::EndTabItem();
         }
-        if (tabItem(app, "Sculpt##tab")) {
+        if (tabItem(app, "Sculpt##tab", "The sculpt brush and the displacement")) {
             sculptSection(app);
             ImGui::EndTabItem();
         }
-        if (tabItem(app, "View##tab")) {
+        if (tabItem(app, "View##tab", "Viewports, shading, up axis, grid, tessellation; statistics")) {
             displaySection(app);
             statsSection(app);
             ImGui::EndTabItem();
         }
-        if (app.ui.showHistory && tabItem(app, "History##tab")) {
+        if (app.ui.showHistory && tabItem(app, "History##tab", "Undo, redo and the list of edits (Ctrl+H shows or hides this tab)")) {
             historySection(app);
             ImGui::EndTabItem();
         }
