@@ -7,7 +7,7 @@ namespace qp::editor {
 
 namespace {
 
-const glm::vec3 kGridColor(0.36f, 0.37f, 0.4f), kMajorColor(0.46f, 0.47f, 0.5f);
+const glm::vec3 kGridColor(0.5f, 0.51f, 0.55f), kMajorColor(0.7f, 0.71f, 0.75f);  // linear
 const glm::vec3 kXAxisColor(0.75f, 0.2f, 0.2f), kYAxisColor(0.3f, 0.65f, 0.2f), kZAxisColor(0.2f, 0.35f, 0.8f);
 constexpr int kSegmentsPerLine = 16;  // so the fade follows the distance along each line
 
@@ -16,7 +16,9 @@ constexpr int kSegmentsPerLine = 16;  // so the fade follows the distance along 
 GroundGrid groundGrid(const Bounds& model, UpAxis up, const glm::vec3& background) {
     GroundGrid grid;
     const float radius = std::max(0.5f * model.diagonal(), 1e-3f);
-    grid.spacing = std::pow(10.0f, std::floor(std::log10(radius / 4.0f)));
+    // About ten lines across the model, at a round step (1, 2 or 5 times a power of ten).
+    const float target = radius / 5.0f, decade = std::pow(10.0f, std::floor(std::log10(target)));
+    grid.spacing = target <= decade ? decade : target <= 2.0f * decade ? 2.0f * decade : target <= 5.0f * decade ? 5.0f * decade : 10.0f * decade;
     const int half = int(std::ceil(2.0f * radius / grid.spacing));
     const int upIndex = up == UpAxis::Z ? 2 : 1, second = up == UpAxis::Z ? 1 : 2;  // the plane's axes: x and `second`
     grid.height = model.min[upIndex];

@@ -1,8 +1,8 @@
 // The ground grid under the model: lines on the plane across the up axis through the model's
-// lowest point, spaced by a power of ten of about a tenth of the model's size and reaching about
-// twice its radius, fading into the background towards the rim (LinePass has no blending: the
-// fade is in the vertex colours). The two world axes lying in the plane are drawn in their axis
-// colours (x red, y green, z blue) where they cross the grid.
+// lowest point, about ten across the model at a round step (1, 2 or 5 times a power of ten),
+// every tenth line brighter, reaching about twice its radius and fading into the background
+// towards the rim (LinePass has no blending: the fade is in the vertex colours). The two world
+// axes lying in the plane are drawn in their axis colours (x red, y green, z blue).
 #pragma once
 
 #include <vector>
