@@ -58,6 +58,8 @@ constexpr EnumName<CameraLink> kCameraLinkNames[] = {
     {"linked", CameraLink::Linked}, {"independent", CameraLink::Independent}};
 constexpr EnumName<TessellationMode> kTessellationModeNames[] = {
     {"uniform", TessellationMode::Uniform}, {"adaptive", TessellationMode::Adaptive}};
+constexpr EnumName<UpAxis> kUpAxisNames[] = {{"y", UpAxis::Y}, {"z", UpAxis::Z}};
+constexpr EnumName<Shading> kShadingNames[] = {{"studio", Shading::Studio}, {"matcap", Shading::Matcap}};
 
 template <class E>
 const char* enumName(std::span<const EnumName<E>> names, E value) {
@@ -435,6 +437,17 @@ Tessellation readTessellation(const json& value, const Context& ctx) {
     return t;
 }
 
+DisplaySettings readDisplay(const json& value, const Context& ctx) {
+    ObjectReader object(value, "display");
+    DisplaySettings d;
+    if (const json* v = object.optional("up_axis")) d.upAxis = readEnum<UpAxis>(*v, object.field("up_axis"), kUpAxisNames);
+    if (const json* v = object.optional("shading"))
+        d.shading = readEnum<Shading>(*v, object.field("shading"), kShadingNames);
+    if (const json* v = object.optional("show_grid")) d.showGrid = readBool(*v, object.field("show_grid"));
+    object.warnAboutUnknownFields(ctx.source, ctx.warnings);
+    return d;
+}
+
 // Needs the cage: the displacement's sizes follow from its topology (displacement_io.h).
 Displacement readDisplacement(const json& value, const Cage& cage, const Context& ctx) {
     Result<Displacement> displacement = readDisplacementJson(value, cage, ctx.source, ctx.warnings);
@@ -465,6 +478,7 @@ Scene readScene(const json& root, const Context& ctx) {
     if (const json* v = top.optional("camera")) scene.camera = readCamera(*v, ctx);
     if (const json* v = top.optional("viewports")) scene.viewports = readViewports(*v, ctx);
     if (const json* v = top.optional("tessellation")) scene.tessellation = readTessellation(*v, ctx);
+    if (const json* v = top.optional("display")) scene.display = readDisplay(*v, ctx);
     if (const json* v = top.optional("displacement")) scene.displacement = readDisplacement(*v, scene.cage, ctx);
     top.warnAboutUnknownFields(ctx.source, ctx.warnings);
     return scene;
@@ -588,6 +602,14 @@ ordered_json tessellationJson(const Tessellation& t) {
             {"show_wireframe", t.showWireframe}};
 }
 
+ordered_json displayJson(const DisplaySettings& d) {
+    ordered_json out = ordered_json::object();
+    if (d.upAxis) out["up_axis"] = enumName<UpAxis>(kUpAxisNames, *d.upAxis);
+    out["shading"] = enumName<Shading>(kShadingNames, d.shading);
+    out["show_grid"] = d.showGrid;
+    return out;
+}
+
 ordered_json sceneJson(const Scene& scene, const std::string* cagePath) {
     ordered_json root;
     root["format"] = kFormatName;
@@ -596,6 +618,7 @@ ordered_json sceneJson(const Scene& scene, const std::string* cagePath) {
     if (scene.camera) root["camera"] = cameraJson(*scene.camera);
     root["viewports"] = viewportsJson(scene.viewports);
     root["tessellation"] = tessellationJson(scene.tessellation);
+    root["display"] = displayJson(scene.display);
     root["displacement"] = displacementJson(scene.displacement);
     return root;
 }

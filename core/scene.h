@@ -17,6 +17,7 @@
 #include "cage.h"
 #include "displacement.h"
 #include "result.h"
+#include "shading.h"
 
 namespace qp {
 
@@ -59,12 +60,24 @@ struct Tessellation {
     bool operator==(const Tessellation&) const = default;
 };
 
+// The world axis that points up: the ground grid lies across it, the camera orbits about it.
+enum class UpAxis : uint8_t { Y, Z };
+
+struct DisplaySettings {
+    std::optional<UpAxis> upAxis;  // absent (older files): the viewer guesses from the cage
+    Shading shading = Shading::Studio;
+    bool showGrid = true;          // the ground grid
+
+    bool operator==(const DisplaySettings&) const = default;
+};
+
 struct Scene {
     Cage cage;
     std::string cagePath;           // as written in the scene file; empty when the cage is inline
     std::optional<Camera> camera;   // absent: frame the model
     std::vector<Viewport> viewports{Viewport{}};
     Tessellation tessellation;
+    DisplaySettings display;
     // Sculpted displacement over the cage's sub-faces (displacement.h); empty: none. Its layout
     // follows the cage's topology: rebuild it (resampleDisplacement, makeDisplacement) after
     // topology edits.

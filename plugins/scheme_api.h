@@ -54,6 +54,7 @@
 #include "planned_cage.h"
 #include "render_target.h"
 #include "result.h"
+#include "shading.h"
 #include "vk_context.h"
 
 namespace qp {
@@ -140,6 +141,7 @@ struct DrawView {
     float pixelsPerUnit = 1.0f;       // for screen-adaptive factors (render/plan_pass.h)
     bool wireframe = false;           // tessellation wireframe over the surface, if supported
     std::string colorBy = "shading";  // one of Scheme::colorModes()
+    Shading shading = Shading::Studio;  // how "shading" (and every colour mode) is lit
 };
 
 // What the last record() submitted.

@@ -7,7 +7,7 @@ layout(push_constant) uniform TessPush {
     mat4 viewProj;
     vec4 eye;                // xyz: camera position
     vec4 color;              // rgb: base colour (linear)
-    vec4 params;             // x: depth pull toward the eye (wireframe), y: 0 lit / 1 flat
+    vec4 params;             // x: depth pull toward the eye (wireframe), y: 0 lit / 1 flat, z: 1 matcap
     float uniformFactor;     // > 0: every edge gets this many segments; 0: screen-adaptive
     float pixelsPerSegment;  // adaptive: target screen length of one segment
     float pixelsPerUnit;     // viewport height / 2 * |P[1][1]|

@@ -20,7 +20,7 @@ struct TessPush {
     glm::mat4 viewProj;
     glm::vec4 eye;
     glm::vec4 color;
-    glm::vec4 params;  // x: depth pull toward the eye, y: 0 lit / 1 flat
+    glm::vec4 params;  // x: depth pull toward the eye, y: 0 lit / 1 flat, z: 1 matcap
     float uniformFactor;
     float pixelsPerSegment;
     float pixelsPerUnit;
@@ -270,7 +270,8 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
         push.viewProj = view.viewProjection;
         push.eye = glm::vec4(view.eye, 1.0f);
         push.color = wire ? glm::vec4(0.02f, 0.02f, 0.02f, 1.0f) : glm::vec4(0.8f, 0.8f, 0.8f, 1.0f);
-        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, wire ? 1.0f : 0.0f, 0.0f, 0.0f);
+        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, wire ? 1.0f : 0.0f,
+                                view.shading == Shading::Matcap ? 1.0f : 0.0f, 0.0f);
         push.uniformFactor = float(settings.uniformFactor);
         push.pixelsPerSegment = settings.pixelsPerSegment;
         push.pixelsPerUnit = view.pixelsPerUnit;

@@ -52,7 +52,7 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, LinePass& pass)
     VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
     raster.polygonMode = VK_POLYGON_MODE_FILL;
     raster.cullMode = VK_CULL_MODE_NONE;
-    raster.lineWidth = ctx.features.wideLines ? 2.0f : 1.0f;
+    raster.lineWidth = 1.0f;  // dynamic: recordLines sets it
     // The cage floats around the surface; a small pull keeps edges lying on it visible.
     raster.depthBiasEnable = VK_TRUE;
     raster.depthBiasConstantFactor = -2.0f;
@@ -69,9 +69,9 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, LinePass& pass)
     VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
     blend.attachmentCount = 1;
     blend.pAttachments = &blendAttachment;
-    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR, VK_DYNAMIC_STATE_LINE_WIDTH};
     VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dynamic.dynamicStateCount = 2;
+    dynamic.dynamicStateCount = 3;
     dynamic.pDynamicStates = dynamicStates;
     VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
     rendering.colorAttachmentCount = 1;
@@ -103,20 +103,26 @@ glm::vec3 sharpnessColor(float sharpness) {
 
 }  // namespace
 
-std::vector<LineVertex> cageLines(const Cage& cage) {
+CageLineSets cageLineSets(const Cage& cage) {
     const Topology topology = buildTopology(cage);
-    std::vector<LineVertex> lines;
-    lines.reserve(topology.edgeCount() * 2);
+    CageLineSets sets;
     for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
         uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
         float sharpness = cage.edgeSharpness(a, b);
         glm::vec3 color = sharpness > 0.0f                  ? sharpnessColor(sharpness)
                           : topology.edgeFaceCount(e) == 1 ? glm::vec3(0.05f, 0.25f, 0.8f)
                                                            : glm::vec3(0.06f);
+        std::vector<LineVertex>& lines = sharpness > 0.0f ? sets.creased : sets.plain;
         lines.push_back({cage.positions[a], color});
         lines.push_back({cage.positions[b], color});
     }
-    return lines;
+    return sets;
+}
+
+std::vector<LineVertex> cageLines(const Cage& cage) {
+    CageLineSets sets = cageLineSets(cage);
+    sets.plain.insert(sets.plain.end(), sets.creased.begin(), sets.creased.end());
+    return sets.plain;
 }
 
 Result<LinePass> createLinePass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
@@ -124,6 +130,7 @@ Result<LinePass> createLinePass(const VulkanContext& ctx, VkPipelineCache cache,
     LinePass pass;
     pass.colorFormat = colorFormat;
     pass.depthFormat = depthFormat;
+    pass.maxLineWidth = ctx.features.wideLines ? ctx.properties.limits.lineWidthRange[1] : 1.0f;
     if (Status s = initPass(ctx, cache, pass); !s) {
         destroyLinePass(ctx, pass);
         return s.error();
@@ -138,9 +145,10 @@ void destroyLinePass(const VulkanContext& ctx, LinePass& pass) {
 }
 
 void recordLines(VkCommandBuffer cmd, const LinePass& pass, const RenderTarget& target, const glm::mat4& viewProjection,
-                 const Buffer& lines, uint32_t vertexCount) {
+                 const Buffer& lines, uint32_t vertexCount, float width) {
     beginRendering(cmd, target, false, glm::vec3(0.0f));
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.pipeline);
+    vkCmdSetLineWidth(cmd, std::clamp(width, 1.0f, pass.maxLineWidth));
     vkCmdPushConstants(cmd, pass.layout, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4), &viewProjection);
     VkDeviceSize offset = 0;
     vkCmdBindVertexBuffers(cmd, 0, 1, &lines.buffer, &offset);

@@ -24,10 +24,17 @@ struct LineVertex {
 // yellow (soft) to red (infinitely sharp), boundary edges blue.
 std::vector<LineVertex> cageLines(const Cage& cage);
 
+// The same lines split into the creased edges and the others, so creases can be drawn wider.
+struct CageLineSets {
+    std::vector<LineVertex> plain, creased;
+};
+CageLineSets cageLineSets(const Cage& cage);
+
 struct LinePass {
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline pipeline = VK_NULL_HANDLE;
     VkFormat colorFormat = VK_FORMAT_UNDEFINED, depthFormat = VK_FORMAT_UNDEFINED;
+    float maxLineWidth = 1.0f;  // 1 without the wideLines feature, else the device's limit
 };
 
 Result<LinePass> createLinePass(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat,
@@ -35,8 +42,9 @@ Result<LinePass> createLinePass(const VulkanContext& context, VkPipelineCache ca
 void destroyLinePass(const VulkanContext& context, LinePass& pass);
 
 // Draws `lines` (a vertex buffer of LineVertex pairs) into `target`, keeping its colour and
-// depth (written by a previous pass in the same command buffer, e.g. recordTessellated).
+// depth (written by a previous pass in the same command buffer, e.g. recordTessellated), with
+// lines `width` pixels wide (clamped to what the device draws: lavapipe has wide lines up to 255).
 void recordLines(VkCommandBuffer cmd, const LinePass& pass, const RenderTarget& target, const glm::mat4& viewProjection,
-                 const Buffer& lines, uint32_t vertexCount);
+                 const Buffer& lines, uint32_t vertexCount, float width = 2.0f);
 
 }  // namespace qp

@@ -219,7 +219,7 @@ void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarge
         push.eye = glm::vec4(view.eye, 1.0f);
         push.color = glm::vec4(wire ? d.wireColor : d.color, 1.0f);
         const float lighting = (wire || !d.lit) ? 1.0f : colorStream ? 2.0f : 0.0f;
-        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, lighting, 0.0f, 0.0f);
+        push.params = glm::vec4(wire ? kWireDepthPull : 0.0f, lighting, view.shading == Shading::Matcap ? 1.0f : 0.0f, 0.0f);
         vkCmdPushConstants(cmd, pass.layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
                            sizeof push, &push);
         const VkBuffer buffers[2] = {d.mesh->vertices.buffer, d.mesh->colors.buffer};

@@ -3,8 +3,8 @@
 // plus an optional wireframe overlay (polygon mode LINE, width 1).
 //
 // A mesh may carry a second vertex stream of linear colours (one float3 per vertex, e.g. an
-// error heat map); it is drawn with those colours under a soft light that keeps them readable
-// against a colour scale (MeshPass::solidColored).
+// error heat map); it is drawn with those colours blended over the lit surface, so the colour
+// scale stays readable and the form still shows (MeshPass::solidColored).
 #pragma once
 
 #include <cstdint>
@@ -15,6 +15,7 @@
 
 #include "render_target.h"
 #include "result.h"
+#include "shading.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
 
@@ -58,6 +59,7 @@ struct MeshView {
     glm::mat4 viewProjection{1.0f};  // Vulkan clip space (see camera.h)
     glm::vec3 eye{0.0f};             // world-space camera position, for the headlight
     glm::vec3 background{0.0f};      // linear colour the target is cleared to
+    Shading shading = Shading::Studio;
 };
 
 struct MeshDraw {

@@ -308,7 +308,8 @@ DrawPush drawPush(const PlanView& view, const TessellationSettings* settings) {
     push.uniformFactor = settings ? float(settings->uniformFactor) : 0.0f;
     push.pixelsPerSegment = settings ? settings->pixelsPerSegment : 8.0f;
     push.pixelsPerUnit = view.pixelsPerUnit;
-    push.colorMode = uint32_t(view.colorBy);
+    // plan_lighting.glsl: bit 8 of the colour mode selects the matcap.
+    push.colorMode = uint32_t(view.colorBy) | (view.shading == Shading::Matcap ? 0x100u : 0u);
     push.capture = view.capture ? 1u : 0u;
     return push;
 }

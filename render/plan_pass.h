@@ -31,6 +31,7 @@
 #include "cpu_grid.h"  // GridFrames
 #include "grid_layout.h"
 #include "render_target.h"
+#include "shading.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
 
@@ -124,6 +125,7 @@ struct PlanView {
     float pixelsPerUnit = 1.0f;        // see pixelsPerUnit()
     glm::vec3 background{0.9f, 0.92f, 0.95f};
     ColorBy colorBy = ColorBy::Shading;
+    Shading shading = Shading::Studio;
     bool wireframe = false;            // tessellation wireframe over the shaded surface
     bool capture = false;              // tessellated path: record every evaluated vertex
 };

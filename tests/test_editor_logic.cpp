@@ -146,6 +146,40 @@ TEST(ViewCamera, SceneCameraRoundTrip) {
     EXPECT_NEAR(back.fovYDegrees, 35.0f, 1e-4f);
 }
 
+// Z up: yaw turns about z, the front view looks along +y (from -y), the top view down -z, and
+// a scene camera survives the round trip.
+TEST(ViewCamera, ZUpOrbitsAboutZAndKeepsBlendersViews) {
+    ViewCamera c;
+    c.up = UpAxis::Z;
+    setStandardView(c, StandardView::Front);
+    EXPECT_GT(glm::dot(glm::normalize(eyePosition(c) - c.target), glm::vec3(0, -1, 0)), 0.999f);
+    EXPECT_GT(upVector(c).z, 0.999f);
+    setStandardView(c, StandardView::Top);
+    EXPECT_GT(glm::normalize(eyePosition(c) - c.target).z, 0.999f);
+    setStandardView(c, StandardView::Right);
+    EXPECT_GT(glm::normalize(eyePosition(c) - c.target).x, 0.999f);
+    c.pitch = 0.3f;
+    const float height = (eyePosition(c) - c.target).z;
+    orbit(c, 120.0f, 0.0f, 600.0f);  // a horizontal drag: the eye keeps its height above the target
+    EXPECT_NEAR((eyePosition(c) - c.target).z, height, 1e-4f);
+    Camera s;
+    s.eye = {3.4f, -2.6f, 3.8f};
+    s.target = {0.1f, 0.75f, 0.2f};
+    s.up = {0, 0, 1};
+    const Camera back = toSceneCamera(fromSceneCamera(s, UpAxis::Z));
+    EXPECT_NEAR(glm::length(back.eye - s.eye), 0.0f, 1e-4f);
+    EXPECT_GT(back.up.z, 0.0f);
+}
+
+TEST(ViewCamera, GuessesTheUpAxisFromTheCagesExtent) {
+    EXPECT_EQ(guessUpAxis(Bounds{{-1, -1, -1}, {1, 1, 1}}), UpAxis::Y);      // a cube: the old default
+    EXPECT_EQ(guessUpAxis(Bounds{{-1, -0.5f, 0}, {1, 0.5f, 4}}), UpAxis::Z);  // a figure standing on z = 0
+    EXPECT_EQ(guessUpAxis(Bounds{{-1, -0.5f, -2}, {1, 0.5f, 2}}), UpAxis::Y); // floating: no telling
+    EXPECT_EQ(guessUpAxis(Bounds{{-1, -3, 0}, {1, 3, 1.5f}}), UpAxis::Z);     // a car standing on z = 0
+    EXPECT_EQ(guessUpAxis(Bounds{{-1, 0, -3}, {1, 1.5f, 3}}), UpAxis::Y);     // the same car, Y up
+    EXPECT_EQ(guessUpAxis(Bounds{{-1, -1, 0}, {1, 1, 0}}), UpAxis::Y);        // flat in the xy plane
+}
+
 // --- picking ------------------------------------------------------------------------------
 
 TEST(CagePick, ADragMovesTheProjectionByThePixelsDragged) {

@@ -20,6 +20,7 @@ void storeViewState(EditorApp& app, Scene& scene) {
     for (const ViewportState& v : app.viewports)
         scene.viewports.push_back({v.scheme, v.linked ? CameraLink::Linked : CameraLink::Independent, v.colorBy});
     scene.tessellation = app.tessellation;
+    scene.display = app.display;
 }
 
 void startLoad(EditorApp& app, LoadRequest request) {
@@ -172,6 +173,32 @@ void frameSelection(EditorApp& app, uint32_t viewport, bool wholeModel) {
     frameBox(cameraOf(app, viewport), b.min, b.max, aspect);
 }
 
+UpAxis upAxisOf(const EditorApp& app) { return app.display.upAxis.value_or(UpAxis::Y); }
+
+void setUpAxis(EditorApp& app, UpAxis up) {
+    app.display.upAxis = up;
+    ViewCamera camera;
+    camera.up = up;
+    camera.fovY = app.sharedCamera.fovY;
+    camera.orthographic = app.sharedCamera.orthographic;
+    camera.yaw = glm::radians(35.0f);
+    camera.pitch = glm::radians(25.0f);
+    app.sharedCamera = camera;
+    for (ViewportState& v : app.viewports) v.camera = camera;
+    app.frameAfterLayout = true;
+}
+
+namespace {
+
+// Save As proposes a scene beside the file: NAME.json for a cage NAME.obj (saving the scene
+// keeps the view and display settings; the .obj stays as it is unless chosen).
+std::string proposedSaveAsPath(const std::string& path) {
+    if (path.empty()) return (std::filesystem::current_path() / "untitled.json").string();
+    return std::filesystem::path(path).replace_extension(".json").string();
+}
+
+}  // namespace
+
 void runAction(EditorApp& app, std::string_view id) {
     const uint32_t active = app.activeViewport;
     auto standard = [&](StandardView v) { setStandardView(cameraOf(app, active), v); };
@@ -188,8 +215,7 @@ void runAction(EditorApp& app, std::string_view id) {
         if (app.doc->path.empty()) runAction(app, "file.save_as");
         else saveTo(app, app.doc->path);
     } else if (id == "file.save_as") {
-        app.ui.saveAsPath = app.doc->path.empty() ? (std::filesystem::current_path() / "untitled.json").string()
-                                                  : app.doc->path;
+        app.ui.saveAsPath = proposedSaveAsPath(app.doc->path);
         app.ui.requestPopup = "Save As";
     } else if (id == "file.quit") {
         requestQuit(app);
@@ -274,10 +300,13 @@ void runAction(EditorApp& app, std::string_view id) {
         cameraOf(app, active).orthographic = !cameraOf(app, active).orthographic;
     } else if (id == "layout.one") {
         setViewportCount(app, 1);
+        app.frameAfterLayout = true;
     } else if (id == "layout.two") {
         setViewportCount(app, 2);
+        app.frameAfterLayout = true;
     } else if (id == "layout.four") {
         setViewportCount(app, 4);
+        app.frameAfterLayout = true;
     } else if (id == "display.cage") {
         app.tessellation.showCage = !app.tessellation.showCage;
     } else if (id == "display.wireframe") {

@@ -15,6 +15,7 @@
 #include "actions.h"
 #include "editor_app.h"
 #include "file_io.h"
+#include "overlays.h"
 #include "recovery.h"
 #include "schemes.h"
 #include "tools.h"
@@ -615,6 +616,10 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                                 v.rect.extent.height / scale}},
                       {"camera", {{"eye", vec(eyePosition(camera))}, {"target", vec(camera.target)},
                                   {"up", vec(upVector(camera))}, {"orthographic", camera.orthographic}}}};
+        const AxisTriad triad = axisTriad(v.viewProjection);
+        entry["axis_triad"] = {{"screen", {{triad.screen[0].x, triad.screen[0].y}, {triad.screen[1].x, triad.screen[1].y},
+                                           {triad.screen[2].x, triad.screen[2].y}}},
+                               {"toward_viewer", triad.towardViewer}};
         if (i < app.stats.viewportCounts.size())
             entry["triangles"] = app.stats.viewportCounts[i].triangles, entry["patches"] = app.stats.viewportCounts[i].patches;
         if (i < app.renderer.views.size()) {
@@ -676,7 +681,13 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                         {"pixels_per_edge", app.tessellation.pixelsPerEdge},
                         {"cage", app.tessellation.showCage},
                         {"wireframe", app.tessellation.showWireframe},
-                        {"plans_path", app.plansPath}};
+                        {"plans_path", app.plansPath},
+                        {"shading", app.display.shading == Shading::Matcap ? "matcap" : "studio"},
+                        {"up_axis", upAxisOf(app) == UpAxis::Z ? "z" : "y"},
+                        {"grid", app.display.showGrid},
+                        {"grid_lines", app.renderer.gridLineCount / 2},
+                        {"crease_lines", app.renderer.creaseLineCount / 2},
+                        {"crease_line_width", std::min(kCreaseLineWidth, app.renderer.lines.maxLineWidth)}};
     state["renderer"] = {{"last_sync_ms", app.renderer.lastSyncMs}};
     json schemes = json::array();
     for (const auto& plugin : app.catalog.plugins) schemes.push_back(plugin->name);
@@ -700,6 +711,10 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
         if (std::find(app.ui.tooltips.begin(), app.ui.tooltips.end(), label) == app.ui.tooltips.end()) untipped.push_back(label);
     state["widgets_without_tooltip"] = untipped;
     state["open_popups"] = app.ui.openPopups;
+    // Any ImGui popup (a menu, a drop-down or a dialog), and whether a text field has the keyboard.
+    state["popup_open"] = ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId);
+    state["text_input"] = ImGui::GetIO().WantTextInput;
+    state["save_as_path"] = app.ui.saveAsPath;
     state["show_help"] = app.ui.showHelp;
     state["recovery"] = {{"directory", app.recoveryDir},
                          {"offered", app.ui.recovery.has_value()},

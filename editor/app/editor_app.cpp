@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <thread>
+#include <utility>
 
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
@@ -134,6 +135,9 @@ float averageEdgeLength(const Cage& cage) {
 void applySceneView(EditorApp& app) {
     const Scene& scene = app.doc->scene;
     app.tessellation = scene.tessellation;
+    app.display = scene.display;
+    const UpAxis up = scene.display.upAxis.value_or(guessUpAxis(computeBounds(app.doc->planned->cage())));
+    app.display.upAxis = up;
     app.viewports.clear();
     for (const Viewport& v : scene.viewports) {
         ViewportState state;
@@ -146,9 +150,10 @@ void applySceneView(EditorApp& app) {
     setViewportCount(app, uint32_t(std::min<size_t>(app.viewports.size(), 4)));
     app.activeViewport = 0;
     if (scene.camera) {
-        app.sharedCamera = fromSceneCamera(*scene.camera);
+        app.sharedCamera = fromSceneCamera(*scene.camera, up);
     } else {  // a 3/4 view from the front right, above, like `quadplan render`
         app.sharedCamera = ViewCamera{};
+        app.sharedCamera.up = up;
         app.sharedCamera.yaw = glm::radians(35.0f);
         app.sharedCamera.pitch = glm::radians(25.0f);
         frameSelection(app, 0, true);
@@ -321,16 +326,25 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
     }
     appendKey(key, options.wireframe);
     appendKey(key, options.cage);
+    appendKey(key, options.grid);
+    appendKey(key, options.shading);
+    appendKey(key, options.up);
     appendKey(key, app.swapchain.extent);
     return key;
 }
 
 Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
+    DisplayOptions options;
+    options.wireframe = app.tessellation.showWireframe;
+    options.cage = app.tessellation.showCage;
+    options.grid = app.display.showGrid;
+    options.shading = app.display.shading;
+    options.up = upAxisOf(app);
     const std::vector<SchemeRequest> requests = schemeRequests(app);
     const std::vector<uint32_t> changedSamples = takeUnsyncedSamples(*app.doc);
     const EditReport planChange = takeUnsyncedPlanChange(*app.doc);
     if (Status s = syncScene(app.ctx, app.renderer, app.catalog, *app.doc, app.documentGeneration, requests, changedSamples,
-                             planChange);
+                             planChange, options);
         !s)
         return s;
 
@@ -367,10 +381,6 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
         d.colorBy = v.colorBy;
         draws.push_back(d);
     }
-    DisplayOptions options;
-    options.wireframe = app.tessellation.showWireframe;
-    options.cage = app.tessellation.showCage;
-
     // Draw the viewports only when something they show changed; otherwise copy the last ones.
     if (Status s = ensureSceneCache(app.ctx, app.sceneCache, app.swapchain.extent, app.swapchain.surfaceFormat.format); !s)
         return s;
@@ -442,6 +452,9 @@ void runLoop(EditorApp& app) {
         updateViewMatrices(app);
         handleViewportInput(app);
         handleShortcuts(app);
+        layoutViewports(app);  // a layout shortcut above: the new viewports, framed once
+        if (std::exchange(app.frameAfterLayout, false))
+            for (uint32_t i = 0; i < app.viewports.size(); ++i) frameSelection(app, i, true);
         updateViewMatrices(app);
         drawPanels(app);
         drawViewportOverlays(app);

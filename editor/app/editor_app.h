@@ -120,7 +120,12 @@ struct ToolSettings {
     SculptSettings sculpt;
 };
 
+// A key answering the dialog on top (Enter: its first button; Esc: Cancel), from the GLFW
+// key queue, so a quick tap during a slow frame still counts.
+enum class DialogKey : uint8_t { None, Confirm, Cancel };
+
 struct UiState {
+    DialogKey dialogKey = DialogKey::None;  // taken by the modal dialog drawn this frame
     bool showHelp = false;
     bool showHistory = true;
     std::string openPath, saveAsPath;
@@ -181,6 +186,8 @@ struct EditorApp {
     std::vector<ViewportState> viewports{ViewportState{}};
     uint32_t activeViewport = 0;
     Tessellation tessellation;       // display settings (saved into the scene)
+    DisplaySettings display;         // shading, grid, up axis (always set once a document is adopted)
+    bool frameAfterLayout = false;   // Ctrl+1/2/4: frame the model in the new viewports once they are laid out
     std::string plansPath = "auto";  // the plans scheme's path option (auto: the fastest here)
     float averageEdgeLength = 1.0f;  // for the adaptive factor
     uint64_t edgeLengthRevision = ~0ull;
@@ -225,5 +232,8 @@ void showError(EditorApp& app, const std::string& message);
 // Bounds of the selection (or of the model when nothing is selected).
 Bounds selectionBounds(const EditorApp& app);
 void frameSelection(EditorApp& app, uint32_t viewport, bool wholeModel);
+UpAxis upAxisOf(const EditorApp& app);
+// A new up axis: every camera orbits about it from a 3/4 view that frames the model.
+void setUpAxis(EditorApp& app, UpAxis up);
 
 }  // namespace qp::editor

@@ -1,6 +1,7 @@
 // Viewport overlays drawn with Dear ImGui over the cached 3D picture, so hovering and dragging
 // them needs no 3D redraw: the transform handle, the box of a box selection, the loop the loop
 // tool would cut, the sculpt brush, the readout of a drag, and the heat map's colour scale.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -140,7 +141,42 @@ void drawBrush(ImDrawList* list, const EditorApp& app, const ViewportState& v, c
     drawBrushCircle(list, view, at, centre, normal, radius, lowering, rgba(rgb.r, rgb.g, rgb.b, 0.5f), 1.0f);
 }
 
+constexpr float kTriadLength = 30.0f, kTriadMargin = 44.0f;  // window pixels
+
+// Farthest axis first, so the nearer ones are drawn over it.
+void drawAxisTriad(ImDrawList* list, const glm::mat4& viewProjection, ImVec2 centre) {
+    const AxisTriad triad = axisTriad(viewProjection);
+    std::array<int, 3> order{0, 1, 2};
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return triad.towardViewer[a] < triad.towardViewer[b]; });
+    list->AddCircleFilled(centre, kTriadLength + 8.0f, rgba(0, 0, 0, 0.25f));
+    for (int k : order) {
+        const ImVec2 end(centre.x + kTriadLength * triad.screen[k].x, centre.y + kTriadLength * triad.screen[k].y);
+        const float alpha = triad.towardViewer[k] < -0.2f ? 0.55f : 1.0f;  // pointing away: dimmer
+        ImVec4 color = ImGui::ColorConvertU32ToFloat4(kAxisColors[k]);
+        color.w = alpha;
+        const ImU32 c = ImGui::ColorConvertFloat4ToU32(color);
+        list->AddLine(centre, end, c, 2.5f);
+        list->AddCircleFilled(end, 7.0f, c);
+        const char label[2] = {char('X' + k), 0};
+        list->AddText(ImVec2(end.x - 3.5f, end.y - 7.0f), rgba(0, 0, 0), label);
+    }
+}
+
 }  // namespace
+
+AxisTriad axisTriad(const glm::mat4& vp) {
+    // The first two rows of a view-projection are the camera's right and up axes, scaled by the
+    // projection (Vulkan flips y); as matcap.glsl reads them.
+    const glm::vec3 right = glm::normalize(glm::vec3(vp[0][0], vp[1][0], vp[2][0]));
+    const glm::vec3 up = -glm::normalize(glm::vec3(vp[0][1], vp[1][1], vp[2][1]));
+    const glm::vec3 back = glm::cross(right, up);
+    AxisTriad triad;
+    for (int k = 0; k < 3; ++k) {
+        triad.screen[k] = glm::vec2(right[k], -up[k]);
+        triad.towardViewer[k] = back[k];
+    }
+    return triad;
+}
 
 void drawViewportOverlays(EditorApp& app) {
     const float scale = framebufferScale();
@@ -165,6 +201,8 @@ void drawViewportOverlays(EditorApp& app) {
             }
         }
         if (app.ui.brushHover && app.ui.brushViewport == i) drawBrush(list, app, v, at);
+        const ImVec2 corner = at({float(v.rect.extent.width), float(v.rect.extent.height)});
+        drawAxisTriad(list, v.viewProjection, ImVec2(corner.x - kTriadMargin, corner.y - kTriadMargin));
         list->PopClipRect();
     }
     if (d.kind == DragKind::BoxSelect && glm::length(d.cursor - d.start) >= 4.0f) {

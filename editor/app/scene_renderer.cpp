@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "face_config.h"
+#include "ground_grid.h"
 #include "scheme_host.h"
 #include "surface_error.h"
 #include "transform.h"
@@ -420,6 +421,8 @@ void releaseSchemes(const VulkanContext& ctx, SceneRenderer& r) {
 void destroySceneRenderer(const VulkanContext& ctx, SceneRenderer& r) {
     releaseSchemes(ctx, r);
     destroyBuffer(ctx, r.cageLines);
+    destroyBuffer(ctx, r.creaseLines);
+    destroyBuffer(ctx, r.gridLines);
     destroyBuffer(ctx, r.overlayLines);
     for (VkQueryPool pool : r.statistics)
         if (pool) vkDestroyQueryPool(ctx.device, pool, nullptr);
@@ -430,7 +433,7 @@ void destroySceneRenderer(const VulkanContext& ctx, SceneRenderer& r) {
 
 Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog& catalog, const Document& doc,
                  uint64_t generation, std::span<const SchemeRequest> requests, std::span<const uint32_t> changedSamples,
-                 const EditReport& planChange) {
+                 const EditReport& planChange, const DisplayOptions& display) {
     if (!doc.planned) return success();
     const Cage& cage = doc.planned->cage();
     const bool newDocument = r.generation != generation;
@@ -449,7 +452,8 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     for (size_t i = requests.size(); i < r.views.size(); ++i) closed.push_back(std::move(r.views[i]));
     r.views.resize(requests.size());
     std::vector<char> rebuild(requests.size()), replan(requests.size()), heatWhole(requests.size()), heatOff(requests.size());
-    bool work = newPositions || newDisplacement || newSamples || overlay != r.overlayKey || !closed.empty();
+    const bool newGrid = newPlans || r.gridUp != display.up;
+    bool work = newPositions || newDisplacement || newSamples || newGrid || overlay != r.overlayKey || !closed.empty();
     for (size_t i = 0; i < requests.size(); ++i) {
         const SchemeView& view = r.views[i];
         const SchemeRequest& want = requests[i];
@@ -522,8 +526,15 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
         }
     }
     if (newPositions) {
-        if (Status s = fillLineBuffer(ctx, r.cageLines, r.cageLineCount, cageLines(cage)); !s) return s;
+        const CageLineSets sets = cageLineSets(cage);
+        if (Status s = fillLineBuffer(ctx, r.cageLines, r.cageLineCount, sets.plain); !s) return s;
+        if (Status s = fillLineBuffer(ctx, r.creaseLines, r.creaseLineCount, sets.creased); !s) return s;
         r.positions = cage.positions;
+    }
+    if (newGrid) {
+        const GroundGrid grid = groundGrid(computeBounds(cage), display.up, display.background);
+        if (Status s = fillLineBuffer(ctx, r.gridLines, r.gridLineCount, grid.lines); !s) return s;
+        r.gridUp = display.up;
     }
     if (Status s = fillLineBuffer(ctx, r.overlayLines, r.overlayLineCount, overlayLines(doc)); !s) return s;
     r.overlayKey = overlay;
@@ -557,7 +568,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
         if (pool) vkCmdBeginQuery(cmd, pool, i, 0);
         if (view.heat.valid) {
             const MeshDraw draw{&view.heat.mesh, glm::vec3(0.8f), true, options.wireframe};
-            recordMeshPass(cmd, r.heatPass, area, MeshView{v.viewProjection, v.eye, options.background},
+            recordMeshPass(cmd, r.heatPass, area, MeshView{v.viewProjection, v.eye, options.background, options.shading},
                            view.heat.mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
         } else {
             DrawView drawView;
@@ -566,6 +577,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
             drawView.background = options.background;
             drawView.pixelsPerUnit = v.pixelsPerUnit;
             drawView.wireframe = options.wireframe;
+            drawView.shading = options.shading;
             drawView.colorBy = std::find(view.colorModes.begin(), view.colorModes.end(), v.colorBy) != view.colorModes.end()
                                    ? v.colorBy
                                    : view.colorModes.front();
@@ -575,11 +587,16 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
         }
         if (pool) vkCmdEndQuery(cmd, pool, i);
         r.recordedSurface[slot][i] = pool != VK_NULL_HANDLE;
+        if (options.grid && r.gridLineCount > 0)
+            recordLines(cmd, r.lines, area, v.viewProjection, r.gridLines, r.gridLineCount, kGridLineWidth);
+        const glm::mat4 cageView = withDepthBias(v.viewProjection, kCageDepthBias);
         if (options.cage && r.cageLineCount > 0)
-            recordLines(cmd, r.lines, area, withDepthBias(v.viewProjection, kCageDepthBias), r.cageLines, r.cageLineCount);
+            recordLines(cmd, r.lines, area, cageView, r.cageLines, r.cageLineCount, kCageLineWidth);
+        if (options.cage && r.creaseLineCount > 0)
+            recordLines(cmd, r.lines, area, cageView, r.creaseLines, r.creaseLineCount, kCreaseLineWidth);
         if (r.overlayLineCount > 0)
             recordLines(cmd, r.lines, area, withDepthBias(v.viewProjection, kOverlayDepthBias), r.overlayLines,
-                        r.overlayLineCount);
+                        r.overlayLineCount, kOverlayLineWidth);
     }
 }
 

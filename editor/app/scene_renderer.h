@@ -3,7 +3,8 @@
 // renderer changes reach the editor through plugins/plans) with the scene's sculpted
 // displacement (after a dab only the changed samples: Scheme::displacementChanged), or, in heat-map mode, the scheme's
 // surface coloured by its distance from the exact limit surface (plugins/surface_error.h); then
-// the cage and the selection (LinePass) over it. Drawn into sub-areas of any RenderTarget.
+// the ground grid, the cage (creased edges wider) and the selection (LinePass) over it. Drawn
+// into sub-areas of any RenderTarget.
 //
 // GPU copies follow the Document by revision (document.h). syncScene brings them up to date
 // once per frame: tag and topology edits go to Scheme::updatePlans (a scheme that cannot take
@@ -96,9 +97,15 @@ struct ViewportDraw {
 };
 
 struct DisplayOptions {
-    bool wireframe = false, cage = true;
+    bool wireframe = false, cage = true, grid = true;
+    Shading shading = Shading::Studio;
+    UpAxis up = UpAxis::Y;  // the ground grid lies across it
     glm::vec3 background{0.22f, 0.23f, 0.25f};
 };
+
+// Line widths in pixels (LinePass clamps them to the device's range): creases stand out at a
+// glance, plain cage edges and the grid stay light.
+inline constexpr float kCageLineWidth = 2.0f, kCreaseLineWidth = 5.0f, kGridLineWidth = 1.0f, kOverlayLineWidth = 2.0f;
 
 // What the GPU drew in one viewport, from pipeline-statistics queries (triangles rasterised
 // for the surface), and what the scheme said it submitted.
@@ -110,8 +117,9 @@ struct SceneRenderer {
     GpuContext gpu;
     LinePass lines;
     MeshPass heatPass;
-    Buffer cageLines, overlayLines;
-    uint32_t cageLineCount = 0, overlayLineCount = 0;
+    Buffer cageLines, creaseLines, overlayLines, gridLines;
+    uint32_t cageLineCount = 0, creaseLineCount = 0, overlayLineCount = 0, gridLineCount = 0;
+    std::optional<UpAxis> gridUp;  // what the grid was made for (with the plans below); empty: not made
     std::vector<SchemeView> views;  // one per viewport
     std::vector<ParkedInstance> parked;  // oldest first, at most kMaxParkedInstances
     // What the copies were made from.
@@ -140,12 +148,13 @@ void releaseSchemes(const VulkanContext& context, SceneRenderer& renderer);
 // `generation`) and the viewports' requests; `changedSamples` are the displacement samples
 // changed in place since the last call (takeUnsyncedSamples), `planChange` what edits re-planned
 // since then (takeUnsyncedPlanChange): instances whose scheme updates plans in place get just
-// those sub-faces, the others (and any whose update fails or asks for it) are rebuilt. Scheme
-// failures become SchemeView::problem; an error here is a Vulkan failure of the editor's own
-// buffers.
+// those sub-faces, the others (and any whose update fails or asks for it) are rebuilt. The
+// ground grid follows the cage's bounds when its plans change (not while vertices move) and
+// `display.up`. Scheme failures become SchemeView::problem; an error here is a Vulkan failure
+// of the editor's own buffers.
 Status syncScene(const VulkanContext& context, SceneRenderer& renderer, const PluginCatalog& catalog,
                  const Document& document, uint64_t generation, std::span<const SchemeRequest> requests,
-                 std::span<const uint32_t> changedSamples, const EditReport& planChange);
+                 std::span<const uint32_t> changedSamples, const EditReport& planChange, const DisplayOptions& display);
 
 // Records every viewport into `target` (areas from ViewportDraw::rect), the statistics
 // queries into `slot`'s pool. Areas outside the viewports are left as they are.

@@ -9,15 +9,20 @@ namespace {
 
 constexpr float kHalfPi = 1.5707963f;
 
+// Yaw and pitch live in a Y-up frame; with Z up it is turned so that its y is the world's z
+// and its front (+z) is the world's -y (right-handed: x stays x).
+glm::vec3 toWorld(UpAxis up, const glm::vec3& v) { return up == UpAxis::Z ? glm::vec3(v.x, -v.z, v.y) : v; }
+glm::vec3 toFrame(UpAxis up, const glm::vec3& v) { return up == UpAxis::Z ? glm::vec3(v.x, v.z, -v.y) : v; }
+
 glm::vec3 direction(const ViewCamera& c) {  // from the target toward the eye
-    return {std::cos(c.pitch) * std::sin(c.yaw), std::sin(c.pitch), std::cos(c.pitch) * std::cos(c.yaw)};
+    return toWorld(c.up, {std::cos(c.pitch) * std::sin(c.yaw), std::sin(c.pitch), std::cos(c.pitch) * std::cos(c.yaw)});
 }
 
 }  // namespace
 
 glm::vec3 eyePosition(const ViewCamera& c) { return c.target + c.distance * direction(c); }
 
-glm::vec3 rightVector(const ViewCamera& c) { return {std::cos(c.yaw), 0.0f, -std::sin(c.yaw)}; }
+glm::vec3 rightVector(const ViewCamera& c) { return toWorld(c.up, {std::cos(c.yaw), 0.0f, -std::sin(c.yaw)}); }
 
 glm::vec3 upVector(const ViewCamera& c) { return glm::cross(rightVector(c), -direction(c)); }
 
@@ -55,10 +60,22 @@ void frameBox(ViewCamera& c, const glm::vec3& min, const glm::vec3& max, float a
     c.distance = 1.1f * radius / std::sin(std::min(halfFov, halfFovX));
 }
 
-ViewCamera fromSceneCamera(const Camera& s) {
+UpAxis guessUpAxis(const Bounds& b) {
+    const glm::vec3 extent = b.max - b.min;
+    const float size = std::max({extent.x, extent.y, extent.z, 1e-6f});
+    const float touching = 1e-3f * size;
+    const bool standsOnZ = std::abs(b.min.z) <= touching && extent.z > 0.2f * size;
+    const bool standsOnY = std::abs(b.min.y) <= touching;
+    return standsOnZ && !standsOnY ? UpAxis::Z : UpAxis::Y;
+}
+
+glm::vec3 upDirection(UpAxis up) { return up == UpAxis::Z ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0); }
+
+ViewCamera fromSceneCamera(const Camera& s, UpAxis up) {
     ViewCamera c;
+    c.up = up;
     c.target = s.target;
-    glm::vec3 offset = s.eye - s.target;
+    glm::vec3 offset = toFrame(up, s.eye - s.target);
     c.distance = std::max(glm::length(offset), 1e-4f);
     offset /= c.distance;
     c.pitch = std::asin(std::clamp(offset.y, -1.0f, 1.0f));

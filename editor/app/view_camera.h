@@ -1,7 +1,8 @@
 // ViewCamera: an orbit camera (target, distance, yaw, pitch) driven the way Maya and Blender
 // users expect: orbit around the target, pan in the view plane, dolly toward the target,
-// standard views and framing. +Y is up and +Z is the front, as in scene files and
-// render/camera.h's frameBounds.
+// standard views and framing. The camera orbits about the scene's up axis: with Y up, +Z is
+// the front (render/camera.h's frameBounds); with Z up (Blender), -Y is the front, so the
+// Numpad views are Blender's. Yaw and pitch are measured in that frame.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -19,6 +20,7 @@ struct ViewCamera {
     float pitch = 0.0f;  // radians, -pi/2..pi/2; positive: the eye is above the target
     float fovY = glm::radians(35.0f);
     bool orthographic = false;  // the orthographic view height follows the distance (toggling keeps the size)
+    UpAxis up = UpAxis::Y;      // yaw turns about it, pitch lifts the eye along it
 
     bool operator==(const ViewCamera&) const = default;
 };
@@ -41,7 +43,14 @@ void setStandardView(ViewCamera& camera, StandardView view);
 // Keeps the direction, moves target and distance so the box fills the view with a margin.
 void frameBox(ViewCamera& camera, const glm::vec3& min, const glm::vec3& max, float aspect);
 
-ViewCamera fromSceneCamera(const Camera& camera);
+// A model's up axis when its file does not say: Z when the cage stands on the z = 0 plane (its
+// lowest z is 0, it has some height along z) and not on y = 0, as models made Z-up usually do;
+// else Y, the old default. Extents alone cannot tell a Y-up car (long along z) from a Z-up
+// figure (tall along z), so a model floating about the origin keeps Y.
+UpAxis guessUpAxis(const Bounds& bounds);
+glm::vec3 upDirection(UpAxis up);  // the world's unit up vector
+
+ViewCamera fromSceneCamera(const Camera& camera, UpAxis up = UpAxis::Y);
 Camera toSceneCamera(const ViewCamera& camera);
 
 // A renderer camera with near and far planes that hold `bounds` (the whole model).

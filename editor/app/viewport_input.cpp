@@ -7,6 +7,7 @@
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
+#include <imgui_internal.h>  // GetTopMostPopupModal, ClosePopupsExceptModals
 
 #include "actions.h"
 #include "cage_pick.h"
@@ -289,12 +290,28 @@ void handleViewportInput(EditorApp& app) {
 
 void handleShortcuts(EditorApp& app) {
     std::vector<KeyPress> presses = std::exchange(app.keyPresses, {});
-    if (ImGui::GetIO().WantTextInput || ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId)) return;
+    auto plain = [](const KeyPress& p) { return !p.ctrl && !p.shift && !p.alt; };
+    // A dialog on top takes Enter and Esc (panels.cpp answers them) and nothing else.
+    if (ImGui::GetTopMostPopupModal()) {
+        for (const KeyPress& press : presses) {
+            if (!plain(press)) continue;
+            if (press.key == GLFW_KEY_ESCAPE) app.ui.dialogKey = DialogKey::Cancel;
+            if (press.key == GLFW_KEY_ENTER || press.key == GLFW_KEY_KP_ENTER) app.ui.dialogKey = DialogKey::Confirm;
+        }
+        return;
+    }
+    if (ImGui::GetIO().WantTextInput) return;
     auto matches = [](const KeyChord& c, const KeyPress& p) {
         return c.key != 0 && c.key == p.key && c.ctrl == p.ctrl && c.shift == p.shift && c.alt == p.alt;
     };
     for (const KeyPress& press : presses) {
-        if (press.key == GLFW_KEY_ESCAPE && !press.ctrl && !press.shift && !press.alt) {
+        // An open menu or drop-down: Esc closes it; any other shortcut closes it and runs, so
+        // the keyboard never goes dead behind a forgotten drop-down.
+        if (ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId)) {
+            ImGui::ClosePopupsExceptModals();
+            if (press.key == GLFW_KEY_ESCAPE && plain(press)) continue;
+        }
+        if (press.key == GLFW_KEY_ESCAPE && plain(press)) {
             if (app.drag.kind != DragKind::None) {
                 cancelDrag(app);
                 continue;

@@ -144,6 +144,7 @@ public:
         planView.background = view.background;
         planView.wireframe = view.wireframe;
         planView.colorBy = colorBy(view.colorBy);
+        planView.shading = view.shading;
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
         if (settings_.adaptivePixels > 0.0f) tessellation = {0, settings_.adaptivePixels};
         // Every stored sample a vertex: the grid paths raise the factors where the displacement

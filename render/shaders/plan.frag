@@ -24,17 +24,18 @@ void main() {
         return;
     }
     vec3 albedo = kPlanAlbedo;
-    if (draw.colorMode != COLOR_LIT) {
+    uint mode = draw.colorMode & 0xffu;  // the bits above select the lighting (plan_lighting.glsl)
+    if (mode != COLOR_LIT) {
         Subface f = subfaces[inDrawn];
         Leaf found = findLeaf(f.plan, clamp(toPlanFrame(f.rotation, inUV), 0.0, 1.0));
         uvec4 leaf = found.node;
         uint depth = found.depth;
         uint kind = leaf.x & 0xffu;
-        if (draw.colorMode == COLOR_NODE_KIND) {
+        if (mode == COLOR_NODE_KIND) {
             const vec3 kinds[5] = vec3[5](vec3(1.0), vec3(0.55, 0.75, 0.95), vec3(0.95, 0.55, 0.35),
                                           vec3(0.55, 0.85, 0.45), vec3(0.9, 0.3, 0.8));
             albedo = kinds[min(kind, 4u)];
-        } else if (draw.colorMode == COLOR_DEPTH) {
+        } else if (mode == COLOR_DEPTH) {
             albedo = ramp(float(depth) / float(max(planHeaders[f.plan].maxDepth, 1u)));
         } else {
             float sharpness = kind == NODE_CREASE ? uintBitsToFloat(leaf.z) : 0.0;

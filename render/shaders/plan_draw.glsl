@@ -4,7 +4,7 @@ layout(push_constant) uniform DrawPush {
     float uniformFactor;      // > 0: every quad edge gets this factor; 0: adaptive
     float pixelsPerSegment;   // adaptive: target screen length of one tessellated segment
     float pixelsPerUnit;      // projection scale: pixels per unit at w = 1 (viewport height / 2 * P[1][1])
-    uint colorMode;           // see plan.frag
+    uint colorMode;           // low byte: see plan.frag; bit 8: matcap (plan_lighting.glsl)
     uint capture;             // tessellated path: 1 records every evaluated vertex
 } draw;
 

@@ -1,0 +1,25 @@
+// The parts of the editor's interface (panels.h), one concept per file: the side panel's
+// sections (panels_model.cpp: selection, transforms, mesh edits, creases, history;
+// panels_sculpt.cpp; panels_display.cpp: display settings and statistics) and the windows and
+// dialogs (panels_dialogs.cpp). Each draws into the current ImGui window.
+#pragma once
+
+namespace qp::editor {
+
+struct EditorApp;
+
+void toolsSection(EditorApp& app);
+void meshSection(EditorApp& app);
+void creaseSection(EditorApp& app);
+void historySection(EditorApp& app);
+void sculptSection(EditorApp& app);
+void displaySection(EditorApp& app);
+void statsSection(EditorApp& app);
+
+void helpWindow(EditorApp& app);
+void loadingWindow(EditorApp& app);
+// Open, Save As, unsaved changes, restore after a crash, errors: modal popups opened through
+// UiState::requestPopup. Enter answers with the first button, Esc with Cancel.
+void dialogs(EditorApp& app);
+
+}  // namespace qp::editor
