@@ -56,7 +56,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 3;
+inline constexpr uint32_t kSchemeApiVersion = 4;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -138,6 +138,9 @@ struct DrawView {
     float pixelsPerUnit = 1.0f;       // for screen-adaptive factors (render/plan_pass.h)
     bool wireframe = false;           // tessellation wireframe over the surface, if supported
     std::string colorBy = "shading";  // one of Scheme::colorModes()
+    // Sub-faces the editor hides (its hidden faces' sub-faces; sorted, each once): not drawn.
+    // Empty: draw everything. The span is valid during record() only.
+    std::span<const uint32_t> hiddenSubfaces;
 };
 
 // What the last record() submitted.

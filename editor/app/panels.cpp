@@ -9,6 +9,8 @@
 
 #include "actions.h"
 #include "editor_app.h"
+#include "panel_sections.h"
+#include "panel_widgets.h"
 #include "tools.h"
 
 namespace qp::editor {
@@ -18,88 +20,6 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr float kSidePanelWidth = 380.0f;
-
-std::string visibleText(const char* label) {
-    std::string text(label);
-    return text.substr(0, text.find("##"));
-}
-
-void recordWidget(EditorApp& app, const char* label) {
-    const ImVec2 a = ImGui::GetItemRectMin(), b = ImGui::GetItemRectMax();
-    app.ui.widgets.push_back({visibleText(label), {a.x, a.y, b.x - a.x, b.y - a.y}});
-}
-
-// Whether automation's `click-button` names this widget (consumed once).
-bool pressedByAutomation(EditorApp& app, const char* label) {
-    if (app.ui.pressLabel.empty() || app.ui.pressConsumed || visibleText(label) != app.ui.pressLabel) return false;
-    app.ui.pressConsumed = true;
-    return true;
-}
-
-// Every tool widget goes through these: a tooltip, its rectangle for tests, automation presses.
-void tooltip(EditorApp& app, const char* label, const char* text) {
-    if (!text || !text[0]) return;
-    app.ui.tooltips.push_back(visibleText(label));
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", text);
-}
-
-bool button(EditorApp& app, const char* label, const char* help = nullptr) {
-    bool pressed = ImGui::Button(label);
-    recordWidget(app, label);
-    tooltip(app, label, help);
-    return pressed || pressedByAutomation(app, label);
-}
-
-bool checkbox(EditorApp& app, const char* label, bool* value, const char* help) {
-    bool changed = ImGui::Checkbox(label, value);
-    recordWidget(app, label);
-    tooltip(app, label, help);
-    if (!changed && pressedByAutomation(app, label)) {
-        *value = !*value;
-        changed = true;
-    }
-    return changed;
-}
-
-bool radio(EditorApp& app, const char* label, bool active, const char* help) {
-    bool pressed = ImGui::RadioButton(label, active);
-    recordWidget(app, label);
-    tooltip(app, label, help);
-    return pressed || pressedByAutomation(app, label);
-}
-
-bool sliderFloat(EditorApp& app, const char* label, float* value, float lo, float hi, const char* format, const char* help,
-                 ImGuiSliderFlags flags = 0) {
-    bool changed = ImGui::SliderFloat(label, value, lo, hi, format, flags);
-    recordWidget(app, label);
-    tooltip(app, label, help);
-    return changed;
-}
-
-bool inputFloat3(EditorApp& app, const char* label, glm::vec3* value, const char* help) {
-    bool changed = ImGui::InputFloat3(label, &value->x, "%.4g");
-    recordWidget(app, label);
-    tooltip(app, label, help);
-    return changed;
-}
-
-void menuAction(EditorApp& app, const char* id, bool enabled = true) {
-    const ActionInfo* action = findAction(id);
-    bool pressed = ImGui::MenuItem(action->label, action->shortcut, false, enabled);
-    recordWidget(app, action->label);
-    tooltip(app, action->label, action->help);
-    if ((pressed || pressedByAutomation(app, action->label)) && enabled) runAction(app, id);
-}
-
-// A button running an action: its label and the action's shortcut and help.
-bool actionButton(EditorApp& app, const char* label, const char* id) {
-    const ActionInfo* action = findAction(id);
-    std::string help = action->help;
-    if (action->shortcut[0]) help += std::string(" (") + action->shortcut + ")";
-    if (!button(app, label, help.c_str())) return false;
-    runAction(app, id);
-    return true;
-}
 
 void menuBar(EditorApp& app) {
     if (!ImGui::BeginMainMenuBar()) return;
@@ -134,7 +54,7 @@ void menuBar(EditorApp& app) {
     recordWidget(app, "Select");
     if (ImGui::BeginMenu("Mesh")) {
         for (const char* id : {"mesh.extrude", "mesh.delete", "mesh.split", "mesh.loop_tool", "mesh.loop", "mesh.merge",
-                               "mesh.make_face", "mesh.hole", "crease.apply", "crease.clear"})
+                               "mesh.make_face", "mesh.hole", "mesh.hide", "mesh.unhide", "crease.apply", "crease.clear"})
             menuAction(app, id, haveCage);
         ImGui::EndMenu();
     }
@@ -269,12 +189,6 @@ void toolsSection(EditorApp& app) {
     ImGui::EndDisabled();
 }
 
-bool combo(EditorApp& app, const char* label, int* current, const char* const items[], int count, const char* help) {
-    bool changed = ImGui::Combo(label, current, items, count);
-    recordWidget(app, label);
-    tooltip(app, label, help);
-    return changed;
-}
 
 void sculptSection(EditorApp& app) {
     if (!ImGui::CollapsingHeader("Sculpt", ImGuiTreeNodeFlags_DefaultOpen)) return;
@@ -346,81 +260,6 @@ void sculptSection(EditorApp& app) {
     ImGui::EndDisabled();
 }
 
-void meshSection(EditorApp& app) {
-    if (!ImGui::CollapsingHeader("Mesh", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    ToolSettings& t = app.tools;
-    ImGui::BeginDisabled(app.loader.busy() || !app.doc->planned);
-    ImGui::SetNextItemWidth(120);
-    ImGui::InputFloat("##extrude", &t.extrudeDistance, 0, 0, "%.3f");
-    recordWidget(app, "##extrude");
-    tooltip(app, "##extrude", "Extrude distance along each region's normal (0: in place, then move it)");
-    ImGui::SameLine();
-    actionButton(app, "Extrude", "mesh.extrude");
-    ImGui::SameLine();
-    actionButton(app, "Delete", "mesh.delete");
-    ImGui::SameLine();
-    actionButton(app, "Hole", "mesh.hole");
-    ImGui::SetNextItemWidth(120);
-    sliderFloat(app, "##loopfraction", &t.loopFraction, 0.05f, 0.95f, "at %.2f", "Where the loop cuts the selected edge, from its first vertex");
-    ImGui::SameLine();
-    actionButton(app, "Loop on edge", "mesh.loop");
-    ImGui::SameLine();
-    bool loopTool = t.loopTool;
-    if (checkbox(app, "Loop tool", &loopTool, "Ctrl+R: click an edge to cut a loop where the cursor is (Shift+click: keep cutting)"))
-        t.loopTool = loopTool;
-    actionButton(app, "Split face", "mesh.split");
-    ImGui::SameLine();
-    actionButton(app, "Make face", "mesh.make_face");
-    ImGui::SameLine();
-    actionButton(app, "Merge", "mesh.merge");
-    ImGui::SameLine();
-    bool atLast = t.mergeTarget == MergeTarget::Last;
-    if (checkbox(app, "at last", &atLast, "Merge at the last selected vertex (highest number) instead of the centre"))
-        t.mergeTarget = atLast ? MergeTarget::Last : MergeTarget::Centroid;
-    ImGui::EndDisabled();
-}
-
-void creaseSection(EditorApp& app) {
-    if (!ImGui::CollapsingHeader("Creases and corners", ImGuiTreeNodeFlags_DefaultOpen)) return;
-    ToolSettings& t = app.tools;
-    ImGui::BeginDisabled(app.loader.busy() || !app.doc->planned);
-    const Document& doc = *app.doc;
-    if (doc.planned && doc.selection.mode == SelectionMode::Edge && doc.selection.edges.size() == 1) {
-        const EdgeKey e = doc.selection.edges[0];
-        const float s = doc.planned->cage().edgeSharpness(e.v0, e.v1);
-        ImGui::Text("Edge %u-%u: sharpness %s", e.v0, e.v1, s >= kInfiniteSharpness ? "infinite" : std::to_string(s).substr(0, 5).c_str());
-    }
-    ImGui::SetNextItemWidth(150);
-    sliderFloat(app, "Edge##sharpness", &t.edgeSharpness, 0.0f, kInfiniteSharpness, t.edgeSharpness >= kInfiniteSharpness ? "infinite" : "%.2f",
-                "Semi-sharp crease value for the selected edges (fractional; 10 is infinitely sharp)");
-    ImGui::SameLine();
-    if (button(app, "Inf##edge", "Infinitely sharp (10)")) t.edgeSharpness = kInfiniteSharpness;
-    if (button(app, "Crease edges", "Set the selected edges' sharpness to the value (Shift+E in edge mode)"))
-        creaseSelection(app, t.edgeSharpness);
-    ImGui::SameLine();
-    if (button(app, "Clear##edges", "Remove the selected edges' creases (Alt+E in edge mode)")) creaseSelection(app, 0.0f);
-    ImGui::SetNextItemWidth(150);
-    sliderFloat(app, "Corner##sharpness", &t.cornerSharpness, 0.0f, kInfiniteSharpness,
-                t.cornerSharpness >= kInfiniteSharpness ? "infinite" : "%.2f", "Corner sharpness for the selected vertices");
-    ImGui::SameLine();
-    if (button(app, "Inf##corner", "Infinitely sharp (10)")) t.cornerSharpness = kInfiniteSharpness;
-    if (button(app, "Set corners", "Set the selected vertices' corner sharpness (Shift+E in vertex mode)"))
-        cornerSelection(app, t.cornerSharpness);
-    ImGui::SameLine();
-    if (button(app, "Clear##corners", "Remove the selected vertices' corners (Alt+E in vertex mode)")) cornerSelection(app, 0.0f);
-    const bool chaikin = doc.planned && doc.planned->cage().options.creaseMethod == CreaseMethod::Chaikin;
-    ImGui::TextUnformatted("Crease method");
-    ImGui::SameLine();
-    if (radio(app, "Normal##method", !chaikin, "OpenSubdiv's uniform crease rule (re-plans every face)"))
-        setCreaseMethodTool(app, CreaseMethod::Normal);
-    ImGui::SameLine();
-    if (radio(app, "Chaikin##method", chaikin, "Chaikin: sharpness averaged along crease chains (re-plans every face)"))
-        setCreaseMethodTool(app, CreaseMethod::Chaikin);
-    if (button(app, "Make holes", "The selected faces get no surface (H toggles)")) setSelectionHoles(app, true);
-    ImGui::SameLine();
-    if (button(app, "Fill holes", "The selected hole faces get their surface back")) setSelectionHoles(app, false);
-    ImGui::EndDisabled();
-}
 
 void historySection(EditorApp& app) {
     if (!app.ui.showHistory) return;
