@@ -239,11 +239,26 @@ Result<EditReport> performDisplacementEdit(Document& doc, const std::string& nam
     return report;
 }
 
-// An entry replacing the displacement by `next`; undo restores `before` (default: the current one).
-Result<EditReport> replaceDisplacement(Document& doc, const std::string& name, Displacement next, uint64_t frame,
-                                       std::optional<Displacement> before = std::nullopt) {
-    auto edit = std::make_unique<DisplacementEdit>(doc.scene.displacement,
-                                                   before ? std::move(*before) : doc.scene.displacement, std::move(next),
+// An entry whose change is already made (the first stroke made and painted the displacement):
+// the history's perform() must not apply it again (that would re-send every sample to the
+// renderer); later redos do.
+class AlreadyDone final : public CustomEdit {
+public:
+    explicit AlreadyDone(std::unique_ptr<CustomEdit> edit) : edit_(std::move(edit)) {}
+    Result<EditReport> redo(PlannedCage& planned) override {
+        if (std::exchange(first_, false)) return EditReport{};
+        return edit_->redo(planned);
+    }
+    Result<EditReport> undo(PlannedCage& planned) override { return edit_->undo(planned); }
+    size_t bytes() const override { return edit_->bytes(); }
+
+private:
+    std::unique_ptr<CustomEdit> edit_;
+    bool first_ = true;
+};
+
+Result<EditReport> replaceDisplacement(Document& doc, const std::string& name, Displacement next, uint64_t frame) {
+    auto edit = std::make_unique<DisplacementEdit>(doc.scene.displacement, doc.scene.displacement, std::move(next),
                                                    displacementListener(doc));
     return performDisplacementEdit(doc, name, std::move(edit), frame);
 }
@@ -547,9 +562,10 @@ Result<EditReport> endStroke(Document& doc, const std::string& name, uint64_t fr
             displacementListener(doc)(DisplacementChange{true, {}});
             return EditReport{};
         }
-        // One entry from "none" to the painted displacement (perform() sets it again: a copy).
-        Displacement painted = doc.scene.displacement;
-        return replaceDisplacement(doc, name, std::move(painted), frame, Displacement{});
+        // One entry from "none" to the painted displacement, already in place.
+        auto replace = std::make_unique<DisplacementEdit>(doc.scene.displacement, Displacement{}, doc.scene.displacement,
+                                                          displacementListener(doc));
+        return performDisplacementEdit(doc, name, std::make_unique<AlreadyDone>(std::move(replace)), frame);
     }
     if (record.changes.empty()) return EditReport{};
     // perform() re-applies the `after` values: the listener then lists the samples once more,
