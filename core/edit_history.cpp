@@ -76,6 +76,8 @@ void EditHistory::clear() {
     position_ = 0;
 }
 
+void EditHistory::dropRedo() { entries_.erase(entries_.begin() + std::ptrdiff_t(position_), entries_.end()); }
+
 Result<EditReport> EditHistory::moveVertices(PlannedCage& planned, std::string name, std::span<const uint32_t> vertices,
                                              std::span<const glm::vec3> positions, bool mergeWithPrevious) {
     std::vector<glm::vec3> before;

@@ -82,6 +82,9 @@ public:
     size_t budget() const { return budget_; }
     void setBudget(size_t memoryBudgetBytes);
     void clear();
+    // Forgets the entries a redo would apply (an interactive tool that previewed its edit and
+    // was cancelled undoes it, then leaves no trace of it).
+    void dropRedo();
 
 private:
     struct Move {

@@ -142,6 +142,9 @@ struct DrawView {
     bool wireframe = false;           // tessellation wireframe over the surface, if supported
     std::string colorBy = "shading";  // one of Scheme::colorModes()
     Shading shading = Shading::Studio;  // how "shading" (and every colour mode) is lit
+    // Sub-faces the editor hides (its hidden faces' sub-faces; sorted, each once): not drawn.
+    // Empty: draw everything. The span is valid during record() only.
+    std::span<const uint32_t> hiddenSubfaces;
 };
 
 // What the last record() submitted.

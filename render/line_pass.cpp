@@ -103,10 +103,12 @@ glm::vec3 sharpnessColor(float sharpness) {
 
 }  // namespace
 
-CageLineSets cageLineSets(const Cage& cage) {
-    const Topology topology = buildTopology(cage);
+CageLineSets cageLineSets(const Cage& cage) { return cageLineSets(cage, buildTopology(cage), {}); }
+
+CageLineSets cageLineSets(const Cage& cage, const Topology& topology, const std::function<bool(uint32_t edge)>& shown) {
     CageLineSets sets;
     for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
+        if (shown && !shown(e)) continue;
         uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
         float sharpness = cage.edgeSharpness(a, b);
         glm::vec3 color = sharpness > 0.0f                  ? sharpnessColor(sharpness)

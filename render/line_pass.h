@@ -2,6 +2,7 @@
 // depth-tested against it so the surface hides the cage where it is in front.
 #pragma once
 
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include <glm/vec3.hpp>
 
 #include "cage.h"
+#include "topology.h"
 #include "render_target.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
@@ -29,6 +31,9 @@ struct CageLineSets {
     std::vector<LineVertex> plain, creased;
 };
 CageLineSets cageLineSets(const Cage& cage);
+// The same for the cage's own topology, leaving out the edges `shown(edge)` rejects (an empty
+// function shows every edge).
+CageLineSets cageLineSets(const Cage& cage, const Topology& topology, const std::function<bool(uint32_t edge)>& shown);
 
 struct LinePass {
     VkPipelineLayout layout = VK_NULL_HANDLE;

@@ -473,14 +473,16 @@ TEST(Document, UndoingBackToTheSavedStateIsClean) {
 
 // A stroke in the editor spans frames: dabs as the cursor moves, one history entry at the end.
 // Its samples reach the renderer (unsyncedSamples) after every dab and after undo and redo;
-// cancelling puts every sample back; the brushes' cache follows vertex moves.
+// cancelling puts every sample back; the brushes' cache follows vertex moves. The first stroke
+// on a cage without displacement makes one with the stroke, in the stroke's entry.
 TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
     std::unique_ptr<Document> doc = cubeDocument();
     ASSERT_TRUE(doc);
     // From inside a sub-face across its edge into the next face.
     const glm::vec3 a = doc->planned->evaluate(0, 0.3f, 0.5f).position, b = doc->planned->evaluate(0, 1.0f, 0.7f).position;
     ASSERT_TRUE(beginStroke(*doc, 8, 1).ok());
-    EXPECT_EQ(doc->history.size(), 1u) << "the first stroke makes a displacement: its own entry";
+    EXPECT_EQ(doc->history.size(), 0u) << "the first stroke's displacement has no entry of its own";
+    EXPECT_FALSE(doc->scene.displacement.empty());
     EXPECT_EQ(doc->displacementRevision, 1u);
     StrokeOptions options;
     options.brush = Brush{BrushKind::Raise, 0.2f, 0.1f, Falloff::Smooth};
@@ -496,8 +498,10 @@ TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
     Result<EditReport> ended = endStroke(*doc, "Raise stroke", 2);
     ASSERT_TRUE(ended.ok()) << ended.error().message;
     EXPECT_EQ(ended->replannedFaces, 0u);
-    ASSERT_EQ(doc->history.size(), 2u);
-    EXPECT_EQ(doc->history.entry(1).name, "Raise stroke");
+    ASSERT_EQ(doc->history.size(), 1u);
+    EXPECT_EQ(doc->history.entry(0).name, "Raise stroke");
+    EXPECT_TRUE(takeUnsyncedSamples(*doc).size() < doc->scene.displacement.samples.size())
+        << "ending the first stroke re-sent every sample";
     EXPECT_TRUE(doc->dirty);
     const std::vector<float> sculpted = doc->scene.displacement.samples;
     EXPECT_GT(*std::max_element(sculpted.begin(), sculpted.end()), 0.0f);
@@ -510,10 +514,10 @@ TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
     EXPECT_EQ(whole.samples, sculpted);
 
     takeUnsyncedSamples(*doc);
+    const uint64_t revision = doc->displacementRevision;
     ASSERT_TRUE(undoEdit(*doc, 3).ok());
-    EXPECT_TRUE(std::all_of(doc->scene.displacement.samples.begin(), doc->scene.displacement.samples.end(),
-                            [](float x) { return x == 0.0f; }));
-    EXPECT_FALSE(takeUnsyncedSamples(*doc).empty()) << "undo must tell the renderer";
+    EXPECT_TRUE(doc->scene.displacement.empty()) << "undoing the first stroke removes the displacement too";
+    EXPECT_GT(doc->displacementRevision, revision) << "undo must tell the renderer";
     ASSERT_TRUE(redoEdit(*doc, 4).ok());
     EXPECT_EQ(doc->scene.displacement.samples, sculpted);
 
@@ -524,7 +528,7 @@ TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
     EXPECT_NE(doc->scene.displacement.samples, sculpted);
     cancelStroke(*doc);
     EXPECT_EQ(doc->scene.displacement.samples, sculpted);
-    EXPECT_EQ(doc->history.size(), 2u);
+    EXPECT_EQ(doc->history.size(), 1u);
     EXPECT_FALSE(strokeActive(*doc));
 
     // A vertex move refreshes the brushes' positions (as a fresh cache would have them).
@@ -675,3 +679,42 @@ TEST(FrameStats, MediansByKindOfFrame) {
 }
 
 }  // namespace
+
+// Previews of interactive tools: replaceLastEdit keeps a slider drag one entry; revertTo leaves
+// no trace of a cancelled preview. Hidden faces drop out of the selection and go when faces are
+// renumbered.
+TEST(Document, LiveEditsRevertsAndHiddenFaces) {
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    const Cage before = doc->planned->cage();
+    const uint32_t a = before.faceBegin(0)[0], b = before.faceBegin(0)[1];
+    ASSERT_TRUE(applyEdit(*doc, SetEdgeSharpness{{{a, b, 1.0f}}}, 1).ok());
+    ASSERT_TRUE(replaceLastEdit(*doc, SetEdgeSharpness{{{a, b, 3.0f}}}, 2).ok());
+    EXPECT_EQ(doc->history.size(), 1u);
+    EXPECT_EQ(doc->planned->cage().edgeSharpness(a, b), 3.0f);
+    ASSERT_TRUE(undoEdit(*doc, 3).ok());
+    EXPECT_EQ(doc->planned->cage().edgeSharpness(a, b), 0.0f) << "the replaced entry undoes to before the drag";
+
+    ASSERT_TRUE(applyEdit(*doc, ExtrudeFaces{{0}, 0.0f}, 4).ok());
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {glm::vec3(2, 2, 2)}, false, "preview"}, 5).ok());
+    ASSERT_TRUE(revertTo(*doc, 0, 6).ok());
+    EXPECT_EQ(doc->history.size(), 0u) << "a reverted preview left redo entries";
+    EXPECT_EQ(doc->planned->cage().positions, before.positions);
+    EXPECT_EQ(doc->planned->cage().faceVertices, before.faceVertices);
+    EXPECT_FALSE(doc->dirty);
+
+    ASSERT_TRUE(selectElements(*doc, SelectionMode::Face, std::vector<uint32_t>{0, 1}, SelectOp::Replace).ok());
+    ASSERT_TRUE(hideFaces(*doc, std::vector<uint32_t>{1}).ok());
+    EXPECT_EQ(doc->hiddenFaces, std::vector<uint32_t>{1});
+    EXPECT_EQ(doc->selection.faces, std::vector<uint32_t>{0}) << "hiding drops the face from the selection";
+    EXPECT_TRUE(isFaceHidden(*doc, 1));
+    EXPECT_FALSE(isFaceHidden(*doc, 0));
+    EXPECT_FALSE(hideFaces(*doc, std::vector<uint32_t>{999}).ok());
+    const uint64_t revision = doc->hiddenRevision;
+    ASSERT_TRUE(applyEdit(*doc, ExtrudeFaces{{0}, 0.1f}, 7).ok());
+    EXPECT_TRUE(doc->hiddenFaces.empty()) << "a topology edit renumbers faces: the hidden set goes";
+    EXPECT_GT(doc->hiddenRevision, revision);
+    ASSERT_TRUE(hideFaces(*doc, std::vector<uint32_t>{2}).ok());
+    unhideAll(*doc);
+    EXPECT_TRUE(doc->hiddenFaces.empty());
+}

@@ -258,7 +258,11 @@ void runAction(EditorApp& app, std::string_view id) {
     } else if (id == "tool.space") {
         app.tools.space = app.tools.space == TransformSpace::World ? TransformSpace::Local : TransformSpace::World;
     } else if (id == "mesh.extrude") {
-        extrudeSelection(app);
+        startInteractiveExtrude(app);
+    } else if (id == "mesh.hide") {
+        hideSelection(app);
+    } else if (id == "mesh.unhide") {
+        unhideAllFaces(app);
     } else if (id == "mesh.delete") {
         deleteSelection(app);
     } else if (id == "mesh.split") {

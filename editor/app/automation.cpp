@@ -602,6 +602,13 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                                  {"revision", doc.displacementRevision}, {"sample_revision", doc.sampleRevision}};
     }
     state["drag"] = app.drag.kind == DragKind::None ? json(nullptr) : json(app.drag.readout);
+    state["hidden_faces"] = doc.hiddenFaces;
+    state["hidden_subfaces"] = app.renderer.hiddenSubfaces;  // what the viewports pass their schemes
+    state["extrude"] = app.extrude ? json{{"distance", app.extrude->distance},
+                                          {"typed", app.extrude->typed},
+                                          {"faces", app.extrude->faces},
+                                          {"readout", extrudeReadout(*app.extrude)}}
+                                   : json(nullptr);
     const ImGuiIO& io = ImGui::GetIO();
     const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
     json viewports = json::array();

@@ -209,6 +209,10 @@ void noteChange(Document& doc, const std::string& description, const EditReport&
         accumulateReport(doc.unsyncedPlanChange, report);
     }
     if (report.topologyChanged) ++doc.topologyRevision;
+    if (report.topologyChanged && !doc.hiddenFaces.empty()) {  // face numbers changed: the set means nothing now
+        doc.hiddenFaces.clear();
+        ++doc.hiddenRevision;
+    }
     noteHistoryStep(doc, description, report, frame);
 }
 
@@ -237,6 +241,24 @@ Result<EditReport> performDisplacementEdit(Document& doc, const std::string& nam
     noteHistoryStep(doc, name, *report, frame);
     return report;
 }
+
+// An entry whose change is already made (the first stroke made and painted the displacement):
+// the history's perform() must not apply it again (that would re-send every sample to the
+// renderer); later redos do.
+class AlreadyDone final : public CustomEdit {
+public:
+    explicit AlreadyDone(std::unique_ptr<CustomEdit> edit) : edit_(std::move(edit)) {}
+    Result<EditReport> redo(PlannedCage& planned) override {
+        if (std::exchange(first_, false)) return EditReport{};
+        return edit_->redo(planned);
+    }
+    Result<EditReport> undo(PlannedCage& planned) override { return edit_->undo(planned); }
+    size_t bytes() const override { return edit_->bytes(); }
+
+private:
+    std::unique_ptr<CustomEdit> edit_;
+    bool first_ = true;
+};
 
 Result<EditReport> replaceDisplacement(Document& doc, const std::string& name, Displacement next, uint64_t frame) {
     auto edit = std::make_unique<DisplacementEdit>(doc.scene.displacement, doc.scene.displacement, std::move(next),
@@ -375,6 +397,75 @@ Result<EditReport> jumpToHistory(Document& doc, size_t position, uint64_t frame)
     return report;
 }
 
+Result<EditReport> replaceLastEdit(Document& doc, const Edit& edit, uint64_t frame) {
+    if (!doc.planned) return Error{"no cage is open"};
+    if (!doc.history.canUndo()) return applyEdit(doc, edit, frame);
+    if (Result<EditReport> undone = undoEdit(doc, frame); !undone) return undone;
+    Result<EditReport> report = applyEdit(doc, edit, frame);
+    if (!report) (void)redoEdit(doc, frame);
+    return report;
+}
+
+Result<EditReport> revertTo(Document& doc, size_t position, uint64_t frame) {
+    Result<EditReport> report = jumpToHistory(doc, position, frame);
+    if (!report) return report;
+    doc.history.dropRedo();
+    if (doc.savedPosition && *doc.savedPosition > position) doc.savedPosition.reset();
+    doc.dirty = !(doc.savedPosition && *doc.savedPosition == doc.history.position());
+    return report;
+}
+
+Status hideFaces(Document& doc, std::span<const uint32_t> faces) {
+    if (!doc.planned) return Error{"no cage is open"};
+    for (uint32_t f : faces)
+        if (Status s = checkFace(doc.planned->cage(), f); !s) return s;
+    std::vector<uint32_t> hidden = doc.hiddenFaces;
+    hidden.insert(hidden.end(), faces.begin(), faces.end());
+    std::sort(hidden.begin(), hidden.end());
+    hidden.erase(std::unique(hidden.begin(), hidden.end()), hidden.end());
+    if (hidden == doc.hiddenFaces) return success();
+    doc.hiddenFaces = std::move(hidden);
+    ++doc.hiddenRevision;
+    dropHidden(doc, doc.selection);
+    return success();
+}
+
+void unhideAll(Document& doc) {
+    if (doc.hiddenFaces.empty()) return;
+    doc.hiddenFaces.clear();
+    ++doc.hiddenRevision;
+}
+
+bool isFaceHidden(const Document& doc, uint32_t face) {
+    return std::binary_search(doc.hiddenFaces.begin(), doc.hiddenFaces.end(), face);
+}
+
+bool isVertexHidden(const Document& doc, uint32_t vertex) {
+    if (doc.hiddenFaces.empty() || !doc.planned) return false;
+    const Topology& t = doc.planned->topology();
+    if (vertex >= doc.planned->cage().vertexCount() || t.vertexFaceCount(vertex) == 0) return false;
+    for (uint32_t k = t.vertexFaceOffsets[vertex]; k < t.vertexFaceOffsets[vertex + 1]; ++k)
+        if (!isFaceHidden(doc, t.vertexFaces[k])) return false;
+    return true;
+}
+
+bool isEdgeHidden(const Document& doc, EdgeKey edge) {
+    if (doc.hiddenFaces.empty() || !doc.planned) return false;
+    const Topology& t = doc.planned->topology();
+    const uint32_t e = t.findEdge(edge.v0, edge.v1);
+    if (e == UINT32_MAX) return false;
+    for (uint32_t k = t.edgeFaceOffsets[e]; k < t.edgeFaceOffsets[e + 1]; ++k)
+        if (!isFaceHidden(doc, t.edgeFaces[k])) return false;
+    return true;
+}
+
+void dropHidden(const Document& doc, Selection& s) {
+    if (doc.hiddenFaces.empty()) return;
+    std::erase_if(s.faces, [&](uint32_t f) { return isFaceHidden(doc, f); });
+    std::erase_if(s.vertices, [&](uint32_t v) { return isVertexHidden(doc, v); });
+    std::erase_if(s.edges, [&](const EdgeKey& e) { return isEdgeHidden(doc, e); });
+}
+
 Status selectElements(Document& doc, SelectionMode mode, std::span<const uint32_t> elements, SelectOp op) {
     if (!doc.planned) return Error{"no cage is open"};
     if (mode == SelectionMode::Edge) return Error{"edges are selected by their two vertices"};
@@ -433,11 +524,12 @@ std::vector<EdgeKey> selectedEdges(const Document& doc) {
 Status beginStroke(Document& doc, uint32_t newResolution, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
     if (doc.sculptor) return Error{"a stroke is already in progress"};
-    if (doc.scene.displacement.empty()) {
+    doc.strokeMadeDisplacement = doc.scene.displacement.empty();
+    if (doc.strokeMadeDisplacement) {
+        // Not a history entry of its own: endStroke records it with the stroke.
         if (Status ok = checkDisplacementResolution(newResolution); !ok) return ok;
-        Result<EditReport> created = replaceDisplacement(
-            doc, "New displacement", makeDisplacement(doc.planned->cage(), doc.planned->topology(), newResolution), frame);
-        if (!created) return created.error();
+        doc.scene.displacement = makeDisplacement(doc.planned->cage(), doc.planned->topology(), newResolution);
+        displacementListener(doc)(DisplacementChange{true, {}});
     }
     doc.sculptor.emplace(doc.scene.displacement, sculptSamplesOf(doc));
     doc.sculptor->beginStroke();
@@ -467,6 +559,17 @@ Result<EditReport> endStroke(Document& doc, const std::string& name, uint64_t fr
     if (!doc.sculptor) return Error{"no stroke is in progress"};
     StrokeRecord record = doc.sculptor->endStroke();
     doc.sculptor.reset();
+    if (std::exchange(doc.strokeMadeDisplacement, false)) {
+        if (record.changes.empty()) {  // nothing painted: back to no displacement, no entry
+            doc.scene.displacement = Displacement{};
+            displacementListener(doc)(DisplacementChange{true, {}});
+            return EditReport{};
+        }
+        // One entry from "none" to the painted displacement, already in place.
+        auto replace = std::make_unique<DisplacementEdit>(doc.scene.displacement, Displacement{}, doc.scene.displacement,
+                                                          displacementListener(doc));
+        return performDisplacementEdit(doc, name, std::make_unique<AlreadyDone>(std::move(replace)), frame);
+    }
     if (record.changes.empty()) return EditReport{};
     // perform() re-applies the `after` values: the listener then lists the samples once more,
     // which costs one idempotent upload.
@@ -478,6 +581,11 @@ void cancelStroke(Document& doc) {
     if (!doc.sculptor) return;
     const StrokeRecord record = doc.sculptor->endStroke();
     doc.sculptor.reset();
+    if (std::exchange(doc.strokeMadeDisplacement, false)) {
+        doc.scene.displacement = Displacement{};
+        displacementListener(doc)(DisplacementChange{true, {}});
+        return;
+    }
     undoStroke(doc.scene.displacement, record);
     ++doc.sampleRevision;
     for (const SampleChange& c : record.changes) doc.unsyncedSamples.push_back(c.sample);

@@ -120,6 +120,15 @@ struct Document {
     // in progress.
     std::optional<SculptSamples> sculptSamples;
     std::optional<Sculptor> sculptor;
+    // The stroke in progress made the displacement (the scene had none): its history entry
+    // then replaces "no displacement" by the stroke's result, so one undo removes both.
+    bool strokeMadeDisplacement = false;
+
+    // Faces hidden from view and from picking (H / Alt+H; sorted). Not an edit and not saved:
+    // a view of the cage. Dropped when faces are renumbered (a topology edit, or its undo).
+    // hiddenRevision changes with it.
+    std::vector<uint32_t> hiddenFaces;
+    uint64_t hiddenRevision = 0;
 };
 
 // Plans `scene`'s cage into a new document (planning runs in parallel; can take seconds).
@@ -135,6 +144,23 @@ Result<EditReport> undoEdit(Document& document, uint64_t frame);
 Result<EditReport> redoEdit(Document& document, uint64_t frame);
 // Undoes or redoes until `position` entries are applied (0: before the oldest kept entry).
 Result<EditReport> jumpToHistory(Document& document, size_t position, uint64_t frame);
+// Interactive tools that preview their edit (a live slider, the interactive extrude):
+// replaceLastEdit undoes the newest entry and applies `edit` in its place (on failure the
+// entry is redone), so a slider drag stays one entry; revertTo goes back to `position`
+// entries and forgets the undone ones, leaving no trace of a cancelled preview.
+Result<EditReport> replaceLastEdit(Document& document, const Edit& edit, uint64_t frame);
+Result<EditReport> revertTo(Document& document, size_t position, uint64_t frame);
+
+// Hiding faces: hideFaces adds faces to the hidden set (and drops them, and the vertices and
+// edges no shown face uses, from the selection); unhideAll clears it. isFaceHidden is a binary
+// search; elementHidden says whether a vertex or an edge has no shown face around it.
+Status hideFaces(Document& document, std::span<const uint32_t> faces);
+void unhideAll(Document& document);
+bool isFaceHidden(const Document& document, uint32_t face);
+bool isVertexHidden(const Document& document, uint32_t vertex);
+bool isEdgeHidden(const Document& document, EdgeKey edge);
+// Drops hidden elements from a selection of the document's cage.
+void dropHidden(const Document& document, Selection& selection);
 
 // Selection. selectElements checks the indices (edges must exist) and combines them with `op`
 // in `mode` (switching the selection to that mode first, as setSelectionMode does).
@@ -153,8 +179,8 @@ std::vector<EdgeKey> selectedEdges(const Document& document);  // edge mode, or 
 // ---- Displacement ------------------------------------------------------------------------
 // A stroke spans many frames: beginStroke, dabs as the cursor moves, then endStroke records
 // the whole stroke as ONE history entry (undo per stroke) or cancelStroke restores the samples.
-// A scene without displacement gets a zero one at `newResolution` on the first stroke (its own
-// history entry, "New displacement"). Strokes reach across faces, creases and extraordinary
+// A scene without displacement gets a zero one at `newResolution` on the first stroke, in the
+// same history entry as the stroke (undoing it removes both). Strokes reach across faces, creases and extraordinary
 // vertices without seams (core/brush.h); they move no cage vertex and re-plan nothing.
 Status beginStroke(Document& document, uint32_t newResolution, uint64_t frame);
 bool strokeActive(const Document& document);

@@ -312,6 +312,7 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
     appendKey(key, app.documentGeneration);
     appendKey(key, doc.positionRevision);
     appendKey(key, doc.planRevision);
+    appendKey(key, doc.hiddenRevision);
     key += app.renderer.overlayKey;
     for (size_t i = 0; i < draws.size(); ++i) {
         const ViewportDraw& d = draws[i];

@@ -18,6 +18,7 @@
 
 #include "document.h"
 #include "document_loader.h"
+#include "extrude_tool.h"
 #include "frame_stats.h"
 #include "gizmo.h"
 #include "gpu_timer.h"
@@ -88,6 +89,8 @@ struct Drag {
     std::string readout;                 // what the drag amounts to, shown beside the cursor
     StrokeOptions stroke;                // Sculpt: the brush, with the modifiers held at the start
     uint32_t strokeDabs = 0;
+    bool loopClick = false;              // Orbit from Alt+left: released in place, it selects a loop
+    bool ring = false;                   // ... an edge ring (Ctrl held)
 };
 
 // What happens once the user has answered "unsaved changes".
@@ -148,6 +151,9 @@ struct UiState {
     std::string loopPreviewKey;
     std::optional<SurfaceHit> brushHover;  // the sculpt tool: the surface under the cursor
     uint32_t brushViewport = 0;
+    // A live slider's drag (creases, corners): the history position just after its entry,
+    // which later changes of the same drag replace.
+    std::optional<size_t> liveEditEntry;
 };
 
 // A key press as GLFW reported it. Shortcuts read these rather than ImGui 1.86's per-frame key
@@ -192,6 +198,7 @@ struct EditorApp {
     float averageEdgeLength = 1.0f;  // for the adaptive factor
     uint64_t edgeLengthRevision = ~0ull;
     Drag drag;
+    std::optional<ExtrudeSession> extrude;  // the interactive extrude in progress (extrude_tool.h)
     ToolSettings tools;
     UiState ui;
     std::vector<KeyPress> keyPresses;  // since the last frame, from GLFW or automation

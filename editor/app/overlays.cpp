@@ -215,6 +215,12 @@ void drawViewportOverlays(EditorApp& app) {
         list->AddText(ImVec2(at.x + 1, at.y + 1), rgba(0, 0, 0), d.readout.c_str());
         list->AddText(at, rgba(1, 1, 1), d.readout.c_str());
     }
+    if (app.extrude) {  // the distance beside the mouse, wherever it is
+        const std::string text = extrudeReadout(*app.extrude);
+        const ImVec2 mouse = ImGui::GetIO().MousePos, at(mouse.x + 18.0f, mouse.y + 8.0f);
+        list->AddText(ImVec2(at.x + 1, at.y + 1), rgba(0, 0, 0), text.c_str());
+        list->AddText(at, rgba(1, 1, 1), text.c_str());
+    }
 }
 
 }  // namespace qp::editor

@@ -1,5 +1,6 @@
 // The parts of the editor's interface (panels.h), one concept per file: the side panel's
-// sections (panels_model.cpp: selection, transforms, mesh edits, creases, history;
+// sections (panels_model.cpp: selection, transforms, history; panels_mesh.cpp: mesh edits
+// (interactive extrude, hide) and creases (live sliders);
 // panels_sculpt.cpp; panels_display.cpp: display settings and statistics) and the windows and
 // dialogs (panels_dialogs.cpp). Each draws into the current ImGui window.
 #pragma once
@@ -9,7 +10,9 @@ namespace qp::editor {
 struct EditorApp;
 
 void toolsSection(EditorApp& app);
+// Mesh: extrude (interactive), delete, holes, hide, loops, split, make face, merge.
 void meshSection(EditorApp& app);
+// Creases and corners: the sliders apply live to the selection (one entry per drag).
 void creaseSection(EditorApp& app);
 void historySection(EditorApp& app);
 void sculptSection(EditorApp& app);

@@ -54,7 +54,7 @@ void menuBar(EditorApp& app) {
     recordWidget(app, "Select");
     if (ImGui::BeginMenu("Mesh")) {
         for (const char* id : {"mesh.extrude", "mesh.delete", "mesh.split", "mesh.loop_tool", "mesh.loop", "mesh.merge",
-                               "mesh.make_face", "mesh.hole", "crease.apply", "crease.clear"})
+                               "mesh.make_face", "mesh.hole", "mesh.hide", "mesh.unhide", "crease.apply", "crease.clear"})
             menuAction(app, id, haveCage);
         ImGui::EndMenu();
     }

@@ -114,6 +114,7 @@ std::vector<LineVertex> overlayLines(const Document& doc) {
     if (s.mode == SelectionMode::Vertex && cage.vertexCount() <= 20000)
         for (const glm::vec3& p : cage.positions) cross(lines, p, 0.25f * size, kVertexDotColor);
     for (uint32_t f : cage.holes) {  // a hole: its diagonals, from each corner to the centre
+        if (isFaceHidden(doc, f)) continue;
         const glm::vec3 centre = centroid(cage, std::span<const uint32_t>(cage.faceBegin(f), cage.faceSize(f)));
         for (uint32_t k = 0; k < cage.faceSize(f); ++k) {
             lines.push_back({glm::mix(cage.positions[cage.faceBegin(f)[k]], centre, 0.15f), kHoleColor});
@@ -121,7 +122,7 @@ std::vector<LineVertex> overlayLines(const Document& doc) {
         }
     }
     for (const VertexCorner& c : cage.corners)  // a corner: a star in its sharpness's colour
-        if (c.vertex < cage.vertexCount()) cross(lines, cage.positions[c.vertex], 1.3f * size, sharpnessRampColor(c.sharpness));
+        if (c.vertex < cage.vertexCount() && !isVertexHidden(doc, c.vertex)) cross(lines, cage.positions[c.vertex], 1.3f * size, sharpnessRampColor(c.sharpness));
     for (uint32_t v : s.vertices)
         if (v < cage.vertexCount()) cross(lines, cage.positions[v], size, kSelectedColor);
     for (const EdgeKey& e : s.edges) {
@@ -147,6 +148,29 @@ std::vector<LineVertex> overlayLines(const Document& doc) {
         limitFaceHatch(planned, f, kSelectedColor, lines);
     }
     return lines;
+}
+
+// The cage's edges without those only hidden faces use. cageLines lists one segment per edge
+// in buildTopology's edge order, which is the document topology's.
+// The cage's lines (creased ones apart, drawn wider) without the edges only hidden faces have.
+CageLineSets shownCageLines(const Document& doc) {
+    const Topology& topology = doc.planned->topology();
+    if (doc.hiddenFaces.empty()) return cageLineSets(doc.planned->cage(), topology, {});
+    return cageLineSets(doc.planned->cage(), topology, [&](uint32_t e) {
+        return !isEdgeHidden(doc, makeEdgeKey(topology.edgeVertices[2 * e], topology.edgeVertices[2 * e + 1]));
+    });
+}
+
+// The sub-faces of the hidden faces, sorted (DrawView::hiddenSubfaces).
+std::vector<uint32_t> hiddenSubfacesOf(const Document& doc) {
+    std::vector<uint32_t> subfaces;
+    const PlannedCage& planned = *doc.planned;
+    for (uint32_t f : doc.hiddenFaces) {
+        if (f >= planned.cage().faceCount()) continue;
+        const uint32_t first = planned.firstSubface(f);
+        for (uint32_t s = first; s < first + subfaceCount(planned.cage().faceSize(f)); ++s) subfaces.push_back(s);
+    }
+    return subfaces;  // faces are sorted and own consecutive sub-faces in face order
 }
 
 // Lines are drawn depth-tested against the surface; this pulls them toward the eye by a small
@@ -442,6 +466,7 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     const bool newDisplacement = newDocument || r.displacementRevision != doc.displacementRevision;
     const bool newSamples = !newDisplacement && r.sampleRevision != doc.sampleRevision;
     const bool newPositions = newPlans || r.positionRevision != doc.positionRevision;
+    const bool newHidden = newPlans || r.hiddenRevision != doc.hiddenRevision;
     std::vector<uint32_t> moved;
     if (newPositions && !newDocument && !planChange.topologyChanged && r.positions.size() == cage.positions.size())
         moved = movedVertices(r.positions, cage.positions);
@@ -453,7 +478,8 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     r.views.resize(requests.size());
     std::vector<char> rebuild(requests.size()), replan(requests.size()), heatWhole(requests.size()), heatOff(requests.size());
     const bool newGrid = newPlans || r.gridUp != display.up;
-    bool work = newPositions || newDisplacement || newSamples || newGrid || overlay != r.overlayKey || !closed.empty();
+    bool work = newPositions || newDisplacement || newSamples || newGrid || newHidden || overlay != r.overlayKey ||
+                !closed.empty();
     for (size_t i = 0; i < requests.size(); ++i) {
         const SchemeView& view = r.views[i];
         const SchemeRequest& want = requests[i];
@@ -525,11 +551,15 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
             }
         }
     }
-    if (newPositions) {
-        const CageLineSets sets = cageLineSets(cage);
+    if (newPositions || newHidden) {
+        const CageLineSets sets = shownCageLines(doc);
         if (Status s = fillLineBuffer(ctx, r.cageLines, r.cageLineCount, sets.plain); !s) return s;
         if (Status s = fillLineBuffer(ctx, r.creaseLines, r.creaseLineCount, sets.creased); !s) return s;
         r.positions = cage.positions;
+    }
+    if (newHidden) {
+        r.hiddenSubfaces = hiddenSubfacesOf(doc);
+        for (SchemeView& view : r.views) ++view.drawRevision;
     }
     if (newGrid) {
         const GroundGrid grid = groundGrid(computeBounds(cage), display.up, display.background);
@@ -543,6 +573,7 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     r.positionRevision = doc.positionRevision;
     r.displacementRevision = doc.displacementRevision;
     r.sampleRevision = doc.sampleRevision;
+    r.hiddenRevision = doc.hiddenRevision;
     r.lastSyncMs = msSince(start);
     return success();
 }
@@ -578,6 +609,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
             drawView.pixelsPerUnit = v.pixelsPerUnit;
             drawView.wireframe = options.wireframe;
             drawView.shading = options.shading;
+            drawView.hiddenSubfaces = r.hiddenSubfaces;
             drawView.colorBy = std::find(view.colorModes.begin(), view.colorModes.end(), v.colorBy) != view.colorModes.end()
                                    ? v.colorBy
                                    : view.colorModes.front();

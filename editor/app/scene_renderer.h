@@ -124,7 +124,8 @@ struct SceneRenderer {
     std::vector<ParkedInstance> parked;  // oldest first, at most kMaxParkedInstances
     // What the copies were made from.
     uint64_t generation = ~0ull, planRevision = ~0ull, positionRevision = ~0ull;
-    uint64_t displacementRevision = ~0ull, sampleRevision = ~0ull;
+    uint64_t displacementRevision = ~0ull, sampleRevision = ~0ull, hiddenRevision = ~0ull;
+    std::vector<uint32_t> hiddenSubfaces;  // of the document's hidden faces, sorted: DrawView::hiddenSubfaces
     std::vector<glm::vec3> positions;  // as last synced, to find the vertices an edit moved
     std::string overlayKey;
     CageFeatures features;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "edge_loops.h"
 #include "editor_app.h"
 #include "scheme_support.h"
 
@@ -56,6 +57,23 @@ bool perform(EditorApp& app, const Edit& e) {
     return true;
 }
 
+// perform() for a live slider: replaces the entry the same drag made, if it is still the newest.
+bool performLive(EditorApp& app, const Edit& e) {
+    Document& doc = *app.doc;
+    const bool continuing = app.ui.liveEditEntry && *app.ui.liveEditEntry == doc.history.position() &&
+                            doc.history.position() == doc.history.size();
+    if (!continuing) {
+        if (!perform(app, e)) return false;
+    } else if (Result<EditReport> report = replaceLastEdit(doc, e, app.frame); !report) {
+        showError(app, "Edit failed: " + report.error().message);
+        return false;
+    } else {
+        app.ui.status = describeEdit(e) + ": re-planned " + std::to_string(report->replannedFaces) + " faces";
+    }
+    app.ui.liveEditEntry = doc.history.position();
+    return true;
+}
+
 bool refuse(EditorApp& app, const std::string& message) {
     showError(app, message);
     return false;
@@ -90,7 +108,7 @@ PickHit pickAt(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
         std::optional<Occluder> occluder = occluderFor(app);
         const VertexPick pick = pickVertex(doc.planned->cage(), view, pixel, kVertexPickPixels, occluder ? &*occluder : nullptr);
         hit.element = pick.vertex;
-        hit.hit = pick.vertex != kNoHit;
+        hit.hit = pick.vertex != kNoHit && !isVertexHidden(doc, pick.vertex);
         break;
     }
     case SelectionMode::Edge:
@@ -99,7 +117,7 @@ PickHit pickAt(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
         if (app.tools.facesOnSurface) {
             const LimitPicker& picker = limitPicker(app.picking, doc, app.documentGeneration);
             const LimitPicker::Hit onSurface = picker.intersect(*doc.planned, view.rayThrough(pixel));
-            if (onSurface.subface != kNoHit) {
+            if (onSurface.subface != kNoHit && !isFaceHidden(doc, faceOfSubface(*doc.planned, onSurface.subface))) {
                 hit.element = faceOfSubface(*doc.planned, onSurface.subface);
                 hit.hit = true;
                 break;
@@ -107,7 +125,7 @@ PickHit pickAt(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
         }
         const CageRaycaster::Hit onCage = pickFace(cageRaycaster(app.picking, doc, app.documentGeneration), view, pixel);
         hit.element = onCage.face;
-        hit.hit = onCage.face != kNoHit;
+        hit.hit = onCage.face != kNoHit && !isFaceHidden(doc, onCage.face);
         break;
     }
     }
@@ -132,7 +150,7 @@ PickHit pickEdgeAt(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
     std::optional<Occluder> occluder = occluderFor(app);
     const EdgePick pick = pickEdge(app.doc->planned->cage(), app.doc->planned->topology(), pickViewOf(v),
                                    inViewport(v, cursor), kEdgePickPixels, occluder ? &*occluder : nullptr);
-    hit.hit = pick.hit;
+    hit.hit = pick.hit && !isEdgeHidden(*app.doc, pick.edge);
     hit.edge = pick.edge;
     hit.edgeT = pick.t;
     return hit;
@@ -161,11 +179,41 @@ void boxSelectIn(EditorApp& app, uint32_t viewport, glm::vec2 cornerA, glm::vec2
     Document& doc = *app.doc;
     const ViewportState& v = app.viewports[viewport];
     std::optional<Occluder> occluder = occluderFor(app);
-    const Selection boxed = boxSelect(doc.planned->cage(), doc.planned->topology(), doc.selection.mode, pickViewOf(v),
-                                      inViewport(v, cornerA), inViewport(v, cornerB), occluder ? &*occluder : nullptr);
+    Selection boxed = boxSelect(doc.planned->cage(), doc.planned->topology(), doc.selection.mode, pickViewOf(v),
+                                inViewport(v, cornerA), inViewport(v, cornerB), occluder ? &*occluder : nullptr);
+    dropHidden(doc, boxed);
     if (boxed.mode == SelectionMode::Edge) applyPick(doc.selection, op, std::span<const EdgeKey>(boxed.edges));
     else applyPick(doc.selection, op, boxed.mode == SelectionMode::Vertex ? boxed.vertices : boxed.faces);
     app.ui.status = "Box: " + std::to_string(boxed.size()) + " elements; " + std::to_string(doc.selection.size()) + " selected";
+}
+
+bool selectLoopAt(EditorApp& app, uint32_t viewport, glm::vec2 cursor, LoopKind kind, SelectOp op) {
+    if (!haveCage(app)) return false;
+    const PickHit hit = pickEdgeAt(app, viewport, cursor);
+    if (!hit.hit) {
+        app.ui.status = "No edge under the cursor for a loop";
+        return false;
+    }
+    Document& doc = *app.doc;
+    const Cage& cage = doc.planned->cage();
+    const Topology& topology = doc.planned->topology();
+    Selection loop;
+    loop.mode = doc.selection.mode;
+    if (loop.mode == SelectionMode::Face) {
+        loop.faces = faceLoop(cage, topology, hit.edge);
+    } else {
+        Selection edges;
+        edges.mode = SelectionMode::Edge;
+        edges.edges = kind == LoopKind::Ring ? edgeRing(cage, topology, hit.edge) : edgeLoop(cage, topology, hit.edge);
+        loop = convertSelection(edges, loop.mode, cage, topology);
+    }
+    dropHidden(doc, loop);
+    if (loop.mode == SelectionMode::Edge) applyPick(doc.selection, op, std::span<const EdgeKey>(loop.edges));
+    else applyPick(doc.selection, op, loop.mode == SelectionMode::Vertex ? loop.vertices : loop.faces);
+    const char* what = loop.mode == SelectionMode::Face ? "Face loop" : kind == LoopKind::Ring ? "Edge ring" : "Edge loop";
+    app.ui.status = std::string(what) + ": " + std::to_string(loop.size()) + " elements; " +
+                    std::to_string(doc.selection.size()) + " selected";
+    return true;
 }
 
 void setMode(EditorApp& app, SelectionMode mode) { setSelectionMode(*app.doc, mode); }
@@ -174,18 +222,21 @@ void selectAllElements(EditorApp& app) {
     if (!app.doc->planned) return;
     Document& doc = *app.doc;
     doc.selection = selectAll(doc.planned->cage(), doc.planned->topology(), doc.selection.mode);
+    dropHidden(doc, doc.selection);
 }
 
 void invertSelectedElements(EditorApp& app) {
     if (!app.doc->planned) return;
     Document& doc = *app.doc;
     doc.selection = invertSelection(doc.selection, doc.planned->cage(), doc.planned->topology());
+    dropHidden(doc, doc.selection);
 }
 
 void growSelected(EditorApp& app) {
     if (!app.doc->planned) return;
     Document& doc = *app.doc;
     doc.selection = growSelection(doc.selection, doc.planned->cage(), doc.planned->topology());
+    dropHidden(doc, doc.selection);
 }
 
 void shrinkSelected(EditorApp& app) {
@@ -306,6 +357,22 @@ bool cornerSelection(EditorApp& app, float sharpness) {
     return perform(app, corner);
 }
 
+bool creaseSelectionLive(EditorApp& app, float sharpness) {
+    if (!haveCage(app)) return false;
+    SetEdgeSharpness crease;
+    for (const EdgeKey& e : selectedEdges(*app.doc)) crease.edges.push_back({e.v0, e.v1, sharpness});
+    return !crease.edges.empty() && performLive(app, crease);
+}
+
+bool cornerSelectionLive(EditorApp& app, float sharpness) {
+    if (!haveCage(app)) return false;
+    SetVertexSharpness corner;
+    for (uint32_t v : selectionVertices(app)) corner.corners.push_back({v, sharpness});
+    return !corner.corners.empty() && performLive(app, corner);
+}
+
+void endLiveEdit(EditorApp& app) { app.ui.liveEditEntry.reset(); }
+
 bool setSelectionHoles(EditorApp& app, bool hole) {
     if (!haveCage(app)) return false;
     std::vector<uint32_t> faces = selectedFaces(*app.doc);
@@ -320,6 +387,23 @@ bool toggleSelectionHoles(EditorApp& app) {
         return app.doc->planned->cage().isHole(f);
     });
     return setSelectionHoles(app, !allHoles);
+}
+
+bool hideSelection(EditorApp& app) {
+    if (!haveCage(app)) return false;
+    const std::vector<uint32_t> faces = selectedFaces(*app.doc);
+    if (faces.empty()) return refuse(app, "Hide needs selected faces (or vertices or edges spanning whole faces).");
+    if (Status s = hideFaces(*app.doc, faces); !s) return refuse(app, s.error().message);
+    app.ui.status = "Hid " + std::to_string(faces.size()) + " faces (" + std::to_string(app.doc->hiddenFaces.size()) +
+                    " hidden; Alt+H shows them)";
+    return true;
+}
+
+void unhideAllFaces(EditorApp& app) {
+    if (!app.doc->planned) return;
+    const size_t hidden = app.doc->hiddenFaces.size();
+    unhideAll(*app.doc);
+    app.ui.status = "Showing " + std::to_string(hidden) + " hidden faces again";
 }
 
 bool setCreaseMethodTool(EditorApp& app, CreaseMethod method) {

@@ -37,6 +37,10 @@ void applyPickHit(EditorApp& app, const PickHit& hit, SelectOp op);
 // Per cage vertex: whether a click can pick it in the viewport (in front of the camera and, with
 // ToolSettings::visibleOnly, not hidden by the limit surface). For the automation's state dump.
 std::vector<bool> pickableVertices(EditorApp& app, uint32_t viewport);
+// Alt+click (Blender): the edge loop (or ring) through the edge under the cursor in edge mode,
+// its vertices in vertex mode, the face loop across it in face mode; hidden elements left out.
+enum class LoopKind { Loop, Ring };
+bool selectLoopAt(EditorApp& app, uint32_t viewport, glm::vec2 cursor, LoopKind kind, SelectOp op);
 void boxSelectIn(EditorApp& app, uint32_t viewport, glm::vec2 cornerA, glm::vec2 cornerB, SelectOp op);
 
 void setMode(EditorApp& app, SelectionMode mode);
@@ -65,8 +69,16 @@ bool mergeSelection(EditorApp& app);         // selected vertices (or the ends o
 bool makeFaceFromSelection(EditorApp& app);  // selected vertices, ordered around their centre
 bool creaseSelection(EditorApp& app, float sharpness);  // selected edges
 bool cornerSelection(EditorApp& app, float sharpness);  // selected vertices
+// The same from a slider being dragged: the first change makes an entry, later ones (until
+// endLiveEdit, when the drag ends) replace it, so one drag is one undo entry.
+bool creaseSelectionLive(EditorApp& app, float sharpness);
+bool cornerSelectionLive(EditorApp& app, float sharpness);
+void endLiveEdit(EditorApp& app);
 bool setSelectionHoles(EditorApp& app, bool hole);      // selected faces
 bool toggleSelectionHoles(EditorApp& app);
+// H / Alt+H: hide the selected faces (vertex and edge modes: the faces they span) / show all.
+bool hideSelection(EditorApp& app);
+void unhideAllFaces(EditorApp& app);
 bool setCreaseMethodTool(EditorApp& app, CreaseMethod method);
 bool undoTool(EditorApp& app);
 bool redoTool(EditorApp& app);

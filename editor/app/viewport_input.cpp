@@ -11,6 +11,7 @@
 
 #include "actions.h"
 #include "cage_pick.h"
+#include "extrude_tool.h"
 #include "sculpt_tool.h"
 #include "editor_app.h"
 #include "tools.h"
@@ -139,19 +140,26 @@ void continueDrag(EditorApp& app, glm::vec2 cursor, glm::vec2 delta) {
 void finishDrag(EditorApp& app) {
     if (app.drag.kind == DragKind::Sculpt) return finishSculptStroke(app);
     Drag d = std::exchange(app.drag, Drag{});
+    const bool click = glm::length(d.cursor - d.start) < kDragThreshold;
     if (d.kind == DragKind::Press) {  // a click on an element: select just it
         PickHit hit = pickAt(app, d.viewport, d.start);
         applyPickHit(app, hit, SelectOp::Replace);
     } else if (d.kind == DragKind::BoxSelect) {
-        if (glm::length(d.cursor - d.start) < kDragThreshold) applyPickHit(app, PickHit{}, d.op);  // a click on nothing
+        if (click) applyPickHit(app, pickAt(app, d.viewport, d.start), d.op);  // empty space with Replace clears
         else boxSelectIn(app, d.viewport, d.start, d.cursor, d.op);
+    } else if (d.kind == DragKind::Orbit && d.loopClick && click) {  // Alt+click, not an orbit
+        selectLoopAt(app, d.viewport, d.start, d.ring ? LoopKind::Ring : LoopKind::Loop, d.op);
     }
 }
 
 void leftPress(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
     const ImGuiIO& io = ImGui::GetIO();
     if (io.KeyAlt) {
+        // An orbit, unless the button comes up where it went down: then a loop (Ctrl: ring) click.
         app.drag = Drag{DragKind::Orbit, viewport, ImGuiMouseButton_Left, cursor, cursor};
+        app.drag.loopClick = app.tools.tool != Tool::Sculpt && !app.tools.loopTool;
+        app.drag.ring = io.KeyCtrl;
+        app.drag.op = io.KeyShift ? SelectOp::Add : SelectOp::Replace;
         return;
     }
     if (!app.doc->planned) return;
@@ -182,14 +190,16 @@ void leftPress(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
         }
     }
     const SelectOp op = selectOp(io);
-    const PickHit hit = pickAt(app, viewport, cursor);
+    if (io.MouseDoubleClicked[ImGuiMouseButton_Left] && app.doc->selection.mode == SelectionMode::Edge) {
+        selectLoopAt(app, viewport, cursor, LoopKind::Loop, op == SelectOp::Add ? op : SelectOp::Replace);
+        return;
+    }
+    // Only the move tool moves what a drag starts on; every other drag is a box, so nothing
+    // moves by accident. A click (no drag) picks at the press.
+    const PickHit hit = app.tools.tool == Tool::Move && op == SelectOp::Replace ? pickAt(app, viewport, cursor) : PickHit{};
     if (!hit.hit) {
         app.drag = Drag{DragKind::BoxSelect, viewport, ImGuiMouseButton_Left, cursor, cursor};
         app.drag.op = op;
-        return;
-    }
-    if (op != SelectOp::Replace) {
-        applyPickHit(app, hit, op);
         return;
     }
     if (!isSelected(*app.doc, hit)) applyPickHit(app, hit, SelectOp::Replace);
@@ -254,6 +264,7 @@ void handleViewportInput(EditorApp& app) {
     const glm::vec2 cursor = cursorInFramebuffer();
     app.ui.gizmoHover = GizmoHandle::None;
     app.ui.brushHover.reset();
+    if (app.extrude) return updateInteractiveExtrude(app);  // it owns the mouse until it ends
     if (app.drag.kind != DragKind::None) {
         if (app.drag.button == ImGuiMouseButton_Left && ImGui::IsMouseClicked(ImGuiMouseButton_Right)) cancelDrag(app);
         else if (!io.MouseDown[app.drag.button]) finishDrag(app);
@@ -305,6 +316,10 @@ void handleShortcuts(EditorApp& app) {
         return c.key != 0 && c.key == p.key && c.ctrl == p.ctrl && c.shift == p.shift && c.alt == p.alt;
     };
     for (const KeyPress& press : presses) {
+        if (app.extrude) {  // digits, Enter and Esc belong to the extrude until it ends
+            extrudeKey(app, press);
+            continue;
+        }
         // An open menu or drop-down: Esc closes it; any other shortcut closes it and runs, so
         // the keyboard never goes dead behind a forgotten drop-down.
         if (ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId)) {

@@ -214,9 +214,11 @@ TEST_F(EditorDisplay, ShadingGridCreasesAndPanels) {
         json s = state(editor, name);
         ASSERT_TRUE(s.is_object()) << name;
         const float height = s["window"]["height"];
-        for (const auto& [label, r] : s["widgets"].items())
-            if (r[0].get<float>() > 1280 - 400)  // the side panel
+        for (const auto& [label, r] : s["widgets"].items()) {
+            if (r[0].get<float>() > 1280 - 400) {  // the side panel
                 EXPECT_LE(r[1].get<float>() + r[3].get<float>(), height) << label << " is below the fold in " << name;
+            }
+        }
     }
     for (const char* label : {"Crease edges", "Merge", "Fill holes"})
         EXPECT_TRUE(readJson(dir / "model.json")["widgets"].contains(label)) << label;
