@@ -214,6 +214,9 @@ public:
     // True when updatePlans can update in place (at least for some edits): `quadplan schemes`
     // and the editor say which schemes rebuild after an edit.
     virtual bool updatesPlansInPlace() const { return false; }
+    // True when record() leaves out DrawView::hiddenSubfaces; the editor warns in the viewports of
+    // schemes that draw them anyway.
+    virtual bool hidesSubfaces() const { return false; }
     virtual DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) = 0;
     // out[i] = the surface at requests[i]; requests name sub-faces with a surface only. Called
     // concurrently from several threads on disjoint spans.

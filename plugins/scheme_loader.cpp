@@ -198,6 +198,14 @@ bool SchemeInstance::updatesPlansInPlace() const {
     }
 }
 
+bool SchemeInstance::hidesSubfaces() const {
+    try {
+        return scheme_->hidesSubfaces();
+    } catch (...) {
+        return false;
+    }
+}
+
 Result<DrawStats> SchemeInstance::record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) {
     return guarded(name(), "recording", [&]() -> Result<DrawStats> { return scheme_->record(cmd, target, view); });
 }

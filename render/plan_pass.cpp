@@ -302,6 +302,22 @@ void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buff
     buffers.controlPointLevel = level;
 }
 
+// Runs of drawn sub-faces [begin, end) that are not in `hidden` (sorted drawn indices).
+struct DrawnRun {
+    uint32_t begin, end;
+};
+std::vector<DrawnRun> visibleRuns(uint32_t count, std::span<const uint32_t> hidden) {
+    std::vector<DrawnRun> runs;
+    uint32_t begin = 0;
+    for (uint32_t d : hidden) {
+        if (d >= count) break;
+        if (d > begin) runs.push_back({begin, d});
+        begin = std::max(begin, d + 1);
+    }
+    if (begin < count) runs.push_back({begin, count});
+    return runs;
+}
+
 DrawPush drawPush(const PlanView& view, const TessellationSettings* settings) {
     DrawPush push{};
     push.viewProjection = view.viewProjection;
@@ -459,6 +475,7 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
     const DrawPush push = drawPush(view, &settings);
     const uint32_t count = uint32_t(buffers.data.subfaces.size());
     const uint32_t perDraw = patchesPerDraw(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
+    const std::vector<DrawnRun> runs = visibleRuns(count, view.hiddenDrawn);
     for (VkPipeline pipeline : {pass.tessellated, view.wireframe ? pass.tessellatedWire : VkPipeline(VK_NULL_HANDLE)}) {
         if (!pipeline) continue;
         DrawPush p = push;
@@ -466,10 +483,12 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
             p.colorMode = 0xffffffffu;  // plan.frag: flat wire colour
             p.capture = 0;
         }
-        for (uint32_t first = 0; first < count; first += perDraw) {
+        bool firstDraw = true;
+        for (const DrawnRun& run : runs)
+        for (uint32_t first = run.begin; first < run.end; first += perDraw, firstDraw = false) {
             // Captured draws all append to one buffer: order them (barriers may not sit inside
             // a rendering instance at these stages, so each chunk gets its own).
-            if (p.capture && first > 0) {
+            if (p.capture && !firstDraw) {
                 vkCmdEndRendering(cmd);
                 barrier(cmd, VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
                         VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
@@ -480,7 +499,7 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.drawLayout, 0, 1, &pass.set, 0, nullptr);
             vkCmdPushConstants(cmd, pass.drawLayout, kDrawStages, 0, sizeof(p), &p);
-            vkCmdDraw(cmd, std::min(perDraw, count - first), 1, first, 0);
+            vkCmdDraw(cmd, std::min(perDraw, run.end - first), 1, first, 0);
         }
     }
     vkCmdEndRendering(cmd);
@@ -591,8 +610,10 @@ void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers) {
 namespace {
 
 // Indexed GridVertex triangles into `target` (cleared), shaded as the view asks.
+// `ranges`: (first index, count) pairs to draw; one covering every index when empty.
 void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices, uint32_t indexCount,
-                     const RenderTarget& target, const PlanView& view) {
+                     const RenderTarget& target, const PlanView& view,
+                     std::span<const std::pair<uint32_t, uint32_t>> ranges = {}) {
     assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
     beginRendering(cmd, target, true, view.background);
     DrawPush push = drawPush(view, nullptr);
@@ -608,7 +629,9 @@ void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertice
         DrawPush p = push;
         if (pipeline == pass.gridWire) p.colorMode = 0xffffffffu;
         vkCmdPushConstants(cmd, pass.drawLayout, kDrawStages, 0, sizeof(p), &p);
-        vkCmdDrawIndexed(cmd, indexCount, 1, 0, 0, 0);
+        if (ranges.empty()) vkCmdDrawIndexed(cmd, indexCount, 1, 0, 0, 0);
+        for (const auto& [first, count] : ranges)
+            if (count) vkCmdDrawIndexed(cmd, count, 1, first, 0, 0);
     }
     vkCmdEndRendering(cmd);
 }
@@ -618,8 +641,17 @@ void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertice
 void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
                     const PlanView& view) {
     assert(buffers.gridEvaluator != GridEvaluator::None && "fill the grid first");
+    std::vector<std::pair<uint32_t, uint32_t>> ranges;
+    if (!view.hiddenDrawn.empty()) {  // each drawn sub-face has 6 n^2 indices, in drawn order
+        const std::vector<uint32_t>& factor = buffers.gridLayout.factors.subfaceFactor;
+        std::vector<uint32_t> indexOffset(factor.size() + 1, 0);
+        for (size_t d = 0; d < factor.size(); ++d) indexOffset[d + 1] = indexOffset[d] + 6 * factor[d] * factor[d];
+        for (const DrawnRun& run : visibleRuns(uint32_t(factor.size()), view.hiddenDrawn))
+            ranges.push_back({indexOffset[run.begin], indexOffset[run.end] - indexOffset[run.begin]});
+        if (ranges.empty()) ranges.push_back({0, 0});  // everything hidden
+    }
     recordTriangles(cmd, pass, buffers.grid.buffer, buffers.gridIndices.buffer, uint32_t(buffers.gridLayout.indices.size()),
-                    target, view);
+                    target, view, ranges);
 }
 
 void recordShadedTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices,

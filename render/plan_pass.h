@@ -128,6 +128,7 @@ struct PlanView {
     Shading shading = Shading::Studio;
     bool wireframe = false;            // tessellation wireframe over the shaded surface
     bool capture = false;              // tessellated path: record every evaluated vertex
+    std::span<const uint32_t> hiddenDrawn;  // drawn sub-faces not to draw (sorted; the editor's hidden faces)
 };
 
 // Pixels per world unit at clip w = 1, for adaptive factors: viewport height / 2 * |P[1][1]|

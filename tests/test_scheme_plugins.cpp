@@ -410,6 +410,50 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
     }
 }
 
+// Hidden faces (DrawView::hiddenSubfaces) leave `plans`'s picture exactly as holes there would,
+// on every path; the other schemes say they draw them anyway.
+TEST_F(DisplacedSchemes, PlansLeavesHiddenFacesOutAsHolesWould) {
+    // The three faces nearest the camera (quads: one sub-face each), sorted.
+    const Cage& cage = planned->cage();
+    std::vector<std::pair<float, uint32_t>> byDistance;
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+        glm::vec3 centre(0.0f);
+        for (uint32_t k = 0; k < 4; ++k) centre += 0.25f * cage.positions[cage.faceBegin(f)[k]];
+        byDistance.push_back({glm::length(centre - view.eye), f});
+    }
+    std::sort(byDistance.begin(), byDistance.end());
+    std::vector<uint32_t> hidden = {byDistance[0].second, byDistance[1].second, byDistance[2].second};
+    std::sort(hidden.begin(), hidden.end());
+    for (const char* path : {"tess", "grid", "cpu"}) {
+        SCOPED_TRACE(path);
+        SchemeSettings settings;
+        settings.tessFactor = 8;
+        settings.options = {{"path", path}};
+        Result<PreparedScheme> prepared = prepareScheme(catalog(), "plans", *planned, features, settings, gpu, "cube");
+        ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+        EXPECT_TRUE(prepared->instance.hidesSubfaces());
+        const Picture whole = draw(prepared->instance);
+        view.hiddenSubfaces = hidden;
+        const Picture withHidden = draw(prepared->instance);
+        view.hiddenSubfaces = {};
+        for (uint32_t f : hidden) ASSERT_TRUE(planned->setHole(f, true).ok());
+        Result<PreparedScheme> holes = prepareScheme(catalog(), "plans", *planned, features, settings, gpu, "cube");
+        ASSERT_TRUE(holes.ok());
+        const Picture withHoles = draw(holes->instance);
+        for (uint32_t f : hidden) ASSERT_TRUE(planned->setHole(f, false).ok());
+        EXPECT_GT(differingPixels(whole, withHidden, 8), 0.01) << "hiding shows nothing";
+        EXPECT_EQ(withHidden.pixels, withHoles.pixels) << "hidden faces differ from holes";
+        EXPECT_EQ(withHidden.stats.patches, whole.stats.patches - hidden.size());
+        EXPECT_EQ(withHidden.stats.triangles, withHoles.stats.triangles);
+        EXPECT_TRUE(prepared->instance.destroyGpu().ok());
+        EXPECT_TRUE(holes->instance.destroyGpu().ok());
+    }
+    Result<PreparedScheme> uniform = prepareScheme(catalog(), "uniform", *planned, features, SchemeSettings{}, gpu, "cube");
+    ASSERT_TRUE(uniform.ok());
+    EXPECT_FALSE(uniform->instance.hidesSubfaces());
+    EXPECT_TRUE(uniform->instance.destroyGpu().ok());
+}
+
 // ---- The tessellation shaders against the CPU evaluation -----------------------------------
 
 namespace {

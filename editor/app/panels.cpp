@@ -202,6 +202,9 @@ void viewportBars(EditorApp& app) {
         if (view)
             for (const std::string& warning : view->support.approximations)
                 ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "! %s", warning.c_str());
+        if (view && view->instance && !app.doc->hiddenFaces.empty() && !view->instance->hidesSubfaces())
+            ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "! %s draws hidden faces too (only their cage is hidden)",
+                               view->built.name.c_str());
         ImGui::PopTextWrapPos();
         ImGui::End();
     }

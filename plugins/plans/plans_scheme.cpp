@@ -115,6 +115,7 @@ public:
     }
 
     bool updatesPlansInPlace() const override { return true; }
+    bool hidesSubfaces() const override { return true; }
 
     Status update() override {
         pendingMoves_.clear();
@@ -144,6 +145,12 @@ public:
         planView.background = view.background;
         planView.wireframe = view.wireframe;
         planView.colorBy = colorBy(view.colorBy);
+        hiddenDrawn_.clear();
+        for (uint32_t subface : view.hiddenSubfaces)
+            if (subface < buffers_.drawnOfSubface.size() && buffers_.drawnOfSubface[subface] != UINT32_MAX)
+                hiddenDrawn_.push_back(buffers_.drawnOfSubface[subface]);
+        std::sort(hiddenDrawn_.begin(), hiddenDrawn_.end());
+        planView.hiddenDrawn = hiddenDrawn_;
         planView.shading = view.shading;
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
         if (settings_.adaptivePixels > 0.0f) tessellation = {0, settings_.adaptivePixels};
@@ -174,11 +181,14 @@ public:
         }
         recordPlanFrame(cmd, pass_, buffers_, path_, target, planView, tessellation);
         DrawStats stats;
-        stats.patches = buffers_.data.subfaces.size();
-        if (path_ != DrawPath::Tessellated) stats.triangles = buffers_.gridLayout.indices.size() / 3;
-        else if (tessellation.uniformFactor > 0)  // the tessellator's count at a uniform factor
-            for (uint32_t n : uniformGridFactors(buffers_.data, tessellation.uniformFactor).subfaceFactor)
-                stats.triangles += 2ull * n * n;
+        stats.patches = buffers_.data.subfaces.size() - hiddenDrawn_.size();
+        const std::vector<uint32_t> factors = path_ != DrawPath::Tessellated ? buffers_.gridLayout.factors.subfaceFactor
+                                              : tessellation.uniformFactor > 0  // the tessellator's count at a uniform factor
+                                                  ? uniformGridFactors(buffers_.data, tessellation.uniformFactor).subfaceFactor
+                                                  : std::vector<uint32_t>{};
+        for (uint32_t n : factors) stats.triangles += 2ull * n * n;
+        for (uint32_t d : hiddenDrawn_)
+            if (d < factors.size()) stats.triangles -= 2ull * factors[d] * factors[d];
         return stats;
     }
 
@@ -236,6 +246,7 @@ private:
     bool haveBuffers_ = false;
     std::vector<uint32_t> pendingMoves_;    // sorted: vertices moved since the last frame (updateMoved)
     std::vector<uint32_t> pendingRefresh_;  // sorted drawn sub-faces re-planned since the last frame
+    std::vector<uint32_t> hiddenDrawn_;     // this draw's DrawView::hiddenSubfaces as drawn indices
 };
 
 }  // namespace
