@@ -6,6 +6,7 @@
 #include <numeric>
 #include <random>
 
+#include "bench_stats.h"
 #include "displaced_mesh.h"
 #include "plan_pass.h"
 #include "planned_cage.h"
@@ -18,12 +19,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point start) { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); }
-
-double medianOf(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    size_t n = values.size();
-    return n == 0 ? 0.0 : n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 }  // namespace
 
@@ -78,7 +73,7 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
         evaluateGridOnCpu(*planned, buffers);
         full.push_back(msSince(fullStart));
     }
-    result.fullUploadMs = medianOf(full);
+    result.fullUploadMs = median(full);
 
     // A brush a few faces wide (4% of the bounding-box diagonal) with every brush, and big ones
     // (12% and 20%, about 9 and 25 times the samples): raising, and the two brushes whose
@@ -120,8 +115,8 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
         sculptor.endStroke();
         if (std::memcmp(buffers.displacementSamples.data, displacement.samples.data(), displacement.samples.size() * sizeof(float)))
             result.error = "the Vulkan sample buffer differs from the samples (upload ranges miss a change)";
-        result.dabs.push_back({kind, brush.radius, repeats, medianOf(update), medianOf(upload), medianOf(total),
-                               medianOf(bytes), medianOf(subfaces), medianOf(slots), medianOf(reached)});
+        result.dabs.push_back({kind, brush.radius, repeats, median(update), median(upload), median(total),
+                               median(bytes), median(subfaces), median(slots), median(reached)});
     }
     destroyPlanBuffers(ctx, buffers);
     destroyPlanPass(ctx, *pass);

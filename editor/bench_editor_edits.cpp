@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench_stats.h"
 #include "topology.h"
 
 namespace qp::cli {
@@ -24,13 +25,6 @@ constexpr Step kSteps[] = {
     {"extrude one face", EditKind::Topology},            {"undo the extrude", EditKind::Topology},
     {"switch the scheme (used before)", EditKind::View}, {"show a second viewport", EditKind::View},
 };
-
-double median(std::vector<double> values) {
-    if (values.empty()) return 0.0;
-    std::sort(values.begin(), values.end());
-    const size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
-}
 
 }  // namespace
 

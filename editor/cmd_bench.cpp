@@ -27,6 +27,7 @@
 
 #include "bench_displacement.h"
 #include "bench_editor_edits.h"
+#include "bench_stats.h"
 #include "bspline_pass.h"
 #include "camera.h"
 #include "commands.h"
@@ -132,12 +133,6 @@ struct Report {
 
 double msSince(Clock::time_point start) {
     return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-
-double median(std::vector<double> values) {
-    std::sort(values.begin(), values.end());
-    size_t n = values.size();
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
 std::string cpuModel() {

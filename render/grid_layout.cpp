@@ -155,11 +155,12 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors) {
     GridLayout layout;
     const uint32_t count = uint32_t(data.subfaces.size());
     layout.subfaceOffset.resize(count + 1, 0);
-    std::vector<size_t> indexOffset(count + 1, 0);
+    std::vector<uint32_t>& indexOffset = layout.indexOffset;
+    indexOffset.assign(count + 1, 0);
     for (uint32_t d = 0; d < count; ++d) {
         const uint32_t n = factors.subfaceFactor[d];
         layout.subfaceOffset[d + 1] = layout.subfaceOffset[d] + (n + 1) * (n + 1);
-        indexOffset[d + 1] = indexOffset[d] + 6 * size_t(n) * n;
+        indexOffset[d + 1] = indexOffset[d] + 6 * n * n;
         layout.maxFactor = std::max(layout.maxFactor, n);
     }
     layout.source.resize(layout.slotCount());

@@ -72,6 +72,7 @@ struct GridLayout {
     std::vector<uint32_t> source;         // per slot: itself (evaluated) or the slot it copies
     std::vector<uint32_t> slotSubface;    // per slot: its drawn sub-face
     std::vector<uint32_t> indices;        // triangles: 6 n^2 per sub-face, slots of its own block
+    std::vector<uint32_t> indexOffset;    // first index of each drawn sub-face, plus the total
     // CSR: drawn sub-face -> the other drawn sub-faces that copy one of its slots.
     std::vector<uint32_t> dependentOffsets, dependents;
     uint32_t maxFactor = 0;

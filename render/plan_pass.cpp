@@ -642,11 +642,9 @@ void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers
                     const PlanView& view) {
     assert(buffers.gridEvaluator != GridEvaluator::None && "fill the grid first");
     std::vector<std::pair<uint32_t, uint32_t>> ranges;
-    if (!view.hiddenDrawn.empty()) {  // each drawn sub-face has 6 n^2 indices, in drawn order
-        const std::vector<uint32_t>& factor = buffers.gridLayout.factors.subfaceFactor;
-        std::vector<uint32_t> indexOffset(factor.size() + 1, 0);
-        for (size_t d = 0; d < factor.size(); ++d) indexOffset[d + 1] = indexOffset[d] + 6 * factor[d] * factor[d];
-        for (const DrawnRun& run : visibleRuns(uint32_t(factor.size()), view.hiddenDrawn))
+    if (!view.hiddenDrawn.empty()) {
+        const std::vector<uint32_t>& indexOffset = buffers.gridLayout.indexOffset;
+        for (const DrawnRun& run : visibleRuns(uint32_t(indexOffset.size() - 1), view.hiddenDrawn))
             ranges.push_back({indexOffset[run.begin], indexOffset[run.end] - indexOffset[run.begin]});
         if (ranges.empty()) ranges.push_back({0, 0});  // everything hidden
     }

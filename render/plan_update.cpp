@@ -96,7 +96,12 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
                       const std::vector<uint32_t>& changed, PlanTableUpdate& update, bool& rebind) {
     GpuPlanData& data = buffers.data;
     const PlanDatabase& database = planned.database();
-    const GpuPlanData old = data;  // sub-face part; the plan tables are copied too (cheap next to a rebuild)
+    GpuPlanData old;  // the sub-face part before the change (ownersOf reads nothing else)
+    old.subfaces = data.subfaces;
+    old.boundaries = data.boundaries;
+    old.segments = data.segments;
+    old.boundaryPoints = data.boundaryPoints;
+    old.controlPointCount = data.controlPointCount;
     const std::vector<uint32_t> oldDrawnOf = buffers.drawnOfSubface, oldCapacity = buffers.controlPointCapacity;
     packSubfaces(data, planned);
     const uint32_t count = uint32_t(data.subfaces.size());

@@ -9,26 +9,12 @@
 
 #include "editor_app.h"
 #include "topology_edits.h"
+#include "viewport_input.h"
 
 namespace qp::editor {
 
 namespace {
 
-glm::vec2 cursorInFramebuffer() {
-    const ImGuiIO& io = ImGui::GetIO();
-    const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
-    return glm::vec2(io.MousePos.x, io.MousePos.y) * scale;
-}
-
-int viewportAt(const EditorApp& app, glm::vec2 p) {
-    for (size_t i = 0; i < app.viewports.size(); ++i) {
-        const VkRect2D& r = app.viewports[i].rect;
-        if (p.x >= float(r.offset.x) && p.y >= float(r.offset.y) && p.x < float(r.offset.x + int32_t(r.extent.width)) &&
-            p.y < float(r.offset.y + int32_t(r.extent.height)))
-            return int(i);
-    }
-    return -1;
-}
 
 std::string number(float value) {
     char text[32];

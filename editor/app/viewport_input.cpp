@@ -22,21 +22,6 @@ namespace {
 
 constexpr float kDragThreshold = 4.0f;  // framebuffer pixels before a press becomes a drag
 
-glm::vec2 cursorInFramebuffer() {
-    const ImGuiIO& io = ImGui::GetIO();
-    const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
-    return glm::vec2(io.MousePos.x, io.MousePos.y) * scale;
-}
-
-int viewportAt(const EditorApp& app, glm::vec2 p) {
-    for (size_t i = 0; i < app.viewports.size(); ++i) {
-        const VkRect2D& r = app.viewports[i].rect;
-        if (p.x >= float(r.offset.x) && p.y >= float(r.offset.y) && p.x < float(r.offset.x + int32_t(r.extent.width)) &&
-            p.y < float(r.offset.y + int32_t(r.extent.height)))
-            return int(i);
-    }
-    return -1;
-}
 
 glm::vec2 viewportOrigin(const ViewportState& v) { return {float(v.rect.offset.x), float(v.rect.offset.y)}; }
 
@@ -256,6 +241,22 @@ void cancelDrag(EditorApp& app) {
         undoTool(app);
         app.ui.status = "Cancelled the drag";
     }
+}
+
+glm::vec2 cursorInFramebuffer() {
+    const ImGuiIO& io = ImGui::GetIO();
+    const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
+    return glm::vec2(io.MousePos.x, io.MousePos.y) * scale;
+}
+
+int viewportAt(const EditorApp& app, glm::vec2 p) {
+    for (size_t i = 0; i < app.viewports.size(); ++i) {
+        const VkRect2D& r = app.viewports[i].rect;
+        if (p.x >= float(r.offset.x) && p.y >= float(r.offset.y) && p.x < float(r.offset.x + int32_t(r.extent.width)) &&
+            p.y < float(r.offset.y + int32_t(r.extent.height)))
+            return int(i);
+    }
+    return -1;
 }
 
 void handleViewportInput(EditorApp& app) {

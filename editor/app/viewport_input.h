@@ -17,6 +17,10 @@ struct EditorApp;
 // unless a drag is already under way.
 void handleViewportInput(EditorApp& app);
 
+// The mouse in framebuffer pixels, and the viewport under a point (-1: none).
+glm::vec2 cursorInFramebuffer();
+int viewportAt(const EditorApp& app, glm::vec2 p);
+
 // Runs the actions whose shortcuts were pressed since the last frame (EditorApp::keyPresses),
 // unless a text field has the keyboard or a dialog is open. Esc first cancels a drag or the
 // loop tool.
