@@ -37,9 +37,21 @@ size_t EditHistory::entryBytes(const Entry& entry) {
            vectorBytes(entry.report.updatedSubfaceList);
 }
 
+namespace {
+
+// What an entry keeps of its edit's report: the renumbering maps serve only the caller that
+// applies the edit, and would cost O(cage) per topology entry.
+EditReport kept(EditReport report) {
+    report.previousFaceOf = {};
+    report.previousSubfaceOf = {};
+    return report;
+}
+
+}  // namespace
+
 void EditHistory::record(std::string name, EditReport report, Payload payload) {
     entries_.erase(entries_.begin() + std::ptrdiff_t(position_), entries_.end());
-    entries_.push_back({std::move(name), std::move(report), std::move(payload)});
+    entries_.push_back({std::move(name), kept(std::move(report)), std::move(payload)});
     position_ = entries_.size();
     trimToBudget();
 }
@@ -88,7 +100,7 @@ Result<EditReport> EditHistory::moveVertices(PlannedCage& planned, std::string n
         Move* last = std::get_if<Move>(&entries_.back().payload);
         if (last && last->mergeable && std::equal(last->vertices.begin(), last->vertices.end(), vertices.begin(), vertices.end())) {
             last->after.assign(positions.begin(), positions.end());
-            entries_.back().report = *report;
+            entries_.back().report = kept(*report);
             return report;
         }
     }
@@ -189,7 +201,7 @@ Result<EditReport> EditHistory::undo(PlannedCage& planned) {
     Entry& entry = entries_[position_ - 1];
     auto report = run(planned, entry, false);
     if (!report) return Error{"cannot undo \"" + entry.name + "\": " + report.error().message};
-    entry.report = *report;
+    entry.report = kept(*report);
     if (Move* m = std::get_if<Move>(&entry.payload)) m->mergeable = false;  // a new drag starts a new entry
     --position_;
     return report;
@@ -200,7 +212,7 @@ Result<EditReport> EditHistory::redo(PlannedCage& planned) {
     Entry& entry = entries_[position_];
     auto report = run(planned, entry, true);
     if (!report) return Error{"cannot redo \"" + entry.name + "\": " + report.error().message};
-    entry.report = *report;
+    entry.report = kept(*report);
     ++position_;
     return report;
 }

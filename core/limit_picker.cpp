@@ -37,7 +37,27 @@ void LimitPicker::rebuildBvh() {
 }
 
 void LimitPicker::update(const PlannedCage& planned, const EditReport& report) {
-    if (report.topologyChanged || grids_.size() != planned.subfaceCount()) {
+    const bool carried = report.topologyChanged && report.previousSubfaceOf.size() == planned.subfaceCount() &&
+                         !grids_.empty();
+    if (carried) {  // kept sub-faces take their grids along; new and updated ones are sampled
+        std::vector<std::vector<glm::vec3>> before = std::move(grids_);
+        std::vector<Box> boxesBefore = std::move(boxes_);
+        grids_.assign(planned.subfaceCount(), {});
+        boxes_.assign(planned.subfaceCount(), Box{});
+        std::vector<uint32_t> stale = report.updatedSubfaceList;
+        for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+            const uint32_t previous = report.previousSubfaceOf[s];
+            if (previous == kNewElement || previous >= before.size()) {
+                stale.push_back(s);
+                continue;
+            }
+            grids_[s] = std::move(before[previous]);
+            boxes_[s] = boxesBefore[previous];
+        }
+        std::sort(stale.begin(), stale.end());
+        stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
+        tbb::parallel_for(size_t(0), stale.size(), [&](size_t i) { sample(planned, stale[i]); });
+    } else if (report.topologyChanged || grids_.size() != planned.subfaceCount()) {
         grids_.assign(planned.subfaceCount(), {});
         boxes_.assign(planned.subfaceCount(), Box{});
         tbb::parallel_for(uint32_t(0), planned.subfaceCount(), [&](uint32_t s) { sample(planned, s); });

@@ -80,8 +80,9 @@ public:
     LimitPicker() = default;
     explicit LimitPicker(const PlannedCage& planned, uint32_t resolution = 8);
 
-    // After an edit: re-samples the sub-faces the report lists, or everything when the
-    // topology changed.
+    // After an edit: re-samples the sub-faces the report lists; after a topology edit the kept
+    // sub-faces (EditReport::previousSubfaceOf) keep their samples and only new ones are added.
+    // A report without the maps (topology changed) re-samples everything.
     void update(const PlannedCage& planned, const EditReport& report);
 
     struct Hit {

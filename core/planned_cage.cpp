@@ -79,7 +79,7 @@ std::span<const glm::vec3> PlannedCage::subfaceControlPoints(uint32_t subface) c
     return subfaceControlPoints_[subface];
 }
 
-void PlannedCage::remapSubfaces(const std::vector<uint32_t>& oldFaceOf) {
+std::vector<uint32_t> PlannedCage::remapSubfaces(const std::vector<uint32_t>& oldFaceOf) {
     std::vector<uint32_t> oldFirst = std::move(faceFirstSubface_);
     std::vector<uint32_t> oldPlan = std::move(subfacePlan_), oldRotation = std::move(subfaceRotation_);
     std::vector<std::vector<uint32_t>> oldRing = std::move(subfaceRing_);
@@ -93,6 +93,7 @@ void PlannedCage::remapSubfaces(const std::vector<uint32_t>& oldFaceOf) {
     subfaceRotation_.assign(count, 0);
     subfaceRing_.assign(count, {});
     subfaceControlPoints_.assign(count, {});
+    std::vector<uint32_t> previousSubfaceOf(count, kNewElement);
     for (uint32_t f = 0; f < cage_.faceCount(); ++f) {
         uint32_t old = oldFaceOf[f];
         if (old == UINT32_MAX) continue;
@@ -104,8 +105,10 @@ void PlannedCage::remapSubfaces(const std::vector<uint32_t>& oldFaceOf) {
             subfaceRotation_[to] = oldRotation[from];
             subfaceRing_[to] = std::move(oldRing[from]);
             subfaceControlPoints_[to] = std::move(oldPoints[from]);
+            previousSubfaceOf[to] = from;
         }
     }
+    return previousSubfaceOf;
 }
 
 Result<std::vector<PlannedCage::SubfacePlan>> PlannedCage::planFaces(const Cage& cage, const Topology& topology,
@@ -229,27 +232,43 @@ Status checkSharpness(float sharpness, const char* what) {
 
 }  // namespace
 
+namespace {
+
+// `list` (sorted, in the numbering before an edit) in the numbering after it, by `previousOf`.
+std::vector<uint32_t> carriedThrough(const std::vector<uint32_t>& list, const std::vector<uint32_t>& previousOf) {
+    std::vector<uint32_t> out;
+    for (uint32_t now = 0; now < previousOf.size(); ++now)
+        if (previousOf[now] != kNewElement && std::binary_search(list.begin(), list.end(), previousOf[now])) out.push_back(now);
+    return out;
+}
+
+// previousOf of two edits in a row: after the second -> before the first.
+std::vector<uint32_t> composed(const std::vector<uint32_t>& first, const std::vector<uint32_t>& second) {
+    std::vector<uint32_t> out(second.size(), kNewElement);
+    for (size_t i = 0; i < second.size(); ++i)
+        if (second[i] != kNewElement && second[i] < first.size()) out[i] = first[second[i]];
+    return out;
+}
+
+}  // namespace
+
 void accumulateReport(EditReport& into, const EditReport& next) {
     into.newPlans += next.newPlans;
     into.milliseconds += next.milliseconds;
     if (next.topologyChanged) {
+        into.replannedFaceList = carriedThrough(into.replannedFaceList, next.previousFaceOf);
+        into.updatedSubfaceList = carriedThrough(into.updatedSubfaceList, next.previousSubfaceOf);
+        into.previousFaceOf = into.topologyChanged ? composed(into.previousFaceOf, next.previousFaceOf) : next.previousFaceOf;
+        into.previousSubfaceOf =
+            into.topologyChanged ? composed(into.previousSubfaceOf, next.previousSubfaceOf) : next.previousSubfaceOf;
         into.topologyChanged = true;
-        into.replannedFaceList = next.replannedFaceList;
-        into.updatedSubfaceList = next.updatedSubfaceList;
-    } else {
-        into.replannedFaceList.insert(into.replannedFaceList.end(), next.replannedFaceList.begin(), next.replannedFaceList.end());
-        into.updatedSubfaceList.insert(into.updatedSubfaceList.end(), next.updatedSubfaceList.begin(), next.updatedSubfaceList.end());
-        sortUnique(into.replannedFaceList);
-        sortUnique(into.updatedSubfaceList);
     }
-    // Counts describe the lists when they are meaningful, the sum of the edits' work otherwise.
-    if (into.topologyChanged) {
-        into.replannedFaces += next.replannedFaces;
-        into.updatedSubfaces += next.updatedSubfaces;
-    } else {
-        into.replannedFaces = uint32_t(into.replannedFaceList.size());
-        into.updatedSubfaces = uint32_t(into.updatedSubfaceList.size());
-    }
+    into.replannedFaceList.insert(into.replannedFaceList.end(), next.replannedFaceList.begin(), next.replannedFaceList.end());
+    into.updatedSubfaceList.insert(into.updatedSubfaceList.end(), next.updatedSubfaceList.begin(), next.updatedSubfaceList.end());
+    sortUnique(into.replannedFaceList);
+    sortUnique(into.updatedSubfaceList);
+    into.replannedFaces = uint32_t(into.replannedFaceList.size());
+    into.updatedSubfaces = uint32_t(into.updatedSubfaceList.size());
 }
 
 Result<EditReport> PlannedCage::moveVertices(std::span<const uint32_t> vertices, std::span<const glm::vec3> positions) {
@@ -422,7 +441,8 @@ Result<EditReport> PlannedCage::applyTopologyEdit(TopologyEdit edit) {
     cage_ = std::move(edit.cage);
     topology_ = std::move(nextTopology);
     for (uint32_t f : edit.changedFaces) edit.oldFaceOf[f] = kNewElement;  // nothing of theirs is kept
-    remapSubfaces(edit.oldFaceOf);
+    report.previousSubfaceOf = remapSubfaces(edit.oldFaceOf);
+    report.previousFaceOf = edit.oldFaceOf;
     if (renumbered) {
         std::vector<bool> isAffected(cage_.faceCount(), false);
         for (uint32_t f : affected) isAffected[f] = true;

@@ -40,13 +40,17 @@ struct EditReport {
     // The same sets, sorted, in the numbering after the edit (a renderer re-uploads these).
     std::vector<uint32_t> replannedFaceList;
     std::vector<uint32_t> updatedSubfaceList;
-    // Faces or vertices were renumbered: per-sub-face data held outside must be rebuilt.
+    // Faces or vertices were renumbered (a topology edit). Then, per face and per sub-face after
+    // the edit, its number before it, or kNewElement where nothing of it was kept: a sub-face
+    // that maps keeps its plan, rotation and control points unless the lists above name it (its
+    // 1-ring may only be renumbered), so data held outside can be carried over instead of rebuilt.
     bool topologyChanged = false;
+    std::vector<uint32_t> previousFaceOf, previousSubfaceOf;
 };
 
 // Adds `next` (an edit made after `into`'s) to `into`: counts and times add up; the lists are
-// united while the numbering stays the same, and emptied once a topology change intervenes
-// (topologyChanged then tells the caller to refresh everything).
+// united in the numbering after `next` (what `into` listed is carried through next's maps), and
+// the maps compose, so the sum describes both edits as one.
 void accumulateReport(EditReport& into, const EditReport& next);
 
 inline constexpr uint32_t kNoPlan = UINT32_MAX;
@@ -121,7 +125,8 @@ private:
     std::vector<uint32_t> subfacesSeeing(std::span<const uint32_t> vertices) const;
     // Rebuilds the sub-face arrays after a topology change; `oldFaceOf[f]` is the face's index
     // before the change (UINT32_MAX for a new face) so unaffected faces keep their plans.
-    void remapSubfaces(const std::vector<uint32_t>& oldFaceOf);
+    // Returns, per sub-face now, the sub-face it was before (kNewElement: none kept).
+    std::vector<uint32_t> remapSubfaces(const std::vector<uint32_t>& oldFaceOf);
 
     Cage cage_;
     Topology topology_;

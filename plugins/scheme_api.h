@@ -59,7 +59,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 4;
+inline constexpr uint32_t kSchemeApiVersion = 5;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -173,7 +173,11 @@ struct SurfacePoint {
 struct PlanChange {
     std::span<const uint32_t> subfaces;  // sorted: sub-faces whose plan, rotation or control
                                          // points changed (the numbering after the edit)
-    bool topologyChanged = false;        // faces or vertices were renumbered; `subfaces` is empty
+    bool topologyChanged = false;        // faces or vertices were renumbered (a topology edit)
+    // Topology edits: per sub-face now, its number before the edit, or UINT32_MAX for a new one.
+    // A sub-face that maps and is not in `subfaces` is the same surface as before (its 1-ring
+    // may be renumbered); the cage's vertices, edges and faces may all have new numbers.
+    std::span<const uint32_t> previousSubfaceOf;
 };
 enum class PlanUpdate : uint8_t {
     Updated,  // record() and evaluate() now show the edited cage

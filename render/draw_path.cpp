@@ -36,6 +36,7 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
     if (buffers.displacement) factors = displacedGridFactors(buffers.data, *buffers.displacement, std::move(factors));
     Status laidOut = prepareGrid(ctx, pass, buffers, std::move(factors));
     if (!laidOut) return laidOut;
+    buffers.gridLayout.uniformRequest = buffers.displacement ? 0 : settings.uniformFactor;
     // A grid filled by the other evaluator is equally good; only a missing one is filled.
     if (path == DrawPath::CpuGrid && buffers.gridEvaluator == GridEvaluator::None) evaluateGridOnCpu(planned, buffers);
     return success();

@@ -232,4 +232,11 @@ std::vector<glm::vec4> boundaryPointPositions(const PlannedCage& planned) {
     return points;
 }
 
+std::vector<float> cagePositions(const PlannedCage& planned) {
+    std::vector<float> out;
+    out.reserve(planned.cage().vertexCount() * 3);
+    for (const glm::vec3& p : planned.cage().positions) out.insert(out.end(), {p.x, p.y, p.z});
+    return out;
+}
+
 }  // namespace qp

@@ -115,6 +115,8 @@ std::vector<uint32_t> boundaryPointsAround(const PlannedCage& planned, std::span
 // Positions of every boundary point (for tessellation factors), from the cage positions; a
 // cage-edge midpoint has the radius of that edge's bounding sphere in w, other points 1.
 std::vector<glm::vec4> boundaryPointPositions(const PlannedCage& planned);
+// The cage's vertex positions as the positions buffer holds them (x, y, z per vertex, packed).
+std::vector<float> cagePositions(const PlannedCage& planned);
 glm::vec4 boundaryPointPosition(const PlannedCage& planned, uint32_t id);
 
 GpuPlanData packPlans(const PlannedCage& planned);

@@ -76,6 +76,9 @@ struct GridLayout {
     // CSR: drawn sub-face -> the other drawn sub-faces that copy one of its slots.
     std::vector<uint32_t> dependentOffsets, dependents;
     uint32_t maxFactor = 0;
+    // The uniform factor requested when these are uniformGridFactors (0: adaptive or displaced
+    // factors): an update in place that adds sub-faces then knows what the next frame asks for.
+    uint32_t uniformRequest = 0;
 
     uint32_t slotCount() const { return subfaceOffset.empty() ? 0 : subfaceOffset.back(); }
 };

@@ -242,13 +242,6 @@ Result<Buffer> createFilled(const VulkanContext& ctx, const std::vector<T>& valu
     return buffer;
 }
 
-std::vector<float> cagePositions(const PlannedCage& planned) {
-    std::vector<float> out;
-    out.reserve(planned.cage().vertexCount() * 3);
-    for (const glm::vec3& p : planned.cage().positions) out.insert(out.end(), {p.x, p.y, p.z});
-    return out;
-}
-
 void barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
              VkAccessFlags2 dstAccess) {
     VkMemoryBarrier2 memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
@@ -541,7 +534,9 @@ void recordListUpload(VkCommandBuffer cmd, const PlanBuffers& buffers, const std
 }  // namespace
 
 Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, uint32_t factor) {
-    return prepareGrid(ctx, pass, buffers, uniformGridFactors(buffers.data, factor));
+    if (Status s = prepareGrid(ctx, pass, buffers, uniformGridFactors(buffers.data, factor)); !s) return s;
+    buffers.gridLayout.uniformRequest = factor;
+    return success();
 }
 
 Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors) {

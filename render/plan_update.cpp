@@ -71,11 +71,16 @@ struct EdgeOwners {
     uint64_t segment[4], secondHalf[4], corner[4];
     uint32_t flags[4];
 };
-EdgeOwners ownersOf(const GpuPlanData& data, uint32_t drawn) {
+// `previousOf` (empty: the identity) names owners by their numbers before a topology edit.
+EdgeOwners ownersOf(const GpuPlanData& data, uint32_t drawn, std::span<const uint32_t> previousOf = {}) {
     const GpuSubfaceBoundary& b = data.boundaries[drawn];
+    auto name = [&](uint32_t owner) {
+        const uint32_t subface = data.subfaces[owner].subface;
+        return uint64_t(previousOf.empty() ? subface : previousOf[subface]);
+    };
     auto segmentOwner = [&](uint32_t segment) {
         const GpuSegment& g = data.segments[segment];
-        return uint64_t(data.subfaces[g.owner].subface) << 8 | uint64_t(g.ownerEdge) << 1 | g.ownerReversed;
+        return name(g.owner) << 8 | uint64_t(g.ownerEdge) << 1 | g.ownerReversed;
     };
     EdgeOwners o{};
     for (uint32_t e = 0; e < 4; ++e) {
@@ -83,17 +88,46 @@ EdgeOwners ownersOf(const GpuPlanData& data, uint32_t drawn) {
         o.segment[e] = segmentOwner(b.edges[e].segment);
         o.secondHalf[e] = (b.edges[e].flags & kEdgeRefSplit) ? segmentOwner(b.edges[e].secondHalf) : 0;
         const GpuPoint& p = data.boundaryPoints[b.corners[e]];
-        o.corner[e] = uint64_t(data.subfaces[p.owner].subface) << 8 | p.ownerCorner;
+        o.corner[e] = name(p.owner) << 8 | p.ownerCorner;
     }
     return o;
 }
 bool operator==(const EdgeOwners& a, const EdgeOwners& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-// Sub-faces gained or lost their surface (holes): the sub-face tables are packed again; the
-// plan tables, every kept sub-face's control-point range and the evaluated grid stay, so only
-// what now has another owner (and the sub-faces that gained a surface) is evaluated again.
+// The grid laid out for `factors` (every kept sub-face's own unchanged), the evaluated vertices of
+// kept sub-faces moved to their new slots (`oldOf`: drawn index now -> before, or UINT32_MAX).
+Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors,
+                 const std::vector<uint32_t>& oldOf) {
+    const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+    const GridLayout oldLayout = buffers.gridLayout;
+    const std::vector<GridVertex> before(grid, grid + oldLayout.slotCount());
+    GridLayout layout = buildGridLayout(buffers.data, std::move(factors));
+    layout.uniformRequest = oldLayout.uniformRequest;
+    if (Status s = installGridLayout(ctx, pass, buffers, std::move(layout)); !s) return s;
+    auto* slots = static_cast<GridVertex*>(buffers.grid.data);
+    for (uint32_t d = 0; d < oldOf.size(); ++d)
+        if (oldOf[d] != UINT32_MAX)
+            std::copy(before.begin() + oldLayout.subfaceOffset[oldOf[d]], before.begin() + oldLayout.subfaceOffset[oldOf[d] + 1],
+                      slots + buffers.gridLayout.subfaceOffset[d]);
+    return success();
+}
+
+// The grid is laid out and evaluated whole at the next draw.
+Status dropGrid(PlanBuffers& buffers, PlanTableUpdate& update) {
+    buffers.gridLayout = GridLayout{};
+    buffers.gridEvaluator = GridEvaluator::None;
+    update.gridDropped = true;
+    return success();
+}
+
+// Sub-faces gained or lost their surface (holes), or a topology edit renumbered them
+// (`previousOf`, PlanChange::previousSubfaceOf; empty: the numbering stayed): the sub-face
+// tables are packed again; the plan tables, every kept sub-face's control-point range and the
+// evaluated grid stay, so only what now has another owner (and the sub-faces that are new or
+// gained a surface) is evaluated again.
 Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, const PlannedCage& planned,
-                      const std::vector<uint32_t>& changed, PlanTableUpdate& update, bool& rebind) {
+                      const std::vector<uint32_t>& changed, std::span<const uint32_t> previousOf, PlanTableUpdate& update,
+                      bool& rebind) {
     GpuPlanData& data = buffers.data;
     const PlanDatabase& database = planned.database();
     GpuPlanData old;  // the sub-face part before the change (ownersOf reads nothing else)
@@ -107,8 +141,10 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     const uint32_t count = uint32_t(data.subfaces.size());
     std::vector<uint32_t> drawnOf(planned.subfaceCount(), UINT32_MAX), oldOf(count, UINT32_MAX);
     for (uint32_t d = 0; d < count; ++d) {
-        drawnOf[data.subfaces[d].subface] = d;
-        oldOf[d] = oldDrawnOf[data.subfaces[d].subface];
+        const uint32_t subface = data.subfaces[d].subface;
+        drawnOf[subface] = d;
+        const uint32_t previous = previousOf.empty() ? subface : previousOf[subface];
+        oldOf[d] = previous < oldDrawnOf.size() ? oldDrawnOf[previous] : UINT32_MAX;
     }
 
     // Control points: kept sub-faces keep their ranges (and cached values); new ones go at the end.
@@ -140,7 +176,7 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
             refresh.push_back(d);
             continue;
         }
-        const EdgeOwners now = ownersOf(data, d), before = ownersOf(old, oldOf[d]);
+        const EdgeOwners now = ownersOf(data, d, previousOf), before = ownersOf(old, oldOf[d]);
         if (now == before) continue;
         refresh.push_back(d);
         const GpuSubfaceBoundary& b = data.boundaries[d];
@@ -156,7 +192,25 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
 
     // The grid: the same factors for what was there, the old vertices moved to their new slots.
     GridLayout& layout = buffers.gridLayout;
-    if (!layout.subfaceOffset.empty()) {
+    if (!layout.subfaceOffset.empty() && layout.uniformRequest > 0 && buffers.displacement == nullptr) {
+        // Uniform factors: what the next frame asks for is known; kept sub-faces must keep their
+        // factor (their slots stay valid), and the pieces of edges split as before (an edge
+        // split otherwise now has another owner: the sub-face is evaluated again anyway).
+        GridFactors factors = uniformGridFactors(data, layout.uniformRequest);
+        bool same = true;
+        for (uint32_t d = 0; d < count && same; ++d) {
+            if (oldOf[d] == UINT32_MAX) continue;
+            same &= factors.subfaceFactor[d] == layout.factors.subfaceFactor[oldOf[d]];
+            const GpuSubfaceBoundary &b = data.boundaries[d], &ob = old.boundaries[oldOf[d]];
+            for (uint32_t e = 0; e < 4; ++e) {
+                if (b.edges[e].flags != ob.edges[e].flags) continue;
+                same &= factors.segmentPieces[b.edges[e].segment] == layout.factors.segmentPieces[ob.edges[e].segment];
+                if (b.edges[e].flags & kEdgeRefSplit)
+                    same &= factors.segmentPieces[b.edges[e].secondHalf] == layout.factors.segmentPieces[ob.edges[e].secondHalf];
+            }
+        }
+        if (Status s = same ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf) : dropGrid(buffers, update); !s) return s;
+    } else if (!layout.subfaceOffset.empty()) {
         GridFactors factors;
         factors.segmentPieces.assign(data.segments.size(), 0);
         factors.subfaceFactor.assign(count, 0);
@@ -181,21 +235,7 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
                 else known &= n % pieces == 0;
             }
         }
-        if (known) {
-            const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
-            const std::vector<GridVertex> before(grid, grid + layout.slotCount());
-            const GridLayout oldLayout = layout;
-            if (Status s = installGridLayout(ctx, pass, buffers, buildGridLayout(data, std::move(factors))); !s) return s;
-            auto* slots = static_cast<GridVertex*>(buffers.grid.data);
-            for (uint32_t d = 0; d < count; ++d)
-                if (oldOf[d] != UINT32_MAX)
-                    std::copy(before.begin() + oldLayout.subfaceOffset[oldOf[d]], before.begin() + oldLayout.subfaceOffset[oldOf[d] + 1],
-                              slots + layout.subfaceOffset[d]);
-        } else {
-            layout = GridLayout{};  // laid out and evaluated whole at the next draw
-            buffers.gridEvaluator = GridEvaluator::None;
-            update.gridDropped = true;
-        }
+        if (Status s = known ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf) : dropGrid(buffers, update); !s) return s;
     }
 
     buffers.drawnOfSubface = std::move(drawnOf);
@@ -220,11 +260,21 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
 }  // namespace
 
 Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
-                                         const PlannedCage& planned, std::span<const uint32_t> subfaces) {
+                                         const PlannedCage& planned, std::span<const uint32_t> subfaces,
+                                         std::span<const uint32_t> previousSubfaceOf) {
     PlanTableUpdate update;
     GpuPlanData& data = buffers.data;
     const PlanDatabase& database = planned.database();
-    if (buffers.drawnOfSubface.size() != planned.subfaceCount()) {
+    const bool renumbered = !previousSubfaceOf.empty();
+    if (renumbered && previousSubfaceOf.size() != planned.subfaceCount()) {
+        update.reason = "the renumbering does not match the cage's sub-faces";
+        return update;
+    }
+    if (renumbered && buffers.displacement) {
+        update.reason = "a displacement is set (its tiles follow the old sub-faces)";
+        return update;
+    }
+    if (!renumbered && buffers.drawnOfSubface.size() != planned.subfaceCount()) {
         update.reason = "the cage's sub-faces were renumbered";
         return update;
     }
@@ -233,8 +283,9 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
 
     // Check everything first, so that a change this cannot apply leaves the buffers untouched.
-    bool drawnSetChanged = false;
+    bool drawnSetChanged = renumbered;
     for (uint32_t s : changed) {
+        if (renumbered) break;  // every table is packed again
         const uint32_t drawn = buffers.drawnOfSubface[s];
         if (planned.hasSurface(s) != (drawn != UINT32_MAX)) {
             drawnSetChanged = true;
@@ -258,8 +309,16 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
         if (rebind) bindPlanBuffers(ctx, pass, buffers);
         return s.error();
     }
+    if (renumbered) {  // the cage's vertices, edges and faces have new numbers too
+        const std::vector<float> positions = cagePositions(planned);
+        buffers.pointPositionsHost = boundaryPointPositions(planned);
+        Status stored = storeTail(ctx, buffers.positions, positions, 0, rebind);
+        if (stored) stored = storeTail(ctx, buffers.pointPositions, buffers.pointPositionsHost, 0, rebind);
+        if (!stored) return stored.error();
+    }
     if (drawnSetChanged) {
-        if (Status s = repackDrawnSet(ctx, pass, buffers, planned, changed, update, rebind); !s) return s.error();
+        if (Status s = repackDrawnSet(ctx, pass, buffers, planned, changed, previousSubfaceOf, update, rebind); !s)
+            return s.error();
     } else {
         // Records, rings and control-point ranges of the changed sub-faces, where they are.
         for (uint32_t s : changed) {

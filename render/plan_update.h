@@ -21,8 +21,15 @@
 // range, grid factors and evaluated vertices (moved to their new slots), and only the sub-faces
 // whose edges or corners now have another owner are evaluated again.
 //
-// Changes it does not apply in place (the caller uploads the cage again, with the reason):
-// a renumbering (topology edits), a ring that changed.
+// Topology edits renumber the sub-faces (and the cage's vertices, edges and faces): given the
+// renumbering, the sub-face tables are packed again as for holes, the positions and boundary
+// points uploaded again (O(cage) copies, no evaluation), and kept sub-faces keep their
+// control-point ranges and evaluated grid vertices; new sub-faces, re-planned ones and those
+// whose edges now have another owner are evaluated. With uniform grid factors the grid keeps its
+// layout for what was there; adaptive factors on a cage with new edges lay it out anew.
+//
+// Changes it does not apply in place (the caller uploads the cage again, with the reason): a
+// ring that changed under a tag edit, a topology edit while a displacement is set.
 #pragma once
 
 #include <cstdint>
@@ -49,9 +56,11 @@ struct PlanTableUpdate {
 
 // `subfaces`: PlannedCage sub-faces (any order, repeats allowed) whose plan, rotation or
 // control points the edit changed (EditReport::updatedSubfaceList and the sub-faces of
-// replannedFaceList). Writes the host-visible buffers directly: the device must be done with
+// replannedFaceList). `previousSubfaceOf`: after a topology edit, EditReport::previousSubfaceOf
+// (empty for tag edits). Writes the host-visible buffers directly: the device must be done with
 // them. Fails only when a buffer cannot grow (out of memory): then upload the cage again.
 Result<PlanTableUpdate> updatePlanTables(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers,
-                                         const PlannedCage& planned, std::span<const uint32_t> subfaces);
+                                         const PlannedCage& planned, std::span<const uint32_t> subfaces,
+                                         std::span<const uint32_t> previousSubfaceOf = {});
 
 }  // namespace qp

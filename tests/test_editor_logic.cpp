@@ -712,7 +712,13 @@ TEST(Document, LiveEditsRevertsAndHiddenFaces) {
     EXPECT_FALSE(hideFaces(*doc, std::vector<uint32_t>{999}).ok());
     const uint64_t revision = doc->hiddenRevision;
     ASSERT_TRUE(applyEdit(*doc, ExtrudeFaces{{0}, 0.1f}, 7).ok());
-    EXPECT_TRUE(doc->hiddenFaces.empty()) << "a topology edit renumbers faces: the hidden set goes";
+    ASSERT_TRUE(doc->lastEdit);
+    const std::vector<uint32_t>& previousFaceOf = doc->lastEdit->report.previousFaceOf;
+    ASSERT_EQ(previousFaceOf.size(), doc->planned->cage().faceCount());
+    const auto hiddenNow = std::find(previousFaceOf.begin(), previousFaceOf.end(), 1u);
+    ASSERT_NE(hiddenNow, previousFaceOf.end()) << "the extrude kept face 2";
+    EXPECT_EQ(doc->hiddenFaces, std::vector<uint32_t>{uint32_t(hiddenNow - previousFaceOf.begin())})
+        << "a topology edit carries the hidden set to the faces' new numbers";
     EXPECT_GT(doc->hiddenRevision, revision);
     ASSERT_TRUE(hideFaces(*doc, std::vector<uint32_t>{2}).ok());
     unhideAll(*doc);

@@ -1,6 +1,6 @@
-// Plans updated in place after tag edits (render/plan_update.h): the grid, the control points and
-// the tessellated picture equal those of the edited cage uploaded from scratch, bit for bit, on
-// every path; what cannot be applied in place is refused with a reason and changes nothing; and
+// Plans updated in place after tag and topology edits (render/plan_update.h): the grid, the
+// control points and the tessellated picture equal those of the edited cage uploaded from
+// scratch, bit for bit, on every path; what cannot be applied in place is refused with a reason and changes nothing; and
 // a new pass for the same formats creates no pipeline (render/shared_pipelines.h).
 #include <gtest/gtest.h>
 
@@ -9,6 +9,7 @@
 
 #include "camera.h"
 #include "draw_path.h"
+#include "edit_history.h"
 #include "obj_io.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
@@ -25,6 +26,14 @@ using namespace qp;
 namespace {
 
 constexpr uint32_t kImageSize = 160;
+
+// Control points of drawn sub-face d, wherever its range is.
+std::vector<glm::vec4> controlPointsOf(const PlanBuffers& buffers, const PlannedCage& planned, uint32_t d) {
+    const GpuSubface& s = buffers.data.subfaces[d];
+    const uint32_t count = planned.database().plan(s.plan).stencilCountByLevel[std::min(buffers.controlPointLevel, kMaxPlanDepth)];
+    const auto* cp = static_cast<const glm::vec4*>(buffers.controlPoints.data) + s.cpOffset;
+    return std::vector<glm::vec4>(cp, cp + count);
+}
 
 struct PlanUpdateTest : ::testing::Test {
     VulkanContext ctx;
@@ -82,6 +91,32 @@ struct PlanUpdateTest : ::testing::Test {
         EXPECT_TRUE(read.ok());
         return read ? *read : std::vector<uint8_t>{};
     }
+
+    // The frame after an update in place (drawing `refresh`) against the cage uploaded again:
+    // the same pixels, records, grid and control points.
+    void expectSameAsAFreshUpload(PlanBuffers& buffers, const PlannedCage& planned, DrawPath path,
+                                  const TessellationSettings& settings, const std::vector<uint32_t>& refresh) {
+        const std::vector<uint8_t> inPlace = draw(pass, buffers, planned, path, settings, &refresh);
+        PlanBuffers fresh = upload(freshPass, planned);
+        const std::vector<uint8_t> rebuilt = draw(freshPass, fresh, planned, path, settings);
+        EXPECT_TRUE(inPlace == rebuilt) << "the picture differs from the edited cage uploaded again";
+        ASSERT_EQ(buffers.data.subfaces.size(), fresh.data.subfaces.size());
+        for (uint32_t d = 0; d < fresh.data.subfaces.size(); ++d) {
+            ASSERT_EQ(buffers.data.subfaces[d].plan, fresh.data.subfaces[d].plan) << "drawn sub-face " << d;
+            ASSERT_EQ(buffers.data.subfaces[d].rotation, fresh.data.subfaces[d].rotation) << "drawn sub-face " << d;
+        }
+        if (path != DrawPath::Tessellated) {
+            ASSERT_EQ(buffers.gridLayout.slotCount(), fresh.gridLayout.slotCount());
+            EXPECT_EQ(std::memcmp(buffers.grid.data, fresh.grid.data, fresh.gridLayout.slotCount() * sizeof(GridVertex)), 0)
+                << "the grid updated in place differs from a full evaluation";
+        }
+        if (path != DrawPath::CpuGrid && buffers.controlPointLevel == fresh.controlPointLevel) {
+            for (uint32_t d = 0; d < fresh.data.subfaces.size(); ++d)
+                ASSERT_TRUE(controlPointsOf(buffers, planned, d) == controlPointsOf(fresh, planned, d))
+                    << "control points of drawn sub-face " << d;
+        }
+        destroyPlanBuffers(ctx, fresh);
+    }
 };
 
 std::vector<uint32_t> subfacesOf(const PlannedCage& planned, const EditReport& report) {
@@ -100,14 +135,6 @@ std::vector<std::pair<std::string, Cage>> cages() {
             if (cage) out.push_back({name, std::move(cage).value()});
         }
     return out;
-}
-
-// Control points of drawn sub-face d, wherever its range is.
-std::vector<glm::vec4> controlPointsOf(const PlanBuffers& buffers, const PlannedCage& planned, uint32_t d) {
-    const GpuSubface& s = buffers.data.subfaces[d];
-    const uint32_t count = planned.database().plan(s.plan).stencilCountByLevel[std::min(buffers.controlPointLevel, kMaxPlanDepth)];
-    const auto* cp = static_cast<const glm::vec4*>(buffers.controlPoints.data) + s.cpOffset;
-    return std::vector<glm::vec4>(cp, cp + count);
 }
 
 }  // namespace
@@ -158,28 +185,74 @@ TEST_F(PlanUpdateTest, TagEditsInPlaceEqualAFreshUploadOnEveryPath) {
                 if (k == 3 && path != DrawPath::Tessellated && name != "mixed grid") {
                     EXPECT_FALSE(updated->gridDropped) << "a quad hole re-laid the grid out whole";
                 }
-                const std::vector<uint8_t> inPlace = draw(pass, buffers, planned, path, settings, &updated->refresh);
+                expectSameAsAFreshUpload(buffers, planned, path, settings, updated->refresh);
+            }
+            destroyPlanBuffers(ctx, buffers);
+        }
+    }
+}
 
-                PlanBuffers fresh = upload(freshPass, planned);
-                const std::vector<uint8_t> rebuilt = draw(freshPass, fresh, planned, path, settings);
-                EXPECT_TRUE(inPlace == rebuilt) << "the picture differs from the edited cage uploaded again";
-                ASSERT_EQ(buffers.data.subfaces.size(), fresh.data.subfaces.size());
-                for (uint32_t d = 0; d < fresh.data.subfaces.size(); ++d) {
-                    ASSERT_EQ(buffers.data.subfaces[d].plan, fresh.data.subfaces[d].plan) << "drawn sub-face " << d;
-                    ASSERT_EQ(buffers.data.subfaces[d].rotation, fresh.data.subfaces[d].rotation) << "drawn sub-face " << d;
+// Extrudes, a delete that renumbers vertices, and their undo and redo: the sub-face tables are
+// packed again, kept sub-faces keep their control points and grid vertices, and the frame after
+// evaluates only what the edit touched.
+TEST_F(PlanUpdateTest, TopologyEditsInPlaceEqualAFreshUploadOnEveryPath) {
+    for (auto& [name, cage] : cages()) {
+        for (DrawPath path : {DrawPath::Grid, DrawPath::CpuGrid, DrawPath::Tessellated}) {
+            const std::string what = name + (path == DrawPath::Grid ? ", grid" : path == DrawPath::CpuGrid ? ", cpu grid" : ", tess");
+            SCOPED_TRACE(what);
+            PlanDatabase db;
+            Result<PlannedCage> created = PlannedCage::create(cage, db, {}, name);
+            ASSERT_TRUE(created.ok()) << created.error().message;
+            PlannedCage planned = std::move(created).value();
+            PlanBuffers buffers = upload(pass, planned);
+            const TessellationSettings settings{8, 8.0f};
+            (void)draw(pass, buffers, planned, path, settings);
+            EditHistory history;
+            const uint32_t middle = planned.cage().faceCount() / 2, late = planned.cage().faceCount() - 2;
+            auto extrude = [&](uint32_t face, float distance) {
+                Result<TopologyEdit> edit = extrudeFaces(planned.cage(), planned.topology(), std::vector<uint32_t>{face}, distance);
+                if (!edit) return Result<EditReport>(edit.error());
+                return history.applyTopologyEdit(planned, "extrude", std::move(edit).value());
+            };
+            std::vector<std::pair<std::string, std::function<Result<EditReport>()>>> edits = {
+                {"extrude the middle face", [&] { return extrude(middle, 0.3f); }},
+                {"extrude another", [&] { return extrude(late, 0.2f); }},
+                {"undo", [&] { return history.undo(planned); }},
+                {"redo", [&] { return history.redo(planned); }},
+                {"delete a face and its vertices", [&] {
+                     Result<TopologyEdit> edit = deleteFaces(planned.cage(), planned.topology(), std::vector<uint32_t>{1}, true);
+                     if (!edit) return Result<EditReport>(edit.error());
+                     return history.applyTopologyEdit(planned, "delete", std::move(edit).value());
+                 }},
+                {"undo the delete", [&] { return history.undo(planned); }},
+                {"undo both extrudes", [&] {  // two edits before one frame: their reports add up
+                     Result<EditReport> first = history.undo(planned);
+                     if (!first) return first;
+                     Result<EditReport> second = history.undo(planned);
+                     if (!second) return second;
+                     EditReport total = *first;
+                     accumulateReport(total, *second);
+                     return Result<EditReport>(total);
+                 }},
+            };
+            for (auto& [label, edit] : edits) {
+                SCOPED_TRACE(label);
+                Result<EditReport> report = edit();
+                ASSERT_TRUE(report.ok()) << report.error().message;
+                ASSERT_TRUE(report->topologyChanged);
+                Result<PlanTableUpdate> updated =
+                    updatePlanTables(ctx, pass, buffers, planned, subfacesOf(planned, *report), report->previousSubfaceOf);
+                ASSERT_TRUE(updated.ok()) << updated.error().message;
+                ASSERT_TRUE(updated->applied) << updated->reason;
+                if (buffers.data.subfaces.size() > 100) {
+                    EXPECT_LT(updated->refresh.size(), buffers.data.subfaces.size() / 4) << "refreshed more than the edit touched";
                 }
                 if (path != DrawPath::Tessellated) {
-                    ASSERT_EQ(buffers.gridLayout.slotCount(), fresh.gridLayout.slotCount());
-                    EXPECT_EQ(std::memcmp(buffers.grid.data, fresh.grid.data, fresh.gridLayout.slotCount() * sizeof(GridVertex)), 0)
-                        << "the grid updated in place differs from a full evaluation";
+                    EXPECT_FALSE(updated->gridDropped) << "uniform factors: the grid keeps what was there";
                 }
-                if (path != DrawPath::CpuGrid && buffers.controlPointLevel == fresh.controlPointLevel) {
-                    for (uint32_t d = 0; d < fresh.data.subfaces.size(); ++d)
-                        ASSERT_TRUE(controlPointsOf(buffers, planned, d) == controlPointsOf(fresh, planned, d))
-                            << "control points of drawn sub-face " << d;
-                }
-                destroyPlanBuffers(ctx, fresh);
+                expectSameAsAFreshUpload(buffers, planned, path, settings, updated->refresh);
             }
+            EXPECT_EQ(planned.cage().faceVertices, cage.faceVertices) << "undoing everything gives the cage back";
             destroyPlanBuffers(ctx, buffers);
         }
     }
@@ -192,7 +265,8 @@ TEST_F(PlanUpdateTest, ChangesItCannotApplyAreRefusedAndChangeNothing) {
     PlannedCage planned = std::move(created).value();
     PlanBuffers buffers = upload(pass, planned);
     const GpuPlanData before = buffers.data;
-    // A topology edit renumbers the sub-faces: only a new upload can follow it.
+    // A topology edit renumbers the sub-faces: without the renumbering, only a new upload can
+    // follow it.
     Result<EditReport> removed = planned.removeFace(0);
     ASSERT_TRUE(removed.ok());
     Result<PlanTableUpdate> updated = updatePlanTables(ctx, pass, buffers, planned, subfacesOf(planned, *removed));

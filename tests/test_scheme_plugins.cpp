@@ -7,10 +7,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 #include <tuple>
 
+#include "cage_delta.h"
 #include "camera.h"
 #include "module_shader_code.h"
 #include "offscreen_target.h"
@@ -345,8 +347,9 @@ TEST_F(DisplacedSchemes, ADabUpdatesThePictureExactlyAsAFullUpdate) {
     }
 }
 
-// A tag edit and a hole reach `plans` in place on every path, with the picture of a new
-// instance; every other scheme asks for a rebuild (issue 15).
+// A tag edit, a hole and a topology edit reach `plans` in place on every path, and tag edits
+// reach `uniform` in place, with the picture of a new instance; every other scheme asks for a
+// rebuild (issue 15).
 TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
     // The edge nearest the camera, so that the crease shows.
     const Topology& topology = planned->topology();
@@ -396,9 +399,72 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
             EXPECT_TRUE(again->instance.destroyGpu().ok());
         }
         ASSERT_TRUE(planned->setEdgeSharpness(a, b, 0.0f).ok());
+        // A topology edit (extrude the face, then its undo) through its renumbering, in place too.
+        const Cage original = planned->cage();
+        Result<TopologyEdit> extrude = extrudeFaces(planned->cage(), planned->topology(), std::vector<uint32_t>{face}, 0.3f);
+        ASSERT_TRUE(extrude.ok()) << extrude.error().message;
+        const TopologyDelta delta = makeTopologyDelta(planned->cage(), *extrude);
+        for (DeltaDirection direction : {DeltaDirection::Forward, DeltaDirection::Backward}) {
+            Result<TopologyEdit> edit = applyTopologyDelta(planned->cage(), delta, direction);
+            ASSERT_TRUE(edit.ok()) << edit.error().message;
+            Result<EditReport> report = planned->applyTopologyEdit(std::move(edit).value());
+            ASSERT_TRUE(report.ok()) << report.error().message;
+            std::vector<uint32_t> changed = report->updatedSubfaceList;
+            for (uint32_t f : report->replannedFaceList) changed.push_back(planned->firstSubface(f));
+            std::sort(changed.begin(), changed.end());
+            changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+            Result<PlanUpdate> topologyUpdate =
+                prepared->instance.updatePlans(PlanChange{changed, true, report->previousSubfaceOf});
+            ASSERT_TRUE(topologyUpdate.ok()) << topologyUpdate.error().message;
+            EXPECT_EQ(*topologyUpdate, PlanUpdate::Updated);
+            const CageFeatures now = analyzeCage(planned->cage(), planned->topology());
+            Result<PreparedScheme> again = prepareScheme(catalog(), "plans", *planned, now, settings, gpu, "cube");
+            ASSERT_TRUE(again.ok());
+            EXPECT_EQ(draw(prepared->instance).pixels, draw(again->instance).pixels) << "topology edit: differs from a new instance";
+            EXPECT_TRUE(again->instance.destroyGpu().ok());
+        }
+        EXPECT_EQ(planned->cage().faceVertices, original.faceVertices);
         EXPECT_TRUE(prepared->instance.destroyGpu().ok());
     }
-    for (const char* name : {"uniform", "osd-fas", "acc1", "acc2", "pn", "stam"}) {
+    {  // uniform rewrites its refinement tables around the edit
+        SCOPED_TRACE("uniform");
+        SchemeSettings settings;
+        settings.tessFactor = 8;
+        Result<PreparedScheme> prepared = prepareScheme(catalog(), "uniform", *planned, features, settings, gpu, "cube");
+        ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+        EXPECT_TRUE(prepared->instance.updatesPlansInPlace());
+        const Picture before = draw(prepared->instance);
+        const uint32_t face = topology.edgeFaces[topology.edgeFaceOffsets[topology.findEdge(a, b)]];
+        std::vector<std::function<Result<EditReport>()>> edits = {
+            [&] { return planned->setEdgeSharpness(a, b, kInfiniteSharpness); },
+            [&] { return planned->setHole(face, true); },
+            [&] { return planned->setHole(face, false); },
+            [&] { return planned->setEdgeSharpness(a, b, 0.0f); },
+        };
+        for (size_t k = 0; k < edits.size(); ++k) {
+            SCOPED_TRACE("edit " + std::to_string(k));
+            Result<EditReport> report = edits[k]();
+            ASSERT_TRUE(report.ok());
+            std::vector<uint32_t> changed = report->updatedSubfaceList;
+            for (uint32_t f : report->replannedFaceList) changed.push_back(planned->firstSubface(f));
+            std::sort(changed.begin(), changed.end());
+            changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+            Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{changed, false});
+            ASSERT_TRUE(updated.ok()) << updated.error().message;
+            EXPECT_EQ(*updated, PlanUpdate::Updated);
+            const Picture inPlace = draw(prepared->instance);
+            if (k == 0) EXPECT_GT(differingPixels(before, inPlace, 8), 0.004) << "the crease does not show";
+            Result<PreparedScheme> fresh = prepareScheme(catalog(), "uniform", *planned, features, settings, gpu, "cube");
+            ASSERT_TRUE(fresh.ok());
+            EXPECT_LT(differingPixels(inPlace, draw(fresh->instance), 8), 0.0005) << "in place differs from a new instance";
+            EXPECT_TRUE(fresh->instance.destroyGpu().ok());
+        }
+        Result<PlanUpdate> topologyUpdate = prepared->instance.updatePlans(PlanChange{{}, true});
+        ASSERT_TRUE(topologyUpdate.ok());
+        EXPECT_EQ(*topologyUpdate, PlanUpdate::Rebuild) << "uniform rebuilds after topology edits";
+        EXPECT_TRUE(prepared->instance.destroyGpu().ok());
+    }
+    for (const char* name : {"osd-fas", "acc1", "acc2", "pn", "stam"}) {
         SCOPED_TRACE(name);
         Result<PreparedScheme> prepared = prepareScheme(catalog(), name, *planned, features, SchemeSettings{}, gpu, "cube");
         ASSERT_TRUE(prepared.ok()) << prepared.error().message;

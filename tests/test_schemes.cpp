@@ -3,6 +3,8 @@
 // cage analysis behind support reports, and the heat-map scale.
 #include <gtest/gtest.h>
 
+#include <functional>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -355,6 +357,66 @@ TEST(SchemeEvaluation, UniformTablesReproduceOpenSubdivRefinement) {
             for (uint32_t c = 0; c < side * side; ++c)
                 ASSERT_NE(refinement->cellQuad[refinement->subfaceCellBase[s] + c], UINT32_MAX) << "sub-face " << s;
         }
+    }
+}
+
+// Tag edits rewrite the uniform tables in place (updateUniformTags): the refined points equal
+// those of tables built from scratch for the edited cage, and the drawn quads follow the holes.
+TEST(SchemeEvaluation, UniformTagEditsInPlaceMatchNewTables) {
+    std::vector<std::pair<std::string, Cage>> cages = {{"mixed grid", test::makeMixedGrid()},
+                                                       {"subdivided cube", test::makeSubdividedCube(4)}};
+    for (const char* extra : {"catmark_nonman_edges", "catmark_chaikin0", "catmark_car"})
+        if (fs::exists(test::sharedShapesDir() / (std::string(extra) + ".obj")))
+            cages.push_back({extra, loadCage(test::sharedShapesDir() / (std::string(extra) + ".obj"))});
+    for (const auto& [name, cage] : cages) {
+        SCOPED_TRACE(name);
+        auto planned = plan(cage, 2);
+        PlannedCage& p = *planned->planned;
+        const uint32_t levels = 3;
+        Result<UniformRefinement> refinement = buildUniformRefinement(p, levels);
+        ASSERT_TRUE(refinement.ok()) << refinement.error().message;
+        std::vector<glm::vec3> original;
+        applyUniformRefinement(*refinement, p.cage().positions, original);
+        bool changedSome = false;
+        const Topology& topology = p.topology();
+        // An edge between two interior vertices (a crease there changes the surface), from a third in.
+        auto interior = [&](uint32_t v) { return topology.vertexFaceCount(v) == topology.vertexEdgeCount(v); };
+        uint32_t e = topology.edgeCount() / 3;
+        while (e + 1 < topology.edgeCount() &&
+               !(topology.edgeFaceCount(e) == 2 && interior(topology.edgeVertices[2 * e]) && interior(topology.edgeVertices[2 * e + 1])))
+            ++e;
+        const uint32_t v = topology.edgeVertices[2 * e + 1], f = p.cage().faceCount() / 2;
+        const uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
+        std::vector<std::pair<std::string, std::function<Result<EditReport>()>>> edits = {
+            {"semi-sharp crease", [&] { return p.setEdgeSharpness(a, b, 1.6f); }},
+            {"infinitely sharp", [&] { return p.setEdgeSharpness(a, b, kInfiniteSharpness); }},
+            {"corner", [&] { return p.setVertexSharpness(v, 0.7f); }},
+            {"hole", [&] { return p.setHole(f, true); }},
+            {"crease cleared", [&] { return p.setEdgeSharpness(a, b, 0.0f); }},
+            {"hole filled", [&] { return p.setHole(f, false); }},
+            {"chaikin", [&] { return p.setCreaseMethod(CreaseMethod::Chaikin); }},
+        };
+        for (auto& [label, edit] : edits) {
+            SCOPED_TRACE(label);
+            Result<EditReport> report = edit();
+            ASSERT_TRUE(report.ok()) << report.error().message;
+            std::vector<uint32_t> subfaces = report->updatedSubfaceList;
+            for (uint32_t face : report->replannedFaceList)
+                for (uint32_t s = p.firstSubface(face); s < p.firstSubface(face + 1); ++s) subfaces.push_back(s);
+            ASSERT_TRUE(updateUniformTags(*refinement, p, subfaces).ok());
+            Result<UniformRefinement> fresh = buildUniformRefinement(p, levels);
+            ASSERT_TRUE(fresh.ok());
+            std::vector<glm::vec3> inPlace, rebuilt;
+            applyUniformRefinement(*refinement, p.cage().positions, inPlace);
+            applyUniformRefinement(*fresh, p.cage().positions, rebuilt);
+            ASSERT_EQ(inPlace.size(), rebuilt.size());
+            float worst = 0.0f;
+            for (size_t i = 0; i < inPlace.size(); ++i) worst = std::max(worst, glm::length(inPlace[i] - rebuilt[i]));
+            EXPECT_LT(worst / computeBounds(cage).diagonal(), 1e-6f) << "the tables updated in place refine differently";
+            EXPECT_EQ(refinement->drawnQuads, fresh->drawnQuads);
+            changedSome |= inPlace != original;
+        }
+        EXPECT_TRUE(changedSome) << "the edits changed nothing";
     }
 }
 

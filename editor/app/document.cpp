@@ -209,8 +209,13 @@ void noteChange(Document& doc, const std::string& description, const EditReport&
         accumulateReport(doc.unsyncedPlanChange, report);
     }
     if (report.topologyChanged) ++doc.topologyRevision;
-    if (report.topologyChanged && !doc.hiddenFaces.empty()) {  // face numbers changed: the set means nothing now
-        doc.hiddenFaces.clear();
+    if (report.topologyChanged && !doc.hiddenFaces.empty()) {  // hidden faces that were kept stay hidden
+        std::vector<uint32_t> hidden;
+        for (uint32_t f = 0; f < report.previousFaceOf.size(); ++f)
+            if (report.previousFaceOf[f] != kNewElement &&
+                std::binary_search(doc.hiddenFaces.begin(), doc.hiddenFaces.end(), report.previousFaceOf[f]))
+                hidden.push_back(f);
+        doc.hiddenFaces = std::move(hidden);
         ++doc.hiddenRevision;
     }
     noteHistoryStep(doc, description, report, frame);

@@ -125,7 +125,8 @@ struct Document {
     bool strokeMadeDisplacement = false;
 
     // Faces hidden from view and from picking (H / Alt+H; sorted). Not an edit and not saved:
-    // a view of the cage. Dropped when faces are renumbered (a topology edit, or its undo).
+    // a view of the cage. A topology edit (or its undo) carries it to the faces' new numbers;
+    // faces it removes or rebuilds leave it.
     // hiddenRevision changes with it.
     std::vector<uint32_t> hiddenFaces;
     uint64_t hiddenRevision = 0;

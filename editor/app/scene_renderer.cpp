@@ -314,12 +314,12 @@ bool unpark(SceneRenderer& r, const Document& doc, uint64_t generation, const Sc
 bool updatePlansInPlace(SchemeView& view, const Document& doc, const EditReport& change) {
     const auto start = Clock::now();
     std::vector<uint32_t> subfaces = change.updatedSubfaceList;
-    if (!change.topologyChanged)
-        for (uint32_t f : change.replannedFaceList)
-            for (uint32_t s = doc.planned->firstSubface(f); s < doc.planned->firstSubface(f + 1); ++s) subfaces.push_back(s);
+    for (uint32_t f : change.replannedFaceList)
+        for (uint32_t s = doc.planned->firstSubface(f); s < doc.planned->firstSubface(f + 1); ++s) subfaces.push_back(s);
     std::sort(subfaces.begin(), subfaces.end());
     subfaces.erase(std::unique(subfaces.begin(), subfaces.end()), subfaces.end());
-    Result<PlanUpdate> updated = view.instance->updatePlans(PlanChange{subfaces, change.topologyChanged});
+    Result<PlanUpdate> updated =
+        view.instance->updatePlans(PlanChange{subfaces, change.topologyChanged, change.previousSubfaceOf});
     view.planUpdateMs = msSince(start);
     view.planUpdateInPlace = updated && *updated == PlanUpdate::Updated;
     if (view.planUpdateInPlace) {

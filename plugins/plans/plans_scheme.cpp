@@ -23,7 +23,9 @@
 // render/plan_update.h): the re-planned sub-faces' records are rewritten, new plans appended,
 // control-point ranges re-allocated (holes: the sub-face tables packed again, the grid kept),
 // and the next record() re-evaluates just those sub-faces and the neighbours whose edges
-// changed owner. Topology edits rebuild the instance.
+// changed owner. Topology edits (extrude, delete, their undo) do the same through the edit's
+// renumbering: kept sub-faces keep their control points and grid vertices, and only new,
+// re-planned and re-owned sub-faces are evaluated (with a displacement set they rebuild).
 #include <algorithm>
 #include <cstdio>
 #include <iterator>
@@ -99,8 +101,12 @@ public:
     }
 
     Result<PlanUpdate> updatePlans(const PlanChange& change) override {
-        if (!haveBuffers_ || change.topologyChanged) return PlanUpdate::Rebuild;
-        Result<PlanTableUpdate> updated = updatePlanTables(*ctx_, pass_, buffers_, *planned_, change.subfaces);
+        if (!haveBuffers_ || (change.topologyChanged && change.previousSubfaceOf.empty())) return PlanUpdate::Rebuild;
+        // Refreshes not drawn yet name vertices and sub-faces in the numbering before the edit.
+        if (change.topologyChanged && (!pendingMoves_.empty() || !pendingRefresh_.empty())) return PlanUpdate::Rebuild;
+        Result<PlanTableUpdate> updated = updatePlanTables(*ctx_, pass_, buffers_, *planned_, change.subfaces,
+                                                           change.topologyChanged ? change.previousSubfaceOf
+                                                                                  : std::span<const uint32_t>());
         if (!updated) return updated.error();
         if (!updated->applied) return PlanUpdate::Rebuild;
         if (displacement_) {  // as updateMoved: the partial refresh draws the undisplaced surface

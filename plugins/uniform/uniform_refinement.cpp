@@ -148,6 +148,11 @@ RefinementLevelTables buildTables(const Far::TopologyLevel& parent, const Far::T
             t.vertexIndices.push_back(index);
             t.vertexWeights.push_back(weight);
         }
+        const size_t room = 1 + size_t(parent.GetVertexEdges(v).size()) + size_t(parent.GetVertexFaces(v).size());
+        for (size_t k = mask.terms.size(); k < room; ++k) {
+            t.vertexIndices.push_back(P + uint32_t(v));
+            t.vertexWeights.push_back(0.0f);
+        }
         t.vertexOffsets.push_back(uint32_t(t.vertexIndices.size()));
     }
     return t;
@@ -284,7 +289,7 @@ Result<UniformRefinement> buildUniformRefinement(const PlannedCage& planned, uin
     out.subfaceSide.assign(subfaces, 0);
     out.subfaceCellBase.assign(subfaces, 0);
     for (Far::Index f = 0; f < finest.GetNumFaces(); ++f) {
-        if (!known[size_t(f)] || finest.IsFaceHole(f) || !planned.hasSurface(current[size_t(f)].subface)) continue;
+        if (!known[size_t(f)]) continue;
         RefinedQuad q;
         const Far::ConstIndexArray fv = finest.GetFaceVertices(f);
         for (int k = 0; k < 4; ++k) {
@@ -312,7 +317,9 @@ Result<UniformRefinement> buildUniformRefinement(const PlannedCage& planned, uin
         const uint32_t x = std::min(side - 1, uint32_t(lo.x * float(side) + 0.5f));
         const uint32_t y = std::min(side - 1, uint32_t(lo.y * float(side) + 0.5f));
         out.cellQuad[out.subfaceCellBase[q.subface] + y * side + x] = i;
+        if (planned.hasSurface(q.subface)) out.drawnQuads.push_back(i);
     }
+    out.refiner = std::move(*created);
     return out;
 }
 
@@ -345,7 +352,8 @@ void applyUniformRefinement(const UniformRefinement& refinement, std::span<const
 
 std::vector<glm::vec3> refinedNormals(const UniformRefinement& refinement, std::span<const glm::vec3> finest) {
     std::vector<glm::vec3> normals(finest.size(), glm::vec3(0.0f));
-    for (const RefinedQuad& q : refinement.quads) {
+    for (uint32_t i : refinement.drawnQuads) {
+        const RefinedQuad& q = refinement.quads[i];
         const glm::vec3* p[4] = {&finest[q.vertices[0]], &finest[q.vertices[1]], &finest[q.vertices[2]], &finest[q.vertices[3]]};
         const glm::vec3 n = glm::cross(*p[2] - *p[0], *p[3] - *p[1]);  // twice the area, along the normal
         for (uint32_t v : q.vertices) normals[v] += n;
@@ -389,6 +397,212 @@ RefinedSample sampleRefined(const UniformRefinement& refinement, std::span<const
     out.du = ds * (e1.x / glm::dot(e1, e1)) + dt * (e3.x / glm::dot(e3, e3));
     out.dv = ds * (e1.y / glm::dot(e1, e1)) + dt * (e3.y / glm::dot(e3, e3));
     return out;
+}
+
+namespace {
+
+void sortUnique(std::vector<uint32_t>& list) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+}
+
+// A small cage of `faces` (sorted) of `cage` with their tags, and its vertices' numbers in `cage`.
+struct LocalCage {
+    Cage cage;
+    std::vector<uint32_t> globalVertex;
+};
+
+LocalCage localCage(const Cage& cage, const std::vector<uint32_t>& faces) {
+    LocalCage out;
+    out.cage.options = cage.options;
+    std::vector<uint32_t> localOf(cage.vertexCount(), UINT32_MAX);
+    std::vector<uint64_t> edges;  // (min, max) of every local face edge, global numbers
+    for (uint32_t f : faces) {
+        const uint32_t n = cage.faceSize(f);
+        const uint32_t* v = cage.faceBegin(f);
+        std::vector<uint32_t> local(n);
+        for (uint32_t k = 0; k < n; ++k) {
+            if (localOf[v[k]] == UINT32_MAX) {
+                localOf[v[k]] = uint32_t(out.globalVertex.size());
+                out.globalVertex.push_back(v[k]);
+                out.cage.positions.push_back(cage.positions[v[k]]);
+            }
+            local[k] = localOf[v[k]];
+            const uint32_t a = v[k], b = v[(k + 1) % n];
+            edges.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+        }
+        out.cage.addFace(local.data(), n);
+        if (cage.isHole(f)) out.cage.holes.push_back(out.cage.faceCount() - 1);
+    }
+    std::sort(edges.begin(), edges.end());
+    for (const EdgeCrease& c : cage.creases)
+        if (std::binary_search(edges.begin(), edges.end(), uint64_t(c.v0) << 32 | c.v1))
+            out.cage.creases.push_back({localOf[c.v0], localOf[c.v1], c.sharpness});
+    for (const VertexCorner& c : cage.corners)
+        if (localOf[c.vertex] != UINT32_MAX) out.cage.corners.push_back({localOf[c.vertex], c.sharpness});
+    for (EdgeCrease& c : out.cage.creases)
+        if (c.v0 > c.v1) std::swap(c.v0, c.v1);
+    normalizeTags(out.cage);
+    return out;
+}
+
+// Per level, local component -> the same component of the whole refinement.
+struct ComponentMap {
+    std::vector<Far::Index> vertex, edge, face;
+    std::vector<char> vertexMarked, edgeMarked, faceMarked;  // descends from the re-planned faces
+};
+
+Status mapEdges(const Far::TopologyLevel& local, const Far::TopologyLevel& global, ComponentMap& map) {
+    map.edge.resize(size_t(local.GetNumEdges()));
+    for (Far::Index e = 0; e < local.GetNumEdges(); ++e) {
+        const Far::ConstIndexArray ends = local.GetEdgeVertices(e);
+        map.edge[size_t(e)] = global.FindEdge(map.vertex[size_t(ends[0])], map.vertex[size_t(ends[1])]);
+        if (map.edge[size_t(e)] == Far::INDEX_INVALID) return Error{"uniform: a local edge has no match"};
+    }
+    return success();
+}
+
+}  // namespace
+
+Status updateUniformTags(UniformRefinement& out, const PlannedCage& planned, std::span<const uint32_t> subfaces) {
+    if (!out.refiner) return Error{"uniform: no refinement to update"};
+    const Cage& cage = planned.cage();
+    const Topology& topology = planned.topology();
+    std::vector<uint32_t> region;  // faces of the re-planned sub-faces
+    for (uint32_t s : subfaces) {
+        uint32_t lo = 0, hi = cage.faceCount();
+        while (hi - lo > 1) {
+            const uint32_t mid = (lo + hi) / 2;
+            (planned.firstSubface(mid) <= s ? lo : hi) = mid;
+        }
+        region.push_back(lo);
+    }
+    sortUnique(region);
+    std::vector<uint32_t> around;  // every face at a vertex of the region: all the masks read
+    for (uint32_t f : region)
+        for (uint32_t i = 0; i < cage.faceSize(f); ++i) {
+            const uint32_t v = cage.faceBegin(f)[i];
+            for (uint32_t k = topology.vertexFaceOffsets[v]; k < topology.vertexFaceOffsets[v + 1]; ++k)
+                around.push_back(topology.vertexFaces[k]);
+        }
+    sortUnique(around);
+
+    if (around.size() == cage.faceCount()) {  // an options change, or a small cage: all of it anew
+        Result<UniformRefinement> fresh = buildUniformRefinement(planned, out.levels);
+        if (!fresh) return fresh.error();
+        out = std::move(*fresh);
+        return success();
+    }
+    if (!region.empty()) {
+        const LocalCage local = localCage(cage, around);
+        auto created = createRefiner(local.cage, "uniform (local)");
+        if (!created) return created.error();
+        Far::TopologyRefiner& r = **created;
+        Far::TopologyRefiner::UniformOptions options{int(out.levels)};
+        options.fullTopologyInLastLevel = true;
+        r.RefineUniform(options);
+        const Far::TopologyRefiner& whole = *out.refiner;
+
+        // Level 0 by construction; the region's faces, edges and vertices are marked.
+        ComponentMap map;
+        const Far::TopologyLevel& base = r.GetLevel(0);
+        map.vertex.assign(local.globalVertex.begin(), local.globalVertex.end());
+        map.face.assign(around.begin(), around.end());
+        if (Status s = mapEdges(base, whole.GetLevel(0), map); !s) return s;
+        map.vertexMarked.assign(size_t(base.GetNumVertices()), 0);
+        map.edgeMarked.assign(size_t(base.GetNumEdges()), 0);
+        map.faceMarked.assign(size_t(base.GetNumFaces()), 0);
+        for (Far::Index f = 0; f < base.GetNumFaces(); ++f) {
+            if (!std::binary_search(region.begin(), region.end(), around[size_t(f)])) continue;
+            map.faceMarked[size_t(f)] = 1;
+            for (Far::Index v : base.GetFaceVertices(f)) map.vertexMarked[size_t(v)] = 1;
+            for (Far::Index e : base.GetFaceEdges(f)) map.edgeMarked[size_t(e)] = 1;
+        }
+
+        // Level by level: the local tables, written where they are marked (once all levels
+        // matched), then the children mapped.
+        struct Write {
+            uint32_t level;
+            bool edge;       // edgeSharpWeight[at] = weight; else mask term `at` = (index, weight)
+            uint32_t at;
+            float weight;
+            uint32_t index = 0;
+        };
+        std::vector<Write> writes;
+        uint32_t localOffset = 0;
+        for (uint32_t l = 0; l < out.levels; ++l) {
+            const Far::TopologyLevel &parent = r.GetLevel(int(l)), &child = r.GetLevel(int(l + 1));
+            const Far::TopologyLevel &wholeParent = whole.GetLevel(int(l)), &wholeChild = whole.GetLevel(int(l + 1));
+            const uint32_t localChildOffset = localOffset + uint32_t(parent.GetNumVertices());
+            const RefinementLevelTables lt = buildTables(parent, child, localOffset, localChildOffset);
+
+            ComponentMap next;
+            next.vertex.assign(size_t(child.GetNumVertices()), Far::INDEX_INVALID);
+            next.face.assign(size_t(child.GetNumFaces()), Far::INDEX_INVALID);
+            next.vertexMarked.assign(next.vertex.size(), 0);
+            next.faceMarked.assign(next.face.size(), 0);
+            std::vector<char> childEdgeMarked(size_t(child.GetNumEdges()), 0);
+            for (Far::Index f = 0; f < parent.GetNumFaces(); ++f) {
+                const Far::Index g = map.face[size_t(f)];
+                next.vertex[size_t(parent.GetFaceChildVertex(f))] = wholeParent.GetFaceChildVertex(g);
+                const Far::ConstIndexArray mine = parent.GetFaceChildFaces(f), theirs = wholeParent.GetFaceChildFaces(g);
+                if (mine.size() != theirs.size()) return Error{"uniform: a local face refines differently"};
+                for (int k = 0; k < mine.size(); ++k) next.face[size_t(mine[k])] = theirs[k];
+                if (!map.faceMarked[size_t(f)]) continue;
+                next.vertexMarked[size_t(parent.GetFaceChildVertex(f))] = 1;
+                for (Far::Index c : mine) next.faceMarked[size_t(c)] = 1;
+                for (Far::Index c : parent.GetFaceChildEdges(f)) childEdgeMarked[size_t(c)] = 1;
+            }
+            for (Far::Index e = 0; e < parent.GetNumEdges(); ++e) {
+                next.vertex[size_t(parent.GetEdgeChildVertex(e))] = wholeParent.GetEdgeChildVertex(map.edge[size_t(e)]);
+                if (!map.edgeMarked[size_t(e)]) continue;
+                next.vertexMarked[size_t(parent.GetEdgeChildVertex(e))] = 1;
+                for (Far::Index c : parent.GetEdgeChildEdges(e)) childEdgeMarked[size_t(c)] = 1;
+            }
+            for (Far::Index v = 0; v < parent.GetNumVertices(); ++v) {
+                next.vertex[size_t(parent.GetVertexChildVertex(v))] = wholeParent.GetVertexChildVertex(map.vertex[size_t(v)]);
+                if (map.vertexMarked[size_t(v)]) next.vertexMarked[size_t(parent.GetVertexChildVertex(v))] = 1;
+            }
+            if (Status s = mapEdges(child, wholeChild, next); !s) return s;
+            next.edgeMarked = std::move(childEdgeMarked);
+
+            // Local buffer index -> the whole refinement's (parent vertices, then child face points).
+            const uint32_t P = out.levelOffset[l], C = out.levelOffset[l + 1];
+            auto translate = [&](uint32_t index) {
+                return index < localChildOffset ? P + uint32_t(map.vertex[index - localOffset])
+                                                : C + uint32_t(next.vertex[index - localChildOffset]);
+            };
+            const RefinementLevelTables& t = out.tables[l];
+            for (Far::Index e = 0; e < parent.GetNumEdges(); ++e)
+                if (map.edgeMarked[size_t(e)])
+                    writes.push_back({l, true, uint32_t(map.edge[size_t(e)]), lt.edgeSharpWeight[size_t(e)]});
+            for (Far::Index v = 0; v < parent.GetNumVertices(); ++v) {
+                if (!map.vertexMarked[size_t(v)]) continue;
+                const uint32_t g = uint32_t(map.vertex[size_t(v)]);
+                const uint32_t begin = t.vertexOffsets[g], room = t.vertexOffsets[g + 1] - begin;
+                const uint32_t localBegin = lt.vertexOffsets[size_t(v)], terms = lt.vertexOffsets[size_t(v) + 1] - localBegin;
+                if (terms != room) return Error{"uniform: a local vertex has another valence"};
+                for (uint32_t k = 0; k < terms; ++k)
+                    writes.push_back({l, false, begin + k, lt.vertexWeights[localBegin + k], translate(lt.vertexIndices[localBegin + k])});
+            }
+            map = std::move(next);
+            localOffset = localChildOffset;
+        }
+        for (const Write& w : writes) {
+            RefinementLevelTables& t = out.tables[w.level];
+            if (w.edge) {
+                t.edgeSharpWeight[w.at] = w.weight;
+            } else {
+                t.vertexIndices[w.at] = w.index;
+                t.vertexWeights[w.at] = w.weight;
+            }
+        }
+    }
+
+    out.drawnQuads.clear();
+    for (uint32_t i = 0; i < out.quads.size(); ++i)
+        if (planned.hasSurface(out.quads[i].subface)) out.drawnQuads.push_back(i);
+    return success();
 }
 
 }  // namespace qp

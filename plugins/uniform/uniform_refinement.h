@@ -20,8 +20,11 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
+
+#include <opensubdiv/far/topologyRefiner.h>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -37,7 +40,9 @@ struct RefinementLevelTables {
     std::vector<uint32_t> edgeChild;
     std::vector<uint32_t> edgePoints;   // 4 per edge: v0, v1, f0, f1 (boundary: v0, v1, v0, v1)
     std::vector<float> edgeSharpWeight; // 0 smooth, 1 sharp (midpoint), between: blend
-    std::vector<uint32_t> vertexChild, vertexOffsets, vertexIndices;  // vertex points: masks
+    // Vertex points: masks. Each vertex has room for 1 + edges + faces terms (the most any rule
+    // needs; unused terms weigh 0), so a tag edit rewrites a mask where it is.
+    std::vector<uint32_t> vertexChild, vertexOffsets, vertexIndices;
     std::vector<float> vertexWeights;
 };
 
@@ -53,7 +58,11 @@ struct UniformRefinement {
     uint32_t levels = 0;
     std::vector<uint32_t> levelOffset;  // first vertex of each level in the buffer; levels + 2 entries
     std::vector<RefinementLevelTables> tables;  // levels entries
-    std::vector<RefinedQuad> quads;     // finest level, drawable ones only (no holes, has a surface)
+    std::vector<RefinedQuad> quads;     // finest level, every sub-face's (holes' too)
+    std::vector<uint32_t> drawnQuads;   // the quads of sub-faces with a surface (ascending)
+    // The refined topology (its tags are those of build time; updateUniformTags keeps the
+    // tables current): what a tag edit's local refinement is matched against.
+    std::unique_ptr<OpenSubdiv::Far::TopologyRefiner> refiner;
     // Per sub-face, the quads covering it as a (2^m)^2 grid, row-major over (u, v) cells:
     // subfaceCellBase[s] indexes cellQuad; subfaceSide[s] = 2^m (0 when the sub-face has none).
     std::vector<uint32_t> subfaceCellBase, subfaceSide, cellQuad;
@@ -63,6 +72,15 @@ struct UniformRefinement {
 
 // Refines `planned`'s cage `levels` times (1..8) and builds the tables.
 Result<UniformRefinement> buildUniformRefinement(const PlannedCage& planned, uint32_t levels);
+
+// After a tag edit (edge or vertex sharpness, holes, the crease method) re-planned `subfaces` of
+// the same topology: the tables are rewritten where the edit reaches, from a uniform refinement
+// of just the faces around the re-planned ones (their masks need nothing beyond those faces),
+// matched to the refinement component by component; the drawn quads follow the holes. The
+// result equals buildUniformRefinement of the edited cage up to the order of each mask's terms.
+// Fails, changing nothing drawn, when the local refinement cannot be matched (non-manifold
+// edges between the same two vertices): then build again.
+Status updateUniformTags(UniformRefinement& refinement, const PlannedCage& planned, std::span<const uint32_t> subfaces);
 
 // Runs the kernels: `buffer` gets every level's positions (resized to levelOffset.back()),
 // starting from the cage's. Parallel over each table.

@@ -6,6 +6,10 @@
 //
 // Options: level=L (1..8) overrides the level derived from the factor.
 //
+// Tag edits (sharpness, corners, holes) update in place: the refinement tables are rewritten
+// around the re-planned faces from a local refinement (updateUniformTags), and the refined mesh
+// is applied again as after a vertex move; topology edits rebuild.
+//
 // Displacement: the refined surface (sampleRefined, its own normals) on a grid of at least
 // 2^L and at least the tiles' required factor, displaced and made watertight through
 // a DisplacedDrawing (displaced_drawing.h: a dab re-displaces only what it reached).
@@ -51,13 +55,20 @@ public:
         if (!refinement) return refinement.error();
         refinement_ = std::move(*refinement);
         level_ = level;
-        indices_.clear();
-        for (const RefinedQuad& q : refinement_.quads) {
-            const uint32_t* v = q.vertices;
-            indices_.insert(indices_.end(), {v[0], v[1], v[2], v[0], v[2], v[3]});
-        }
+        fillIndices();
         return success();
     }
+
+    // Tag edits keep the refined topology: the tables are rewritten around the re-planned
+    // sub-faces (updateUniformTags), then everything is applied again as after a move.
+    Result<PlanUpdate> updatePlans(const PlanChange& change) override {
+        if (change.topologyChanged) return PlanUpdate::Rebuild;
+        if (Status s = updateUniformTags(refinement_, *planned_, change.subfaces); !s) return s.error();
+        fillIndices();
+        if (Status s = update(); !s) return s.error();
+        return PlanUpdate::Updated;
+    }
+    bool updatesPlansInPlace() const override { return true; }
 
     Status createGpu(const GpuContext& gpu) override {
         ctx_ = gpu.vulkan;
@@ -133,6 +144,15 @@ public:
     }
 
 private:
+    void fillIndices() {
+        indices_.clear();
+        indices_.reserve(6 * refinement_.drawnQuads.size());
+        for (uint32_t i : refinement_.drawnQuads) {
+            const uint32_t* v = refinement_.quads[i].vertices;
+            indices_.insert(indices_.end(), {v[0], v[1], v[2], v[0], v[2], v[3]});
+        }
+    }
+
     static uint32_t parseLevel(const std::string& text) {
         char* end = nullptr;
         const long level = std::strtol(text.c_str(), &end, 10);
