@@ -102,9 +102,15 @@ public:
 
     Result<PlanUpdate> updatePlans(const PlanChange& change) override {
         if (!haveBuffers_ || (change.topologyChanged && change.previousSubfaceOf.empty())) return PlanUpdate::Rebuild;
-        // Refreshes not drawn yet name vertices and sub-faces in the numbering before the edit.
-        if (change.topologyChanged && (!pendingMoves_.empty() || !pendingRefresh_.empty())) return PlanUpdate::Rebuild;
-        Result<PlanTableUpdate> updated = updatePlanTables(*ctx_, pass_, buffers_, *planned_, change.subfaces,
+        std::span<const uint32_t> changed = change.subfaces;
+        std::vector<uint32_t> withPending;
+        if (change.topologyChanged && (!pendingMoves_.empty() || !pendingRefresh_.empty())) {
+            // Refreshes not drawn yet name vertices and drawn sub-faces of the numbering before
+            // the edit: they join the change as sub-faces of the new numbering.
+            withPending = renumberedPending(change);
+            changed = withPending;
+        }
+        Result<PlanTableUpdate> updated = updatePlanTables(*ctx_, pass_, buffers_, *planned_, changed,
                                                            change.topologyChanged ? change.previousSubfaceOf
                                                                                   : std::span<const uint32_t>());
         if (!updated) return updated.error();
@@ -118,6 +124,24 @@ public:
                        std::back_inserter(merged));
         pendingRefresh_ = std::move(merged);
         return PlanUpdate::Updated;
+    }
+
+    // change.subfaces with the pending refreshes (moves, earlier updates) in the new numbering.
+    std::vector<uint32_t> renumberedPending(const PlanChange& change) {
+        std::vector<uint32_t> drawn = subfacesAround(buffers_.data, pendingMoves_);
+        drawn.insert(drawn.end(), pendingRefresh_.begin(), pendingRefresh_.end());
+        std::vector<char> stale(buffers_.drawnOfSubface.size(), 0);
+        for (uint32_t d : drawn) stale[buffers_.data.subfaces[d].subface] = 1;
+        std::vector<uint32_t> out(change.subfaces.begin(), change.subfaces.end());
+        for (uint32_t s = 0; s < change.previousSubfaceOf.size(); ++s) {
+            const uint32_t previous = change.previousSubfaceOf[s];
+            if (previous < stale.size() && stale[previous]) out.push_back(s);
+        }
+        std::sort(out.begin(), out.end());
+        out.erase(std::unique(out.begin(), out.end()), out.end());
+        pendingMoves_.clear();
+        pendingRefresh_.clear();
+        return out;
     }
 
     bool updatesPlansInPlace() const override { return true; }

@@ -71,6 +71,11 @@ public:
             out[i] = surfacePoint(p, du, dv);
         }
     }
+#ifdef QP_TEST_FAILING_UPDATE
+    // Claims updates in place and fails every one: the host must rebuild and say so.
+    Result<PlanUpdate> updatePlans(const PlanChange&) override { return Error{"deliberate failure in updatePlans"}; }
+    bool updatesPlansInPlace() const override { return true; }
+#endif
     SchemeStats stats() const override { return {}; }
     void destroyGpu() override {
         if (!ctx_) return;
@@ -92,6 +97,8 @@ private:
 
 #if defined(QP_TEST_GOOD) || defined(QP_TEST_DUPLICATE)
 QUADPLAN_EXPORT_SCHEME("test-flat", "the cage, bilinear (a test scheme)", qp::FlatScheme)
+#elif defined(QP_TEST_FAILING_UPDATE)
+QUADPLAN_EXPORT_SCHEME("test-update-fails", "fails its updates in place (a test scheme)", qp::FlatScheme)
 #elif defined(QP_TEST_THROWS_AT_BUILD)
 QUADPLAN_EXPORT_SCHEME("test-throws", "throws in build (a test scheme)", qp::FlatScheme)
 #elif defined(QP_TEST_NULL_CREATE)
