@@ -162,6 +162,7 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     gpu.boundaryPoints.assign(cage.vertexCount() + topology.edgeCount() + cage.faceCount(), GpuPoint{UINT32_MAX, 0});
     gpu.boundaries.resize(gpu.subfaces.size());
     BoundaryBuilder builder{planned, cage, topology, gpu, {}};
+    builder.segmentIndex.reserve(topology.edgeCount() + 2 * gpu.subfaces.size());  // no rehashing on the way
     for (bool quads : {false, true})
         for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
             auto [face, corner] = faceAndCorner[d];

@@ -131,10 +131,10 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     GpuPlanData& data = buffers.data;
     const PlanDatabase& database = planned.database();
     GpuPlanData old;  // the sub-face part before the change (ownersOf reads nothing else)
-    old.subfaces = data.subfaces;
-    old.boundaries = data.boundaries;
-    old.segments = data.segments;
-    old.boundaryPoints = data.boundaryPoints;
+    old.subfaces = std::move(data.subfaces);
+    old.boundaries = std::move(data.boundaries);
+    old.segments = std::move(data.segments);
+    old.boundaryPoints = std::move(data.boundaryPoints);
     old.controlPointCount = data.controlPointCount;
     const std::vector<uint32_t> oldDrawnOf = buffers.drawnOfSubface, oldCapacity = buffers.controlPointCapacity;
     packSubfaces(data, planned);
