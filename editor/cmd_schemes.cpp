@@ -42,12 +42,14 @@ int runSchemes(const SchemesArgs& args) {
         // How a tag or topology edit reaches it: in place (Scheme::updatePlans) or a new instance.
         Result<SchemeInstance> probe = SchemeInstance::create(plugin);
         const bool inPlace = probe && probe->updatesPlansInPlace();
-        entry["after_edits"] = inPlace ? "updates in place" : "rebuilds";
+        const bool topologyInPlace = inPlace && probe->updatesTopologyInPlace();
+        entry["after_edits"] = topologyInPlace ? "updates in place" : inPlace ? "updates tag edits in place" : "rebuilds";
         if (!args.json)
             std::printf("  %-10s %s\n             after a tag or topology edit: %s\n", plugin->name.c_str(),
                         plugin->summary.c_str(),
-                        inPlace ? "updates the re-planned sub-faces in place (tag edits; topology edits rebuild)"
-                                : "rebuilds the whole instance");
+                        topologyInPlace ? "updates the re-planned sub-faces in place (tag and topology edits)"
+                        : inPlace       ? "updates the re-planned sub-faces in place (tag edits; topology edits rebuild)"
+                                        : "rebuilds the whole instance");
         if (features) {
             Result<SchemeInstance> instance = SchemeInstance::create(plugin);
             Result<SupportReport> report = instance ? instance->support(*features, SchemeSettings{})

@@ -218,6 +218,8 @@ public:
     // True when updatePlans can update in place (at least for some edits): `quadplan schemes`
     // and the editor say which schemes rebuild after an edit.
     virtual bool updatesPlansInPlace() const { return false; }
+    // True when topology edits (PlanChange::topologyChanged) are among them.
+    virtual bool updatesTopologyInPlace() const { return false; }
     // True when record() leaves out DrawView::hiddenSubfaces; the editor warns in the viewports of
     // schemes that draw them anyway.
     virtual bool hidesSubfaces() const { return false; }

@@ -198,6 +198,14 @@ bool SchemeInstance::updatesPlansInPlace() const {
     }
 }
 
+bool SchemeInstance::updatesTopologyInPlace() const {
+    try {
+        return scheme_->updatesTopologyInPlace();
+    } catch (...) {
+        return false;
+    }
+}
+
 bool SchemeInstance::hidesSubfaces() const {
     try {
         return scheme_->hidesSubfaces();

@@ -77,6 +77,7 @@ public:
     Status updateMoved(std::span<const uint32_t> vertices);  // Scheme::updateMoved
     Result<PlanUpdate> updatePlans(const PlanChange& change);  // Scheme::updatePlans
     bool updatesPlansInPlace() const;
+    bool updatesTopologyInPlace() const;
     bool hidesSubfaces() const;
     Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view);
     // All requests, in parallel (scheme_support.h: evaluateParallel).

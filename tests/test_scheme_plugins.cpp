@@ -369,6 +369,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
         Result<PreparedScheme> prepared = prepareScheme(catalog(), "plans", *planned, features, settings, gpu, "cube");
         ASSERT_TRUE(prepared.ok()) << prepared.error().message;
         EXPECT_TRUE(prepared->instance.updatesPlansInPlace());
+        EXPECT_TRUE(prepared->instance.updatesTopologyInPlace());
         const Picture before = draw(prepared->instance);
         Result<EditReport> crease = planned->setEdgeSharpness(a, b, kInfiniteSharpness);
         ASSERT_TRUE(crease.ok());
@@ -447,6 +448,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
         Result<PreparedScheme> prepared = prepareScheme(catalog(), "uniform", *planned, features, settings, gpu, "cube");
         ASSERT_TRUE(prepared.ok()) << prepared.error().message;
         EXPECT_TRUE(prepared->instance.updatesPlansInPlace());
+        EXPECT_FALSE(prepared->instance.updatesTopologyInPlace());
         const Picture before = draw(prepared->instance);
         const uint32_t face = topology.edgeFaces[topology.edgeFaceOffsets[topology.findEdge(a, b)]];
         std::vector<std::function<Result<EditReport>()>> edits = {

@@ -329,8 +329,9 @@ bool updatePlansInPlace(SchemeView& view, const Document& doc, const EditReport&
     }
     view.planUpdateNote = !updated ? "rebuilt: the update in place failed (" + updated.error().message + ")"
                           : !view.instance->updatesPlansInPlace() ? "rebuilt (the scheme does not update plans in place)"
-                          : change.topologyChanged                ? "rebuilt (topology edit)"
-                                                                  : "rebuilt (the scheme asked for it)";
+                          : change.topologyChanged && !view.instance->updatesTopologyInPlace()
+                              ? "rebuilt (the scheme rebuilds after topology edits)"
+                              : "rebuilt (the scheme asked for it)";
     if (!updated) std::fprintf(stderr, "%s: %s\n", view.built.name.c_str(), view.planUpdateNote.c_str());
     return false;
 }

@@ -145,6 +145,7 @@ public:
     }
 
     bool updatesPlansInPlace() const override { return true; }
+    bool updatesTopologyInPlace() const override { return true; }
     bool hidesSubfaces() const override { return true; }
 
     Status update() override {
