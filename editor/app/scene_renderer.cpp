@@ -251,6 +251,10 @@ void buildView(SceneRenderer& r, const PluginCatalog& catalog, const Document& d
     view.colorModes = {"shading"};
     ++view.drawRevision;
     const auto start = Clock::now();
+    if (r.featuresStale) {  // only builds read them: an edit taken in place need not scan the cage
+        r.features = analyzeCage(doc.planned->cage(), doc.planned->topology());
+        r.featuresStale = false;
+    }
     Result<PreparedScheme> prepared = prepareScheme(catalog, request.name, *doc.planned, r.features, request.settings,
                                                     r.gpu, doc.path.empty() ? "the cage" : doc.path,
                                                     displacementOf(doc));
@@ -495,7 +499,7 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
 
     const auto start = Clock::now();
     VK_CHECK(vkQueueWaitIdle(ctx.queue));
-    if (newPlans) r.features = analyzeCage(cage, doc.planned->topology());
+    if (newPlans) r.featuresStale = true;
     for (SchemeView& view : closed) park(ctx, r, doc, view);
     if (newPlans && !newDocument)  // parked instances that can take the edit in place stay usable
         for (ParkedInstance& p : r.parked)

@@ -128,7 +128,8 @@ struct SceneRenderer {
     std::vector<uint32_t> hiddenSubfaces;  // of the document's hidden faces, sorted: DrawView::hiddenSubfaces
     std::vector<glm::vec3> positions;  // as last synced, to find the vertices an edit moved
     std::string overlayKey;
-    CageFeatures features;
+    CageFeatures features;     // of the cage the last build saw (analyzeCage)
+    bool featuresStale = true;  // the plans changed since: analysed again before the next build
     double lastSyncMs = 0.0;  // scheme updates, heat maps and line buffers of the last change
     // Per frame-in-flight slot: statistics queries and what they were recorded for.
     VkQueryPool statistics[kFramesInFlight] = {};
