@@ -482,7 +482,9 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     for (size_t i = requests.size(); i < r.views.size(); ++i) closed.push_back(std::move(r.views[i]));
     r.views.resize(requests.size());
     std::vector<char> rebuild(requests.size()), replan(requests.size()), heatWhole(requests.size()), heatOff(requests.size());
-    const bool newGrid = newPlans || r.gridUp != display.up;
+    // The grid follows the cage's bounds, which tag edits and most topology edits leave alone.
+    const std::optional<Bounds> bounds = newPlans ? std::optional<Bounds>(computeBounds(cage)) : std::nullopt;
+    const bool newGrid = r.gridUp != display.up || (bounds && (bounds->min != r.gridBounds.min || bounds->max != r.gridBounds.max));
     bool work = newPositions || newDisplacement || newSamples || newGrid || newHidden || overlay != r.overlayKey ||
                 !closed.empty();
     for (size_t i = 0; i < requests.size(); ++i) {
@@ -567,7 +569,8 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
         for (SchemeView& view : r.views) ++view.drawRevision;
     }
     if (newGrid) {
-        const GroundGrid grid = groundGrid(computeBounds(cage), display.up, display.background);
+        r.gridBounds = bounds ? *bounds : computeBounds(cage);
+        const GroundGrid grid = groundGrid(r.gridBounds, display.up, display.background);
         if (Status s = fillLineBuffer(ctx, r.gridLines, r.gridLineCount, grid.lines); !s) return s;
         r.gridUp = display.up;
     }

@@ -119,7 +119,8 @@ struct SceneRenderer {
     MeshPass heatPass;
     Buffer cageLines, creaseLines, overlayLines, gridLines;
     uint32_t cageLineCount = 0, creaseLineCount = 0, overlayLineCount = 0, gridLineCount = 0;
-    std::optional<UpAxis> gridUp;  // what the grid was made for (with the plans below); empty: not made
+    std::optional<UpAxis> gridUp;  // what the grid was made for (with gridBounds); empty: not made
+    Bounds gridBounds;
     std::vector<SchemeView> views;  // one per viewport
     std::vector<ParkedInstance> parked;  // oldest first, at most kMaxParkedInstances
     // What the copies were made from.
