@@ -185,6 +185,17 @@ double differingPixels(const Picture& a, const Picture& b, int threshold) {
     return double(differing) / double(a.pixels.size() / 4);
 }
 
+// What an edit changed, as PlanChange::subfaces wants it: sorted, every sub-face of the
+// re-planned faces with those whose control points moved.
+std::vector<uint32_t> changedSubfaces(const PlannedCage& planned, const EditReport& report) {
+    std::vector<uint32_t> out = report.updatedSubfaceList;
+    for (uint32_t f : report.replannedFaceList)
+        for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) out.push_back(s);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
 }  // namespace
 
 TEST(SchemePlugins, DrawWithValidationSilentAndTheSamePictureThroughBothPaths) {
@@ -373,10 +384,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
         const Picture before = draw(prepared->instance);
         Result<EditReport> crease = planned->setEdgeSharpness(a, b, kInfiniteSharpness);
         ASSERT_TRUE(crease.ok());
-        std::vector<uint32_t> subfaces = crease->updatedSubfaceList;
-        for (uint32_t f : crease->replannedFaceList) subfaces.push_back(planned->firstSubface(f));  // quads: one each
-        std::sort(subfaces.begin(), subfaces.end());
-        subfaces.erase(std::unique(subfaces.begin(), subfaces.end()), subfaces.end());
+        const std::vector<uint32_t> subfaces = changedSubfaces(*planned, *crease);
         Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{subfaces, false});
         ASSERT_TRUE(updated.ok()) << updated.error().message;
         EXPECT_EQ(*updated, PlanUpdate::Updated);
@@ -409,10 +417,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
         auto creaseInPlace = [&](float sharpness) {
             Result<EditReport> crease = planned->setEdgeSharpness(a, b, sharpness);
             ASSERT_TRUE(crease.ok());
-            std::vector<uint32_t> replanned = crease->updatedSubfaceList;
-            for (uint32_t f : crease->replannedFaceList) replanned.push_back(planned->firstSubface(f));
-            std::sort(replanned.begin(), replanned.end());
-            replanned.erase(std::unique(replanned.begin(), replanned.end()), replanned.end());
+            const std::vector<uint32_t> replanned = changedSubfaces(*planned, *crease);
             Result<PlanUpdate> tagUpdate = prepared->instance.updatePlans(PlanChange{replanned, false});
             ASSERT_TRUE(tagUpdate.ok());
             EXPECT_EQ(*tagUpdate, PlanUpdate::Updated);
@@ -423,10 +428,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
             ASSERT_TRUE(edit.ok()) << edit.error().message;
             Result<EditReport> report = planned->applyTopologyEdit(std::move(edit).value());
             ASSERT_TRUE(report.ok()) << report.error().message;
-            std::vector<uint32_t> changed = report->updatedSubfaceList;
-            for (uint32_t f : report->replannedFaceList) changed.push_back(planned->firstSubface(f));
-            std::sort(changed.begin(), changed.end());
-            changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+            const std::vector<uint32_t> changed = changedSubfaces(*planned, *report);
             Result<PlanUpdate> topologyUpdate =
                 prepared->instance.updatePlans(PlanChange{changed, true, report->previousSubfaceOf});
             ASSERT_TRUE(topologyUpdate.ok()) << topologyUpdate.error().message;
@@ -461,10 +463,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
             SCOPED_TRACE("edit " + std::to_string(k));
             Result<EditReport> report = edits[k]();
             ASSERT_TRUE(report.ok());
-            std::vector<uint32_t> changed = report->updatedSubfaceList;
-            for (uint32_t f : report->replannedFaceList) changed.push_back(planned->firstSubface(f));
-            std::sort(changed.begin(), changed.end());
-            changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+            const std::vector<uint32_t> changed = changedSubfaces(*planned, *report);
             Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{changed, false});
             ASSERT_TRUE(updated.ok()) << updated.error().message;
             EXPECT_EQ(*updated, PlanUpdate::Updated);
