@@ -1,7 +1,6 @@
 #include "gpu_plans.h"
 
 #include <algorithm>
-#include <unordered_map>
 
 #include <glm/geometric.hpp>
 
@@ -20,7 +19,7 @@ struct BoundaryBuilder {
     const Cage& cage;
     const Topology& topology;
     GpuPlanData& gpu;
-    std::unordered_map<uint64_t, uint32_t> segmentIndex;
+    std::vector<uint32_t> segmentIndex;  // slot (wholeEdge, halfEdge, spoke) -> segment, or UINT32_MAX
 
     uint32_t vertexPoint(uint32_t v) const { return v; }
     uint32_t midpoint(uint32_t edge) const { return cage.vertexCount() + edge; }
@@ -43,12 +42,27 @@ struct BoundaryBuilder {
         return false;
     }
 
-    // Segment a -> b as seen from `drawn`'s edge `edge`; registers the first user as owner.
-    uint32_t segment(uint32_t a, uint32_t b, uint32_t drawn, uint32_t edge) {
-        uint64_t key = uint64_t(std::min(a, b)) << 32 | std::max(a, b);
-        auto [it, inserted] = segmentIndex.emplace(key, uint32_t(gpu.segments.size()));
-        if (inserted) gpu.segments.push_back(GpuSegment{drawn, edge, a > b ? 1u : 0u, 0});
-        return it->second;
+    // Segments are found by what they are, in one flat array: a whole cage edge, the half of a
+    // cage edge at one of its vertices, or the spoke from a cage edge's midpoint to the centre
+    // of a non-quad face (named by the first corner of the face on that edge).
+    uint32_t wholeEdge(uint32_t edge) const { return 3 * edge; }
+    uint32_t halfEdge(uint32_t edge, uint32_t vertex) const {
+        return 3 * edge + (vertex == topology.edgeVertices[2 * edge] ? 1 : 2);
+    }
+    uint32_t spoke(uint32_t face, uint32_t edge) const {
+        const uint32_t* edges = &topology.faceEdges[cage.faceOffsets[face]];
+        return 3 * topology.edgeCount() + cage.faceOffsets[face] + uint32_t(std::find(edges, edges + cage.faceSize(face), edge) - edges);
+    }
+
+    // Segment a -> b (boundary point ids) in `slot` of segmentIndex, as seen from `drawn`'s
+    // edge `edge`; registers the first user as owner.
+    uint32_t segment(uint32_t slot, uint32_t a, uint32_t b, uint32_t drawn, uint32_t edge) {
+        uint32_t& index = segmentIndex[slot];
+        if (index == UINT32_MAX) {
+            index = uint32_t(gpu.segments.size());
+            gpu.segments.push_back(GpuSegment{drawn, edge, a > b ? 1u : 0u, 0});
+        }
+        return index;
     }
 
     void point(uint32_t id, uint32_t drawn, uint32_t corner) {
@@ -63,28 +77,32 @@ struct BoundaryBuilder {
             for (uint32_t i = 0; i < 4; ++i) b.corners[i] = vertexPoint(fv[i]);
             for (uint32_t e = 0; e < 4; ++e) {
                 uint32_t a = fv[kEdgeStart[e]], z = fv[kEdgeEnd[e]];
-                uint32_t cageEdge = topology.findEdge(a, z);
+                // Sub-face edges 0, 1, 2, 3 run along the face's edges 0, 1, 2, 3 (2 and 3 backwards).
+                uint32_t cageEdge = topology.faceEdges[cage.faceOffsets[face] + e];
                 GpuEdgeRef& ref = b.edges[e];
                 if (edgeIsSplit(cageEdge)) {
                     ref.midpoint = midpoint(cageEdge);
-                    ref.segment = segment(a, ref.midpoint, drawn, e | kFirstHalf);
-                    ref.secondHalf = segment(ref.midpoint, z, drawn, e | kSecondHalf);
+                    ref.segment = segment(halfEdge(cageEdge, a), a, ref.midpoint, drawn, e | kFirstHalf);
+                    ref.secondHalf = segment(halfEdge(cageEdge, z), ref.midpoint, z, drawn, e | kSecondHalf);
                     ref.flags = kEdgeRefSplit;
                 } else {
-                    ref.segment = segment(a, z, drawn, e);
+                    ref.segment = segment(wholeEdge(cageEdge), a, z, drawn, e);
                     ref.flags = a > z ? kEdgeRefReversed : 0;
                 }
             }
         } else {
-            uint32_t next = topology.findEdge(fv[k], fv[(k + 1) % n]);
-            uint32_t prev = topology.findEdge(fv[(k + n - 1) % n], fv[k]);
+            uint32_t next = topology.faceEdges[cage.faceOffsets[face] + k];
+            uint32_t prev = topology.faceEdges[cage.faceOffsets[face] + (k + n - 1) % n];
             b.corners[0] = vertexPoint(fv[k]);
             b.corners[1] = midpoint(next);
             b.corners[2] = centre(face);
             b.corners[3] = midpoint(prev);
+            // Edges 0 and 3 are the halves of `next` and `prev` at the corner's vertex, 1 and 2
+            // the spokes from their midpoints to the centre.
+            const uint32_t slots[4] = {halfEdge(next, fv[k]), spoke(face, next), spoke(face, prev), halfEdge(prev, fv[k])};
             for (uint32_t e = 0; e < 4; ++e) {
                 uint32_t a = b.corners[kEdgeStart[e]], z = b.corners[kEdgeEnd[e]];
-                b.edges[e].segment = segment(a, z, drawn, e);
+                b.edges[e].segment = segment(slots[e], a, z, drawn, e);
                 b.edges[e].flags = a > z ? kEdgeRefReversed : 0;
             }
             // Edges 0 and 3 are halves of cage edges: their factor comes from the whole edge.
@@ -162,7 +180,7 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     gpu.boundaryPoints.assign(cage.vertexCount() + topology.edgeCount() + cage.faceCount(), GpuPoint{UINT32_MAX, 0});
     gpu.boundaries.resize(gpu.subfaces.size());
     BoundaryBuilder builder{planned, cage, topology, gpu, {}};
-    builder.segmentIndex.reserve(topology.edgeCount() + 2 * gpu.subfaces.size());  // no rehashing on the way
+    builder.segmentIndex.assign(3 * size_t(topology.edgeCount()) + cage.faceVertices.size(), UINT32_MAX);
     for (bool quads : {false, true})
         for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
             auto [face, corner] = faceAndCorner[d];
