@@ -117,8 +117,6 @@ Status validateCage(const Cage& cage, const std::string& source) {
                          " has a NaN or infinite coordinate"};
     }
 
-    std::vector<uint64_t> edges;  // (v0 << 32 | v1), v0 < v1; sorted below
-    edges.reserve(cage.faceVertices.size());
     for (uint32_t f = 0; f < cage.faceCount(); ++f) {
         if (cage.faceOffsets[f + 1] < cage.faceOffsets[f])
             return Error{source + ": face offsets are not increasing at face " + std::to_string(f + 1)};
@@ -135,11 +133,31 @@ Status validateCage(const Cage& cage, const std::string& source) {
             if (a == b)
                 return Error{faceName(source, f) + " repeats vertex " + std::to_string(a + 1) +
                              " consecutively (zero-length edge)"};
-            edges.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
         }
     }
 
-    std::sort(edges.begin(), edges.end());
+    // The faces' edges, for the creases to name: the larger vertex of each, grouped by the
+    // smaller (a counting sort, linear in the cage: validation runs on every topology edit).
+    std::vector<uint32_t> edgeOffsets, edgeEnds;
+    if (!cage.creases.empty()) {
+        edgeOffsets.assign(cage.vertexCount() + 1, 0);
+        auto forEachEdge = [&](auto&& visit) {
+            for (uint32_t f = 0; f < cage.faceCount(); ++f)
+                for (uint32_t i = 0, n = cage.faceSize(f); i < n; ++i) {
+                    const uint32_t a = cage.faceBegin(f)[i], b = cage.faceBegin(f)[(i + 1) % n];
+                    visit(std::min(a, b), std::max(a, b));
+                }
+        };
+        forEachEdge([&](uint32_t lo, uint32_t) { ++edgeOffsets[lo + 1]; });
+        for (uint32_t v = 0; v < cage.vertexCount(); ++v) edgeOffsets[v + 1] += edgeOffsets[v];
+        edgeEnds.resize(edgeOffsets.back());
+        std::vector<uint32_t> cursor(edgeOffsets.begin(), edgeOffsets.end() - 1);
+        forEachEdge([&](uint32_t lo, uint32_t hi) { edgeEnds[cursor[lo]++] = hi; });
+    }
+    auto edgeExists = [&](uint32_t lo, uint32_t hi) {
+        return lo < cage.vertexCount() && std::find(edgeEnds.begin() + edgeOffsets[lo], edgeEnds.begin() + edgeOffsets[lo + 1], hi) !=
+                                              edgeEnds.begin() + edgeOffsets[lo + 1];
+    };
 
     auto badSharpness = [](float s) { return !std::isfinite(s) || s <= 0.0f || s > kInfiniteSharpness; };
     for (size_t i = 0; i < cage.creases.size(); ++i) {
@@ -147,7 +165,7 @@ Status validateCage(const Cage& cage, const std::string& source) {
         std::string name = source + ": crease on edge " + std::to_string(c.v0 + 1) + "-" + std::to_string(c.v1 + 1);
         if (c.v0 >= c.v1 || (i > 0 && !edgeLess(cage.creases[i - 1], c)))
             return Error{name + " is not sorted or is duplicated (call normalizeTags)"};
-        if (!std::binary_search(edges.begin(), edges.end(), uint64_t(c.v0) << 32 | c.v1))
+        if (!edgeExists(c.v0, c.v1))
             return Error{name + " names an edge that no face has"};
         if (badSharpness(c.sharpness))
             return Error{name + " has sharpness " + std::to_string(c.sharpness) +

@@ -43,16 +43,31 @@ Topology buildTopology(const Cage& cage) {
     Topology t;
     const uint32_t faceVertexCount = uint32_t(cage.faceVertices.size());
 
-    // Sort face-edge slots by vertex pair; equal runs are one edge.
+    // Face-edge slots in (vertex pair, slot) order; equal pairs are one edge. A counting sort by
+    // the smaller vertex, then each vertex's few slots by the larger one: linear in the cage,
+    // where one sort of every slot was not.
+    std::vector<uint32_t> bucketOffsets(cage.vertexCount() + 1, 0);
+    auto keyOf = [&](uint32_t f, uint32_t base, uint32_t i) {
+        const uint32_t n = cage.faceSize(f);
+        return edgeKey(cage.faceVertices[base + i], cage.faceVertices[base + (i + 1) % n]);
+    };
+    for (uint32_t f = 0; f < cage.faceCount(); ++f)
+        for (uint32_t i = 0, base = cage.faceOffsets[f]; i < cage.faceSize(f); ++i) ++bucketOffsets[(keyOf(f, base, i) >> 32) + 1];
+    std::partial_sum(bucketOffsets.begin(), bucketOffsets.end(), bucketOffsets.begin());
     std::vector<std::pair<uint64_t, uint32_t>> slots(faceVertexCount);
-    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
-        uint32_t n = cage.faceSize(f), base = cage.faceOffsets[f];
-        for (uint32_t i = 0; i < n; ++i)
-            slots[base + i] = {edgeKey(cage.faceVertices[base + i], cage.faceVertices[base + (i + 1) % n]), base + i};
+    {
+        std::vector<uint32_t> cursor(bucketOffsets.begin(), bucketOffsets.end() - 1);
+        for (uint32_t f = 0; f < cage.faceCount(); ++f)
+            for (uint32_t i = 0, base = cage.faceOffsets[f]; i < cage.faceSize(f); ++i) {
+                const uint64_t key = keyOf(f, base, i);
+                slots[cursor[key >> 32]++] = {key, base + i};
+            }
     }
-    std::sort(slots.begin(), slots.end());
+    for (uint32_t v = 0; v < cage.vertexCount(); ++v)
+        std::sort(slots.begin() + bucketOffsets[v], slots.begin() + bucketOffsets[v + 1]);
 
     t.faceEdges.resize(faceVertexCount);
+    t.edgeVertices.reserve(faceVertexCount);  // two per edge: exact for a closed cage
     for (size_t i = 0; i < slots.size(); ++i) {
         if (i == 0 || slots[i].first != slots[i - 1].first) {
             t.edgeVertices.push_back(uint32_t(slots[i].first >> 32));
@@ -62,6 +77,9 @@ Topology buildTopology(const Cage& cage) {
     }
 
     std::vector<std::pair<uint32_t, uint32_t>> edgeFace, vertexFace, vertexEdge;
+    edgeFace.reserve(faceVertexCount);
+    vertexFace.reserve(faceVertexCount);
+    vertexEdge.reserve(t.edgeVertices.size());
     for (uint32_t f = 0; f < cage.faceCount(); ++f)
         for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i) {
             edgeFace.push_back({t.faceEdges[i], f});
