@@ -6,6 +6,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "local_cage.h"
 #include "osd_refiner.h"
 
 namespace qp {
@@ -374,7 +375,6 @@ Result<EditReport> PlannedCage::applyTopologyEdit(TopologyEdit edit) {
     if (Status s = finishTopologyEdit(cage_, edit, source_); !s) return s.error();
     const Cage& before = cage_;
     const Cage& next = edit.cage;
-    if (auto refiner = createRefiner(next, source_); !refiner) return refiner.error();
 
     std::vector<uint32_t> newVertexOf(before.vertexCount(), kNewElement);
     bool renumbered = false;
@@ -426,6 +426,11 @@ Result<EditReport> PlannedCage::applyTopologyEdit(TopologyEdit edit) {
         for (uint32_t i = 0; i < next.faceSize(f) && !replan; ++i) replan = dirty[next.faceBegin(f)[i]];
         if (replan) affected.push_back(f);
     }
+    // OpenSubdiv's topology checks are local (a vertex, its faces and edges): the faces at the
+    // edit's vertices are enough when the cage before it passed. The whole cage is checked when
+    // every face changed, and when the local cage fails, for a message in the cage's numbering.
+    if (everyFace || !createRefiner(localCage(next, affected, true).cage, source_))
+        if (auto refiner = createRefiner(next, source_); !refiner) return refiner.error();
     std::vector<uint32_t> moved;
     for (uint32_t v = 0; v < next.vertexCount(); ++v) {
         const uint32_t old = edit.oldVertexOf[v];

@@ -7,6 +7,7 @@
 #include <opensubdiv/far/topologyRefiner.h>
 #include <tbb/parallel_for.h>
 
+#include "local_cage.h"
 #include "osd_refiner.h"
 
 namespace qp {
@@ -404,46 +405,6 @@ namespace {
 void sortUnique(std::vector<uint32_t>& list) {
     std::sort(list.begin(), list.end());
     list.erase(std::unique(list.begin(), list.end()), list.end());
-}
-
-// A small cage of `faces` (sorted) of `cage` with their tags, and its vertices' numbers in `cage`.
-struct LocalCage {
-    Cage cage;
-    std::vector<uint32_t> globalVertex;
-};
-
-LocalCage localCage(const Cage& cage, const std::vector<uint32_t>& faces) {
-    LocalCage out;
-    out.cage.options = cage.options;
-    std::vector<uint32_t> localOf(cage.vertexCount(), UINT32_MAX);
-    std::vector<uint64_t> edges;  // (min, max) of every local face edge, global numbers
-    for (uint32_t f : faces) {
-        const uint32_t n = cage.faceSize(f);
-        const uint32_t* v = cage.faceBegin(f);
-        std::vector<uint32_t> local(n);
-        for (uint32_t k = 0; k < n; ++k) {
-            if (localOf[v[k]] == UINT32_MAX) {
-                localOf[v[k]] = uint32_t(out.globalVertex.size());
-                out.globalVertex.push_back(v[k]);
-                out.cage.positions.push_back(cage.positions[v[k]]);
-            }
-            local[k] = localOf[v[k]];
-            const uint32_t a = v[k], b = v[(k + 1) % n];
-            edges.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
-        }
-        out.cage.addFace(local.data(), n);
-        if (cage.isHole(f)) out.cage.holes.push_back(out.cage.faceCount() - 1);
-    }
-    std::sort(edges.begin(), edges.end());
-    for (const EdgeCrease& c : cage.creases)
-        if (std::binary_search(edges.begin(), edges.end(), uint64_t(c.v0) << 32 | c.v1))
-            out.cage.creases.push_back({localOf[c.v0], localOf[c.v1], c.sharpness});
-    for (const VertexCorner& c : cage.corners)
-        if (localOf[c.vertex] != UINT32_MAX) out.cage.corners.push_back({localOf[c.vertex], c.sharpness});
-    for (EdgeCrease& c : out.cage.creases)
-        if (c.v0 > c.v1) std::swap(c.v0, c.v1);
-    normalizeTags(out.cage);
-    return out;
 }
 
 // Per level, local component -> the same component of the whole refinement.
