@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <malloc.h>
 #include <thread>
 #include <utility>
 
@@ -474,6 +475,12 @@ void runLoop(EditorApp& app) {
 }  // namespace
 
 int runEditorApp(const LaunchOptions& options) {
+    // An edit builds tables of a few to tens of MiB and frees the ones they replace. glibc would
+    // hand each freed block back to the kernel (mmap above 128 KiB, heap trimming), so the next
+    // edit faulted every page in again: a quarter of a 20k-face hole frame. Freed memory stays in
+    // the heap for the next edit instead.
+    mallopt(M_MMAP_THRESHOLD, 64 << 20);
+    mallopt(M_TRIM_THRESHOLD, 256 << 20);
     EditorApp app;
     app.options = options;
     app.recoveryDir = recoveryDirectory();
