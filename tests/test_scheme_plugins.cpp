@@ -385,7 +385,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
         Result<EditReport> crease = planned->setEdgeSharpness(a, b, kInfiniteSharpness);
         ASSERT_TRUE(crease.ok());
         const std::vector<uint32_t> subfaces = changedSubfaces(*planned, *crease);
-        Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{subfaces, false});
+        Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{subfaces, false, {}});
         ASSERT_TRUE(updated.ok()) << updated.error().message;
         EXPECT_EQ(*updated, PlanUpdate::Updated);
         const Picture inPlace = draw(prepared->instance);
@@ -398,7 +398,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
         const uint32_t face = topology.edgeFaces[topology.edgeFaceOffsets[topology.findEdge(a, b)]];
         for (bool hole : {true, false}) {
             ASSERT_TRUE(planned->setHole(face, hole).ok());
-            Result<PlanUpdate> holeUpdate = prepared->instance.updatePlans(PlanChange{std::vector<uint32_t>{face}, false});
+            Result<PlanUpdate> holeUpdate = prepared->instance.updatePlans(PlanChange{std::vector<uint32_t>{face}, false, {}});
             ASSERT_TRUE(holeUpdate.ok()) << holeUpdate.error().message;
             EXPECT_EQ(*holeUpdate, PlanUpdate::Updated);
             const Picture holed = draw(prepared->instance);
@@ -418,7 +418,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
             Result<EditReport> crease = planned->setEdgeSharpness(a, b, sharpness);
             ASSERT_TRUE(crease.ok());
             const std::vector<uint32_t> replanned = changedSubfaces(*planned, *crease);
-            Result<PlanUpdate> tagUpdate = prepared->instance.updatePlans(PlanChange{replanned, false});
+            Result<PlanUpdate> tagUpdate = prepared->instance.updatePlans(PlanChange{replanned, false, {}});
             ASSERT_TRUE(tagUpdate.ok());
             EXPECT_EQ(*tagUpdate, PlanUpdate::Updated);
         };
@@ -464,17 +464,19 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
             Result<EditReport> report = edits[k]();
             ASSERT_TRUE(report.ok());
             const std::vector<uint32_t> changed = changedSubfaces(*planned, *report);
-            Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{changed, false});
+            Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{changed, false, {}});
             ASSERT_TRUE(updated.ok()) << updated.error().message;
             EXPECT_EQ(*updated, PlanUpdate::Updated);
             const Picture inPlace = draw(prepared->instance);
-            if (k == 0) EXPECT_GT(differingPixels(before, inPlace, 8), 0.004) << "the crease does not show";
+            if (k == 0) {
+                EXPECT_GT(differingPixels(before, inPlace, 8), 0.004) << "the crease does not show";
+            }
             Result<PreparedScheme> fresh = prepareScheme(catalog(), "uniform", *planned, features, settings, gpu, "cube");
             ASSERT_TRUE(fresh.ok());
             EXPECT_LT(differingPixels(inPlace, draw(fresh->instance), 8), 0.0005) << "in place differs from a new instance";
             EXPECT_TRUE(fresh->instance.destroyGpu().ok());
         }
-        Result<PlanUpdate> topologyUpdate = prepared->instance.updatePlans(PlanChange{{}, true});
+        Result<PlanUpdate> topologyUpdate = prepared->instance.updatePlans(PlanChange{{}, true, {}});
         ASSERT_TRUE(topologyUpdate.ok());
         EXPECT_EQ(*topologyUpdate, PlanUpdate::Rebuild) << "uniform rebuilds after topology edits";
         EXPECT_TRUE(prepared->instance.destroyGpu().ok());
@@ -484,7 +486,7 @@ TEST_F(DisplacedSchemes, PlansTakesTagEditsInPlaceOthersAskForARebuild) {
         Result<PreparedScheme> prepared = prepareScheme(catalog(), name, *planned, features, SchemeSettings{}, gpu, "cube");
         ASSERT_TRUE(prepared.ok()) << prepared.error().message;
         EXPECT_FALSE(prepared->instance.updatesPlansInPlace());
-        Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{std::vector<uint32_t>{0}, false});
+        Result<PlanUpdate> updated = prepared->instance.updatePlans(PlanChange{std::vector<uint32_t>{0}, false, {}});
         ASSERT_TRUE(updated.ok());
         EXPECT_EQ(*updated, PlanUpdate::Rebuild);
         EXPECT_TRUE(prepared->instance.destroyGpu().ok());
