@@ -1,7 +1,8 @@
 // Topology: adjacency derived from a Cage (edges, edge->faces, vertex->faces), and the
 // statistics `quadplan info` prints.
 //
-// Everything is flat CSR arrays built in O(faces * face size) with one sort of the edges.
+// Everything is flat CSR arrays built in O(faces * face size). Edges are numbered in the order
+// of their (first, second) vertex pairs, the order of Cage::creases.
 // Edge i of face f runs from faceBegin(f)[i] to faceBegin(f)[(i+1) % n]; faceEdges parallels
 // Cage::faceVertices with that edge's index.
 #pragma once

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <utility>
 
 #include "shader_code.h"
 #include "topology.h"
@@ -107,10 +108,14 @@ CageLineSets cageLineSets(const Cage& cage) { return cageLineSets(cage, buildTop
 
 CageLineSets cageLineSets(const Cage& cage, const Topology& topology, const std::function<bool(uint32_t edge)>& shown) {
     CageLineSets sets;
+    sets.plain.reserve(2 * size_t(topology.edgeCount()));
+    // Edges and creases are both in (v0, v1) order: one walk finds each edge's sharpness.
+    auto crease = cage.creases.begin();
     for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
-        if (shown && !shown(e)) continue;
         uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
-        float sharpness = cage.edgeSharpness(a, b);
+        while (crease != cage.creases.end() && std::pair(crease->v0, crease->v1) < std::pair(a, b)) ++crease;
+        if (shown && !shown(e)) continue;
+        const float sharpness = crease != cage.creases.end() && crease->v0 == a && crease->v1 == b ? crease->sharpness : 0.0f;
         glm::vec3 color = sharpness > 0.0f                  ? sharpnessColor(sharpness)
                           : topology.edgeFaceCount(e) == 1 ? glm::vec3(0.05f, 0.25f, 0.8f)
                                                            : glm::vec3(0.06f);

@@ -150,8 +150,6 @@ std::vector<LineVertex> overlayLines(const Document& doc) {
     return lines;
 }
 
-// The cage's edges without those only hidden faces use. cageLines lists one segment per edge
-// in buildTopology's edge order, which is the document topology's.
 // The cage's lines (creased ones apart, drawn wider) without the edges only hidden faces have.
 CageLineSets shownCageLines(const Document& doc) {
     const Topology& topology = doc.planned->topology();
