@@ -157,7 +157,7 @@ Result<EditReport> EditHistory::setCreaseMethod(PlannedCage& planned, std::strin
 Result<EditReport> EditHistory::applyTopologyEdit(PlannedCage& planned, std::string name, TopologyEdit edit) {
     if (Status s = finishTopologyEdit(planned.cage(), edit, name); !s) return s.error();
     auto delta = std::make_unique<TopologyDelta>(makeTopologyDelta(planned.cage(), edit));
-    auto report = planned.applyTopologyEdit(std::move(edit));
+    auto report = planned.applyFinishedTopologyEdit(std::move(edit));
     if (!report) return report;
     record(std::move(name), *report, std::move(delta));
     return report;
@@ -189,7 +189,7 @@ Result<EditReport> EditHistory::run(PlannedCage& planned, Entry& entry, bool for
             [&](std::unique_ptr<TopologyDelta>& d) -> Result<EditReport> {
                 auto edit = applyTopologyDelta(planned.cage(), *d, forward ? DeltaDirection::Forward : DeltaDirection::Backward);
                 if (!edit) return edit.error();
-                return planned.applyTopologyEdit(std::move(edit).value());
+                return planned.applyFinishedTopologyEdit(std::move(edit).value());  // applyTopologyDelta finished it
             },
             [&](std::unique_ptr<CustomEdit>& c) { return forward ? c->redo(planned) : c->undo(planned); },
         },

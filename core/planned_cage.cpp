@@ -1,6 +1,7 @@
 #include "planned_cage.h"
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 
@@ -371,8 +372,14 @@ Result<EditReport> PlannedCage::setCreaseMethod(CreaseMethod method) {
 }
 
 Result<EditReport> PlannedCage::applyTopologyEdit(TopologyEdit edit) {
-    auto start = std::chrono::steady_clock::now();
     if (Status s = finishTopologyEdit(cage_, edit, source_); !s) return s.error();
+    return applyFinishedTopologyEdit(std::move(edit));
+}
+
+Result<EditReport> PlannedCage::applyFinishedTopologyEdit(TopologyEdit edit) {
+    auto start = std::chrono::steady_clock::now();
+    assert(edit.oldFaceOf.size() == edit.cage.faceCount() && edit.oldVertexOf.size() == edit.cage.vertexCount() &&
+           "applyFinishedTopologyEdit takes an edit that passed finishTopologyEdit");
     const Cage& before = cage_;
     const Cage& next = edit.cage;
 

@@ -96,6 +96,10 @@ public:
     // faces whose configuration may have changed (see the top of this file). Fails, changing
     // nothing, when the maps are inconsistent, the new cage is invalid or OpenSubdiv rejects it.
     Result<EditReport> applyTopologyEdit(TopologyEdit edit);
+    // The same for an edit that has just passed finishTopologyEdit against cage() (EditHistory
+    // finishes every edit before it records it): validating a large cage twice per edit cost
+    // as much as the rest of the plan engine's work.
+    Result<EditReport> applyFinishedTopologyEdit(TopologyEdit edit);
     // Appends a face with these vertices, in this order (no orientation fix-up: see makeFace).
     Result<EditReport> addFace(std::span<const uint32_t> vertices);
     // Removes one face; its vertices stay (see deleteFaces for more).
