@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <utility>
 
 namespace qp {
 
@@ -93,6 +94,17 @@ Topology buildTopology(const Cage& cage) {
     buildCsr(cage.vertexCount(), vertexFace, t.vertexFaceOffsets, t.vertexFaces);
     buildCsr(cage.vertexCount(), vertexEdge, t.vertexEdgeOffsets, t.vertexEdges);
     return t;
+}
+
+std::vector<float> edgeSharpnesses(const Cage& cage, const Topology& topology) {
+    std::vector<float> out(topology.edgeCount(), 0.0f);
+    auto crease = cage.creases.begin();
+    for (uint32_t e = 0; e < topology.edgeCount() && crease != cage.creases.end(); ++e) {
+        const uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
+        while (crease != cage.creases.end() && std::pair(crease->v0, crease->v1) < std::pair(a, b)) ++crease;
+        if (crease != cage.creases.end() && crease->v0 == a && crease->v1 == b) out[e] = crease->sharpness;
+    }
+    return out;
 }
 
 CageStats computeStats(const Cage& cage, const Topology& t) {

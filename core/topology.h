@@ -47,6 +47,9 @@ struct Topology {
 // Requires a cage that passed validateCage.
 Topology buildTopology(const Cage& cage);
 
+// Per edge of `topology` (the cage's own), its sharpness (0: none): one walk along the creases.
+std::vector<float> edgeSharpnesses(const Cage& cage, const Topology& topology);
+
 struct CageStats {
     uint32_t vertices = 0, faces = 0, edges = 0;
     std::map<uint32_t, uint32_t> faceSizeHistogram;  // face size -> count

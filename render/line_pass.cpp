@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cassert>
-#include <utility>
 
 #include "shader_code.h"
 #include "topology.h"
@@ -104,32 +103,22 @@ glm::vec3 sharpnessColor(float sharpness) {
 
 }  // namespace
 
-CageLineSets cageLineSets(const Cage& cage) { return cageLineSets(cage, buildTopology(cage), {}); }
-
-CageLineSets cageLineSets(const Cage& cage, const Topology& topology, const std::function<bool(uint32_t edge)>& shown) {
-    CageLineSets sets;
-    sets.plain.reserve(2 * size_t(topology.edgeCount()));
-    // Edges and creases are both in (v0, v1) order: one walk finds each edge's sharpness.
-    auto crease = cage.creases.begin();
-    for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
-        uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
-        while (crease != cage.creases.end() && std::pair(crease->v0, crease->v1) < std::pair(a, b)) ++crease;
-        if (shown && !shown(e)) continue;
-        const float sharpness = crease != cage.creases.end() && crease->v0 == a && crease->v1 == b ? crease->sharpness : 0.0f;
-        glm::vec3 color = sharpness > 0.0f                  ? sharpnessColor(sharpness)
-                          : topology.edgeFaceCount(e) == 1 ? glm::vec3(0.05f, 0.25f, 0.8f)
-                                                           : glm::vec3(0.06f);
-        std::vector<LineVertex>& lines = sharpness > 0.0f ? sets.creased : sets.plain;
-        lines.push_back({cage.positions[a], color});
-        lines.push_back({cage.positions[b], color});
-    }
-    return sets;
+glm::vec3 cageEdgeColor(float sharpness, bool boundary) {
+    return sharpness > 0.0f ? sharpnessColor(sharpness) : boundary ? glm::vec3(0.05f, 0.25f, 0.8f) : glm::vec3(0.06f);
 }
 
 std::vector<LineVertex> cageLines(const Cage& cage) {
-    CageLineSets sets = cageLineSets(cage);
-    sets.plain.insert(sets.plain.end(), sets.creased.begin(), sets.creased.end());
-    return sets.plain;
+    const Topology topology = buildTopology(cage);
+    const std::vector<float> sharpness = edgeSharpnesses(cage, topology);
+    std::vector<LineVertex> plain, creased;
+    for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
+        const glm::vec3 color = cageEdgeColor(sharpness[e], topology.edgeFaceCount(e) == 1);
+        std::vector<LineVertex>& lines = sharpness[e] > 0.0f ? creased : plain;
+        lines.push_back({cage.positions[topology.edgeVertices[2 * e]], color});
+        lines.push_back({cage.positions[topology.edgeVertices[2 * e + 1]], color});
+    }
+    plain.insert(plain.end(), creased.begin(), creased.end());
+    return plain;
 }
 
 Result<LinePass> createLinePass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,

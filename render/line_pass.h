@@ -2,15 +2,12 @@
 // depth-tested against it so the surface hides the cage where it is in front.
 #pragma once
 
-#include <functional>
-#include <span>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include "cage.h"
-#include "topology.h"
 #include "render_target.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
@@ -23,17 +20,11 @@ struct LineVertex {
 };
 
 // The cage's edges, two vertices each: plain edges dark grey, creased edges on a ramp from
-// yellow (soft) to red (infinitely sharp), boundary edges blue.
+// yellow (soft) to red (infinitely sharp), boundary edges blue; creased edges last.
 std::vector<LineVertex> cageLines(const Cage& cage);
 
-// The same lines split into the creased edges and the others, so creases can be drawn wider.
-struct CageLineSets {
-    std::vector<LineVertex> plain, creased;
-};
-CageLineSets cageLineSets(const Cage& cage);
-// The same for the cage's own topology, leaving out the edges `shown(edge)` rejects (an empty
-// function shows every edge).
-CageLineSets cageLineSets(const Cage& cage, const Topology& topology, const std::function<bool(uint32_t edge)>& shown);
+// The colour cageLines gives an edge of that sharpness (0: none), on the boundary or not.
+glm::vec3 cageEdgeColor(float sharpness, bool boundary);
 
 struct LinePass {
     VkPipelineLayout layout = VK_NULL_HANDLE;

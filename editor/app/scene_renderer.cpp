@@ -150,13 +150,33 @@ std::vector<LineVertex> overlayLines(const Document& doc) {
     return lines;
 }
 
-// The cage's lines (creased ones apart, drawn wider) without the edges only hidden faces have.
-CageLineSets shownCageLines(const Document& doc) {
-    const Topology& topology = doc.planned->topology();
-    if (doc.hiddenFaces.empty()) return cageLineSets(doc.planned->cage(), topology, {});
-    return cageLineSets(doc.planned->cage(), topology, [&](uint32_t e) {
+// The cage's edges to draw: all but those only hidden faces have (an empty function: all).
+std::function<bool(uint32_t)> shownEdges(const Document& doc) {
+    if (doc.hiddenFaces.empty()) return {};
+    return [&doc](uint32_t e) {
+        const Topology& topology = doc.planned->topology();
         return !isEdgeHidden(doc, makeEdgeKey(topology.edgeVertices[2 * e], topology.edgeVertices[2 * e + 1]));
-    });
+    };
+}
+
+// One set of the cage's lines into its buffer: the lines that changed, or all of it when it
+// is new or outgrew the buffer.
+Status syncLineSet(const VulkanContext& ctx, Buffer& buffer, uint32_t& count, const std::vector<LineVertex>& set,
+                   std::vector<uint32_t>& changed, bool& whole) {
+    const VkDeviceSize bytes = std::max<VkDeviceSize>(set.size(), 2) * sizeof(LineVertex);
+    if (whole || buffer.size < bytes) {
+        if (Status s = fillLineBuffer(ctx, buffer, count, set); !s) return s;
+    } else {
+        std::sort(changed.begin(), changed.end());
+        changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+        for (uint32_t line : changed)
+            if (2 * size_t(line) < set.size())
+                uploadBuffer(buffer, &set[2 * size_t(line)], 2 * sizeof(LineVertex), 2 * size_t(line) * sizeof(LineVertex));
+        count = uint32_t(set.size());
+    }
+    changed.clear();
+    whole = false;
+    return success();
 }
 
 // The sub-faces of the hidden faces, sorted (DrawView::hiddenSubfaces).
@@ -557,9 +577,22 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
         }
     }
     if (newPositions || newHidden) {
-        const CageLineSets sets = shownCageLines(doc);
-        if (Status s = fillLineBuffer(ctx, r.cageLines, r.cageLineCount, sets.plain); !s) return s;
-        if (Status s = fillLineBuffer(ctx, r.creaseLines, r.creaseLineCount, sets.creased); !s) return s;
+        // Moves and tag edits rewrite the lines they touched; anything else draws them anew.
+        const Topology& topology = doc.planned->topology();
+        CageLines& lines = r.cageLineCache;
+        const bool whole = newDocument || planChange.topologyChanged || r.hiddenRevision != doc.hiddenRevision ||
+                           lines.lineOf.size() != topology.edgeCount() || r.positions.size() != cage.positions.size();
+        if (whole) {
+            rebuildCageLines(lines, cage, topology, shownEdges(doc));
+        } else {
+            if (newPlans) retagCageLines(lines, cage, topology, planChange.replannedFaceList);
+            moveCageLines(lines, cage, topology, moved);
+        }
+        if (Status s = syncLineSet(ctx, r.cageLines, r.cageLineCount, lines.plain, lines.changedPlain, lines.wholePlain); !s)
+            return s;
+        if (Status s = syncLineSet(ctx, r.creaseLines, r.creaseLineCount, lines.creased, lines.changedCreased, lines.wholeCreased);
+            !s)
+            return s;
         r.positions = cage.positions;
     }
     if (newHidden) {

@@ -24,6 +24,7 @@
 
 #include <glm/glm.hpp>
 
+#include "cage_lines.h"
 #include "document.h"
 #include "line_pass.h"
 #include "mesh_pass.h"
@@ -117,6 +118,7 @@ struct SceneRenderer {
     GpuContext gpu;
     LinePass lines;
     MeshPass heatPass;
+    CageLines cageLineCache;  // what cageLines and creaseLines hold
     Buffer cageLines, creaseLines, overlayLines, gridLines;
     uint32_t cageLineCount = 0, creaseLineCount = 0, overlayLineCount = 0, gridLineCount = 0;
     std::optional<UpAxis> gridUp;  // what the grid was made for (with gridBounds); empty: not made
