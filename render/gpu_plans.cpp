@@ -146,6 +146,7 @@ GpuPlanData packPlans(const PlannedCage& planned) {
     GpuPlanData gpu;
     appendPlanTables(gpu, planned.database());
     packSubfaces(gpu, planned);
+    buildRingUsers(gpu, planned.cage().vertexCount());
     return gpu;
 }
 
@@ -186,17 +187,49 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
             auto [face, corner] = faceAndCorner[d];
             if ((cage.faceSize(face) == 4) == quads) gpu.boundaries[d] = builder.build(d, face, corner);
         }
+}
 
-    // Ring users, by counting sort.
-    gpu.vertexSubfaceOffsets.assign(cage.vertexCount() + 1, 0);
+void buildRingUsers(GpuPlanData& gpu, uint32_t vertexCount) {
+    gpu.vertexSubfaceOffsets.assign(vertexCount + 1, 0);
     for (uint32_t v : gpu.rings) ++gpu.vertexSubfaceOffsets[v + 1];
-    for (uint32_t v = 0; v < cage.vertexCount(); ++v) gpu.vertexSubfaceOffsets[v + 1] += gpu.vertexSubfaceOffsets[v];
+    for (uint32_t v = 0; v < vertexCount; ++v) gpu.vertexSubfaceOffsets[v + 1] += gpu.vertexSubfaceOffsets[v];
     gpu.vertexSubfaces.resize(gpu.rings.size());
     std::vector<uint32_t> fill(gpu.vertexSubfaceOffsets.begin(), gpu.vertexSubfaceOffsets.end() - 1);
     for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
         const uint32_t first = gpu.subfaces[d].ringOffset;
         const uint32_t end = d + 1 < gpu.subfaces.size() ? gpu.subfaces[d + 1].ringOffset : uint32_t(gpu.rings.size());
         for (uint32_t j = first; j < end; ++j) gpu.vertexSubfaces[fill[gpu.rings[j]]++] = d;
+    }
+}
+
+void renumberRingUsers(GpuPlanData& gpu, const std::vector<uint32_t>& oldOffsets, const std::vector<uint32_t>& oldUsers,
+                       const std::vector<uint32_t>& oldOf, uint32_t oldCount) {
+    const uint32_t vertexCount = uint32_t(oldOffsets.size()) - 1, count = uint32_t(gpu.subfaces.size());
+    std::vector<uint32_t> newOfOld(oldCount, UINT32_MAX);
+    std::vector<std::pair<uint32_t, uint32_t>> joining;  // (vertex, drawn) of the sub-faces drawn only now
+    for (uint32_t d = 0; d < count; ++d) {
+        if (oldOf[d] != UINT32_MAX) {
+            newOfOld[oldOf[d]] = d;
+            continue;
+        }
+        const uint32_t end = d + 1 < count ? gpu.subfaces[d + 1].ringOffset : uint32_t(gpu.rings.size());
+        for (uint32_t j = gpu.subfaces[d].ringOffset; j < end; ++j) joining.push_back({gpu.rings[j], d});
+    }
+    std::sort(joining.begin(), joining.end());
+    gpu.vertexSubfaceOffsets.assign(vertexCount + 1, 0);
+    gpu.vertexSubfaces.clear();
+    gpu.vertexSubfaces.reserve(gpu.rings.size());
+    auto join = joining.begin();
+    for (uint32_t v = 0; v < vertexCount; ++v) {
+        // Both lists ascend (oldOf keeps the order of kept sub-faces): merge them.
+        for (uint32_t k = oldOffsets[v]; k < oldOffsets[v + 1]; ++k) {
+            const uint32_t d = newOfOld[oldUsers[k]];
+            if (d == UINT32_MAX) continue;
+            for (; join != joining.end() && join->first == v && join->second < d; ++join) gpu.vertexSubfaces.push_back(join->second);
+            gpu.vertexSubfaces.push_back(d);
+        }
+        for (; join != joining.end() && join->first == v; ++join) gpu.vertexSubfaces.push_back(join->second);
+        gpu.vertexSubfaceOffsets[v + 1] = uint32_t(gpu.vertexSubfaces.size());
     }
 }
 

@@ -122,9 +122,20 @@ glm::vec4 boundaryPointPosition(const PlannedCage& planned, uint32_t id);
 GpuPlanData packPlans(const PlannedCage& planned);
 
 // The sub-face part of packPlans (sub-faces, rings, control-point offsets, boundaries, segments,
-// boundary points, the vertex CSR), replacing what `gpu` had; the plan tables stay (they must
-// hold every plan the cage uses: appendPlanTables).
+// boundary points), replacing what `gpu` had; the plan tables stay (they must hold every plan
+// the cage uses: appendPlanTables). The ring users are left to buildRingUsers or
+// renumberRingUsers.
 void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned);
+
+// The ring users (vertexSubfaceOffsets, vertexSubfaces) of gpu.rings, by counting sort.
+void buildRingUsers(GpuPlanData& gpu, uint32_t vertexCount);
+
+// The same from the ring users before a change of the drawn set that kept every ring (holes):
+// each vertex's list renumbered through `oldOf` (drawn sub-face now -> before, or UINT32_MAX for
+// one drawn only now, whose ring joins). One pass in vertex order instead of a scatter over
+// every ring.
+void renumberRingUsers(GpuPlanData& gpu, const std::vector<uint32_t>& oldOffsets, const std::vector<uint32_t>& oldUsers,
+                       const std::vector<uint32_t>& oldOf, uint32_t oldCount);
 
 // Appends the database's plans that `gpu` does not have yet (ids gpu.plans.size() onwards): the
 // plan tables only ever grow, so plan ids stay the database's.

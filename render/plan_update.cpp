@@ -98,17 +98,33 @@ bool operator==(const EdgeOwners& a, const EdgeOwners& b) { return std::memcmp(&
 // kept sub-faces moved to their new slots (`oldOf`: drawn index now -> before, or UINT32_MAX).
 Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors,
                  const std::vector<uint32_t>& oldOf) {
-    const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
-    const GridLayout oldLayout = buffers.gridLayout;
-    const std::vector<GridVertex> before(grid, grid + oldLayout.slotCount());
+    const std::vector<uint32_t> oldOffset = std::move(buffers.gridLayout.subfaceOffset);
     GridLayout layout = buildGridLayout(buffers.data, std::move(factors));
-    layout.uniformRequest = oldLayout.uniformRequest;
+    layout.uniformRequest = buffers.gridLayout.uniformRequest;
+    // The vertices move inside the grid buffer when the new layout fits it, else through a copy.
+    const bool inPlace = VkDeviceSize(layout.slotCount()) * sizeof(GridVertex) <= buffers.grid.size;
+    std::vector<GridVertex> before;
+    if (!inPlace) {
+        const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+        before.assign(grid, grid + (oldOffset.empty() ? 0 : oldOffset.back()));
+    }
     if (Status s = installGridLayout(ctx, pass, buffers, std::move(layout)); !s) return s;
+    const std::vector<uint32_t>& newOffset = buffers.gridLayout.subfaceOffset;
     auto* slots = static_cast<GridVertex*>(buffers.grid.data);
-    for (uint32_t d = 0; d < oldOf.size(); ++d)
-        if (oldOf[d] != UINT32_MAX)
-            std::copy(before.begin() + oldLayout.subfaceOffset[oldOf[d]], before.begin() + oldLayout.subfaceOffset[oldOf[d] + 1],
-                      slots + buffers.gridLayout.subfaceOffset[d]);
+    const GridVertex* from = inPlace ? slots : before.data();
+    auto move = [&](uint32_t d) {
+        const uint32_t old = oldOf[d];
+        if (!inPlace || newOffset[d] != oldOffset[old])
+            std::memmove(slots + newOffset[d], from + oldOffset[old], (oldOffset[old + 1] - oldOffset[old]) * sizeof(GridVertex));
+    };
+    // Kept sub-faces keep their order (holes and topology edits renumber in order), so moving
+    // those whose range goes down first, in ascending order, then those whose range goes up, in
+    // descending order, never overwrites a range that has yet to move.
+    const uint32_t count = uint32_t(oldOf.size());
+    for (uint32_t d = 0; d < count; ++d)
+        if (oldOf[d] != UINT32_MAX && newOffset[d] <= oldOffset[oldOf[d]]) move(d);
+    for (uint32_t d = count; d-- > 0;)
+        if (oldOf[d] != UINT32_MAX && newOffset[d] > oldOffset[oldOf[d]]) move(d);
     return success();
 }
 
@@ -130,11 +146,19 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
                       bool& rebind) {
     GpuPlanData& data = buffers.data;
     const PlanDatabase& database = planned.database();
+    // Ring users: a tag edit keeps every ring, so the old lists can be renumbered; a topology
+    // edit renumbers the vertices too, and they are built again.
+    bool sameRings = previousOf.empty() && data.vertexSubfaceOffsets.size() == planned.cage().vertexCount() + 1;
+    for (size_t k = 0; k < changed.size() && sameRings; ++k)
+        if (const uint32_t d = buffers.drawnOfSubface[changed[k]]; d != UINT32_MAX)
+            sameRings = sameVertices(ringOf(data, d), planned.subfaceRing(changed[k]));
     GpuPlanData old;  // the sub-face part before the change (ownersOf reads nothing else)
     old.subfaces = std::move(data.subfaces);
     old.boundaries = std::move(data.boundaries);
     old.segments = std::move(data.segments);
     old.boundaryPoints = std::move(data.boundaryPoints);
+    old.vertexSubfaceOffsets = std::move(data.vertexSubfaceOffsets);
+    old.vertexSubfaces = std::move(data.vertexSubfaces);
     old.controlPointCount = data.controlPointCount;
     const std::vector<uint32_t> oldDrawnOf = buffers.drawnOfSubface, oldCapacity = buffers.controlPointCapacity;
     packSubfaces(data, planned);
@@ -146,6 +170,9 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
         const uint32_t previous = previousOf.empty() ? subface : previousOf[subface];
         oldOf[d] = previous < oldDrawnOf.size() ? oldDrawnOf[previous] : UINT32_MAX;
     }
+
+    if (sameRings) renumberRingUsers(data, old.vertexSubfaceOffsets, old.vertexSubfaces, oldOf, uint32_t(old.subfaces.size()));
+    else buildRingUsers(data, planned.cage().vertexCount());
 
     // Control points: kept sub-faces keep their ranges (and cached values); new ones go at the end.
     std::vector<uint32_t>& capacity = buffers.controlPointCapacity;

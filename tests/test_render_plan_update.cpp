@@ -105,6 +105,8 @@ struct PlanUpdateTest : ::testing::Test {
             ASSERT_EQ(buffers.data.subfaces[d].plan, fresh.data.subfaces[d].plan) << "drawn sub-face " << d;
             ASSERT_EQ(buffers.data.subfaces[d].rotation, fresh.data.subfaces[d].rotation) << "drawn sub-face " << d;
         }
+        EXPECT_EQ(buffers.data.vertexSubfaceOffsets, fresh.data.vertexSubfaceOffsets) << "ring users (what a move refreshes)";
+        EXPECT_EQ(buffers.data.vertexSubfaces, fresh.data.vertexSubfaces) << "ring users (what a move refreshes)";
         if (path != DrawPath::Tessellated) {
             ASSERT_EQ(buffers.gridLayout.slotCount(), fresh.gridLayout.slotCount());
             EXPECT_EQ(std::memcmp(buffers.grid.data, fresh.grid.data, fresh.gridLayout.slotCount() * sizeof(GridVertex)), 0)
