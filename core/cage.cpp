@@ -136,16 +136,20 @@ Status validateCage(const Cage& cage, const std::string& source) {
         }
     }
 
-    // The faces' edges, for the creases to name: the larger vertex of each, grouped by the
-    // smaller (a counting sort, linear in the cage: validation runs on every topology edit).
+    // The faces' edges at the creases' first vertices, for the creases to name: the larger vertex
+    // of each, grouped by the smaller (a counting sort, linear in the cage: validation runs on
+    // every topology edit).
     std::vector<uint32_t> edgeOffsets, edgeEnds;
     if (!cage.creases.empty()) {
+        std::vector<char> creaseStart(cage.vertexCount(), 0);
+        for (const EdgeCrease& c : cage.creases)
+            if (c.v0 < cage.vertexCount()) creaseStart[c.v0] = 1;
         edgeOffsets.assign(cage.vertexCount() + 1, 0);
         auto forEachEdge = [&](auto&& visit) {
             for (uint32_t f = 0; f < cage.faceCount(); ++f)
                 for (uint32_t i = 0, n = cage.faceSize(f); i < n; ++i) {
                     const uint32_t a = cage.faceBegin(f)[i], b = cage.faceBegin(f)[(i + 1) % n];
-                    visit(std::min(a, b), std::max(a, b));
+                    if (creaseStart[std::min(a, b)]) visit(std::min(a, b), std::max(a, b));
                 }
         };
         forEachEdge([&](uint32_t lo, uint32_t) { ++edgeOffsets[lo + 1]; });

@@ -8,19 +8,16 @@ namespace qp {
 
 namespace {
 
-uint64_t edgeKey(uint32_t a, uint32_t b) {
-    return (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
-}
-
-// Builds CSR arrays from (key, value) pairs whose keys are < keyCount.
-void buildCsr(uint32_t keyCount, const std::vector<std::pair<uint32_t, uint32_t>>& pairs,
-              std::vector<uint32_t>& offsets, std::vector<uint32_t>& values) {
+// Builds CSR arrays from the (key, value) pairs, keys < keyCount, that forEachPair(emit) emits
+// (it is called twice: to count, then to fill), values of a key in emission order.
+template <class ForEachPair>
+void buildCsr(uint32_t keyCount, const ForEachPair& forEachPair, std::vector<uint32_t>& offsets, std::vector<uint32_t>& values) {
     offsets.assign(keyCount + 1, 0);
-    for (const auto& [key, value] : pairs) ++offsets[key + 1];
+    forEachPair([&](uint32_t key, uint32_t) { ++offsets[key + 1]; });
     std::partial_sum(offsets.begin(), offsets.end(), offsets.begin());
-    values.resize(pairs.size());
+    values.resize(offsets.back());
     std::vector<uint32_t> cursor(offsets.begin(), offsets.end() - 1);
-    for (const auto& [key, value] : pairs) values[cursor[key]++] = value;
+    forEachPair([&](uint32_t key, uint32_t value) { values[cursor[key]++] = value; });
 }
 
 // Smallest representative of x in a union-find forest.
@@ -44,55 +41,55 @@ Topology buildTopology(const Cage& cage) {
     Topology t;
     const uint32_t faceVertexCount = uint32_t(cage.faceVertices.size());
 
-    // Face-edge slots in (vertex pair, slot) order; equal pairs are one edge. A counting sort by
-    // the smaller vertex, then each vertex's few slots by the larger one: linear in the cage,
-    // where one sort of every slot was not.
-    std::vector<uint32_t> bucketOffsets(cage.vertexCount() + 1, 0);
-    auto keyOf = [&](uint32_t f, uint32_t base, uint32_t i) {
-        const uint32_t n = cage.faceSize(f);
-        return edgeKey(cage.faceVertices[base + i], cage.faceVertices[base + (i + 1) % n]);
+    // Face-edge slots in (vertex pair, slot) order; equal pairs are one edge. Slots grouped by the
+    // smaller vertex (a counting sort), then each vertex's few by the larger one: linear in the
+    // cage, where one sort of every slot was not.
+    auto forEachSlot = [&](auto&& visit) {  // visit(smaller vertex, larger vertex, slot)
+        for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+            const uint32_t base = cage.faceOffsets[f], n = cage.faceSize(f);
+            for (uint32_t i = 0; i < n; ++i) {
+                const uint32_t a = cage.faceVertices[base + i], b = cage.faceVertices[base + (i + 1) % n];
+                visit(std::min(a, b), std::max(a, b), base + i);
+            }
+        }
     };
-    for (uint32_t f = 0; f < cage.faceCount(); ++f)
-        for (uint32_t i = 0, base = cage.faceOffsets[f]; i < cage.faceSize(f); ++i) ++bucketOffsets[(keyOf(f, base, i) >> 32) + 1];
+    std::vector<uint32_t> bucketOffsets(cage.vertexCount() + 1, 0);
+    forEachSlot([&](uint32_t lo, uint32_t, uint32_t) { ++bucketOffsets[lo + 1]; });
     std::partial_sum(bucketOffsets.begin(), bucketOffsets.end(), bucketOffsets.begin());
-    std::vector<std::pair<uint64_t, uint32_t>> slots(faceVertexCount);
+    std::vector<std::pair<uint32_t, uint32_t>> slots(faceVertexCount);  // (larger vertex, slot) per bucket
     {
         std::vector<uint32_t> cursor(bucketOffsets.begin(), bucketOffsets.end() - 1);
-        for (uint32_t f = 0; f < cage.faceCount(); ++f)
-            for (uint32_t i = 0, base = cage.faceOffsets[f]; i < cage.faceSize(f); ++i) {
-                const uint64_t key = keyOf(f, base, i);
-                slots[cursor[key >> 32]++] = {key, base + i};
-            }
+        forEachSlot([&](uint32_t lo, uint32_t hi, uint32_t slot) { slots[cursor[lo]++] = {hi, slot}; });
     }
-    for (uint32_t v = 0; v < cage.vertexCount(); ++v)
-        std::sort(slots.begin() + bucketOffsets[v], slots.begin() + bucketOffsets[v + 1]);
 
     t.faceEdges.resize(faceVertexCount);
     t.edgeVertices.reserve(faceVertexCount);  // two per edge: exact for a closed cage
-    for (size_t i = 0; i < slots.size(); ++i) {
-        if (i == 0 || slots[i].first != slots[i - 1].first) {
-            t.edgeVertices.push_back(uint32_t(slots[i].first >> 32));
-            t.edgeVertices.push_back(uint32_t(slots[i].first));
+    for (uint32_t v = 0; v < cage.vertexCount(); ++v) {
+        const auto first = slots.begin() + bucketOffsets[v], last = slots.begin() + bucketOffsets[v + 1];
+        std::sort(first, last);
+        for (auto it = first; it != last; ++it) {
+            if (it == first || it->first != (it - 1)->first) {
+                t.edgeVertices.push_back(v);
+                t.edgeVertices.push_back(it->first);
+            }
+            t.faceEdges[it->second] = t.edgeCount() - 1;
         }
-        t.faceEdges[slots[i].second] = t.edgeCount() - 1;
     }
 
-    std::vector<std::pair<uint32_t, uint32_t>> edgeFace, vertexFace, vertexEdge;
-    edgeFace.reserve(faceVertexCount);
-    vertexFace.reserve(faceVertexCount);
-    vertexEdge.reserve(t.edgeVertices.size());
-    for (uint32_t f = 0; f < cage.faceCount(); ++f)
-        for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i) {
-            edgeFace.push_back({t.faceEdges[i], f});
-            vertexFace.push_back({cage.faceVertices[i], f});
+    buildCsr(t.edgeCount(), [&](auto&& emit) {
+        for (uint32_t f = 0; f < cage.faceCount(); ++f)
+            for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i) emit(t.faceEdges[i], f);
+    }, t.edgeFaceOffsets, t.edgeFaces);
+    buildCsr(cage.vertexCount(), [&](auto&& emit) {
+        for (uint32_t f = 0; f < cage.faceCount(); ++f)
+            for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i) emit(cage.faceVertices[i], f);
+    }, t.vertexFaceOffsets, t.vertexFaces);
+    buildCsr(cage.vertexCount(), [&](auto&& emit) {
+        for (uint32_t e = 0; e < t.edgeCount(); ++e) {
+            emit(t.edgeVertices[2 * e], e);
+            emit(t.edgeVertices[2 * e + 1], e);
         }
-    for (uint32_t e = 0; e < t.edgeCount(); ++e) {
-        vertexEdge.push_back({t.edgeVertices[2 * e], e});
-        vertexEdge.push_back({t.edgeVertices[2 * e + 1], e});
-    }
-    buildCsr(t.edgeCount(), edgeFace, t.edgeFaceOffsets, t.edgeFaces);
-    buildCsr(cage.vertexCount(), vertexFace, t.vertexFaceOffsets, t.vertexFaces);
-    buildCsr(cage.vertexCount(), vertexEdge, t.vertexEdgeOffsets, t.vertexEdges);
+    }, t.vertexEdgeOffsets, t.vertexEdges);
     return t;
 }
 

@@ -159,6 +159,9 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     const Cage& cage = planned.cage();
     const Topology& topology = planned.topology();
     std::vector<std::pair<uint32_t, uint32_t>> faceAndCorner;  // per drawn sub-face
+    // Sized once (a repack runs on every hole and topology edit; rings keep their capacity).
+    faceAndCorner.reserve(planned.subfaceCount());
+    gpu.subfaces.reserve(planned.subfaceCount());
     for (uint32_t face = 0; face < cage.faceCount(); ++face) {
         for (uint32_t s = planned.firstSubface(face); s < planned.firstSubface(face + 1); ++s) {
             if (!planned.hasSurface(s)) continue;
@@ -182,6 +185,7 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     gpu.boundaries.resize(gpu.subfaces.size());
     BoundaryBuilder builder{planned, cage, topology, gpu, {}};
     builder.segmentIndex.assign(3 * size_t(topology.edgeCount()) + cage.faceVertices.size(), UINT32_MAX);
+    gpu.segments.reserve(3 * size_t(topology.edgeCount()));
     for (bool quads : {false, true})
         for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
             auto [face, corner] = faceAndCorner[d];

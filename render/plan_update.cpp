@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cstring>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace qp {
 
 namespace {
@@ -197,14 +200,20 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     std::vector<uint32_t>& refresh = update.refresh;
     for (uint32_t s : changed)
         if (drawnOf[s] != UINT32_MAX) refresh.push_back(drawnOf[s]);
+    // Which kept sub-faces' owners changed: compared on every core, collected in order below.
+    std::vector<char> ownersChanged(count, 0);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t d = range.begin(); d != range.end(); ++d)
+            ownersChanged[d] = oldOf[d] != UINT32_MAX && !(ownersOf(data, d, previousOf) == ownersOf(old, oldOf[d]));
+    });
     bool sameStructure = true;  // every kept sub-face's edges split as before
     for (uint32_t d = 0; d < count; ++d) {
         if (oldOf[d] == UINT32_MAX) {
             refresh.push_back(d);
             continue;
         }
+        if (!ownersChanged[d]) continue;
         const EdgeOwners now = ownersOf(data, d, previousOf), before = ownersOf(old, oldOf[d]);
-        if (now == before) continue;
         refresh.push_back(d);
         const GpuSubfaceBoundary& b = data.boundaries[d];
         for (uint32_t e = 0; e < 4; ++e) {
