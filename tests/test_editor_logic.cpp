@@ -19,6 +19,7 @@
 #include "recovery.h"
 #include "test_cages.h"
 #include "view_camera.h"
+#include "viewport_input.h"
 
 using namespace qp;
 using namespace qp::editor;
@@ -80,6 +81,19 @@ TEST(AutomationScript, RejectsMistakesNamingTheLine) {
 }
 
 // --- the orbit camera ---------------------------------------------------------------------
+
+// Two presses that reach one frame must still be a double click (ImGui 1.86 would merge them).
+TEST(ClickPairing, PairsPressesByTheirOwnTimesAndPlaces) {
+    ClickPairing pairing;
+    EXPECT_FALSE(pairPress(pairing, 10.0, {100, 100}, 0.3, 6.0));
+    EXPECT_TRUE(pairPress(pairing, 10.09, {102, 101}, 0.3, 6.0)) << "a double click";
+    EXPECT_FALSE(pairPress(pairing, 10.18, {102, 101}, 0.3, 6.0)) << "a third press starts a new pair";
+    EXPECT_TRUE(pairPress(pairing, 10.25, {102, 101}, 0.3, 6.0));
+    EXPECT_FALSE(pairPress(pairing, 20.0, {100, 100}, 0.3, 6.0));
+    EXPECT_FALSE(pairPress(pairing, 20.5, {100, 100}, 0.3, 6.0)) << "too slow";
+    EXPECT_FALSE(pairPress(pairing, 20.6, {120, 100}, 0.3, 6.0)) << "too far";
+    EXPECT_TRUE(pairPress(pairing, 20.7, {121, 100}, 0.3, 6.0));
+}
 
 TEST(ViewCamera, OrbitPanAndDollyKeepWhatTheyShould) {
     ViewCamera c;

@@ -88,6 +88,14 @@ Status startVulkan(EditorApp& app) {
         self->keyPresses.push_back(
             {key, (mods & GLFW_MOD_CONTROL) != 0, (mods & GLFW_MOD_SHIFT) != 0, (mods & GLFW_MOD_ALT) != 0});
     });
+    glfwSetMouseButtonCallback(app.window, [](GLFWwindow* window, int button, int action, int) {
+        if (button != GLFW_MOUSE_BUTTON_LEFT || action != GLFW_PRESS) return;
+        auto* self = static_cast<EditorApp*>(glfwGetWindowUserPointer(window));
+        glm::dvec2 at;
+        glfwGetCursorPos(window, &at.x, &at.y);
+        const ImGuiIO& io = ImGui::GetIO();
+        self->leftDoubleClick |= pairPress(self->leftPresses, glfwGetTime(), at, io.MouseDoubleClickTime, io.MouseDoubleClickMaxDist);
+    });
     Result<ImGuiLayer> imgui = createImGuiLayer(app.ctx, app.window, app.swapchain, vkCache);
     if (!imgui) return imgui.error();
     app.imgui = std::move(imgui).value();
@@ -453,6 +461,7 @@ void runLoop(EditorApp& app) {
         layoutViewports(app);
         updateViewMatrices(app);
         handleViewportInput(app);
+        app.leftDoubleClick = false;
         handleShortcuts(app);
         layoutViewports(app);  // a layout shortcut above: the new viewports, framed once
         if (std::exchange(app.frameAfterLayout, false))

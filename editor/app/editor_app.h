@@ -28,6 +28,7 @@
 #include "scheme_loader.h"
 #include "scene_cache.h"
 #include "scene_renderer.h"
+#include "viewport_input.h"
 #include "sculpt_tool.h"
 #include "swapchain_target.h"
 #include "view_camera.h"
@@ -202,6 +203,8 @@ struct EditorApp {
     ToolSettings tools;
     UiState ui;
     std::vector<KeyPress> keyPresses;  // since the last frame, from GLFW or automation
+    ClickPairing leftPresses;      // from GLFW (viewport_input.h)
+    bool leftDoubleClick = false;  // since the last frame
 
     FrameStats stats;
     // The frame that showed the last edit (the one it was applied in): its CPU time, which holds

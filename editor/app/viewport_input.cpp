@@ -175,7 +175,7 @@ void leftPress(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
         }
     }
     const SelectOp op = selectOp(io);
-    if (io.MouseDoubleClicked[ImGuiMouseButton_Left] && app.doc->selection.mode == SelectionMode::Edge) {
+    if ((io.MouseDoubleClicked[ImGuiMouseButton_Left] || app.leftDoubleClick) && app.doc->selection.mode == SelectionMode::Edge) {
         selectLoopAt(app, viewport, cursor, LoopKind::Loop, op == SelectOp::Add ? op : SelectOp::Replace);
         return;
     }
@@ -298,6 +298,14 @@ void handleViewportInput(EditorApp& app) {
         if (io.KeyAlt) app.drag = Drag{DragKind::Zoom, viewport, ImGuiMouseButton_Right, cursor, cursor};
         else if (app.tools.loopTool) app.tools.loopTool = false;
     }
+}
+
+bool pairPress(ClickPairing& pairing, double time, glm::dvec2 at, double maxInterval, double maxDistance) {
+    const bool paired = pairing.lastTime >= 0.0 && time - pairing.lastTime <= maxInterval &&
+                        glm::length(at - pairing.lastAt) <= maxDistance;
+    pairing.lastTime = paired ? -1.0 : time;
+    pairing.lastAt = at;
+    return paired;
 }
 
 void handleShortcuts(EditorApp& app) {

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <optional>
 
+#include <glm/vec2.hpp>
+
 #include "gizmo.h"
 
 namespace qp::editor {
@@ -25,6 +27,17 @@ int viewportAt(const EditorApp& app, glm::vec2 p);
 // unless a text field has the keyboard or a dialog is open. Esc first cancels a drag or the
 // loop tool.
 void handleShortcuts(EditorApp& app);
+
+// Left presses as GLFW delivers them, paired into double clicks by the events' own times, so
+// that a double click still counts when both presses reach one slow frame (ImGui 1.86 keeps
+// one mouse state per frame and merges them into a single click). Thresholds are ImGui's.
+struct ClickPairing {
+    double lastTime = -1.0;  // the unpaired press, or < 0
+    glm::dvec2 lastAt{0.0};
+};
+// A press at `time` seconds, window position `at`: true when it completes a double click (a
+// third press then starts a new pair).
+bool pairPress(ClickPairing& pairing, double time, glm::dvec2 at, double maxInterval, double maxDistance);
 
 // Ends a drag in progress; a cancelled move or transform puts the selection back.
 void cancelDrag(EditorApp& app);
