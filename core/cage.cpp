@@ -136,32 +136,20 @@ Status validateCage(const Cage& cage, const std::string& source) {
         }
     }
 
-    // The faces' edges at the creases' first vertices, for the creases to name: the larger vertex
-    // of each, grouped by the smaller (a counting sort, linear in the cage: validation runs on
-    // every topology edit).
-    std::vector<uint32_t> edgeOffsets, edgeEnds;
+    // The faces' edges at the creases' first vertices, sorted, for the creases to name: only
+    // those, so validation stays linear in the cage (it runs on every topology edit).
+    std::vector<uint64_t> creaseEdges;  // (v0 << 32 | v1), v0 < v1
     if (!cage.creases.empty()) {
         std::vector<char> creaseStart(cage.vertexCount(), 0);
         for (const EdgeCrease& c : cage.creases)
             if (c.v0 < cage.vertexCount()) creaseStart[c.v0] = 1;
-        edgeOffsets.assign(cage.vertexCount() + 1, 0);
-        auto forEachEdge = [&](auto&& visit) {
-            for (uint32_t f = 0; f < cage.faceCount(); ++f)
-                for (uint32_t i = 0, n = cage.faceSize(f); i < n; ++i) {
-                    const uint32_t a = cage.faceBegin(f)[i], b = cage.faceBegin(f)[(i + 1) % n];
-                    if (creaseStart[std::min(a, b)]) visit(std::min(a, b), std::max(a, b));
-                }
-        };
-        forEachEdge([&](uint32_t lo, uint32_t) { ++edgeOffsets[lo + 1]; });
-        for (uint32_t v = 0; v < cage.vertexCount(); ++v) edgeOffsets[v + 1] += edgeOffsets[v];
-        edgeEnds.resize(edgeOffsets.back());
-        std::vector<uint32_t> cursor(edgeOffsets.begin(), edgeOffsets.end() - 1);
-        forEachEdge([&](uint32_t lo, uint32_t hi) { edgeEnds[cursor[lo]++] = hi; });
+        for (uint32_t f = 0; f < cage.faceCount(); ++f)
+            for (uint32_t i = 0, n = cage.faceSize(f); i < n; ++i) {
+                const uint32_t a = cage.faceBegin(f)[i], b = cage.faceBegin(f)[(i + 1) % n];
+                if (creaseStart[std::min(a, b)]) creaseEdges.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
+            }
+        std::sort(creaseEdges.begin(), creaseEdges.end());
     }
-    auto edgeExists = [&](uint32_t lo, uint32_t hi) {
-        return lo < cage.vertexCount() && std::find(edgeEnds.begin() + edgeOffsets[lo], edgeEnds.begin() + edgeOffsets[lo + 1], hi) !=
-                                              edgeEnds.begin() + edgeOffsets[lo + 1];
-    };
 
     auto badSharpness = [](float s) { return !std::isfinite(s) || s <= 0.0f || s > kInfiniteSharpness; };
     for (size_t i = 0; i < cage.creases.size(); ++i) {
@@ -169,7 +157,7 @@ Status validateCage(const Cage& cage, const std::string& source) {
         std::string name = source + ": crease on edge " + std::to_string(c.v0 + 1) + "-" + std::to_string(c.v1 + 1);
         if (c.v0 >= c.v1 || (i > 0 && !edgeLess(cage.creases[i - 1], c)))
             return Error{name + " is not sorted or is duplicated (call normalizeTags)"};
-        if (!edgeExists(c.v0, c.v1))
+        if (!std::binary_search(creaseEdges.begin(), creaseEdges.end(), uint64_t(c.v0) << 32 | c.v1))
             return Error{name + " names an edge that no face has"};
         if (badSharpness(c.sharpness))
             return Error{name + " has sharpness " + std::to_string(c.sharpness) +

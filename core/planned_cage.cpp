@@ -436,7 +436,8 @@ Result<EditReport> PlannedCage::applyFinishedTopologyEdit(TopologyEdit edit) {
     // OpenSubdiv's topology checks are local (a vertex, its faces and edges): the faces at the
     // edit's vertices are enough when the cage before it passed. The whole cage is checked when
     // every face changed, and when the local cage fails, for a message in the cage's numbering.
-    if (everyFace || !createRefiner(localCage(next, affected, true).cage, source_))
+    const bool acceptedLocally = !everyFace && createRefiner(localCage(next, affected, true).cage, source_);
+    if (!acceptedLocally)
         if (auto refiner = createRefiner(next, source_); !refiner) return refiner.error();
     std::vector<uint32_t> moved;
     for (uint32_t v = 0; v < next.vertexCount(); ++v) {

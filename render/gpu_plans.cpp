@@ -185,7 +185,7 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     gpu.boundaries.resize(gpu.subfaces.size());
     BoundaryBuilder builder{planned, cage, topology, gpu, {}};
     builder.segmentIndex.assign(3 * size_t(topology.edgeCount()) + cage.faceVertices.size(), UINT32_MAX);
-    gpu.segments.reserve(3 * size_t(topology.edgeCount()));
+    gpu.segments.reserve(topology.edgeCount());  // one per edge on an all-quad cage; n-gons add spokes and halves
     for (bool quads : {false, true})
         for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
             auto [face, corner] = faceAndCorner[d];

@@ -155,7 +155,7 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     for (size_t k = 0; k < changed.size() && sameRings; ++k)
         if (const uint32_t d = buffers.drawnOfSubface[changed[k]]; d != UINT32_MAX)
             sameRings = sameVertices(ringOf(data, d), planned.subfaceRing(changed[k]));
-    GpuPlanData old;  // the sub-face part before the change (ownersOf reads nothing else)
+    GpuPlanData old;  // the sub-face part before the change: what ownersOf and the ring users read
     old.subfaces = std::move(data.subfaces);
     old.boundaries = std::move(data.boundaries);
     old.segments = std::move(data.segments);

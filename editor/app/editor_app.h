@@ -28,10 +28,10 @@
 #include "scheme_loader.h"
 #include "scene_cache.h"
 #include "scene_renderer.h"
-#include "viewport_input.h"
 #include "sculpt_tool.h"
 #include "swapchain_target.h"
 #include "view_camera.h"
+#include "viewport_input.h"
 
 struct GLFWwindow;
 

@@ -175,6 +175,7 @@ void leftPress(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
         }
     }
     const SelectOp op = selectOp(io);
+    // ImGui's double click serves the automation hook's synthetic presses, which bypass GLFW.
     if ((io.MouseDoubleClicked[ImGuiMouseButton_Left] || app.leftDoubleClick) && app.doc->selection.mode == SelectionMode::Edge) {
         selectLoopAt(app, viewport, cursor, LoopKind::Loop, op == SelectOp::Add ? op : SelectOp::Replace);
         return;
