@@ -163,7 +163,6 @@ uint64_t hashKey(const std::vector<uint32_t>& key) {
 
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
                             const PlanOptions& options) {
-    assert(!cage.isHole(face));
     thread_local std::vector<CornerInfo> corners;
     gatherCorners(cage, topology, face, corners);
     FaceConfig best;

@@ -44,7 +44,8 @@ struct FaceConfig {
 // Key layout, as 32-bit words: [version, depth, flags, options, localVertexCount,
 // localFaceCount, then per face: size, local indices..., creaseCount, then per crease: a, b,
 // float bits, cornerCount, then per corner: local vertex, float bits].
-// The face must not be a hole (holes have no surface).
+// A hole's own flag is not part of the key either: a hole gets the plan it would have without
+// it (PlannedCage keeps holes planned and hides them).
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
                             const PlanOptions& options);
 

@@ -93,6 +93,9 @@ std::vector<uint32_t> PlannedCage::remapSubfaces(const std::vector<uint32_t>& ol
     const uint32_t count = faceFirstSubface_.back();
     subfacePlan_.assign(count, kNoPlan);
     subfaceRotation_.assign(count, 0);
+    subfaceHole_.assign(count, 0);
+    for (uint32_t hole : cage_.holes)
+        std::fill(subfaceHole_.begin() + faceFirstSubface_[hole], subfaceHole_.begin() + faceFirstSubface_[hole + 1], 1);
     subfaceRing_.assign(count, {});
     subfaceControlPoints_.assign(count, {});
     std::vector<uint32_t> previousSubfaceOf(count, kNewElement);
@@ -125,11 +128,11 @@ Result<std::vector<PlannedCage::SubfacePlan>> PlannedCage::planFaces(const Cage&
     std::vector<std::string> errors(work.size());
     forEach(work.size(), [&](size_t i) {
         const auto [face, k] = work[i];
-        if (cage.isHole(face)) return;  // no plan
         FaceConfig config = gatherFaceConfig(cage, topology, face, k, options_);
         Result<uint32_t> id = database_->findOrBuild(config);
         if (!id) {
-            errors[i] = source_ + ": face " + std::to_string(face + 1) + ": " + id.error().message;
+            // A hole has no surface to lose: it stays unplanned (and is planned when filled).
+            if (!cage.isHole(face)) errors[i] = source_ + ": face " + std::to_string(face + 1) + ": " + id.error().message;
             return;
         }
         plans[i] = {*id, config.rotation, std::move(config.ring)};
@@ -147,6 +150,7 @@ void PlannedCage::installPlans(const std::vector<uint32_t>& faces, std::vector<S
             SubfacePlan& p = plans[subfaces.size()];
             subfacePlan_[s] = p.plan;
             subfaceRotation_[s] = p.rotation;
+            subfaceHole_[s] = cage_.isHole(f);
             subfaceRing_[s] = std::move(p.ring);
             subfaces.push_back(s);
         }

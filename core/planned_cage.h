@@ -2,13 +2,15 @@
 // plans produce, kept current by edits that re-plan only the faces they affect.
 //
 // Sub-faces are numbered like OpenSubdiv's Ptex faces: a quad is one sub-face, an n-gon n
-// (see face_config.h); hole faces keep their sub-face numbers but have no plan.
+// (see face_config.h). Hole faces are planned too, as if they were not holes (a hole changes no
+// neighbour's limit surface), but have no surface: a renderer can keep them in its tables and
+// hide them, so that making or filling a hole moves nothing else.
 //
 // What an edit re-plans (the limit over a face depends on its face + 1-ring only, face_config.h):
 //   - moving vertices: nothing; faces whose 1-ring holds a moved vertex get new control points;
 //   - edge sharpness (a, b): the faces at a or at b;
 //   - vertex sharpness v: the faces at v;
-//   - hole flag of f: f only;
+//   - hole flag of f: f only (its plan stays; it is looked up again);
 //   - crease method (or any SubdivisionOptions change): every face (the options are part of
 //     every configuration key);
 //   - a topology edit (applyTopologyEdit; addFace and removeFace are two): the faces at the
@@ -70,9 +72,13 @@ public:
     uint32_t firstSubface(uint32_t face) const { return faceFirstSubface_[face]; }
     uint32_t subfacePlan(uint32_t subface) const { return subfacePlan_[subface]; }
     // False for holes and for faces without a limit surface (boundary rule "none").
-    bool hasSurface(uint32_t subface) const {
+    bool hasSurface(uint32_t subface) const { return !subfaceHole_[subface] && hasPlannedSurface(subface); }
+    // The same with holes counted as the surface they would have without the tag (false where
+    // a hole's plan could not be built): what renderers keep in their tables, hiding holes.
+    bool hasPlannedSurface(uint32_t subface) const {
         return subfacePlan_[subface] != kNoPlan && database_->plan(subfacePlan_[subface]).hasSurface();
     }
+    bool isHole(uint32_t subface) const { return subfaceHole_[subface] != 0; }
     uint32_t subfaceRotation(uint32_t subface) const { return subfaceRotation_[subface]; }
     std::span<const uint32_t> subfaceRing(uint32_t subface) const;
     std::span<const glm::vec3> subfaceControlPoints(uint32_t subface) const;
@@ -140,6 +146,7 @@ private:
 
     std::vector<uint32_t> faceFirstSubface_;  // faces + 1
     std::vector<uint32_t> subfacePlan_, subfaceRotation_;
+    std::vector<uint8_t> subfaceHole_;  // 1 where the sub-face's face is a hole
     std::vector<std::vector<uint32_t>> subfaceRing_;
     std::vector<std::vector<glm::vec3>> subfaceControlPoints_;
 };

@@ -131,9 +131,10 @@ void recordBSplinePatches(VkCommandBuffer cmd, const BSplinePass& pass, const Pl
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, plans.drawLayout, 0, 1, &plans.set, 0, nullptr);
     vkCmdPushConstants(cmd, plans.drawLayout, kDrawStages, 0, sizeof push, &push);
     // The same split as PlanPass: lavapipe corrupts draws over 65,535 tessellated vertices.
-    const uint32_t count = uint32_t(buffers.data.subfaces.size());
     const uint32_t perDraw = patchesPerDraw(std::min(settings.uniformFactor, 64u));
-    for (uint32_t first = 0; first < count; first += perDraw) vkCmdDraw(cmd, std::min(perDraw, count - first), 1, first, 0);
+    for (const DrawnRun& run : drawnRuns(buffers, view.hiddenDrawn))
+        for (uint32_t first = run.begin; first < run.end; first += perDraw)
+            vkCmdDraw(cmd, std::min(perDraw, run.end - first), 1, first, 0);
     vkCmdEndRendering(cmd);
 }
 

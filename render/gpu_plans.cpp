@@ -26,8 +26,9 @@ struct BoundaryBuilder {
     uint32_t centre(uint32_t face) const { return cage.vertexCount() + topology.edgeCount() + face; }
 
     // A quad's edge is split when a drawn sub-face of a non-quad has half of it: then the
-    // midpoint is that sub-face's corner (and owned). Next to a hole, nothing meets the edge's
-    // middle, so the quad keeps it whole.
+    // midpoint is that sub-face's corner (and owned). Holes count (they are kept and hidden);
+    // next to a face without any surface nothing meets the edge's middle, so the quad keeps it
+    // whole.
     bool edgeIsSplit(uint32_t edge) const {
         for (uint32_t k = topology.edgeFaceOffsets[edge]; k < topology.edgeFaceOffsets[edge + 1]; ++k) {
             const uint32_t face = topology.edgeFaces[k], n = cage.faceSize(face);
@@ -36,7 +37,7 @@ struct BoundaryBuilder {
                 if (topology.faceEdges[cage.faceOffsets[face] + i] != edge) continue;
                 // Sub-face i has the edge's first half, sub-face i + 1 its second.
                 const uint32_t first = planned.firstSubface(face);
-                if (planned.hasSurface(first + i) || planned.hasSurface(first + (i + 1) % n)) return true;
+                if (planned.hasPlannedSurface(first + i) || planned.hasPlannedSurface(first + (i + 1) % n)) return true;
             }
         }
         return false;
@@ -164,7 +165,7 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     gpu.subfaces.reserve(planned.subfaceCount());
     for (uint32_t face = 0; face < cage.faceCount(); ++face) {
         for (uint32_t s = planned.firstSubface(face); s < planned.firstSubface(face + 1); ++s) {
-            if (!planned.hasSurface(s)) continue;
+            if (!planned.hasPlannedSurface(s)) continue;
             GpuSubface g{};
             g.plan = planned.subfacePlan(s);
             g.rotation = planned.subfaceRotation(s);
@@ -180,7 +181,8 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     }
 
     // Non-quads first, so half segments are owned by the n-gon sub-face that has exactly that
-    // edge; a quad owns half of its edge only when no such sub-face is drawn (e.g. a hole).
+    // edge; a quad owns half of its edge only when no such sub-face is in the tables (boundary
+    // rule "none").
     gpu.boundaryPoints.assign(cage.vertexCount() + topology.edgeCount() + cage.faceCount(), GpuPoint{UINT32_MAX, 0});
     gpu.boundaries.resize(gpu.subfaces.size());
     BoundaryBuilder builder{planned, cage, topology, gpu, {}};

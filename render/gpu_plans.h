@@ -92,7 +92,10 @@ struct GpuPlanData {
     std::vector<GpuNode> nodes;
     std::vector<uint32_t> points;
     std::vector<float> weights;
-    std::vector<GpuSubface> subfaces;  // only sub-faces with a surface: one primitive each
+    // Only sub-faces with a (planned) surface, one primitive each; holes are here too, evaluated
+    // (they own edges their neighbours copy) but never drawn (PlanBuffers::holeDrawn), so that
+    // making or filling a hole changes no other sub-face.
+    std::vector<GpuSubface> subfaces;
     std::vector<uint32_t> rings;
     uint32_t controlPointCount = 0;    // all stencils of all drawn sub-faces
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <iterator>
 #include <tuple>
 
 #include "brush.h"  // uploadRanges
@@ -295,22 +296,6 @@ void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buff
     buffers.controlPointLevel = level;
 }
 
-// Runs of drawn sub-faces [begin, end) that are not in `hidden` (sorted drawn indices).
-struct DrawnRun {
-    uint32_t begin, end;
-};
-std::vector<DrawnRun> visibleRuns(uint32_t count, std::span<const uint32_t> hidden) {
-    std::vector<DrawnRun> runs;
-    uint32_t begin = 0;
-    for (uint32_t d : hidden) {
-        if (d >= count) break;
-        if (d > begin) runs.push_back({begin, d});
-        begin = std::max(begin, d + 1);
-    }
-    if (begin < count) runs.push_back({begin, count});
-    return runs;
-}
-
 DrawPush drawPush(const PlanView& view, const TessellationSettings* settings) {
     DrawPush push{};
     push.viewProjection = view.viewProjection;
@@ -324,6 +309,28 @@ DrawPush drawPush(const PlanView& view, const TessellationSettings* settings) {
 }
 
 }  // namespace
+
+void updateHoleDrawn(PlanBuffers& buffers, const PlannedCage& planned) {
+    buffers.holeDrawn.clear();
+    for (uint32_t face : planned.cage().holes)  // sorted faces: their sub-faces ascend, and so do drawn indices
+        for (uint32_t s = planned.firstSubface(face); s < planned.firstSubface(face + 1); ++s)
+            if (buffers.drawnOfSubface[s] != UINT32_MAX) buffers.holeDrawn.push_back(buffers.drawnOfSubface[s]);
+}
+
+std::vector<DrawnRun> drawnRuns(const PlanBuffers& buffers, std::span<const uint32_t> hidden) {
+    std::vector<uint32_t> skipped;
+    std::set_union(hidden.begin(), hidden.end(), buffers.holeDrawn.begin(), buffers.holeDrawn.end(), std::back_inserter(skipped));
+    const uint32_t count = uint32_t(buffers.data.subfaces.size());
+    std::vector<DrawnRun> runs;
+    uint32_t begin = 0;
+    for (uint32_t d : skipped) {
+        if (d >= count) break;
+        if (d > begin) runs.push_back({begin, d});
+        begin = std::max(begin, d + 1);
+    }
+    if (begin < count) runs.push_back({begin, count});
+    return runs;
+}
 
 Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& planned) {
     PlanBuffers b;
@@ -364,6 +371,7 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
     };
     b.drawnOfSubface.assign(planned.subfaceCount(), UINT32_MAX);
     for (uint32_t drawn = 0; drawn < d.subfaces.size(); ++drawn) b.drawnOfSubface[d.subfaces[drawn].subface] = drawn;
+    updateHoleDrawn(b, planned);
     for (Item& item : items) {
         if (!item.result) {
             Error error = item.result.error();
@@ -466,9 +474,8 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
     recordStencils(cmd, pass, buffers, maxTessellationLevel(settings));
     beginRendering(cmd, target, true, view.background);
     const DrawPush push = drawPush(view, &settings);
-    const uint32_t count = uint32_t(buffers.data.subfaces.size());
     const uint32_t perDraw = patchesPerDraw(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
-    const std::vector<DrawnRun> runs = visibleRuns(count, view.hiddenDrawn);
+    const std::vector<DrawnRun> runs = drawnRuns(buffers, view.hiddenDrawn);
     for (VkPipeline pipeline : {pass.tessellated, view.wireframe ? pass.tessellatedWire : VkPipeline(VK_NULL_HANDLE)}) {
         if (!pipeline) continue;
         DrawPush p = push;
@@ -637,9 +644,9 @@ void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers
                     const PlanView& view) {
     assert(buffers.gridEvaluator != GridEvaluator::None && "fill the grid first");
     std::vector<std::pair<uint32_t, uint32_t>> ranges;
-    if (!view.hiddenDrawn.empty()) {
+    if (!view.hiddenDrawn.empty() || !buffers.holeDrawn.empty()) {
         const std::vector<uint32_t>& indexOffset = buffers.gridLayout.indexOffset;
-        for (const DrawnRun& run : visibleRuns(uint32_t(indexOffset.size() - 1), view.hiddenDrawn))
+        for (const DrawnRun& run : drawnRuns(buffers, view.hiddenDrawn))
             ranges.push_back({indexOffset[run.begin], indexOffset[run.end] - indexOffset[run.begin]});
         if (ranges.empty()) ranges.push_back({0, 0});  // everything hidden
     }

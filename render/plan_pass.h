@@ -87,11 +87,20 @@ struct PlanBuffers {
     GridFrames gridFrames;                       // CPU grid with displacement: frames of evaluated slots
     DisplacementUsers displacementUsers;         // which sub-faces read each sample
     std::vector<uint32_t> drawnOfSubface;        // PlannedCage sub-face -> drawn index (or UINT32_MAX)
+    std::vector<uint32_t> holeDrawn;             // drawn sub-faces that are holes (sorted): never drawn
     std::vector<uint32_t> changedStamps;         // CPU grid: samples of the last dab (SampleMarks)
     uint32_t changedSerial = 0;
 };
 
 Result<PlanBuffers> uploadPlans(const VulkanContext& context, const PlannedCage& planned);
+// holeDrawn from the cage's holes (O(holes)): after uploadPlans does it, for updates.
+void updateHoleDrawn(PlanBuffers& buffers, const PlannedCage& planned);
+
+// The runs [begin, end) of drawn sub-faces a draw covers: all but `hidden` (sorted) and holes.
+struct DrawnRun {
+    uint32_t begin, end;
+};
+std::vector<DrawnRun> drawnRuns(const PlanBuffers& buffers, std::span<const uint32_t> hidden);
 // New positions for every vertex (same topology); drops what was cached.
 void updatePositions(PlanBuffers& buffers, const PlannedCage& planned);
 void destroyPlanBuffers(const VulkanContext& context, PlanBuffers& buffers);
@@ -128,7 +137,8 @@ struct PlanView {
     Shading shading = Shading::Studio;
     bool wireframe = false;            // tessellation wireframe over the shaded surface
     bool capture = false;              // tessellated path: record every evaluated vertex
-    std::span<const uint32_t> hiddenDrawn;  // drawn sub-faces not to draw (sorted; the editor's hidden faces)
+    std::span<const uint32_t> hiddenDrawn;  // drawn sub-faces not to draw (sorted; the editor's hidden
+                                            // faces); holes (PlanBuffers::holeDrawn) are never drawn
 };
 
 // Pixels per world unit at clip w = 1, for adaptive factors: viewport height / 2 * |P[1][1]|

@@ -139,7 +139,8 @@ Status dropGrid(PlanBuffers& buffers, PlanTableUpdate& update) {
     return success();
 }
 
-// Sub-faces gained or lost their surface (holes), or a topology edit renumbered them
+// Sub-faces gained or lost their planned surface (a hole whose plan could not be built was
+// filled), or a topology edit renumbered them
 // (`previousOf`, PlanChange::previousSubfaceOf; empty: the numbering stayed): the sub-face
 // tables are packed again; the plan tables, every kept sub-face's control-point range and the
 // evaluated grid stay, so only what now has another owner (and the sub-faces that are new or
@@ -323,7 +324,7 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
     for (uint32_t s : changed) {
         if (renumbered) break;  // every table is packed again
         const uint32_t drawn = buffers.drawnOfSubface[s];
-        if (planned.hasSurface(s) != (drawn != UINT32_MAX)) {
+        if (planned.hasPlannedSurface(s) != (drawn != UINT32_MAX)) {
             drawnSetChanged = true;
             continue;
         }
@@ -407,6 +408,7 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
     else
         for (uint32_t drawn : update.refresh)
             uploadBuffer(buffers.subfaces, &data.subfaces[drawn], sizeof(GpuSubface), size_t(drawn) * sizeof(GpuSubface));
+    updateHoleDrawn(buffers, planned);
     if (rebind) bindPlanBuffers(ctx, pass, buffers);
     update.applied = true;
     return update;

@@ -16,10 +16,13 @@
 // The result equals uploadPlans of the edited cage in everything a draw reads (tests compare
 // the pictures and the grid bit for bit).
 //
-// Holes (a sub-face gains or loses its surface) change the drawn set: the sub-face tables are
-// packed again (O(cage) bookkeeping, no evaluation), every kept sub-face keeps its control-point
-// range, grid factors and evaluated vertices (moved to their new slots), and only the sub-faces
-// whose edges or corners now have another owner are evaluated again.
+// Holes stay in the tables (PlannedCage plans them; PlanBuffers::holeDrawn hides them), so
+// making or filling one rewrites that sub-face's record only. The drawn set changes when a
+// sub-face gains or loses its planned surface (a hole whose plan could not be built is filled):
+// then the sub-face tables are packed again (O(cage) bookkeeping, no evaluation), every kept
+// sub-face keeps its control-point range, grid factors and evaluated vertices (moved to their
+// new slots), and only the sub-faces whose edges or corners now have another owner are
+// evaluated again.
 //
 // Topology edits renumber the sub-faces (and the cage's vertices, edges and faces): given the
 // renumbering, the sub-face tables are packed again as for holes, the positions and boundary

@@ -105,6 +105,7 @@ struct PlanUpdateTest : ::testing::Test {
             ASSERT_EQ(buffers.data.subfaces[d].plan, fresh.data.subfaces[d].plan) << "drawn sub-face " << d;
             ASSERT_EQ(buffers.data.subfaces[d].rotation, fresh.data.subfaces[d].rotation) << "drawn sub-face " << d;
         }
+        EXPECT_EQ(buffers.holeDrawn, fresh.holeDrawn) << "the holes a draw leaves out";
         EXPECT_EQ(buffers.data.vertexSubfaceOffsets, fresh.data.vertexSubfaceOffsets) << "ring users (what a move refreshes)";
         EXPECT_EQ(buffers.data.vertexSubfaces, fresh.data.vertexSubfaces) << "ring users (what a move refreshes)";
         if (path != DrawPath::Tessellated) {
@@ -161,7 +162,7 @@ TEST_F(PlanUpdateTest, TagEditsInPlaceEqualAFreshUploadOnEveryPath) {
             const uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
             const uint32_t corner = planned.cage().vertexCount() / 2;
             // Holes: a face in the middle and the last but one (an n-gon on the mixed grid), made
-            // and filled again: the drawn set changes, ownership moves to the neighbours.
+            // and filled again: they stay in the tables, hidden, so only their records change.
             const uint32_t middle = planned.cage().faceCount() / 2, late = planned.cage().faceCount() - 2;
             std::vector<std::function<Result<EditReport>()>> edits = {
                 [&] { return planned.setEdgeSharpness(a, b, 2.5f); },
@@ -184,8 +185,16 @@ TEST_F(PlanUpdateTest, TagEditsInPlaceEqualAFreshUploadOnEveryPath) {
                 if (k < 8 && buffers.data.subfaces.size() > 100) {
                     EXPECT_LT(updated->refresh.size(), buffers.data.subfaces.size() / 10) << "refreshed more than the edit touched";
                 }
-                if (k == 3 && path != DrawPath::Tessellated && name != "mixed grid") {
-                    EXPECT_FALSE(updated->gridDropped) << "a quad hole re-laid the grid out whole";
+                const bool holeEdit = k == 3 || k == 4 || k == 6 || k == 7;
+                if (holeEdit) {
+                    const uint32_t face = k == 3 || k == 6 ? middle : late;
+                    const uint32_t subfaces = planned.firstSubface(face + 1) - planned.firstSubface(face);
+                    EXPECT_EQ(updated->rewrittenSubfaces, subfaces) << "a hole edit rewrote other sub-faces' records";
+                    EXPECT_FALSE(updated->gridDropped);
+                    const uint32_t drawn = buffers.drawnOfSubface[planned.firstSubface(face)];
+                    bool covered = false;
+                    for (const DrawnRun& run : drawnRuns(buffers, {})) covered |= run.begin <= drawn && drawn < run.end;
+                    EXPECT_EQ(covered, !planned.cage().isHole(face)) << "a hole is drawn, or a filled one is not";
                 }
                 expectSameAsAFreshUpload(buffers, planned, path, settings, updated->refresh);
             }

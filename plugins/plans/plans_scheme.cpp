@@ -181,6 +181,11 @@ public:
             if (subface < buffers_.drawnOfSubface.size() && buffers_.drawnOfSubface[subface] != UINT32_MAX)
                 hiddenDrawn_.push_back(buffers_.drawnOfSubface[subface]);
         std::sort(hiddenDrawn_.begin(), hiddenDrawn_.end());
+        // Holes are in the tables but never drawn; counted here so the statistics leave them out.
+        std::vector<uint32_t> hiddenOrHole;
+        std::set_union(hiddenDrawn_.begin(), hiddenDrawn_.end(), buffers_.holeDrawn.begin(), buffers_.holeDrawn.end(),
+                       std::back_inserter(hiddenOrHole));
+        hiddenDrawn_ = std::move(hiddenOrHole);
         planView.hiddenDrawn = hiddenDrawn_;
         planView.shading = view.shading;
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
