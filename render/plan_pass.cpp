@@ -508,10 +508,14 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
 namespace {
 
 // A buffer of at least `bytes`: `buffer` itself when it is big enough, else a new one.
+// Grown with an eighth to spare (within the storage buffer range), so that the edits after the
+// first that adds sub-faces keep the buffer and move the grid inside it (carryGrid).
 Status ensureCapacity(const VulkanContext& ctx, Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage) {
     bytes = std::max<VkDeviceSize>(bytes, 16);
     if (buffer.size >= bytes) return success();
-    Result<Buffer> bigger = createBuffer(ctx, bytes, usage);
+    const VkDeviceSize range = ctx.properties.limits.maxStorageBufferRange;
+    const VkDeviceSize spare = bytes < range ? std::min<VkDeviceSize>(bytes / 8, range - bytes) : 0;
+    Result<Buffer> bigger = createBuffer(ctx, bytes + spare, usage);
     if (!bigger) return bigger.error();
     destroyBuffer(ctx, buffer);
     buffer = *bigger;
