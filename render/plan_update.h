@@ -25,7 +25,7 @@
 // evaluated again.
 //
 // Topology edits renumber the sub-faces (and the cage's vertices, edges and faces): given the
-// renumbering, the sub-face tables are packed again as for holes, the positions and boundary
+// renumbering, the sub-face tables are packed again (as above), the positions and boundary
 // points uploaded again (O(cage) copies, no evaluation), and kept sub-faces keep their
 // control-point ranges and evaluated grid vertices; new sub-faces, re-planned ones and those
 // whose edges now have another owner are evaluated. With uniform grid factors the grid keeps its
