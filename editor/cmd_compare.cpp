@@ -216,6 +216,7 @@ void printJson(const std::vector<SchemeResult>& results, const std::string& imag
                            {"rms_rel_error", r.error.rmsRelError},
                            {"max_normal_deg", r.error.maxNormalDegrees},
                            {"patches", r.draw.patches},
+                           {"single_crease_patches", r.stats.singleCreasePatches},
                            {"triangles", r.draw.triangles},
                            {"frame_ms", r.frameMs},
                            {"draw_ms", r.drawMs},

@@ -59,7 +59,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 5;
+inline constexpr uint32_t kSchemeApiVersion = 6;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -157,6 +157,7 @@ struct SchemeStats {
     uint64_t patches = 0;        // patches built (0: the scheme draws no patches)
     uint64_t controlPoints = 0;  // points computed per update (stencils applied, refined vertices)
     uint64_t gpuBytes = 0;       // buffers it keeps on the device
+    uint64_t singleCreasePatches = 0;  // OpenSubdiv single-crease patches among `patches` (osd-fas)
 };
 
 // A point of a scheme's surface. `normal` is what the scheme shades with (a separate normal

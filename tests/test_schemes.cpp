@@ -12,6 +12,7 @@
 #include <map>
 #include <unordered_map>
 
+#include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/primvarRefiner.h>
 
 #include "osd_refiner.h"
@@ -247,6 +248,38 @@ TEST(SchemeEvaluation, OsdFasMatchesTheExactSurface) {
         EXPECT_LT(e.maxRelError, 5e-5);
         EXPECT_LT(e.rmsRelError, 1e-6);
         EXPECT_GT(e.normalSamples, e.samples / 2);
+    }
+}
+
+// osd-fas is OpenSubdiv's method as its GPU path ships it: its patch table is the one Far builds
+// with single-crease patches, inf-sharp patches and Gregory-basis end caps at the plan depth,
+// and every semi-sharp crease a regular face carries alone is a single-crease patch.
+TEST(SchemeEvaluation, OsdFasBuildsFarsOwnPatchTable) {
+    if (!test::haveSharedShapes()) GTEST_SKIP() << "needs ../shared/shapes (OpenSubdiv's regression cages)";
+    using namespace OpenSubdiv;
+    // Far's counts at depth 6 with these options, measured with OpenSubdiv 3.5 (platform notes).
+    const std::map<std::string, int> measured = {{"catmark_car", 22767}, {"catmark_pawn", 1488}};
+    for (const char* name : {"catmark_car", "catmark_pawn", "catmark_cube_creases1", "catmark_creases2",
+                             "catmark_dart_edgeonly", "catmark_nonquads"}) {
+        const fs::path path = test::sharedShapesDir() / (std::string(name) + ".obj");
+        if (!fs::exists(path)) continue;
+        SCOPED_TRACE(name);
+        const Cage cage = loadCage(path);
+        auto refiner = createRefiner(cage, name);
+        ASSERT_TRUE(refiner.ok()) << refiner.error().message;
+        Far::PatchTableFactory::Options options(6);
+        options.useSingleCreasePatch = true;
+        options.useInfSharpPatch = true;
+        options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
+        (*refiner)->RefineAdaptive(options.GetRefineAdaptiveOptions());
+        std::unique_ptr<Far::PatchTable> far(Far::PatchTableFactory::Create(**refiner, options));
+        Result<FasPatches> patches = buildFasPatches(cage, 6, 8);
+        ASSERT_TRUE(patches.ok()) << patches.error().message;
+        EXPECT_EQ(int(patches->layout.size()), far->GetNumPatchesTotal());
+        if (auto it = measured.find(name); it != measured.end()) {
+            EXPECT_EQ(int(patches->layout.size()), it->second);
+            EXPECT_GT(patches->singleCreasePatches, 0u) << "no semi-sharp crease became a single-crease patch";
+        }
     }
 }
 

@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "osd_refiner.h"
+#include "patch_basis.h"
 
 namespace qp {
 
@@ -16,9 +17,34 @@ using namespace OpenSubdiv;
 
 namespace {
 
+// Basis of a single-crease patch: Far marks the crease edge with its PatchParam boundary bit
+// (edge 0: v=0, 1: u=1, 2: v=1, 3: u=0) and gives the sharpness separately; EvaluateBasis would
+// treat that edge as a boundary (an infinitely sharp crease). Along the crease the cubic
+// B-spline, across it the semi-sharp crease basis of core/patch_basis.h, which is exact for the
+// uniform crease rule, fractional sharpness included.
+void singleCreaseBasis(const Far::PatchParam& param, float sharpness, float u, float v, float w[16], float wu[16],
+                       float wv[16]) {
+    param.Normalize(u, v);
+    const int edge = __builtin_ctz(param.GetBoundary());
+    const Basis1D bu = edge == 3 ? creaseBasis1D(u, sharpness) : edge == 1 ? creaseBasis1DFar(u, sharpness) : bsplineBasis1D(u);
+    const Basis1D bv = edge == 0 ? creaseBasis1D(v, sharpness) : edge == 2 ? creaseBasis1DFar(v, sharpness) : bsplineBasis1D(v);
+    const float scale = float(1 << param.GetDepth());  // patch-local derivatives to the face's, as EvaluateBasis
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col) {
+            w[4 * row + col] = bu.b[col] * bv.b[row];
+            wu[4 * row + col] = scale * bu.d[col] * bv.b[row];
+            wv[4 * row + col] = scale * bu.b[col] * bv.d[row];
+        }
+}
+
 FasSample evaluatePatch(const FasPatches& patches, const Far::PatchTable::PatchHandle& handle, float u, float v) {
     float w[20], wu[20], wv[20];
-    patches.table->EvaluateBasis(handle, u, v, w, wu, wv);
+    const Far::PatchParam param = patches.table->GetPatchParam(handle);
+    const float sharpness = patches.table->GetSingleCreasePatchSharpnessValue(handle);
+    if (sharpness > 0.0f && patches.table->GetPatchArrayDescriptor(handle.arrayIndex).GetType() == Far::PatchDescriptor::REGULAR)
+        singleCreaseBasis(param, sharpness, u, v, w, wu, wv);
+    else
+        patches.table->EvaluateBasis(handle, u, v, w, wu, wv);
     const Far::ConstIndexArray cvs = patches.table->GetPatchVertices(handle);
     FasSample s;
     for (int k = 0; k < cvs.size(); ++k) {
@@ -29,7 +55,7 @@ FasSample evaluatePatch(const FasPatches& patches, const Far::PatchTable::PatchH
     }
     // EvaluateBasis differentiates an n-gon's sub-face in the parent's parameterisation, where
     // it spans 1/2 (core/limit_reference.cpp): back to the sub-face's own frame.
-    if (patches.table->GetPatchParam(handle).NonQuadRoot()) {
+    if (param.NonQuadRoot()) {
         s.du *= 0.5f;
         s.dv *= 0.5f;
     }
@@ -80,7 +106,7 @@ Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t te
     Far::TopologyRefiner& r = **refiner;
     Far::PatchTableFactory::Options options{depth};
     options.useInfSharpPatch = true;
-    options.useSingleCreasePatch = false;
+    options.useSingleCreasePatch = true;
     options.generateLegacySharpCornerPatches = false;
     options.generateVaryingTables = false;
     options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
@@ -107,6 +133,7 @@ Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t te
             p.handle.patchIndex = patchIndex;
             p.handle.vertIndex = patch * cvsPerPatch;  // relative to the array's first control vertex
             p.factor = std::max(1u, patches.factor >> param.GetDepth());
+            patches.singleCreasePatches += patches.table->GetSingleCreasePatchSharpnessValue(array, patch) > 0.0f;
             p.transitions = p.factor == 1 ? param.GetTransition() : 0u;
             const uint32_t midpoints = uint32_t(__builtin_popcount(p.transitions));
             p.firstVertex = vertices;

@@ -3,9 +3,11 @@
 //
 // Far refines adaptively to `depth` around extraordinary vertices and creases and builds a
 // PatchTable: bicubic B-spline patches (boundary and infinitely sharp variants) where the
-// surface is regular, Gregory-basis end caps at the deepest level. Single-crease patches stay
-// off: Far::PatchTable::EvaluateBasis ignores their sharpness (platform notes), so semi-sharp
-// creases are isolated by refinement instead, exact up to `depth` and paid for in patches.
+// surface is regular, single-crease patches where a regular face has one semi-sharp crease
+// (as OpenSubdiv's GPU path uses them), Gregory-basis end caps at the deepest level. Far's own
+// EvaluateBasis ignores a single-crease patch's sharpness (platform notes), so those are
+// evaluated with the crease basis of core/patch_basis.h, which is exact for the uniform crease
+// rule: the patches stay within the plans' accuracy while semi-sharp creases cost no isolation.
 //
 // Tessellation, as OpenSubdiv's uniform tessellation does it: a patch at depth d gets
 // F / 2^d segments per side (at least 1; F the factor rounded down to a power of two), so the
@@ -41,6 +43,7 @@ struct FasPatches {
     std::unique_ptr<OpenSubdiv::Far::PatchMap> map;
     std::unique_ptr<const OpenSubdiv::Far::StencilTable> stencils;  // cage -> every point patches read
     uint32_t factor = 1;                  // F, a power of two
+    uint32_t singleCreasePatches = 0;     // patches evaluated with their crease sharpness
     std::vector<FasPatchLayout> layout;   // one per patch
     std::vector<glm::vec2> domain;        // patch-local (u, v) of every tessellation vertex
     std::vector<uint32_t> indices;        // three per triangle, into domain

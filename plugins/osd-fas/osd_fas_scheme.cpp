@@ -96,6 +96,7 @@ public:
     SchemeStats stats() const override {
         SchemeStats stats;
         stats.patches = patches_.layout.size();
+        stats.singleCreasePatches = patches_.singleCreasePatches;
         stats.controlPoints = patches_.points.size() - planned_->cage().vertexCount();
         stats.gpuBytes = mesh_.vertices.size + mesh_.indices.size + displaced_.gpu.vertices.size + displaced_.gpu.indices.size;
         return stats;
@@ -125,6 +126,6 @@ private:
 }  // namespace qp
 
 QUADPLAN_EXPORT_SCHEME("osd-fas",
-                       "OpenSubdiv feature-adaptive patches: B-spline patches, Gregory-basis end caps, one primitive "
-                       "per patch",
+                       "OpenSubdiv feature-adaptive patches: B-spline and single-crease patches, Gregory-basis end "
+                       "caps, one primitive per patch",
                        qp::OsdFasScheme)
