@@ -175,7 +175,8 @@ void PlannedCage::updateControlPoints(const std::vector<uint32_t>& subfaces) {
         }
         const Plan& plan = database_->plan(subfacePlan_[s]);
         std::vector<glm::vec3> ring(subfaceRing_[s].size());
-        for (size_t j = 0; j < ring.size(); ++j) ring[j] = cage_.positions[subfaceRing_[s][j]];
+        const glm::vec3 origin = subfaceOrigin(s);
+        for (size_t j = 0; j < ring.size(); ++j) ring[j] = cage_.positions[subfaceRing_[s][j]] - origin;
         subfaceControlPoints_[s].resize(plan.stencilCount());
         applyStencils(plan, ring.data(), plan.stencilCount(), subfaceControlPoints_[s].data());
     });
@@ -187,6 +188,7 @@ LimitSample PlannedCage::evaluate(uint32_t subface, float u, float v) const {
     toPlanFrame(rotation, u, v, pu, pv);
     LimitSample sample =
         evaluatePlan(database_->plan(subfacePlan_[subface]), subfaceControlPoints_[subface].data(), pu, pv);
+    sample.position += subfaceOrigin(subface);
     derivativesToFaceFrame(rotation, sample);
     return sample;
 }

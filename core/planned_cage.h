@@ -81,7 +81,14 @@ public:
     bool isHole(uint32_t subface) const { return subfaceHole_[subface] != 0; }
     uint32_t subfaceRotation(uint32_t subface) const { return subfaceRotation_[subface]; }
     std::span<const uint32_t> subfaceRing(uint32_t subface) const;
+    // Control points are relative to the sub-face's origin, the position of its first 1-ring
+    // vertex (a corner of its face). Deep in a plan's quadtree the derivatives are differences of
+    // control points a few 2^-depth of the face apart, times 2^depth: in the cage's absolute
+    // coordinates float keeps only the precision of the model's size for them, which at depth 8-10
+    // next to an extraordinary vertex is the size of the differences themselves (normals off by
+    // degrees, flipped at depth 10); relative to a corner of the face it is the face's size.
     std::span<const glm::vec3> subfaceControlPoints(uint32_t subface) const;
+    glm::vec3 subfaceOrigin(uint32_t subface) const { return cage_.positions[subfaceRing_[subface][0]]; }
 
     // Limit position and derivatives at (u, v) of a sub-face, in the sub-face's own frame
     // (quads: u from corner 0 to 1, v from corner 0 to 3). The sub-face must have a surface.

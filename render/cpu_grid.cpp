@@ -260,7 +260,8 @@ void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32
                             uint32_t drawn, const Output& out) {
     const PlanNode& node = plan.nodes[0];
     const uint32_t* points = plan.points.data() + node.first;
-    const glm::vec3* controlPoints = planned.subfaceControlPoints(subface).data();
+    const glm::vec3* controlPoints = planned.subfaceControlPoints(subface).data();  // relative to `origin`
+    const glm::vec3 origin = planned.subfaceOrigin(subface);
     const uint32_t rotation = planned.subfaceRotation(subface), n = layout.factors.subfaceFactor[drawn];
     // The plan's (s, t) of grid column / row k, as PlannedCage::evaluate rotates (u, v) = k / n.
     // Rotations 0 and 2 take s from the column, 1 and 3 from the row.
@@ -299,6 +300,7 @@ void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32
                 sample.dv += bv[kt].d[row] * along[ks][row];
             }
             // To the sub-face's frame, as PlannedCage::evaluate does.
+            sample.position += origin;
             const glm::vec3 du = sample.du, dv = sample.dv;
             if (rotation == 1) sample.du = -dv, sample.dv = du;
             else if (rotation == 2) sample.du = -du, sample.dv = -dv;

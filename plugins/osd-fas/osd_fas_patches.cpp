@@ -37,22 +37,33 @@ void singleCreaseBasis(const Far::PatchParam& param, float sharpness, float u, f
         }
 }
 
+// Summed in double relative to the patch's first control point: deep patches' derivatives are
+// differences of points 2^-depth of a face apart times 2^depth, which float in the model's
+// absolute coordinates cannot hold (the plans keep their control points relative for the same
+// reason, core/planned_cage.h).
 FasSample evaluatePatch(const FasPatches& patches, const Far::PatchTable::PatchHandle& handle, float u, float v) {
-    float w[20], wu[20], wv[20];
+    double w[20], wu[20], wv[20];
     const Far::PatchParam param = patches.table->GetPatchParam(handle);
     const float sharpness = patches.table->GetSingleCreasePatchSharpnessValue(handle);
-    if (sharpness > 0.0f && patches.table->GetPatchArrayDescriptor(handle.arrayIndex).GetType() == Far::PatchDescriptor::REGULAR)
-        singleCreaseBasis(param, sharpness, u, v, w, wu, wv);
-    else
-        patches.table->EvaluateBasis(handle, u, v, w, wu, wv);
-    const Far::ConstIndexArray cvs = patches.table->GetPatchVertices(handle);
-    FasSample s;
-    for (int k = 0; k < cvs.size(); ++k) {
-        const glm::vec3& c = patches.points[size_t(cvs[k])];
-        s.position += w[k] * c;
-        s.du += wu[k] * c;
-        s.dv += wv[k] * c;
+    if (sharpness > 0.0f && patches.table->GetPatchArrayDescriptor(handle.arrayIndex).GetType() == Far::PatchDescriptor::REGULAR) {
+        float fw[16], fu[16], fv[16];
+        singleCreaseBasis(param, sharpness, u, v, fw, fu, fv);
+        std::copy(fw, fw + 16, w);
+        std::copy(fu, fu + 16, wu);
+        std::copy(fv, fv + 16, wv);
+    } else {
+        patches.table->EvaluateBasis(handle, double(u), double(v), w, wu, wv);
     }
+    const Far::ConstIndexArray cvs = patches.table->GetPatchVertices(handle);
+    const glm::dvec3 origin = patches.points[size_t(cvs[0])];
+    glm::dvec3 position(0.0), du(0.0), dv(0.0);
+    for (int k = 0; k < cvs.size(); ++k) {
+        const glm::dvec3 c = patches.points[size_t(cvs[k])] - origin;
+        position += w[k] * c;
+        du += wu[k] * c;
+        dv += wv[k] * c;
+    }
+    FasSample s{glm::vec3(origin + position), glm::vec3(du), glm::vec3(dv)};
     // EvaluateBasis differentiates an n-gon's sub-face in the parent's parameterisation, where
     // it spans 1/2 (core/limit_reference.cpp): back to the sub-face's own frame.
     if (param.NonQuadRoot()) {
@@ -153,11 +164,19 @@ Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t te
 
 void updateFasPoints(FasPatches& patches, std::span<const glm::vec3> cagePositions) {
     patches.points.resize(size_t(patches.stencils->GetNumStencils()));
+    // In double, relative to the stencil's first cage vertex: Far's float weights sum to 1 only up
+    // to round-off, which against absolute coordinates would move nearby points apart.
     tbb::parallel_for(size_t(0), patches.points.size(), [&](size_t i) {
         const Far::Stencil s = patches.stencils->GetStencil(Far::Index(i));
-        glm::vec3 p(0.0f);
-        for (int k = 0; k < s.GetSize(); ++k) p += s.GetWeights()[k] * cagePositions[size_t(s.GetVertexIndices()[k])];
-        patches.points[i] = p;
+        if (s.GetSize() == 0) {
+            patches.points[i] = glm::dvec3(0.0);
+            return;
+        }
+        const glm::dvec3 first(cagePositions[size_t(s.GetVertexIndices()[0])]);
+        glm::dvec3 p(0.0);
+        for (int k = 0; k < s.GetSize(); ++k)
+            p += double(s.GetWeights()[k]) * (glm::dvec3(cagePositions[size_t(s.GetVertexIndices()[k])]) - first);
+        patches.points[i] = first + p;
     });
 }
 

@@ -47,7 +47,8 @@ struct FasPatches {
     std::vector<FasPatchLayout> layout;   // one per patch
     std::vector<glm::vec2> domain;        // patch-local (u, v) of every tessellation vertex
     std::vector<uint32_t> indices;        // three per triangle, into domain
-    std::vector<glm::vec3> points;        // stencils applied to the current positions
+    std::vector<glm::dvec3> points;       // stencils applied to the current positions (double:
+                                          // evaluatePatch differences them at depth)
 };
 
 struct FasSample {

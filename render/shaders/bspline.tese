@@ -40,6 +40,7 @@ void main() {
         dPdu += bv[row] * alongDu;
         dPdv += dv[row] * along;
     }
+    position += subfaceOrigin(drawn);  // control points are relative to it
     vec3 n = cross(dPdu, dPdv);
     float len = length(n);
     outNormal = len > 0.0 ? n / len : vec3(0.0, 0.0, 1.0);

@@ -267,10 +267,18 @@ LimitSample evaluatePlan(uint plan, uint cpBase, vec2 uv) {
     return r;
 }
 
+// A sub-face's control points are relative to its origin, its first 1-ring vertex, as on the
+// CPU (core/planned_cage.h): deep derivatives keep float's precision of the face's size.
+vec3 subfaceOrigin(uint drawn) {
+    uint vtx = rings[subfaces[drawn].ringOffset];
+    return vec3(positions[3u * vtx], positions[3u * vtx + 1u], positions[3u * vtx + 2u]);
+}
+
 // (u, v) in the sub-face's own frame (quads: u from corner 0 to 1, v from corner 0 to 3).
 LimitSample evaluateSubface(uint drawn, vec2 uv) {
     Subface f = subfaces[drawn];
     LimitSample r = evaluatePlan(f.plan, f.cpOffset, toPlanFrame(f.rotation, uv));
+    r.position += subfaceOrigin(drawn);
     vec3 du = r.du, dv = r.dv;
     if (f.rotation == 1u) { r.du = -dv; r.dv = du; }
     else if (f.rotation == 2u) { r.du = -du; r.dv = -dv; }
@@ -278,15 +286,16 @@ LimitSample evaluateSubface(uint drawn, vec2 uv) {
     return r;
 }
 
-// Control point `index` of drawn sub-face `drawn`: its stencil applied to the 1-ring.
+// Control point `index` of drawn sub-face `drawn`: its stencil applied to the 1-ring, relative
+// to the sub-face's origin.
 vec3 applyStencil(uint drawn, uint index) {
     Subface f = subfaces[drawn];
     PlanHeader h = planHeaders[f.plan];
     uint w = h.weightOffset + index * h.ringSize;
-    vec3 sum = vec3(0.0);
+    vec3 sum = vec3(0.0), origin = subfaceOrigin(drawn);
     for (uint j = 0u; j < h.ringSize; ++j) {
         uint vtx = rings[f.ringOffset + j];
-        sum += weights[w + j] * vec3(positions[3u * vtx], positions[3u * vtx + 1u], positions[3u * vtx + 2u]);
+        sum += weights[w + j] * (vec3(positions[3u * vtx], positions[3u * vtx + 1u], positions[3u * vtx + 2u]) - origin);
     }
     return sum;
 }
