@@ -12,9 +12,11 @@
 #include <gtest/gtest.h>
 
 #include "limit_check.h"
+#include "limit_frame.h"
 #include "plan_builder.h"
 #include "plan_evaluator.h"
 #include "planned_cage.h"
+#include "quad_ring.h"
 #include "test_cages.h"
 
 namespace {
@@ -128,6 +130,41 @@ TEST(LimitReference, DerivativesAreInTheSubfaceFrame) {
         glm::dvec3 dv = (reference->evaluate(s, 0.3, 0.6 + h).position - reference->evaluate(s, 0.3, 0.6 - h).position) / (2 * h);
         EXPECT_LT(glm::length(at.du - du), 1e-5) << "sub-face " << s;
         EXPECT_LT(glm::length(at.dv - dv), 1e-5) << "sub-face " << s;
+    }
+}
+
+// At an extraordinary corner the parameterisation is singular and the derivatives are
+// differences of control points 2^-depth of a face apart, times 2^depth. Far from the origin,
+// float in absolute coordinates cannot hold them (depth 10 flipped the normal on
+// catmark_pawn); relative to a corner of the face it can. The normal at every valence-3 corner
+// of a cube translated far from the origin stays in the exact limit tangent plane at every
+// depth.
+TEST(PlanEngine, ExtraordinaryCornerNormalsKeepTheirPrecisionAtDepth) {
+    Cage cage = qp::test::makeSubdividedCube(3);
+    for (glm::vec3& p : cage.positions) p += glm::vec3(60.0f, -40.0f, 90.0f);  // faces are 1/3 wide
+    const qp::Topology topology = qp::buildTopology(cage);
+    const glm::vec2 cornerUV[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (uint32_t depth : {6u, 8u, 10u}) {
+        SCOPED_TRACE("depth " + std::to_string(depth));
+        PlanDatabase db;
+        PlanOptions options;
+        options.maxDepth = depth;
+        PlannedCage planned = plan(cage, db, options);
+        uint32_t corners = 0;
+        double worst = 0.0;
+        for (uint32_t f = 0; f < cage.faceCount(); ++f)
+            for (uint32_t k = 0; k < 4; ++k) {
+                const uint32_t v = cage.faceBegin(f)[k];
+                if (topology.vertexFaceCount(v) != 3) continue;
+                const qp::VertexLimit exact = qp::computeVertexLimit(cage, qp::gatherQuadRing(cage, topology, f, k));
+                const glm::dvec3 n = glm::normalize(glm::cross(exact.tangents[0], exact.tangents[1]));
+                const qp::LimitSample s = planned.evaluate(planned.firstSubface(f), cornerUV[k].x, cornerUV[k].y);
+                const glm::dvec3 m = glm::normalize(glm::dvec3(glm::cross(s.du, s.dv)));
+                worst = std::max(worst, std::atan2(glm::length(glm::cross(n, m)), glm::dot(n, m)) * 180.0 / M_PI);
+                ++corners;
+            }
+        EXPECT_EQ(corners, 24u);  // 8 cube corners, 3 faces each
+        EXPECT_LT(worst, 0.1) << "degrees from the exact limit tangent plane";
     }
 }
 
