@@ -215,6 +215,8 @@ void printJson(const std::vector<SchemeResult>& results, const std::string& imag
                            {"max_rel_error", r.error.maxRelError},
                            {"rms_rel_error", r.error.rmsRelError},
                            {"max_normal_deg", r.error.maxNormalDegrees},
+                           {"p99_normal_deg", r.error.p99NormalDegrees},
+                           {"normal_samples_excluded", r.error.normalSamplesExcluded},
                            {"patches", r.draw.patches},
                            {"single_crease_patches", r.stats.singleCreasePatches},
                            {"triangles", r.draw.triangles},

@@ -12,10 +12,6 @@
 
 namespace qp {
 
-namespace {
-constexpr double kMinNormalSine = 1e-3;
-}  // namespace
-
 std::string ExactReference::description() const {
     if (kind == ReferenceKind::Plans) return "subdivision plans, depth " + std::to_string(depth) + " (float)";
     return "OpenSubdiv Far adaptive patches, depth " + std::to_string(depth) + ", double precision";
@@ -57,6 +53,8 @@ SurfaceError measureSurfaceError(const ExactReference& reference, std::span<cons
     error.relError.resize(points.size());
     double sumSquares = 0.0;
     ErrorStats& s = error.stats;
+    std::vector<double> angles;
+    angles.reserve(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
         const ReferenceSample& exact = reference.samples[i];
         const double distance = glm::length(glm::dvec3(points[i].position) - exact.position);
@@ -69,12 +67,21 @@ SurfaceError measureSurfaceError(const ExactReference& reference, std::span<cons
         const glm::dvec3 cross = glm::cross(exact.du, exact.dv);
         const double sine = glm::length(cross) / std::max(glm::length(exact.du) * glm::length(exact.dv), 1e-300);
         const float schemeLength = glm::length(points[i].normal);
-        if (!(sine > kMinNormalSine) || !(schemeLength > 0.0f)) continue;
+        if (!(sine > kMinNormalSine) || !(schemeLength > 0.0f)) {
+            ++s.normalSamplesExcluded;
+            continue;
+        }
         // atan2 of sine and cosine: acos loses everything below ~0.03 degrees in float.
         const glm::dvec3 a = cross / glm::length(cross), b(glm::dvec3(points[i].normal) / double(schemeLength));
         const double angle = std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
         s.maxNormalDegrees = std::max(s.maxNormalDegrees, angle * 180.0 / M_PI);
+        angles.push_back(angle * 180.0 / M_PI);
         ++s.normalSamples;
+    }
+    if (!angles.empty()) {
+        const size_t k = std::min(angles.size() - 1, size_t(std::ceil(0.99 * double(angles.size()))) - 1);
+        std::nth_element(angles.begin(), angles.begin() + k, angles.end());
+        s.p99NormalDegrees = angles[k];
     }
     s.samples = points.size();
     s.rmsRelError = points.empty() ? 0.0 : std::sqrt(sumSquares / double(points.size()));

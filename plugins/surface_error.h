@@ -28,9 +28,18 @@ struct ErrorStats {
     double maxRelError = 0.0;
     double rmsRelError = 0.0;
     double maxNormalDegrees = 0.0;
+    double p99NormalDegrees = 0.0;  // 99th percentile of the normal samples' deviation
     uint64_t samples = 0;
     uint64_t normalSamples = 0;  // samples where both normals are defined
+    // Samples left out of the normal comparison: the exact surface's derivatives there are
+    // (nearly) parallel, |du x dv| <= kMinNormalSine |du| |dv| (no tangent plane from them:
+    // folds and coincident vertices of degenerate cages), or the scheme gives no normal.
+    uint64_t normalSamplesExcluded = 0;
 };
+
+// Below this sine of the angle between the exact surface's derivatives a sample's normal is
+// not compared (ErrorStats::normalSamplesExcluded).
+inline constexpr double kMinNormalSine = 1e-3;
 
 struct SurfaceError {
     std::vector<float> relError;  // per sample

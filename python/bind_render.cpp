@@ -85,6 +85,8 @@ py::dict errorDict(const ErrorStats& e) {
     out["max_rel_error"] = e.maxRelError;
     out["rms_rel_error"] = e.rmsRelError;
     out["max_normal_deg"] = e.maxNormalDegrees;
+    out["p99_normal_deg"] = e.p99NormalDegrees;
+    out["normal_samples_excluded"] = e.normalSamplesExcluded;
     out["samples"] = e.samples;
     return out;
 }
@@ -269,7 +271,10 @@ diagonal), on a grid of `samples` segments per sub-face edge. Returns (image, nu
                      entry["max_rel_error"] = r.error.maxRelError;
                      entry["rms_rel_error"] = r.error.rmsRelError;
                      entry["max_normal_deg"] = r.error.maxNormalDegrees;
+                     entry["p99_normal_deg"] = r.error.p99NormalDegrees;
+                     entry["normal_samples_excluded"] = r.error.normalSamplesExcluded;
                      entry["patches"] = r.draw.patches;
+                     entry["single_crease_patches"] = r.stats.singleCreasePatches;
                      entry["triangles"] = r.draw.triangles;
                      entry["frame_ms"] = r.frameMs;
                      entry["draw_ms"] = r.drawMs;

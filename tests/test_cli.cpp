@@ -294,8 +294,10 @@ TEST(CliCompare, JsonTableAndOneTilePairPerScheme) {
     EXPECT_TRUE(json["skipped"].empty());
     std::map<std::string, nlohmann::json> byName;
     for (const auto& s : json["schemes"]) {
-        for (const char* key : {"name", "max_rel_error", "rms_rel_error", "max_normal_deg", "patches", "triangles", "frame_ms"})
+        for (const char* key : {"name", "max_rel_error", "rms_rel_error", "max_normal_deg", "p99_normal_deg",
+                                "normal_samples_excluded", "patches", "single_crease_patches", "triangles", "frame_ms"})
             EXPECT_TRUE(s.contains(key)) << key;
+        EXPECT_LE(s["p99_normal_deg"].get<double>(), s["max_normal_deg"].get<double>());
         EXPECT_GT(s["triangles"].get<double>(), 0.0);
         EXPECT_GT(s["frame_ms"].get<double>(), 0.0);
         byName[s["name"]] = s;
@@ -308,6 +310,12 @@ TEST(CliCompare, JsonTableAndOneTilePairPerScheme) {
     EXPECT_EQ(byName["plans"]["patches"].get<int>(), 180);  // one primitive per sub-face
     EXPECT_LT(byName["osd-fas"]["max_rel_error"].get<double>(), 5e-5);
     EXPECT_GT(byName["osd-fas"]["patches"].get<int>(), 180);  // feature-adaptive: many patches near creases
+    EXPECT_GT(byName["osd-fas"]["single_crease_patches"].get<int>(), 0);  // scenes/default has semi-sharp creases
+    EXPECT_EQ(byName["plans"]["single_crease_patches"].get<int>(), 0);
+    // The exact schemes' normals: every sample compared (no degenerate geometry here), and all
+    // but single samples at the sharp corner's end patches agree closely.
+    EXPECT_EQ(byName["plans"]["normal_samples_excluded"].get<int>(), 0);
+    EXPECT_LT(byName["plans"]["p99_normal_deg"].get<double>(), 0.1);
     EXPECT_GT(byName["uniform"]["max_rel_error"].get<double>(), 1e-4);
     EXPECT_EQ(byName["uniform"]["patches"].get<int>(), 0);
 
