@@ -78,7 +78,6 @@ public:
     bool hasPlannedSurface(uint32_t subface) const {
         return subfacePlan_[subface] != kNoPlan && database_->plan(subfacePlan_[subface]).hasSurface();
     }
-    bool isHole(uint32_t subface) const { return subfaceHole_[subface] != 0; }
     uint32_t subfaceRotation(uint32_t subface) const { return subfaceRotation_[subface]; }
     std::span<const uint32_t> subfaceRing(uint32_t subface) const;
     // Control points are relative to the sub-face's origin, the position of its first 1-ring

@@ -218,6 +218,8 @@ void printJson(const std::vector<SchemeResult>& results, const std::string& imag
                            {"p99_normal_deg", r.error.p99NormalDegrees},
                            {"normal_samples_excluded", r.error.normalSamplesExcluded},
                            {"patches", r.draw.patches},
+                           {"primitives", r.draw.primitives()},
+                           {"path", drawnByName(r.draw.drawnBy)},
                            {"single_crease_patches", r.stats.singleCreasePatches},
                            {"triangles", r.draw.triangles},
                            {"frame_ms", r.frameMs},

@@ -49,7 +49,7 @@ DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, con
     MeshDraw draw{&mesh, glm::vec3(0.8f), true, view.wireframe};
     recordMeshPass(cmd, drawing.pass, target, MeshView{view.viewProjection, view.eye, view.background, view.shading},
                    mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-    return DrawStats{patches, mesh.indexCount / 3};
+    return DrawStats{patches, mesh.indexCount / 3, DrawnBy::CpuMesh};
 }
 
 uint64_t gridDrawingBytes(const GridDrawing& drawing) {

@@ -59,7 +59,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 6;
+inline constexpr uint32_t kSchemeApiVersion = 7;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -148,9 +148,29 @@ struct DrawView {
 };
 
 // What the last record() submitted.
+// How a draw reached the rasteriser.
+enum class DrawnBy : uint32_t {
+    Unknown,
+    Tessellator,  // one patch primitive per patch through the tessellation stages
+    GpuGrid,      // triangles over vertices a compute shader evaluated
+    CpuMesh,      // triangles over vertices evaluated on the CPU
+};
+inline const char* drawnByName(DrawnBy by) {
+    switch (by) {
+    case DrawnBy::Tessellator: return "tess";
+    case DrawnBy::GpuGrid: return "grid";
+    case DrawnBy::CpuMesh: return "cpu";
+    case DrawnBy::Unknown: break;
+    }
+    return "?";
+}
+
 struct DrawStats {
     uint64_t patches = 0;    // primitives through the tessellator, or patches drawn as grids
     uint64_t triangles = 0;  // 0 when unknown (screen-adaptive tessellation)
+    DrawnBy drawnBy = DrawnBy::Unknown;
+    // What the draw submitted: patch primitives through the tessellator, else triangles.
+    uint64_t primitives() const { return drawnBy == DrawnBy::Tessellator ? patches : triangles; }
 };
 
 struct SchemeStats {

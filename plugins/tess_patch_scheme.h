@@ -67,7 +67,8 @@ public:
         if (onGrid()) return recordGridDrawing(cmd, grid_, target, view, data_.stats.patches);
         const uint32_t factor = patchFactor();
         recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false});
-        return DrawStats{data_.stats.patches, factor ? data_.stats.patches * tessTriangles(factor, false) : 0};
+        return DrawStats{data_.stats.patches, factor ? data_.stats.patches * tessTriangles(factor, false) : 0,
+                         DrawnBy::Tessellator};
     }
 
     // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the

@@ -274,6 +274,8 @@ diagonal), on a grid of `samples` segments per sub-face edge. Returns (image, nu
                      entry["p99_normal_deg"] = r.error.p99NormalDegrees;
                      entry["normal_samples_excluded"] = r.error.normalSamplesExcluded;
                      entry["patches"] = r.draw.patches;
+                     entry["primitives"] = r.draw.primitives();
+                     entry["path"] = drawnByName(r.draw.drawnBy);
                      entry["single_crease_patches"] = r.stats.singleCreasePatches;
                      entry["triangles"] = r.draw.triangles;
                      entry["frame_ms"] = r.frameMs;

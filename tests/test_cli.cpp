@@ -295,7 +295,8 @@ TEST(CliCompare, JsonTableAndOneTilePairPerScheme) {
     std::map<std::string, nlohmann::json> byName;
     for (const auto& s : json["schemes"]) {
         for (const char* key : {"name", "max_rel_error", "rms_rel_error", "max_normal_deg", "p99_normal_deg",
-                                "normal_samples_excluded", "patches", "single_crease_patches", "triangles", "frame_ms"})
+                                "normal_samples_excluded", "patches", "primitives", "path", "single_crease_patches",
+                                "triangles", "frame_ms"})
             EXPECT_TRUE(s.contains(key)) << key;
         EXPECT_LE(s["p99_normal_deg"].get<double>(), s["max_normal_deg"].get<double>());
         EXPECT_GT(s["triangles"].get<double>(), 0.0);
@@ -312,6 +313,10 @@ TEST(CliCompare, JsonTableAndOneTilePairPerScheme) {
     EXPECT_GT(byName["osd-fas"]["patches"].get<int>(), 180);  // feature-adaptive: many patches near creases
     EXPECT_GT(byName["osd-fas"]["single_crease_patches"].get<int>(), 0);  // scenes/default has semi-sharp creases
     EXPECT_EQ(byName["plans"]["single_crease_patches"].get<int>(), 0);
+    // osd-fas tessellates on the CPU: it submits triangles; uniform too.
+    EXPECT_EQ(byName["osd-fas"]["path"], "cpu");
+    EXPECT_EQ(byName["osd-fas"]["primitives"], byName["osd-fas"]["triangles"]);
+    EXPECT_EQ(byName["uniform"]["path"], "cpu");
     // The exact schemes' normals: every sample compared (no degenerate geometry here), and all
     // but single samples at the sharp corner's end patches agree closely.
     EXPECT_EQ(byName["plans"]["normal_samples_excluded"].get<int>(), 0);

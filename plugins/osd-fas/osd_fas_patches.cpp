@@ -1,6 +1,7 @@
 #include "osd_fas_patches.h"
 
 #include <algorithm>
+#include <cassert>
 
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/stencilTableFactory.h>
@@ -25,6 +26,7 @@ namespace {
 void singleCreaseBasis(const Far::PatchParam& param, float sharpness, float u, float v, float w[16], float wu[16],
                        float wv[16]) {
     param.Normalize(u, v);
+    assert(__builtin_popcount(param.GetBoundary()) == 1 && "a single-crease patch marks exactly its crease edge");
     const int edge = __builtin_ctz(param.GetBoundary());
     const Basis1D bu = edge == 3 ? creaseBasis1D(u, sharpness) : edge == 1 ? creaseBasis1DFar(u, sharpness) : bsplineBasis1D(u);
     const Basis1D bv = edge == 0 ? creaseBasis1D(v, sharpness) : edge == 2 ? creaseBasis1DFar(v, sharpness) : bsplineBasis1D(v);

@@ -74,7 +74,7 @@ public:
         MeshDraw draw{displacement_ ? &displaced_.gpu : &mesh_, glm::vec3(0.8f), true, view.wireframe};
         recordMeshPass(cmd, pass_, target, MeshView{view.viewProjection, view.eye, view.background, view.shading},
                        draw.mesh->indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-        return DrawStats{patches_.layout.size(), triangles_};
+        return DrawStats{patches_.layout.size(), triangles_, DrawnBy::CpuMesh};
     }
 
     Status setDisplacement(const Displacement* displacement) override {

@@ -218,6 +218,9 @@ public:
         recordPlanFrame(cmd, pass_, buffers_, path_, target, planView, tessellation);
         DrawStats stats;
         stats.patches = buffers_.data.subfaces.size() - hiddenDrawn_.size();
+        stats.drawnBy = path_ == DrawPath::Tessellated ? DrawnBy::Tessellator
+                        : path_ == DrawPath::Grid      ? DrawnBy::GpuGrid
+                                                       : DrawnBy::CpuMesh;
         const std::vector<uint32_t> factors = path_ != DrawPath::Tessellated ? buffers_.gridLayout.factors.subfaceFactor
                                               : tessellation.uniformFactor > 0  // the tessellator's count at a uniform factor
                                                   ? uniformGridFactors(buffers_.data, tessellation.uniformFactor).subfaceFactor

@@ -93,7 +93,8 @@ public:
         // long or two n-gon sub-face edges: the full factor.
         const uint32_t factor = settings_.adaptivePixels > 0.0f ? 0u : settings_.tessFactor;
         recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false});
-        return DrawStats{patches_.stats.triangles, factor ? patches_.stats.triangles * tessTriangles(factor, true) : 0};
+        return DrawStats{patches_.stats.triangles, factor ? patches_.stats.triangles * tessTriangles(factor, true) : 0,
+                         DrawnBy::Tessellator};
     }
 
     // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the

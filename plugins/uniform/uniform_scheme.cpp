@@ -109,7 +109,7 @@ public:
         MeshDraw draw{&mesh, glm::vec3(0.8f), true, view.wireframe};
         recordMeshPass(cmd, pass_, target, meshView,
                        mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-        return DrawStats{0, triangles_};
+        return DrawStats{0, triangles_, DrawnBy::CpuMesh};
     }
 
     Status setDisplacement(const Displacement* displacement) override {
