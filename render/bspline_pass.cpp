@@ -6,39 +6,10 @@
 
 #include <glm/exponential.hpp>
 
-#include "shader_code.h"
+#include "plan_pipelines.h"
 #include "vk_check.h"
 
 namespace qp {
-
-namespace {
-
-// Mirrors DrawPush in shaders/plan_draw.glsl (and plan_pass.cpp, which keeps its copy private).
-struct DrawPush {
-    glm::mat4 viewProjection;
-    float uniformFactor;
-    float pixelsPerSegment;
-    float pixelsPerUnit;
-    uint32_t colorMode;
-    uint32_t capture;
-};
-
-// PlanPass's drawLayout declares its push range for every drawing stage.
-constexpr VkShaderStageFlags kDrawStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
-                                           VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-
-VkShaderModule loadShader(const VulkanContext& ctx, const char* name) {
-    std::span<const uint32_t> code = shaderCode(name);
-    assert(!code.empty() && "shader not embedded: is it in render/shaders/?");
-    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    info.codeSize = code.size_bytes();
-    info.pCode = code.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
-    return module;
-}
-
-}  // namespace
 
 Result<BSplinePass> createBSplinePass(const VulkanContext& ctx, VkPipelineCache cache, const PlanPass& plans) {
     if (!ctx.features.tessellationShader)
@@ -53,7 +24,7 @@ Result<BSplinePass> createBSplinePass(const VulkanContext& ctx, VkPipelineCache 
     std::vector<VkPipelineShaderStageCreateInfo> stages;
     const ColorEncoding encoding(plans.colorFormat);
     for (auto [name, stage] : names)
-        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, loadShader(ctx, name), "main",
+        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, loadPlanShader(ctx, name), "main",
                           stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
 
     VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
@@ -121,7 +92,7 @@ void recordBSplinePatches(VkCommandBuffer cmd, const BSplinePass& pass, const Pl
     assert(settings.uniformFactor > 0 && plans.colorFormat == target.colorFormat);
     beginRendering(cmd, target, true, view.background);
 
-    DrawPush push{};
+    PlanDrawPush push{};
     push.viewProjection = view.viewProjection;
     push.uniformFactor = float(settings.uniformFactor);
     push.pixelsPerSegment = settings.pixelsPerSegment;
@@ -129,7 +100,7 @@ void recordBSplinePatches(VkCommandBuffer cmd, const BSplinePass& pass, const Pl
     push.colorMode = 0;  // lit: the colour modes would walk the plan in plan.frag
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, plans.drawLayout, 0, 1, &plans.set, 0, nullptr);
-    vkCmdPushConstants(cmd, plans.drawLayout, kDrawStages, 0, sizeof push, &push);
+    vkCmdPushConstants(cmd, plans.drawLayout, kPlanDrawStages, 0, sizeof push, &push);
     // The same split as PlanPass: lavapipe corrupts draws over 65,535 tessellated vertices.
     const uint32_t perDraw = patchesPerDraw(std::min(settings.uniformFactor, 64u));
     for (const DrawnRun& run : drawnRuns(buffers, view.hiddenDrawn))

@@ -10,7 +10,7 @@
 
 #include "brush.h"  // uploadRanges
 #include "cpu_grid.h"
-#include "shader_code.h"
+#include "plan_pipelines.h"
 #include "shared_pipelines.h"
 #include "vk_check.h"
 
@@ -18,209 +18,13 @@ namespace qp {
 
 namespace {
 
-// Mirrors DrawPush in shaders/plan_draw.glsl.
-struct DrawPush {
-    glm::mat4 viewProjection;
-    float uniformFactor;
-    float pixelsPerSegment;
-    float pixelsPerUnit;
-    uint32_t colorMode;
-    uint32_t capture;
-};
-static_assert(sizeof(DrawPush) <= 128, "push constants: 128 bytes guaranteed");
-
-// Mirrors the push blocks of plan_stencils.comp and plan_grid.comp.
-struct ComputePush {
-    uint32_t subfaceCount;  // workgroups: sub-faces, or entries of the update list
-    uint32_t levelOrPhase;  // stencils: tessellation level; grid: 0 evaluate, 1 copy
-    uint32_t groupsPerRow;
-    uint32_t listOffset;    // kWholeCage, or where the sub-faces' list starts in updateList
-};
 constexpr uint32_t kWholeCage = UINT32_MAX;
-
-constexpr uint32_t kBindingCount = 21;
 constexpr uint32_t kMaxGroupsPerRow = 65535;
 constexpr uint32_t kCaptureHeaderBytes = 16;
-constexpr VkShaderStageFlags kAllStages = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT |
-                                          VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
-                                          VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
-constexpr VkShaderStageFlags kDrawStages = kAllStages & ~VK_SHADER_STAGE_COMPUTE_BIT;
-
-VkShaderModule loadShader(const VulkanContext& ctx, const char* name) {
-    std::span<const uint32_t> code = shaderCode(name);
-    assert(!code.empty() && "shader not embedded: is it in render/shaders/?");
-    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    info.codeSize = code.size_bytes();
-    info.pCode = code.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
-    return module;
-}
-
-Result<VkPipeline> createComputePipeline(const VulkanContext& ctx, VkPipelineCache cache, VkPipelineLayout layout,
-                                         const char* shader) {
-    VkShaderModule module = loadShader(ctx, shader);
-    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module, "main"};
-    info.layout = layout;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    VkResult result = vkCreateComputePipelines(ctx.device, cache, 1, &info, nullptr, &pipeline);
-    vkDestroyShaderModule(ctx.device, module, nullptr);
-    VK_CHECK(result);
-    return pipeline;
-}
-
-struct GraphicsStages {
-    const char* vertex;
-    const char* control;     // null: no tessellation
-    const char* evaluation;
-    const char* fragment;
-};
-
-Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache cache, const PlanPass& pass,
-                                      const GraphicsStages& names, bool wireframe) {
-    const bool tessellated = names.control != nullptr;
-    std::vector<VkShaderModule> modules;
-    std::vector<VkPipelineShaderStageCreateInfo> stages;
-    const ColorEncoding encoding(pass.colorFormat);
-    auto addStage = [&](const char* name, VkShaderStageFlagBits stage) {
-        modules.push_back(loadShader(ctx, name));
-        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, modules.back(), "main",
-                          stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
-    };
-    addStage(names.vertex, VK_SHADER_STAGE_VERTEX_BIT);
-    if (tessellated) {
-        addStage(names.control, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT);
-        addStage(names.evaluation, VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT);
-    }
-    addStage(names.fragment, VK_SHADER_STAGE_FRAGMENT_BIT);
-
-    // The grid is also a vertex buffer: the device's vertex fetch beats loads from a storage
-    // buffer in the vertex shader (measured on lavapipe, docs/renderer.md).
-    VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    const VkVertexInputBindingDescription gridBinding{0, sizeof(GridVertex), VK_VERTEX_INPUT_RATE_VERTEX};
-    const VkVertexInputAttributeDescription gridAttributes[2] = {
-        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(GridVertex, position)},
-        {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(GridVertex, normal)}};
-    if (!tessellated) {
-        vertexInput.vertexBindingDescriptionCount = 1;
-        vertexInput.pVertexBindingDescriptions = &gridBinding;
-        vertexInput.vertexAttributeDescriptionCount = 2;
-        vertexInput.pVertexAttributeDescriptions = gridAttributes;
-    }
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = tessellated ? VK_PRIMITIVE_TOPOLOGY_PATCH_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    VkPipelineTessellationStateCreateInfo tessellation{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
-    tessellation.patchControlPoints = 1;
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    viewport.viewportCount = 1;
-    viewport.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    raster.polygonMode = wireframe ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL;
-    raster.cullMode = VK_CULL_MODE_NONE;  // open cages show their back side
-    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    raster.lineWidth = 1.0f;
-    // The wireframe is drawn over the shaded surface: pull it towards the eye a little.
-    raster.depthBiasEnable = wireframe ? VK_TRUE : VK_FALSE;
-    raster.depthBiasConstantFactor = -1.0f;
-    raster.depthBiasSlopeFactor = -1.0f;
-    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = wireframe ? VK_FALSE : VK_TRUE;
-    depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
-    VkPipelineColorBlendAttachmentState blendAttachment{};
-    blendAttachment.colorWriteMask =
-        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 1;
-    blend.pAttachments = &blendAttachment;
-    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dynamic.dynamicStateCount = 2;
-    dynamic.pDynamicStates = dynamicStates;
-    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &pass.colorFormat;
-    rendering.depthAttachmentFormat = pass.depthFormat;
-
-    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
-    info.stageCount = uint32_t(stages.size());
-    info.pStages = stages.data();
-    info.pVertexInputState = &vertexInput;
-    info.pInputAssemblyState = &assembly;
-    info.pTessellationState = tessellated ? &tessellation : nullptr;
-    info.pViewportState = &viewport;
-    info.pRasterizationState = &raster;
-    info.pMultisampleState = &multisample;
-    info.pDepthStencilState = &depth;
-    info.pColorBlendState = &blend;
-    info.pDynamicState = &dynamic;
-    info.layout = pass.drawLayout;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    VkResult result = vkCreateGraphicsPipelines(ctx.device, cache, 1, &info, nullptr, &pipeline);
-    for (VkShaderModule m : modules) vkDestroyShaderModule(ctx.device, m, nullptr);
-    VK_CHECK(result);
-    return pipeline;
-}
-
-// The pass's layouts and pipelines: made once per device and formats (shared_pipelines.h).
-Status initPipelines(const VulkanContext& ctx, VkPipelineCache cache, PlanPass& pass) {
-    VkDescriptorSetLayoutBinding bindings[kBindingCount];
-    for (uint32_t b = 0; b < kBindingCount; ++b)
-        bindings[b] = {b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kAllStages, nullptr};
-    VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    setInfo.bindingCount = kBindingCount;
-    setInfo.pBindings = bindings;
-    VK_CHECK(vkCreateDescriptorSetLayout(ctx.device, &setInfo, nullptr, &pass.setLayout));
-
-    VkPushConstantRange computeRange{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(ComputePush)};
-    VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-    layoutInfo.setLayoutCount = 1;
-    layoutInfo.pSetLayouts = &pass.setLayout;
-    layoutInfo.pushConstantRangeCount = 1;
-    layoutInfo.pPushConstantRanges = &computeRange;
-    VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &pass.computeLayout));
-    VkPushConstantRange drawRange{kDrawStages, 0, sizeof(DrawPush)};
-    layoutInfo.pPushConstantRanges = &drawRange;
-    VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &pass.drawLayout));
-
-    auto assign = [](Result<VkPipeline> r, VkPipeline& out) -> Status {
-        if (!r) return r.error();
-        out = *r;
-        return success();
-    };
-    if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_stencils.comp"), pass.stencils); !s) return s;
-    if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_grid.comp"), pass.grid); !s) return s;
-    const GraphicsStages tess{"plan.vert", "plan.tesc", "plan.tese", "plan.frag"};
-    // Plain shading and the wireframe pass only normals; the colour modes also the sub-face and (u, v).
-    const GraphicsStages grid{"plan_grid_lit.vert", nullptr, nullptr, "plan_lit.frag"};
-    const GraphicsStages gridColored{"plan_grid.vert", nullptr, nullptr, "plan.frag"};
-    if (!ctx.features.tessellationShader)
-        return Error{"the Vulkan device '" + ctx.deviceName + "' has no tessellation shaders"};
-    if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, false), pass.tessellated); !s) return s;
-    if (Status s = assign(createDrawPipeline(ctx, cache, pass, grid, false), pass.gridTriangles); !s) return s;
-    if (Status s = assign(createDrawPipeline(ctx, cache, pass, gridColored, false), pass.gridColored); !s) return s;
-    if (ctx.features.fillModeNonSolid) {
-        if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, true), pass.tessellatedWire); !s) return s;
-        if (Status s = assign(createDrawPipeline(ctx, cache, pass, grid, true), pass.gridWire); !s) return s;
-    }
-    return success();
-}
-
-void destroyPipelines(const VulkanContext& ctx, PlanPass& pass) {
-    for (VkPipeline p : {pass.stencils, pass.grid, pass.tessellated, pass.tessellatedWire, pass.gridTriangles,
-                         pass.gridColored, pass.gridWire})
-        if (p) vkDestroyPipeline(ctx.device, p, nullptr);
-    if (pass.computeLayout) vkDestroyPipelineLayout(ctx.device, pass.computeLayout, nullptr);
-    if (pass.drawLayout) vkDestroyPipelineLayout(ctx.device, pass.drawLayout, nullptr);
-    if (pass.setLayout) vkDestroyDescriptorSetLayout(ctx.device, pass.setLayout, nullptr);
-}
 
 // The pass's own descriptor set (one cage per pass).
 Status allocateSet(const VulkanContext& ctx, PlanPass& pass) {
-    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kBindingCount};
+    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kPlanBindingCount};
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
     poolInfo.poolSizeCount = 1;
@@ -261,7 +65,7 @@ constexpr VkPipelineStageFlags2 kShaderStagesReading =
     VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT | VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 
-void dispatchPerSubface(VkCommandBuffer cmd, const PlanPass& pass, VkPipeline pipeline, ComputePush push) {
+void dispatchPerSubface(VkCommandBuffer cmd, const PlanPass& pass, VkPipeline pipeline, PlanComputePush push) {
     const uint32_t count = push.subfaceCount;
     if (count == 0) return;
     push.groupsPerRow = std::min(count, kMaxGroupsPerRow);
@@ -291,13 +95,13 @@ void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buff
     // parameter of factor 64, which needs the deepest control points.
     if (buffers.displacement) level = std::max(level, levelFor(uint32_t(1.0f / kCornerNormalStep)));
     if (buffers.controlPointLevel != kNoControlPoints && buffers.controlPointLevel >= level) return;
-    dispatchPerSubface(cmd, pass, pass.stencils, ComputePush{uint32_t(buffers.data.subfaces.size()), level, 0, kWholeCage});
+    dispatchPerSubface(cmd, pass, pass.stencils, PlanComputePush{uint32_t(buffers.data.subfaces.size()), level, 0, kWholeCage});
     computeWritesBeforeReads(cmd);
     buffers.controlPointLevel = level;
 }
 
-DrawPush drawPush(const PlanView& view, const TessellationSettings* settings) {
-    DrawPush push{};
+PlanDrawPush drawPush(const PlanView& view, const TessellationSettings* settings) {
+    PlanDrawPush push{};
     push.viewProjection = view.viewProjection;
     push.uniformFactor = settings ? float(settings->uniformFactor) : 0.0f;
     push.pixelsPerSegment = settings ? settings->pixelsPerSegment : 8.0f;
@@ -411,13 +215,13 @@ Result<PlanPass> createPlanPass(const VulkanContext& ctx, VkPipelineCache cache,
             PlanPass pipelines;
             pipelines.colorFormat = colorFormat;
             pipelines.depthFormat = depthFormat;
-            if (Status s = initPipelines(ctx, cache, pipelines); !s) {
-                destroyPipelines(ctx, pipelines);
+            if (Status s = createPlanPipelines(ctx, cache, pipelines); !s) {
+                destroyPlanPipelines(ctx, pipelines);
                 return s.error();
             }
             return pipelines;
         },
-        destroyPipelines);
+        destroyPlanPipelines);
     if (!shared) return shared.error();
     PlanPass pass = *shared;
     if (Status s = allocateSet(ctx, pass); !s) {
@@ -434,19 +238,19 @@ void destroyPlanPass(const VulkanContext& ctx, PlanPass& pass) {
 
 void bindPlanBuffers(const VulkanContext& ctx, PlanPass& pass, const PlanBuffers& b) {
     // Binding numbers as the shaders declare them.
-    const Buffer* order[kBindingCount] = {&b.planHeaders, &b.nodes,      &b.points,       &b.weights,     &b.subfaces,
+    const Buffer* order[kPlanBindingCount] = {&b.planHeaders, &b.nodes,      &b.points,       &b.weights,     &b.subfaces,
                                           &b.rings,       &b.positions,  &b.controlPoints, &b.grid,       &b.boundaries,
                                           &b.segments,    &b.boundaryPoints, &b.subfaceGrid, &b.pointPositions,
                                           &b.capture,     &b.updateList, &b.gridSource,   &b.slotSubface,
                                           &b.displacementSubfaces, &b.displacementSegments, &b.displacementSamples};
-    VkDescriptorBufferInfo infos[kBindingCount];
-    VkWriteDescriptorSet writes[kBindingCount];
-    for (uint32_t i = 0; i < kBindingCount; ++i) {
+    VkDescriptorBufferInfo infos[kPlanBindingCount];
+    VkWriteDescriptorSet writes[kPlanBindingCount];
+    for (uint32_t i = 0; i < kPlanBindingCount; ++i) {
         infos[i] = {order[i]->buffer, 0, VK_WHOLE_SIZE};
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, pass.set, i, 0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                      nullptr, &infos[i], nullptr};
     }
-    vkUpdateDescriptorSets(ctx.device, kBindingCount, writes, 0, nullptr);
+    vkUpdateDescriptorSets(ctx.device, kPlanBindingCount, writes, 0, nullptr);
 }
 
 float pixelsPerUnit(const glm::mat4& projection, uint32_t viewportHeight) {
@@ -473,12 +277,12 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
     }
     recordStencils(cmd, pass, buffers, maxTessellationLevel(settings));
     beginRendering(cmd, target, true, view.background);
-    const DrawPush push = drawPush(view, &settings);
+    const PlanDrawPush push = drawPush(view, &settings);
     const uint32_t perDraw = patchesPerDraw(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
     const std::vector<DrawnRun> runs = drawnRuns(buffers, view.hiddenDrawn);
     for (VkPipeline pipeline : {pass.tessellated, view.wireframe ? pass.tessellatedWire : VkPipeline(VK_NULL_HANDLE)}) {
         if (!pipeline) continue;
-        DrawPush p = push;
+        PlanDrawPush p = push;
         if (pipeline == pass.tessellatedWire) {
             p.colorMode = 0xffffffffu;  // plan.frag: flat wire colour
             p.capture = 0;
@@ -498,7 +302,7 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
             }
             vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
             vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.drawLayout, 0, 1, &pass.set, 0, nullptr);
-            vkCmdPushConstants(cmd, pass.drawLayout, kDrawStages, 0, sizeof(p), &p);
+            vkCmdPushConstants(cmd, pass.drawLayout, kPlanDrawStages, 0, sizeof(p), &p);
             vkCmdDraw(cmd, std::min(perDraw, run.end - first), 1, first, 0);
         }
     }
@@ -528,7 +332,7 @@ void uploadVector(const Buffer& buffer, const std::vector<T>& values) {
 }
 
 void dispatchGridPhase(VkCommandBuffer cmd, const PlanPass& pass, uint32_t count, uint32_t phase, uint32_t listOffset) {
-    dispatchPerSubface(cmd, pass, pass.grid, ComputePush{count, phase, 0, listOffset});
+    dispatchPerSubface(cmd, pass, pass.grid, PlanComputePush{count, phase, 0, listOffset});
     computeWritesBeforeReads(cmd);
 }
 
@@ -622,7 +426,7 @@ void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertice
                      std::span<const std::pair<uint32_t, uint32_t>> ranges = {}) {
     assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
     beginRendering(cmd, target, true, view.background);
-    DrawPush push = drawPush(view, nullptr);
+    PlanDrawPush push = drawPush(view, nullptr);
     push.capture = 0;
     const VkPipeline surface = view.colorBy == ColorBy::Shading ? pass.gridTriangles : pass.gridColored;
     for (VkPipeline pipeline : {surface, view.wireframe ? pass.gridWire : VkPipeline(VK_NULL_HANDLE)}) {
@@ -632,9 +436,9 @@ void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertice
         vkCmdBindIndexBuffer(cmd, indices, 0, VK_INDEX_TYPE_UINT32);
         const VkDeviceSize offset = 0;
         vkCmdBindVertexBuffers(cmd, 0, 1, &vertices, &offset);
-        DrawPush p = push;
+        PlanDrawPush p = push;
         if (pipeline == pass.gridWire) p.colorMode = 0xffffffffu;
-        vkCmdPushConstants(cmd, pass.drawLayout, kDrawStages, 0, sizeof(p), &p);
+        vkCmdPushConstants(cmd, pass.drawLayout, kPlanDrawStages, 0, sizeof(p), &p);
         if (ranges.empty()) vkCmdDrawIndexed(cmd, indexCount, 1, 0, 0, 0);
         for (const auto& [first, count] : ranges)
             if (count) vkCmdDrawIndexed(cmd, count, 1, first, 0, 0);
@@ -697,7 +501,7 @@ GridRefresh recordGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuf
                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     }
     if (controlPoints) {
-        dispatchPerSubface(cmd, pass, pass.stencils, ComputePush{touchedCount, buffers.controlPointLevel, 0, 0});
+        dispatchPerSubface(cmd, pass, pass.stencils, PlanComputePush{touchedCount, buffers.controlPointLevel, 0, 0});
         computeWritesBeforeReads(cmd);
         update.controlPointSubfaces = touchedCount;
     }

@@ -1,0 +1,51 @@
+// The plan pass's device objects: its descriptor set layout (kPlanBindingCount storage buffers
+// for every stage), the push-constant blocks its shaders read, and its pipelines (compute:
+// stencils and grid; draw: tessellated, grid triangles, the grid's colour modes, wireframes).
+// PlanPass (plan_pass.h) makes them once per device and formats through shared_pipelines.h; the
+// B-spline ablation (bspline_pass.h) draws with the same layout and push block.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/mat4x4.hpp>
+
+#include "plan_pass.h"
+
+namespace qp {
+
+// Mirrors DrawPush in shaders/plan_draw.glsl.
+struct PlanDrawPush {
+    glm::mat4 viewProjection;
+    float uniformFactor;
+    float pixelsPerSegment;
+    float pixelsPerUnit;
+    uint32_t colorMode;
+    uint32_t capture;
+};
+static_assert(sizeof(PlanDrawPush) <= 128, "push constants: 128 bytes guaranteed");
+
+// Mirrors the push blocks of plan_stencils.comp and plan_grid.comp.
+struct PlanComputePush {
+    uint32_t subfaceCount;  // workgroups: sub-faces, or entries of the update list
+    uint32_t levelOrPhase;  // stencils: tessellation level; grid: 0 evaluate, 1 copy
+    uint32_t groupsPerRow;
+    uint32_t listOffset;    // UINT32_MAX: every sub-face; else where the list starts in updateList
+};
+
+inline constexpr uint32_t kPlanBindingCount = 21;
+inline constexpr VkShaderStageFlags kPlanAllStages = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT |
+                                                     VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
+                                                     VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT |
+                                                     VK_SHADER_STAGE_FRAGMENT_BIT;
+// The draw layout's push range covers every drawing stage.
+inline constexpr VkShaderStageFlags kPlanDrawStages = kPlanAllStages & ~VK_SHADER_STAGE_COMPUTE_BIT;
+
+// A shader embedded by render/shaders (shader_code.h); the caller destroys the module.
+VkShaderModule loadPlanShader(const VulkanContext& context, const char* name);
+
+// The layouts and pipelines into `pass` (its colorFormat and depthFormat set); on failure the
+// caller destroys what was made with destroyPlanPipelines.
+Status createPlanPipelines(const VulkanContext& context, VkPipelineCache cache, PlanPass& pass);
+void destroyPlanPipelines(const VulkanContext& context, PlanPass& pass);
+
+}  // namespace qp
