@@ -1003,7 +1003,10 @@ void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report)
                 Row r;
                 r.cage = name;
                 r.faces = bench.cage.faceCount();
-                r.benchmark = "scheme " + s.name + at + ": frame (update + record + submit) vs pre-tessellated triangles";
+                // Both triangle counts in the row: a scheme that draws more is not compared like with like.
+                r.benchmark = "scheme " + s.name + at + " (" + (s.draw.triangles ? std::to_string(s.draw.triangles) : std::string("?")) +
+                              " triangles, " + drawnByName(s.draw.drawnBy) + "): frame (update + record + submit) vs " +
+                              "pre-tessellated triangles (" + std::to_string(preTriangles) + ")";
                 r.repeats = args.repeats;
                 r.unit = "ms";
                 r.ours = median(s.ms);

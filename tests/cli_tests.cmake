@@ -43,7 +43,7 @@ set_tests_properties(cli.bench_render_smoke PROPERTIES PASS_REGULAR_EXPRESSION "
 add_test(NAME cli.bench_schemes_smoke
          COMMAND quadplan bench schemes --repeats 1 --generated-faces 300 --no-shared --factors 2)
 set_tests_properties(cli.bench_schemes_smoke PROPERTIES
-                     PASS_REGULAR_EXPRESSION "\\| scheme [a-z0-9-]+, factor 2: frame [^|]+\\| 1 \\| [0-9.]+ ms \\| [0-9.]+ ms \\| [0-9.]+ \\|"
+                     PASS_REGULAR_EXPRESSION "\\| scheme [a-z0-9-]+, factor 2 \\([0-9?]+ triangles, [a-z?]+\\): frame [^|]+ triangles \\([0-9]+\\) \\| 1 \\| [0-9.]+ ms \\| [0-9.]+ ms \\| [0-9.]+ \\|"
                      TIMEOUT 60)
 
 # Scheme plugins: the comparison of the built-in schemes on the default scene, as JSON.
