@@ -62,12 +62,14 @@ SurfaceError measureSurfaceError(const ExactReference& reference, std::span<cons
         error.relError[i] = float(rel);
         s.maxRelError = std::max(s.maxRelError, rel);
         sumSquares += rel * rel;
-        // Where the exact surface's derivatives are (nearly) parallel its normal is not defined
-        // by them (folds of degenerate cages): no normal comparison there.
+        // Where the exact surface's derivatives are (nearly) parallel, or one has vanished, its
+        // normal is not defined by them (folds of degenerate cages): no normal comparison there.
         const glm::dvec3 cross = glm::cross(exact.du, exact.dv);
-        const double sine = glm::length(cross) / std::max(glm::length(exact.du) * glm::length(exact.dv), 1e-300);
+        const double lu = glm::length(exact.du), lv = glm::length(exact.dv);
+        const double sine = glm::length(cross) / std::max(lu * lv, 1e-300);
+        const bool vanishing = !(std::min(lu, lv) > kMinDerivativeRatio * std::max(lu, lv));
         const float schemeLength = glm::length(points[i].normal);
-        if (!(sine > kMinNormalSine) || !(schemeLength > 0.0f)) {
+        if (!(sine > kMinNormalSine) || vanishing || !(schemeLength > 0.0f)) {
             ++s.normalSamplesExcluded;
             continue;
         }

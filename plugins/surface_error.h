@@ -31,15 +31,19 @@ struct ErrorStats {
     double p99NormalDegrees = 0.0;  // 99th percentile of the normal samples' deviation
     uint64_t samples = 0;
     uint64_t normalSamples = 0;  // samples where both normals are defined
-    // Samples left out of the normal comparison: the exact surface's derivatives there are
-    // (nearly) parallel, |du x dv| <= kMinNormalSine |du| |dv| (no tangent plane from them:
-    // folds and coincident vertices of degenerate cages), or the scheme gives no normal.
+    // Samples left out of the normal comparison, where the exact surface's derivatives define no
+    // tangent plane: they are (nearly) parallel, |du x dv| <= kMinNormalSine |du| |dv|, or one
+    // of them vanishes against the other, min(|du|, |dv|) <= kMinDerivativeRatio max(|du|, |dv|)
+    // (its direction is then round-off: the folded edge of back-to-back faces, coincident
+    // vertices); and samples where the scheme gives no normal.
     uint64_t normalSamplesExcluded = 0;
 };
 
-// Below this sine of the angle between the exact surface's derivatives a sample's normal is
-// not compared (ErrorStats::normalSamplesExcluded).
+// The bounds of ErrorStats::normalSamplesExcluded. The ratio is far above double round-off
+// (1e-16, what a vanished derivative of the Far reference measures) and far below any face a
+// cage would be modelled with.
 inline constexpr double kMinNormalSine = 1e-3;
+inline constexpr double kMinDerivativeRatio = 1e-8;
 
 struct SurfaceError {
     std::vector<float> relError;  // per sample
