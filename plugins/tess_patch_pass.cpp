@@ -33,15 +33,6 @@ constexpr VkShaderStageFlags kStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_ST
 constexpr uint32_t kCaptureHeaderBytes = 16;
 constexpr float kWireDepthPull = 2e-4f;  // as MeshPass's overlay
 
-VkShaderModule createModule(const VulkanContext& ctx, std::span<const uint32_t> code) {
-    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    info.codeSize = code.size_bytes();
-    info.pCode = code.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
-    return module;
-}
-
 Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cache, const TessPatchPass& pass,
                                   const VkShaderModule modules[4], bool wireframe) {
     const VkShaderStageFlagBits stageBits[4] = {VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
@@ -135,8 +126,8 @@ Status initPipelines(const VulkanContext& ctx, VkPipelineCache cache, TessPatchP
     std::span<const uint32_t> fragment = shaderCode("mesh.frag");
     if (shaders.vertex.empty() || shaders.control.empty() || shaders.evaluation.empty() || fragment.empty())
         return Error{"a tessellation stage is missing from the module (is it in quadplan_scheme_shaders?)"};
-    VkShaderModule modules[4] = {createModule(ctx, shaders.vertex), createModule(ctx, shaders.control),
-                                 createModule(ctx, shaders.evaluation), createModule(ctx, fragment)};
+    VkShaderModule modules[4] = {createShaderModule(ctx, shaders.vertex), createShaderModule(ctx, shaders.control),
+                                 createShaderModule(ctx, shaders.evaluation), createShaderModule(ctx, fragment)};
     Result<VkPipeline> solid = createPipeline(ctx, cache, pass, modules, false);
     Result<VkPipeline> wire = VK_NULL_HANDLE;
     if (solid && ctx.features.fillModeNonSolid) wire = createPipeline(ctx, cache, pass, modules, true);

@@ -7,6 +7,7 @@
 #include <glm/exponential.hpp>
 
 #include "plan_pipelines.h"
+#include "shader_code.h"
 #include "vk_check.h"
 
 namespace qp {
@@ -24,7 +25,7 @@ Result<BSplinePass> createBSplinePass(const VulkanContext& ctx, VkPipelineCache 
     std::vector<VkPipelineShaderStageCreateInfo> stages;
     const ColorEncoding encoding(plans.colorFormat);
     for (auto [name, stage] : names)
-        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, loadPlanShader(ctx, name), "main",
+        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, loadShaderModule(ctx, name), "main",
                           stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
 
     VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};

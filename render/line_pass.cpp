@@ -1,7 +1,6 @@
 #include "line_pass.h"
 
 #include <algorithm>
-#include <cassert>
 
 #include "shader_code.h"
 #include "topology.h"
@@ -11,17 +10,6 @@ namespace qp {
 
 namespace {
 
-VkShaderModule loadShader(const VulkanContext& ctx, const char* name) {
-    std::span<const uint32_t> code = shaderCode(name);
-    assert(!code.empty() && "shader not embedded: is it in render/shaders/?");
-    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    info.codeSize = code.size_bytes();
-    info.pCode = code.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
-    return module;
-}
-
 Status initPass(const VulkanContext& ctx, VkPipelineCache cache, LinePass& pass) {
     VkPushConstantRange range{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(glm::mat4)};
     VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -29,7 +17,7 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, LinePass& pass)
     layoutInfo.pPushConstantRanges = &range;
     VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &pass.layout));
 
-    VkShaderModule vert = loadShader(ctx, "line.vert"), frag = loadShader(ctx, "line.frag");
+    VkShaderModule vert = loadShaderModule(ctx, "line.vert"), frag = loadShaderModule(ctx, "line.frag");
     const ColorEncoding encoding(pass.colorFormat);
     VkPipelineShaderStageCreateInfo stages[2] = {
         {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vert, "main"},

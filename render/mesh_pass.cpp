@@ -24,17 +24,6 @@ static_assert(sizeof(MeshPush) == 112 && sizeof(MeshPush) <= 128, "push constant
 // with frameBounds' near/far planes.
 constexpr float kWireDepthPull = 2e-4f;
 
-VkShaderModule loadShader(const VulkanContext& ctx, const char* name) {
-    std::span<const uint32_t> code = shaderCode(name);
-    assert(!code.empty() && "shader not embedded: is it in render/shaders/?");
-    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    info.codeSize = code.size_bytes();
-    info.pCode = code.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
-    return module;
-}
-
 Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cache, const MeshPass& pass,
                                   VkShaderModule vert, VkShaderModule frag, bool wireframe, bool colorStream) {
     VkPipelineShaderStageCreateInfo stages[2] = {};
@@ -122,9 +111,9 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, MeshPass& pass)
     VK_CHECK(vkCreatePipelineLayout(ctx.device, &layoutInfo, nullptr, &pass.layout));
 
     // Modules are only needed while the pipelines are created.
-    VkShaderModule vert = loadShader(ctx, "mesh.vert");
-    VkShaderModule coloredVert = loadShader(ctx, "mesh_colored.vert");
-    VkShaderModule frag = loadShader(ctx, "mesh.frag");
+    VkShaderModule vert = loadShaderModule(ctx, "mesh.vert");
+    VkShaderModule coloredVert = loadShaderModule(ctx, "mesh_colored.vert");
+    VkShaderModule frag = loadShaderModule(ctx, "mesh.frag");
     Result<VkPipeline> solid = createPipeline(ctx, cache, pass, vert, frag, false, false);
     Result<VkPipeline> colored = solid ? createPipeline(ctx, cache, pass, coloredVert, frag, false, true) : solid;
     Result<VkPipeline> wire = VK_NULL_HANDLE;

@@ -1,6 +1,5 @@
 #include "plan_pipelines.h"
 
-#include <cassert>
 #include <vector>
 
 #include "shader_code.h"
@@ -8,22 +7,11 @@
 
 namespace qp {
 
-VkShaderModule loadPlanShader(const VulkanContext& ctx, const char* name) {
-    std::span<const uint32_t> code = shaderCode(name);
-    assert(!code.empty() && "shader not embedded: is it in render/shaders/?");
-    VkShaderModuleCreateInfo info{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
-    info.codeSize = code.size_bytes();
-    info.pCode = code.data();
-    VkShaderModule module = VK_NULL_HANDLE;
-    VK_ASSERT(vkCreateShaderModule(ctx.device, &info, nullptr, &module));
-    return module;
-}
-
 namespace {
 
 Result<VkPipeline> createComputePipeline(const VulkanContext& ctx, VkPipelineCache cache, VkPipelineLayout layout,
                                          const char* shader) {
-    VkShaderModule module = loadPlanShader(ctx, shader);
+    VkShaderModule module = loadShaderModule(ctx, shader);
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module, "main"};
     info.layout = layout;
@@ -48,7 +36,7 @@ Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache 
     std::vector<VkPipelineShaderStageCreateInfo> stages;
     const ColorEncoding encoding(pass.colorFormat);
     auto addStage = [&](const char* name, VkShaderStageFlagBits stage) {
-        modules.push_back(loadPlanShader(ctx, name));
+        modules.push_back(loadShaderModule(ctx, name));
         stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, modules.back(), "main",
                           stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
     };

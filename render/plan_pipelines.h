@@ -40,9 +40,6 @@ inline constexpr VkShaderStageFlags kPlanAllStages = VK_SHADER_STAGE_COMPUTE_BIT
 // The draw layout's push range covers every drawing stage.
 inline constexpr VkShaderStageFlags kPlanDrawStages = kPlanAllStages & ~VK_SHADER_STAGE_COMPUTE_BIT;
 
-// A shader embedded by render/shaders (shader_code.h); the caller destroys the module.
-VkShaderModule loadPlanShader(const VulkanContext& context, const char* name);
-
 // The layouts and pipelines into `pass` (its colorFormat and depthFormat set); on failure the
 // caller destroys what was made with destroyPlanPipelines.
 Status createPlanPipelines(const VulkanContext& context, VkPipelineCache cache, PlanPass& pass);

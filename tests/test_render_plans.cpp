@@ -15,14 +15,13 @@
 
 #include "camera.h"
 #include "draw_path.h"
-#include "limit_frame.h"
 #include "line_pass.h"
 #include "obj_io.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
 #include "planned_cage.h"
-#include "quad_ring.h"
 #include "render_test_support.h"
+#include "extraordinary_corners.h"
 #include "test_cages.h"
 #include "test_support.h"
 #include "vk_commands.h"
@@ -219,9 +218,7 @@ void checkGrid(const PlannedCage& planned, const PlanBuffers& buffers, const std
 // at the valence-3 corners stay in the exact limit tangent plane (in the model's absolute
 // coordinates float put them off by degrees there and flipped some).
 TEST_F(Fixture, GridNormalsAtExtraordinaryCornersKeepTheirPrecisionOnTheDevice) {
-    Cage cage = test::makeSubdividedCube(3);
-    for (glm::vec3& p : cage.positions) p += glm::vec3(60.0f, -40.0f, 90.0f);
-    const Topology topology = buildTopology(cage);
+    const Cage cage = test::makeFarOffCube();
     PlanDatabase db;
     PlanOptions options;
     options.maxDepth = 10;
@@ -233,20 +230,12 @@ TEST_F(Fixture, GridNormalsAtExtraordinaryCornersKeepTheirPrecisionOnTheDevice) 
     const std::vector<GridVertex> grid = fillGrid(*this, planned, buffers, DrawPath::Grid);
     const GridLayout& layout = buffers.gridLayout;
     uint32_t corners = 0;
-    double worst = 0.0;
-    for (uint32_t f = 0; f < cage.faceCount(); ++f)
-        for (uint32_t k = 0; k < 4; ++k) {
-            const uint32_t v = cage.faceBegin(f)[k];
-            if (topology.vertexFaceCount(v) != 3) continue;
-            const VertexLimit exact = computeVertexLimit(cage, gatherQuadRing(cage, topology, f, k));
-            const glm::dvec3 n = glm::normalize(glm::cross(exact.tangents[0], exact.tangents[1]));
-            const uint32_t d = buffers.drawnOfSubface[planned.firstSubface(f)], side = layout.factors.subfaceFactor[d] + 1;
-            const uint32_t x = (k == 1 || k == 2) ? side - 1 : 0, y = (k == 2 || k == 3) ? side - 1 : 0;
-            const GridVertex& g = grid[layout.subfaceOffset[d] + y * side + x];
-            const glm::dvec3 m(g.normal[0], g.normal[1], g.normal[2]);
-            worst = std::max(worst, std::atan2(glm::length(glm::cross(n, m)), glm::dot(n, m)) * 180.0 / M_PI);
-            ++corners;
-        }
+    const double worst = test::worstValence3CornerDegrees(cage, [&](uint32_t f, uint32_t k) {
+        const uint32_t d = buffers.drawnOfSubface[planned.firstSubface(f)], side = layout.factors.subfaceFactor[d] + 1;
+        const uint32_t x = (k == 1 || k == 2) ? side - 1 : 0, y = (k == 2 || k == 3) ? side - 1 : 0;
+        const GridVertex& g = grid[layout.subfaceOffset[d] + y * side + x];
+        return glm::dvec3(g.normal[0], g.normal[1], g.normal[2]);
+    }, corners);
     EXPECT_EQ(corners, 24u);
     EXPECT_LT(worst, 0.1) << "degrees from the exact limit tangent plane";
     destroyPlanBuffers(ctx, buffers);
