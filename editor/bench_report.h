@@ -1,0 +1,133 @@
+// What every `quadplan bench` suite fills in (cmd_bench.cpp runs the suites and writes the
+// report), and the suites that live in files of their own.
+#pragma once
+
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cage.h"
+#include "planned_cage.h"
+#include "result.h"
+#include "vk_context.h"
+
+namespace qp::cli {
+
+using Clock = std::chrono::steady_clock;
+
+struct BenchArgs {
+    std::string suite;
+    uint32_t repeats = 5;
+    std::string outDir;
+    std::optional<uint32_t> generatedFaces;  // unset: the suite's own size (Suite::generatedFaces)
+    std::vector<uint32_t> factors{1, 2, 4, 8, 16};  // render suite: uniform tessellation factors
+    uint32_t seed = 1;
+    bool noShared = false;
+    std::vector<std::string> cages;
+};
+
+struct BenchCage {
+    std::string name;
+    Cage cage;
+};
+
+enum class Target { RatioAtMost, RatioAtLeast, OursAtMost };
+
+struct Row {
+    std::string cage;
+    uint32_t faces = 0;
+    std::string benchmark;  // says what "ours" and both baselines are
+    uint32_t repeats = 0;
+    std::string unit;       // of ours and the baselines
+    double ours = 0.0;
+    double baseline = NAN;  // the target's reference
+    double baseline2 = NAN; // a second, informative baseline
+    Target target = Target::RatioAtMost;
+    double targetValue = 1.0;
+
+    double pairedRatio = NAN;  // when set: the median of per-round ratios, measured back to back
+
+    double ratio() const { return std::isnan(pairedRatio) ? ours / baseline : pairedRatio; }
+    double ratio2() const { return ours / baseline2; }
+    bool pass() const {
+        switch (target) {
+        case Target::RatioAtMost: return ratio() <= targetValue;
+        case Target::RatioAtLeast: return ratio() >= targetValue;
+        case Target::OursAtMost: return ours <= targetValue;
+        }
+        return false;
+    }
+    std::string targetText() const {
+        char text[48];
+        switch (target) {
+        case Target::RatioAtMost: std::snprintf(text, sizeof text, "ratio <= %g", targetValue); break;
+        case Target::RatioAtLeast: std::snprintf(text, sizeof text, "ratio >= %g", targetValue); break;
+        case Target::OursAtMost: std::snprintf(text, sizeof text, "ours <= %g %s", targetValue, unit.c_str()); break;
+        }
+        return text;
+    }
+};
+
+// One point of a chart (quadplan.bench_report draws SUITE_series.csv): `chart` names the
+// picture, `series` a line or bar group in it.
+struct SeriesPoint {
+    std::string chart, x, series;
+    double value = NAN;
+    std::string unit;
+};
+
+struct Report {
+    std::string suite;
+    std::vector<std::string> notes;
+    std::vector<Row> rows;
+    std::vector<SeriesPoint> series;
+    std::string appendix;  // Markdown after the table (the render suite's full measurements)
+};
+
+inline double msSince(Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+inline std::string number(double value) {
+    if (std::isnan(value)) return "";
+    char text[32];
+    std::snprintf(text, sizeof text, std::abs(value) >= 100.0 ? "%.0f" : "%.3g", value);
+    return text;
+}
+
+// Lavapipe unless QUADPLAN_VK_DEVICE names a device; validation off (it would dominate timings).
+Result<VulkanContext> createBenchContext();
+// "1, 5, 15 min" load averages, for the notes.
+std::string loadAverage();
+
+// Cages with more faces than this run the plans suite's expensive rows (a) and (d) at most 5
+// times, so a large --repeats stays within minutes (at the default 5 the ~100k cage takes about a
+// minute).
+inline constexpr uint32_t kLargeCageFaces = 20000;
+inline constexpr uint32_t kLargeCageRepeats = 5;
+
+// The plans suite (plan engine against OpenSubdiv Far and Bfr): bench_plans.cpp.
+void benchPlans(const BenchCage& bench, const BenchArgs& args, Report& report);
+// One full Far rebuild (refiner, adaptive refinement, patch table) with the plan builder's
+// options: its patch-table milliseconds (the edit suite's baseline).
+double farPatchTableMs(const Cage& cage, const PlanOptions& options);
+// An edge with a face on each side and no crease, near the middle of the edge list.
+std::optional<std::pair<uint32_t, uint32_t>> interiorEdge(const PlannedCage& planned);
+
+// Generated-cage sizes of those suites. Render: ~10k faces, because at factor 16 the 100k cage
+// would need ~50 M triangles a frame (seconds each on lavapipe, minutes for the suite) and a grid
+// buffer of ~700 MB, over lavapipe's 128 MiB storage-buffer range; 20k faces is just over it too.
+inline constexpr uint32_t kRenderGeneratedFaces = 10000;
+inline constexpr uint32_t kSchemesGeneratedFaces = 2000;
+
+// The render suite (every plan path against pre-tessellated triangles) and the schemes suite
+// (every scheme plugin against the same baseline): bench_gpu.cpp.
+void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report);
+void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report);
+
+}  // namespace qp::cli
