@@ -5,47 +5,22 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <ctime>
-#include <sched.h>
-#include <filesystem>
-#include <functional>
-#include <fstream>
 #include <memory>
 #include <optional>
-#include <thread>
-#include <unistd.h>
 
-#include <nlohmann/json.hpp>
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/stencilTableFactory.h>
 
-#include "bench_displacement.h"
-#include "bench_editor_edits.h"
 #include "bench_stats.h"
-#include "bspline_pass.h"
-#include "camera.h"
-#include "commands.h"
-#include "draw_path.h"
-#include "edit_history.h"
-#include "generated_cage.h"
-#include "mesh_pass.h"
-#include "offscreen_target.h"
-#include "obj_io.h"
 #include "osd_refiner.h"
-#include "plan_pass.h"
 #include "plan_memory.h"
 #include "planned_cage.h"
-#include "scheme_host.h"
-#include "topology_edits.h"
-#include "vk_commands.h"
 #if __has_include("plan_evaluator.h")
 #include "plan_evaluator.h"
 #define QP_HAVE_PLAN_EVALUATOR 1
 #endif
-
 #include "bench_report.h"
 
 namespace qp::cli {
