@@ -1,6 +1,7 @@
 #include "tess_patch_pass.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cstring>
 #include <string>
 
@@ -30,7 +31,9 @@ static_assert(sizeof(TessPush) == 128, "push constants: 128 bytes guaranteed");
 
 constexpr VkShaderStageFlags kStages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
                                        VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
+constexpr VkShaderStageFlags kBindingStages = kStages | VK_SHADER_STAGE_COMPUTE_BIT;
 constexpr uint32_t kCaptureHeaderBytes = 16;
+constexpr uint32_t kPrepareGroupSize = 64;  // local_size_x of a prepare stage
 constexpr float kWireDepthPull = 2e-4f;  // as MeshPass's overlay
 
 Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cache, const TessPatchPass& pass,
@@ -108,8 +111,8 @@ void bindBuffers(const VulkanContext& ctx, const TessPatchPass& pass) {
 Status initPipelines(const VulkanContext& ctx, VkPipelineCache cache, TessPatchPass& pass, const TessPatchShaders& shaders) {
     if (!ctx.features.tessellationShader) return Error{"the device (" + ctx.deviceName + ") has no tessellation shaders"};
     VkDescriptorSetLayoutBinding bindings[2] = {
-        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kStages, nullptr},
+        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kBindingStages, nullptr},
+        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kBindingStages, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     setInfo.bindingCount = 2;
@@ -136,11 +139,19 @@ Status initPipelines(const VulkanContext& ctx, VkPipelineCache cache, TessPatchP
     if (!solid) return solid.error();
     if (!wire) return wire.error();
     pass.wire = *wire;
+    if (shaders.prepare.empty()) return success();
+    VkShaderModule compute = createShaderModule(ctx, shaders.prepare);
+    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+    info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, compute, "main"};
+    info.layout = pass.layout;
+    const VkResult created = vkCreateComputePipelines(ctx.device, cache, 1, &info, nullptr, &pass.prepare);
+    vkDestroyShaderModule(ctx.device, compute, nullptr);
+    VK_CHECK(created);
     return success();
 }
 
 void destroyPipelines(const VulkanContext& ctx, TessPatchPass& pass) {
-    for (VkPipeline p : {pass.solid, pass.wire})
+    for (VkPipeline p : {pass.solid, pass.wire, pass.prepare})
         if (p) vkDestroyPipeline(ctx.device, p, nullptr);
     if (pass.layout) vkDestroyPipelineLayout(ctx.device, pass.layout, nullptr);
     if (pass.setLayout) vkDestroyDescriptorSetLayout(ctx.device, pass.setLayout, nullptr);
@@ -176,7 +187,7 @@ Status initInstance(const VulkanContext& ctx, TessPatchPass& pass) {
 // FNV-1a of the scheme's stages: the shared pipelines' key, whatever address the module has.
 uint64_t shaderHash(const TessPatchShaders& shaders) {
     uint64_t hash = 1469598103934665603ull;
-    for (std::span<const uint32_t> code : {shaders.vertex, shaders.control, shaders.evaluation})
+    for (std::span<const uint32_t> code : {shaders.vertex, shaders.control, shaders.evaluation, shaders.prepare})
         for (uint32_t word : code) hash = (hash ^ word) * 1099511628211ull;
     return hash;
 }
@@ -242,6 +253,24 @@ Status uploadTessPatches(const VulkanContext& ctx, TessPatchPass& pass, const vo
     return success();
 }
 
+void writeTessPatchData(TessPatchPass& pass, const void* data, size_t bytes, size_t offset) {
+    assert(offset + bytes <= pass.patchData.size);
+    uploadBuffer(pass.patchData, data, bytes, offset);
+}
+
+void recordTessPrepare(VkCommandBuffer cmd, const TessPatchPass& pass, uint32_t invocations) {
+    assert(pass.prepare && "the scheme has no prepare stage");
+    if (invocations == 0) return;
+    const uint32_t groups = (invocations + kPrepareGroupSize - 1) / kPrepareGroupSize;
+    const uint32_t rowGroups = std::min(groups, 65535u);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass.prepare);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass.layout, 0, 1, &pass.set, 0, nullptr);
+    vkCmdDispatch(cmd, rowGroups, (groups + rowGroups - 1) / rowGroups, 1);
+    barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+            VK_PIPELINE_STAGE_2_TESSELLATION_CONTROL_SHADER_BIT | VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
+            VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+}
+
 void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const RenderTarget& target, const DrawView& view,
                        const TessPatchSettings& settings) {
     const bool capture = settings.capture && pass.captureCapacity > 0;
@@ -252,7 +281,9 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     }
     beginRendering(cmd, target, true, view.background);
-    const uint32_t maxFactor = settings.uniformFactor == 0 ? 64u : std::min(settings.uniformFactor, 64u);
+    const uint32_t maxFactor = settings.largestLevel ? std::min(settings.largestLevel, 64u)
+                               : settings.uniformFactor == 0 ? 64u
+                                                             : std::min(settings.uniformFactor, 64u);
     const uint32_t perDraw = patchesPerDraw(maxFactor);
     for (VkPipeline pipeline : {pass.solid, view.wireframe ? pass.wire : VkPipeline(VK_NULL_HANDLE)}) {
         if (!pipeline || pass.patchCount == 0) continue;

@@ -10,6 +10,10 @@
 // whose tessellator emits more than 65,535 vertices (platform notes), so draws hold at most
 // patchesPerDraw(largest factor) patches, as render/plan_pass.cpp does.
 //
+// Prepare: a scheme may bring a compute stage too (its points from the cage on the device, as
+// osd-fas applies Far's stencils): recordTessPrepare dispatches it over the same descriptor set,
+// with a barrier before the tessellation stages read what it wrote.
+//
 // Capture: with `capture` set, the evaluation stage appends every vertex it evaluates
 // (patch, domain coordinate, position, normal) to a storage buffer at binding 1, so tests can
 // check the GPU evaluation against the scheme's CPU evaluation.
@@ -33,12 +37,14 @@ namespace qp {
 
 struct TessPatchShaders {
     std::span<const uint32_t> vertex, control, evaluation;  // SPIR-V (module_shader_code.h)
+    std::span<const uint32_t> prepare;                      // optional compute stage
 };
 
 struct TessPatchPass {
     VkDescriptorSetLayout setLayout = VK_NULL_HANDLE;
     VkPipelineLayout layout = VK_NULL_HANDLE;
     VkPipeline solid = VK_NULL_HANDLE, wire = VK_NULL_HANDLE;  // wire: null without fillModeNonSolid
+    VkPipeline prepare = VK_NULL_HANDLE;                        // null without a prepare stage
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;
     VkFormat colorFormat = VK_FORMAT_UNDEFINED, depthFormat = VK_FORMAT_UNDEFINED;
@@ -60,10 +66,18 @@ void destroyTessPatchPass(const VulkanContext& context, TessPatchPass& pass);
 Status uploadTessPatches(const VulkanContext& context, TessPatchPass& pass, const void* data, size_t bytes,
                          uint32_t patchCount);
 
+// Writes `bytes` at `offset` of the patch data (its buffer as uploadTessPatches sized it). Call
+// outside of recording, while no submitted work reads the buffer.
+void writeTessPatchData(TessPatchPass& pass, const void* data, size_t bytes, size_t offset);
+// Dispatches the prepare stage over `invocations` (64 a group, in rows of at most 65,535 groups)
+// and orders its writes before the tessellation stages. Record outside of rendering.
+void recordTessPrepare(VkCommandBuffer cmd, const TessPatchPass& pass, uint32_t invocations);
+
 struct TessPatchSettings {
     uint32_t uniformFactor = 8;     // 1..64; 0: screen-adaptive
     float pixelsPerSegment = 8.0f;  // adaptive: target screen length of one segment
     bool capture = false;
+    uint32_t largestLevel = 0;      // the most segments an edge gets (splits draws); 0: the factor
 };
 
 // Clears target.area and draws every patch (then the wireframe when view.wireframe).

@@ -48,7 +48,7 @@ public:
         if (path_ == PatchPath::Cpu) return success();
         Result<TessPatchPass> pass = createTessPatchPass(
             *ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat,
-            {moduleShaderCode("tess_patch.vert"), moduleShaderCode(Traits::kTessControl), moduleShaderCode(Traits::kTessEvaluation)});
+            {moduleShaderCode("tess_patch.vert"), moduleShaderCode(Traits::kTessControl), moduleShaderCode(Traits::kTessEvaluation), {}});
         if (!pass) return Error{std::string(Traits::kName) + ": " + pass.error().message + " (use --option path=cpu)"};
         pass_ = *pass;
         havePass_ = true;

@@ -209,8 +209,11 @@ TEST(SchemePlugins, DrawWithValidationSilentAndTheSamePictureThroughBothPaths) {
     SchemeSettings tess, cpu;
     tess.tessFactor = cpu.tessFactor = 8;
     cpu.options = {{"path", "cpu"}};
-    for (const char* name : {"acc1", "acc2", "pn"}) {
+    const SchemeSettings defaults = tess;
+    for (const char* name : {"acc1", "acc2", "pn", "osd-fas"}) {
         SCOPED_TRACE(name);
+        // osd-fas's default (auto) is its cpu path on lavapipe; the others default to tess.
+        tess.options = std::string(name) == "osd-fas" ? decltype(tess.options){{"path", "tess"}} : decltype(tess.options){};
         const Picture patches = render(ctx, name, *planned, tess), grid = render(ctx, name, *planned, cpu);
         EXPECT_GT(coverage(patches), 0.2);
         EXPECT_EQ(patches.stats.triangles, grid.stats.triangles) << "the same density through both paths";
@@ -222,12 +225,14 @@ TEST(SchemePlugins, DrawWithValidationSilentAndTheSamePictureThroughBothPaths) {
         const double differing = differingPixels(shadedPatches, shadedGrid, 40);
         EXPECT_LT(differing, 0.03) << name << ": " << differing * 100.0 << "% of the pixels differ";
     }
-    const Picture stam = render(ctx, "stam", *planned, tess);
+    const Picture stam = render(ctx, "stam", *planned, defaults);
     EXPECT_GT(coverage(stam), 0.2);
     // Screen-adaptive factors through the tessellator.
     SchemeSettings adaptive;
     adaptive.adaptivePixels = 6.0f;
     EXPECT_GT(coverage(render(ctx, "acc2", *planned, adaptive)), 0.2);
+    adaptive.options = {{"path", "tess"}};
+    EXPECT_GT(coverage(render(ctx, "osd-fas", *planned, adaptive)), 0.2);
     EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
     destroyContext(ctx);
 }
@@ -553,7 +558,7 @@ Captured drawAndCapture(const VulkanContext& ctx, const char* control, const cha
     Captured out;
     Result<TessPatchPass> pass = createTessPatchPass(
         ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT,
-        {moduleShaderCode("tess_patch.vert"), moduleShaderCode(control), moduleShaderCode(evaluation)});
+        {moduleShaderCode("tess_patch.vert"), moduleShaderCode(control), moduleShaderCode(evaluation), {}});
     EXPECT_TRUE(pass.ok()) << (pass ? "" : pass.error().message);
     if (!pass) return out;
     Result<OffscreenTarget> target = createOffscreenTarget(ctx, 128, 128, VK_FORMAT_R8G8B8A8_UNORM);

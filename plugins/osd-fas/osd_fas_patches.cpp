@@ -4,6 +4,7 @@
 #include <cassert>
 
 #include <opensubdiv/far/patchTableFactory.h>
+#include <opensubdiv/far/ptexIndices.h>
 #include <opensubdiv/far/stencilTableFactory.h>
 #include <tbb/parallel_for.h>
 
@@ -108,6 +109,96 @@ void layoutPatch(FasPatches& patches, const FasPatchLayout& p) {
         for (uint32_t k : {base, ring[i], ring[(i + 1) % count]}) *index++ = k;
 }
 
+// Where a ptex face (a Far patch's face id) comes from: the base face and, for an n-gon, which
+// of its corners' sub-faces (-1 for a quad).
+struct PtexOrigin {
+    Far::Index face;
+    int corner;
+};
+
+std::vector<PtexOrigin> ptexOrigins(const Far::TopologyRefiner& r) {
+    const Far::TopologyLevel& base = r.GetLevel(0);
+    std::vector<PtexOrigin> origins;
+    for (Far::Index f = 0; f < base.GetNumFaces(); ++f) {
+        const int n = base.GetFaceVertices(f).size();
+        if (n == 4) origins.push_back({f, -1});
+        else
+            for (int k = 0; k < n; ++k) origins.push_back({f, k});
+    }
+    return origins;
+}
+
+// A refined face with its corners in the patch frame's order: (0,0), (1,0), (1,1), (0,1).
+struct FramedFace {
+    int level;
+    Far::Index face;
+    Far::Index corners[4];
+};
+
+Far::Index edgeChild(const Far::TopologyLevel& level, Far::Index a, Far::Index b) {
+    return level.GetEdgeChildVertex(level.FindEdge(a, b));
+}
+
+// The child of `f` in frame quadrant m (0: (0,0), 1: (1,0), 2: (1,1), 3: (0,1)), its corners
+// framed the same way: the quadrant's corner vertex, the midpoints of its two edges, the centre.
+FramedFace childInQuadrant(const Far::TopologyRefiner& r, const FramedFace& f, int m) {
+    const Far::TopologyLevel& level = r.GetLevel(f.level);
+    const Far::ConstIndexArray vertices = level.GetFaceVertices(f.face);
+    int k = 0;
+    while (vertices[k] != f.corners[m]) ++k;
+    FramedFace child{f.level + 1, level.GetFaceChildFaces(f.face)[k], {}};
+    const Far::Index prev = f.corners[(m + 3) % 4], corner = f.corners[m], next = f.corners[(m + 1) % 4];
+    child.corners[m] = level.GetVertexChildVertex(corner);
+    child.corners[(m + 1) % 4] = edgeChild(level, corner, next);
+    child.corners[(m + 2) % 4] = level.GetFaceChildVertex(f.face);
+    child.corners[(m + 3) % 4] = edgeChild(level, prev, corner);
+    return child;
+}
+
+// The refined face a patch covers, found by walking down from its base face along the
+// PatchParam's (u, v) bits.
+FramedFace patchFace(const Far::TopologyRefiner& r, std::span<const PtexOrigin> origins, const Far::PatchParam& param) {
+    const PtexOrigin origin = origins[size_t(param.GetFaceId())];
+    const Far::TopologyLevel& base = r.GetLevel(0);
+    const Far::ConstIndexArray vertices = base.GetFaceVertices(origin.face);
+    FramedFace face{0, origin.face, {}};
+    if (origin.corner < 0) {
+        std::copy(vertices.begin(), vertices.end(), face.corners);
+    } else {
+        // An n-gon's sub-face k: from its corner k towards the midpoint of the edge after it.
+        const int n = vertices.size(), k = origin.corner;
+        face = {1, base.GetFaceChildFaces(origin.face)[k],
+                {base.GetVertexChildVertex(vertices[k]), edgeChild(base, vertices[k], vertices[(k + 1) % n]),
+                 base.GetFaceChildVertex(origin.face), edgeChild(base, vertices[(k + n - 1) % n], vertices[k])}};
+    }
+    const int steps = param.GetDepth() - (param.NonQuadRoot() ? 1 : 0);
+    for (int bit = steps - 1; bit >= 0; --bit) {
+        const bool highU = (param.GetU() >> bit) & 1, highV = (param.GetV() >> bit) & 1;
+        face = childInQuadrant(r, face, highV ? (highU ? 2 : 3) : (highU ? 1 : 0));
+    }
+    return face;
+}
+
+// FasPatchLayout::edgePoints of one patch, as indices into the all-levels vertex numbering the
+// stencil table and the patch table share.
+void setEdgePoints(const Far::TopologyRefiner& r, std::span<const int> levelOffsets, const FramedFace& face,
+                   uint32_t transitions, FasPatchLayout& p) {
+    const Far::TopologyLevel& level = r.GetLevel(face.level);
+    auto global = [&](int atLevel, Far::Index v) { return uint32_t(levelOffsets[size_t(atLevel)] + v); };
+    for (int e = 0; e < 4; ++e) {
+        const Far::Index a = face.corners[e], b = face.corners[(e + 1) % 4];
+        if (transitions & (1u << e)) {
+            p.edgePoints[e][0] = global(face.level + 1, level.GetVertexChildVertex(a));
+            p.edgePoints[e][1] = global(face.level + 1, edgeChild(level, a, b));
+            p.edgePoints[e][2] = global(face.level + 1, level.GetVertexChildVertex(b));
+        } else {
+            p.edgePoints[e][0] = global(face.level, a);
+            p.edgePoints[e][1] = kNoEdgeMidpoint;
+            p.edgePoints[e][2] = global(face.level, b);
+        }
+    }
+}
+
 }  // namespace
 
 Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t tessFactor) {
@@ -135,6 +226,11 @@ Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t te
     if (const Far::StencilTable* local = patches.table->GetLocalPointStencilTable(); local && local->GetNumStencils() > 0)
         patches.stencils.reset(Far::StencilTableFactory::AppendLocalPointStencilTable(r, patches.stencils.get(), local, true));
 
+    const std::vector<PtexOrigin> origins = ptexOrigins(r);
+    std::vector<int> levelOffsets(size_t(r.GetNumLevels()), 0);
+    for (int level = 1; level < r.GetNumLevels(); ++level)
+        levelOffsets[size_t(level)] = levelOffsets[size_t(level - 1)] + r.GetLevel(level - 1).GetNumVertices();
+
     uint32_t vertices = 0, indices = 0;
     int patchIndex = 0;
     for (int array = 0; array < patches.table->GetNumPatchArrays(); ++array) {
@@ -148,6 +244,7 @@ Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t te
             p.factor = std::max(1u, patches.factor >> param.GetDepth());
             patches.singleCreasePatches += patches.table->GetSingleCreasePatchSharpnessValue(array, patch) > 0.0f;
             p.transitions = p.factor == 1 ? param.GetTransition() : 0u;
+            setEdgePoints(r, levelOffsets, patchFace(r, origins, param), param.GetTransition(), p);
             const uint32_t midpoints = uint32_t(__builtin_popcount(p.transitions));
             p.firstVertex = vertices;
             p.firstIndex = indices;
@@ -185,6 +282,12 @@ void updateFasPoints(FasPatches& patches, std::span<const glm::vec3> cagePositio
 FasSample evaluateFas(const FasPatches& patches, uint32_t subface, float u, float v) {
     const Far::PatchTable::PatchHandle* handle = patches.map->FindPatch(int(subface), u, v);
     return handle ? evaluatePatch(patches, *handle, u, v) : FasSample{};
+}
+
+FasSample evaluateFasPatch(const FasPatches& patches, uint32_t patch, float u, float v) {
+    const Far::PatchTable::PatchHandle& handle = patches.layout[patch].handle;
+    patches.table->GetPatchParam(handle).Unnormalize(u, v);
+    return evaluatePatch(patches, handle, u, v);
 }
 
 void tessellateFas(const FasPatches& patches, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals) {

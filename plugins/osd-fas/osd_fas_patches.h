@@ -14,6 +14,14 @@
 // density matches the plans' grid; a one-segment patch whose edge borders a finer patch
 // (PatchParam transition bit, edges 0: v=0, 1: u=1, 2: v=1, 3: u=0) gets that patch's
 // midpoint on the edge and is fanned around its centre, so triangles meet without T-junctions.
+// The tessellator path (osd_fas_gpu.h) follows OpenSubdiv's GLSL rule instead: transition edges
+// are split in two halves, each with the finer patch's factor.
+//
+// Edge points: the screen-space factor of a patch edge is measured on refined vertices (not on
+// evaluated limit points), so both patches of an edge read the same two values and agree on its
+// factor bit for bit. A plain edge is measured between the patch's corner vertices at its own
+// level; a transition edge, in two halves, between the corners' and the edge's child vertices
+// one level deeper, which are exactly the finer neighbours' corners.
 #pragma once
 
 #include <cstdint>
@@ -36,7 +44,12 @@ struct FasPatchLayout {
     OpenSubdiv::Far::PatchTable::PatchHandle handle;
     uint32_t firstVertex, vertexCount, firstIndex, indexCount;
     uint32_t factor, transitions;  // transitions only on one-segment patches
+    // Per edge (Far's order, 0: v=0, 1: u=1, 2: v=1, 3: u=0): start, midpoint, end as indices
+    // into FasPatches::points; the midpoint is kNoEdgeMidpoint unless the edge is a transition.
+    uint32_t edgePoints[4][3];
 };
+
+inline constexpr uint32_t kNoEdgeMidpoint = UINT32_MAX;
 
 struct FasPatches {
     std::unique_ptr<OpenSubdiv::Far::PatchTable> table;
@@ -64,6 +77,9 @@ void updateFasPoints(FasPatches& patches, std::span<const glm::vec3> cagePositio
 // Position and derivatives at (u, v) of sub-face `subface` (its own frame); zero when no patch
 // covers it.
 FasSample evaluateFas(const FasPatches& patches, uint32_t subface, float u, float v);
+
+// The same at patch `patch`'s own (u, v) in [0, 1]^2 (what its tessellation coordinates are).
+FasSample evaluateFasPatch(const FasPatches& patches, uint32_t patch, float u, float v);
 
 // Every tessellation vertex (parallel over patches): positions and unit normals.
 void tessellateFas(const FasPatches& patches, std::vector<glm::vec3>& positions, std::vector<glm::vec3>& normals);

@@ -72,7 +72,7 @@ public:
         if (path_ == PatchPath::Cpu) return success();
         Result<TessPatchPass> pass =
             createTessPatchPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat,
-                                {moduleShaderCode("tess_patch.vert"), moduleShaderCode("pn.tesc"), moduleShaderCode("pn.tese")});
+                                {moduleShaderCode("tess_patch.vert"), moduleShaderCode("pn.tesc"), moduleShaderCode("pn.tese"), {}});
         if (!pass) return Error{"pn: " + pass.error().message + " (use --option path=cpu)"};
         pass_ = *pass;
         havePass_ = true;
