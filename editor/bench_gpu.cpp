@@ -40,7 +40,6 @@ namespace {
 // baseline jump by 2-3x between factors on a busy machine). The baseline is drawn twice a
 // round, first and halfway, and the round's ratios use the mean of the two.
 
-constexpr uint32_t kRenderSize = 512;
 constexpr uint32_t kRenderWarmups = 2;  // rounds: pipeline JIT, first touch of new buffers
 constexpr uint32_t kRenderTargetFactor = 8;
 constexpr double kRenderTargetRatio = 1.5;  // issue: default path within 1.5x of pre-tessellated
@@ -191,7 +190,7 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
             return moved ? success() : Status(moved.error());
         };
 
-        for (uint32_t factor : args.factors) {
+        for (uint32_t factor : args.factorsOr({1, 2, 4, 8, 16})) {
             const TessellationSettings settings{factor, 8.0f};
             // The grid and, from it, the pre-tessellated triangles.
             if (Status s = preparePreTessellated(ctx, pass, buffers, planned, factor, preMesh); !s) {
@@ -459,7 +458,7 @@ void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report)
         drawView.pixelsPerUnit = view.pixelsPerUnit;
         const RenderTarget rt = renderTarget(target);
 
-        for (uint32_t factor : args.factors) {
+        for (uint32_t factor : args.factorsOr({1, 2, 4, 8, 16})) {
             const std::string at = ", factor " + std::to_string(factor);
             // The baseline, as in the render suite.
             if (Status s = preparePreTessellated(ctx, pass, buffers, planned, factor, preMesh); !s) {

@@ -12,7 +12,7 @@ import pathlib
 import re
 import sys
 
-SUITES = ["plans", "edit", "render", "schemes", "displacement", "editor"]
+SUITES = ["plans", "edit", "render", "schemes", "fas", "displacement", "editor"]
 
 
 def slug(text):
@@ -38,7 +38,7 @@ def ratio_chart(plt, suite, rows, out):
         return None
     labels = [f'{r["cage"][:18]}: {r["benchmark"][:70]}' for r in rows]
     ratios = [as_float(r["ratio"]) for r in rows]
-    colours = ["tab:green" if r["result"] == "pass" else "tab:red" for r in rows]
+    colours = [{"pass": "tab:green", "informative": "tab:gray"}.get(r["result"], "tab:red") for r in rows]
     fig, ax = plt.subplots(figsize=(11, 0.32 * len(rows) + 1.4))
     y = range(len(rows))
     ax.barh(list(y), ratios, color=colours)
@@ -46,7 +46,7 @@ def ratio_chart(plt, suite, rows, out):
     ax.invert_yaxis()
     ax.set_xscale("log")
     ax.axvline(1.0, color="black", linewidth=0.8)
-    ax.set_xlabel("ratio = ours / baseline (log); green: target met, red: missed")
+    ax.set_xlabel("ratio = ours / baseline (log); green: target met, red: missed, grey: informative")
     ax.set_title(f"quadplan bench {suite}: ratios")
     fig.tight_layout()
     path = out / f"{suite}_ratios.png"
@@ -73,6 +73,8 @@ def series_charts(plt, suite, points, out):
             ax.set_xscale("log", base=2)
             ax.set_yscale("log")
             ax.set_xlabel("tessellation factor")
+            if unit == "x":  # a ratio: where both sides are equal
+                ax.axhline(1.0, color="black", linewidth=0.8)
         elif chart.startswith("memory"):  # stacked columns
             bottom = [0.0] * len(xs)
             for name in names:
