@@ -46,6 +46,14 @@ set_tests_properties(cli.bench_schemes_smoke PROPERTIES
                      PASS_REGULAR_EXPRESSION "\\| scheme [a-z0-9-]+, factor 2 \\([0-9?]+ triangles, [a-z?]+\\): frame [^|]+ triangles \\([0-9]+\\) \\| 1 \\| [0-9.]+ ms \\| [0-9.]+ ms \\| [0-9.]+ \\|"
                      TIMEOUT 60)
 
+# The fas suite on a tiny cage at one factor: plans and osd-fas through their paths, the
+# tess-against-tess row with both sides' primitives and triangles.
+add_test(NAME cli.bench_fas_smoke
+         COMMAND quadplan bench fas --repeats 1 --generated-faces 300 --no-shared --factors 4)
+set_tests_properties(cli.bench_fas_smoke PROPERTIES
+                     PASS_REGULAR_EXPRESSION "plans tess vs osd-fas tess, factor 4: moving frame \\([1-9][0-9]* vs [1-9][0-9]* primitives, [1-9][0-9]* vs [1-9][0-9]* triangles\\) \\| 1 \\| [0-9.]+ ms"
+                     TIMEOUT 60)
+
 # Scheme plugins: the comparison of the built-in schemes on the default scene, as JSON.
 file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/test-output)
 add_test(NAME cli.compare_smoke
