@@ -280,10 +280,13 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
     const PlanDrawPush push = drawPush(view, &settings);
     const uint32_t perDraw = patchesPerDraw(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
     const std::vector<DrawnRun> runs = drawnRuns(buffers, view.hiddenDrawn);
-    for (VkPipeline pipeline : {pass.tessellated, view.wireframe ? pass.tessellatedWire : VkPipeline(VK_NULL_HANDLE)}) {
+    const bool displaced = buffers.displacement != nullptr;
+    const VkPipeline solid = displaced ? pass.tessellatedDisplaced : pass.tessellated;
+    const VkPipeline wire = displaced ? pass.tessellatedDisplacedWire : pass.tessellatedWire;
+    for (VkPipeline pipeline : {solid, view.wireframe ? wire : VkPipeline(VK_NULL_HANDLE)}) {
         if (!pipeline) continue;
         PlanDrawPush p = push;
-        if (pipeline == pass.tessellatedWire) {
+        if (pipeline == wire) {
             p.colorMode = 0xffffffffu;  // plan.frag: flat wire colour
             p.capture = 0;
         }
@@ -331,8 +334,10 @@ void uploadVector(const Buffer& buffer, const std::vector<T>& values) {
     if (!values.empty()) uploadBuffer(buffer, values.data(), values.size() * sizeof(T));
 }
 
-void dispatchGridPhase(VkCommandBuffer cmd, const PlanPass& pass, uint32_t count, uint32_t phase, uint32_t listOffset) {
-    dispatchPerSubface(cmd, pass, pass.grid, PlanComputePush{count, phase, 0, listOffset});
+void dispatchGridPhase(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, uint32_t count, uint32_t phase,
+                       uint32_t listOffset) {
+    const VkPipeline grid = buffers.displacement ? pass.gridDisplaced : pass.grid;
+    dispatchPerSubface(cmd, pass, grid, PlanComputePush{count, phase, 0, listOffset});
     computeWritesBeforeReads(cmd);
 }
 
@@ -400,8 +405,8 @@ void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers
     assert(!buffers.gridLayout.subfaceOffset.empty() && "prepareGrid first");
     recordStencils(cmd, pass, buffers, levelFor(buffers.gridLayout.maxFactor));
     const uint32_t count = uint32_t(buffers.data.subfaces.size());
-    dispatchGridPhase(cmd, pass, count, 0, kWholeCage);
-    dispatchGridPhase(cmd, pass, count, 1, kWholeCage);
+    dispatchGridPhase(cmd, pass, buffers, count, 0, kWholeCage);
+    dispatchGridPhase(cmd, pass, buffers, count, 1, kWholeCage);
     // Tests read the grid back on the host.
     barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
             VK_ACCESS_2_HOST_READ_BIT);
@@ -506,8 +511,8 @@ GridRefresh recordGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuf
         update.controlPointSubfaces = touchedCount;
     }
     if (buffers.gridEvaluator == GridEvaluator::Gpu) {
-        dispatchGridPhase(cmd, pass, touchedCount, 0, 0);
-        dispatchGridPhase(cmd, pass, uint32_t(copying.size()), 1, touchedCount);
+        dispatchGridPhase(cmd, pass, buffers, touchedCount, 0, 0);
+        dispatchGridPhase(cmd, pass, buffers, uint32_t(copying.size()), 1, touchedCount);
     } else if (buffers.gridEvaluator == GridEvaluator::Cpu) {
         evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, touched, copying,
                           static_cast<GridVertex*>(buffers.grid.data), buffers.displacement,

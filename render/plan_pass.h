@@ -110,6 +110,9 @@ struct PlanPass {
     VkPipelineLayout computeLayout = VK_NULL_HANDLE, drawLayout = VK_NULL_HANDLE;
     VkPipeline stencils = VK_NULL_HANDLE, grid = VK_NULL_HANDLE;
     VkPipeline tessellated = VK_NULL_HANDLE, tessellatedWire = VK_NULL_HANDLE;
+    // The same with the displacement code compiled in (plan_pipelines.h): for buffers with a
+    // displacement set.
+    VkPipeline gridDisplaced = VK_NULL_HANDLE, tessellatedDisplaced = VK_NULL_HANDLE, tessellatedDisplacedWire = VK_NULL_HANDLE;
     VkPipeline gridTriangles = VK_NULL_HANDLE, gridColored = VK_NULL_HANDLE, gridWire = VK_NULL_HANDLE;
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;

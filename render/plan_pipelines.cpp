@@ -145,26 +145,34 @@ Status createPlanPipelines(const VulkanContext& ctx, VkPipelineCache cache, Plan
         return success();
     };
     if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_stencils.comp"), pass.stencils); !s) return s;
-    if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_grid.comp"), pass.grid); !s) return s;
-    const GraphicsStages tess{"plan.vert", "plan.tesc", "plan.tese", "plan.frag"};
+    if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_grid_undisplaced.comp"), pass.grid); !s)
+        return s;
+    if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_grid.comp"), pass.gridDisplaced); !s)
+        return s;
+    const GraphicsStages tess{"plan.vert", "plan.tesc", "plan_undisplaced.tese", "plan.frag"};
+    const GraphicsStages tessDisplaced{"plan.vert", "plan.tesc", "plan.tese", "plan.frag"};
     // Plain shading and the wireframe pass only normals; the colour modes also the sub-face and (u, v).
     const GraphicsStages grid{"plan_grid_lit.vert", nullptr, nullptr, "plan_lit.frag"};
     const GraphicsStages gridColored{"plan_grid.vert", nullptr, nullptr, "plan.frag"};
     if (!ctx.features.tessellationShader)
         return Error{"the Vulkan device '" + ctx.deviceName + "' has no tessellation shaders"};
     if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, false), pass.tessellated); !s) return s;
+    if (Status s = assign(createDrawPipeline(ctx, cache, pass, tessDisplaced, false), pass.tessellatedDisplaced); !s) return s;
     if (Status s = assign(createDrawPipeline(ctx, cache, pass, grid, false), pass.gridTriangles); !s) return s;
     if (Status s = assign(createDrawPipeline(ctx, cache, pass, gridColored, false), pass.gridColored); !s) return s;
     if (ctx.features.fillModeNonSolid) {
         if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, true), pass.tessellatedWire); !s) return s;
+        if (Status s = assign(createDrawPipeline(ctx, cache, pass, tessDisplaced, true), pass.tessellatedDisplacedWire); !s)
+            return s;
         if (Status s = assign(createDrawPipeline(ctx, cache, pass, grid, true), pass.gridWire); !s) return s;
     }
     return success();
 }
 
 void destroyPlanPipelines(const VulkanContext& ctx, PlanPass& pass) {
-    for (VkPipeline p : {pass.stencils, pass.grid, pass.tessellated, pass.tessellatedWire, pass.gridTriangles,
-                         pass.gridColored, pass.gridWire})
+    for (VkPipeline p : {pass.stencils, pass.grid, pass.gridDisplaced, pass.tessellated, pass.tessellatedWire,
+                         pass.tessellatedDisplaced, pass.tessellatedDisplacedWire, pass.gridTriangles, pass.gridColored,
+                         pass.gridWire})
         if (p) vkDestroyPipeline(ctx.device, p, nullptr);
     if (pass.computeLayout) vkDestroyPipelineLayout(ctx.device, pass.computeLayout, nullptr);
     if (pass.drawLayout) vkDestroyPipelineLayout(ctx.device, pass.drawLayout, nullptr);

@@ -1,6 +1,9 @@
 // The plan pass's device objects: its descriptor set layout (kPlanBindingCount storage buffers
 // for every stage), the push-constant blocks its shaders read, and its pipelines (compute:
 // stencils and grid; draw: tessellated, grid triangles, the grid's colour modes, wireframes).
+// The grid and tessellated pipelines come twice, with and without the displacement code (the
+// *_undisplaced stages, compiled with QP_UNDISPLACED: shaders/displacement.glsl): compiled in but
+// unused it doubled the tessellated path's per-vertex cost on lavapipe.
 // PlanPass (plan_pass.h) makes them once per device and formats through shared_pipelines.h; the
 // B-spline ablation (bspline_pass.h) draws with the same layout and push block.
 #pragma once

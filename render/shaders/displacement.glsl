@@ -29,7 +29,14 @@ layout(std430, set = 0, binding = 20) readonly buffer DispSamples { float dispSa
 const uint DISP_REVERSED = 1u, DISP_SPLIT = 2u, DISP_FINER = 4u;
 const float DISP_SNAP = 16384.0;  // edge parameters snap to multiples of 2^-14
 
+// The pipelines drawn without displacement compile their stages with QP_UNDISPLACED
+// (render/plan_pipelines.h): the displacement code compiled in but unused doubled the cost of
+// lavapipe's evaluation stage, and a specialisation constant removed only part of it.
+#ifdef QP_UNDISPLACED
+bool hasDisplacement() { return false; }
+#else
 bool hasDisplacement() { return dispSubfaces.length() > 0; }
+#endif
 
 uint dispSegmentSample(DispSegment s, uint k) {
     return k == 0u ? s.pointA : (k == s.resolution ? s.pointB : s.offset + k - 1u);
