@@ -61,8 +61,7 @@ Drawn drawPatches(const VulkanContext& ctx, const FasPatches& patches, const Cag
     if (!pass) return out;
     FasGpuData data = packFasPatches(patches, cage.vertexCount());
     EXPECT_TRUE(uploadTessPatches(ctx, *pass, data.words.data(), data.words.size() * 4, data.header.patchCount).ok());
-    std::vector<float> positions(cage.positions.size() * 3);
-    writeFasCagePositions(FasGpuHeader{}, cage.positions, positions.data());
+    const std::vector<float> positions = fasCagePositions(cage.positions);
     writeTessPatchData(*pass, positions.data(), positions.size() * 4, size_t(data.header.cageOffset) * 4);
     EXPECT_TRUE(enableTessCapture(ctx, *pass, 3'000'000).ok());
     Result<OffscreenTarget> target = createOffscreenTarget(ctx, 256, 256, VK_FORMAT_R8G8B8A8_UNORM);

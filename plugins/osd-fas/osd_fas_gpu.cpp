@@ -70,13 +70,11 @@ FasGpuData packFasPatches(const FasPatches& patches, uint32_t cageVertices) {
     return data;
 }
 
-void writeFasCagePositions(const FasGpuHeader& header, std::span<const glm::vec3> positions, void* buffer) {
-    float* out = reinterpret_cast<float*>(static_cast<uint32_t*>(buffer) + header.cageOffset);
-    for (const glm::vec3& p : positions) {
-        *out++ = p.x;
-        *out++ = p.y;
-        *out++ = p.z;
-    }
+std::vector<float> fasCagePositions(std::span<const glm::vec3> positions) {
+    std::vector<float> packed;
+    packed.reserve(positions.size() * 3);
+    for (const glm::vec3& p : positions) packed.insert(packed.end(), {p.x, p.y, p.z});
+    return packed;
 }
 
 void fasUniformLevels(const Far::PatchParam& param, uint32_t factor, float outer[4]) {

@@ -51,10 +51,10 @@ struct FasGpuData {
     std::vector<uint32_t> words;  // the whole buffer, header first
 };
 
-// The buffer for `patches` (topology only: the cage positions are written by
-// writeFasCagePositions, the points by the compute pass).
+// The buffer for `patches` (topology only: the cage's positions go at header.cageOffset, as
+// fasCagePositions packs them; the points are the compute pass's).
 FasGpuData packFasPatches(const FasPatches& patches, uint32_t cageVertices);
-void writeFasCagePositions(const FasGpuHeader& header, std::span<const glm::vec3> positions, void* buffer);
+std::vector<float> fasCagePositions(std::span<const glm::vec3> positions);  // three floats a vertex
 
 // Segments on each edge of a patch at the uniform factor (Vulkan's outer order: u=0, v=0, u=1,
 // v=1; as osd_fas.tesc computes them) and the triangles the tessellator makes of them.

@@ -77,7 +77,6 @@ public:
         tess_ = *tess;
         haveTess_ = true;
         gpuData_ = packFasPatches(patches_, planned_->cage().vertexCount());
-        gpuData_.words.shrink_to_fit();
         if (Status uploaded = uploadTessPatches(*ctx_, tess_, gpuData_.words.data(), gpuData_.words.size() * 4,
                                                 gpuData_.header.patchCount);
             !uploaded)
@@ -90,9 +89,7 @@ public:
         updateFasPoints(patches_, planned_->cage().positions);
         if (!ctx_) return success();
         if (haveTess_ && !displacement_) {
-            const std::vector<glm::vec3>& positions = planned_->cage().positions;
-            std::vector<float> packed(positions.size() * 3);
-            writeFasCagePositions(FasGpuHeader{}, positions, packed.data());
+            const std::vector<float> packed = fasCagePositions(planned_->cage().positions);
             writeTessPatchData(tess_, packed.data(), packed.size() * sizeof(float),
                                size_t(gpuData_.header.cageOffset) * 4);
             stencilsPending_ = true;
