@@ -173,7 +173,8 @@ void registerRender(CLI::App& app, int& exitCode) {
     cmd->add_option("--color-by", args->colorBy, "shading, or a scheme's own mode (plans: node-kind, depth, sharpness)");
     cmd->add_option("--camera", args->camera, "EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed)");
     cmd->add_option("--path", args->drawPath, "plans: auto (default: cpu on a CPU device, tess on a GPU), tess (tessellator), grid (compute-shader "
-                    "grid) or cpu (grid from the multithreaded CPU evaluator); the option path=...");
+                    "grid) or cpu (grid from the multithreaded CPU evaluator); osd-fas: auto, tess or cpu; acc1, acc2, pn: "
+                    "tess (default) or cpu; the option path=...");
     cmd->add_option("--option", args->options, "Scheme option KEY=VALUE (repeatable), e.g. level=4 for uniform");
     cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
     cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, kMaxPlanDepth));
