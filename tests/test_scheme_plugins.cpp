@@ -237,6 +237,45 @@ TEST(SchemePlugins, DrawWithValidationSilentAndTheSamePictureThroughBothPaths) {
     destroyContext(ctx);
 }
 
+// osd-fas's tess path applies its stencils on the device and refreshes its CPU points only when
+// evaluate() asks: after a vertex move both paths must still evaluate the same surface.
+TEST(SchemePlugins, OsdFasTessPathEvaluatesTheMovedCage) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    VulkanContext& ctx = *context;
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(perturbedCube(3), database, PlanOptions{}, "cube");
+    ASSERT_TRUE(planned.ok());
+    const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
+    const GpuContext gpu{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+    SchemeSettings tess, cpu;
+    tess.options = {{"path", "tess"}};
+    cpu.options = {{"path", "cpu"}};
+    Result<PreparedScheme> onDevice = prepareScheme(catalog(), "osd-fas", *planned, features, tess, gpu, "cube");
+    Result<PreparedScheme> onCpu = prepareScheme(catalog(), "osd-fas", *planned, features, cpu, gpu, "cube");
+    ASSERT_TRUE(onDevice.ok() && onCpu.ok());
+    std::vector<SampleRequest> requests;
+    for (uint32_t s = 0; s < planned->subfaceCount(); ++s) requests.push_back({s, 0.3f, 0.6f});
+    std::vector<SurfacePoint> a(requests.size()), b(requests.size());
+    ASSERT_TRUE(onDevice->instance.evaluate(requests, a).ok());  // the CPU points, before the move
+    const uint32_t moved[1] = {5};
+    const glm::vec3 to[1] = {planned->cage().positions[5] + glm::vec3(0.2f, -0.1f, 0.3f)};
+    ASSERT_TRUE(planned->moveVertices(moved, to).ok());
+    ASSERT_TRUE(onDevice->instance.update().ok());
+    ASSERT_TRUE(onCpu->instance.update().ok());
+    ASSERT_TRUE(onDevice->instance.evaluate(requests, a).ok());
+    ASSERT_TRUE(onCpu->instance.evaluate(requests, b).ok());
+    double moving = 0.0;
+    for (size_t i = 0; i < requests.size(); ++i) {
+        EXPECT_EQ(a[i].position, b[i].position) << "sub-face " << requests[i].subface;
+        moving = std::max(moving, double(glm::length(a[i].position - planned->evaluate(requests[i].subface, 0.3f, 0.6f).position)));
+    }
+    EXPECT_LT(moving, 1e-5) << "osd-fas follows the moved cage";
+    EXPECT_TRUE(onDevice->instance.destroyGpu().ok());
+    EXPECT_TRUE(onCpu->instance.destroyGpu().ok());
+    destroyContext(ctx);
+}
+
 // Displaced, every path draws the scheme's own surface moved along its own normal on the CPU
 // grid: the tessellated and grid paths give the same picture, different from the undisplaced
 // one, with the displaced mesh's triangles; removing the displacement restores the patches.

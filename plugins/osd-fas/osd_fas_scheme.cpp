@@ -3,13 +3,17 @@
 // (auto: cpu on a CPU device, tess on a GPU):
 //   - tess: OpenSubdiv's GPU path, one patch primitive per Far patch through the tessellator;
 //     update() writes the cage's positions and the next record() applies Far's stencils in a
-//     compute pass first (osd_fas_gpu.h);
+//     compute pass first (osd_fas_gpu.h); the CPU's copy of the points, which only evaluate()
+//     reads, is brought up to date by the first evaluate() after a change, so a frame costs
+//     what OpenSubdiv's GPU path costs;
 //   - cpu: every patch tessellated on all cores at OpenSubdiv's uniform levels, drawn with
 //     MeshPass; update() applies the stencils and tessellates, as a moving cage would need.
 //
 // Displacement: the patches' surface (evaluateFas) on a grid of at least the tessellation
 // factor and the tiles' required factor, displaced along its own normal and made watertight
 // through a DisplacedDrawing (displaced_drawing.h: a dab re-displaces only what it reached).
+#include <mutex>
+
 #include "displaced_drawing.h"
 #include "draw_path.h"
 #include "mesh_pass.h"
@@ -86,15 +90,18 @@ public:
     }
 
     Status update() override {
-        updateFasPoints(patches_, planned_->cage().positions);
-        if (!ctx_) return success();
         if (haveTess_ && !displacement_) {
+            cpuPointsStale_ = true;
+            destroyDisplacedDrawing(displaced_);
             const std::vector<float> packed = fasCagePositions(planned_->cage().positions);
             writeTessPatchData(tess_, packed.data(), packed.size() * sizeof(float),
                                size_t(gpuData_.header.cageOffset) * 4);
             stencilsPending_ = true;
             return success();
         }
+        updateFasPoints(patches_, planned_->cage().positions);
+        cpuPointsStale_ = false;
+        if (!ctx_) return success();
         if (displacement_) {
             if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
             mesh_ = GpuMesh{};
@@ -144,6 +151,15 @@ public:
     }
 
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
+        {
+            // Called from several threads at once (scheme_support.h): the first brings the
+            // points up to date (all cores), the others wait for it.
+            std::lock_guard<std::mutex> lock(cpuPointsMutex_);
+            if (cpuPointsStale_) {
+                updateFasPoints(patches_, planned_->cage().positions);
+                cpuPointsStale_ = false;
+            }
+        }
         for (size_t i = 0; i < requests.size(); ++i) {
             const FasSample s = evaluateFas(patches_, requests[i].subface, requests[i].u, requests[i].v);
             out[i] = surfacePoint(s.position, s.du, s.dv);
@@ -154,7 +170,7 @@ public:
         SchemeStats stats;
         stats.patches = patches_.layout.size();
         stats.singleCreasePatches = patches_.singleCreasePatches;
-        stats.controlPoints = patches_.points.size() - planned_->cage().vertexCount();
+        stats.controlPoints = uint64_t(patches_.stencils->GetNumStencils()) - planned_->cage().vertexCount();
         stats.gpuBytes = mesh_.vertices.size + mesh_.indices.size + displaced_.gpu.vertices.size + displaced_.gpu.indices.size +
                          tess_.patchData.size;
         return stats;
@@ -175,7 +191,9 @@ private:
     SchemeSettings settings_;
     FasPath requestedPath_ = FasPath::Auto;
     bool tessellated_ = false;  // resolved in createGpu
-    FasPatches patches_;
+    mutable FasPatches patches_;     // mutable: evaluate() refreshes the CPU points on the tess path
+    mutable std::mutex cpuPointsMutex_;
+    mutable bool cpuPointsStale_ = true;
     uint32_t factor_ = 8;
     uint64_t triangles_ = 0;
     const Displacement* displacement_ = nullptr;
