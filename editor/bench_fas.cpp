@@ -77,6 +77,7 @@ void benchFas(const BenchCage& bench, const BenchArgs& args, Report& report) {
     if (!created) return note("skipped, " + created.error().message);
     const PlannedCage& planned = *created;
     const PluginCatalog catalog = loadPlugins(pluginDirectory());
+    for (const PluginProblem& p : catalog.problems) note(p.message);
     Result<VulkanContext> context = createBenchContext();
     if (!context) return note("skipped, " + context.error().message);
     VulkanContext ctx = std::move(context).value();

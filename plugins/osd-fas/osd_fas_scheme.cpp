@@ -45,6 +45,9 @@ public:
         if (!path) report.refusals.push_back(path.error().message);
         if (settings.adaptivePixels > 0.0f && path && *path == FasPath::Cpu)
             report.approximations.push_back("osd-fas path=cpu has no screen-adaptive tessellation: it uses factor 16");
+        if (settings.adaptivePixels > 0.0f && path && *path == FasPath::Auto)
+            report.approximations.push_back("osd-fas path=auto draws on the CPU on a CPU device, without screen-adaptive "
+                                            "tessellation (factor 16 there); path=tess has it");
         for (const auto& [key, value] : settings.options)
             if (key != "path") report.approximations.push_back("osd-fas ignores the unknown option '" + key + "'");
         return report;
@@ -86,6 +89,8 @@ public:
             !uploaded)
             return uploaded;
         gpuData_.words = {};  // on the device now
+        // What record() reports at a uniform factor: the levels depend on the patches only.
+        if (settings_.adaptivePixels <= 0.0f) uniformTriangles_ = fasUniformTriangles(patches_, std::min(settings_.tessFactor, 64u));
         return success();
     }
 
@@ -133,7 +138,7 @@ public:
             const uint32_t factor = adaptive ? 0u : std::min(settings_.tessFactor, 64u);
             // A transition edge at factor F may get 2 ceil(F / 2) segments.
             recordTessPatches(cmd, tess_, target, view, {factor, settings_.adaptivePixels, capture_, adaptive ? 64u : factor + 1});
-            return DrawStats{patches_.layout.size(), adaptive ? 0 : fasUniformTriangles(patches_, factor), DrawnBy::Tessellator};
+            return DrawStats{patches_.layout.size(), adaptive ? 0 : uniformTriangles_, DrawnBy::Tessellator};
         }
         MeshDraw draw{displacement_ ? &displaced_.gpu : &mesh_, glm::vec3(0.8f), true, view.wireframe};
         recordMeshPass(cmd, pass_, target, MeshView{view.viewProjection, view.eye, view.background, view.shading},
@@ -195,7 +200,8 @@ private:
     mutable std::mutex cpuPointsMutex_;
     mutable bool cpuPointsStale_ = true;
     uint32_t factor_ = 8;
-    uint64_t triangles_ = 0;
+    uint64_t triangles_ = 0;          // path=cpu: the mesh's
+    uint64_t uniformTriangles_ = 0;   // path=tess at a uniform factor
     const Displacement* displacement_ = nullptr;
     const VulkanContext* ctx_ = nullptr;
     MeshPass pass_;
