@@ -1,5 +1,8 @@
 #include "limit_reference.h"
 
+#include <algorithm>
+#include <optional>
+
 #include <opensubdiv/far/patchMap.h>
 #include <opensubdiv/far/patchTable.h>
 #include <opensubdiv/far/patchTableFactory.h>
@@ -7,7 +10,9 @@
 #include <opensubdiv/far/stencilTable.h>
 #include <opensubdiv/far/stencilTableFactory.h>
 
+#include "face_config.h"
 #include "osd_refiner.h"
+#include "tangent_plane.h"
 
 namespace qp {
 
@@ -16,6 +21,67 @@ using namespace OpenSubdiv;
 LimitReference::~LimitReference() = default;
 LimitReference::LimitReference(LimitReference&&) noexcept = default;
 LimitReference& LimitReference::operator=(LimitReference&&) noexcept = default;
+
+namespace {
+
+// As the plans do (core/plan_builder.cpp): at each Gregory end-cap corner on a dart corner of
+// its base (sub-)face, the edge points Ep and Em are moved onto the exact tangent plane, their
+// tangent masks projected onto the dart's dominant eigenvectors (tangent_plane.h), because
+// Sdc's masks, which Far's end caps use, are the smooth rule's there.
+void exactDartCorners(const Far::TopologyRefiner& r, const Far::PatchTable& patches, const Far::StencilTableReal<double>& stencils,
+                      const Cage& cage, std::vector<glm::dvec3>& points) {
+    const Far::TopologyLevel& base = r.GetLevel(0);
+    std::vector<std::optional<DartTangents>> darts(size_t(base.GetNumVertices()));
+    bool any = false;
+    for (Far::Index v = 0; v < base.GetNumVertices(); ++v) any |= (darts[size_t(v)] = dartTangents(r, v)).has_value();
+    if (!any) return;
+    std::vector<Far::Index> ptexVertex;  // per ptex face, its base vertex at (0, 0) and the next three (quads)
+    for (Far::Index f = 0; f < base.GetNumFaces(); ++f) {
+        const Far::ConstIndexArray fv = base.GetFaceVertices(f);
+        if (fv.size() == 4) ptexVertex.insert(ptexVertex.end(), fv.begin(), fv.end());
+        else
+            for (int k = 0; k < fv.size(); ++k) ptexVertex.insert(ptexVertex.end(), {fv[k], -1, -1, -1});
+    }
+    std::vector<char> done(points.size(), 0);
+    for (int array = 0; array < patches.GetNumPatchArrays(); ++array) {
+        if (patches.GetPatchArrayDescriptor(array).GetType() != Far::PatchDescriptor::GREGORY_BASIS) continue;
+        for (int p = 0; p < patches.GetNumPatches(array); ++p) {
+            const Far::PatchParam param = patches.GetPatchParam(array, p);
+            const Far::ConstIndexArray cvs = patches.GetPatchVertices(array, p);
+            const int end = 1 << (param.GetDepth() - (param.NonQuadRoot() ? 1 : 0));
+            for (int i = 0; i < 4; ++i) {
+                const int u = param.GetU() + (i == 1 || i == 2 ? 1 : 0), v = param.GetV() + (i >= 2 ? 1 : 0);
+                const int c = u == 0 && v == 0 ? 0 : u == end && v == 0 ? 1 : u == end && v == end ? 2 : u == 0 && v == end ? 3 : -1;
+                if (c < 0) continue;
+                const Far::Index vertex = ptexVertex[size_t(4 * param.GetFaceId() + c)];
+                if (vertex < 0 || !darts[size_t(vertex)]) continue;
+                const DartTangents& t = *darts[size_t(vertex)];
+                auto maskOver = [&](Far::Index point) {
+                    std::vector<double> mask(t.ring.size(), 0.0);
+                    const Far::StencilReal<double> s = stencils.GetStencil(point);
+                    for (int k = 0; k < s.GetSize(); ++k) {
+                        auto at = std::find(t.ring.begin(), t.ring.end(), s.GetVertexIndices()[k]);
+                        if (at != t.ring.end()) mask[size_t(at - t.ring.begin())] += s.GetWeights()[k];
+                    }
+                    return mask;
+                };
+                const std::vector<double> corner = maskOver(cvs[5 * i]);
+                for (Far::Index edgePoint : {cvs[5 * i + 1], cvs[5 * i + 2]}) {
+                    if (done[size_t(edgePoint)]) continue;  // shared with the neighbouring end cap
+                    done[size_t(edgePoint)] = 1;
+                    std::vector<double> tangent = maskOver(edgePoint);
+                    for (size_t j = 0; j < tangent.size(); ++j) tangent[j] -= corner[j];
+                    const std::vector<double> exact = t.project(tangent);
+                    glm::dvec3 moved = points[size_t(cvs[5 * i])];
+                    for (size_t j = 0; j < exact.size(); ++j) moved += exact[j] * glm::dvec3(cage.positions[size_t(t.ring[j])]);
+                    points[size_t(edgePoint)] = moved;
+                }
+            }
+        }
+    }
+}
+
+}  // namespace
 
 Result<LimitReference> LimitReference::create(const Cage& cage, uint32_t depth, const std::string& source) {
     auto refiner = createRefiner(cage, source);
@@ -55,6 +121,7 @@ Result<LimitReference> LimitReference::create(const Cage& cage, uint32_t depth, 
         for (int k = 0; k < s.GetSize(); ++k) p += s.GetWeights()[k] * glm::dvec3(cage.positions[s.GetVertexIndices()[k]]);
         ref.points_[size_t(i)] = p;
     }
+    exactDartCorners(r, *ref.patches_, *stencils, cage, ref.points_);
     return ref;
 }
 

@@ -14,6 +14,7 @@
 #include <opensubdiv/far/topologyDescriptor.h>
 
 #include "osd_refiner.h"
+#include "tangent_plane.h"
 
 namespace qp {
 
@@ -260,6 +261,43 @@ std::unique_ptr<const Far::StencilTable> createStencils(const Far::TopologyRefin
         Far::StencilTableFactory::AppendLocalPointStencilTable(refiner, refined.get(), local, true));
 }
 
+// Far's Gregory-basis end caps take a corner's tangents from Sdc's limit masks, which at a dart
+// are the smooth rule's and not the limit's (tangent_plane.h). At each end-cap corner on a dart
+// corner of the face, the edge points Ep and Em are moved onto the exact tangent plane: their
+// tangent masks (Ep - P, Em - P) projected onto the dart's dominant eigenvectors, so the patch's
+// normal at the corner is the limit's for any positions of the cage.
+void exactDartCorners(const Far::TopologyRefiner& refiner, const LocalMesh& mesh, const std::vector<FarLeaf>& leaves,
+                      const std::vector<uint32_t>& slotOf, Plan& plan) {
+    const Far::ConstIndexArray face = refiner.GetLevel(0).GetFaceVertices(0);
+    const bool quad = face.size() == 4;
+    std::vector<std::optional<DartTangents>> dart(4);
+    bool any = false;
+    for (int c = 0; c < (quad ? 4 : 1); ++c) any |= (dart[size_t(c)] = dartTangents(refiner, face[c])).has_value();
+    if (!any) return;
+    std::vector<char> done(slotOf.size(), 0);
+    for (const FarLeaf& leaf : leaves) {
+        if (leaf.node.kind != NodeKind::Extraordinary) continue;
+        const uint32_t end = (1u << leaf.depth) - 1;
+        for (uint32_t i = 0; i < 4; ++i) {  // the patch's corner i, (0,0) (1,0) (1,1) (0,1)
+            const uint32_t u = leaf.u + (i == 1 || i == 2 ? 1 : 0), v = leaf.v + (i >= 2 ? 1 : 0);
+            const bool atU0 = u == 0, atV0 = v == 0, atU1 = u == end + 1, atV1 = v == end + 1;
+            const int c = atU0 && atV0 ? 0 : atU1 && atV0 ? 1 : atU1 && atV1 ? 2 : atU0 && atV1 ? 3 : -1;
+            if (c < 0 || !dart[size_t(c)]) continue;
+            const DartTangents& t = *dart[size_t(c)];
+            const float* p = &plan.stencilWeights[size_t(slotOf[leaf.farPoints[5 * i]]) * mesh.vertexCount];
+            for (uint32_t edgePoint : {leaf.farPoints[5 * i + 1], leaf.farPoints[5 * i + 2]}) {
+                if (done[edgePoint]) continue;  // shared with the neighbouring end cap
+                done[edgePoint] = 1;
+                float* row = &plan.stencilWeights[size_t(slotOf[edgePoint]) * mesh.vertexCount];
+                std::vector<double> mask(t.ring.size());
+                for (size_t j = 0; j < t.ring.size(); ++j) mask[j] = double(row[t.ring[j]]) - double(p[t.ring[j]]);
+                const std::vector<double> exact = t.project(mask);
+                for (size_t j = 0; j < t.ring.size(); ++j) row[t.ring[j]] = float(double(p[t.ring[j]]) + exact[j]);
+            }
+        }
+    }
+}
+
 }  // namespace
 
 uint32_t nodeNeededLevel(float u0, float v0, float size, uint32_t maxDepth) {
@@ -340,6 +378,7 @@ Result<Plan> buildPlan(const std::vector<uint32_t>& key) {
             plan.stencilWeights[slot * plan.ringSize + uint32_t(stencil.GetVertexIndices()[k])] += stencil.GetWeights()[k];
         for (uint32_t n = levels[order[slot]]; n <= kMaxPlanDepth; ++n) plan.stencilCountByLevel[n] = slot + 1;
     }
+    exactDartCorners(**refiner, mesh, leaves, slotOf, plan);
     plan.points.reserve(farPoints.size());
     for (uint32_t p : farPoints) plan.points.push_back(slotOf[p]);
     return plan;

@@ -13,7 +13,7 @@ namespace {
 
 constexpr char kMagic[8] = {'Q', 'P', 'P', 'L', 'A', 'N', 'D', 'B'};
 // Bump when the plan layout or the builder's output changes: older files are then stale.
-constexpr uint32_t kFileVersion = 1;
+constexpr uint32_t kFileVersion = 2;  // 2: exact tangent planes at darts (tangent_plane.h)
 
 void putWords(std::string& out, const uint32_t* words, size_t count) {
     out.append(reinterpret_cast<const char*>(words), count * sizeof(uint32_t));

@@ -217,6 +217,7 @@ void printJson(const std::vector<SchemeResult>& results, const std::string& imag
                            {"max_normal_deg", r.error.maxNormalDegrees},
                            {"p99_normal_deg", r.error.p99NormalDegrees},
                            {"normal_samples_excluded", r.error.normalSamplesExcluded},
+                           {"normal_samples_no_tangent_plane", r.error.normalSamplesWithoutTangentPlane},
                            {"patches", r.draw.patches},
                            {"primitives", r.draw.primitives()},
                            {"path", drawnByName(r.draw.drawnBy)},

@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 
 #include "scheme_support.h"
+#include "tangent_plane.h"
 
 namespace qp {
 
@@ -31,6 +32,13 @@ Result<ExactReference> evaluateReference(ReferenceKind kind, uint32_t depth, con
     reference.kind = kind;
     reference.depth = depth;
     reference.samples.resize(samples.size());
+    Result<std::vector<SubfaceCorner>> noPlane = cornersWithoutTangentPlane(planned.cage(), source);
+    if (!noPlane) return noPlane.error();
+    reference.withoutTangentPlane.assign(samples.size(), 0);
+    for (size_t i = 0; i < samples.size(); ++i)
+        if (std::optional<uint32_t> corner = subfaceCornerAt(samples[i].u, samples[i].v))
+            reference.withoutTangentPlane[i] =
+                std::binary_search(noPlane->begin(), noPlane->end(), SubfaceCorner{samples[i].subface, *corner});
     if (kind == ReferenceKind::Plans) {
         reference.depth = planned.options().maxDepth;
         std::vector<LimitSample> exact(samples.size());
@@ -69,6 +77,11 @@ SurfaceError measureSurfaceError(const ExactReference& reference, std::span<cons
         const double sine = glm::length(cross) / std::max(lu * lv, 1e-300);
         const bool vanishing = !(std::min(lu, lv) > kMinDerivativeRatio * std::max(lu, lv));
         const float schemeLength = glm::length(points[i].normal);
+        if (i < reference.withoutTangentPlane.size() && reference.withoutTangentPlane[i]) {
+            ++s.normalSamplesExcluded;
+            ++s.normalSamplesWithoutTangentPlane;
+            continue;
+        }
         if (!(sine > kMinNormalSine) || vanishing || !(schemeLength > 0.0f)) {
             ++s.normalSamplesExcluded;
             continue;

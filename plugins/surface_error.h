@@ -9,7 +9,8 @@
 // parameterised differently (uniform refinement) is charged for that too. Normal deviation is
 // the angle between the scheme's shading normal and du x dv of the exact surface, left out
 // where the exact du and dv are within 0.06 degrees of parallel (folds of degenerate cages,
-// where no normal is defined).
+// where no normal is defined) and at the face corners where the limit surface has no tangent
+// plane (core/tangent_plane.h).
 #pragma once
 
 #include <cstdint>
@@ -35,8 +36,12 @@ struct ErrorStats {
     // tangent plane: they are (nearly) parallel, |du x dv| <= kMinNormalSine |du| |dv|, or one
     // of them vanishes against the other, min(|du|, |dv|) <= kMinDerivativeRatio max(|du|, |dv|)
     // (its direction is then round-off: the folded edge of back-to-back faces, coincident
-    // vertices); and samples where the scheme gives no normal.
+    // vertices); samples at a face corner where the limit surface has no tangent plane
+    // (core/tangent_plane.h: corners of sectors of two or more faces at a corner-rule vertex,
+    // counted also in normalSamplesWithoutTangentPlane); and samples where the scheme gives no
+    // normal.
     uint64_t normalSamplesExcluded = 0;
+    uint64_t normalSamplesWithoutTangentPlane = 0;
 };
 
 // The bounds of ErrorStats::normalSamplesExcluded. The ratio is far above double round-off
@@ -56,13 +61,15 @@ struct ExactReference {
     ReferenceKind kind = ReferenceKind::Far;
     uint32_t depth = 10;
     std::vector<ReferenceSample> samples;  // at the sample points, in order
+    std::vector<uint8_t> withoutTangentPlane;  // per sample: 1 at a corner without a tangent plane
     std::string description() const;      // "OpenSubdiv Far adaptive patches, depth 10, double precision"
     // Its own distance from the limit surface over the diagonal, as measured (docs/schemes.md),
     // or a negative value where no bound was measured.
     double errorBound() const;
 };
 // Far: LimitReference::create(planned.cage(), depth) evaluated at the samples (in parallel);
-// Plans: PlannedCage::evaluate, at the plans' own depth (`depth` is ignored).
+// Plans: PlannedCage::evaluate, at the plans' own depth (`depth` is ignored). Either way the
+// samples at corners without a tangent plane are marked (cornersWithoutTangentPlane).
 Result<ExactReference> evaluateReference(ReferenceKind kind, uint32_t depth, const PlannedCage& planned,
                                          std::span<const SampleRequest> samples, const std::string& source);
 

@@ -87,6 +87,7 @@ py::dict errorDict(const ErrorStats& e) {
     out["max_normal_deg"] = e.maxNormalDegrees;
     out["p99_normal_deg"] = e.p99NormalDegrees;
     out["normal_samples_excluded"] = e.normalSamplesExcluded;
+    out["normal_samples_no_tangent_plane"] = e.normalSamplesWithoutTangentPlane;
     out["samples"] = e.samples;
     return out;
 }
@@ -273,6 +274,7 @@ diagonal), on a grid of `samples` segments per sub-face edge. Returns (image, nu
                      entry["max_normal_deg"] = r.error.maxNormalDegrees;
                      entry["p99_normal_deg"] = r.error.p99NormalDegrees;
                      entry["normal_samples_excluded"] = r.error.normalSamplesExcluded;
+                     entry["normal_samples_no_tangent_plane"] = r.error.normalSamplesWithoutTangentPlane;
                      entry["patches"] = r.draw.patches;
                      entry["primitives"] = r.draw.primitives();
                      entry["path"] = drawnByName(r.draw.drawnBy);

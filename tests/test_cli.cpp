@@ -295,7 +295,8 @@ TEST(CliCompare, JsonTableAndOneTilePairPerScheme) {
     std::map<std::string, nlohmann::json> byName;
     for (const auto& s : json["schemes"]) {
         for (const char* key : {"name", "max_rel_error", "rms_rel_error", "max_normal_deg", "p99_normal_deg",
-                                "normal_samples_excluded", "patches", "primitives", "path", "single_crease_patches",
+                                "normal_samples_excluded", "normal_samples_no_tangent_plane", "patches", "primitives", "path",
+                                "single_crease_patches",
                                 "triangles", "frame_ms"})
             EXPECT_TRUE(s.contains(key)) << key;
         EXPECT_LE(s["p99_normal_deg"].get<double>(), s["max_normal_deg"].get<double>());
@@ -317,9 +318,16 @@ TEST(CliCompare, JsonTableAndOneTilePairPerScheme) {
     EXPECT_EQ(byName["osd-fas"]["path"], "cpu");
     EXPECT_EQ(byName["osd-fas"]["primitives"], byName["osd-fas"]["triangles"]);
     EXPECT_EQ(byName["uniform"]["path"], "cpu");
-    // The exact schemes' normals: every sample compared (no degenerate geometry here), and all
-    // but single samples at the sharp corner's end patches agree closely.
-    EXPECT_EQ(byName["plans"]["normal_samples_excluded"].get<int>(), 0);
+    // The exact schemes' normals: every sample compared but the two at the corners of the
+    // two-face sector of the infinitely sharp corner (vertex 183), where the limit surface has no
+    // tangent plane (core/tangent_plane.h; the end patches' normals there were 3.6 degrees apart
+    // at depth 6 and converge to nothing); everywhere else they agree closely.
+    for (const char* exact : {"plans", "osd-fas"}) {
+        SCOPED_TRACE(exact);
+        EXPECT_EQ(byName[exact]["normal_samples_no_tangent_plane"].get<int>(), 2);
+        EXPECT_EQ(byName[exact]["normal_samples_excluded"].get<int>(), 2);
+        EXPECT_LT(byName[exact]["max_normal_deg"].get<double>(), 0.1);
+    }
     EXPECT_LT(byName["plans"]["p99_normal_deg"].get<double>(), 0.1);
     EXPECT_GT(byName["uniform"]["max_rel_error"].get<double>(), 1e-4);
     EXPECT_EQ(byName["uniform"]["patches"].get<int>(), 0);

@@ -1,0 +1,227 @@
+#include "tangent_plane.h"
+
+#include <algorithm>
+#include <complex>
+#include <numeric>
+
+#include <Eigen/Dense>
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyLevel.h>
+#include <opensubdiv/sdc/crease.h>
+
+#include "face_config.h"
+#include "osd_refiner.h"
+
+namespace qp {
+
+using namespace OpenSubdiv;
+
+namespace {
+
+bool sharpInTheLimit(const Far::TopologyLevel& level, Far::Index edge) {
+    return level.IsEdgeInfSharp(edge) || level.IsEdgeBoundary(edge) || level.IsEdgeNonManifold(edge);
+}
+
+// The corner rule holds at every level: semi-sharp tags decay, infinitely sharp ones stay.
+bool cornerRuleInTheLimit(const Far::TopologyLevel& level, Far::Index vertex) {
+    if (level.IsVertexInfSharp(vertex) || level.GetVertexSharpness(vertex) >= Sdc::Crease::SHARPNESS_INFINITE) return true;
+    int sharpEdges = 0;
+    for (Far::Index e : level.GetVertexEdges(vertex)) sharpEdges += sharpInTheLimit(level, e) ? 1 : 0;
+    return sharpEdges > 2;
+}
+
+// Per face at `vertex` (GetVertexFaces order), the number of faces of its sector: faces joined
+// across edges at the vertex that are not sharp in the limit.
+std::vector<int> sectorSizes(const Far::TopologyLevel& level, Far::Index vertex) {
+    const Far::ConstIndexArray faces = level.GetVertexFaces(vertex);
+    std::vector<int> parent(size_t(faces.size()));
+    std::iota(parent.begin(), parent.end(), 0);
+    auto root = [&](int i) {
+        while (parent[size_t(i)] != i) i = parent[size_t(i)] = parent[size_t(parent[size_t(i)])];
+        return i;
+    };
+    auto slot = [&](Far::Index face) { return int(std::find(faces.begin(), faces.end(), face) - faces.begin()); };
+    for (Far::Index e : level.GetVertexEdges(vertex)) {
+        if (sharpInTheLimit(level, e)) continue;
+        const Far::ConstIndexArray edgeFaces = level.GetEdgeFaces(e);
+        for (int k = 1; k < edgeFaces.size(); ++k) parent[size_t(root(slot(edgeFaces[k])))] = root(slot(edgeFaces[0]));
+    }
+    std::vector<int> size(faces.size(), 0);
+    for (int i = 0; i < faces.size(); ++i) ++size[size_t(root(i))];
+    std::vector<int> sizes(faces.size());
+    for (int i = 0; i < faces.size(); ++i) sizes[size_t(i)] = size[size_t(root(i))];
+    return sizes;
+}
+
+}  // namespace
+
+std::optional<uint32_t> subfaceCornerAt(double u, double v) {
+    if (u == 0.0 && v == 0.0) return 0u;
+    if (u == 1.0 && v == 0.0) return 1u;
+    if (u == 1.0 && v == 1.0) return 2u;
+    if (u == 0.0 && v == 1.0) return 3u;
+    return std::nullopt;
+}
+
+Result<std::vector<SubfaceCorner>> cornersWithoutTangentPlane(const Cage& cage, const std::string& source) {
+    Result<std::unique_ptr<Far::TopologyRefiner>> refiner = createRefiner(cage, source);
+    if (!refiner) return refiner.error();
+    const Far::TopologyLevel& level = (*refiner)->GetLevel(0);
+    std::vector<uint32_t> firstSubface(size_t(level.GetNumFaces()));
+    for (uint32_t f = 0, next = 0; f < firstSubface.size(); ++f) {
+        firstSubface[f] = next;
+        next += subfaceCount(uint32_t(level.GetFaceVertices(Far::Index(f)).size()));
+    }
+    std::vector<SubfaceCorner> corners;
+    for (Far::Index v = 0; v < level.GetNumVertices(); ++v) {
+        if (!cornerRuleInTheLimit(level, v)) continue;
+        const Far::ConstIndexArray faces = level.GetVertexFaces(v);
+        const Far::ConstLocalIndexArray inFace = level.GetVertexFaceLocalIndices(v);
+        const std::vector<int> sizes = sectorSizes(level, v);
+        for (int i = 0; i < faces.size(); ++i) {
+            if (sizes[size_t(i)] < 2) continue;  // a regular corner
+            const uint32_t face = uint32_t(faces[i]), k = uint32_t(inFace[i]);
+            if (level.GetFaceVertices(faces[i]).size() == 4) corners.push_back({firstSubface[face], k});
+            else corners.push_back({firstSubface[face] + k, 0});
+        }
+    }
+    std::sort(corners.begin(), corners.end());
+    corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+    return corners;
+}
+
+namespace {
+
+// One double per vertex: impulse responses through Far's refinement.
+struct Scalar {
+    double x = 0.0;
+    void Clear(void* = nullptr) { x = 0.0; }
+    void AddWithWeight(const Scalar& source, float weight) { x += double(weight) * source.x; }
+};
+
+bool isPlainDart(const Far::TopologyLevel& level, Far::Index vertex) {
+    if (level.IsVertexBoundary(vertex) || level.IsVertexNonManifold(vertex) || level.GetVertexSharpness(vertex) > 0.0f)
+        return false;
+    int sharp = 0;
+    for (Far::Index e : level.GetVertexEdges(vertex)) {
+        if (sharpInTheLimit(level, e)) ++sharp;
+        else if (level.GetEdgeSharpness(e) > 0.0f) return false;
+    }
+    return sharp == 1;
+}
+
+// `vertex` and every other vertex of the faces at it, each once.
+std::vector<Far::Index> ringOf(const Far::TopologyLevel& level, Far::Index vertex) {
+    std::vector<Far::Index> ring{vertex};
+    for (Far::Index f : level.GetVertexFaces(vertex))
+        for (Far::Index p : level.GetFaceVertices(f))
+            if (std::find(ring.begin(), ring.end(), p) == ring.end()) ring.push_back(p);
+    return ring;
+}
+
+// rows: `below` (vertices of level `to`) as combinations of `ring` (vertices of level to - 1);
+// nothing when a row takes weight from outside the ring.
+std::optional<Eigen::MatrixXd> refinementRows(const Far::TopologyRefiner& refiner, int to, std::span<const Far::Index> ring,
+                                              std::span<const Far::Index> below) {
+    const Far::PrimvarRefiner primvar(refiner);
+    std::vector<Scalar> source(size_t(refiner.GetLevel(to - 1).GetNumVertices())), destination(size_t(refiner.GetLevel(to).GetNumVertices()));
+    Eigen::MatrixXd rows(Eigen::Index(below.size()), Eigen::Index(ring.size() + 1));
+    for (size_t j = 0; j <= ring.size(); ++j) {
+        // Column ring.size(): every vertex outside the ring at once (the closure test).
+        for (Scalar& s : source) s.x = j == ring.size() ? 1.0 : 0.0;
+        if (j < ring.size()) source[size_t(ring[j])].x = 1.0;
+        else
+            for (Far::Index p : ring) source[size_t(p)].x = 0.0;
+        const Scalar* from = source.data();
+        Scalar* to_ = destination.data();
+        primvar.Interpolate(to, from, to_);
+        for (size_t i = 0; i < below.size(); ++i) rows(Eigen::Index(i), Eigen::Index(j)) = destination[size_t(below[i])].x;
+    }
+    if (rows.col(Eigen::Index(ring.size())).cwiseAbs().maxCoeff() > 1e-9) return std::nullopt;
+    return Eigen::MatrixXd(rows.leftCols(Eigen::Index(ring.size())));
+}
+
+// The ring of a quad-only vertex at `level` one level down, point for point: the vertex's
+// child, the edges' and the faces' children.
+std::optional<std::vector<Far::Index>> childRing(const Far::TopologyLevel& level, std::span<const Far::Index> ring) {
+    std::vector<Far::Index> below{level.GetVertexChildVertex(ring[0])};
+    for (size_t i = 1; i < ring.size(); ++i) {
+        const Far::Index edge = level.FindEdge(ring[0], ring[i]);
+        if (edge >= 0) {
+            below.push_back(level.GetEdgeChildVertex(edge));
+            continue;
+        }
+        Far::Index face = -1;  // the face where ring[i] is the opposite corner
+        for (Far::Index f : level.GetVertexFaces(ring[0])) {
+            const Far::ConstIndexArray v = level.GetFaceVertices(f);
+            if (v.size() == 4 && std::find(v.begin(), v.end(), ring[i]) != v.end()) face = f;
+        }
+        if (face < 0) return std::nullopt;
+        below.push_back(level.GetFaceChildVertex(face));
+    }
+    for (Far::Index b : below)
+        if (b < 0) return std::nullopt;  // not refined there
+    return below;
+}
+
+}  // namespace
+
+std::vector<double> DartTangents::project(std::span<const double> mask) const {
+    std::vector<double> out(ring.size(), 0.0);
+    for (size_t k = 0; k < 2; ++k) {
+        double along = 0.0;
+        for (size_t j = 0; j < ring.size(); ++j) along += mask[j] * right[k][j];
+        for (size_t j = 0; j < ring.size(); ++j) out[j] += along * left[k][j];
+    }
+    return out;
+}
+
+std::optional<DartTangents> dartTangents(const Far::TopologyRefiner& refiner, Far::Index vertex) {
+    if (refiner.GetNumLevels() < 3) return std::nullopt;
+    const Far::TopologyLevel& base = refiner.GetLevel(0);
+    if (!isPlainDart(base, vertex)) return std::nullopt;
+    // Level 1 -> 2, where every face is a quad (the same matrix at every level below: no tag at
+    // the dart decays), then back to level 0 through its refinement.
+    const Far::TopologyLevel& first = refiner.GetLevel(1);
+    const std::vector<Far::Index> ring0 = ringOf(base, vertex);
+    const Far::Index child = base.GetVertexChildVertex(vertex);
+    if (child < 0) return std::nullopt;
+    const std::vector<Far::Index> ring1 = ringOf(first, child);
+    std::optional<std::vector<Far::Index>> ring2 = childRing(first, ring1);
+    if (!ring2 || ring1.size() != 1 + 2 * size_t(first.GetVertexFaces(child).size())) return std::nullopt;
+    std::optional<Eigen::MatrixXd> down = refinementRows(refiner, 1, ring0, ring1);  // ring1 from ring0
+    std::optional<Eigen::MatrixXd> map = refinementRows(refiner, 2, ring1, *ring2);
+    if (!down || !map) return std::nullopt;
+
+    Eigen::EigenSolver<Eigen::MatrixXd> solver(*map);
+    const Eigen::VectorXcd values = solver.eigenvalues();
+    std::vector<int> order(size_t(values.size()));
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return std::abs(values[a]) > std::abs(values[b]); });
+    if (order.size() < 4 || std::abs(values[order[0]] - 1.0) > 1e-5) return std::nullopt;
+    const double gap = std::abs(values[order[2]]) - std::abs(values[order[3]]);
+    if (std::abs(values[order[1]].imag()) > 1e-7 || std::abs(values[order[2]].imag()) > 1e-7 || gap < 1e-4) return std::nullopt;
+    const Eigen::MatrixXcd right = solver.eigenvectors();
+    Eigen::FullPivLU<Eigen::MatrixXcd> lu(right);
+    if (!lu.isInvertible()) return std::nullopt;
+    const Eigen::MatrixXcd left = lu.inverse();  // rows: left eigenvectors, left * right = I
+
+    DartTangents t;
+    t.ring = ring0;
+    const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> pseudo(*down);
+    for (size_t k = 0; k < 2; ++k) {
+        const int mode = order[k + 1];
+        const Eigen::RowVectorXd l1 = left.row(mode).real();
+        const Eigen::VectorXd r1 = right.col(mode).real();
+        // At level 0: left through the refinement (l A), right through its pseudo-inverse
+        // (A A+ = I), so left . right stays the identity and Far's masks, which are level-1
+        // masks composed with A, project as they would at level 1.
+        const Eigen::RowVectorXd l0 = l1 * *down;
+        const Eigen::VectorXd r0 = pseudo.solve(r1);
+        t.left[k].assign(l0.data(), l0.data() + l0.size());
+        t.right[k].assign(r0.data(), r0.data() + r0.size());
+    }
+    return t;
+}
+
+}  // namespace qp
