@@ -5,6 +5,8 @@
 // the same depth as the plans, Gregory-basis end caps, infinitely sharp patches. Single-crease
 // patches stay off because Far::PatchTable::EvaluateBasis ignores their sharpness; Far then
 // isolates semi-sharp creases instead, which is exact up to that depth.
+// One change to Far's end caps, as in the plans: at a dart their corner tangents are moved onto
+// the exact limit tangent plane (core/tangent_plane.h); Far's are Sdc's smooth-rule masks there.
 // Sub-faces are Ptex faces, numbered as in PlannedCage.
 #pragma once
 
