@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include "file_io.h"
 #include "plan_builder.h"
@@ -13,7 +14,8 @@ namespace {
 
 constexpr char kMagic[8] = {'Q', 'P', 'P', 'L', 'A', 'N', 'D', 'B'};
 // Bump when the plan layout or the builder's output changes: older files are then stale.
-constexpr uint32_t kFileVersion = 2;  // 2: exact tangent planes at darts (tangent_plane.h)
+// 2: exact tangent planes at darts (tangent_plane.h); 3: each plan's last session.
+constexpr uint32_t kFileVersion = 3;
 
 void putWords(std::string& out, const uint32_t* words, size_t count) {
     out.append(reinterpret_cast<const char*>(words), count * sizeof(uint32_t));
@@ -109,13 +111,43 @@ uint32_t PlanDatabase::find(const FaceConfig& config) const {
     return findLocked(config);
 }
 
+uint32_t PlanDatabase::insertLocked(std::vector<uint32_t> key, uint64_t hash, Plan plan, uint32_t session) {
+    const uint32_t id = uint32_t(plans_.size());
+    plans_.push_back(std::move(plan));
+    keys_.push_back(std::move(key));
+    lastUse_.push_back(session);
+    byHash_.emplace(hash, id);
+    return id;
+}
+
+void PlanDatabase::setFallback(std::shared_ptr<const PlanDatabase> fallback) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    fallback_ = std::move(fallback);
+}
+
 Result<uint32_t> PlanDatabase::findOrBuild(const FaceConfig& config) {
+    std::shared_ptr<const PlanDatabase> fallback;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         uint32_t id = findLocked(config);
         if (id != UINT32_MAX) {
             ++hits_;
+            lastUse_[id] = session_;
             return id;
+        }
+        fallback = fallback_;
+    }
+    if (fallback) {
+        std::optional<Plan> cached;
+        {
+            std::lock_guard<std::mutex> lock(fallback->mutex_);
+            if (const uint32_t at = fallback->findLocked(config); at != UINT32_MAX) cached = fallback->plans_[at];
+        }
+        if (cached) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (uint32_t id = findLocked(config); id != UINT32_MAX) return id;
+            ++fromFallback_;
+            return insertLocked(config.key, config.hash, std::move(*cached), session_);
         }
     }
     // Build outside the lock so several threads can build different plans at once.
@@ -125,14 +157,31 @@ Result<uint32_t> PlanDatabase::findOrBuild(const FaceConfig& config) {
     uint32_t id = findLocked(config);  // another thread may have built it meanwhile
     if (id != UINT32_MAX) {
         ++hits_;
+        lastUse_[id] = session_;
         return id;
     }
     ++misses_;
-    id = uint32_t(plans_.size());
-    plans_.push_back(std::move(plan).value());
-    keys_.push_back(config.key);
-    byHash_.emplace(config.hash, id);
-    return id;
+    return insertLocked(config.key, config.hash, std::move(plan).value(), session_);
+}
+
+void PlanDatabase::mergeFrom(const PlanDatabase& older) {
+    std::scoped_lock lock(mutex_, older.mutex_);
+    // This database's sessions move past every one of `older`'s, keeping their order.
+    uint32_t newest = 0;
+    for (uint32_t s : older.lastUse_) newest = std::max(newest, s);
+    if (session_ <= newest) {
+        const uint32_t shift = newest + 1 - session_;
+        for (uint32_t& s : lastUse_) s += shift;
+        session_ += shift;
+    }
+    for (size_t i = 0; i < older.plans_.size(); ++i) {
+        if (older.keys_[i].empty()) continue;  // released
+        const uint64_t hash = hashKey(older.keys_[i]);
+        bool have = false;
+        auto [begin, end] = byHash_.equal_range(hash);
+        for (auto it = begin; it != end && !have; ++it) have = keys_[it->second] == older.keys_[i];
+        if (!have) insertLocked(older.keys_[i], hash, older.plans_[i], older.lastUse_[i]);
+    }
 }
 
 uint64_t PlanDatabase::misses() const {
@@ -153,6 +202,7 @@ PlanDatabaseStats PlanDatabase::stats() const {
     }
     s.hits = hits_;
     s.misses = misses_;
+    s.fromFallback = fromFallback_;
     return s;
 }
 
@@ -174,15 +224,26 @@ uint32_t PlanDatabase::releaseUnused(const std::vector<bool>& inUse) {
     return released;
 }
 
-Status PlanDatabase::save(const std::string& path) const {
+Status PlanDatabase::save(const std::string& path, uint64_t maxBytes) const {
     std::string out(kMagic, sizeof(kMagic));
     std::lock_guard<std::mutex> lock(mutex_);
+    // The most recently used first, until the bound; written in id order.
+    std::vector<uint32_t> held;
+    for (uint32_t i = 0; i < uint32_t(plans_.size()); ++i)
+        if (!keys_[i].empty()) held.push_back(i);  // not released
+    std::stable_sort(held.begin(), held.end(), [&](uint32_t a, uint32_t b) { return lastUse_[a] > lastUse_[b]; });
+    uint64_t bytes = 0;
+    size_t kept = 0;
+    for (; kept < held.size(); ++kept) {
+        const uint64_t size = plans_[held[kept]].byteSize() + keys_[held[kept]].size() * sizeof(uint32_t);
+        if (bytes + size > maxBytes) break;
+        bytes += size;
+    }
+    held.resize(kept);
+    std::sort(held.begin(), held.end());
     putWord(out, kFileVersion);
-    uint32_t held = 0;
-    for (const std::vector<uint32_t>& key : keys_) held += key.empty() ? 0 : 1;
-    putWord(out, held);
-    for (size_t i = 0; i < plans_.size(); ++i) {
-        if (keys_[i].empty()) continue;  // released
+    putWord(out, uint32_t(held.size()));
+    for (uint32_t i : held) {
         const Plan& plan = plans_[i];
         putArray(out, keys_[i]);
         putWord(out, plan.ringSize);
@@ -191,6 +252,7 @@ Status PlanDatabase::save(const std::string& path) const {
         putArray(out, plan.points);
         putArray(out, plan.stencilWeights);
         putWords(out, plan.stencilCountByLevel.data(), plan.stencilCountByLevel.size());
+        putWord(out, lastUse_[i]);
     }
     uint64_t sum = planDatabaseChecksum(out.data(), out.size());
     out.append(reinterpret_cast<const char*>(&sum), sizeof(sum));
@@ -204,6 +266,7 @@ Status PlanDatabase::load(const std::string& path) {
         byHash_.clear();
         keys_.clear();
         plans_.clear();
+        lastUse_.clear();
         return file.error();
     }
     return loadFromBytes(*file, path);
@@ -214,11 +277,14 @@ Status PlanDatabase::loadFromBytes(const std::string& bytes, const std::string& 
     byHash_.clear();
     keys_.clear();
     plans_.clear();
+    lastUse_.clear();
+    session_ = 1;
 
     auto corrupt = [&](const std::string& why) {
         byHash_.clear();
         keys_.clear();
         plans_.clear();
+        lastUse_.clear();
         return Error{"plan database '" + path + "' " + why + "; plans will be rebuilt"};
     };
     if (bytes.size() < sizeof(kMagic) + 8 + sizeof(uint64_t) || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0)
@@ -244,14 +310,15 @@ Status PlanDatabase::loadFromBytes(const std::string& bytes, const std::string& 
         in.array(plan.points, limit);
         in.array(plan.stencilWeights, limit);
         for (uint32_t& c : plan.stencilCountByLevel) c = in.word();
+        const uint32_t lastUse = in.word();
         // Word 4 of a key is its local vertex count (face_config.h): the columns the plan's
         // stencils must have, or applying them would read past the face's 1-ring.
         const bool matchesKey = key.size() > 5 && (plan.nodes.empty() || plan.ringSize == key[4]);
         if (!in.ok || !matchesKey || !planIsConsistent(plan))
             return corrupt("has an invalid plan (entry " + std::to_string(i) + ")");
-        byHash_.emplace(hashKey(key), uint32_t(plans_.size()));
-        keys_.push_back(std::move(key));
-        plans_.push_back(std::move(plan));
+        const uint64_t hash = hashKey(key);
+        insertLocked(std::move(key), hash, std::move(plan), lastUse);
+        session_ = std::max(session_, lastUse + 1);
     }
     if (!in.ok || in.at != in.size) return corrupt("is truncated or has trailing data");
     return success();

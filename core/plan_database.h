@@ -9,6 +9,8 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <limits>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <unordered_map>
@@ -26,6 +28,7 @@ struct PlanDatabaseStats {
     uint64_t stencils = 0;
     uint64_t bytes = 0;  // plans (nodes, points, stencil weights) and keys
     uint64_t hits = 0, misses = 0;
+    uint64_t fromFallback = 0;  // lookups answered by copying the fallback's plan (no build)
 };
 
 // The checksum a plan database file ends with (64-bit FNV-1a of everything before it). Public
@@ -34,8 +37,13 @@ uint64_t planDatabaseChecksum(const char* data, size_t size);
 
 class PlanDatabase {
 public:
-    // Plan id for the configuration, building the plan on a miss. Thread-safe.
+    // Plan id for the configuration, building the plan on a miss (or copying the fallback's,
+    // when it has one). Thread-safe.
     Result<uint32_t> findOrBuild(const FaceConfig& config);
+    // Plans this database lacks are copied from `fallback` before any is built: the persistent
+    // cache (plan_cache.h) sits behind a document's own database this way, so the document
+    // holds only the plans its cage uses. Not while other threads plan with this database.
+    void setFallback(std::shared_ptr<const PlanDatabase> fallback);
     // Plan id, or UINT32_MAX when the configuration has no plan yet. Thread-safe.
     uint32_t find(const FaceConfig& config) const;
 
@@ -52,7 +60,13 @@ public:
     PlanDatabaseStats stats() const;  // walks every plan: not for hot paths
     uint64_t misses() const;
 
-    Status save(const std::string& path) const;
+    // Writes the held plans, each with the session it was last used in (least recently used
+    // first to go: beyond `maxBytes` of plans and keys the oldest are left out).
+    Status save(const std::string& path, uint64_t maxBytes = std::numeric_limits<uint64_t>::max()) const;
+    // A copy of `older`'s plans that this database lacks added to this one's (their ids after
+    // this one's), for a cache that outlives the documents using it. Sessions stay ordered:
+    // this database's plans count as used after all of `older`'s.
+    void mergeFrom(const PlanDatabase& older);
     // Replaces the contents with the file's. On failure the database is left empty and the
     // error says why (the caller reports it as a warning and carries on).
     Status load(const std::string& path);
@@ -61,12 +75,18 @@ public:
 
 private:
     uint32_t findLocked(const FaceConfig& config) const;
+    uint32_t insertLocked(std::vector<uint32_t> key, uint64_t hash, Plan plan, uint32_t session);
 
     mutable std::mutex mutex_;
     std::unordered_multimap<uint64_t, uint32_t> byHash_;
     std::vector<std::vector<uint32_t>> keys_;
     std::deque<Plan> plans_;  // deque: references stay valid while other threads insert
-    uint64_t hits_ = 0, misses_ = 0;
+    // Per plan, the session it was last used in: sessions count up across save and load, and
+    // this database's session is one past the newest it loaded.
+    std::vector<uint32_t> lastUse_;
+    uint32_t session_ = 1;
+    std::shared_ptr<const PlanDatabase> fallback_;
+    uint64_t hits_ = 0, misses_ = 0, fromFallback_ = 0;
 };
 
 }  // namespace qp

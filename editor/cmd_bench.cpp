@@ -364,7 +364,8 @@ void benchEditor(const BenchCage& bench, const BenchArgs& args, Report& report) 
                                       << "measure-frames " << frames << " " << out("sculpt.json")
                                       << " sculpt\nquit\nclick-button Discard changes\n";
     const std::string self = std::filesystem::read_symlink("/proc/self/exe", ec).string();  // not the shell's
-    const std::string command = "'" + self + "' edit '" + cagePath + "' --no-vsync --size 1280x800 --automation '" +
+    // Without the user's plan cache (core/plan_cache.h): every run plans as a first run does.
+    const std::string command = "QUADPLAN_PLAN_CACHE=off '" + self + "' edit '" + cagePath + "' --no-vsync --size 1280x800 --automation '" +
                                 (dir / "script.txt").string() + "' --autosave-seconds 3600 > '" + (dir / "editor.log").string() + "' 2>&1";
     const int status = std::system(command.c_str());
     auto load = [&](const char* name) {

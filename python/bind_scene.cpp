@@ -92,6 +92,7 @@ py::dict planStats(const PlannedCage& planned) {
     out["database_plans"] = db.plans;
     out["database_hits"] = db.hits;
     out["database_misses"] = db.misses;
+    out["database_from_cache"] = db.fromFallback;  // copied from the persistent plan cache
     return out;
 }
 
@@ -189,8 +190,13 @@ Topology edits are refused while the scene has displacement (clear_displacement(
         .def(py::init([](const Cage& cage, uint32_t depth) {
                  Scene s;
                  s.cage = cage;
-                 py::gil_scoped_release release;
-                 return unwrap(Document::create(std::move(s), PlanOptions{depth, true}, "cage"));
+                 std::vector<std::string> warnings;  // the plan cache's
+                 Result<std::unique_ptr<Document>> doc = [&] {
+                     py::gil_scoped_release release;
+                     return Document::create(std::move(s), PlanOptions{depth, true}, "cage", &warnings);
+                 }();
+                 warnAll(warnings);
+                 return unwrap(std::move(doc));
              }),
              py::arg("cage"), py::arg("depth") = 6, "A scene with default settings around a copy of the cage, planned to depth.")
         .def_static("load",
@@ -256,7 +262,8 @@ or beside it as an OBJ when inline_cage is False (default: as it was loaded).)do
              "Counts and histograms of the current cage (`quadplan info --json`'s object without \"file\").")
         .def("plan_stats", [](const Document& d) { return planStats(d.planned()); },
              R"doc(Plans of the current cage: the plans its sub-faces use (unique_plans), their quadtree nodes
-(by kind), stencils and bytes, the control points, and the database's size and hits/misses.)doc")
+(by kind), stencils and bytes, the control points, and the database's size, hits, misses (plans
+built) and plans copied from the persistent plan cache (database_from_cache).)doc")
         .def("memory", [](const Document& d) {
                  const PlanMemory mem = measurePlanMemory(d.planned());
                  py::dict out;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "obj_io.h"
+#include "plan_cache.h"
 
 namespace qp::py {
 
@@ -23,11 +24,17 @@ bool endsWith(const std::string& text, const std::string& suffix) {
 }  // namespace
 
 Result<std::unique_ptr<SceneDocument>> SceneDocument::create(Scene scene, const PlanOptions& options,
-                                                             const std::string& source) {
+                                                             const std::string& source, std::vector<std::string>* warnings) {
     std::unique_ptr<SceneDocument> document(new SceneDocument());
     document->database_ = std::make_shared<PlanDatabase>();
+    std::string cacheWarning;
+    document->database_->setFallback(sharedPlanCache(&cacheWarning));
     Result<PlannedCage> planned = PlannedCage::create(scene.cage, *document->database_, options, source);
     if (!planned) return planned.error();
+    if (document->database_->misses() > 0)
+        if (Status stored = storeInPlanCache(*document->database_); !stored && cacheWarning.empty())
+            cacheWarning = stored.error().message;
+    if (!cacheWarning.empty() && warnings) warnings->push_back(cacheWarning);
     document->planned_.emplace(std::move(planned).value());
     scene.cage = Cage{};  // planned_ holds the cage from now on
     document->scene_ = std::move(scene);
@@ -39,7 +46,7 @@ Result<std::unique_ptr<SceneDocument>> SceneDocument::load(const std::string& pa
                                                            std::vector<std::string>* warnings) {
     Result<Scene> scene = loadSceneOrCage(path, warnings);
     if (!scene) return scene.error();
-    return create(std::move(scene).value(), options, path);
+    return create(std::move(scene).value(), options, path, warnings);
 }
 
 std::unique_ptr<SceneDocument> SceneDocument::copy() const {

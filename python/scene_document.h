@@ -45,8 +45,11 @@ struct EditOutcome {
 
 class SceneDocument {
 public:
-    // Plans the scene's cage (all cores). `source` names it in messages (usually the path).
-    static Result<std::unique_ptr<SceneDocument>> create(Scene scene, const PlanOptions& options, const std::string& source);
+    // Plans the scene's cage (all cores), copying what the persistent plan cache has
+    // (core/plan_cache.h) and storing what it had to build there. `source` names it in
+    // messages (usually the path); a cache that could not be read or written adds a warning.
+    static Result<std::unique_ptr<SceneDocument>> create(Scene scene, const PlanOptions& options, const std::string& source,
+                                                         std::vector<std::string>* warnings = nullptr);
     static Result<std::unique_ptr<SceneDocument>> load(const std::string& path, const PlanOptions& options,
                                                        std::vector<std::string>* warnings);
     // A copy of the current state with an empty history (plans are shared with this one's

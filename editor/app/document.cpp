@@ -1,5 +1,6 @@
 #include "document.h"
 
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -8,6 +9,7 @@
 
 #include "displacement_edit.h"
 #include "obj_io.h"
+#include "plan_cache.h"
 
 namespace qp::editor {
 
@@ -323,15 +325,26 @@ std::string describeEdit(const Edit& edit) {
     return std::visit(Describe{}, edit);
 }
 
-Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string& path, const PlanOptions& options) {
+Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string& path, const PlanOptions& options,
+                                                 std::shared_ptr<const PlanDatabase> planCache) {
     auto doc = std::make_unique<Document>();
     doc->database = std::make_unique<PlanDatabase>();
+    doc->database->setFallback(std::move(planCache));
     Result<PlannedCage> planned = PlannedCage::create(scene.cage, *doc->database, options, path.empty() ? "cage" : path);
     if (!planned) return planned.error();
     doc->planned.emplace(std::move(planned).value());
     doc->scene = std::move(scene);
     doc->path = path;
     return doc;
+}
+
+std::optional<std::string> storeNewPlans(Document& doc) {
+    if (!doc.database) return std::nullopt;
+    const uint64_t misses = doc.database->misses();
+    if (misses == doc.storedMisses) return std::nullopt;
+    doc.storedMisses = misses;
+    if (Status stored = storeInPlanCache(*doc.database); !stored) return stored.error().message;
+    return std::nullopt;
 }
 
 std::string documentTitle(const Document& doc) {

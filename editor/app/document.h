@@ -88,6 +88,7 @@ struct Document {
     // (sceneToSave puts them together).
     Scene scene;
     std::unique_ptr<PlanDatabase> database;  // heap: `planned` points at it
+    uint64_t storedMisses = 0;               // plans built when the plan cache was last written
     std::optional<PlannedCage> planned;
     EditHistory history;
     std::string path;  // file loaded from or last saved to; empty: untitled
@@ -133,7 +134,12 @@ struct Document {
 };
 
 // Plans `scene`'s cage into a new document (planning runs in parallel; can take seconds).
-Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string& path, const PlanOptions& options);
+// `planCache`: the persistent plan cache to copy plans from before building any (core/plan_cache.h).
+Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string& path, const PlanOptions& options,
+                                                 std::shared_ptr<const PlanDatabase> planCache = nullptr);
+// Writes the plans the document built since the last call into the persistent plan cache; the
+// reason when that failed (nothing is lost but the cache's copy).
+std::optional<std::string> storeNewPlans(Document& doc);
 
 // "name.json" or "untitled", with "*" when dirty.
 std::string documentTitle(const Document& document);

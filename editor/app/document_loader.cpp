@@ -1,5 +1,7 @@
 #include "document_loader.h"
 
+
+#include "plan_cache.h"
 #include "recovery.h"
 
 namespace qp::editor {
@@ -80,8 +82,14 @@ void DocumentLoader::run() {
     const std::string documentPath = request.fromRecovery ? request.recoveredSource
                                      : request.untitled  ? std::string()
                                                          : request.path;
-    Result<std::unique_ptr<Document>> document = createDocument(std::move(scene).value(), documentPath, request.options);
+    std::string cacheWarning;
+    std::shared_ptr<const PlanDatabase> planCache = sharedPlanCache(&cacheWarning);
+    if (!cacheWarning.empty()) warnings.push_back(cacheWarning);
+    Result<std::unique_ptr<Document>> document =
+        createDocument(std::move(scene).value(), documentPath, request.options, std::move(planCache));
     if (!document) return finish(document.error());
+    setStage("Storing the new plans", 0.9f);
+    if (std::optional<std::string> why = storeNewPlans(**document)) warnings.push_back(*why);
     LoadedDocument loaded{std::move(document).value(), std::move(warnings)};
     if (request.fromRecovery) {  // restored work is still unsaved
         loaded.document->dirty = true;

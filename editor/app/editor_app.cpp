@@ -181,6 +181,8 @@ void adoptFinishedLoad(EditorApp& app) {
     }
     LoadedDocument& result = loaded->value();
     for (const std::string& w : result.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (app.doc)
+        if (std::optional<std::string> why = storeNewPlans(*app.doc)) std::fprintf(stderr, "warning: %s\n", why->c_str());
     // The scheme instances and pickers point into the old document: they go first.
     releaseSchemes(app.ctx, app.renderer);
     app.picking = PickCache{};
@@ -524,6 +526,8 @@ int runEditorApp(const LaunchOptions& options) {
     app.loader.start(first);
 
     runLoop(app);
+    if (app.doc)
+        if (std::optional<std::string> why = storeNewPlans(*app.doc)) std::fprintf(stderr, "warning: %s\n", why->c_str());
 
     const bool validate = options.validate;
     shutDown(app);

@@ -390,3 +390,36 @@ def test_plan_database_follows_the_cage_not_the_session():
     # Redo after a release rebuilds what it needs.
     scene.redo()
     assert_matches_rebuild(scene)
+
+
+# ---- the persistent plan cache (core/plan_cache.h) -----------------------------------------
+
+def test_a_second_opening_plans_from_the_persistent_cache(tmp_path):
+    """Two interpreters in turn, each with the cache at a file of its own (the tests run with
+    QUADPLAN_PLAN_CACHE=off): the first builds every plan and stores them, the second builds none."""
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, QUADPLAN_PLAN_CACHE=str(tmp_path / "plans.qpdb"))
+    code = ("import json, quadplan as qp; s = qp.load(%r); print(json.dumps(s.plan_stats()))"
+            % str(SCENES / "default.json"))
+
+    def opened():
+        out = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True)
+        return json.loads(out.stdout)
+
+    cold = opened()
+    assert (tmp_path / "plans.qpdb").exists()
+    warm = opened()
+    assert cold["database_misses"] == cold["unique_plans"] > 0
+    assert cold["database_from_cache"] == 0
+    assert warm["database_misses"] == 0
+    assert warm["database_from_cache"] == warm["unique_plans"] == cold["unique_plans"]
+
+    # A damaged file: a warning, every plan built again, the file rewritten.
+    (tmp_path / "plans.qpdb").write_bytes(b"QPPLANDB damaged")
+    out = subprocess.run([sys.executable, "-c", code], env=env, check=True, capture_output=True, text=True)
+    assert json.loads(out.stdout)["database_misses"] == cold["unique_plans"]
+    assert "plan cache" in out.stderr, out.stderr
+    assert opened()["database_misses"] == 0
