@@ -52,7 +52,7 @@ FasGpuData packFasPatches(const FasPatches& patches, uint32_t cageVertices) {
         std::memcpy(&words[h.patchOffset + i * (sizeof(FasGpuPatch) / 4)], &gpu, sizeof(gpu));
     }
 
-    const Far::StencilTable& stencils = *patches.stencils;
+    const Far::StencilTableReal<double>& stencils = *patches.stencils;
     h.pointCount = uint32_t(stencils.GetNumStencils());
     h.pointOffset = alignTo4(words);
     append(words, size_t(h.pointCount) * 4);
@@ -63,9 +63,12 @@ FasGpuData packFasPatches(const FasPatches& patches, uint32_t cageVertices) {
     words[h.stencilOffsets + h.pointCount] = uint32_t(indices.size());
     h.stencilIndices = append(words, indices.size());
     std::copy(indices.begin(), indices.end(), words.begin() + h.stencilIndices);
-    const std::vector<float>& weights = stencils.GetWeights();
+    const std::vector<double>& weights = stencils.GetWeights();
     h.stencilWeights = append(words, weights.size());
-    std::memcpy(&words[h.stencilWeights], weights.data(), weights.size() * sizeof(float));
+    for (size_t i = 0; i < weights.size(); ++i) {  // the device applies them in float
+        const float weight = float(weights[i]);
+        std::memcpy(&words[h.stencilWeights + i], &weight, sizeof(float));
+    }
     std::memcpy(words.data(), &h, sizeof(h));
     return data;
 }

@@ -214,17 +214,19 @@ Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t te
     options.generateLegacySharpCornerPatches = false;
     options.generateVaryingTables = false;
     options.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
+    options.SetPatchPrecision<double>();  // the end caps' local points (FasPatches::stencils)
     r.RefineAdaptive(options.GetRefineAdaptiveOptions());
     patches.table.reset(Far::PatchTableFactory::Create(r, options));
     patches.map = std::make_unique<Far::PatchMap>(*patches.table);
 
-    Far::StencilTableFactory::Options stencilOptions;
+    using StencilFactory = Far::StencilTableFactoryReal<double>;
+    StencilFactory::Options stencilOptions;
     stencilOptions.generateIntermediateLevels = true;
     stencilOptions.generateControlVerts = true;
     stencilOptions.generateOffsets = true;
-    patches.stencils.reset(Far::StencilTableFactory::Create(r, stencilOptions));
-    if (const Far::StencilTable* local = patches.table->GetLocalPointStencilTable(); local && local->GetNumStencils() > 0)
-        patches.stencils.reset(Far::StencilTableFactory::AppendLocalPointStencilTable(r, patches.stencils.get(), local, true));
+    patches.stencils.reset(StencilFactory::Create(r, stencilOptions));
+    if (const auto* local = patches.table->GetLocalPointStencilTable<double>(); local && local->GetNumStencils() > 0)
+        patches.stencils.reset(StencilFactory::AppendLocalPointStencilTable(r, patches.stencils.get(), local, true));
 
     const std::vector<PtexOrigin> origins = ptexOrigins(r);
     std::vector<int> levelOffsets(size_t(r.GetNumLevels()), 0);
@@ -263,10 +265,10 @@ Result<FasPatches> buildFasPatches(const Cage& cage, uint32_t depth, uint32_t te
 
 void updateFasPoints(FasPatches& patches, std::span<const glm::vec3> cagePositions) {
     patches.points.resize(size_t(patches.stencils->GetNumStencils()));
-    // In double, relative to the stencil's first cage vertex: Far's float weights sum to 1 only up
-    // to round-off, which against absolute coordinates would move nearby points apart.
+    // In double, relative to the stencil's first cage vertex: weights sum to 1 only up to
+    // round-off, which against absolute coordinates would move nearby points apart.
     tbb::parallel_for(size_t(0), patches.points.size(), [&](size_t i) {
-        const Far::Stencil s = patches.stencils->GetStencil(Far::Index(i));
+        const Far::StencilReal<double> s = patches.stencils->GetStencil(Far::Index(i));
         if (s.GetSize() == 0) {
             patches.points[i] = glm::dvec3(0.0);
             return;
@@ -274,7 +276,7 @@ void updateFasPoints(FasPatches& patches, std::span<const glm::vec3> cagePositio
         const glm::dvec3 first(cagePositions[size_t(s.GetVertexIndices()[0])]);
         glm::dvec3 p(0.0);
         for (int k = 0; k < s.GetSize(); ++k)
-            p += double(s.GetWeights()[k]) * (glm::dvec3(cagePositions[size_t(s.GetVertexIndices()[k])]) - first);
+            p += s.GetWeights()[k] * (glm::dvec3(cagePositions[size_t(s.GetVertexIndices()[k])]) - first);
         patches.points[i] = first + p;
     });
 }
