@@ -61,12 +61,19 @@ struct Plan {
     std::vector<uint32_t> points;          // stencil indices read by the leaves
     std::vector<float> stencilWeights;     // stencilCount() rows of ringSize weights
     std::array<uint32_t, kMaxPlanDepth + 1> stencilCountByLevel{};
+    // Bit c: the plan-frame corner c ((0,0), (1,0), (1,1), (0,1)) is an extraordinary vertex
+    // whose limit tangent plane the plan carries exactly: stencils 2k and 2k + 1 (k = the bits
+    // set below c, so they come first and serve every level) are two tangents there, from the
+    // vertex's exact masks (tangent_plane.h), and evaluatePlan puts du and dv onto that plane at
+    // the corner. The end cap's own corner tangents are differences of rows 2^-depth apart, which
+    // float leaves hundredths of a degree off at depth 8.
+    uint32_t cornerTangents = 0;
 
     uint32_t stencilCount() const { return ringSize ? uint32_t(stencilWeights.size() / ringSize) : 0; }
     bool hasSurface() const { return !nodes.empty(); }
     size_t byteSize() const {
         return nodes.size() * sizeof(PlanNode) + points.size() * sizeof(uint32_t) +
-               stencilWeights.size() * sizeof(float) + sizeof(stencilCountByLevel) + 2 * sizeof(uint32_t);
+               stencilWeights.size() * sizeof(float) + sizeof(stencilCountByLevel) + 3 * sizeof(uint32_t);
     }
     bool operator==(const Plan&) const = default;
 };

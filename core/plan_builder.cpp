@@ -261,29 +261,50 @@ std::unique_ptr<const Far::StencilTable> createStencils(const Far::TopologyRefin
         Far::StencilTableFactory::AppendLocalPointStencilTable(refiner, refined.get(), local, true));
 }
 
+// Which corner of the (sub-)face the leaf's corner i ((0,0) (1,0) (1,1) (0,1)) lies on, or -1.
+int leafCornerAtFaceCorner(const FarLeaf& leaf, uint32_t i) {
+    const uint32_t end = 1u << leaf.depth;
+    const uint32_t u = leaf.u + (i == 1 || i == 2 ? 1 : 0), v = leaf.v + (i >= 2 ? 1 : 0);
+    return u == 0 && v == 0 ? 0 : u == end && v == 0 ? 1 : u == end && v == end ? 2 : u == 0 && v == end ? 3 : -1;
+}
+
+// The exact tangent masks of the (sub-)face's extraordinary corners that an end cap (a
+// Gregory-basis leaf) touches and that have them (smooth and dart vertices, tangent_plane.h),
+// by plan-frame corner: a quad's four vertices; an n-gon's sub-face has its face's vertex at
+// corner 0 and the face's centre, a valence-n vertex from level 1 on, at corner 2.
+using CornerTangents = std::array<std::optional<DartTangents>, 4>;
+CornerTangents endCapCornerTangents(const Far::TopologyRefiner& refiner, const std::vector<FarLeaf>& leaves) {
+    const Far::ConstIndexArray face = refiner.GetLevel(0).GetFaceVertices(0);
+    const bool quad = face.size() == 4;
+    CornerTangents tangents;
+    std::array<bool, 4> touched{};
+    for (const FarLeaf& leaf : leaves) {
+        if (leaf.node.kind != NodeKind::Extraordinary) continue;
+        for (uint32_t i = 0; i < 4; ++i)
+            if (const int c = leafCornerAtFaceCorner(leaf, i); c >= 0) touched[size_t(c)] = true;
+    }
+    for (int c = 0; c < 4; ++c) {
+        if (!touched[size_t(c)]) continue;
+        if (quad || c == 0) tangents[size_t(c)] = dartTangents(refiner, face[quad ? c : 0], true);
+        else if (c == 2) tangents[size_t(c)] = faceCentreTangents(refiner, 0);
+    }
+    return tangents;
+}
+
 // Far's Gregory-basis end caps take a corner's tangents from Sdc's limit masks, which at a dart
 // are the smooth rule's and not the limit's (tangent_plane.h). At each end-cap corner on a dart
 // corner of the face, the edge points Ep and Em are moved onto the exact tangent plane: their
 // tangent masks (Ep - P, Em - P) projected onto the dart's dominant eigenvectors, so the patch's
 // normal at the corner is the limit's for any positions of the cage.
-void exactDartCorners(const Far::TopologyRefiner& refiner, const LocalMesh& mesh, const std::vector<FarLeaf>& leaves,
+void exactDartCorners(const LocalMesh& mesh, const std::vector<FarLeaf>& leaves, const CornerTangents& tangents,
                       const std::vector<uint32_t>& slotOf, Plan& plan) {
-    const Far::ConstIndexArray face = refiner.GetLevel(0).GetFaceVertices(0);
-    const bool quad = face.size() == 4;
-    std::vector<std::optional<DartTangents>> dart(4);
-    bool any = false;
-    for (int c = 0; c < (quad ? 4 : 1); ++c) any |= (dart[size_t(c)] = dartTangents(refiner, face[c])).has_value();
-    if (!any) return;
     std::vector<char> done(slotOf.size(), 0);
     for (const FarLeaf& leaf : leaves) {
         if (leaf.node.kind != NodeKind::Extraordinary) continue;
-        const uint32_t end = (1u << leaf.depth) - 1;
         for (uint32_t i = 0; i < 4; ++i) {  // the patch's corner i, (0,0) (1,0) (1,1) (0,1)
-            const uint32_t u = leaf.u + (i == 1 || i == 2 ? 1 : 0), v = leaf.v + (i >= 2 ? 1 : 0);
-            const bool atU0 = u == 0, atV0 = v == 0, atU1 = u == end + 1, atV1 = v == end + 1;
-            const int c = atU0 && atV0 ? 0 : atU1 && atV0 ? 1 : atU1 && atV1 ? 2 : atU0 && atV1 ? 3 : -1;
-            if (c < 0 || !dart[size_t(c)]) continue;
-            const DartTangents& t = *dart[size_t(c)];
+            const int c = leafCornerAtFaceCorner(leaf, i);
+            if (c < 0 || !tangents[size_t(c)] || !tangents[size_t(c)]->dart) continue;
+            const DartTangents& t = *tangents[size_t(c)];
             const float* p = &plan.stencilWeights[size_t(slotOf[leaf.farPoints[5 * i]]) * mesh.vertexCount];
             for (uint32_t edgePoint : {leaf.farPoints[5 * i + 1], leaf.farPoints[5 * i + 2]}) {
                 if (done[edgePoint]) continue;  // shared with the neighbouring end cap
@@ -370,15 +391,30 @@ Result<Plan> buildPlan(const std::vector<uint32_t>& key) {
         }
     std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return levels[a] < levels[b]; });
 
+    // First the exact tangents of the extraordinary corners (Plan::cornerTangents), then the
+    // points in that order.
+    const CornerTangents tangents = endCapCornerTangents(**refiner, leaves);
+    uint32_t first = 0;
     plan.stencilWeights.assign(order.size() * plan.ringSize, 0.0f);
-    for (uint32_t slot = 0; slot < order.size(); ++slot) {
-        slotOf[order[slot]] = slot;
-        Far::Stencil stencil = stencils->GetStencil(Far::Index(order[slot]));
+    for (uint32_t c = 0; c < 4; ++c) {
+        if (!tangents[c]) continue;
+        plan.cornerTangents |= 1u << c;
+        plan.stencilWeights.insert(plan.stencilWeights.begin() + size_t(first) * plan.ringSize, 2 * plan.ringSize, 0.0f);
+        for (size_t k = 0; k < 2; ++k)
+            for (size_t j = 0; j < tangents[c]->ring.size(); ++j)
+                plan.stencilWeights[(first + k) * plan.ringSize + uint32_t(tangents[c]->ring[j])] = float(tangents[c]->left[k][j]);
+        first += 2;
+    }
+    for (uint32_t n = 0; n <= kMaxPlanDepth; ++n) plan.stencilCountByLevel[n] = first;
+    for (uint32_t slot = first; slot < first + order.size(); ++slot) {
+        const uint32_t point = order[slot - first];
+        slotOf[point] = slot;
+        Far::Stencil stencil = stencils->GetStencil(Far::Index(point));
         for (int k = 0; k < stencil.GetSize(); ++k)
             plan.stencilWeights[slot * plan.ringSize + uint32_t(stencil.GetVertexIndices()[k])] += stencil.GetWeights()[k];
-        for (uint32_t n = levels[order[slot]]; n <= kMaxPlanDepth; ++n) plan.stencilCountByLevel[n] = slot + 1;
+        for (uint32_t n = levels[point]; n <= kMaxPlanDepth; ++n) plan.stencilCountByLevel[n] = slot + 1;
     }
-    exactDartCorners(**refiner, mesh, leaves, slotOf, plan);
+    exactDartCorners(mesh, leaves, tangents, slotOf, plan);
     plan.points.reserve(farPoints.size());
     for (uint32_t p : farPoints) plan.points.push_back(slotOf[p]);
     return plan;

@@ -1,6 +1,7 @@
 #include "plan_database.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <optional>
@@ -14,7 +15,8 @@ namespace {
 
 constexpr char kMagic[8] = {'Q', 'P', 'P', 'L', 'A', 'N', 'D', 'B'};
 // Bump when the plan layout or the builder's output changes: older files are then stale.
-// 2: exact tangent planes at darts (tangent_plane.h); 3: each plan's last session.
+// 2: exact tangent planes at darts (tangent_plane.h); 3: each plan's last session and its
+// corner tangents.
 constexpr uint32_t kFileVersion = 3;
 
 void putWords(std::string& out, const uint32_t* words, size_t count) {
@@ -62,6 +64,9 @@ bool planIsConsistent(const Plan& plan) {
     uint32_t stencils = plan.stencilCount();
     for (uint32_t p : plan.points)
         if (p >= stencils) return false;
+    // The corner tangents are the first rows, in every level's prefix.
+    if (plan.cornerTangents > 0xfu || 2u * uint32_t(std::popcount(plan.cornerTangents)) > plan.stencilCountByLevel[0])
+        return false;
     for (uint32_t n = 0; n <= kMaxPlanDepth; ++n)
         if (plan.stencilCountByLevel[n] > stencils || (n > 0 && plan.stencilCountByLevel[n] < plan.stencilCountByLevel[n - 1]))
             return false;
@@ -252,6 +257,7 @@ Status PlanDatabase::save(const std::string& path, uint64_t maxBytes) const {
         putArray(out, plan.points);
         putArray(out, plan.stencilWeights);
         putWords(out, plan.stencilCountByLevel.data(), plan.stencilCountByLevel.size());
+        putWord(out, plan.cornerTangents);
         putWord(out, lastUse_[i]);
     }
     uint64_t sum = planDatabaseChecksum(out.data(), out.size());
@@ -310,6 +316,7 @@ Status PlanDatabase::loadFromBytes(const std::string& bytes, const std::string& 
         in.array(plan.points, limit);
         in.array(plan.stencilWeights, limit);
         for (uint32_t& c : plan.stencilCountByLevel) c = in.word();
+        plan.cornerTangents = in.word();
         const uint32_t lastUse = in.word();
         // Word 4 of a key is its local vertex count (face_config.h): the columns the plan's
         // stencils must have, or applying them would read past the face's 1-ring.

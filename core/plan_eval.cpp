@@ -1,6 +1,9 @@
 // Evaluation of a plan: quadtree descent, then one basis per leaf kind.
 #include <algorithm>
+#include <bit>
 #include <cassert>
+
+#include <glm/geometric.hpp>
 
 #include "patch_basis.h"
 #include "plan.h"
@@ -124,6 +127,24 @@ void applyStencils(const Plan& plan, const glm::vec3* ringPositions, uint32_t co
     }
 }
 
+namespace {
+
+// At a corner whose tangent plane the plan carries (Plan::cornerTangents), du and dv lose
+// their part along its normal.
+void onCornerTangentPlane(const Plan& plan, const glm::vec3* controlPoints, float u, float v, LimitSample& sample) {
+    const int corner = u == 0.0f && v == 0.0f ? 0 : u == 1.0f && v == 0.0f ? 1 : u == 1.0f && v == 1.0f ? 2 : u == 0.0f && v == 1.0f ? 3 : -1;
+    if (corner < 0 || !(plan.cornerTangents & (1u << corner))) return;
+    const uint32_t first = 2u * uint32_t(std::popcount(plan.cornerTangents & ((1u << corner) - 1u)));
+    const glm::vec3 normal = glm::cross(controlPoints[first], controlPoints[first + 1]);
+    const float length = glm::length(normal);
+    if (!(length > 0.0f)) return;
+    const glm::vec3 n = normal / length;
+    sample.du -= glm::dot(sample.du, n) * n;
+    sample.dv -= glm::dot(sample.dv, n) * n;
+}
+
+}  // namespace
+
 LimitSample evaluatePlan(const Plan& plan, const glm::vec3* controlPoints, float u, float v) {
     u = std::clamp(u, 0.0f, 1.0f);
     v = std::clamp(v, 0.0f, 1.0f);
@@ -162,7 +183,9 @@ LimitSample evaluatePlan(const Plan& plan, const glm::vec3* controlPoints, float
         assert(false);
         break;
     }
-    return LimitSample{c.p, c.ds / size, c.dt / size};
+    LimitSample sample{c.p, c.ds / size, c.dt / size};
+    if (plan.cornerTangents) onCornerTangentPlane(plan, controlPoints, u, v, sample);
+    return sample;
 }
 
 }  // namespace qp

@@ -99,15 +99,16 @@ struct Scalar {
     void AddWithWeight(const Scalar& source, float weight) { x += double(weight) * source.x; }
 };
 
-bool isPlainDart(const Far::TopologyLevel& level, Far::Index vertex) {
+// Infinitely sharp edges at an interior manifold vertex without other tags; -1 for any other.
+int plainSharpEdges(const Far::TopologyLevel& level, Far::Index vertex) {
     if (level.IsVertexBoundary(vertex) || level.IsVertexNonManifold(vertex) || level.GetVertexSharpness(vertex) > 0.0f)
-        return false;
+        return -1;
     int sharp = 0;
     for (Far::Index e : level.GetVertexEdges(vertex)) {
         if (sharpInTheLimit(level, e)) ++sharp;
-        else if (level.GetEdgeSharpness(e) > 0.0f) return false;
+        else if (level.GetEdgeSharpness(e) > 0.0f) return -1;
     }
-    return sharp == 1;
+    return sharp;
 }
 
 // `vertex` and every other vertex of the faces at it, each once.
@@ -176,16 +177,15 @@ std::vector<double> DartTangents::project(std::span<const double> mask) const {
     return out;
 }
 
-std::optional<DartTangents> dartTangents(const Far::TopologyRefiner& refiner, Far::Index vertex) {
-    if (refiner.GetNumLevels() < 3) return std::nullopt;
-    const Far::TopologyLevel& base = refiner.GetLevel(0);
-    if (!isPlainDart(base, vertex)) return std::nullopt;
-    // Level 1 -> 2, where every face is a quad (the same matrix at every level below: no tag at
-    // the dart decays), then back to level 0 through its refinement.
+namespace {
+
+// The exact tangent masks of level-1 vertex `child` over the level-0 vertices `ring0` it and its
+// ring come from: level 1 -> 2, where every face is a quad (the same matrix at every level below
+// when no tag there decays), then back to level 0 through the refinement.
+std::optional<DartTangents> tangentsOf(const Far::TopologyRefiner& refiner, Far::Index child, std::vector<Far::Index> ring0,
+                                       bool dart) {
+    if (refiner.GetNumLevels() < 3 || child < 0) return std::nullopt;
     const Far::TopologyLevel& first = refiner.GetLevel(1);
-    const std::vector<Far::Index> ring0 = ringOf(base, vertex);
-    const Far::Index child = base.GetVertexChildVertex(vertex);
-    if (child < 0) return std::nullopt;
     const std::vector<Far::Index> ring1 = ringOf(first, child);
     std::optional<std::vector<Far::Index>> ring2 = childRing(first, ring1);
     if (!ring2 || ring1.size() != 1 + 2 * size_t(first.GetVertexFaces(child).size())) return std::nullopt;
@@ -207,7 +207,8 @@ std::optional<DartTangents> dartTangents(const Far::TopologyRefiner& refiner, Fa
     const Eigen::MatrixXcd left = lu.inverse();  // rows: left eigenvectors, left * right = I
 
     DartTangents t;
-    t.ring = ring0;
+    t.dart = dart;
+    t.ring = std::move(ring0);
     const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> pseudo(*down);
     for (size_t k = 0; k < 2; ++k) {
         const int mode = order[k + 1];
@@ -222,6 +223,25 @@ std::optional<DartTangents> dartTangents(const Far::TopologyRefiner& refiner, Fa
         t.right[k].assign(r0.data(), r0.data() + r0.size());
     }
     return t;
+}
+
+}  // namespace
+
+std::optional<DartTangents> dartTangents(const Far::TopologyRefiner& refiner, Far::Index vertex, bool smoothToo) {
+    const Far::TopologyLevel& base = refiner.GetLevel(0);
+    const int sharp = plainSharpEdges(base, vertex);
+    if (sharp != 1 && !(smoothToo && sharp == 0)) return std::nullopt;
+    return tangentsOf(refiner, base.GetVertexChildVertex(vertex), ringOf(base, vertex), sharp == 1);
+}
+
+std::optional<DartTangents> faceCentreTangents(const Far::TopologyRefiner& refiner, Far::Index face) {
+    const Far::TopologyLevel& base = refiner.GetLevel(0);
+    std::vector<Far::Index> ring0;  // every vertex of the faces sharing a vertex with the face
+    for (Far::Index v : base.GetFaceVertices(face))
+        for (Far::Index f : base.GetVertexFaces(v))
+            for (Far::Index p : base.GetFaceVertices(f))
+                if (std::find(ring0.begin(), ring0.end(), p) == ring0.end()) ring0.push_back(p);
+    return tangentsOf(refiner, base.GetFaceChildVertex(face), std::move(ring0), false);
 }
 
 }  // namespace qp

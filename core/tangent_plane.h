@@ -63,12 +63,18 @@ Result<std::vector<SubfaceCorner>> cornersWithoutTangentPlane(const Cage& cage, 
 // vertex is no dart with only infinitely sharp or smooth edges (a semi-sharp tag makes the
 // matrix change from level to level), or the spectrum has no gap after the second eigenvalue.
 struct DartTangents {
+    bool dart = false;                         // else a smooth vertex
     std::vector<OpenSubdiv::Far::Index> ring;  // level-0 vertices: the dart, then its neighbours
     std::array<std::vector<double>, 2> left, right;
     // The part of `mask` (over `ring`, summing to zero) in the tangent plane's masks.
     std::vector<double> project(std::span<const double> mask) const;
 };
-std::optional<DartTangents> dartTangents(const OpenSubdiv::Far::TopologyRefiner& refiner, OpenSubdiv::Far::Index vertex);
+// `smoothToo`: smooth vertices as well (their masks span the plane Sdc's do, exactly).
+std::optional<DartTangents> dartTangents(const OpenSubdiv::Far::TopologyRefiner& refiner, OpenSubdiv::Far::Index vertex,
+                                         bool smoothToo = false);
+// The same at the centre of a level-0 face (a smooth vertex of valence n from level 1 on: an
+// extraordinary one when the face is no quad), over the vertices of the faces around it.
+std::optional<DartTangents> faceCentreTangents(const OpenSubdiv::Far::TopologyRefiner& refiner, OpenSubdiv::Far::Index face);
 
 
 }  // namespace qp

@@ -128,6 +128,7 @@ void appendPlanTables(GpuPlanData& gpu, const PlanDatabase& database) {
         header.ringSize = plan.ringSize;
         header.maxDepth = plan.maxDepth;
         std::copy(plan.stencilCountByLevel.begin(), plan.stencilCountByLevel.end(), header.stencilCountByLevel);
+        header.stencilCountByLevel[kMaxPlanDepth + 1] = plan.cornerTangents;
         const uint32_t pointBase = uint32_t(gpu.points.size());
         for (const PlanNode& node : plan.nodes) {
             GpuNode g{};

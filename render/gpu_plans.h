@@ -22,7 +22,7 @@ struct GpuPlanHeader {
     uint32_t weightOffset;   // index into weights of stencil 0
     uint32_t ringSize;
     uint32_t maxDepth;
-    uint32_t stencilCountByLevel[12];  // [n] stencils serve factors <= 2^n; [11] unused
+    uint32_t stencilCountByLevel[12];  // [n] stencils serve factors <= 2^n; [11]: Plan::cornerTangents
 };
 static_assert(sizeof(GpuPlanHeader) == 64);
 

@@ -160,6 +160,22 @@ LimitSample evaluatePlan(uint plan, uint cpBase, vec2 uv) {
     }
     r.du *= scale.x;
     r.dv *= scale.y;
+    // At a corner whose exact tangent plane the plan carries (Plan::cornerTangents: two
+    // tangents in its first control points), du and dv lose their part along its normal.
+    uint tangents = planHeaders[plan].stencilCountByLevel[11];
+    if (tangents != 0u && (uv.x == 0.0 || uv.x == 1.0) && (uv.y == 0.0 || uv.y == 1.0)) {
+        uint corner = uv.y == 0.0 ? (uv.x == 0.0 ? 0u : 1u) : (uv.x == 1.0 ? 2u : 3u);
+        if ((tangents & (1u << corner)) != 0u) {
+            uint first = 2u * uint(bitCount(tangents & ((1u << corner) - 1u)));
+            vec3 n = cross(controlPoints[cpBase + first].xyz, controlPoints[cpBase + first + 1u].xyz);
+            float length2 = dot(n, n);
+            if (length2 > 0.0) {
+                n *= inversesqrt(length2);
+                r.du -= dot(r.du, n) * n;
+                r.dv -= dot(r.dv, n) * n;
+            }
+        }
+    }
     return r;
 }
 
