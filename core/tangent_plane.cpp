@@ -92,11 +92,14 @@ Result<std::vector<SubfaceCorner>> cornersWithoutTangentPlane(const Cage& cage, 
 
 namespace {
 
-// One double per vertex: impulse responses through Far's refinement.
-struct Scalar {
-    double x = 0.0;
-    void Clear(void* = nullptr) { x = 0.0; }
-    void AddWithWeight(const Scalar& source, float weight) { x += double(weight) * source.x; }
+// kColumns doubles per vertex: that many impulse responses through Far's refinement at once.
+constexpr size_t kColumns = 16;
+struct Impulses {
+    double w[kColumns];
+    void Clear(void* = nullptr) { std::fill(std::begin(w), std::end(w), 0.0); }
+    void AddWithWeight(const Impulses& source, float weight) {
+        for (size_t i = 0; i < kColumns; ++i) w[i] += double(weight) * source.w[i];
+    }
 };
 
 // Infinitely sharp edges at an interior manifold vertex without other tags; -1 for any other.
@@ -125,18 +128,28 @@ std::vector<Far::Index> ringOf(const Far::TopologyLevel& level, Far::Index verte
 std::optional<Eigen::MatrixXd> refinementRows(const Far::TopologyRefiner& refiner, int to, std::span<const Far::Index> ring,
                                               std::span<const Far::Index> below) {
     const Far::PrimvarRefiner primvar(refiner);
-    std::vector<Scalar> source(size_t(refiner.GetLevel(to - 1).GetNumVertices())), destination(size_t(refiner.GetLevel(to).GetNumVertices()));
-    Eigen::MatrixXd rows(Eigen::Index(below.size()), Eigen::Index(ring.size() + 1));
-    for (size_t j = 0; j <= ring.size(); ++j) {
-        // Column ring.size(): every vertex outside the ring at once (the closure test).
-        for (Scalar& s : source) s.x = j == ring.size() ? 1.0 : 0.0;
-        if (j < ring.size()) source[size_t(ring[j])].x = 1.0;
-        else
-            for (Far::Index p : ring) source[size_t(p)].x = 0.0;
-        const Scalar* from = source.data();
-        Scalar* to_ = destination.data();
+    std::vector<Impulses> source(size_t(refiner.GetLevel(to - 1).GetNumVertices())),
+        destination(size_t(refiner.GetLevel(to).GetNumVertices()));
+    // Column ring.size(): every vertex outside the ring at once (the closure test).
+    const size_t columns = ring.size() + 1;
+    Eigen::MatrixXd rows(Eigen::Index(below.size()), Eigen::Index(columns));
+    for (size_t firstColumn = 0; firstColumn < columns; firstColumn += kColumns) {
+        const size_t count = std::min(kColumns, columns - firstColumn);
+        const bool closure = firstColumn + count == columns;
+        for (Impulses& impulse : source) {
+            impulse.Clear();
+            if (closure) impulse.w[count - 1] = 1.0;
+        }
+        for (size_t j = 0; j < ring.size(); ++j) {
+            Impulses& impulse = source[size_t(ring[j])];
+            if (closure) impulse.w[count - 1] = 0.0;
+            if (j >= firstColumn && j < firstColumn + count) impulse.w[j - firstColumn] = 1.0;
+        }
+        const Impulses* from = source.data();
+        Impulses* to_ = destination.data();
         primvar.Interpolate(to, from, to_);
-        for (size_t i = 0; i < below.size(); ++i) rows(Eigen::Index(i), Eigen::Index(j)) = destination[size_t(below[i])].x;
+        for (size_t i = 0; i < below.size(); ++i)
+            for (size_t k = 0; k < count; ++k) rows(Eigen::Index(i), Eigen::Index(firstColumn + k)) = destination[size_t(below[i])].w[k];
     }
     if (rows.col(Eigen::Index(ring.size())).cwiseAbs().maxCoeff() > 1e-9) return std::nullopt;
     return Eigen::MatrixXd(rows.leftCols(Eigen::Index(ring.size())));
