@@ -10,8 +10,8 @@
 #include <opensubdiv/far/stencilTable.h>
 #include <opensubdiv/far/stencilTableFactory.h>
 
-#include "face_config.h"
 #include "osd_refiner.h"
+#include "plan.h"
 #include "tangent_plane.h"
 
 namespace qp {
@@ -31,9 +31,9 @@ namespace {
 void exactDartCorners(const Far::TopologyRefiner& r, const Far::PatchTable& patches, const Far::StencilTableReal<double>& stencils,
                       const Cage& cage, std::vector<glm::dvec3>& points) {
     const Far::TopologyLevel& base = r.GetLevel(0);
-    std::vector<std::optional<DartTangents>> darts(size_t(base.GetNumVertices()));
+    std::vector<std::optional<ExactTangents>> darts(size_t(base.GetNumVertices()));
     bool any = false;
-    for (Far::Index v = 0; v < base.GetNumVertices(); ++v) any |= (darts[size_t(v)] = dartTangents(r, v)).has_value();
+    for (Far::Index v = 0; v < base.GetNumVertices(); ++v) any |= (darts[size_t(v)] = exactTangents(r, v)).has_value();
     if (!any) return;
     std::vector<Far::Index> ptexVertex;  // per ptex face, its base vertex at (0, 0) and the next three (quads)
     for (Far::Index f = 0; f < base.GetNumFaces(); ++f) {
@@ -48,14 +48,13 @@ void exactDartCorners(const Far::TopologyRefiner& r, const Far::PatchTable& patc
         for (int p = 0; p < patches.GetNumPatches(array); ++p) {
             const Far::PatchParam param = patches.GetPatchParam(array, p);
             const Far::ConstIndexArray cvs = patches.GetPatchVertices(array, p);
-            const int end = 1 << (param.GetDepth() - (param.NonQuadRoot() ? 1 : 0));
-            for (int i = 0; i < 4; ++i) {
-                const int u = param.GetU() + (i == 1 || i == 2 ? 1 : 0), v = param.GetV() + (i >= 2 ? 1 : 0);
-                const int c = u == 0 && v == 0 ? 0 : u == end && v == 0 ? 1 : u == end && v == end ? 2 : u == 0 && v == end ? 3 : -1;
+            const uint32_t cells = 1u << (param.GetDepth() - (param.NonQuadRoot() ? 1 : 0));
+            for (uint32_t i = 0; i < 4; ++i) {
+                const int c = patchCornerOfDomain(uint32_t(param.GetU()), uint32_t(param.GetV()), cells, i);
                 if (c < 0) continue;
                 const Far::Index vertex = ptexVertex[size_t(4 * param.GetFaceId() + c)];
                 if (vertex < 0 || !darts[size_t(vertex)]) continue;
-                const DartTangents& t = *darts[size_t(vertex)];
+                const ExactTangents& t = *darts[size_t(vertex)];
                 auto maskOver = [&](Far::Index point) {
                     std::vector<double> mask(t.ring.size(), 0.0);
                     const Far::StencilReal<double> s = stencils.GetStencil(point);

@@ -78,6 +78,21 @@ struct Plan {
     bool operator==(const Plan&) const = default;
 };
 
+// Which corner of a (sub-)face's domain (u, v) is: 0 (0,0), 1 (1,0), 2 (1,1), 3 (0,1); -1 for
+// none (Plan::cornerTangents numbers its corners so).
+inline int domainCorner(double u, double v) {
+    if (u == 0.0 && v == 0.0) return 0;
+    if (u == 1.0 && v == 0.0) return 1;
+    if (u == 1.0 && v == 1.0) return 2;
+    if (u == 0.0 && v == 1.0) return 3;
+    return -1;
+}
+// The same for corner i of the patch at integer position (u, v) of a domain `cells` patches wide.
+inline int patchCornerOfDomain(uint32_t u, uint32_t v, uint32_t cells, uint32_t i) {
+    const uint32_t x = u + (i == 1 || i == 2 ? 1 : 0), y = v + (i >= 2 ? 1 : 0);
+    return domainCorner(double(x) / double(cells), double(y) / double(cells));
+}
+
 // Limit position and first derivatives.
 struct LimitSample {
     glm::vec3 position{0.0f}, du{0.0f}, dv{0.0f};

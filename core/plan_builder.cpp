@@ -262,17 +262,13 @@ std::unique_ptr<const Far::StencilTable> createStencils(const Far::TopologyRefin
 }
 
 // Which corner of the (sub-)face the leaf's corner i ((0,0) (1,0) (1,1) (0,1)) lies on, or -1.
-int leafCornerAtFaceCorner(const FarLeaf& leaf, uint32_t i) {
-    const uint32_t end = 1u << leaf.depth;
-    const uint32_t u = leaf.u + (i == 1 || i == 2 ? 1 : 0), v = leaf.v + (i >= 2 ? 1 : 0);
-    return u == 0 && v == 0 ? 0 : u == end && v == 0 ? 1 : u == end && v == end ? 2 : u == 0 && v == end ? 3 : -1;
-}
+int leafCornerAtFaceCorner(const FarLeaf& leaf, uint32_t i) { return patchCornerOfDomain(leaf.u, leaf.v, 1u << leaf.depth, i); }
 
 // The exact tangent masks of the (sub-)face's extraordinary corners that an end cap (a
 // Gregory-basis leaf) touches and that have them (smooth and dart vertices, tangent_plane.h),
 // by plan-frame corner: a quad's four vertices; an n-gon's sub-face has its face's vertex at
 // corner 0 and the face's centre, a valence-n vertex from level 1 on, at corner 2.
-using CornerTangents = std::array<std::optional<DartTangents>, 4>;
+using CornerTangents = std::array<std::optional<ExactTangents>, 4>;
 CornerTangents endCapCornerTangents(const Far::TopologyRefiner& refiner, const std::vector<FarLeaf>& leaves) {
     const Far::ConstIndexArray face = refiner.GetLevel(0).GetFaceVertices(0);
     const bool quad = face.size() == 4;
@@ -285,7 +281,7 @@ CornerTangents endCapCornerTangents(const Far::TopologyRefiner& refiner, const s
     }
     for (int c = 0; c < 4; ++c) {
         if (!touched[size_t(c)]) continue;
-        if (quad || c == 0) tangents[size_t(c)] = dartTangents(refiner, face[quad ? c : 0], true);
+        if (quad || c == 0) tangents[size_t(c)] = exactTangents(refiner, face[quad ? c : 0], true);
         else if (c == 2) tangents[size_t(c)] = faceCentreTangents(refiner, 0);
     }
     return tangents;
@@ -304,7 +300,7 @@ void exactDartCorners(const LocalMesh& mesh, const std::vector<FarLeaf>& leaves,
         for (uint32_t i = 0; i < 4; ++i) {  // the patch's corner i, (0,0) (1,0) (1,1) (0,1)
             const int c = leafCornerAtFaceCorner(leaf, i);
             if (c < 0 || !tangents[size_t(c)] || !tangents[size_t(c)]->dart) continue;
-            const DartTangents& t = *tangents[size_t(c)];
+            const ExactTangents& t = *tangents[size_t(c)];
             const float* p = &plan.stencilWeights[size_t(slotOf[leaf.farPoints[5 * i]]) * mesh.vertexCount];
             for (uint32_t edgePoint : {leaf.farPoints[5 * i + 1], leaf.farPoints[5 * i + 2]}) {
                 if (done[edgePoint]) continue;  // shared with the neighbouring end cap

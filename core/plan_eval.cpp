@@ -132,7 +132,7 @@ namespace {
 // At a corner whose tangent plane the plan carries (Plan::cornerTangents), du and dv lose
 // their part along its normal.
 void onCornerTangentPlane(const Plan& plan, const glm::vec3* controlPoints, float u, float v, LimitSample& sample) {
-    const int corner = u == 0.0f && v == 0.0f ? 0 : u == 1.0f && v == 0.0f ? 1 : u == 1.0f && v == 1.0f ? 2 : u == 0.0f && v == 1.0f ? 3 : -1;
+    const int corner = domainCorner(u, v);
     if (corner < 0 || !(plan.cornerTangents & (1u << corner))) return;
     const uint32_t first = 2u * uint32_t(std::popcount(plan.cornerTangents & ((1u << corner) - 1u)));
     const glm::vec3 normal = glm::cross(controlPoints[first], controlPoints[first + 1]);

@@ -55,14 +55,6 @@ std::vector<int> sectorSizes(const Far::TopologyLevel& level, Far::Index vertex)
 
 }  // namespace
 
-std::optional<uint32_t> subfaceCornerAt(double u, double v) {
-    if (u == 0.0 && v == 0.0) return 0u;
-    if (u == 1.0 && v == 0.0) return 1u;
-    if (u == 1.0 && v == 1.0) return 2u;
-    if (u == 0.0 && v == 1.0) return 3u;
-    return std::nullopt;
-}
-
 Result<std::vector<SubfaceCorner>> cornersWithoutTangentPlane(const Cage& cage, const std::string& source) {
     Result<std::unique_ptr<Far::TopologyRefiner>> refiner = createRefiner(cage, source);
     if (!refiner) return refiner.error();
@@ -180,7 +172,7 @@ std::optional<std::vector<Far::Index>> childRing(const Far::TopologyLevel& level
 
 }  // namespace
 
-std::vector<double> DartTangents::project(std::span<const double> mask) const {
+std::vector<double> ExactTangents::project(std::span<const double> mask) const {
     std::vector<double> out(ring.size(), 0.0);
     for (size_t k = 0; k < 2; ++k) {
         double along = 0.0;
@@ -195,7 +187,7 @@ namespace {
 // The exact tangent masks of level-1 vertex `child` over the level-0 vertices `ring0` it and its
 // ring come from: level 1 -> 2, where every face is a quad (the same matrix at every level below
 // when no tag there decays), then back to level 0 through the refinement.
-std::optional<DartTangents> tangentsOf(const Far::TopologyRefiner& refiner, Far::Index child, std::vector<Far::Index> ring0,
+std::optional<ExactTangents> tangentsOf(const Far::TopologyRefiner& refiner, Far::Index child, std::vector<Far::Index> ring0,
                                        bool dart) {
     if (refiner.GetNumLevels() < 3 || child < 0) return std::nullopt;
     const Far::TopologyLevel& first = refiner.GetLevel(1);
@@ -219,7 +211,7 @@ std::optional<DartTangents> tangentsOf(const Far::TopologyRefiner& refiner, Far:
     if (!lu.isInvertible()) return std::nullopt;
     const Eigen::MatrixXcd left = lu.inverse();  // rows: left eigenvectors, left * right = I
 
-    DartTangents t;
+    ExactTangents t;
     t.dart = dart;
     t.ring = std::move(ring0);
     const Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> pseudo(*down);
@@ -240,14 +232,14 @@ std::optional<DartTangents> tangentsOf(const Far::TopologyRefiner& refiner, Far:
 
 }  // namespace
 
-std::optional<DartTangents> dartTangents(const Far::TopologyRefiner& refiner, Far::Index vertex, bool smoothToo) {
+std::optional<ExactTangents> exactTangents(const Far::TopologyRefiner& refiner, Far::Index vertex, bool smoothToo) {
     const Far::TopologyLevel& base = refiner.GetLevel(0);
     const int sharp = plainSharpEdges(base, vertex);
     if (sharp != 1 && !(smoothToo && sharp == 0)) return std::nullopt;
     return tangentsOf(refiner, base.GetVertexChildVertex(vertex), ringOf(base, vertex), sharp == 1);
 }
 
-std::optional<DartTangents> faceCentreTangents(const Far::TopologyRefiner& refiner, Far::Index face) {
+std::optional<ExactTangents> faceCentreTangents(const Far::TopologyRefiner& refiner, Far::Index face) {
     const Far::TopologyLevel& base = refiner.GetLevel(0);
     std::vector<Far::Index> ring0;  // every vertex of the faces sharing a vertex with the face
     for (Far::Index v : base.GetFaceVertices(face))

@@ -22,7 +22,7 @@
 // rule's tangent masks are not the dart's eigenvectors (valence 6: smooth 0.580, 0.580, 0.410;
 // dart 0.580, 0.548, 0.441), so Far's Gregory-basis end caps carry a corner tangent plane that
 // reaches the limit's only as (lambda3 / lambda2)^depth (catmark_inf_crease1's valence-6 dart:
-// 4.7, 2.2 and 0.8 degrees at depths 4, 6 and 8). dartTangents computes the exact masks from the
+// 4.7, 2.2 and 0.8 degrees at depths 4, 6 and 8). exactTangents computes the exact masks from the
 // dart's subdivision matrix, as Far refines it; the plans' end caps and the Far reference
 // (core/plan_builder.cpp, core/limit_reference.cpp) move their corners' edge points onto them.
 #pragma once
@@ -48,33 +48,30 @@ struct SubfaceCorner {
     auto operator<=>(const SubfaceCorner&) const = default;
 };
 
-// Which corner (u, v) is, or nothing when it is not a corner.
-std::optional<uint32_t> subfaceCornerAt(double u, double v);
-
 // Every sub-face corner (sub-faces numbered as in PlannedCage) at a vertex where the limit
 // surface has no tangent plane, sorted; evaluated with OpenSubdiv's own tags (boundary and
 // non-manifold edges infinitely sharp, the boundary interpolation's corners).
 Result<std::vector<SubfaceCorner>> cornersWithoutTangentPlane(const Cage& cage, const std::string& source);
 
-// The limit tangent plane at a dart as masks over its 1-ring at level 0 of `refiner` (which must
-// have refined the ring's faces at least once): the left eigenvectors of the ring's subdivision
-// matrix for its two dominant eigenvalues after 1 (`left`), with the right ones (`right`,
-// left[i] . right[j] = delta_ij) that project any tangent mask onto them. Nothing when the
-// vertex is no dart with only infinitely sharp or smooth edges (a semi-sharp tag makes the
-// matrix change from level to level), or the spectrum has no gap after the second eigenvalue.
-struct DartTangents {
+// The limit tangent plane at a dart (or, with `smoothToo`, a smooth vertex) as masks over its
+// 1-ring at level 0 of `refiner` (which must have refined the ring's faces at least twice): the
+// left eigenvectors of the ring's subdivision matrix for its two dominant eigenvalues after 1
+// (`left`), with the right ones (`right`, left[i] . right[j] = delta_ij) that project any
+// tangent mask onto them. Nothing for other vertices (a semi-sharp tag at the vertex makes the
+// matrix change from level to level), or when the spectrum has no gap after the second
+// eigenvalue. The plans also keep these masks as their corners' exact tangents
+// (Plan::cornerTangents).
+struct ExactTangents {
     bool dart = false;                         // else a smooth vertex
-    std::vector<OpenSubdiv::Far::Index> ring;  // level-0 vertices: the dart, then its neighbours
+    std::vector<OpenSubdiv::Far::Index> ring;  // level-0 vertices: the vertex, then its neighbours
     std::array<std::vector<double>, 2> left, right;
     // The part of `mask` (over `ring`, summing to zero) in the tangent plane's masks.
     std::vector<double> project(std::span<const double> mask) const;
 };
-// `smoothToo`: smooth vertices as well (their masks span the plane Sdc's do, exactly).
-std::optional<DartTangents> dartTangents(const OpenSubdiv::Far::TopologyRefiner& refiner, OpenSubdiv::Far::Index vertex,
-                                         bool smoothToo = false);
+std::optional<ExactTangents> exactTangents(const OpenSubdiv::Far::TopologyRefiner& refiner, OpenSubdiv::Far::Index vertex,
+                                           bool smoothToo = false);
 // The same at the centre of a level-0 face (a smooth vertex of valence n from level 1 on: an
 // extraordinary one when the face is no quad), over the vertices of the faces around it.
-std::optional<DartTangents> faceCentreTangents(const OpenSubdiv::Far::TopologyRefiner& refiner, OpenSubdiv::Far::Index face);
-
+std::optional<ExactTangents> faceCentreTangents(const OpenSubdiv::Far::TopologyRefiner& refiner, OpenSubdiv::Far::Index face);
 
 }  // namespace qp

@@ -36,9 +36,9 @@ Result<ExactReference> evaluateReference(ReferenceKind kind, uint32_t depth, con
     if (!noPlane) return noPlane.error();
     reference.withoutTangentPlane.assign(samples.size(), 0);
     for (size_t i = 0; i < samples.size(); ++i)
-        if (std::optional<uint32_t> corner = subfaceCornerAt(samples[i].u, samples[i].v))
+        if (const int corner = domainCorner(samples[i].u, samples[i].v); corner >= 0)
             reference.withoutTangentPlane[i] =
-                std::binary_search(noPlane->begin(), noPlane->end(), SubfaceCorner{samples[i].subface, *corner});
+                std::binary_search(noPlane->begin(), noPlane->end(), SubfaceCorner{samples[i].subface, uint32_t(corner)});
     if (kind == ReferenceKind::Plans) {
         reference.depth = planned.options().maxDepth;
         std::vector<LimitSample> exact(samples.size());

@@ -195,10 +195,12 @@ TEST(TangentPlane, SectorsSplitAtSharpEdgesAndSubfacesOfNgons) {
     ASSERT_EQ(ngon->size(), 2u);  // the triangle's and the pentagon's sub-faces at the centre
     for (const SubfaceCorner& c : *ngon) EXPECT_EQ(c.corner, 0u);
 
-    EXPECT_EQ(subfaceCornerAt(0.0, 0.0), 0u);
-    EXPECT_EQ(subfaceCornerAt(1.0, 1.0), 2u);
-    EXPECT_EQ(subfaceCornerAt(0.0, 1.0), 3u);
-    EXPECT_FALSE(subfaceCornerAt(0.5, 0.0).has_value());
+    EXPECT_EQ(domainCorner(0.0, 0.0), 0);
+    EXPECT_EQ(domainCorner(1.0, 1.0), 2);
+    EXPECT_EQ(domainCorner(0.0, 1.0), 3);
+    EXPECT_EQ(domainCorner(0.5, 0.0), -1);
+    EXPECT_EQ(patchCornerOfDomain(3, 0, 4, 1), 1);  // the last patch of the bottom row, its corner (1, 0)
+    EXPECT_EQ(patchCornerOfDomain(3, 0, 4, 0), -1);
 }
 
 TEST(TangentPlane, PlansAndTheReferenceCarryTheDartsExactPlaneAtEveryDepth) {
@@ -210,7 +212,7 @@ TEST(TangentPlane, PlansAndTheReferenceCarryTheDartsExactPlaneAtEveryDepth) {
     Result<std::unique_ptr<Far::TopologyRefiner>> refiner = createRefiner(cage, "dart");
     ASSERT_TRUE(refiner.ok());
     (*refiner)->RefineAdaptive(Far::TopologyRefiner::AdaptiveOptions(2));
-    std::optional<DartTangents> tangents = dartTangents(**refiner, 0);
+    std::optional<ExactTangents> tangents = exactTangents(**refiner, 0);
     ASSERT_TRUE(tangents.has_value());
     glm::dvec3 t[2]{glm::dvec3(0.0), glm::dvec3(0.0)};
     for (size_t k = 0; k < 2; ++k)
