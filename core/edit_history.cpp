@@ -51,7 +51,7 @@ EditReport kept(EditReport report) {
 
 void EditHistory::record(std::string name, EditReport report, Payload payload) {
     entries_.erase(entries_.begin() + std::ptrdiff_t(position_), entries_.end());
-    entries_.push_back({std::move(name), kept(std::move(report)), std::move(payload)});
+    entries_.push_back({std::move(name), kept(std::move(report)), std::move(payload), tag_});
     position_ = entries_.size();
     trimToBudget();
 }
@@ -98,7 +98,7 @@ Result<EditReport> EditHistory::moveVertices(PlannedCage& planned, std::string n
     if (!report) return report;
     if (mergeWithPrevious && position_ == entries_.size() && !entries_.empty()) {
         Move* last = std::get_if<Move>(&entries_.back().payload);
-        if (last && last->mergeable && std::equal(last->vertices.begin(), last->vertices.end(), vertices.begin(), vertices.end())) {
+        if (last && last->mergeable && entries_.back().tag == tag_ && std::equal(last->vertices.begin(), last->vertices.end(), vertices.begin(), vertices.end())) {
             last->after.assign(positions.begin(), positions.end());
             entries_.back().report = kept(*report);
             return report;

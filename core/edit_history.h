@@ -80,6 +80,11 @@ public:
     size_t bytes() const;
     // The memory budget; lowering it drops the oldest applied entries at once (never the newest).
     size_t budget() const { return budget_; }
+    // New entries carry this tag (0 until set): a history shared by several planned cages (the
+    // objects of a scene) tags each entry with the cage it was made on, so undo and redo can pass
+    // that cage. A move merges only into an entry of the same tag.
+    void setTag(uint32_t tag) { tag_ = tag; }
+    uint32_t tag(size_t index) const { return entries_.at(index).tag; }
     void setBudget(size_t memoryBudgetBytes);
     void clear();
     // Forgets the entries a redo would apply (an interactive tool that previewed its edit and
@@ -113,6 +118,7 @@ private:
         std::string name;
         EditReport report;
         Payload payload;
+        uint32_t tag = 0;
     };
 
     Result<EditReport> run(PlannedCage& planned, Entry& entry, bool forward);
@@ -123,6 +129,7 @@ private:
     std::vector<Entry> entries_;
     size_t position_ = 0;
     size_t budget_;
+    uint32_t tag_ = 0;
 };
 
 }  // namespace qp

@@ -264,3 +264,29 @@ TEST(EditHistory, RefusedEditsAreNotRecorded) {
     EXPECT_EQ(history.size(), 0u);
     EXPECT_FALSE(history.undo(planned).ok());
 }
+
+// A history shared by two planned cages (the objects of a scene): entries carry the tag they were
+// made under, undo goes to the cage the caller finds by it, and a drag never merges across tags.
+TEST(EditHistory, TagsSayWhichCageAnEntryBelongsTo) {
+    PlanDatabase db;
+    PlannedCage a = plan(qp::test::makeGrid(3), db), b = plan(qp::test::makeGrid(3), db);
+    const Cage original = a.cage();
+    EditHistory history;
+    const std::vector<uint32_t> vertex{5};
+    const std::vector<glm::vec3> up{original.positions[5] + glm::vec3(0, 0, 0.2f)};
+    history.setTag(1);
+    ASSERT_TRUE(history.moveVertices(a, "Move", vertex, up, true).ok());
+    history.setTag(2);
+    ASSERT_TRUE(history.moveVertices(b, "Move", vertex, up, true).ok());  // same vertex, other cage: no merge
+    ASSERT_TRUE(history.setEdgeSharpness(b, "Crease", std::vector<qp::EdgeCrease>{{0, 1, 2.0f}}).ok());
+    ASSERT_EQ(history.size(), 3u);
+    EXPECT_EQ(history.tag(0), 1u);
+    EXPECT_EQ(history.tag(1), 2u);
+    EXPECT_EQ(history.tag(2), 2u);
+    auto cageOf = [&](uint32_t tag) -> PlannedCage& { return tag == 1 ? a : b; };
+    while (history.canUndo()) ASSERT_TRUE(history.undo(cageOf(history.tag(history.position() - 1))).ok());
+    EXPECT_TRUE(sameCage(a.cage(), original));
+    EXPECT_TRUE(sameCage(b.cage(), original));
+    EXPECT_TRUE(a.differencesFromRebuild().empty());
+    EXPECT_TRUE(b.differencesFromRebuild().empty());
+}
