@@ -63,9 +63,10 @@ std::string pointName(const DisplacementLayout& layout, size_t id) {
     return "centre of face " + std::to_string(id - layout.vertexCount - layout.edgeCount);
 }
 
+// `at` prefixes the field paths of warnings (errors get it where they are caught).
 Displacement readVersion1(const json& value, const Cage& cage, const std::string& source,
-                          std::vector<std::string>* warnings) {
-    warnUnknown(value, {"version", "encoding", "subfaces", "points", "segments"}, "displacement", source, warnings);
+                          std::vector<std::string>* warnings, const std::string& at) {
+    warnUnknown(value, {"version", "encoding", "subfaces", "points", "segments"}, at + "displacement", source, warnings);
     if (auto it = value.find("encoding"); it != value.end() && (!it->is_string() || it->get<std::string>() != kEncoding))
         fail("displacement.encoding", "expected \"" + std::string(kEncoding) + "\", got " + it->dump());
     auto subfacesIt = value.find("subfaces");
@@ -90,7 +91,7 @@ Displacement readVersion1(const json& value, const Cage& cage, const std::string
     for (uint32_t s = 0; s < subfaceTotal; ++s) {
         const std::string field = "displacement.subfaces[" + std::to_string(s) + "]";
         if (!subfaces[s].is_object()) fail(field, "expected an object, got " + describe(subfaces[s]));
-        warnUnknown(subfaces[s], {"resolution", "interior"}, field, source, warnings);
+        warnUnknown(subfaces[s], {"resolution", "interior"}, at + field, source, warnings);
         auto r = subfaces[s].find("resolution");
         if (r == subfaces[s].end()) fail(field + ".resolution", "required field is missing");
         int64_t resolution = readInteger(*r, field + ".resolution");
@@ -198,7 +199,7 @@ Result<std::vector<float>> decodeFloats(const std::string& text) {
 }
 
 Result<Displacement> readDisplacementJson(const json& value, const Cage& cage, const std::string& source,
-                                          std::vector<std::string>* warnings) {
+                                          std::vector<std::string>* warnings, const std::string& at) {
     try {
         if (!value.is_object()) fail("displacement", "expected an object, got " + describe(value));
         auto version = value.find("version");
@@ -211,15 +212,15 @@ Result<Displacement> readDisplacementJson(const json& value, const Cage& cage, c
         if (v < 0) fail("displacement.version", "displacement version " + std::to_string(v) + " is not valid");
         if (v == 0) {
             // The placeholder of scenes written before displacement existed: it never held data.
-            warnUnknown(value, {"version", "faces"}, "displacement", source, warnings);
+            warnUnknown(value, {"version", "faces"}, at + "displacement", source, warnings);
             if (auto faces = value.find("faces"); faces != value.end() && !(faces->is_array() && faces->empty()))
                 fail("displacement.faces", "a version 0 displacement is an empty placeholder; expected [], got " +
                                                faces->dump().substr(0, 60));
             return Displacement{};
         }
-        return readVersion1(value, cage, source, warnings);
+        return readVersion1(value, cage, source, warnings, at);
     } catch (const FieldError& e) {
-        return Error{e.field + ": " + e.message};
+        return Error{at + e.field + ": " + e.message};
     }
 }
 

@@ -24,10 +24,11 @@ namespace qp {
 constexpr int kDisplacementVersion = 1;
 
 // `value` is the "displacement" object of a scene whose cage is `cage` (validated). Errors read
-// "<field>: <what is wrong>" with field a JSON path such as displacement.subfaces[3].interior;
-// `source` prefixes warnings about unknown fields.
+// "<field>: <what is wrong>" with field a JSON path such as displacement.subfaces[3].interior,
+// after `at` (the path of the object holding it, "objects[2]."); `source` prefixes warnings
+// about unknown fields.
 Result<Displacement> readDisplacementJson(const nlohmann::json& value, const Cage& cage, const std::string& source,
-                                          std::vector<std::string>* warnings = nullptr);
+                                          std::vector<std::string>* warnings = nullptr, const std::string& at = "");
 
 // True when the displacement is empty or laid out for exactly this cage's topology (what a
 // saved scene needs to load again).

@@ -16,58 +16,17 @@
 #include "displacement_io.h"
 #include "file_io.h"
 #include "obj_io.h"
+#include "scene_names.h"
 
 namespace qp {
 
 namespace {
 
 using json = nlohmann::json;
-using ordered_json = nlohmann::ordered_json;
 namespace fs = std::filesystem;
+using namespace scene_names;
 
-constexpr const char* kFormatName = "quadplan-scene";
 constexpr int kMaxTessellationFactor = 64;
-
-// ---------------------------------------------------------------------------------------------
-// Names of enumerated values, shared by the reader and the writer.
-
-template <class E>
-struct EnumName {
-    const char* name;
-    E value;
-};
-
-constexpr EnumName<BoundaryInterpolation> kBoundaryNames[] = {
-    {"edges-and-corners", BoundaryInterpolation::EdgesAndCorners},
-    {"edges-only", BoundaryInterpolation::EdgesOnly},
-    {"none", BoundaryInterpolation::None}};
-constexpr EnumName<CreaseMethod> kCreaseMethodNames[] = {
-    {"normal", CreaseMethod::Normal}, {"chaikin", CreaseMethod::Chaikin}};
-constexpr EnumName<TriangleSubdivision> kTriangleNames[] = {
-    {"catmark", TriangleSubdivision::Catmark}, {"smooth", TriangleSubdivision::Smooth}};
-constexpr EnumName<FVarInterpolation> kFVarNames[] = {
-    {"none", FVarInterpolation::None},
-    {"corners-only", FVarInterpolation::CornersOnly},
-    {"corners-plus1", FVarInterpolation::CornersPlus1},
-    {"corners-plus2", FVarInterpolation::CornersPlus2},
-    {"boundaries", FVarInterpolation::Boundaries},
-    {"all", FVarInterpolation::All}};
-constexpr EnumName<Projection> kProjectionNames[] = {
-    {"perspective", Projection::Perspective}, {"orthographic", Projection::Orthographic}};
-constexpr EnumName<CameraLink> kCameraLinkNames[] = {
-    {"linked", CameraLink::Linked}, {"independent", CameraLink::Independent}};
-constexpr EnumName<TessellationMode> kTessellationModeNames[] = {
-    {"uniform", TessellationMode::Uniform}, {"adaptive", TessellationMode::Adaptive}};
-constexpr EnumName<UpAxis> kUpAxisNames[] = {{"y", UpAxis::Y}, {"z", UpAxis::Z}};
-constexpr EnumName<Shading> kShadingNames[] = {{"studio", Shading::Studio}, {"matcap", Shading::Matcap}};
-
-template <class E>
-const char* enumName(std::span<const EnumName<E>> names, E value) {
-    for (const EnumName<E>& n : names)
-        if (n.value == value) return n.name;
-    assert(false && "enum value missing from its name table");
-    return "";
-}
 
 // ---------------------------------------------------------------------------------------------
 // Reading. The readers throw FieldError, caught once in parseScene: every check would
@@ -366,8 +325,8 @@ Cage readReferencedCage(ObjectReader& object, const Context& ctx, std::string& c
     return std::move(cage).value();
 }
 
-Cage readCage(const json& value, const Context& ctx, std::string& cagePath) {
-    ObjectReader object(value, "cage");
+Cage readCage(const json& value, const std::string& field, const Context& ctx, std::string& cagePath) {
+    ObjectReader object(value, field);
     Cage cage = object.has("path") ? readReferencedCage(object, ctx, cagePath) : readInlineCage(object, ctx);
     object.warnAboutUnknownFields(ctx.source, ctx.warnings);
     normalizeTags(cage);
@@ -449,13 +408,75 @@ DisplaySettings readDisplay(const json& value, const Context& ctx) {
 }
 
 // Needs the cage: the displacement's sizes follow from its topology (displacement_io.h).
-Displacement readDisplacement(const json& value, const Cage& cage, const Context& ctx) {
-    Result<Displacement> displacement = readDisplacementJson(value, cage, ctx.source, ctx.warnings);
+// `at` is the path of the object holding it ("objects[2]."; "" in a version 1 file).
+Displacement readDisplacement(const json& value, const Cage& cage, const std::string& at, const Context& ctx) {
+    Result<Displacement> displacement = readDisplacementJson(value, cage, ctx.source, ctx.warnings, at);
     if (!displacement) fail("", displacement.error().message);
     return std::move(displacement).value();
 }
 
-void checkFormatAndVersion(ObjectReader& top) {
+ObjectTransform readTransform(const json& value, const std::string& field, const Context& ctx) {
+    ObjectReader object(value, field);
+    ObjectTransform t;
+    if (const json* v = object.optional("translation")) t.translation = readVector<3>(*v, object.field("translation"));
+    if (const json* v = object.optional("rotation_degrees"))
+        t.rotationDegrees = readVector<3>(*v, object.field("rotation_degrees"));
+    if (const json* v = object.optional("scale")) {
+        t.scale = readVector<3>(*v, object.field("scale"));
+        for (int k = 0; k < 3; ++k)
+            if (t.scale[k] == 0.0f) fail(element(object.field("scale"), size_t(k)), "scale must not be zero");
+    }
+    object.warnAboutUnknownFields(ctx.source, ctx.warnings);
+    return t;
+}
+
+SceneObject readObject(const json& value, const std::string& field, const Context& ctx) {
+    ObjectReader object(value, field);
+    SceneObject o;
+    o.name = readName(object.required("name"), object.field("name"));
+    if (const json* v = object.optional("instance_of")) {
+        o.instanceOf = readName(*v, object.field("instance_of"));
+        for (const char* own : {"cage", "displacement"})
+            if (object.has(own))
+                fail(object.field(own), "not allowed with \"instance_of\": an instance draws its source's " +
+                                            std::string(own));
+    } else {
+        o.cage = readCage(object.required("cage"), object.field("cage"), ctx, o.cagePath);
+        if (const json* v = object.optional("displacement"))
+            o.displacement = readDisplacement(*v, o.cage, field + ".", ctx);
+    }
+    if (const json* v = object.optional("transform")) o.transform = readTransform(*v, object.field("transform"), ctx);
+    if (const json* v = object.optional("visible")) o.visible = readBool(*v, object.field("visible"));
+    object.warnAboutUnknownFields(ctx.source, ctx.warnings);
+    return o;
+}
+
+std::vector<SceneObject> readObjects(const json& value, const Context& ctx) {
+    std::vector<SceneObject> objects;
+    for (size_t i = 0; i < readArray(value, "objects").size(); ++i) {
+        objects.push_back(readObject(value[i], element("objects", i), ctx));
+        for (size_t j = 0; j + 1 < objects.size(); ++j)
+            if (objects[j].name == objects.back().name)
+                fail(element("objects", i) + ".name", "\"" + objects.back().name + "\" is also the name of objects[" +
+                                                          std::to_string(j) + "]; object names must be unique");
+    }
+    if (objects.empty()) fail("objects", "must list at least one object");
+    if (Result<std::vector<uint32_t>> owners = cageOwners(objects); !owners) fail("objects", owners.error().message);
+    return objects;
+}
+
+// Version 1 held one cage and its displacement at the top level: they become one object, named
+// after the referenced OBJ (or "cage" when inline).
+SceneObject readVersion1Object(ObjectReader& top, const Context& ctx) {
+    SceneObject o;
+    o.cage = readCage(top.required("cage"), "cage", ctx, o.cagePath);
+    o.name = o.cagePath.empty() ? "cage" : fs::path(o.cagePath).stem().string();
+    if (o.name.empty()) o.name = "cage";
+    if (const json* v = top.optional("displacement")) o.displacement = readDisplacement(*v, o.cage, "", ctx);
+    return o;
+}
+
+int checkFormatAndVersion(ObjectReader& top) {
     const json& format = top.required("format");
     if (!format.is_string() || format.get<std::string>() != kFormatName)
         fail("format", "expected \"" + std::string(kFormatName) + "\", got " + format.dump() +
@@ -465,6 +486,7 @@ void checkFormatAndVersion(ObjectReader& top) {
         fail("version", "scene version " + std::to_string(version) + " was written by a newer Quadplan; this build "
                         "reads versions up to " + std::to_string(kSceneVersion));
     if (version < 1) fail("version", "scene version " + std::to_string(version) + " is not valid (versions start at 1)");
+    return int(version);
 }
 
 Scene readScene(const json& root, const Context& ctx) {
@@ -472,14 +494,14 @@ Scene readScene(const json& root, const Context& ctx) {
     ObjectReader top(root, "");
     // Version first: a newer file may be laid out differently, and "newer version" is the
     // only useful message for it.
-    checkFormatAndVersion(top);
+    const int version = checkFormatAndVersion(top);
     Scene scene;
-    scene.cage = readCage(top.required("cage"), ctx, scene.cagePath);
+    if (version == 1) scene.objects.push_back(readVersion1Object(top, ctx));
+    else scene.objects = readObjects(top.required("objects"), ctx);
     if (const json* v = top.optional("camera")) scene.camera = readCamera(*v, ctx);
     if (const json* v = top.optional("viewports")) scene.viewports = readViewports(*v, ctx);
     if (const json* v = top.optional("tessellation")) scene.tessellation = readTessellation(*v, ctx);
     if (const json* v = top.optional("display")) scene.display = readDisplay(*v, ctx);
-    if (const json* v = top.optional("displacement")) scene.displacement = readDisplacement(*v, scene.cage, ctx);
     top.warnAboutUnknownFields(ctx.source, ctx.warnings);
     return scene;
 }
@@ -513,175 +535,6 @@ Error syntaxError(std::string_view text, const std::string& source, const json::
     if (size_t colon = detail.find(": "); colon != std::string::npos) detail = detail.substr(colon + 2);
     return Error{source + ":" + lineAndColumn(text, e.byte) + ": invalid JSON (byte " + std::to_string(e.byte) +
                  "): " + detail};
-}
-
-// ---------------------------------------------------------------------------------------------
-// Writing.
-
-// The shortest decimal that reads back as the same float, so that 0.1f is written as 0.1
-// rather than 0.10000000149011612.
-double shortestDecimal(float value) {
-    char buffer[32];
-    auto [end, ec] = std::to_chars(buffer, buffer + sizeof(buffer), value);
-    *end = '\0';
-    double decimal = std::strtod(buffer, nullptr);
-    // Reading back goes decimal -> double -> float; fall back to the exact value in the rare
-    // case where that double rounding would land on a different float.
-    return float(decimal) == value ? decimal : double(value);
-}
-
-ordered_json vectorJson(std::span<const float> components) {
-    ordered_json array = ordered_json::array();
-    for (float c : components) array.push_back(shortestDecimal(c));
-    return array;
-}
-
-ordered_json vec3Json(const glm::vec3& v) { return vectorJson(std::span<const float>(&v.x, 3)); }
-ordered_json vec2Json(const glm::vec2& v) { return vectorJson(std::span<const float>(&v.x, 2)); }
-
-ordered_json facesJson(const Cage& cage, const std::vector<uint32_t>& indices) {
-    ordered_json faces = ordered_json::array();
-    for (uint32_t f = 0; f < cage.faceCount(); ++f)
-        faces.push_back(std::vector<uint32_t>(indices.begin() + cage.faceOffsets[f],
-                                              indices.begin() + cage.faceOffsets[f + 1]));
-    return faces;
-}
-
-ordered_json optionsJson(const SubdivisionOptions& o) {
-    return {{"boundary", enumName<BoundaryInterpolation>(kBoundaryNames, o.boundary)},
-            {"crease_method", enumName<CreaseMethod>(kCreaseMethodNames, o.creaseMethod)},
-            {"triangle_subdivision", enumName<TriangleSubdivision>(kTriangleNames, o.triangleSubdivision)},
-            {"fvar_interpolation", enumName<FVarInterpolation>(kFVarNames, o.fvarInterpolation)},
-            {"fvar_propagate_corners", o.fvarPropagateCorners}};
-}
-
-ordered_json inlineCageJson(const Cage& cage) {
-    ordered_json out;
-    out["positions"] = ordered_json::array();
-    for (const glm::vec3& p : cage.positions) out["positions"].push_back(vec3Json(p));
-    out["faces"] = facesJson(cage, cage.faceVertices);
-    out["creases"] = ordered_json::array();
-    for (const EdgeCrease& c : cage.creases)
-        out["creases"].push_back({{"edge", {c.v0, c.v1}}, {"sharpness", shortestDecimal(c.sharpness)}});
-    out["corners"] = ordered_json::array();
-    for (const VertexCorner& c : cage.corners)
-        out["corners"].push_back({{"vertex", c.vertex}, {"sharpness", shortestDecimal(c.sharpness)}});
-    out["holes"] = cage.holes;
-    out["options"] = optionsJson(cage.options);
-    if (!cage.faceUVIndices.empty()) {
-        out["uvs"] = ordered_json::array();
-        for (const glm::vec2& uv : cage.uvs) out["uvs"].push_back(vec2Json(uv));
-        out["face_uvs"] = facesJson(cage, cage.faceUVIndices);
-    }
-    return out;
-}
-
-ordered_json cameraJson(const Camera& c) {
-    return {{"eye", vec3Json(c.eye)},
-            {"target", vec3Json(c.target)},
-            {"up", vec3Json(c.up)},
-            {"fov_y_degrees", shortestDecimal(c.fovYDegrees)},
-            {"projection", enumName<Projection>(kProjectionNames, c.projection)},
-            {"ortho_height", shortestDecimal(c.orthoHeight)}};
-}
-
-ordered_json viewportsJson(const std::vector<Viewport>& viewports) {
-    ordered_json out = ordered_json::array();
-    for (const Viewport& v : viewports)
-        out.push_back({{"scheme", v.scheme},
-                       {"camera", enumName<CameraLink>(kCameraLinkNames, v.camera)},
-                       {"color_by", v.colorBy}});
-    return out;
-}
-
-ordered_json tessellationJson(const Tessellation& t) {
-    return {{"mode", enumName<TessellationMode>(kTessellationModeNames, t.mode)},
-            {"factor", t.factor},
-            {"pixels_per_edge", shortestDecimal(t.pixelsPerEdge)},
-            {"show_cage", t.showCage},
-            {"show_wireframe", t.showWireframe}};
-}
-
-ordered_json displayJson(const DisplaySettings& d) {
-    ordered_json out = ordered_json::object();
-    if (d.upAxis) out["up_axis"] = enumName<UpAxis>(kUpAxisNames, *d.upAxis);
-    out["shading"] = enumName<Shading>(kShadingNames, d.shading);
-    out["show_grid"] = d.showGrid;
-    return out;
-}
-
-ordered_json sceneJson(const Scene& scene, const std::string* cagePath) {
-    ordered_json root;
-    root["format"] = kFormatName;
-    root["version"] = kSceneVersion;
-    root["cage"] = cagePath ? ordered_json{{"path", *cagePath}} : inlineCageJson(scene.cage);
-    if (scene.camera) root["camera"] = cameraJson(*scene.camera);
-    root["viewports"] = viewportsJson(scene.viewports);
-    root["tessellation"] = tessellationJson(scene.tessellation);
-    root["display"] = displayJson(scene.display);
-    root["displacement"] = displacementJson(scene.displacement);
-    return root;
-}
-
-// nlohmann's pretty printer puts every number on a line of its own, which turns a cage into
-// thousands of lines; this one keeps short leaves ([x, y, z], a face, a crease) on one line.
-constexpr size_t kMaxLineValue = 80;
-
-void writeCompact(const ordered_json& value, std::string& out) {
-    if (!value.is_structured()) {
-        out += value.dump();
-        return;
-    }
-    bool isObject = value.is_object();
-    out += isObject ? "{" : "[";
-    const char* separator = "";
-    for (const auto& item : value.items()) {
-        out += separator;
-        separator = ", ";
-        if (isObject) out += ordered_json(item.key()).dump() + ": ";
-        writeCompact(item.value(), out);
-    }
-    out += isObject ? "}" : "]";
-}
-
-bool isFlatArray(const ordered_json& value) {
-    return value.is_array() && std::none_of(value.begin(), value.end(), [](const ordered_json& v) {
-               return v.is_structured();
-           });
-}
-
-bool fitsOnOneLine(const ordered_json& value) {
-    if (!value.is_structured() || value.empty() || isFlatArray(value)) return true;
-    for (const ordered_json& v : value)
-        if (v.is_object() || (v.is_array() && !isFlatArray(v))) return false;
-    std::string compact;
-    writeCompact(value, compact);
-    return compact.size() <= kMaxLineValue;
-}
-
-void writePretty(const ordered_json& value, int indent, std::string& out) {
-    if (fitsOnOneLine(value)) {
-        writeCompact(value, out);
-        return;
-    }
-    bool isObject = value.is_object();
-    std::string inner(size_t(indent + 2), ' ');
-    out += isObject ? "{\n" : "[\n";
-    const char* separator = "";
-    for (const auto& item : value.items()) {
-        out += separator;
-        separator = ",\n";
-        out += inner;
-        if (isObject) out += ordered_json(item.key()).dump() + ": ";
-        writePretty(item.value(), indent + 2, out);
-    }
-    out += "\n" + std::string(size_t(indent), ' ') + (isObject ? "}" : "]");
-}
-
-std::string formatSceneWith(const Scene& scene, const std::string* cagePath) {
-    std::string out;
-    writePretty(sceneJson(scene, cagePath), 0, out);
-    return out + "\n";
 }
 
 std::string lowercaseExtension(const std::string& path) {
@@ -719,22 +572,29 @@ Result<Scene> loadScene(const std::string& path, std::vector<std::string>* warni
     return parseScene(*text, path, fs::path(path).parent_path().string(), warnings);
 }
 
-std::string formatScene(const Scene& scene, bool inlineCage) {
-    assert((inlineCage || !scene.cagePath.empty()) && "a referenced cage needs scene.cagePath");
-    return formatSceneWith(scene, inlineCage ? nullptr : &scene.cagePath);
+Scene sceneOfCage(Cage cage, const std::string& name) {
+    Scene scene;
+    SceneObject object;
+    object.name = name.empty() ? "cage" : name;
+    object.cage = std::move(cage);
+    scene.objects.push_back(std::move(object));
+    return scene;
 }
 
-Status saveScene(const Scene& scene, const std::string& path, bool inlineCage) {
-    // A displacement laid out for another topology would save fine and then not load.
-    if (!displacementFitsCage(scene.displacement, scene.cage))
-        return Error{path + ": not saved: the displacement does not fit the cage's faces (resample it after "
-                            "adding or removing faces)"};
-    if (inlineCage) return writeFileAtomically(path, formatSceneWith(scene, nullptr));
-    std::string cagePath = scene.cagePath.empty() ? fs::path(path).stem().string() + ".obj" : scene.cagePath;
-    // The OBJ goes first so that the scene never refers to a cage that is not there yet.
-    if (Status saved = saveObj(scene.cage, (fs::path(path).parent_path() / cagePath).string()); !saved)
-        return saved;
-    return writeFileAtomically(path, formatSceneWith(scene, &cagePath));
+Bounds sceneBounds(const Scene& scene) {
+    Result<std::vector<uint32_t>> owners = cageOwners(scene.objects);
+    assert(owners && "sceneBounds needs resolvable instance links (validateObjects)");
+    const bool anyVisible =
+        std::any_of(scene.objects.begin(), scene.objects.end(), [](const SceneObject& o) { return o.visible; });
+    Bounds out{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
+    for (size_t i = 0; i < scene.objects.size(); ++i) {
+        if (anyVisible && !scene.objects[i].visible) continue;
+        const Bounds b = objectBounds(scene.objects[i], scene.objects[(*owners)[i]].cage);
+        out.min = glm::min(out.min, b.min);
+        out.max = glm::max(out.max, b.max);
+    }
+    if (scene.objects.empty()) return Bounds{};
+    return out;
 }
 
 Result<Scene> loadSceneOrCage(const std::string& path, std::vector<std::string>* warnings) {
@@ -743,9 +603,7 @@ Result<Scene> loadSceneOrCage(const std::string& path, std::vector<std::string>*
     if (ext == ".obj") {
         Result<Cage> cage = loadObj(path, warnings);
         if (!cage) return cage.error();
-        Scene scene;
-        scene.cage = std::move(cage).value();
-        return scene;
+        return sceneOfCage(std::move(cage).value(), fs::path(path).stem().string());
     }
     return Error{path + ": cannot open a file of type \"" + ext +
                  "\"; Quadplan opens scenes (.json) and cages (.obj)"};

@@ -1,9 +1,11 @@
-// Scene: everything a user saves besides the cage itself — the camera, the viewports, the
-// tessellation settings and the sculpted displacement — in a versioned JSON file.
+// Scene: what a user opens and saves — its objects (scene_objects.h: cages placed by
+// transforms, instances, their sculpted displacement), the camera, the viewports and the
+// tessellation settings — in a versioned JSON file.
 //
 // The schema, an example and the versioning/migration policy are in docs/scene-format.md.
-// The cage is either inline in the JSON or referenced by a path to an OBJ (with its tags in
-// the OBJ), resolved relative to the scene file's directory.
+// Each object's cage is either inline in the JSON or referenced by a path to an OBJ (with its
+// tags in the OBJ), resolved relative to the scene file's directory. Version 1 files (one cage)
+// load as a scene of one object.
 #pragma once
 
 #include <optional>
@@ -15,14 +17,14 @@
 #include <nlohmann/json.hpp>
 
 #include "cage.h"
-#include "displacement.h"
 #include "result.h"
+#include "scene_objects.h"
 #include "shading.h"
 
 namespace qp {
 
 // The newest scene version this build reads and the only one it writes.
-constexpr int kSceneVersion = 1;
+constexpr int kSceneVersion = 2;
 
 enum class Projection : uint8_t { Perspective, Orthographic };
 
@@ -72,33 +74,48 @@ struct DisplaySettings {
 };
 
 struct Scene {
-    Cage cage;
-    std::string cagePath;           // as written in the scene file; empty when the cage is inline
+    // At least one once loaded or checked (validateObjects); in the order they are listed, drawn
+    // and saved.
+    std::vector<SceneObject> objects;
     std::optional<Camera> camera;   // absent: frame the model
     std::vector<Viewport> viewports{Viewport{}};
     Tessellation tessellation;
     DisplaySettings display;
-    // Sculpted displacement over the cage's sub-faces (displacement.h); empty: none. Its layout
-    // follows the cage's topology: rebuild it (resampleDisplacement, makeDisplacement) after
-    // topology edits.
-    Displacement displacement;
 };
+
+// A scene of one object, `name`, holding `cage` (what opening a bare cage file gives).
+Scene sceneOfCage(Cage cage, const std::string& name);
+
+// The world-space bounds of every visible object (of every object when none is visible).
+Bounds sceneBounds(const Scene& scene);
 
 // `source` names the text in messages; `baseDir` resolves a referenced cage path.
 Result<Scene> parseScene(std::string_view text, const std::string& source, const std::string& baseDir,
                          std::vector<std::string>* warnings = nullptr);
 Result<Scene> loadScene(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
-// Pretty JSON. With inlineCage false the cage is written as a reference to scene.cagePath
-// (which must then be set); the OBJ itself is not written.
-std::string formatScene(const Scene& scene, bool inlineCage);
+// Where a saved scene keeps its cages.
+enum class CageStorage : uint8_t {
+    Inline,      // every cage in the JSON
+    Referenced,  // every cage in an OBJ beside the scene (savedCagePath), the JSON naming it
+    AsLoaded,    // objects with a cagePath referenced, the others inline
+};
 
-// Writes atomically. With inlineCage false the cage is also saved (atomically) as an OBJ at
-// scene.cagePath relative to the scene file, or at "<scene name>.obj" beside it when
-// cagePath is empty.
-Status saveScene(const Scene& scene, const std::string& path, bool inlineCage);
+// Pretty JSON. Referenced cages are written as their object's cagePath (Referenced: which must
+// then be set for every object with a cage); the OBJs themselves are not written.
+std::string formatScene(const Scene& scene, CageStorage storage);
 
-// Loads a scene (.json) or a bare cage (.obj, wrapped in a default Scene) by extension.
+// Checks the objects (validateObjects) and writes atomically. Referenced cages are saved first
+// (atomically) as OBJs at savedCagePath relative to the scene file.
+Status saveScene(const Scene& scene, const std::string& path, CageStorage storage);
+
+// The OBJ a referenced cage of object `index` is saved as (relative to the scene): its cagePath,
+// or, when that is empty, "<scene name>.obj" (a scene of one object) or "<scene name>_<object
+// name>.obj".
+std::string savedCagePath(const Scene& scene, const std::string& scenePath, uint32_t index);
+
+// Loads a scene (.json) or a bare cage (.obj, wrapped in a scene of one object named after the
+// file) by extension.
 Result<Scene> loadSceneOrCage(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace qp

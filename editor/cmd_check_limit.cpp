@@ -1,4 +1,3 @@
-#include <chrono>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -6,6 +5,7 @@
 #include "commands.h"
 #include "plan_db_option.h"
 #include "limit_check.h"
+#include "planned_scene.h"
 #include "scene.h"
 
 namespace qp::cli {
@@ -41,51 +41,96 @@ int runCheckLimit(const CheckLimitArgs& args) {
     PlanOptions options;
     options.maxDepth = args.depth;
     options.useCreaseNodes = !args.noCreaseNodes;
-    auto start = std::chrono::steady_clock::now();
-    Result<PlannedCage> planned = PlannedCage::create(scene->cage, database, options, args.path);
+    Result<PlannedScene> planned = PlannedScene::create(*scene, database, options, args.path);
     if (!planned) {
         std::fprintf(stderr, "error: %s\n", planned.error().message.c_str());
         return 1;
     }
     savePlanDatabase(database, args.planDatabase);
-    double planMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    Result<LimitReference> reference = LimitReference::create(scene->cage, args.depth, args.path);
-    if (!reference) {
-        std::fprintf(stderr, "error: %s\n", reference.error().message.c_str());
-        return 1;
+    // Each distinct cage in its own coordinates (an instance's transform moves the surface, not
+    // its exactness), errors relative to that cage's diagonal.
+    struct CageResult {
+        std::string name;
+        uint32_t faces = 0;
+        LimitCheck check;
+        uint32_t worstFace = 0, worstDerivativeFace = 0;
+    };
+    std::vector<CageResult> results;
+    for (uint32_t c = 0; c < planned->cages.size(); ++c) {
+        const PlannedCage& cage = planned->cages[c];
+        const std::string& name = scene->objects[planned->objectOfCage[c]].name;
+        const std::string source = planned->cages.size() == 1 ? args.path : args.path + ": object \"" + name + "\"";
+        Result<LimitReference> reference = LimitReference::create(cage.cage(), args.depth, source);
+        if (!reference) {
+            std::fprintf(stderr, "error: %s\n", reference.error().message.c_str());
+            return 1;
+        }
+        CageResult r{name, cage.cage().faceCount(), compareWithReference(cage, *reference, args.samples)};
+        r.worstFace = faceOfSubface(cage, r.check.worstPositionSubface);
+        r.worstDerivativeFace = faceOfSubface(cage, r.check.worstDerivativeSubface);
+        results.push_back(std::move(r));
     }
-    LimitCheck check = compareWithReference(*planned, *reference, args.samples);
-    uint32_t worstFace = faceOfSubface(*planned, check.worstPositionSubface);
-    uint32_t worstDerivativeFace = faceOfSubface(*planned, check.worstDerivativeSubface);
+    // The scene's figures are its worst cage's.
+    size_t worstPosition = 0, worstDerivative = 0;
+    bool pass = true;
+    uint32_t faces = 0, subfaces = 0;
+    uint64_t samples = 0;
+    for (size_t i = 0; i < results.size(); ++i) {
+        const LimitCheck& c = results[i].check;
+        if (c.maxPositionError > results[worstPosition].check.maxPositionError) worstPosition = i;
+        if (c.maxDerivativeError > results[worstDerivative].check.maxDerivativeError) worstDerivative = i;
+        pass = pass && c.pass();
+        faces += results[i].faces;
+        subfaces += c.subfaces;
+        samples += c.samples;
+    }
+    const CageResult& wp = results[worstPosition];
+    const CageResult& wd = results[worstDerivative];
 
     if (args.json) {
         nlohmann::json out = {
             {"file", args.path},
-            {"faces", planned->cage().faceCount()},
-            {"subfaces", check.subfaces},
-            {"samples", check.samples},
+            {"faces", faces},
+            {"subfaces", subfaces},
+            {"samples", samples},
             {"depth", args.depth},
-            {"max_rel_error_position", check.maxPositionError},
-            {"max_rel_error_derivative", check.maxDerivativeError},
-            {"worst_face_position", worstFace + 1},
-            {"worst_face_derivative", worstDerivativeFace + 1},
+            {"max_rel_error_position", wp.check.maxPositionError},
+            {"max_rel_error_derivative", wd.check.maxDerivativeError},
+            {"worst_face_position", wp.worstFace + 1},
+            {"worst_face_derivative", wd.worstDerivativeFace + 1},
+            {"worst_object_position", wp.name},
+            {"worst_object_derivative", wd.name},
             {"tolerance_position", kPositionTolerance},
             {"tolerance_derivative", derivativeTolerance(args.depth)},
             {"unique_plans", database.size()},
-            {"plan_ms", planMs},
-            {"pass", check.pass()},
+            {"plan_ms", planned->planMs},
+            {"pass", pass},
         };
+        out["cages"] = nlohmann::json::array();
+        for (const CageResult& r : results)
+            out["cages"].push_back({{"object", r.name},
+                                    {"faces", r.faces},
+                                    {"max_rel_error_position", r.check.maxPositionError},
+                                    {"max_rel_error_derivative", r.check.maxDerivativeError},
+                                    {"pass", r.check.pass()}});
         std::printf("%s\n", out.dump(2).c_str());
     } else {
-        std::printf("%s: %u faces (%u sub-faces), %llu samples at depth %u\n", args.path.c_str(),
-                    planned->cage().faceCount(), check.subfaces, (unsigned long long)check.samples, args.depth);
-        std::printf("  max position error   %.3g of the diagonal (face %u; tolerance %.1g)\n", check.maxPositionError,
-                    worstFace + 1, kPositionTolerance);
-        std::printf("  max derivative error %.3g of the diagonal (face %u; tolerance %.1g)\n",
-                    check.maxDerivativeError, worstDerivativeFace + 1, derivativeTolerance(args.depth));
-        std::printf("  %s\n", check.pass() ? "PASS" : "FAIL");
+        std::printf("%s: %u faces (%u sub-faces), %llu samples at depth %u\n", args.path.c_str(), faces, subfaces,
+                    (unsigned long long)samples, args.depth);
+        if (results.size() > 1)
+            for (const CageResult& r : results)
+                std::printf("  object %-20s position %.3g, derivative %.3g of its diagonal\n", r.name.c_str(),
+                            r.check.maxPositionError, r.check.maxDerivativeError);
+        const std::string inPosition = results.size() > 1 ? " of object " + wp.name : "";
+        const std::string inDerivative = results.size() > 1 ? " of object " + wd.name : "";
+        std::printf("  max position error   %.3g of the diagonal (face %u%s; tolerance %.1g)\n", wp.check.maxPositionError,
+                    wp.worstFace + 1, inPosition.c_str(), kPositionTolerance);
+        std::printf("  max derivative error %.3g of the diagonal (face %u%s; tolerance %.1g)\n",
+                    wd.check.maxDerivativeError, wd.worstDerivativeFace + 1, inDerivative.c_str(),
+                    derivativeTolerance(args.depth));
+        std::printf("  %s\n", pass ? "PASS" : "FAIL");
     }
-    return check.pass() ? 0 : 3;
+    return pass ? 0 : 3;
 }
 
 }  // namespace

@@ -26,9 +26,9 @@
 #include "offscreen_target.h"
 #include "pipeline_cache.h"
 #include "plan_pass.h"
-#include "planned_cage.h"
+#include "planned_scene.h"
 #include "render_setup.h"
-#include "scheme_host.h"
+#include "scene_schemes.h"
 #include "scheme_support.h"
 #include "surface_error.h"
 #include "vk_commands.h"
@@ -240,6 +240,44 @@ void printJson(const std::vector<SchemeResult>& results, const std::string& imag
     std::printf("%s\n", out.dump(2).c_str());
 }
 
+// The error heat map of every visible object into `area`: its cage's evaluated grid points
+// coloured by their error, under the object's transform.
+Status drawHeatMaps(const VulkanContext& ctx, const MeshPass& pass, const RenderTarget& area, const DrawView& view,
+                    const Scene& scene, const PlannedScene& planned, const std::vector<SubfaceGrid>& grids,
+                    const std::vector<size_t>& firstSampleOfCage, std::span<const SurfacePoint> points,
+                    std::span<const float> relError) {
+    std::vector<GpuMesh> meshes;
+    Status ok = success();
+    for (uint32_t c = 0; ok && c < grids.size(); ++c) {
+        const auto cagePoints = points.subspan(firstSampleOfCage[c], grids[c].samples.size());
+        std::vector<glm::vec3> colors(cagePoints.size());
+        for (size_t k = 0; k < cagePoints.size(); ++k) colors[k] = heatColorLinear(relError[firstSampleOfCage[c] + k]);
+        const std::vector<MeshVertex> vertices = meshVertices(cagePoints);
+        Result<GpuMesh> heat = vertices.empty() ? Result<GpuMesh>(GpuMesh{}) : uploadMesh(ctx, vertices, grids[c].indices, colors);
+        if (!heat) ok = heat.error();
+        else meshes.push_back(*heat);
+    }
+    if (ok) ok = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+        bool cleared = false;
+        for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+            const GpuMesh& mesh = meshes[planned.cageOfObject[i]];
+            if (!scene.objects[i].visible || mesh.indexCount == 0) continue;
+            const DrawView object = objectView(view, scene.objects[i].transform);
+            const MeshDraw draw{&mesh};
+            recordMeshPass(cmd, pass, area, MeshView{object.viewProjection, object.eye, kBackground, Shading::Studio, !cleared},
+                           {&draw, 1});
+            cleared = true;
+        }
+        if (!cleared) {
+            beginRendering(cmd, area, true, kBackground);
+            vkCmdEndRendering(cmd);
+        }
+    });
+    for (GpuMesh& mesh : meshes)
+        if (mesh.indexCount) destroyMesh(ctx, mesh);
+    return ok;
+}
+
 int runCompare(const CompareArgs& args) {
     uint32_t tileWidth = 0, tileHeight = 0;
     if (!parseSize(args.size, tileWidth, tileHeight))
@@ -267,19 +305,38 @@ int runCompare(const CompareArgs& args) {
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     if (!scene) return fail(scene.error().message);
     PlanDatabase database;
-    Result<PlannedCage> planned = PlannedCage::create(scene->cage, database, PlanOptions{args.depth, true}, args.path);
+    Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{args.depth, true}, args.path);
     if (!planned) return fail(planned.error().message);
-    const Bounds bounds = computeBounds(planned->cage());
-    const double diagonal = std::max(double(bounds.diagonal()), 1e-30);
-    Result<RenderCamera> camera = chooseCamera(*scene, bounds, float(tileWidth) / float(tileHeight), args.camera);
+    Result<RenderCamera> camera = chooseCamera(*scene, sceneBounds(*scene), float(tileWidth) / float(tileHeight), args.camera);
     if (!camera) return fail(camera.error().message);
-    const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
-    const SubfaceGrid grid = buildSubfaceGrid(*planned, args.samples);
     if (args.reference != "far" && args.reference != "plans")
         return fail("--reference must be far or plans, got '" + args.reference + "'");
     const ReferenceKind referenceKind = args.reference == "far" ? ReferenceKind::Far : ReferenceKind::Plans;
-    Result<ExactReference> reference = evaluateReference(referenceKind, args.referenceDepth, *planned, grid.samples, args.path);
-    if (!reference) return fail("the exact reference failed: " + reference.error().message);
+    // Error samples per cage (instances share their cage's: the same surface in other places),
+    // each relative to its own cage's diagonal; the reference holds them all, cage after cage.
+    std::vector<SubfaceGrid> grids;
+    std::vector<size_t> firstSampleOfCage{0};
+    std::vector<double> diagonalOfSample;
+    ExactReference reference;
+    for (uint32_t c = 0; c < planned->cages.size(); ++c) {
+        const PlannedCage& cage = planned->cages[c];
+        const std::string source = planned->cages.size() == 1
+                                       ? args.path
+                                       : args.path + ": object \"" + scene->objects[planned->objectOfCage[c]].name + "\"";
+        grids.push_back(buildSubfaceGrid(cage, args.samples));
+        Result<ExactReference> part = evaluateReference(referenceKind, args.referenceDepth, cage, grids.back().samples, source);
+        if (!part) return fail("the exact reference failed: " + part.error().message);
+        if (c == 0) {
+            reference = std::move(part).value();
+        } else {
+            reference.samples.insert(reference.samples.end(), part->samples.begin(), part->samples.end());
+            reference.withoutTangentPlane.insert(reference.withoutTangentPlane.end(), part->withoutTangentPlane.begin(),
+                                                 part->withoutTangentPlane.end());
+        }
+        diagonalOfSample.resize(diagonalOfSample.size() + grids.back().samples.size(),
+                                std::max(double(computeBounds(cage.cage()).diagonal()), 1e-30));
+        firstSampleOfCage.push_back(firstSampleOfCage.back() + grids.back().samples.size());
+    }
 
     Layout layout{tileWidth, tileHeight, std::min<uint32_t>(uint32_t(names.size()), kMaxColumns),
                   (uint32_t(names.size()) + kMaxColumns - 1) / kMaxColumns, 0, 78};
@@ -321,27 +378,26 @@ int runCompare(const CompareArgs& args) {
             settings.planDepth = args.depth;
             for (const auto& [scheme, option] : options)
                 if (scheme == r.name) settings.options.push_back(option);
-            // The tiles show the scene's sculpted displacement; the error is the undisplaced
+            // The tiles show the objects' sculpted displacement; the error is the undisplaced
             // surface's (Scheme::evaluate), against the exact limit surface.
-            const Displacement* displacement = scene->displacement.empty() ? nullptr : &scene->displacement;
-            Result<PreparedScheme> prepared =
-                prepareScheme(catalog, r.name, *planned, features, settings, gpu, args.path, displacement);
+            Result<SceneSchemes> prepared = prepareSceneSchemes(catalog, r.name, *scene, *planned, settings, gpu, args.path);
             if (!prepared) {
                 r.reason = prepared.error().message;
                 std::fprintf(stderr, "error: %s\n", r.reason.c_str());
                 results.push_back(std::move(r));
                 continue;
             }
-            SchemeInstance& scheme = prepared->instance;
-            r.approximations = prepared->support.approximations;
+            for (const PreparedScheme& p : prepared->cages)
+                r.approximations.insert(r.approximations.end(), p.support.approximations.begin(), p.support.approximations.end());
             for (const std::string& a : r.approximations) std::fprintf(stderr, "warning: %s: %s\n", r.name.c_str(), a.c_str());
             r.setupMs = prepared->setupMs();
 
-            // Frames as if the cage moved every frame: the update, then the draw, timed; the last
-            // one stays in the tile.
+            // Frames as if the cages moved every frame: the updates, then the draw, timed; the
+            // last one stays in the tile.
             const RenderTarget tile = subArea(renderTarget(*target), layout.tile(i, false));
             Status ok = success();
-            if (Result<SchemeFrameTimes> times = timeSchemeFrames(ctx, scheme, tile, view, *timer, args.repeats)) {
+            if (Result<SchemeFrameTimes> times =
+                    timeSceneFrames(ctx, *prepared, *scene, *planned, tile, view, *timer, args.repeats)) {
                 r.draw = times->draw;
                 r.frameMs = times->frameMs;
                 r.drawMs = times->drawMs;
@@ -349,30 +405,28 @@ int runCompare(const CompareArgs& args) {
                 ok = times.error();
             }
 
-            // The error on the sample grid, and its heat map in the tile below.
-            std::vector<SurfacePoint> points(grid.samples.size());
-            if (ok) ok = scheme.evaluate(grid.samples, points);
-            Result<SchemeStats> stats = ok ? scheme.stats() : Result<SchemeStats>(ok.error());
-            if (stats) {
-                r.stats = *stats;
-                SurfaceError error = measureSurfaceError(*reference, points, diagonal);
-                r.error = error.stats;
-                std::vector<glm::vec3> colors(points.size());
-                for (size_t k = 0; k < points.size(); ++k) colors[k] = heatColorLinear(error.relError[k]);
-                const std::vector<MeshVertex> vertices = meshVertices(points);
-                Result<GpuMesh> heat = vertices.empty() ? Result<GpuMesh>(GpuMesh{})
-                                                        : uploadMesh(ctx, vertices, grid.indices, colors);
-                ok = heat ? submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-                    const MeshDraw draw{&*heat};
-                    recordMeshPass(cmd, *heatPass, subArea(renderTarget(*target), layout.tile(i, true)),
-                                   MeshView{view.viewProjection, view.eye, kBackground},
-                                   heat->indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-                }) : Status(heat.error());
-                if (heat && heat->indexCount) destroyMesh(ctx, *heat);
-            } else {
-                ok = stats.error();
+            // The error on the sample grids, and its heat map in the tile below.
+            std::vector<SurfacePoint> points(reference.samples.size());
+            for (uint32_t c = 0; ok && c < prepared->cages.size(); ++c) {
+                ok = prepared->cages[c].instance.evaluate(
+                    grids[c].samples, std::span(points).subspan(firstSampleOfCage[c], grids[c].samples.size()));
+                Result<SchemeStats> stats = ok ? prepared->cages[c].instance.stats() : Result<SchemeStats>(ok.error());
+                if (!stats) {
+                    ok = stats.error();
+                    break;
+                }
+                r.stats.patches += stats->patches;
+                r.stats.controlPoints += stats->controlPoints;
+                r.stats.gpuBytes += stats->gpuBytes;
+                r.stats.singleCreasePatches += stats->singleCreasePatches;
             }
-            if (Status destroyed = scheme.destroyGpu(); ok && !destroyed) ok = destroyed;
+            if (ok) {
+                SurfaceError error = measureSurfaceError(reference, points, diagonalOfSample);
+                r.error = error.stats;
+                ok = drawHeatMaps(ctx, *heatPass, subArea(renderTarget(*target), layout.tile(i, true)), view, *scene,
+                                  *planned, grids, firstSampleOfCage, points, error.relError);
+            }
+            if (Status destroyed = destroySceneSchemes(*prepared); ok && !destroyed) ok = destroyed;
             if (!ok) {
                 r.reason = ok.error().message;
                 std::fprintf(stderr, "error: %s\n", r.reason.c_str());
@@ -388,7 +442,7 @@ int runCompare(const CompareArgs& args) {
         } else {
             RgbaImage image{layout.width(), layout.height(), std::move(*pixels)};
             drawLabels(image, layout, results);
-            drawLegend(image, layout, *reference);
+            drawLegend(image, layout, reference);
             Status written = writePng(args.out, image.width, image.height, image.pixels);
             if (!written) status = fail(written.error().message);
         }
@@ -406,10 +460,10 @@ int runCompare(const CompareArgs& args) {
 
     const size_t drawn = size_t(std::count_if(results.begin(), results.end(), [](const SchemeResult& r) { return r.drawn; }));
     if (status == 0) {
-        if (args.json) printJson(results, args.out, args.path, args, *reference);
-        else printTable(results, *reference);
+        if (args.json) printJson(results, args.out, args.path, args, reference);
+        else printTable(results, reference);
         std::fprintf(stderr, "wrote %s (%ux%u, %zu of %zu schemes drawn, %zu error samples each)\n", args.out.c_str(),
-                     layout.width(), layout.height(), drawn, names.size(), grid.samples.size());
+                     layout.width(), layout.height(), drawn, names.size(), reference.samples.size());
         if (drawn == 0) status = 1;
         else if (drawn < names.size()) status = 2;
     }

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -61,6 +62,23 @@ void printStats(const std::string& path, const CageStats& s) {
     std::printf("  holes                  %u\n", s.holes);
 }
 
+void addStats(CageStats& into, const CageStats& s) {
+    into.vertices += s.vertices;
+    into.faces += s.faces;
+    into.edges += s.edges;
+    for (const auto& [k, n] : s.faceSizeHistogram) into.faceSizeHistogram[k] += n;
+    for (const auto& [k, n] : s.valenceHistogram) into.valenceHistogram[k] += n;
+    into.boundaryEdges += s.boundaryEdges;
+    into.nonManifoldEdges += s.nonManifoldEdges;
+    into.nonManifoldVertices += s.nonManifoldVertices;
+    into.isolatedVertices += s.isolatedVertices;
+    into.creasedEdges += s.creasedEdges;
+    into.infinitelySharpEdges += s.infinitelySharpEdges;
+    into.cornerVertices += s.cornerVertices;
+    into.holes += s.holes;
+    into.extraordinaryVertices += s.extraordinaryVertices;
+}
+
 int runInfo(const std::string& path, bool json) {
     std::vector<std::string> warnings;
     Result<Scene> scene = loadSceneOrCage(path, &warnings);
@@ -69,18 +87,57 @@ int runInfo(const std::string& path, bool json) {
         std::fprintf(stderr, "error: %s\n", scene.error().message.c_str());
         return 1;
     }
-    const Cage& cage = scene->cage;
-    // OpenSubdiv must accept the cage too, or nothing downstream can use it.
-    auto refiner = createRefiner(cage, path);
-    if (!refiner) {
-        std::fprintf(stderr, "error: %s\n", refiner.error().message.c_str());
+    Result<std::vector<uint32_t>> owners = cageOwners(scene->objects);
+    if (!owners) {
+        std::fprintf(stderr, "error: %s: %s\n", path.c_str(), owners.error().message.c_str());
         return 1;
     }
-    CageStats stats = computeStats(cage, buildTopology(cage));
-    if (json)
-        std::printf("%s\n", statsJson(path, stats).dump(2).c_str());
-    else
-        printStats(path, stats);
+    // Each distinct cage once (instances draw their source's); the scene's counts are their sums.
+    std::vector<CageStats> cageStats(scene->objects.size());
+    CageStats total;
+    for (uint32_t i = 0; i < scene->objects.size(); ++i) {
+        if ((*owners)[i] != i) continue;
+        const Cage& cage = scene->objects[i].cage;
+        const std::string source = scene->objects.size() == 1 ? path : path + ": object \"" + scene->objects[i].name + "\"";
+        // OpenSubdiv must accept the cage too, or nothing downstream can use it.
+        if (auto refiner = createRefiner(cage, source); !refiner) {
+            std::fprintf(stderr, "error: %s\n", refiner.error().message.c_str());
+            return 1;
+        }
+        cageStats[i] = computeStats(cage, buildTopology(cage));
+        addStats(total, cageStats[i]);
+    }
+    if (json) {
+        nlohmann::json out = statsJson(path, total);
+        out["cages"] = std::count_if(owners->begin(), owners->end(), [&, i = 0u](uint32_t o) mutable { return o == i++; });
+        out["objects"] = nlohmann::json::array();
+        for (uint32_t i = 0; i < scene->objects.size(); ++i) {
+            const SceneObject& o = scene->objects[i];
+            nlohmann::json object = {{"name", o.name},
+                                     {"instance_of", o.isInstance() ? nlohmann::json(o.instanceOf) : nlohmann::json(nullptr)},
+                                     {"visible", o.visible},
+                                     {"translation", {o.transform.translation.x, o.transform.translation.y, o.transform.translation.z}},
+                                     {"rotation_degrees", {o.transform.rotationDegrees.x, o.transform.rotationDegrees.y, o.transform.rotationDegrees.z}},
+                                     {"scale", {o.transform.scale.x, o.transform.scale.y, o.transform.scale.z}}};
+            const CageStats& s = cageStats[(*owners)[i]];
+            object["vertices"] = s.vertices;
+            object["faces"] = s.faces;
+            object["edges"] = s.edges;
+            out["objects"].push_back(object);
+        }
+        std::printf("%s\n", out.dump(2).c_str());
+        return 0;
+    }
+    printStats(path, total);
+    if (scene->objects.size() > 1) {
+        std::printf("  objects                %zu\n", scene->objects.size());
+        for (uint32_t i = 0; i < scene->objects.size(); ++i) {
+            const SceneObject& o = scene->objects[i];
+            const CageStats& s = cageStats[(*owners)[i]];
+            std::printf("    %-20s %u faces%s%s\n", o.name.c_str(), s.faces,
+                        o.isInstance() ? (", instance of " + o.instanceOf).c_str() : "", o.visible ? "" : ", hidden");
+        }
+    }
     return 0;
 }
 

@@ -1,11 +1,10 @@
-#include <chrono>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "plan_db_option.h"
-#include "planned_cage.h"
+#include "planned_scene.h"
 #include "scene.h"
 
 namespace qp::cli {
@@ -31,17 +30,21 @@ int runPlanStats(const PlanStatsArgs& args) {
     PlanDatabase database;
     loadPlanDatabase(database, args.planDatabase);
     PlanOptions options{args.depth, !args.noCreaseNodes};
-    auto start = std::chrono::steady_clock::now();
-    Result<PlannedCage> planned = PlannedCage::create(scene->cage, database, options, args.path);
-    double buildMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    Result<PlannedScene> planned = PlannedScene::create(*scene, database, options, args.path);
     if (!planned) {
         std::fprintf(stderr, "error: %s\n", planned.error().message.c_str());
         return 1;
     }
+    const double buildMs = planned->planMs;
     savePlanDatabase(database, args.planDatabase);
-    PlanDatabaseStats stats = database.stats();
-    uint64_t controlPoints = 0;
-    for (uint32_t s = 0; s < planned->subfaceCount(); ++s) controlPoints += planned->subfaceControlPoints(s).size();
+    const PlanDatabaseStats stats = database.stats();
+    const ScenePlanStats sceneStats = scenePlanStats(*scene, *planned);
+    uint64_t controlPoints = 0, faces = 0, subfaces = 0;
+    for (const PlannedCage& cage : planned->cages) {
+        faces += cage.cage().faceCount();
+        subfaces += cage.subfaceCount();
+        for (uint32_t s = 0; s < cage.subfaceCount(); ++s) controlPoints += cage.subfaceControlPoints(s).size();
+    }
 
     nlohmann::json nodes = nlohmann::json::object();
     uint64_t totalNodes = 0;
@@ -50,17 +53,34 @@ int runPlanStats(const PlanStatsArgs& args) {
         totalNodes += stats.nodesByKind[k];
     }
     if (args.json) {
+        nlohmann::json objects = nlohmann::json::array();
+        for (const ObjectPlanStats& o : sceneStats.objects)
+            objects.push_back({{"name", o.name},
+                               {"instance_of", o.instanceOf.empty() ? nlohmann::json(nullptr) : nlohmann::json(o.instanceOf)},
+                               {"cage", o.cage},
+                               {"faces", o.faces},
+                               {"subfaces", o.subfaces},
+                               {"plans", o.plans},
+                               {"shared_plans", o.sharedPlans},
+                               {"new_plans", o.newPlans},
+                               {"plan_bytes", o.planBytes}});
         nlohmann::json out = {
             {"file", args.path},
             {"depth", args.depth},
             {"crease_nodes", !args.noCreaseNodes},
-            {"faces", planned->cage().faceCount()},
-            {"subfaces", planned->subfaceCount()},
+            {"objects", objects},
+            {"cages", sceneStats.cages},
+            {"faces", faces},
+            {"instance_faces", sceneStats.instanceFaces},
+            {"subfaces", subfaces},
             {"unique_plans", stats.plans},
+            {"plans_in_use", sceneStats.uniquePlans},
+            {"shared_plans", sceneStats.sharedPlans},
             {"nodes", totalNodes},
             {"nodes_by_kind", nodes},
             {"stencils", stats.stencils},
             {"bytes", stats.bytes},
+            {"plan_bytes_in_use", sceneStats.planBytes},
             {"control_points", controlPoints},
             {"control_point_bytes", controlPoints * sizeof(glm::vec3)},
             {"build_ms", buildMs},
@@ -71,8 +91,20 @@ int runPlanStats(const PlanStatsArgs& args) {
         return 0;
     }
     std::printf("%s (depth %u, crease nodes %s)\n", args.path.c_str(), args.depth, args.noCreaseNodes ? "off" : "on");
-    std::printf("  faces          %u (%u sub-faces)\n", planned->cage().faceCount(), planned->subfaceCount());
-    std::printf("  unique plans   %u\n", stats.plans);
+    if (scene->objects.size() > 1) {
+        std::printf("  objects        %zu (%u distinct cages, %llu faces drawn counting instances)\n", scene->objects.size(),
+                    sceneStats.cages, (unsigned long long)sceneStats.instanceFaces);
+        for (const ObjectPlanStats& o : sceneStats.objects) {
+            if (!o.instanceOf.empty()) {
+                std::printf("    %-20s instance of %s\n", o.name.c_str(), o.instanceOf.c_str());
+                continue;
+            }
+            std::printf("    %-20s %u faces, %u plans (%u shared with other cages, %u new)\n", o.name.c_str(), o.faces,
+                        o.plans, o.sharedPlans, o.newPlans);
+        }
+    }
+    std::printf("  faces          %llu (%llu sub-faces)\n", (unsigned long long)faces, (unsigned long long)subfaces);
+    std::printf("  unique plans   %u (%u used by more than one cage)\n", stats.plans, sceneStats.sharedPlans);
     std::printf("  nodes          %llu:", (unsigned long long)totalNodes);
     for (uint32_t k = 0; k < kNodeKindCount; ++k)
         std::printf(" %s %llu", nodeKindName(NodeKind(k)), (unsigned long long)stats.nodesByKind[k]);

@@ -8,9 +8,9 @@
 #include "offscreen_target.h"
 #include "pipeline_cache.h"
 #include "plan_pass.h"
-#include "planned_cage.h"
+#include "planned_scene.h"
 #include "render_setup.h"
-#include "scheme_host.h"
+#include "scene_schemes.h"
 #include "vk_commands.h"
 
 namespace qp::cli {
@@ -73,12 +73,11 @@ int runRender(const RenderArgs& args) {
     const bool showCage = !args.noCage && scene->tessellation.showCage;
 
     PlanDatabase database;
-    Result<PlannedCage> planned = PlannedCage::create(scene->cage, database, PlanOptions{args.depth, true}, args.path);
+    Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{args.depth, true}, args.path);
     if (!planned) return fail(planned.error().message);
 
     const float aspect = float(width) / float(height);
-    const Bounds bounds = computeBounds(planned->cage());
-    Result<RenderCamera> camera = chooseCamera(*scene, bounds, aspect, args.camera);
+    Result<RenderCamera> camera = chooseCamera(*scene, sceneBounds(*scene), aspect, args.camera);
     if (!camera) return fail(camera.error().message);
 
     Result<VulkanContext> context = createHeadlessContext(args.validate);
@@ -92,28 +91,37 @@ int runRender(const RenderArgs& args) {
     const VkPipelineCache vkCache = cache ? cache->cache : VK_NULL_HANDLE;
     const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
     const GpuContext gpu{&ctx, vkCache, format, VK_FORMAT_D32_SFLOAT};
-    const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
 
-    Result<PreparedScheme> prepared = prepareScheme(catalog, args.scheme, *planned, features, settings, gpu, args.path,
-                                                       &scene->displacement);
-    Result<std::vector<std::string>> modes = prepared ? prepared->instance.colorModes()
+    Result<SceneSchemes> prepared = prepareSceneSchemes(catalog, args.scheme, *scene, *planned, settings, gpu, args.path);
+    Result<std::vector<std::string>> modes = prepared ? prepared->cages.front().instance.colorModes()
                                                       : Result<std::vector<std::string>>(prepared.error());
     Result<OffscreenTarget> target = modes ? createOffscreenTarget(ctx, width, height, format) : Result<OffscreenTarget>(modes.error());
     Result<LinePass> lines = target ? createLinePass(ctx, vkCache, format) : Result<LinePass>(target.error());
-    std::vector<LineVertex> cageVertices = cageLines(planned->cage());
-    Result<Buffer> lineBuffer = lines ? createBuffer(ctx, std::max<size_t>(cageVertices.size(), 2) * sizeof(LineVertex),
-                                                     VK_BUFFER_USAGE_VERTEX_BUFFER_BIT)
-                                      : Result<Buffer>(lines.error());
-    if (!lineBuffer) {
-        status = fail(prepared ? "cannot set up the renderer: " + lineBuffer.error().message : lineBuffer.error().message);
+    // One line buffer per cage, drawn once per object under its transform.
+    std::vector<std::vector<LineVertex>> cageVertices;
+    std::vector<Buffer> lineBuffers;
+    Status linesReady = lines ? success() : Status(lines.error());
+    for (uint32_t c = 0; linesReady && c < planned->cages.size(); ++c) {
+        cageVertices.push_back(cageLines(planned->cages[c].cage()));
+        Result<Buffer> buffer = createBuffer(ctx, std::max<size_t>(cageVertices.back().size(), 2) * sizeof(LineVertex),
+                                             VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        if (!buffer) {
+            linesReady = buffer.error();
+            break;
+        }
+        uploadBuffer(*buffer, cageVertices.back().data(), cageVertices.back().size() * sizeof(LineVertex));
+        lineBuffers.push_back(*buffer);
+    }
+    if (!linesReady) {
+        status = fail(prepared ? "cannot set up the renderer: " + linesReady.error().message : linesReady.error().message);
     } else if (std::find(modes->begin(), modes->end(), args.colorBy) == modes->end()) {
         std::string known;
         for (const std::string& m : *modes) known += (known.empty() ? "" : ", ") + m;
         status = fail("unknown --color-by '" + args.colorBy + "' for scheme " + args.scheme + "; use " + known);
     } else {
-        for (const std::string& w : prepared->support.approximations)
-            std::fprintf(stderr, "warning: %s: %s\n", args.scheme.c_str(), w.c_str());
-        uploadBuffer(*lineBuffer, cageVertices.data(), cageVertices.size() * sizeof(LineVertex));
+        for (const PreparedScheme& p : prepared->cages)
+            for (const std::string& w : p.support.approximations)
+                std::fprintf(stderr, "warning: %s: %s\n", args.scheme.c_str(), w.c_str());
         DrawView view;
         view.viewProjection = viewProjection(*camera);
         view.eye = camera->eye;
@@ -122,9 +130,14 @@ int runRender(const RenderArgs& args) {
         view.wireframe = args.wire || scene->tessellation.showWireframe;
         Result<DrawStats> drawStats = DrawStats{};
         Status drawn = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            drawStats = prepared->instance.record(cmd, renderTarget(*target), view);
-            if (showCage && !cageVertices.empty())
-                recordLines(cmd, *lines, renderTarget(*target), view.viewProjection, *lineBuffer, uint32_t(cageVertices.size()));
+            drawStats = recordScene(cmd, *prepared, *scene, *planned, renderTarget(*target), view);
+            if (!showCage) return;
+            for (uint32_t i = 0; i < scene->objects.size(); ++i) {
+                const uint32_t c = planned->cageOfObject[i];
+                if (!scene->objects[i].visible || cageVertices[c].empty()) continue;
+                recordLines(cmd, *lines, renderTarget(*target), objectView(view, scene->objects[i].transform).viewProjection,
+                            lineBuffers[c], uint32_t(cageVertices[c].size()));
+            }
         });
         if (drawn && !drawStats) drawn = drawStats.error();
         Result<std::vector<uint8_t>> pixels = drawn ? readPixels(ctx, *target) : Result<std::vector<uint8_t>>(drawn.error());
@@ -135,20 +148,23 @@ int runRender(const RenderArgs& args) {
             const std::string triangles = drawStats->triangles > 0
                                               ? std::to_string(drawStats->triangles) + " triangles"
                                               : "triangle count set by the tessellator at draw time";
-            std::fprintf(stderr, "wrote %s (%ux%u, scheme %s on %s, %llu patches, %s)\n", args.out.c_str(), width,
-                         height, args.scheme.c_str(), ctx.deviceName.c_str(),
+            const std::string objects = scene->objects.size() == 1 ? ""
+                                        : std::to_string(scene->objects.size()) + " objects, " +
+                                              std::to_string(planned->cages.size()) + " cages, ";
+            std::fprintf(stderr, "wrote %s (%ux%u, scheme %s on %s, %s%llu patches, %s)\n", args.out.c_str(), width,
+                         height, args.scheme.c_str(), ctx.deviceName.c_str(), objects.c_str(),
                          (unsigned long long)drawStats->patches, triangles.c_str());
         }
     }
     if (prepared) {
-        if (Status s = prepared->instance.destroyGpu(); !s) status = fail(s.error().message);
+        if (Status s = destroySceneSchemes(*prepared); !s) status = fail(s.error().message);
     }
     if (cache) {
         if (Status saved = savePipelineCache(ctx, *cache); !saved)
             std::fprintf(stderr, "warning: pipeline cache not saved: %s\n", saved.error().message.c_str());
         destroyPipelineCache(ctx, *cache);
     }
-    if (lineBuffer) destroyBuffer(ctx, *lineBuffer);
+    for (Buffer& b : lineBuffers) destroyBuffer(ctx, b);
     if (lines) destroyLinePass(ctx, *lines);
     if (target) destroyOffscreenTarget(ctx, *target);
     destroyContext(ctx);

@@ -28,11 +28,18 @@ int runSchemes(const SchemesArgs& args) {
             std::fprintf(stderr, "error: %s\n", loaded.error().message.c_str());
             return 1;
         }
-        if (Status valid = validateCage(loaded->cage, args.cage); !valid) {
-            std::fprintf(stderr, "error: %s\n", valid.error().message.c_str());
-            return 1;
+        // A scene's features are every object's cage's together: what a scheme must draw for it.
+        features.emplace();
+        for (const SceneObject& o : loaded->objects) {
+            if (o.isInstance()) continue;
+            if (Status valid = validateCage(o.cage, args.cage); !valid) {
+                std::fprintf(stderr, "error: %s\n", valid.error().message.c_str());
+                return 1;
+            }
+            const CageFeatures f = analyzeCage(o.cage, buildTopology(o.cage));
+            for (uint32_t k = 0; k < kCageFeatureCount; ++k) features->count[k] += f.count[k];
+            features->maxValence = std::max(features->maxValence, f.maxValence);
         }
-        features = analyzeCage(loaded->cage, buildTopology(loaded->cage));
     }
     nlohmann::json json = {{"directory", catalog.directory}, {"schemes", nlohmann::json::array()},
                            {"problems", nlohmann::json::array()}};

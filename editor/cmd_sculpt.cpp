@@ -28,6 +28,7 @@ namespace {
 
 struct SculptArgs {
     std::string input, out, strokesFile, path, planDb;
+    std::string object;  // empty: the first object with a cage of its own
     std::string brush = "raise", falloff = "smooth", mirror = "none";
     float radius = 0.0f, strength = 0.0f, spacing = 0.0f;
     uint32_t resolution = 0;  // 0: keep the scene's (8 when it has none)
@@ -112,6 +113,25 @@ Result<std::vector<ScriptedStroke>> strokesFromArgs(const SculptArgs& args) {
     return std::vector<ScriptedStroke>{std::move(stroke)};
 }
 
+// The object --object names (it must have a cage of its own), or the first that has one.
+Result<uint32_t> sculptedObject(const Scene& scene, const std::string& name) {
+    if (name.empty()) {
+        for (uint32_t i = 0; i < scene.objects.size(); ++i)
+            if (!scene.objects[i].isInstance()) return i;
+        return Error{"the scene has no object with a cage of its own"};
+    }
+    const uint32_t i = findObject(scene.objects, name);
+    if (i == UINT32_MAX) {
+        std::string names;
+        for (const SceneObject& o : scene.objects) names += (names.empty() ? "" : ", ") + o.name;
+        return Error{"--object: no object is called \"" + name + "\" (the scene has " + names + ")"};
+    }
+    if (scene.objects[i].isInstance())
+        return Error{"--object: \"" + name + "\" is an instance of \"" + scene.objects[i].instanceOf +
+                     "\" and draws its displacement: sculpt \"" + scene.objects[i].instanceOf + "\" instead"};
+    return i;
+}
+
 int runSculpt(const SculptArgs& args) {
     auto failWith = [](const std::string& message) {
         std::fprintf(stderr, "error: %s\n", message.c_str());
@@ -128,15 +148,19 @@ int runSculpt(const SculptArgs& args) {
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     if (!scene) return failWith(scene.error().message);
 
+    Result<uint32_t> index = sculptedObject(*scene, args.object);
+    if (!index) return failWith(args.input + ": " + index.error().message);
+    SceneObject& object = scene->objects[*index];
+
     PlanDatabase database;
     loadPlanDatabase(database, args.planDb);
-    Result<PlannedCage> planned = PlannedCage::create(scene->cage, database, PlanOptions{}, args.input);
+    Result<PlannedCage> planned = PlannedCage::create(object.cage, database, PlanOptions{}, args.input);
     if (!planned) return failWith(planned.error().message);
     savePlanDatabase(database, args.planDb);
 
-    Displacement& displacement = scene->displacement;
+    Displacement& displacement = object.displacement;
     if (displacement.empty())
-        displacement = makeDisplacement(scene->cage, planned->topology(), args.resolution ? args.resolution : kDefaultResolution);
+        displacement = makeDisplacement(object.cage, planned->topology(), args.resolution ? args.resolution : kDefaultResolution);
     else if (args.resolution)
         displacement = resampleDisplacement(displacement, std::vector<uint32_t>(displacement.layout.subfaces.size(), args.resolution));
 
@@ -154,8 +178,8 @@ int runSculpt(const SculptArgs& args) {
     std::sort(changed.begin(), changed.end());
     changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
 
-    scene->cagePath.clear();  // written inline: one self-contained file
-    if (Status saved = saveScene(*scene, args.out, true); !saved) return failWith(saved.error().message);
+    for (SceneObject& o : scene->objects) o.cagePath.clear();  // written inline: one self-contained file
+    if (Status saved = saveScene(*scene, args.out, CageStorage::Inline); !saved) return failWith(saved.error().message);
     auto [lo, hi] = std::minmax_element(displacement.samples.begin(), displacement.samples.end());
     std::fprintf(stderr, "sculpt: %zu stroke%s, %u dabs, %zu of %zu samples changed; displacement in [%g, %g]; wrote %s\n",
                  strokes->size(), strokes->size() == 1 ? "" : "s", dabs, changed.size(), displacement.samples.size(),
@@ -174,6 +198,9 @@ void registerSculpt(CLI::App& app, int& exitCode) {
     auto args = std::make_shared<SculptArgs>();
     cmd->add_option("input", args->input, "Scene (.json) or cage (.obj)")->required();
     cmd->add_option("--out", args->out, "Scene file to write (.json)")->required();
+    cmd->add_option("--object", args->object,
+                    "The object to sculpt (default: the first with a cage of its own); stroke points are in its "
+                    "cage's coordinates");
     cmd->add_option("--path", args->path, "Stroke path in world space: \"x,y,z;x,y,z;...\"");
     cmd->add_option("--strokes", args->strokesFile,
                     "JSON stroke list instead of --path: {\"strokes\": [{\"brush\", \"radius\", \"strength\", "

@@ -47,7 +47,7 @@ DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, con
                             const DrawView& view, uint64_t patches) {
     const GpuMesh& mesh = drawing.displacement ? drawing.displaced.gpu : drawing.mesh;
     MeshDraw draw{&mesh, glm::vec3(0.8f), true, view.wireframe};
-    recordMeshPass(cmd, drawing.pass, target, MeshView{view.viewProjection, view.eye, view.background, view.shading},
+    recordMeshPass(cmd, drawing.pass, target, MeshView{view.viewProjection, view.eye, view.background, view.shading, view.clear},
                    mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
     return DrawStats{patches, mesh.indexCount / 3, DrawnBy::CpuMesh};
 }

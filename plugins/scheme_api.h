@@ -59,7 +59,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 7;
+inline constexpr uint32_t kSchemeApiVersion = 8;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -134,10 +134,15 @@ struct GpuContext {
     VkFormat depthFormat = VK_FORMAT_D32_SFLOAT;
 };
 
+// A scheme draws in its cage's own coordinates. A scene's objects place cages by transforms: the
+// host then passes each object's view in that object's space (objectView in scheme_host.h:
+// viewProjection times the object's matrix, the eye brought into object space, pixelsPerUnit
+// scaled with it), and `clear` false for every object after the first.
 struct DrawView {
-    glm::mat4 viewProjection{1.0f};  // Vulkan clip space (render/camera.h)
-    glm::vec3 eye{0.0f};
+    glm::mat4 viewProjection{1.0f};  // Vulkan clip space (render/camera.h), from the cage's coordinates
+    glm::vec3 eye{0.0f};             // in the cage's coordinates
     glm::vec3 background{0.9f, 0.92f, 0.95f};  // linear; record() clears target.area to it
+    bool clear = true;                // false: record() draws over what target.area holds
     float pixelsPerUnit = 1.0f;       // for screen-adaptive factors (render/plan_pass.h)
     bool wireframe = false;           // tessellation wireframe over the surface, if supported
     std::string colorBy = "shading";  // one of Scheme::colorModes()

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <vector>
 
 #include "vk_commands.h"
@@ -23,17 +24,18 @@ double median(std::vector<double> values) {
 
 }  // namespace
 
-Result<SchemeFrameTimes> timeSchemeFrames(const VulkanContext& ctx, SchemeInstance& scheme, const RenderTarget& target,
-                                          const DrawView& view, const GpuTimer& timer, uint32_t repeats) {
+Result<SchemeFrameTimes> timeFrames(const VulkanContext& ctx, const std::function<Status()>& update,
+                                    const std::function<Result<DrawStats>(VkCommandBuffer)>& record, const GpuTimer& timer,
+                                    uint32_t repeats) {
     SchemeFrameTimes times;
     std::vector<double> frames, draws;
     for (uint32_t k = 0; k <= repeats; ++k) {
         const auto start = std::chrono::steady_clock::now();
-        if (Status updated = scheme.update(); !updated) return updated.error();
+        if (Status updated = update(); !updated) return updated.error();
         Result<DrawStats> drawn = DrawStats{};
         if (Status submitted = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
                 beginGpuTimer(cmd, timer);
-                drawn = scheme.record(cmd, target, view);
+                drawn = record(cmd);
                 endGpuTimer(cmd, timer);
             });
             !submitted)
@@ -49,6 +51,13 @@ Result<SchemeFrameTimes> timeSchemeFrames(const VulkanContext& ctx, SchemeInstan
     times.frameMs = median(frames);
     times.drawMs = median(draws);
     return times;
+}
+
+Result<SchemeFrameTimes> timeSchemeFrames(const VulkanContext& ctx, SchemeInstance& scheme, const RenderTarget& target,
+                                          const DrawView& view, const GpuTimer& timer, uint32_t repeats) {
+    return timeFrames(
+        ctx, [&] { return scheme.update(); }, [&](VkCommandBuffer cmd) { return scheme.record(cmd, target, view); }, timer,
+        repeats);
 }
 
 std::string unknownSchemeMessage(const PluginCatalog& catalog, const std::string& name) {

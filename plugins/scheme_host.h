@@ -2,6 +2,7 @@
 // host (render, compare, the editor) runs, with one message per way it can fail.
 #pragma once
 
+#include <functional>
 #include <string>
 
 #include "gpu_timer.h"
@@ -35,6 +36,11 @@ struct SchemeFrameTimes {
     DrawStats draw;
     double frameMs = 0.0, drawMs = 0.0;
 };
+// The loop under it, for any set of updates and draws (a scene's): `update` then `record` in
+// one submission per frame.
+Result<SchemeFrameTimes> timeFrames(const VulkanContext& context, const std::function<Status()>& update,
+                                    const std::function<Result<DrawStats>(VkCommandBuffer)>& record,
+                                    const GpuTimer& timer, uint32_t repeats);
 Result<SchemeFrameTimes> timeSchemeFrames(const VulkanContext& context, SchemeInstance& scheme, const RenderTarget& target,
                                           const DrawView& view, const GpuTimer& timer, uint32_t repeats);
 

@@ -1,6 +1,7 @@
 #include "surface_error.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 #include <tbb/blocked_range.h>
@@ -57,6 +58,13 @@ Result<ExactReference> evaluateReference(ReferenceKind kind, uint32_t depth, con
 }
 
 SurfaceError measureSurfaceError(const ExactReference& reference, std::span<const SurfacePoint> points, double diagonal) {
+    const std::vector<double> diagonals(points.size(), diagonal);
+    return measureSurfaceError(reference, points, diagonals);
+}
+
+SurfaceError measureSurfaceError(const ExactReference& reference, std::span<const SurfacePoint> points,
+                                 std::span<const double> diagonalOfSample) {
+    assert(diagonalOfSample.size() == points.size());
     SurfaceError error;
     error.relError.resize(points.size());
     double sumSquares = 0.0;
@@ -66,7 +74,7 @@ SurfaceError measureSurfaceError(const ExactReference& reference, std::span<cons
     for (size_t i = 0; i < points.size(); ++i) {
         const ReferenceSample& exact = reference.samples[i];
         const double distance = glm::length(glm::dvec3(points[i].position) - exact.position);
-        const double rel = distance / diagonal;
+        const double rel = distance / diagonalOfSample[i];
         error.relError[i] = float(rel);
         s.maxRelError = std::max(s.maxRelError, rel);
         sumSquares += rel * rel;

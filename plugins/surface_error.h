@@ -75,6 +75,9 @@ Result<ExactReference> evaluateReference(ReferenceKind kind, uint32_t depth, con
 
 // `points` are the scheme's values at the reference's samples; `diagonal` is the scale (> 0).
 SurfaceError measureSurfaceError(const ExactReference& reference, std::span<const SurfacePoint> points, double diagonal);
+// The same with a scale per sample: a scene's samples, each cage's relative to its own diagonal.
+SurfaceError measureSurfaceError(const ExactReference& reference, std::span<const SurfacePoint> points,
+                                 std::span<const double> diagonalOfSample);
 // Against the plans (ReferenceKind::Plans).
 SurfaceError measureSurfaceError(const PlannedCage& exact, std::span<const SampleRequest> samples,
                                  std::span<const SurfacePoint> points, double diagonal);

@@ -280,7 +280,7 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
                 VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     }
-    beginRendering(cmd, target, true, view.background);
+    beginRendering(cmd, target, view.clear, view.background);
     const uint32_t maxFactor = settings.largestLevel ? std::min(settings.largestLevel, 64u)
                                : settings.uniformFactor == 0 ? 64u
                                                              : std::min(settings.uniformFactor, 64u);

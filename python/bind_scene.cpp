@@ -131,6 +131,60 @@ py::array_t<float> pointsArray(const std::vector<LimitSample>& samples, glm::vec
     return out;
 }
 
+// Translation, rotation and scale given as 3-sequences (None: keep `base`'s).
+ObjectTransform transformFrom(const py::object& translation, const py::object& rotation, const py::object& scale,
+                              ObjectTransform base) {
+    if (!translation.is_none()) base.translation = vec3From(translation, "translation");
+    if (!rotation.is_none()) base.rotationDegrees = vec3From(rotation, "rotation_degrees");
+    if (!scale.is_none()) base.scale = vec3From(scale, "scale");
+    return base;
+}
+
+py::tuple tupleOf(const glm::vec3& v) { return py::make_tuple(v.x, v.y, v.z); }
+
+py::list objectsList(const Document& d) {
+    py::list out;
+    const Scene& scene = d.scene();
+    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+        const SceneObject& o = scene.objects[i];
+        py::dict object;
+        object["name"] = o.name;
+        object["instance_of"] = o.isInstance() ? py::object(py::str(o.instanceOf)) : py::object(py::none());
+        object["translation"] = tupleOf(o.transform.translation);
+        object["rotation_degrees"] = tupleOf(o.transform.rotationDegrees);
+        object["scale"] = tupleOf(o.transform.scale);
+        object["visible"] = o.visible;
+        object["faces"] = d.plannedScene().cages[d.plannedScene().cageOfObject[i]].cage().faceCount();
+        object["active"] = i == d.activeObject();
+        out.append(object);
+    }
+    return out;
+}
+
+py::dict scenePlanStatsDict(const Document& d) {
+    const ScenePlanStats stats = scenePlanStats(d.scene(), d.plannedScene());
+    py::list objects;
+    for (const ObjectPlanStats& o : stats.objects) {
+        py::dict object;
+        object["name"] = o.name;
+        object["instance_of"] = o.instanceOf.empty() ? py::object(py::none()) : py::object(py::str(o.instanceOf));
+        object["faces"] = o.faces;
+        object["plans"] = o.plans;
+        object["shared_plans"] = o.sharedPlans;
+        object["new_plans"] = o.newPlans;
+        object["plan_bytes"] = o.planBytes;
+        objects.append(object);
+    }
+    py::dict out;
+    out["objects"] = objects;
+    out["cages"] = stats.cages;
+    out["unique_plans"] = stats.uniquePlans;
+    out["shared_plans"] = stats.sharedPlans;
+    out["plan_bytes"] = stats.planBytes;
+    out["instance_faces"] = stats.instanceFaces;
+    return out;
+}
+
 }  // namespace
 
 void bindScene(py::module_& m) {
@@ -188,8 +242,7 @@ Topology edits are refused while the scene has displacement (clear_displacement(
 )doc");
     scene
         .def(py::init([](const Cage& cage, uint32_t depth) {
-                 Scene s;
-                 s.cage = cage;
+                 Scene s = sceneOfCage(cage, "cage");
                  std::vector<std::string> warnings;  // the plan cache's
                  Result<std::unique_ptr<Document>> doc = [&] {
                      py::gil_scoped_release release;
@@ -214,8 +267,10 @@ Topology edits are refused while the scene has displacement (clear_displacement(
         .def("copy", &Document::copy, "An independent copy of the current state, with an empty history.")
         .def("save",
              [](Document& doc, const std::string& path, const py::object& inlineCage) {
-                 const bool inlined = inlineCage.is_none() ? doc.scene().cagePath.empty() : inlineCage.cast<bool>();
-                 check(doc.save(path, inlined));
+                 const CageStorage storage = inlineCage.is_none() ? CageStorage::AsLoaded
+                                             : inlineCage.cast<bool>() ? CageStorage::Inline
+                                                                       : CageStorage::Referenced;
+                 check(doc.save(path, storage));
              },
              py::arg("path"), py::arg("inline_cage") = py::none(),
              R"doc(Saves atomically. A .obj path writes the cage alone; a .json path the scene, with the cage inline,
@@ -276,6 +331,80 @@ built) and plans copied from the persistent plan cache (database_from_cache).)do
                  return out;
              },
              "GPU memory in the columns of the paper's Table 4 (render/plan_memory.h): vertex, index, plans, quadtree, stencils, scratch.")
+        // ---- objects ----
+        .def_property_readonly("objects", [](const Document& d) { return objectsList(d); },
+             R"doc(The scene's objects in order, one dict each: name, instance_of (None: a cage of its own),
+translation, rotation_degrees, scale, visible, faces, active.)doc")
+        .def_property("active_object", [](const Document& d) { return d.scene().objects[d.activeObject()].name; },
+             [](Document& d, const std::string& name) { check(d.setActive(name)); },
+             "The object every cage, tag, displacement and selection call acts on (an object with a cage of its own).")
+        .def("object", [](py::object self, const std::string& name) {
+                 check(self.cast<Document&>().setActive(name));
+                 return self;
+             }, py::arg("name"),
+             R"doc(Makes `name` the active object and returns the scene, so scene.object("car").extrude([3], 0.2)
+edits the car (and so does every later cage call, until another object is made active).)doc")
+        .def("add_object",
+             [](Document& d, const py::object& source, const std::string& name, const py::object& translation,
+                const py::object& rotation, const py::object& scale) {
+                 Cage cage;
+                 std::string base = name;
+                 if (py::isinstance<py::str>(source)) {
+                     std::vector<std::string> warnings;
+                     const std::string path = source.cast<std::string>();
+                     Result<Scene> loaded = loadSceneOrCage(path, &warnings);
+                     warnAll(warnings);
+                     Scene scene = unwrap(std::move(loaded));
+                     if (scene.objects.size() != 1 || scene.objects[0].isInstance())
+                         throw ScriptError(path + ": add_object takes a cage (or a scene of one object); this scene has " +
+                                           std::to_string(scene.objects.size()) + " objects");
+                     cage = std::move(scene.objects[0].cage);
+                     if (base.empty()) base = scene.objects[0].name;
+                 } else {
+                     cage = source.cast<Cage>();
+                 }
+                 const ObjectTransform transform = transformFrom(translation, rotation, scale, ObjectTransform{});
+                 Result<std::string> added = [&] {
+                     py::gil_scoped_release release;
+                     return d.addObject(std::move(cage), base, transform);
+                 }();
+                 return unwrap(std::move(added));
+             },
+             py::arg("cage"), py::arg("name") = "", py::arg("translation") = py::none(), py::arg("rotation_degrees") = py::none(),
+             py::arg("scale") = py::none(),
+             R"doc(Adds an object from a cage file (any cage the product opens) or a quadplan.Cage, planned through the
+scene's one plan database (configurations it shares with other objects add no plans). Returns the
+name it got (`name`, else the file's or "object", made unique as "name.001"). Undoable.)doc")
+        .def("instance",
+             [](Document& d, const std::string& source, const std::string& name, const py::object& translation,
+                const py::object& rotation, const py::object& scale) {
+                 const ObjectTransform transform = transformFrom(translation, rotation, scale, ObjectTransform{});
+                 return unwrap(d.addInstance(source, name, transform));
+             },
+             py::arg("source"), py::arg("name") = "", py::arg("translation") = py::none(), py::arg("rotation_degrees") = py::none(),
+             py::arg("scale") = py::none(),
+             R"doc(Adds an instance of `source`: its cage, plans and displacement, drawn under its own transform. It
+plans nothing. Returns its name. Undoable.)doc")
+        .def("remove_object", [](Document& d, const std::string& name) { check(d.removeObject(name)); }, py::arg("name"),
+             "Removes an object (refused while others instance it, and for the last object with a cage). Undoable.")
+        .def("rename_object", [](Document& d, const std::string& name, const std::string& to) { check(d.renameObject(name, to)); },
+             py::arg("name"), py::arg("new_name"), "Renames an object; instance links follow. Undoable.")
+        .def("set_transform",
+             [](Document& d, const std::string& name, const py::object& translation, const py::object& rotation,
+                const py::object& scale) {
+                 const uint32_t i = findObject(d.scene().objects, name);
+                 const ObjectTransform current = i == UINT32_MAX ? ObjectTransform{} : d.scene().objects[i].transform;
+                 check(d.setTransform(name, transformFrom(translation, rotation, scale, current)));
+             },
+             py::arg("name"), py::arg("translation") = py::none(), py::arg("rotation_degrees") = py::none(),
+             py::arg("scale") = py::none(),
+             "Sets an object's transform (the parts given; the others stay). Re-plans and re-evaluates nothing. Undoable.")
+        .def("set_visible", [](Document& d, const std::string& name, bool visible) { check(d.setVisible(name, visible)); },
+             py::arg("name"), py::arg("visible"), "Shows or hides an object (hidden ones are kept and saved). Undoable.")
+        .def("scene_plan_stats", [](const Document& d) { return scenePlanStatsDict(d); },
+             R"doc(Plans per object and for the whole scene, as `quadplan plan-stats --json` reports them: objects
+(name, instance_of, faces, plans, shared_plans, new_plans, plan_bytes), cages, unique_plans,
+shared_plans, plan_bytes, instance_faces.)doc")
         .def("differences_from_rebuild", [](const Document& d) {
                  py::gil_scoped_release release;
                  return d.differencesFromRebuild();

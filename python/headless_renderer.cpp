@@ -13,6 +13,7 @@
 #include "plan_pass.h"
 #include "vk_buffer.h"
 #include "render_setup.h"
+#include "scene_schemes.h"
 #include "scheme_host.h"
 #include "scheme_support.h"
 #include "vk_commands.h"
@@ -148,7 +149,7 @@ Result<RenderCamera> HeadlessRenderer::cameraFor(const SceneDocument& document, 
                                                  uint32_t width, uint32_t height) const {
     Scene view;  // chooseCamera reads only the camera
     view.camera = camera ? camera : document.scene().camera;
-    return cli::chooseCamera(view, computeBounds(document.cage()), float(width) / float(height), "");
+    return cli::chooseCamera(view, sceneBounds(document.scene(), document.plannedScene()), float(width) / float(height), "");
 }
 
 Result<RenderedImage> HeadlessRenderer::render(const SceneDocument& document, const RenderRequest& request) {
@@ -157,11 +158,10 @@ Result<RenderedImage> HeadlessRenderer::render(const SceneDocument& document, co
     if (request.tess > 0 && request.adaptive > 0.0f) return Error{"give either tess or adaptive, not both"};
     if (request.tess > 64) return Error{"tess must be between 1 and 64, got " + std::to_string(request.tess)};
     if (!catalog_.find(request.scheme)) return Error{unknownSchemeMessage(catalog_, request.scheme)};
-    const PlannedCage& planned = document.planned();
     const Scene& scene = document.scene();
 
     SchemeSettings settings;
-    settings.planDepth = planned.options().maxDepth;
+    settings.planDepth = document.planned().options().maxDepth;
     settings.options = request.options;
     if (request.tess > 0) {
         settings.tessFactor = request.tess;
@@ -176,12 +176,12 @@ Result<RenderedImage> HeadlessRenderer::render(const SceneDocument& document, co
     Result<RenderCamera> camera = cameraFor(document, request.camera, request.width, request.height);
     if (!camera) return camera.error();
 
-    const CageFeatures features = analyzeCage(planned.cage(), planned.topology());
-    Result<PreparedScheme> prepared = prepareScheme(catalog_, request.scheme, planned, features, settings, gpu(),
-                                                    document.source(), displacementOf(document));
+    // Every object: one scheme instance per cage, drawn per object under its transform.
+    const PlannedScene& cages = document.plannedScene();
+    Result<SceneSchemes> prepared = prepareSceneSchemes(catalog_, request.scheme, scene, cages, settings, gpu(), document.source());
     if (!prepared) return prepared.error();
-    Defer releaseScheme{[&] { (void)prepared->instance.destroyGpu(); }};
-    Result<std::vector<std::string>> modes = prepared->instance.colorModes();
+    Defer releaseSchemes{[&] { (void)destroySceneSchemes(*prepared); }};
+    Result<std::vector<std::string>> modes = prepared->cages.front().instance.colorModes();
     if (!modes) return modes.error();
     if (std::find(modes->begin(), modes->end(), request.colorBy) == modes->end()) {
         std::string known;
@@ -192,12 +192,19 @@ Result<RenderedImage> HeadlessRenderer::render(const SceneDocument& document, co
     Result<OffscreenTarget> target = createOffscreenTarget(context_, request.width, request.height, kColorFormat);
     if (!target) return Error{"cannot set up the renderer: " + target.error().message};
     Defer releaseTarget{[&] { destroyOffscreenTarget(context_, *target); }};
-    const std::vector<LineVertex> cageVertices = cageLines(planned.cage());
-    Result<Buffer> lineBuffer = createBuffer(context_, std::max<size_t>(cageVertices.size(), 2) * sizeof(LineVertex),
+    std::vector<std::vector<LineVertex>> cageVertices;
+    std::vector<Buffer> lineBuffers;
+    Defer releaseLines{[&] {
+        for (Buffer& b : lineBuffers) destroyBuffer(context_, b);
+    }};
+    for (const PlannedCage& cage : cages.cages) {
+        cageVertices.push_back(cageLines(cage.cage()));
+        Result<Buffer> buffer = createBuffer(context_, std::max<size_t>(cageVertices.back().size(), 2) * sizeof(LineVertex),
                                              VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-    if (!lineBuffer) return Error{"cannot set up the renderer: " + lineBuffer.error().message};
-    Defer releaseLines{[&] { destroyBuffer(context_, *lineBuffer); }};
-    uploadBuffer(*lineBuffer, cageVertices.data(), cageVertices.size() * sizeof(LineVertex));
+        if (!buffer) return Error{"cannot set up the renderer: " + buffer.error().message};
+        uploadBuffer(*buffer, cageVertices.back().data(), cageVertices.back().size() * sizeof(LineVertex));
+        lineBuffers.push_back(*buffer);
+    }
 
     DrawView view;
     view.viewProjection = viewProjection(*camera);
@@ -207,18 +214,25 @@ Result<RenderedImage> HeadlessRenderer::render(const SceneDocument& document, co
     view.wireframe = request.wireframe;
     Result<DrawStats> drawStats = DrawStats{};
     Status drawn = submitAndWait(context_, [&](VkCommandBuffer cmd) {
-        drawStats = prepared->instance.record(cmd, renderTarget(*target), view);
-        if (showCage && !cageVertices.empty())
-            recordLines(cmd, *lines_, renderTarget(*target), view.viewProjection, *lineBuffer, uint32_t(cageVertices.size()));
+        drawStats = recordScene(cmd, *prepared, scene, cages, renderTarget(*target), view);
+        if (!showCage) return;
+        for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+            const uint32_t c = cages.cageOfObject[i];
+            if (!scene.objects[i].visible || cageVertices[c].empty()) continue;
+            recordLines(cmd, *lines_, renderTarget(*target), objectView(view, scene.objects[i].transform).viewProjection,
+                        lineBuffers[c], uint32_t(cageVertices[c].size()));
+        }
     });
     if (drawn && !drawStats) drawn = drawStats.error();
     if (!drawn) return Error{"rendering " + document.source() + " failed: " + drawn.error().message};
     Result<std::vector<uint8_t>> pixels = readPixels(context_, *target);
     if (!pixels) return Error{"rendering " + document.source() + " failed: " + pixels.error().message};
 
-    RenderedImage image{request.width, request.height, std::move(pixels).value(), *drawStats,
-                        prepared->support.approximations};
-    if (Status s = prepared->instance.destroyGpu(); !s) return s.error();
+    std::vector<std::string> approximations;
+    for (const PreparedScheme& p : prepared->cages)
+        approximations.insert(approximations.end(), p.support.approximations.begin(), p.support.approximations.end());
+    RenderedImage image{request.width, request.height, std::move(pixels).value(), *drawStats, std::move(approximations)};
+    if (Status s = destroySceneSchemes(*prepared); !s) return s.error();
     if (Status ok = checkValidation(before); !ok) return ok.error();
     return image;
 }

@@ -1,6 +1,12 @@
-// SceneDocument: what the Python module's Scene holds — a scene (camera, viewports,
-// tessellation, displacement), its planned cage and the undo history every edit goes through —
-// and the edits a script can make, each returning the PlannedCage's EditReport.
+// SceneDocument: what the Python module's Scene holds — a scene (its objects, camera, viewports,
+// tessellation), the planned cage of every object with a cage of its own (one plan database for
+// all of them), and the one undo history every edit goes through — and the edits a script can
+// make, each returning the PlannedCage's EditReport.
+//
+// Objects: edits of cages, tags and displacement act on the *active* object (setActive; an
+// object with a cage of its own), as Blender's edit mode acts on its active object. Object edits
+// (add, instance, remove, rename, transform, visibility) act on the scene; a transform or
+// visibility change re-plans nothing. Undo and redo go through every kind in order.
 //
 // Plain C++ (no Python here): python/bindings_*.cpp wrap it. Rules it keeps:
 //   - every edit goes through EditHistory, so undo/redo re-plan only what the edit re-planned;
@@ -14,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -26,6 +33,7 @@
 #include "displacement_edit.h"
 #include "edit_history.h"
 #include "planned_cage.h"
+#include "planned_scene.h"
 #include "scene.h"
 #include "sculpt_samples.h"
 #include "selection.h"
@@ -56,19 +64,34 @@ public:
     // database).
     std::unique_ptr<SceneDocument> copy() const;
 
-    const PlannedCage& planned() const { return *planned_; }
-    const Cage& cage() const { return planned_->cage(); }
+    // The active object's planned cage, cage and displacement.
+    const PlannedCage& planned() const { return planned_.cages[planned_.cageOfObject[active_]]; }
+    const Cage& cage() const { return planned().cage(); }
+    const Displacement& displacement() const { return scene_.objects[active_].displacement; }
+    // The objects (their own cages are stale: plannedScene() holds them), camera, viewports.
     const Scene& scene() const { return scene_; }
-    Scene& settings() { return scene_; }  // camera, viewports, tessellation (not the cage)
-    const Displacement& displacement() const { return scene_.displacement; }
+    const PlannedScene& plannedScene() const { return planned_; }
+    Scene& settings() { return scene_; }  // camera, viewports, tessellation (not the objects)
+
+    // ---- objects (every change but setActive is a history entry) ----
+    uint32_t activeObject() const { return active_; }
+    Status setActive(const std::string& name);
+    // Plans `cage` (through the scene's database) as a new object; the name it got.
+    Result<std::string> addObject(Cage cage, const std::string& name, const ObjectTransform& transform);
+    Result<std::string> addInstance(const std::string& source, const std::string& name, const ObjectTransform& transform);
+    // Refused while other objects instance it, and for the last object.
+    Status removeObject(const std::string& name);
+    Status renameObject(const std::string& name, const std::string& newName);
+    Status setTransform(const std::string& name, const ObjectTransform& transform);
+    Status setVisible(const std::string& name, bool visible);
     const EditHistory& history() const { return history_; }
     void setHistoryBudget(size_t bytes) { history_.setBudget(bytes); }
     const std::string& source() const { return source_; }
 
     // The scene as it would be saved now (its cage is the current one).
     Scene currentScene() const;
-    // inlineCage: write the cage into the JSON; otherwise beside it as an OBJ (scene.cagePath).
-    Status save(const std::string& path, bool inlineCage);
+    // `.obj`: the active object's cage alone; otherwise the scene, its cages stored as `storage` says.
+    Status save(const std::string& path, CageStorage storage);
     Status saveObj(const std::string& path) const;
 
     // ---- edits (all recorded in the history) ----
@@ -103,11 +126,13 @@ public:
     Result<EditOutcome> jumpTo(size_t position);
 
     // Plans of the current cage vs planning it from scratch (empty when equal).
-    std::vector<std::string> differencesFromRebuild() const { return planned_->differencesFromRebuild(); }
+    std::vector<std::string> differencesFromRebuild() const { return planned().differencesFromRebuild(); }
 
 private:
     SceneDocument() = default;
     Result<EditOutcome> finish(const std::string& name, Result<EditReport> report);
+    // Undoes (or redoes) history entry `entry` on the cage it was made on.
+    Result<EditOutcome> step(size_t entry, bool forward);
     Result<EditOutcome> topologyEdit(const std::string& name, Result<TopologyEdit> edit);
     Result<EditOutcome> replaceDisplacement(const std::string& name, Displacement next);
     Result<EditOutcome> transform(const std::string& name, std::span<const uint32_t> vertices, const glm::mat4& matrix);
@@ -122,9 +147,28 @@ private:
     const SculptSamples& sculptSamples();
     DisplacementListener listener();  // for DisplacementEdit: drops the cache on a new layout
 
-    Scene scene_;  // its cage is not kept current: planned_ holds the cage
+    SceneObject& active() { return scene_.objects[active_]; }
+    PlannedCage& activeCage() { return planned_.cages[planned_.cageOfObject[active_]]; }
+    uint32_t objectIndex(const std::string& name, Status& error) const;
+    // The planned cage history entries tagged `tag` (an object id) were made on; the active one
+    // for object edits.
+    PlannedCage& cageOfTag(uint32_t tag);
+    // Object edits: `apply` and `revert` change the scene; recorded as one history entry.
+    Status performObjectEdit(const std::string& name, std::function<Status()> apply, std::function<Status()> revert);
+    // Inserts an object (with its cage when it has one, planned here) at `index`, or takes it
+    // out again; both keep plannedScene()'s indices and the active object valid.
+    Status insertObject(uint32_t index, SceneObject object, uint32_t id);
+    SceneObject takeObject(uint32_t index);
+    void reindex();
+
+    Scene scene_;  // owners' cages are not kept current: planned_ holds them
+    PlannedScene planned_;
+    std::vector<uint32_t> ids_;           // per object: a stable id (history tags)
+    std::vector<uint32_t> cageOwnerIds_;  // per planned cage: the id of the object owning it
+    uint32_t nextId_ = 1;
+    uint32_t active_ = 0;  // the object edits act on (one with a cage of its own)
+    PlanOptions options_;
     std::shared_ptr<PlanDatabase> database_;
-    std::optional<PlannedCage> planned_;
     EditHistory history_;
     std::string source_;
     std::optional<SculptSamples> samples_;

@@ -91,7 +91,7 @@ void recordBSplinePatches(VkCommandBuffer cmd, const BSplinePass& pass, const Pl
                           const PlanBuffers& buffers, const RenderTarget& target, const PlanView& view,
                           const TessellationSettings& settings) {
     assert(settings.uniformFactor > 0 && plans.colorFormat == target.colorFormat);
-    beginRendering(cmd, target, true, view.background);
+    beginRendering(cmd, target, view.clear, view.background);
 
     PlanDrawPush push{};
     push.viewProjection = view.viewProjection;

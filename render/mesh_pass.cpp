@@ -199,7 +199,7 @@ void destroyMeshPass(const VulkanContext&, MeshPass& pass) {
 void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarget& target, const MeshView& view,
                     std::span<const MeshDraw> draws) {
     assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
-    beginRendering(cmd, target, true, view.background);
+    beginRendering(cmd, target, view.clear, view.background);
 
     auto draw = [&](const MeshDraw& d, bool wire) {
         const bool colorStream = !wire && d.mesh->colors.buffer != VK_NULL_HANDLE;

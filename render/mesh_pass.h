@@ -60,6 +60,7 @@ struct MeshView {
     glm::vec3 eye{0.0f};             // world-space camera position, for the headlight
     glm::vec3 background{0.0f};      // linear colour the target is cleared to
     Shading shading = Shading::Studio;
+    bool clear = true;               // false: draw over what target.area holds (later objects of a scene)
 };
 
 struct MeshDraw {

@@ -276,7 +276,7 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
                 VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     }
     recordStencils(cmd, pass, buffers, maxTessellationLevel(settings));
-    beginRendering(cmd, target, true, view.background);
+    beginRendering(cmd, target, view.clear, view.background);
     const PlanDrawPush push = drawPush(view, &settings);
     const uint32_t perDraw = patchesPerDraw(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
     const std::vector<DrawnRun> runs = drawnRuns(buffers, view.hiddenDrawn);
@@ -430,7 +430,7 @@ void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertice
                      const RenderTarget& target, const PlanView& view,
                      std::span<const std::pair<uint32_t, uint32_t>> ranges = {}) {
     assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
-    beginRendering(cmd, target, true, view.background);
+    beginRendering(cmd, target, view.clear, view.background);
     PlanDrawPush push = drawPush(view, nullptr);
     push.capture = 0;
     const VkPipeline surface = view.colorBy == ColorBy::Shading ? pass.gridTriangles : pass.gridColored;

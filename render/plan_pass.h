@@ -140,6 +140,7 @@ struct PlanView {
     Shading shading = Shading::Studio;
     bool wireframe = false;            // tessellation wireframe over the shaded surface
     bool capture = false;              // tessellated path: record every evaluated vertex
+    bool clear = true;                 // false: draw over what target.area holds (later objects of a scene)
     std::span<const uint32_t> hiddenDrawn;  // drawn sub-faces not to draw (sorted; the editor's hidden
                                             // faces); holes (PlanBuffers::holeDrawn) are never drawn
 };

@@ -14,31 +14,32 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli_run.h"
 #include "test_support.h"
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG
 #include <stb/stb_image.h>
 
+namespace qp::test {
+
+Png loadPng(const std::string& path) {
+    Png png;
+    int channels = 0;
+    unsigned char* pixels = stbi_load(path.c_str(), &png.width, &png.height, &channels, 4);
+    if (pixels) png.rgba.assign(pixels, pixels + size_t(png.width) * size_t(png.height) * 4);
+    stbi_image_free(pixels);
+    return png;
+}
+
+}  // namespace qp::test
+
 namespace {
 
-struct CommandRun {
-    int status = -1;
-    std::string out;  // stdout and stderr together
-};
-
-CommandRun runQuadplan(const std::string& args, bool mergeStderr = false) {
-    std::string command = std::string(QUADPLAN_BINARY) + " " + args + (mergeStderr ? " 2>&1" : " 2>/dev/null");
-    CommandRun run;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return run;
-    std::array<char, 4096> buffer;
-    size_t n;
-    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
-    int raw = pclose(pipe);
-    run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return run;
-}
+using qp::test::CommandRun;
+using qp::test::loadPng;
+using qp::test::Png;
+using qp::test::runQuadplan;
 
 std::string shape(const std::string& name) { return (qp::test::sharedShapesDir() / name).string(); }
 
@@ -244,21 +245,6 @@ TEST(CliRender, BadRequestsFailWithAMessage) {
 }
 
 namespace {
-
-struct Png {
-    int width = 0, height = 0;
-    std::vector<uint8_t> rgba;
-    const uint8_t* at(int x, int y) const { return &rgba[(size_t(y) * size_t(width) + size_t(x)) * 4]; }
-};
-
-Png loadPng(const std::string& path) {
-    Png png;
-    int channels = 0;
-    unsigned char* pixels = stbi_load(path.c_str(), &png.width, &png.height, &channels, 4);
-    if (pixels) png.rgba.assign(pixels, pixels + size_t(png.width) * size_t(png.height) * 4);
-    stbi_image_free(pixels);
-    return png;
-}
 
 // Fraction of a rectangle's pixels that differ from its top-left (background) pixel.
 double coverage(const Png& png, int x0, int y0, int w, int h) {

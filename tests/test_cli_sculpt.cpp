@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "brush.h"
+#include "cli_run.h"
 #include "planned_cage.h"
 #include "scene.h"
 #include "sculpt_samples.h"
@@ -24,23 +25,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct CommandRun {
-    int status = -1;
-    std::string out;  // stdout and stderr together
-};
+using qp::test::CommandRun;
 
-CommandRun runQuadplan(const std::string& args) {
-    std::string command = std::string(QUADPLAN_BINARY) + " " + args + " 2>&1";
-    CommandRun run;
-    FILE* pipe = popen(command.c_str(), "r");
-    if (!pipe) return run;
-    std::array<char, 4096> buffer;
-    size_t n;
-    while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
-    int raw = pclose(pipe);
-    run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    return run;
-}
+CommandRun runQuadplan(const std::string& args) { return qp::test::runQuadplan(args, true); }
 
 std::string temp(const std::string& name) {
     return (fs::temp_directory_path() / ("quadplan-sculpt-" + std::to_string(::getpid()) + "-" + name)).string();
@@ -63,17 +50,17 @@ TEST(CliSculpt, PathStrokeMatchesTheLibraryBitForBit) {
     qp::Result<qp::Scene> scene = qp::loadScene(kScene);
     ASSERT_TRUE(scene);
     qp::PlanDatabase database;
-    qp::Result<qp::PlannedCage> planned = qp::PlannedCage::create(scene->cage, database, qp::PlanOptions{});
+    qp::Result<qp::PlannedCage> planned = qp::PlannedCage::create(scene->objects[0].cage, database, qp::PlanOptions{});
     ASSERT_TRUE(planned);
-    qp::Displacement d = qp::makeDisplacement(scene->cage, planned->topology(), 16);
+    qp::Displacement d = qp::makeDisplacement(scene->objects[0].cage, planned->topology(), 16);
     qp::SculptSamples samples = qp::SculptSamples::build(*planned, d.layout);
     qp::StrokeOptions options{{qp::BrushKind::Raise, 0.6f, 0.05f, qp::Falloff::Sphere}, qp::MirrorAxis::X};
     std::vector<glm::vec3> path = {{0.2f, 1.2f, 0.3f}, {0.9f, 1.1f, -0.4f}};
     qp::StrokeRecord record = qp::applyStroke(d, samples, options, path);
     ASSERT_GT(record.changes.size(), 20u);
-    ASSERT_EQ(written->displacement.layout, d.layout);
+    ASSERT_EQ(written->objects[0].displacement.layout, d.layout);
     for (size_t i = 0; i < d.samples.size(); ++i)
-        ASSERT_EQ(std::bit_cast<uint32_t>(written->displacement.samples[i]), std::bit_cast<uint32_t>(d.samples[i])) << i;
+        ASSERT_EQ(std::bit_cast<uint32_t>(written->objects[0].displacement.samples[i]), std::bit_cast<uint32_t>(d.samples[i])) << i;
     fs::remove(out);
 }
 
@@ -90,8 +77,8 @@ TEST(CliSculpt, StrokeFileContinuesASculptedScene) {
     ASSERT_EQ(run.status, 0) << run.out;
     qp::Result<qp::Scene> a = qp::loadScene(second), b = qp::loadScene(viaPath), before = qp::loadScene(first);
     ASSERT_TRUE(a && b && before);
-    EXPECT_EQ(a->displacement, b->displacement);
-    EXPECT_NE(a->displacement, before->displacement);  // the smooth stroke changed something
+    EXPECT_EQ(a->objects[0].displacement, b->objects[0].displacement);
+    EXPECT_NE(a->objects[0].displacement, before->objects[0].displacement);  // the smooth stroke changed something
     for (const std::string& f : {first, second, viaPath, strokes}) fs::remove(f);
 }
 

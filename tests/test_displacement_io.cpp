@@ -23,9 +23,8 @@ namespace {
 // The mixed grid (quads, a triangle, a pentagon) with random resolutions and values that a
 // decimal round trip could get wrong: -0, subnormals, the extremes, non-terminating decimals.
 Scene sculptedScene(uint32_t seed) {
-    Scene scene;
-    scene.cage = test::makeMixedGrid();
-    Displacement d = makeDisplacement(scene.cage, buildTopology(scene.cage), 1);
+    Scene scene = sceneOfCage(test::makeMixedGrid(), "cage");
+    Displacement d = makeDisplacement(scene.objects[0].cage, buildTopology(scene.objects[0].cage), 1);
     std::mt19937 rng(seed);
     std::vector<uint32_t> resolutions(d.layout.subfaces.size());
     for (uint32_t& r : resolutions) r = 1u << (rng() % 5);
@@ -34,11 +33,11 @@ Scene sculptedScene(uint32_t seed) {
     for (float& s : d.samples) s = value(rng);
     const float special[] = {-0.0f, 1e-40f, -FLT_TRUE_MIN, FLT_MAX, -FLT_MAX, FLT_MIN, 0.1f, 1.0f / 3.0f};
     for (size_t i = 0; i < std::size(special); ++i) d.samples[(i * 7919) % d.samples.size()] = special[i];
-    scene.displacement = std::move(d);
+    scene.objects[0].displacement = std::move(d);
     return scene;
 }
 
-json sceneJson(const Scene& scene) { return json::parse(formatScene(scene, true)); }
+json sceneJson(const Scene& scene) { return json::parse(formatScene(scene, CageStorage::Inline)); }
 
 std::string errorOf(const json& scene) {
     Result<Scene> result = parseScene(scene.dump(), "scene.json", ".");
@@ -72,40 +71,39 @@ TEST(DisplacementFile, Base64RoundTripsEveryBitPattern) {
 TEST(DisplacementFile, SceneRoundTripIsBitIdentical) {
     Scene scene = sculptedScene(3);
     const std::string path = tempPath("round-trip.json");
-    ASSERT_TRUE(saveScene(scene, path, true));
+    ASSERT_TRUE(saveScene(scene, path, CageStorage::Inline));
     Result<Scene> loaded = loadScene(path);
     ASSERT_TRUE(loaded) << loaded.error().message;
-    ASSERT_EQ(loaded->displacement.layout, scene.displacement.layout);
-    ASSERT_EQ(loaded->displacement.samples.size(), scene.displacement.samples.size());
-    for (size_t i = 0; i < scene.displacement.samples.size(); ++i)
-        ASSERT_EQ(std::bit_cast<uint32_t>(loaded->displacement.samples[i]), std::bit_cast<uint32_t>(scene.displacement.samples[i]))
+    ASSERT_EQ(loaded->objects[0].displacement.layout, scene.objects[0].displacement.layout);
+    ASSERT_EQ(loaded->objects[0].displacement.samples.size(), scene.objects[0].displacement.samples.size());
+    for (size_t i = 0; i < scene.objects[0].displacement.samples.size(); ++i)
+        ASSERT_EQ(std::bit_cast<uint32_t>(loaded->objects[0].displacement.samples[i]), std::bit_cast<uint32_t>(scene.objects[0].displacement.samples[i]))
             << "sample " << i;
-    EXPECT_EQ(formatScene(*loaded, true), formatScene(scene, true));
+    EXPECT_EQ(formatScene(*loaded, qp::CageStorage::Inline), formatScene(scene, CageStorage::Inline));
     fs::remove(path);
 }
 
 TEST(DisplacementFile, EmptyDisplacementWritesVersion1WithoutData) {
-    Scene scene;
-    scene.cage = test::makeCube();
-    json written = sceneJson(scene)["displacement"];
+    Scene scene = sceneOfCage(test::makeCube(), "cage");
+    json written = sceneJson(scene)["objects"][0]["displacement"];
     EXPECT_EQ(written, json::parse(R"({"version": 1, "encoding": "base64-float32-le", "subfaces": []})"));
-    Result<Scene> back = parseScene(formatScene(scene, true), "scene.json", ".");
+    Result<Scene> back = parseScene(formatScene(scene, CageStorage::Inline), "scene.json", ".");
     ASSERT_TRUE(back) << back.error().message;
-    EXPECT_TRUE(back->displacement.empty());
+    EXPECT_TRUE(back->objects[0].displacement.empty());
 }
 
 TEST(DisplacementFile, Version0PlaceholderMigratesToNoDisplacement) {
     // The bundled default scene was written with the version 0 placeholder.
     Result<Scene> scene = loadScene(std::string(QUADPLAN_SCENES_DIR) + "/default.json");
     ASSERT_TRUE(scene) << scene.error().message;
-    EXPECT_TRUE(scene->displacement.empty());
-    EXPECT_EQ(sceneJson(*scene)["displacement"]["version"], 1);
+    EXPECT_TRUE(scene->objects[0].displacement.empty());
+    EXPECT_EQ(sceneJson(*scene)["objects"][0]["displacement"]["version"], 1);
 
     json placeholder = sceneJson(sculptedScene(1));
-    placeholder["displacement"] = {{"version", 0}, {"faces", json::array()}};
+    placeholder["objects"][0]["displacement"] = {{"version", 0}, {"faces", json::array()}};
     EXPECT_EQ(errorOf(placeholder), "");
-    placeholder["displacement"]["faces"] = {{{"face", 1}}};
-    EXPECT_EQ(errorOf(placeholder), "scene.json: displacement.faces: a version 0 displacement is an empty "
+    placeholder["objects"][0]["displacement"]["faces"] = {{{"face", 1}}};
+    EXPECT_EQ(errorOf(placeholder), "scene.json: objects[0].displacement.faces: a version 0 displacement is an empty "
                                     "placeholder; expected [], got [{\"face\":1}]");
 }
 
@@ -114,14 +112,14 @@ TEST(DisplacementFile, MalformedDataNamesTheField) {
     ASSERT_EQ(errorOf(good), "");
     auto edited = [&](auto change) {
         json scene = good;
-        change(scene["displacement"]);
+        change(scene["objects"][0]["displacement"]);
         return errorOf(scene);
     };
     // Sub-face 0 of the mixed grid: find one with resolution >= 4 to damage.
     size_t s = 0;
-    while (good["displacement"]["subfaces"][s]["resolution"].get<int>() < 4) ++s;
-    const std::string sub = "displacement.subfaces[" + std::to_string(s) + "]";
-    const int R = good["displacement"]["subfaces"][s]["resolution"];
+    while (good["objects"][0]["displacement"]["subfaces"][s]["resolution"].get<int>() < 4) ++s;
+    const std::string sub = "objects[0].displacement.subfaces[" + std::to_string(s) + "]";
+    const int R = good["objects"][0]["displacement"]["subfaces"][s]["resolution"];
     const size_t interior = size_t(R - 1) * (R - 1);
 
     EXPECT_EQ(edited([&](json& d) { d["subfaces"][s]["resolution"] = 3; }),
@@ -154,45 +152,45 @@ TEST(DisplacementFile, MalformedDataNamesTheField) {
     EXPECT_EQ(edited([&](json& d) { d["subfaces"][s].erase("interior"); }),
               "scene.json: " + sub + ".interior: required field is missing");
     EXPECT_EQ(edited([&](json& d) { d["subfaces"].erase(d["subfaces"].size() - 1); }),
-              "scene.json: displacement.subfaces: has 22 entries but the cage has 23 sub-faces (17 faces; a quad is one "
+              "scene.json: objects[0].displacement.subfaces: has 22 entries but the cage has 23 sub-faces (17 faces; a quad is one "
               "sub-face, an n-gon n): the displacement belongs to another cage");
     EXPECT_EQ(edited([&](json& d) { d["points"] = base64Of(std::vector<float>(3, 0.0f)); }),
-              "scene.json: displacement.points: has 3 values but " + std::to_string(26 + 42 + 17) + " are needed");
+              "scene.json: objects[0].displacement.points: has 3 values but " + std::to_string(26 + 42 + 17) + " are needed");
     EXPECT_EQ(edited([&](json& d) {
                   Result<std::vector<float>> points = decodeFloats(d["points"]);
                   (*points)[26 + 3] = NAN;  // cage edge 3's midpoint
                   d["points"] = base64Of(*points);
               }),
-              "scene.json: displacement.points: value 29 (midpoint of cage edge 3) is NaN; displacements must be finite "
+              "scene.json: objects[0].displacement.points: value 29 (midpoint of cage edge 3) is NaN; displacements must be finite "
               "numbers");
-    EXPECT_NE(edited([&](json& d) { d["segments"] = ""; }).find("scene.json: displacement.segments: has 0 values but"),
+    EXPECT_NE(edited([&](json& d) { d["segments"] = ""; }).find("scene.json: objects[0].displacement.segments: has 0 values but"),
               std::string::npos);
-    EXPECT_EQ(edited([&](json& d) { d.erase("points"); }), "scene.json: displacement.points: required field is missing");
+    EXPECT_EQ(edited([&](json& d) { d.erase("points"); }), "scene.json: objects[0].displacement.points: required field is missing");
     EXPECT_EQ(edited([&](json& d) { d["encoding"] = "decimal"; }),
-              "scene.json: displacement.encoding: expected \"base64-float32-le\", got \"decimal\"");
+              "scene.json: objects[0].displacement.encoding: expected \"base64-float32-le\", got \"decimal\"");
     EXPECT_EQ(edited([&](json& d) { d["subfaces"] = json::array(); }),
-              "scene.json: displacement.points: not allowed when \"subfaces\" is empty (no displacement)");
-    EXPECT_EQ(edited([&](json& d) { d["version"] = -1; }), "scene.json: displacement.version: displacement version -1 is not valid");
+              "scene.json: objects[0].displacement.points: not allowed when \"subfaces\" is empty (no displacement)");
+    EXPECT_EQ(edited([&](json& d) { d["version"] = -1; }), "scene.json: objects[0].displacement.version: displacement version -1 is not valid");
 }
 
 TEST(DisplacementFile, UnknownFieldsAreWarnings) {
     json scene = sceneJson(sculptedScene(4));
-    scene["displacement"]["brush"] = "raise";
-    scene["displacement"]["subfaces"][1]["mips"] = 3;
+    scene["objects"][0]["displacement"]["brush"] = "raise";
+    scene["objects"][0]["displacement"]["subfaces"][1]["mips"] = 3;
     std::vector<std::string> warnings;
     Result<Scene> loaded = parseScene(scene.dump(), "scene.json", ".", &warnings);
     ASSERT_TRUE(loaded) << loaded.error().message;
-    EXPECT_EQ(warnings, (std::vector<std::string>{"scene.json: displacement.brush: unknown field, ignored",
-                                                  "scene.json: displacement.subfaces[1].mips: unknown field, ignored"}));
+    EXPECT_EQ(warnings, (std::vector<std::string>{"scene.json: objects[0].displacement.brush: unknown field, ignored",
+                                                  "scene.json: objects[0].displacement.subfaces[1].mips: unknown field, ignored"}));
 }
 
 TEST(DisplacementFile, SaveRefusesADisplacementOfAnotherTopology) {
     Scene scene = sculptedScene(6);
-    scene.cage = test::makeGrid(4);  // 16 quads, the displacement was for the mixed grid
+    scene.objects[0].cage = test::makeGrid(4);  // 16 quads, the displacement was for the mixed grid
     const std::string path = tempPath("refused.json");
-    Status saved = saveScene(scene, path, true);
+    Status saved = saveScene(scene, path, CageStorage::Inline);
     ASSERT_FALSE(saved);
     EXPECT_NE(saved.error().message.find("does not fit the cage"), std::string::npos) << saved.error().message;
     EXPECT_FALSE(fs::exists(path));
-    EXPECT_TRUE(displacementFitsCage(Displacement{}, scene.cage));
+    EXPECT_TRUE(displacementFitsCage(Displacement{}, scene.objects[0].cage));
 }

@@ -35,8 +35,7 @@ fs::path scratchDir(const std::string& name) {
 }
 
 std::unique_ptr<Document> cubeDocument() {
-    Scene scene;
-    scene.cage = test::makeSubdividedCube(2);
+    Scene scene = sceneOfCage(test::makeSubdividedCube(2), "cage");
     Result<std::unique_ptr<Document>> doc = createDocument(scene, "", PlanOptions{});
     EXPECT_TRUE(doc.ok()) << doc.error().message;
     return doc ? std::move(doc).value() : nullptr;
@@ -373,8 +372,7 @@ TEST(Document, PickingFollowsTagEditsWithoutARebuild) {
 }
 
 TEST(Document, EveryEditUndoesRedoesAndJumps) {
-    Scene scene;
-    scene.cage = test::makeGrid(4);  // vertex (x, y) = y * 5 + x, face (x, y) = y * 4 + x
+    Scene scene = sceneOfCage(test::makeGrid(4), "cage");  // vertex (x, y) = y * 5 + x, face (x, y) = y * 4 + x
     Result<std::unique_ptr<Document>> created = createDocument(scene, "", PlanOptions{});
     ASSERT_TRUE(created.ok()) << created.error().message;
     Document& doc = **created;
@@ -496,7 +494,7 @@ TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
     const glm::vec3 a = doc->planned->evaluate(0, 0.3f, 0.5f).position, b = doc->planned->evaluate(0, 1.0f, 0.7f).position;
     ASSERT_TRUE(beginStroke(*doc, 8, 1).ok());
     EXPECT_EQ(doc->history.size(), 0u) << "the first stroke's displacement has no entry of its own";
-    EXPECT_FALSE(doc->scene.displacement.empty());
+    EXPECT_FALSE(doc->scene.objects[0].displacement.empty());
     EXPECT_EQ(doc->displacementRevision, 1u);
     StrokeOptions options;
     options.brush = Brush{BrushKind::Raise, 0.2f, 0.1f, Falloff::Smooth};
@@ -514,10 +512,10 @@ TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
     EXPECT_EQ(ended->replannedFaces, 0u);
     ASSERT_EQ(doc->history.size(), 1u);
     EXPECT_EQ(doc->history.entry(0).name, "Raise stroke");
-    EXPECT_TRUE(takeUnsyncedSamples(*doc).size() < doc->scene.displacement.samples.size())
+    EXPECT_TRUE(takeUnsyncedSamples(*doc).size() < doc->scene.objects[0].displacement.samples.size())
         << "ending the first stroke re-sent every sample";
     EXPECT_TRUE(doc->dirty);
-    const std::vector<float> sculpted = doc->scene.displacement.samples;
+    const std::vector<float> sculpted = doc->scene.objects[0].displacement.samples;
     EXPECT_GT(*std::max_element(sculpted.begin(), sculpted.end()), 0.0f);
 
     // The same path given whole to applyStroke dabs at the same places: the same samples.
@@ -530,18 +528,18 @@ TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
     takeUnsyncedSamples(*doc);
     const uint64_t revision = doc->displacementRevision;
     ASSERT_TRUE(undoEdit(*doc, 3).ok());
-    EXPECT_TRUE(doc->scene.displacement.empty()) << "undoing the first stroke removes the displacement too";
+    EXPECT_TRUE(doc->scene.objects[0].displacement.empty()) << "undoing the first stroke removes the displacement too";
     EXPECT_GT(doc->displacementRevision, revision) << "undo must tell the renderer";
     ASSERT_TRUE(redoEdit(*doc, 4).ok());
-    EXPECT_EQ(doc->scene.displacement.samples, sculpted);
+    EXPECT_EQ(doc->scene.objects[0].displacement.samples, sculpted);
 
     // Cancelled: the samples go back, no entry.
     ASSERT_TRUE(beginStroke(*doc, 8, 5).ok());
     options.brush.kind = BrushKind::Lower;
     strokeTo(*doc, options, b);
-    EXPECT_NE(doc->scene.displacement.samples, sculpted);
+    EXPECT_NE(doc->scene.objects[0].displacement.samples, sculpted);
     cancelStroke(*doc);
-    EXPECT_EQ(doc->scene.displacement.samples, sculpted);
+    EXPECT_EQ(doc->scene.objects[0].displacement.samples, sculpted);
     EXPECT_EQ(doc->history.size(), 1u);
     EXPECT_FALSE(strokeActive(*doc));
 
@@ -549,7 +547,7 @@ TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
     const glm::vec3 moved = doc->planned->cage().positions[0] + glm::vec3(0.0f, 0.0f, 0.3f);
     ASSERT_TRUE(applyEdit(*doc, MoveVertices{{0}, {moved}}, 6).ok());
     ASSERT_TRUE(doc->sculptSamples.has_value());
-    const SculptSamples fresh = SculptSamples::build(*doc->planned, doc->scene.displacement.layout);
+    const SculptSamples fresh = SculptSamples::build(*doc->planned, doc->scene.objects[0].displacement.layout);
     for (uint32_t s = 0; s < fresh.sampleCount(); ++s) {
         if (!fresh.hasSite(s)) continue;
         ASSERT_EQ(doc->sculptSamples->position(s), fresh.position(s)) << "sample " << s;
@@ -558,10 +556,10 @@ TEST(Document, AStrokeIsOneUndoableEntryAndReportsItsSamples) {
     // Topology edits are refused while there is displacement; clearing it is undoable.
     EXPECT_FALSE(applyEdit(*doc, DeleteFaces{{0}}, 7).ok());
     ASSERT_TRUE(clearDisplacement(*doc, 8).ok());
-    EXPECT_TRUE(doc->scene.displacement.empty());
+    EXPECT_TRUE(doc->scene.objects[0].displacement.empty());
     EXPECT_FALSE(doc->sculptSamples.has_value()) << "a new layout needs a new cache";
     ASSERT_TRUE(undoEdit(*doc, 9).ok());
-    EXPECT_EQ(doc->scene.displacement.samples, sculpted);
+    EXPECT_EQ(doc->scene.objects[0].displacement.samples, sculpted);
 }
 
 // Resampling to a finer resolution keeps the shape and is one undoable entry; bad resolutions
@@ -573,18 +571,18 @@ TEST(Document, DisplacementResolutionResamplesAndRefusesBadValues) {
     ASSERT_FALSE(bad.ok());
     EXPECT_NE(bad.error().message.find("power of two between 1 and 64"), std::string::npos) << bad.error().message;
     EXPECT_FALSE(setDisplacementResolution(*doc, 128, 1).ok());
-    EXPECT_TRUE(doc->history.size() == 0 && doc->scene.displacement.empty());
+    EXPECT_TRUE(doc->history.size() == 0 && doc->scene.objects[0].displacement.empty());
     ASSERT_TRUE(setDisplacementResolution(*doc, 4, 1).ok());
     ASSERT_TRUE(beginStroke(*doc, 4, 2).ok());
     StrokeOptions options;
     options.brush = Brush{BrushKind::Raise, 0.4f, 0.2f, Falloff::Smooth};
     strokeTo(*doc, options, doc->planned->evaluate(0, 0.5f, 0.5f).position);
     ASSERT_TRUE(endStroke(*doc, "Raise stroke", 3).ok());
-    const Displacement coarse = doc->scene.displacement;
+    const Displacement coarse = doc->scene.objects[0].displacement;
     const uint64_t revision = doc->displacementRevision;
     ASSERT_TRUE(setDisplacementResolution(*doc, 16, 4).ok());
     EXPECT_GT(doc->displacementRevision, revision);
-    const Displacement& fine = doc->scene.displacement;
+    const Displacement& fine = doc->scene.objects[0].displacement;
     EXPECT_GT(fine.samples.size(), coarse.samples.size());
     for (uint32_t s = 0; s < fine.layout.subfaces.size(); ++s)
         for (float u : {0.0f, 0.3f, 0.5f, 1.0f})
@@ -592,7 +590,7 @@ TEST(Document, DisplacementResolutionResamplesAndRefusesBadValues) {
                 EXPECT_NEAR(evaluateDisplacement(fine, s, u, v).value, evaluateDisplacement(coarse, s, u, v).value, 1e-6f)
                     << "sub-face " << s << " at " << u << ", " << v;
     ASSERT_TRUE(undoEdit(*doc, 5).ok());
-    EXPECT_EQ(doc->scene.displacement, coarse);
+    EXPECT_EQ(doc->scene.objects[0].displacement, coarse);
 }
 
 TEST(Document, SelectionModesOpsAndIndexChecks) {
@@ -637,11 +635,11 @@ TEST(Document, SavesSceneOrCageAtomicallyAndClearsTheMarker) {
     EXPECT_EQ(doc->path, (dir / "cube.json").string());
     Result<Scene> scene = loadSceneOrCage((dir / "cube.json").string());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
-    EXPECT_EQ(scene->cage.positions[0], glm::vec3(-2, -2, -2));
+    EXPECT_EQ(scene->objects[0].cage.positions[0], glm::vec3(-2, -2, -2));
     ASSERT_TRUE(saveDocument(*doc, (dir / "cube.obj").string()).ok());
     Result<Scene> cage = loadSceneOrCage((dir / "cube.obj").string());
     ASSERT_TRUE(cage.ok()) << cage.error().message;
-    EXPECT_EQ(cage->cage.faceCount(), doc->planned->cage().faceCount());
+    EXPECT_EQ(cage->objects[0].cage.faceCount(), doc->planned->cage().faceCount());
 }
 
 // --- recovery -----------------------------------------------------------------------------
@@ -649,9 +647,8 @@ TEST(Document, SavesSceneOrCageAtomicallyAndClearsTheMarker) {
 TEST(Recovery, WritesFindsLoadsAndRemoves) {
     const fs::path dir = scratchDir("recovery");
     EXPECT_FALSE(findRecovery(dir.string()));
-    Scene scene;
-    scene.cage = test::makeCube();
-    scene.cage.positions[0] = {-5, 0, 0};
+    Scene scene = sceneOfCage(test::makeCube(), "cage");
+    scene.objects[0].cage.positions[0] = {-5, 0, 0};
     ASSERT_TRUE(writeRecovery((dir / "nested").string(), scene, {"/some/where.json", "2024-01-02 03:04:05"}).ok());
     std::optional<RecoveryInfo> found = findRecovery((dir / "nested").string());
     ASSERT_TRUE(found);
@@ -659,7 +656,7 @@ TEST(Recovery, WritesFindsLoadsAndRemoves) {
     EXPECT_EQ(found->savedAt, "2024-01-02 03:04:05");
     Result<Scene> loaded = loadRecovery((dir / "nested").string());
     ASSERT_TRUE(loaded.ok()) << loaded.error().message;
-    EXPECT_EQ(loaded->cage.positions[0], glm::vec3(-5, 0, 0));
+    EXPECT_EQ(loaded->objects[0].cage.positions[0], glm::vec3(-5, 0, 0));
     removeRecovery((dir / "nested").string());
     EXPECT_FALSE(findRecovery((dir / "nested").string()));
 }

@@ -50,11 +50,10 @@ std::vector<std::string> litter(const fs::path& dir, const std::string& keep) {
 
 // Two versions of a large scene (a few MB of JSON, so a kill often lands inside the write).
 std::array<std::string, 2> twoSceneVersions() {
-    Scene scene;
-    scene.cage = makeBenchmarkCage(20000, 7);
-    const std::string a = formatScene(scene, true);
-    for (glm::vec3& p : scene.cage.positions) p.y += 0.25f;
-    return {a, formatScene(scene, true)};
+    Scene scene = sceneOfCage(makeBenchmarkCage(20000, 7), "cage");
+    const std::string a = formatScene(scene, CageStorage::Inline);
+    for (glm::vec3& p : scene.objects[0].cage.positions) p.y += 0.25f;
+    return {a, formatScene(scene, CageStorage::Inline)};
 }
 
 // Runs `command` through the shell; returns its exit status and fills `output` (stdout+stderr).

@@ -73,13 +73,13 @@ std::string errorOf(const json& scene, const std::string& baseDir = ".") {
 }
 
 void expectSameScene(const qp::Scene& a, const qp::Scene& b) {
-    EXPECT_TRUE(qp::sameTopologyAndTags(a.cage, b.cage));
-    EXPECT_EQ(a.cage.positions, b.cage.positions);
-    EXPECT_EQ(a.cage.uvs, b.cage.uvs);
+    EXPECT_TRUE(qp::sameTopologyAndTags(a.objects[0].cage, b.objects[0].cage));
+    EXPECT_EQ(a.objects[0].cage.positions, b.objects[0].cage.positions);
+    EXPECT_EQ(a.objects[0].cage.uvs, b.objects[0].cage.uvs);
     EXPECT_EQ(a.camera, b.camera);
     EXPECT_EQ(a.viewports, b.viewports);
     EXPECT_EQ(a.tessellation, b.tessellation);
-    EXPECT_EQ(a.displacement, b.displacement);
+    EXPECT_EQ(a.objects[0].displacement, b.objects[0].displacement);
 }
 
 }  // namespace
@@ -97,35 +97,35 @@ TEST_F(SceneFiles, SceneRoundTripInline) {
     qp::Result<qp::Scene> original = qp::parseScene(source.dump(), "source.json", "");
     ASSERT_TRUE(original) << original.error().message;
 
-    ASSERT_TRUE(qp::saveScene(*original, path("scene.json"), true));
+    ASSERT_TRUE(qp::saveScene(*original, path("scene.json"), qp::CageStorage::Inline));
     qp::Result<qp::Scene> reloaded = qp::loadScene(path("scene.json"));
     ASSERT_TRUE(reloaded) << reloaded.error().message;
     expectSameScene(*original, *reloaded);
-    EXPECT_TRUE(reloaded->cagePath.empty());
-    EXPECT_EQ(qp::formatScene(*reloaded, true), qp::formatScene(*original, true));
+    EXPECT_TRUE(reloaded->objects[0].cagePath.empty());
+    EXPECT_EQ(qp::formatScene(*reloaded, qp::CageStorage::Inline), qp::formatScene(*original, qp::CageStorage::Inline));
 }
 
 TEST_F(SceneFiles, SceneRoundTripByPath) {
     qp::Result<qp::Scene> original = qp::loadScene(scenesPath("default.json"));
     ASSERT_TRUE(original) << original.error().message;
-    EXPECT_EQ(original->cagePath, "default.obj");
+    EXPECT_EQ(original->objects[0].cagePath, "default.obj");
 
-    ASSERT_TRUE(qp::saveScene(*original, path("copy.json"), false));
+    ASSERT_TRUE(qp::saveScene(*original, path("copy.json"), qp::CageStorage::Referenced));
     EXPECT_EQ(listDir(), (std::vector<std::string>{"copy.json", "default.obj"}));
     qp::Result<qp::Scene> reloaded = qp::loadScene(path("copy.json"));
     ASSERT_TRUE(reloaded) << reloaded.error().message;
     expectSameScene(*original, *reloaded);
-    EXPECT_EQ(reloaded->cagePath, "default.obj");
+    EXPECT_EQ(reloaded->objects[0].cagePath, "default.obj");
 }
 
 TEST_F(SceneFiles, SceneSaveByPathWithoutCagePathNamesTheObjAfterTheScene) {
     qp::Result<qp::Scene> scene = qp::parseScene(validScene().dump(), "scene.json", "");
     ASSERT_TRUE(scene) << scene.error().message;
-    ASSERT_TRUE(qp::saveScene(*scene, path("tub.json"), false));
+    ASSERT_TRUE(qp::saveScene(*scene, path("tub.json"), qp::CageStorage::Referenced));
     EXPECT_EQ(listDir(), (std::vector<std::string>{"tub.json", "tub.obj"}));
     qp::Result<qp::Scene> reloaded = qp::loadScene(path("tub.json"));
     ASSERT_TRUE(reloaded) << reloaded.error().message;
-    EXPECT_EQ(reloaded->cagePath, "tub.obj");
+    EXPECT_EQ(reloaded->objects[0].cagePath, "tub.obj");
     expectSameScene(*scene, *reloaded);
 }
 
@@ -136,7 +136,7 @@ TEST(SceneBundled, DefaultSceneShowsOffTheProduct) {
     qp::Result<qp::Scene> scene = qp::loadScene(scenesPath("default.json"), &warnings);
     ASSERT_TRUE(scene) << scene.error().message;
     EXPECT_TRUE(warnings.empty()) << warnings.front();
-    const qp::Cage& cage = scene->cage;
+    const qp::Cage& cage = scene->objects[0].cage;
     EXPECT_GE(cage.faceCount(), 100u);
     EXPECT_LE(cage.faceCount(), 300u);
     EXPECT_TRUE(std::any_of(cage.creases.begin(), cage.creases.end(),
@@ -151,13 +151,13 @@ TEST(SceneBundled, CreasedBoxLoads) {
     qp::Result<qp::Scene> scene = qp::loadSceneOrCage(scenesPath("creased_box.json"), &warnings);
     ASSERT_TRUE(scene) << scene.error().message;
     EXPECT_TRUE(warnings.empty()) << warnings.front();
-    EXPECT_TRUE(scene->cagePath.empty());
-    EXPECT_EQ(scene->cage.faceCount(), 6u);
-    EXPECT_EQ(scene->cage.options.creaseMethod, qp::CreaseMethod::Chaikin);
-    EXPECT_FLOAT_EQ(scene->cage.edgeSharpness(5, 1), 3.25f);
+    EXPECT_TRUE(scene->objects[0].cagePath.empty());
+    EXPECT_EQ(scene->objects[0].cage.faceCount(), 6u);
+    EXPECT_EQ(scene->objects[0].cage.options.creaseMethod, qp::CreaseMethod::Chaikin);
+    EXPECT_FLOAT_EQ(scene->objects[0].cage.edgeSharpness(5, 1), 3.25f);
     EXPECT_FALSE(scene->camera.has_value());  // framed automatically
     EXPECT_EQ(scene->viewports.size(), 2u);
-    EXPECT_TRUE(scene->displacement.empty());
+    EXPECT_TRUE(scene->objects[0].displacement.empty());
 }
 
 // --- defaults and warnings ---
@@ -171,7 +171,7 @@ TEST(SceneParse, OptionalSectionsTakeDefaults) {
     ASSERT_EQ(scene->viewports.size(), 1u);
     EXPECT_EQ(scene->viewports[0].scheme, "plans");
     EXPECT_EQ(scene->tessellation, qp::Tessellation{});
-    EXPECT_TRUE(scene->displacement.empty());
+    EXPECT_TRUE(scene->objects[0].displacement.empty());
 }
 
 TEST(SceneParse, UnknownFieldsAreWarningsNotErrors) {
@@ -221,10 +221,10 @@ TEST(SceneErrors, NotAScene) {
 
 TEST(SceneErrors, FutureVersion) {
     json scene = validScene();
-    scene["version"] = 2;
+    scene["version"] = 3;
     scene["cage"] = "laid out differently";
-    EXPECT_EQ(errorOf(scene), "scene.json: version: scene version 2 was written by a newer Quadplan; this build "
-                              "reads versions up to 1");
+    EXPECT_EQ(errorOf(scene), "scene.json: version: scene version 3 was written by a newer Quadplan; this build "
+                              "reads versions up to 2");
     scene["version"] = 0;
     EXPECT_EQ(errorOf(scene), "scene.json: version: scene version 0 is not valid (versions start at 1)");
     scene["version"] = "1";
@@ -371,7 +371,7 @@ TEST_F(SceneFiles, SceneErrorsMissingReferencedObj) {
 }
 
 TEST_F(SceneFiles, SceneErrorsTagsBesideAReferencedCage) {
-    write("box.obj", qp::formatObj(qp::parseScene(validScene().dump(), "s", "")->cage));
+    write("box.obj", qp::formatObj(qp::parseScene(validScene().dump(), "s", "")->objects[0].cage));
     std::string scenePath = write("scene.json", R"({"format": "quadplan-scene", "version": 1,
         "cage": {"path": "box.obj", "creases": []}})");
     qp::Result<qp::Scene> result = qp::loadScene(scenePath);
@@ -385,8 +385,9 @@ TEST_F(SceneFiles, SceneErrorsTagsBesideAReferencedCage) {
 TEST_F(SceneFiles, SceneSaveLeavesNoTemporaryFiles) {
     qp::Result<qp::Scene> scene = qp::parseScene(validScene().dump(), "scene.json", "");
     ASSERT_TRUE(scene) << scene.error().message;
-    scene->cagePath = "cage.obj";
-    for (int i = 0; i < 3; ++i) ASSERT_TRUE(qp::saveScene(*scene, path("scene.json"), i % 2 == 0));
+    scene->objects[0].cagePath = "cage.obj";
+    for (int i = 0; i < 3; ++i)
+        ASSERT_TRUE(qp::saveScene(*scene, path("scene.json"), i % 2 == 0 ? qp::CageStorage::Inline : qp::CageStorage::Referenced));
     EXPECT_EQ(listDir(), (std::vector<std::string>{"cage.obj", "scene.json"}));
 }
 
@@ -394,8 +395,8 @@ TEST_F(SceneFiles, SceneSaveToMissingDirectoryFails) {
     qp::Result<qp::Scene> scene = qp::parseScene(validScene().dump(), "scene.json", "");
     ASSERT_TRUE(scene) << scene.error().message;
     std::string target = path("no/such/dir/scene.json");
-    for (bool inlineCage : {true, false}) {
-        qp::Status saved = qp::saveScene(*scene, target, inlineCage);
+    for (qp::CageStorage storage : {qp::CageStorage::Inline, qp::CageStorage::Referenced}) {
+        qp::Status saved = qp::saveScene(*scene, target, storage);
         ASSERT_FALSE(saved);
         EXPECT_NE(saved.error().message.find(path("no/such/dir/")), std::string::npos) << saved.error().message;
     }
@@ -406,7 +407,7 @@ TEST_F(SceneFiles, SceneSaveBelowAFileFails) {
     qp::Result<qp::Scene> scene = qp::parseScene(validScene().dump(), "scene.json", "");
     ASSERT_TRUE(scene) << scene.error().message;
     write("file", "not a directory");
-    qp::Status saved = qp::saveScene(*scene, path("file/scene.json"), true);
+    qp::Status saved = qp::saveScene(*scene, path("file/scene.json"), qp::CageStorage::Inline);
     ASSERT_FALSE(saved);
     EXPECT_NE(saved.error().message.find("file/scene.json"), std::string::npos) << saved.error().message;
 }
@@ -416,12 +417,12 @@ TEST_F(SceneFiles, SceneSaveBelowAFileFails) {
 TEST_F(SceneFiles, SceneOrCageByExtension) {
     qp::Result<qp::Scene> fromObj = qp::loadSceneOrCage(scenesPath("default.obj"));
     ASSERT_TRUE(fromObj) << fromObj.error().message;
-    EXPECT_TRUE(fromObj->cagePath.empty());
+    EXPECT_TRUE(fromObj->objects[0].cagePath.empty());
     EXPECT_EQ(fromObj->viewports, std::vector<qp::Viewport>{qp::Viewport{}});
 
     qp::Result<qp::Scene> fromJson = qp::loadSceneOrCage(scenesPath("default.json"));
     ASSERT_TRUE(fromJson) << fromJson.error().message;
-    EXPECT_TRUE(qp::sameTopologyAndTags(fromObj->cage, fromJson->cage));
+    EXPECT_TRUE(qp::sameTopologyAndTags(fromObj->objects[0].cage, fromJson->objects[0].cage));
 
     std::string text = write("notes.txt", "hello");
     qp::Result<qp::Scene> result = qp::loadSceneOrCage(text);

@@ -25,8 +25,7 @@ struct SceneRendererTest : ::testing::Test {
         Result<SceneRenderer> made = createSceneRenderer(ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM);
         ASSERT_TRUE(made.ok()) << made.error().message;
         renderer = std::move(made).value();
-        Scene scene;
-        scene.cage = test::makeSubdividedCube(3);
+        Scene scene = sceneOfCage(test::makeSubdividedCube(3), "cage");
         Result<std::unique_ptr<Document>> opened = createDocument(scene, "", PlanOptions{});
         ASSERT_TRUE(opened.ok()) << opened.error().message;
         doc = std::move(opened).value();

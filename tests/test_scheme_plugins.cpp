@@ -93,7 +93,7 @@ TEST(SchemePlugins, SayWhatTheyRefuseAndApproximate) {
 
     for (const char* name : {"acc1", "acc2"}) {
         SCOPED_TRACE(name);
-        SupportReport r = supportOf(name, creased->cage);
+        SupportReport r = supportOf(name, creased->objects[0].cage);
         EXPECT_TRUE(r.usable());
         EXPECT_TRUE(mentions(r.approximations, "draws semi-sharp creases smooth")) << joined(r.approximations);
         EXPECT_TRUE(mentions(r.approximations, "approximates the surface next to extraordinary vertices"));
@@ -112,13 +112,13 @@ TEST(SchemePlugins, SayWhatTheyRefuseAndApproximate) {
     EXPECT_TRUE(pn.usable());
     EXPECT_TRUE(mentions(pn.approximations, "does not approximate the Catmull-Clark limit surface anywhere"));
     EXPECT_TRUE(supportOf("pn", fan).usable());  // no neighbours needed
-    EXPECT_TRUE(mentions(supportOf("pn", creased->cage).approximations, "pn ignores creases"));
+    EXPECT_TRUE(mentions(supportOf("pn", creased->objects[0].cage).approximations, "pn ignores creases"));
 
     SupportReport stamOpen = supportOf("stam", grid);
     EXPECT_FALSE(stamOpen.usable());
     EXPECT_TRUE(mentions(stamOpen.refusals, "stam evaluates closed surfaces only")) << joined(stamOpen.refusals);
     EXPECT_FALSE(supportOf("stam", fan).usable());
-    SupportReport stamCreased = supportOf("stam", creased->cage);
+    SupportReport stamCreased = supportOf("stam", creased->objects[0].cage);
     EXPECT_TRUE(stamCreased.usable());
     EXPECT_TRUE(mentions(stamCreased.approximations, "honours creases only in its one or two isolation steps"));
     SchemeSettings tess;

@@ -51,7 +51,7 @@ std::unique_ptr<Planned> plan(const Cage& cage, uint32_t depth = 6) {
 Cage loadCage(const fs::path& path) {
     Result<Scene> scene = loadSceneOrCage(path.string());
     EXPECT_TRUE(scene.ok()) << path << ": " << (scene ? "" : scene.error().message);
-    return scene ? scene->cage : Cage{};
+    return scene ? scene->objects[0].cage : Cage{};
 }
 
 // A built scheme without GPU (build + update only: the CPU evaluation needs no device).

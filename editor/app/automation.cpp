@@ -591,7 +591,7 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     state["brush"] = {{"kind", brushKindName(brush.kind)}, {"radius", brush.radius}, {"strength", brush.strength},
                       {"falloff", falloffName(brush.falloff)}, {"resolution", brush.resolution},
                       {"hover", app.ui.brushHover ? json(vec(app.ui.brushHover->position)) : json(nullptr)}};
-    const Displacement& displacement = doc.scene.displacement;
+    const Displacement& displacement = displacementOf(doc);
     if (displacement.empty()) {
         state["displacement"] = nullptr;
     } else {

@@ -125,7 +125,7 @@ Result<TopologyEdit> operation(const Document& doc, const MakeFace& e) {
 
 template <class Op>
 Result<EditReport> performTopology(Document& doc, const Op& op, const std::string& name, TopologyEdit* applied) {
-    if (!doc.scene.displacement.empty())
+    if (!activeObject(doc).displacement.empty())
         return Error{"this scene carries sculpted displacement, which follows the cage's topology: topology edits "
                      "would invalidate it (vertex moves, creases and holes are fine). Clear it first (Sculpt panel: "
                      "Clear; undo brings it back)"};
@@ -268,7 +268,7 @@ private:
 };
 
 Result<EditReport> replaceDisplacement(Document& doc, const std::string& name, Displacement next, uint64_t frame) {
-    auto edit = std::make_unique<DisplacementEdit>(doc.scene.displacement, doc.scene.displacement, std::move(next),
+    auto edit = std::make_unique<DisplacementEdit>(activeObject(doc).displacement, activeObject(doc).displacement, std::move(next),
                                                    displacementListener(doc));
     return performDisplacementEdit(doc, name, std::move(edit), frame);
 }
@@ -327,10 +327,13 @@ std::string describeEdit(const Edit& edit) {
 
 Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string& path, const PlanOptions& options,
                                                  std::shared_ptr<const PlanDatabase> planCache) {
+    if (Status valid = validateObjects(scene.objects, path.empty() ? "scene" : path); !valid) return valid.error();
     auto doc = std::make_unique<Document>();
+    doc->activeObject = (*cageOwners(scene.objects))[0];
     doc->database = std::make_unique<PlanDatabase>();
     doc->database->setFallback(std::move(planCache));
-    Result<PlannedCage> planned = PlannedCage::create(scene.cage, *doc->database, options, path.empty() ? "cage" : path);
+    Result<PlannedCage> planned = PlannedCage::create(scene.objects[doc->activeObject].cage, *doc->database, options,
+                                                      path.empty() ? "cage" : path);
     if (!planned) return planned.error();
     doc->planned.emplace(std::move(planned).value());
     doc->scene = std::move(scene);
@@ -542,14 +545,14 @@ std::vector<EdgeKey> selectedEdges(const Document& doc) {
 Status beginStroke(Document& doc, uint32_t newResolution, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
     if (doc.sculptor) return Error{"a stroke is already in progress"};
-    doc.strokeMadeDisplacement = doc.scene.displacement.empty();
+    doc.strokeMadeDisplacement = activeObject(doc).displacement.empty();
     if (doc.strokeMadeDisplacement) {
         // Not a history entry of its own: endStroke records it with the stroke.
         if (Status ok = checkDisplacementResolution(newResolution); !ok) return ok;
-        doc.scene.displacement = makeDisplacement(doc.planned->cage(), doc.planned->topology(), newResolution);
+        activeObject(doc).displacement = makeDisplacement(doc.planned->cage(), doc.planned->topology(), newResolution);
         displacementListener(doc)(DisplacementChange{true, {}});
     }
-    doc.sculptor.emplace(doc.scene.displacement, sculptSamplesOf(doc));
+    doc.sculptor.emplace(activeObject(doc).displacement, sculptSamplesOf(doc));
     doc.sculptor->beginStroke();
     return success();
 }
@@ -579,19 +582,19 @@ Result<EditReport> endStroke(Document& doc, const std::string& name, uint64_t fr
     doc.sculptor.reset();
     if (std::exchange(doc.strokeMadeDisplacement, false)) {
         if (record.changes.empty()) {  // nothing painted: back to no displacement, no entry
-            doc.scene.displacement = Displacement{};
+            activeObject(doc).displacement = Displacement{};
             displacementListener(doc)(DisplacementChange{true, {}});
             return EditReport{};
         }
         // One entry from "none" to the painted displacement, already in place.
-        auto replace = std::make_unique<DisplacementEdit>(doc.scene.displacement, Displacement{}, doc.scene.displacement,
+        auto replace = std::make_unique<DisplacementEdit>(activeObject(doc).displacement, Displacement{}, activeObject(doc).displacement,
                                                           displacementListener(doc));
         return performDisplacementEdit(doc, name, std::make_unique<AlreadyDone>(std::move(replace)), frame);
     }
     if (record.changes.empty()) return EditReport{};
     // perform() re-applies the `after` values: the listener then lists the samples once more,
     // which costs one idempotent upload.
-    auto edit = std::make_unique<DisplacementEdit>(doc.scene.displacement, std::move(record), displacementListener(doc));
+    auto edit = std::make_unique<DisplacementEdit>(activeObject(doc).displacement, std::move(record), displacementListener(doc));
     return performDisplacementEdit(doc, name, std::move(edit), frame);
 }
 
@@ -600,11 +603,11 @@ void cancelStroke(Document& doc) {
     const StrokeRecord record = doc.sculptor->endStroke();
     doc.sculptor.reset();
     if (std::exchange(doc.strokeMadeDisplacement, false)) {
-        doc.scene.displacement = Displacement{};
+        activeObject(doc).displacement = Displacement{};
         displacementListener(doc)(DisplacementChange{true, {}});
         return;
     }
-    undoStroke(doc.scene.displacement, record);
+    undoStroke(activeObject(doc).displacement, record);
     ++doc.sampleRevision;
     for (const SampleChange& c : record.changes) doc.unsyncedSamples.push_back(c.sample);
 }
@@ -613,7 +616,7 @@ Result<EditReport> setDisplacementResolution(Document& doc, uint32_t resolution,
     if (!doc.planned) return Error{"no cage is open"};
     if (doc.sculptor) return Error{"finish the stroke first"};
     if (Status ok = checkDisplacementResolution(resolution); !ok) return ok.error();
-    const Displacement& d = doc.scene.displacement;
+    const Displacement& d = activeObject(doc).displacement;
     if (d.empty())
         return replaceDisplacement(doc, "New displacement",
                                    makeDisplacement(doc.planned->cage(), doc.planned->topology(), resolution), frame);
@@ -625,7 +628,7 @@ Result<EditReport> setDisplacementResolution(Document& doc, uint32_t resolution,
 Result<EditReport> clearDisplacement(Document& doc, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
     if (doc.sculptor) return Error{"finish the stroke first"};
-    if (doc.scene.displacement.empty()) return Error{"the scene has no displacement to clear"};
+    if (activeObject(doc).displacement.empty()) return Error{"the scene has no displacement to clear"};
     return replaceDisplacement(doc, "Clear displacement", Displacement{}, frame);
 }
 
@@ -636,7 +639,7 @@ glm::vec3 mirrorCentreOf(const Document& doc) {
 }
 
 const SculptSamples& sculptSamplesOf(Document& doc) {
-    if (!doc.sculptSamples) doc.sculptSamples.emplace(SculptSamples::build(*doc.planned, doc.scene.displacement.layout));
+    if (!doc.sculptSamples) doc.sculptSamples.emplace(SculptSamples::build(*doc.planned, activeObject(doc).displacement.layout));
     return *doc.sculptSamples;
 }
 
@@ -651,9 +654,20 @@ EditReport takeUnsyncedPlanChange(Document& doc) {
     return std::exchange(doc.unsyncedPlanChange, {});
 }
 
+SceneObject& activeObject(Document& doc) {
+    assert(doc.activeObject < doc.scene.objects.size() && "no document is open");
+    return doc.scene.objects[doc.activeObject];
+}
+const SceneObject& activeObject(const Document& doc) { return doc.scene.objects[doc.activeObject]; }
+
+const Displacement& displacementOf(const Document& doc) {
+    static const Displacement kNone;
+    return doc.activeObject < doc.scene.objects.size() ? activeObject(doc).displacement : kNone;
+}
+
 Scene sceneToSave(const Document& doc) {
     Scene scene = doc.scene;
-    scene.cage = doc.planned->cage();
+    scene.objects[doc.activeObject].cage = doc.planned->cage();
     return scene;
 }
 
@@ -664,8 +678,7 @@ Status saveDocument(Document& doc, const std::string& path) {
     if (ext == ".obj") {
         saved = saveObj(doc.planned->cage(), path);
     } else if (ext == ".json") {
-        Scene scene = sceneToSave(doc);
-        saved = saveScene(scene, path, scene.cagePath.empty());
+        saved = saveScene(sceneToSave(doc), path, CageStorage::AsLoaded);
     } else {
         return Error{"cannot save as '" + path + "': the name must end in .json (scene) or .obj (cage only)"};
     }

@@ -84,9 +84,13 @@ struct LastEdit {
 };
 
 struct Document {
-    // Camera, viewports, tessellation; its `cage` is stale after edits: `planned` holds the cage
-    // (sceneToSave puts them together).
+    // Objects, camera, viewports, tessellation. The active object's `cage` is stale after edits:
+    // `planned` holds it (sceneToSave puts them together).
     Scene scene;
+    // The object edit mode acts on (an object with a cage of its own; its displacement is the
+    // one sculpted). The editor draws and edits this object; the others are kept as loaded and
+    // saved with the scene.
+    uint32_t activeObject = 0;
     std::unique_ptr<PlanDatabase> database;  // heap: `planned` points at it
     uint64_t storedMisses = 0;               // plans built when the plan cache was last written
     std::optional<PlannedCage> planned;
@@ -106,7 +110,7 @@ struct Document {
     Selection selection;
     std::optional<LastEdit> lastEdit;
 
-    // Sculpted displacement (scene.displacement; the functions under "Displacement" below).
+    // Sculpted displacement (the active object's; the functions under "Displacement" below).
     // displacementRevision changes whenever it was replaced whole (new, resampled, cleared, or
     // such an edit undone); sampleRevision whenever samples changed in place (a dab, a stroke
     // undone or redone), the samples then being appended to unsyncedSamples until the renderer
@@ -133,7 +137,13 @@ struct Document {
     uint64_t hiddenRevision = 0;
 };
 
-// Plans `scene`'s cage into a new document (planning runs in parallel; can take seconds).
+// The object edit mode acts on; only while a document is open (`planned` set).
+SceneObject& activeObject(Document& document);
+const SceneObject& activeObject(const Document& document);
+// Its displacement, or an empty one while nothing is open (a recovery offer, a load).
+const Displacement& displacementOf(const Document& document);
+
+// Plans the cage of `scene`'s first object (or of the object it instances) into a new document (planning runs in parallel; can take seconds).
 // `planCache`: the persistent plan cache to copy plans from before building any (core/plan_cache.h).
 Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string& path, const PlanOptions& options,
                                                  std::shared_ptr<const PlanDatabase> planCache = nullptr);

@@ -77,7 +77,13 @@ void DocumentLoader::run() {
     Result<Scene> scene = request.fromRecovery ? loadRecovery(request.path, &warnings)
                                                : loadSceneOrCage(request.path, &warnings);
     if (!scene) return finish(scene.error());
-    const uint32_t faces = scene->cage.faceCount();
+    if (scene->objects.size() > 1)
+        warnings.push_back(request.path + ": the scene has " + std::to_string(scene->objects.size()) +
+                           " objects; this editor shows and edits the first one only (the others are kept and saved "
+                           "as they are)");
+    Result<std::vector<uint32_t>> owners = cageOwners(scene->objects);
+    if (!owners) return finish(Error{request.path + ": " + owners.error().message});
+    const uint32_t faces = scene->objects[(*owners)[0]].cage.faceCount();
     setStage(("Planning " + std::to_string(faces) + " faces").c_str(), 0.2f);
     const std::string documentPath = request.fromRecovery ? request.recoveredSource
                                      : request.untitled  ? std::string()

@@ -69,7 +69,7 @@ void sculptSection(EditorApp& app) {
         applyDisplacementResolution(app);
     ImGui::SameLine();
     if (button(app, "Clear##displacement", "Remove the displacement (one undo entry)")) clearDisplacementTool(app);
-    const Displacement& d = doc.scene.displacement;
+    const Displacement& d = displacementOf(doc);
     if (d.empty()) {
         ImGui::TextDisabled("No displacement yet: the first stroke makes one.");
     } else {

@@ -40,7 +40,7 @@ Status writeRecovery(const std::string& directory, const Scene& scene, const Rec
     fs::create_directories(directory, error);
     if (error) return Error{"cannot create the recovery directory '" + directory + "': " + error.message()};
     // The scene first: an info file always has its scene beside it.
-    if (Status s = writeFileAtomically((fs::path(directory) / kSceneFile).string(), formatScene(scene, true)); !s)
+    if (Status s = writeFileAtomically((fs::path(directory) / kSceneFile).string(), formatScene(scene, CageStorage::Inline)); !s)
         return s;
     const nlohmann::json json = {{"source", info.source}, {"saved_at", info.savedAt}};
     return writeFileAtomically((fs::path(directory) / kInfoFile).string(), json.dump(2) + "\n");

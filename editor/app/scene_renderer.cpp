@@ -243,18 +243,18 @@ void destroyView(const VulkanContext& ctx, SchemeView& view) {
     destroyHeat(ctx, view.heat);
 }
 
-const Displacement* displacementOf(const Document& doc) {
-    return doc.scene.displacement.empty() ? nullptr : &doc.scene.displacement;
+const Displacement* drawnDisplacement(const Document& doc) {
+    return displacementOf(doc).empty() ? nullptr : &displacementOf(doc);
 }
 
 // A new displacement (or none) for an instance, or samples changed in place.
 Status syncDisplacement(SchemeView& view, const Document& doc, bool newDisplacement,
                         std::span<const uint32_t> changedSamples) {
     if (newDisplacement) {
-        if (Status s = view.instance->setDisplacement(displacementOf(doc)); !s) return s;
+        if (Status s = view.instance->setDisplacement(drawnDisplacement(doc)); !s) return s;
         return view.instance->update();
     }
-    if (doc.scene.displacement.empty() || changedSamples.empty()) return success();
+    if (displacementOf(doc).empty() || changedSamples.empty()) return success();
     return view.instance->displacementChanged(changedSamples);
 }
 
@@ -275,7 +275,7 @@ void buildView(SceneRenderer& r, const PluginCatalog& catalog, const Document& d
     }
     Result<PreparedScheme> prepared = prepareScheme(catalog, request.name, *doc.planned, r.features, request.settings,
                                                     r.gpu, doc.path.empty() ? "the cage" : doc.path,
-                                                    displacementOf(doc));
+                                                    drawnDisplacement(doc));
     view.setupMs = msSince(start);
     if (!prepared) {
         view.problem = prepared.error().message;
@@ -559,7 +559,7 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
                 destroyView(ctx, view);
             }
             view.displacementMs = msSince(updateStart);
-            view.updatedSamples = newDisplacement ? uint32_t(doc.scene.displacement.samples.size()) : uint32_t(changedSamples.size());
+            view.updatedSamples = newDisplacement ? uint32_t(displacementOf(doc).samples.size()) : uint32_t(changedSamples.size());
             ++view.drawRevision;
         }
         view.built.heatMap = requests[i].heatMap;

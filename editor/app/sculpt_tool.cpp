@@ -46,7 +46,7 @@ std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, 
     if (hit.subface == kNoHit) return std::nullopt;
     const LimitSample sample = planned.evaluate(hit.subface, hit.u, hit.v);
     SurfaceHit out{hit.position, limitNormal(planned, hit.subface, hit.u, hit.v, sample), hit.position};
-    const Displacement& d = app.doc->scene.displacement;
+    const Displacement& d = displacementOf(*app.doc);
     if (!d.empty()) out.displaced += evaluateDisplacement(d, hit.subface, hit.u, hit.v).value * out.normal;
     return out;
 }
@@ -132,7 +132,7 @@ bool applyDisplacementResolution(EditorApp& app) {
         return false;
     }
     app.ui.status = "Displacement tiles at " + std::to_string(resolution) + " x " + std::to_string(resolution) + " (" +
-                    std::to_string(app.doc->scene.displacement.samples.size()) + " samples)";
+                    std::to_string(displacementOf(*app.doc).samples.size()) + " samples)";
     return true;
 }
 

@@ -141,7 +141,7 @@ public:
             return DrawStats{patches_.layout.size(), adaptive ? 0 : uniformTriangles_, DrawnBy::Tessellator};
         }
         MeshDraw draw{displacement_ ? &displaced_.gpu : &mesh_, glm::vec3(0.8f), true, view.wireframe};
-        recordMeshPass(cmd, pass_, target, MeshView{view.viewProjection, view.eye, view.background, view.shading},
+        recordMeshPass(cmd, pass_, target, MeshView{view.viewProjection, view.eye, view.background, view.shading, view.clear},
                        draw.mesh->indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
         return DrawStats{patches_.layout.size(), triangles_, DrawnBy::CpuMesh};
     }

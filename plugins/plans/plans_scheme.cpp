@@ -175,6 +175,7 @@ public:
         planView.pixelsPerUnit = view.pixelsPerUnit;
         planView.background = view.background;
         planView.wireframe = view.wireframe;
+        planView.clear = view.clear;
         planView.colorBy = colorBy(view.colorBy);
         hiddenDrawn_.clear();
         for (uint32_t subface : view.hiddenSubfaces)
@@ -211,7 +212,7 @@ public:
         if (Status prepared = preparePlanFrame(*ctx_, pass_, buffers_, *planned_, path_, planView, tessellation);
             !prepared) {
             std::fprintf(stderr, "plans: %s\n", prepared.error().message.c_str());
-            beginRendering(cmd, target, true, view.background);
+            beginRendering(cmd, target, view.clear, view.background);
             vkCmdEndRendering(cmd);
             return DrawStats{};
         }

@@ -104,7 +104,7 @@ public:
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        const MeshView meshView{view.viewProjection, view.eye, view.background, view.shading};
+        const MeshView meshView{view.viewProjection, view.eye, view.background, view.shading, view.clear};
         const GpuMesh& mesh = displacement_ ? displaced_.gpu : mesh_;
         MeshDraw draw{&mesh, glm::vec3(0.8f), true, view.wireframe};
         recordMeshPass(cmd, pass_, target, meshView,

@@ -423,3 +423,92 @@ def test_a_second_opening_plans_from_the_persistent_cache(tmp_path):
     assert json.loads(out.stdout)["database_misses"] == cold["unique_plans"]
     assert "plan cache" in out.stderr, out.stderr
     assert opened()["database_misses"] == 0
+
+
+# ---- scenes of many objects ----------------------------------------------------------------
+
+OBJECTS_VIEW = qp.Camera(eye=(0, 2.5, 9), target=(0, 0, 0), fov=45)
+
+
+def test_objects_scene_draws_every_object(renderer, golden):
+    scene = qp.load(SCENES / "objects.json")
+    assert [o["name"] for o in scene.objects] == ["default", "default.001", "creased_box"]
+    assert scene.objects[1]["instance_of"] == "default"
+    golden("objects", scene.render("plans", size=(240, 120), camera=OBJECTS_VIEW, renderer=renderer))
+    # Hiding an object removes exactly its pixels; showing it again brings them back. (Without the
+    # cage lines: the depth range follows the visible objects, and the lines' depth bias with it.)
+    before = scene.render("plans", size=(240, 120), camera=OBJECTS_VIEW, renderer=renderer, cage=False)
+    scene.set_visible("creased_box", False)
+    hidden = scene.render("plans", size=(240, 120), camera=OBJECTS_VIEW, renderer=renderer, cage=False)
+    changed = np.any(hidden[..., :3] != before[..., :3], axis=2)
+    assert changed[:, :80].sum() > 200 and changed[:, 100:].sum() == 0  # the box is on the left
+    scene.undo()
+    again = scene.render("plans", size=(240, 120), camera=OBJECTS_VIEW, renderer=renderer, cage=False)
+    assert np.array_equal(again, before)
+
+
+def test_objects_share_one_plan_database(cube):
+    first = cube.scene_plan_stats()
+    name = cube.add_object(cube.cage, translation=(3, 0, 0))
+    assert name == "object"
+    stats = cube.scene_plan_stats()
+    assert stats["cages"] == 2 and stats["unique_plans"] == first["unique_plans"]
+    assert stats["objects"][1]["new_plans"] == 0 and stats["shared_plans"] == stats["unique_plans"]
+    inst = cube.instance("cage", translation=(-3, 0, 0), rotation_degrees=(0, 45, 0))
+    stats = cube.scene_plan_stats()
+    assert stats["cages"] == 2 and stats["objects"][2]["instance_of"] == "cage"
+    assert stats["instance_faces"] == 3 * cube.face_count
+    with pytest.raises(qp.Error, match='cannot remove "cage": "cage.001" instance it'):
+        cube.remove_object("cage")
+    assert inst == "cage.001"
+
+
+def test_object_edits_replan_nothing_and_undo_across_objects(cube):
+    cube.add_object(cube.cage, name="right", translation=(3, 0, 0))
+    plans_before = cube.plan_stats()["database_misses"]
+    cube.set_transform("right", translation=(4, 0, 0), scale=(2, 2, 2))
+    assert cube.objects[1]["translation"] == (4, 0, 0) and cube.objects[1]["scale"] == (2, 2, 2)
+    assert cube.plan_stats()["database_misses"] == plans_before  # a transform plans nothing
+    # Edits act on the active object; undo takes each entry back on the object it was made on.
+    cube.object("right").set_crease(0, 1, 3.0)
+    assert cube.active_object == "right" and cube.creases == [(0, 1, 3.0)]
+    cube.object("cage").set_crease(2, 3, 1.0)
+    assert cube.creases == [(2, 3, 1.0)]
+    cube.undo()  # the crease on "cage"
+    assert cube.creases == []
+    cube.undo()  # the crease on "right", while "cage" is active
+    assert cube.object("right").creases == []
+    cube.undo()  # the transform
+    assert cube.objects[1]["translation"] == (3, 0, 0)
+    cube.undo()  # the added object
+    assert [o["name"] for o in cube.objects] == ["cage"]
+    cube.redo()
+    cube.redo()
+    cube.redo()
+    assert cube.object("right").creases == [(0, 1, 3.0)] and cube.objects[1]["scale"] == (2, 2, 2)
+    assert_matches_rebuild(cube)
+    # Removing and undoing brings the object back with its edits.
+    cube.remove_object("right")
+    assert cube.active_object == "cage"
+    cube.undo()
+    assert cube.object("right").creases == [(0, 1, 3.0)]
+    assert_matches_rebuild(cube)
+
+
+def test_objects_round_trip_and_bad_requests(cube, tmp_path):
+    cube.add_object(str(SCENES / "default.obj"), translation=(0, 3, 0))
+    cube.instance("default", name="copy", rotation_degrees=(0, 0, 30))
+    cube.rename_object("default", "tub")
+    assert cube.objects[2]["instance_of"] == "tub"  # the link follows the name
+    path = tmp_path / "objects.json"
+    cube.save(str(path))
+    again = qp.load(path)
+    assert again.objects == cube.objects
+    with pytest.raises(qp.Error, match='no object is called "nobody"'):
+        cube.object("nobody")
+    with pytest.raises(qp.Error, match='"copy" is an instance of "tub"'):
+        cube.active_object = "copy"
+    with pytest.raises(qp.Error, match="scale 0.* is zero"):
+        cube.set_transform("tub", scale=(1, 0, 1))
+    with pytest.raises(qp.Error, match='already called "cage"'):
+        cube.rename_object("tub", "cage")

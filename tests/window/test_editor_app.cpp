@@ -131,7 +131,7 @@ protected:
 TEST_F(EditorWindow, AutomationEditsSavesAndRedraws) {
     Result<Scene> scene = loadSceneOrCage((dir / "default.json").string());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
-    const Cage& cage = scene->cage;
+    const Cage& cage = scene->objects[0].cage;
     // A vertex on the top rim and an uncreased edge of the first face.
     uint32_t vertex = 0;
     for (uint32_t v = 0; v < cage.vertexCount(); ++v)
@@ -176,8 +176,8 @@ TEST_F(EditorWindow, AutomationEditsSavesAndRedraws) {
     EXPECT_EQ(s2["title"], "Quadplan - default.json");
     Result<Scene> saved = loadSceneOrCage((dir / "default.json").string());
     ASSERT_TRUE(saved.ok()) << saved.error().message;
-    EXPECT_NEAR(saved->cage.positions[vertex].y, after.y, 1e-5f);
-    EXPECT_FLOAT_EQ(saved->cage.edgeSharpness(a, b), 2.5f);
+    EXPECT_NEAR(saved->objects[0].cage.positions[vertex].y, after.y, 1e-5f);
+    EXPECT_FLOAT_EQ(saved->objects[0].cage.edgeSharpness(a, b), 2.5f);
 
     // Pictures: a real frame, not blank, and the edits visibly changed it.
     Picture p0 = loadPng(dir / "before.png"), p1 = loadPng(dir / "after.png");
@@ -246,9 +246,9 @@ TEST_F(EditorWindow, SculptsStrokesUndoesCancelsAndSaves) {
     // Saved after the redo: the stroke's samples are in the file.
     Result<Scene> saved = loadSceneOrCage((dir / "default.json").string());
     ASSERT_TRUE(saved.ok()) << saved.error().message;
-    ASSERT_FALSE(saved->displacement.empty());
-    EXPECT_EQ(int(saved->displacement.samples.size()), samples);
-    EXPECT_EQ(int(std::count_if(saved->displacement.samples.begin(), saved->displacement.samples.end(),
+    ASSERT_FALSE(saved->objects[0].displacement.empty());
+    EXPECT_EQ(int(saved->objects[0].displacement.samples.size()), samples);
+    EXPECT_EQ(int(std::count_if(saved->objects[0].displacement.samples.begin(), saved->objects[0].displacement.samples.end(),
                                 [](float x) { return x != 0.0f; })),
               nonzero);
 
@@ -344,7 +344,7 @@ TEST_F(EditorWindow, RealMouseAndKeyboardThroughX) {
 TEST_F(EditorWindow, SelectsEditsCreasesUndoesAndComparesSchemes) {
     Result<Scene> scene = loadSceneOrCage((dir / "default.json").string());
     ASSERT_TRUE(scene.ok()) << scene.error().message;
-    const Cage& cage = scene->cage;
+    const Cage& cage = scene->objects[0].cage;
     const uint32_t faces = cage.faceCount();
     ASSERT_EQ(cage.faceSize(0), 4u);
     const uint32_t a = cage.faceBegin(0)[0], b = cage.faceBegin(0)[1];
@@ -467,7 +467,7 @@ TEST_F(EditorWindow, ConfirmsBeforeLosingChanges) {
     // Saved where the Save As dialog proposed (the working directory), then quit.
     Result<Scene> saved = loadSceneOrCage((dir / "untitled.json").string());
     ASSERT_TRUE(saved.ok()) << saved.error().message;
-    EXPECT_NEAR(saved->cage.positions[0].x, vertexOf(q1, 0).x, 1e-5f);
+    EXPECT_NEAR(saved->objects[0].cage.positions[0].x, vertexOf(q1, 0).x, 1e-5f);
     EXPECT_FALSE(fs::exists(dir / "recovery" / "autosave.json"));
 }
 

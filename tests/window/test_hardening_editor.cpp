@@ -62,11 +62,11 @@ protected:
 // vertex 0 is between two versions).
 int versionOf(const fs::path& path, const Cage& original) {
     Result<Scene> scene = loadScene(path.string());
-    if (!scene || scene->cage.faceCount() != original.faceCount() || scene->cage.positions.size() != original.positions.size())
+    if (!scene || scene->objects[0].cage.faceCount() != original.faceCount() || scene->objects[0].cage.positions.size() != original.positions.size())
         return -1;
     for (size_t v = 1; v < original.positions.size(); ++v)
-        if (scene->cage.positions[v] != original.positions[v]) return -1;
-    const glm::vec3 d = scene->cage.positions[0] - original.positions[0];
+        if (scene->objects[0].cage.positions[v] != original.positions[v]) return -1;
+    const glm::vec3 d = scene->objects[0].cage.positions[0] - original.positions[0];
     const float steps = d.y / kStep;
     if (d.x != 0 || d.z != 0 || steps < -0.1f || std::fabs(steps - std::round(steps)) > 0.1f) return -1;
     return int(std::lround(steps));
@@ -93,11 +93,10 @@ std::vector<std::string> temporaryFiles(const fs::path& dir) {
 // the one before, the autosave (when there is one) is a complete version too, and the next
 // start offers it. The last round kills without saving and restores the autosave.
 TEST_F(EditorHardening, KilledDuringSavesAndAutosavesLosesNothing) {
-    Scene scene;
-    scene.cage = makeBenchmarkCage(8000, 3);
-    const Cage original = scene.cage;
+    Scene scene = sceneOfCage(makeBenchmarkCage(8000, 3), "cage");
+    const Cage original = scene.objects[0].cage;
     const fs::path work = dir / "work.json";
-    ASSERT_TRUE(saveScene(scene, work.string(), true).ok());
+    ASSERT_TRUE(saveScene(scene, work.string(), CageStorage::Inline).ok());
 
     std::mt19937 random(20261201);
     std::uniform_real_distribution<double> moment(0.0, 2.0);
@@ -158,9 +157,8 @@ TEST_F(EditorHardening, KilledDuringSavesAndAutosavesLosesNothing) {
 TEST_F(EditorHardening, FailedSaveKeepsTheChangesAndSavingElsewhereWorks) {
     const fs::path locked = dir / "locked";
     fs::create_directories(locked);
-    Scene scene;
-    scene.cage = makeBenchmarkCage(200, 1);
-    ASSERT_TRUE(saveScene(scene, (locked / "scene.json").string(), true).ok());
+    Scene scene = sceneOfCage(makeBenchmarkCage(200, 1), "cage");
+    ASSERT_TRUE(saveScene(scene, (locked / "scene.json").string(), CageStorage::Inline).ok());
     const bool root = geteuid() == 0;
     if (root) {
         if (mount(locked.c_str(), locked.c_str(), nullptr, MS_BIND, nullptr) != 0 ||
@@ -188,25 +186,24 @@ TEST_F(EditorHardening, FailedSaveKeepsTheChangesAndSavingElsewhereWorks) {
     const std::string message = failed["status"];
     EXPECT_NE(message.find("Saving failed: cannot create a temporary file next to"), std::string::npos) << message;
     EXPECT_NE(message.find("Save As"), std::string::npos) << message;
-    EXPECT_NEAR(failed["vertices"][0][1].get<float>(), scene.cage.positions[0].y + 0.5f, 1e-5f);
+    EXPECT_NEAR(failed["vertices"][0][1].get<float>(), scene.objects[0].cage.positions[0].y + 0.5f, 1e-5f);
     // The original is untouched; the changes went elsewhere.
     Result<Scene> untouched = loadScene((locked / "scene.json").string());
     ASSERT_TRUE(untouched.ok());
-    EXPECT_EQ(untouched->cage.positions[0], scene.cage.positions[0]);
+    EXPECT_EQ(untouched->objects[0].cage.positions[0], scene.objects[0].cage.positions[0]);
     EXPECT_FALSE(saved["dirty"].get<bool>());
     Result<Scene> elsewhere = loadScene((dir / "elsewhere.json").string());
     ASSERT_TRUE(elsewhere.ok());
-    EXPECT_NEAR(elsewhere->cage.positions[0].y, scene.cage.positions[0].y + 0.5f, 1e-5f);
+    EXPECT_NEAR(elsewhere->objects[0].cage.positions[0].y, scene.objects[0].cage.positions[0].y + 0.5f, 1e-5f);
 }
 
 // Without a Vulkan driver the editor says so and exits non-zero; autosaved work waiting in the
 // recovery directory is left there for the next start.
 TEST_F(EditorHardening, NoVulkanDriverKeepsTheRecoveryFile) {
-    Scene scene;
-    scene.cage = makeBenchmarkCage(200, 1);
-    ASSERT_TRUE(saveScene(scene, (dir / "recovery" / "autosave.json").string(), true).ok());
+    Scene scene = sceneOfCage(makeBenchmarkCage(200, 1), "cage");
+    ASSERT_TRUE(saveScene(scene, (dir / "recovery" / "autosave.json").string(), CageStorage::Inline).ok());
     const std::string before = readFile((dir / "recovery" / "autosave.json").string()).value();
-    ASSERT_TRUE(saveScene(scene, (dir / "scene.json").string(), true).ok());
+    ASSERT_TRUE(saveScene(scene, (dir / "scene.json").string(), CageStorage::Inline).ok());
     std::map<std::string, std::string> env = environment();
     env["VK_ICD_FILENAMES"] = env["VK_DRIVER_FILES"] = "/nonexistent/icd.json";
     EditorProcess editor;
@@ -220,9 +217,8 @@ TEST_F(EditorHardening, NoVulkanDriverKeepsTheRecoveryFile) {
 // drawFrame calls): the editor says so, writes the unsaved changes to the recovery file at
 // once (the autosave interval is an hour here) and exits with status 1; the next start offers them.
 TEST_F(EditorHardening, DeviceLossRescuesTheUnsavedChanges) {
-    Scene scene;
-    scene.cage = makeBenchmarkCage(200, 1);
-    ASSERT_TRUE(saveScene(scene, (dir / "scene.json").string(), true).ok());
+    Scene scene = sceneOfCage(makeBenchmarkCage(200, 1), "cage");
+    ASSERT_TRUE(saveScene(scene, (dir / "scene.json").string(), CageStorage::Inline).ok());
     EditorProcess editor;
     start(editor, "wait-idle\nselect-vertex 0\nmove-selection 0 0.5 0\nwait-frames 1\nsimulate-device-loss\n",
           (dir / "scene.json").string(), {"--autosave-seconds", "3600"});
@@ -234,7 +230,7 @@ TEST_F(EditorHardening, DeviceLossRescuesTheUnsavedChanges) {
         << editor.output();
     Result<Scene> rescued = loadScene((dir / "recovery" / "autosave.json").string());
     ASSERT_TRUE(rescued.ok()) << editor.output();
-    EXPECT_NEAR(rescued->cage.positions[0].y, scene.cage.positions[0].y + 0.5f, 1e-5f);
+    EXPECT_NEAR(rescued->objects[0].cage.positions[0].y, scene.objects[0].cage.positions[0].y + 0.5f, 1e-5f);
 
     EditorProcess restarted;
     start(restarted, "wait-frames 5\ndump-state offer.json\nquit\n", (dir / "scene.json").string());

@@ -1,0 +1,92 @@
+#include "scene_schemes.h"
+
+#include <glm/matrix.hpp>
+
+#include "render_target.h"
+
+namespace qp {
+
+DrawView objectView(const DrawView& world, const ObjectTransform& transform) {
+    if (transform.isIdentity()) return world;
+    const glm::mat4 model = transform.matrix();
+    DrawView view = world;
+    view.viewProjection = world.viewProjection * model;
+    view.eye = glm::vec3(glm::inverse(model) * glm::vec4(world.eye, 1.0f));
+    view.pixelsPerUnit = world.pixelsPerUnit * maxScale(transform);
+    return view;
+}
+
+double SceneSchemes::setupMs() const {
+    double total = 0.0;
+    for (const PreparedScheme& p : cages) total += p.setupMs();
+    return total;
+}
+
+Result<SceneSchemes> prepareSceneSchemes(const PluginCatalog& catalog, const std::string& name, const Scene& scene,
+                                         const PlannedScene& planned, const SchemeSettings& settings,
+                                         const GpuContext& gpu, const std::string& source) {
+    SceneSchemes out;
+    for (uint32_t c = 0; c < planned.cages.size(); ++c) {
+        const SceneObject& owner = scene.objects[planned.objectOfCage[c]];
+        const std::string where = scene.objects.size() == 1 ? source : source + ": object \"" + owner.name + "\"";
+        const PlannedCage& cage = planned.cages[c];
+        Result<PreparedScheme> prepared =
+            prepareScheme(catalog, name, cage, analyzeCage(cage.cage(), cage.topology()), settings, gpu, where,
+                          owner.displacement.empty() ? nullptr : &owner.displacement);
+        if (!prepared) {
+            (void)destroySceneSchemes(out);
+            return prepared.error();
+        }
+        if (scene.objects.size() > 1)
+            for (std::string& w : prepared->support.approximations) w = "object \"" + owner.name + "\": " + w;
+        out.cages.push_back(std::move(prepared).value());
+    }
+    return out;
+}
+
+Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const Scene& scene, const PlannedScene& planned,
+                              const RenderTarget& target, const DrawView& world) {
+    DrawStats total;
+    bool cleared = false, trianglesKnown = true;
+    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+        const SceneObject& object = scene.objects[i];
+        if (!object.visible) continue;
+        DrawView view = objectView(world, object.transform);
+        view.clear = world.clear && !cleared;
+        Result<DrawStats> drawn = schemes.cages[planned.cageOfObject[i]].instance.record(cmd, target, view);
+        if (!drawn) return Error{"object \"" + object.name + "\": " + drawn.error().message};
+        cleared = true;
+        total.patches += drawn->patches;
+        total.triangles += drawn->triangles;
+        trianglesKnown = trianglesKnown && (drawn->triangles > 0 || drawn->patches == 0);
+        total.drawnBy = drawn->drawnBy;
+    }
+    if (!trianglesKnown) total.triangles = 0;  // the tessellator chose some counts at draw time
+    if (!cleared && world.clear) {
+        beginRendering(cmd, target, true, world.background);
+        vkCmdEndRendering(cmd);
+    }
+    return total;
+}
+
+Result<SchemeFrameTimes> timeSceneFrames(const VulkanContext& context, SceneSchemes& schemes, const Scene& scene,
+                                         const PlannedScene& planned, const RenderTarget& target, const DrawView& view,
+                                         const GpuTimer& timer, uint32_t repeats) {
+    auto update = [&]() -> Status {
+        for (PreparedScheme& p : schemes.cages)
+            if (Status updated = p.instance.update(); !updated) return updated;
+        return success();
+    };
+    auto record = [&](VkCommandBuffer cmd) { return recordScene(cmd, schemes, scene, planned, target, view); };
+    return timeFrames(context, update, record, timer, repeats);
+}
+
+Status destroySceneSchemes(SceneSchemes& schemes) {
+    Status status = success();
+    for (PreparedScheme& p : schemes.cages)
+        if (Status s = p.instance.destroyGpu(); !s && status) status = s;
+    schemes.cages.clear();
+    return status;
+}
+
+}  // namespace qp

@@ -1,0 +1,45 @@
+// Drawing a scene of many objects through one scheme: an instance of the scheme per cage of a
+// PlannedScene (core/planned_scene.h), recorded once per visible object under that object's
+// transform. Instances of a cage share its scheme instance, so they add no patches, no control
+// points and no GPU buffers; moving an object changes only the view its draw gets.
+#pragma once
+
+#include <vector>
+
+#include "planned_scene.h"
+#include "scheme_host.h"
+
+namespace qp {
+
+// `world` (the camera's view) in the coordinates of an object placed by `transform`: the
+// projection times the object's matrix, the eye brought into the object's space, and
+// pixelsPerUnit scaled by the transform's largest scale (screen-adaptive factors stay as fine
+// as the object looks). Lighting stays in the object's frame: the studio lights turn with a
+// rotated object (matcap, which follows the view-space normal, does not).
+DrawView objectView(const DrawView& world, const ObjectTransform& transform);
+
+struct SceneSchemes {
+    std::vector<PreparedScheme> cages;  // one per PlannedScene cage
+    double setupMs() const;
+};
+
+// prepareScheme for every cage, each with its owner's displacement (when set). Warnings in each
+// cage's support.approximations name the object when the scene has several. On failure nothing
+// is left on the GPU.
+Result<SceneSchemes> prepareSceneSchemes(const PluginCatalog& catalog, const std::string& name, const Scene& scene,
+                                         const PlannedScene& planned, const SchemeSettings& settings,
+                                         const GpuContext& gpu, const std::string& source);
+
+// Records every visible object (the first clearing target.area, as an empty scene does);
+// statistics summed over the objects drawn.
+Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const Scene& scene, const PlannedScene& planned,
+                              const RenderTarget& target, const DrawView& world);
+
+Status destroySceneSchemes(SceneSchemes& schemes);
+
+// timeSchemeFrames for a scene: every cage's update(), then recordScene, per frame.
+Result<SchemeFrameTimes> timeSceneFrames(const VulkanContext& context, SceneSchemes& schemes, const Scene& scene,
+                                         const PlannedScene& planned, const RenderTarget& target, const DrawView& view,
+                                         const GpuTimer& timer, uint32_t repeats);
+
+}  // namespace qp
