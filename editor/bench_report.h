@@ -108,6 +108,9 @@ inline std::string number(double value) {
     return text;
 }
 
+// ../shared beside the project as configured (QUADPLAN_SHARED_DIR), or "".
+std::string benchSharedDir();
+
 // Lavapipe unless QUADPLAN_VK_DEVICE names a device; validation off (it would dominate timings).
 Result<VulkanContext> createBenchContext();
 // "1, 5, 15 min" load averages, for the notes.
@@ -137,6 +140,8 @@ inline constexpr uint32_t kSchemesGeneratedFaces = 2000;
 // (every scheme plugin against the same baseline): bench_gpu.cpp.
 inline constexpr uint32_t kRenderSize = 512;  // their offscreen target, and the fas suite's
 void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report);
+// A scene of many objects: instances, distinct cages, one plan database (bench_scene.cpp).
+void benchScene(const BenchCage& bench, const BenchArgs& args, Report& report);
 void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report);
 // The fas suite (plans against OpenSubdiv's feature-adaptive patches, B16 §9.1): bench_fas.cpp.
 void benchFas(const BenchCage& bench, const BenchArgs& args, Report& report);

@@ -37,6 +37,14 @@
 
 namespace qp::cli {
 
+std::string benchSharedDir() {
+#ifdef QUADPLAN_SHARED_DIR
+    return QUADPLAN_SHARED_DIR;
+#else
+    return "";
+#endif
+}
+
 namespace {
 
 std::string cpuModel() {
@@ -54,14 +62,6 @@ std::string utcNow() {
     return text;
 }
 
-
-std::string benchSharedDir() {
-#ifdef QUADPLAN_SHARED_DIR
-    return QUADPLAN_SHARED_DIR;
-#else
-    return "";
-#endif
-}
 
 // The suite's cages: catmark_car and the suite's other shared cages from ../shared, the
 // generated cage, then --cage files. Missing shared files are a note; a --cage that does not
@@ -454,6 +454,7 @@ constexpr Suite kSuites[] = {
     {"edit", benchEdit, kEditGeneratedFaces},
     {"displacement", benchDisplacement, 2000},
     {"editor", benchEditor, 2000},
+    {"scene", benchScene, 0},
 };
 
 int runSuite(const Suite& suite, const BenchArgs& args) {

@@ -1,5 +1,8 @@
 #include "scene_schemes.h"
 
+#include <algorithm>
+
+#include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
 #include "render_target.h"
@@ -44,22 +47,49 @@ Result<SceneSchemes> prepareSceneSchemes(const PluginCatalog& catalog, const std
     return out;
 }
 
+namespace {
+
+// How large an object looks: its transform's scale over its distance from the eye. The object of
+// a cage that looks largest lays out the surface every object of that cage draws in the frame.
+float apparentSize(const SceneObject& object, const Bounds& cage, const glm::vec3& eye) {
+    const glm::vec3 centre = glm::vec3(object.transform.matrix() * glm::vec4(0.5f * (cage.min + cage.max), 1.0f));
+    return maxScale(object.transform) / std::max(glm::distance(centre, eye), 1e-6f);
+}
+
+}  // namespace
+
 Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const Scene& scene, const PlannedScene& planned,
                               const RenderTarget& target, const DrawView& world) {
+    // Cage by cage, each cage's largest-looking visible object first: the others of that cage draw
+    // what it laid out (DrawView::sameFrame), so instances share one tessellation a frame, as
+    // fine as their nearest needs.
+    std::vector<std::vector<uint32_t>> objectsOfCage(planned.cages.size());
+    for (uint32_t i = 0; i < scene.objects.size(); ++i)
+        if (scene.objects[i].visible) objectsOfCage[planned.cageOfObject[i]].push_back(i);
     DrawStats total;
     bool cleared = false, trianglesKnown = true;
-    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
-        const SceneObject& object = scene.objects[i];
-        if (!object.visible) continue;
-        DrawView view = objectView(world, object.transform);
-        view.clear = world.clear && !cleared;
-        Result<DrawStats> drawn = schemes.cages[planned.cageOfObject[i]].instance.record(cmd, target, view);
-        if (!drawn) return Error{"object \"" + object.name + "\": " + drawn.error().message};
-        cleared = true;
-        total.patches += drawn->patches;
-        total.triangles += drawn->triangles;
-        trianglesKnown = trianglesKnown && (drawn->triangles > 0 || drawn->patches == 0);
-        total.drawnBy = drawn->drawnBy;
+    for (uint32_t c = 0; c < objectsOfCage.size(); ++c) {
+        std::vector<uint32_t>& objects = objectsOfCage[c];
+        if (objects.size() > 1) {
+            const Bounds bounds = computeBounds(planned.cages[c].cage());
+            auto largest = std::max_element(objects.begin(), objects.end(), [&](uint32_t a, uint32_t b) {
+                return apparentSize(scene.objects[a], bounds, world.eye) < apparentSize(scene.objects[b], bounds, world.eye);
+            });
+            std::iter_swap(objects.begin(), largest);
+        }
+        for (size_t k = 0; k < objects.size(); ++k) {
+            const SceneObject& object = scene.objects[objects[k]];
+            DrawView view = objectView(world, object.transform);
+            view.clear = world.clear && !cleared;
+            view.sameFrame = k > 0;
+            Result<DrawStats> drawn = schemes.cages[c].instance.record(cmd, target, view);
+            if (!drawn) return Error{"object \"" + object.name + "\": " + drawn.error().message};
+            cleared = true;
+            total.patches += drawn->patches;
+            total.triangles += drawn->triangles;
+            trianglesKnown = trianglesKnown && (drawn->triangles > 0 || drawn->patches == 0);
+            total.drawnBy = drawn->drawnBy;
+        }
     }
     if (!trianglesKnown) total.triangles = 0;  // the tessellator chose some counts at draw time
     if (!cleared && world.clear) {

@@ -30,7 +30,8 @@ Result<SceneSchemes> prepareSceneSchemes(const PluginCatalog& catalog, const std
                                          const PlannedScene& planned, const SchemeSettings& settings,
                                          const GpuContext& gpu, const std::string& source);
 
-// Records every visible object (the first clearing target.area, as an empty scene does);
+// Records every visible object (the first clearing target.area, as an empty scene does), the
+// instances of a cage sharing the tessellation the largest-looking of them needs (sameFrame);
 // statistics summed over the objects drawn.
 Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const Scene& scene, const PlannedScene& planned,
                               const RenderTarget& target, const DrawView& world);

@@ -137,12 +137,18 @@ struct GpuContext {
 // A scheme draws in its cage's own coordinates. A scene's objects place cages by transforms: the
 // host then passes each object's view in that object's space (objectView in scheme_host.h:
 // viewProjection times the object's matrix, the eye brought into object space, pixelsPerUnit
-// scaled with it), and `clear` false for every object after the first.
+// scaled with it), `clear` false for every object after the first and `sameFrame` true for the
+// later objects of a cage.
 struct DrawView {
     glm::mat4 viewProjection{1.0f};  // Vulkan clip space (render/camera.h), from the cage's coordinates
     glm::vec3 eye{0.0f};             // in the cage's coordinates
     glm::vec3 background{0.9f, 0.92f, 0.95f};  // linear; record() clears target.area to it
     bool clear = true;                // false: record() draws over what target.area holds
+    // True for the second and later objects drawing this scheme instance in one frame (instances
+    // of one cage): draw the surface the previous record() laid out and evaluated, under this
+    // view's matrix, instead of laying it out for this view (host-side data written now would
+    // also change what the earlier draws of the same command buffer read).
+    bool sameFrame = false;
     float pixelsPerUnit = 1.0f;       // for screen-adaptive factors (render/plan_pass.h)
     bool wireframe = false;           // tessellation wireframe over the surface, if supported
     std::string colorBy = "shading";  // one of Scheme::colorModes()

@@ -105,6 +105,53 @@ TEST(CliObjects, RenderDrawsEveryObjectUnderItsTransform) {
     for (const std::string& f : {placed, baked, empty}) fs::remove(f);
 }
 
+// Instances of one cage at different distances under screen-adaptive factors: on the grid paths
+// they share the layout their nearest needs (DrawView::sameFrame); every pixel drawn must lie
+// within a few pixels of the same surfaces written out as separate cages (a draw that read
+// another instance's grid would put triangles far from any of them).
+TEST(CliObjects, AdaptiveInstancesShareOneLayoutAndDrawTheirOwnSurface) {
+    qp::Scene scene = qp::sceneOfCage(qp::test::makeCube(), "near");
+    qp::SceneObject far;
+    far.name = "far";
+    far.instanceOf = "near";
+    far.transform.translation = {3.0f, 0.0f, -12.0f};
+    scene.objects.push_back(far);
+    const std::string placed = temp("adaptive-placed.json"), baked = temp("adaptive-baked.json");
+    ASSERT_TRUE(qp::saveScene(scene, placed, qp::CageStorage::Inline));
+    ASSERT_TRUE(qp::saveScene(flattened(scene), baked, qp::CageStorage::Inline));
+    const std::string view = "--camera 0,1,5,1,0,-4,50 --size 200x150 --no-cage --adaptive 30";
+    auto covered = [](const qp::test::Png& png, int x, int y) { return std::memcmp(png.at(x, y), png.at(0, 0), 3) != 0; };
+    auto near = [&](const qp::test::Png& png, int x, int y) {
+        for (int dy = -3; dy <= 3; ++dy)
+            for (int dx = -3; dx <= 3; ++dx) {
+                const int u = x + dx, v = y + dy;
+                if (u >= 0 && v >= 0 && u < png.width && v < png.height && covered(png, u, v)) return true;
+            }
+        return false;
+    };
+    for (const std::string path : {"cpu", "grid", "tess"}) {
+        const std::string a = temp("adaptive-placed-" + path + ".png"), b = temp("adaptive-baked-" + path + ".png");
+        ASSERT_EQ(runQuadplan("render " + placed + " --validate --path " + path + " " + view + " --out " + a).status, 0);
+        ASSERT_EQ(runQuadplan("render " + baked + " --path " + path + " " + view + " --out " + b).status, 0);
+        const qp::test::Png pa = qp::test::loadPng(a), pb = qp::test::loadPng(b);
+        ASSERT_EQ(pa.width, 200);
+        size_t stray = 0, missing = 0, drawn = 0;
+        for (int y = 0; y < pa.height; ++y)
+            for (int x = 0; x < pa.width; ++x) {
+                drawn += covered(pa, x, y);
+                stray += covered(pa, x, y) && !near(pb, x, y);
+                missing += covered(pb, x, y) && !near(pa, x, y);
+            }
+        EXPECT_GT(drawn, 2000u) << path;
+        EXPECT_EQ(stray, 0u) << path << ": pixels drawn away from every surface";
+        EXPECT_EQ(missing, 0u) << path << ": surface pixels left undrawn";
+        fs::remove(a);
+        fs::remove(b);
+    }
+    fs::remove(placed);
+    fs::remove(baked);
+}
+
 TEST(CliObjects, PlanStatsReportsObjectsAndSharedPlans) {
     const std::string path = temp("stats.json");
     ASSERT_TRUE(qp::saveScene(cubes(), path, qp::CageStorage::Inline));

@@ -209,7 +209,8 @@ public:
             recordSubfaceRefresh(cmd, pass_, buffers_, *planned_, pendingRefresh_);
             pendingRefresh_.clear();
         }
-        if (Status prepared = preparePlanFrame(*ctx_, pass_, buffers_, *planned_, path_, planView, tessellation);
+        if (Status prepared = view.sameFrame ? success()
+                                             : preparePlanFrame(*ctx_, pass_, buffers_, *planned_, path_, planView, tessellation);
             !prepared) {
             std::fprintf(stderr, "plans: %s\n", prepared.error().message.c_str());
             beginRendering(cmd, target, view.clear, view.background);
