@@ -16,6 +16,7 @@ DrawView objectView(const DrawView& world, const ObjectTransform& transform) {
     view.viewProjection = world.viewProjection * model;
     view.eye = glm::vec3(glm::inverse(model) * glm::vec4(world.eye, 1.0f));
     view.pixelsPerUnit = world.pixelsPerUnit * maxScale(transform);
+    view.worldFromObject = glm::mat3(model);
     return view;
 }
 

@@ -14,8 +14,8 @@ namespace qp {
 // `world` (the camera's view) in the coordinates of an object placed by `transform`: the
 // projection times the object's matrix, the eye brought into the object's space, and
 // pixelsPerUnit scaled by the transform's largest scale (screen-adaptive factors stay as fine
-// as the object looks). Lighting stays in the object's frame: the studio lights turn with a
-// rotated object (matcap, which follows the view-space normal, does not).
+// as the object looks), and DrawView::worldFromObject set to the matrix's linear part, with which
+// the plans bring their world-fixed studio lights into the cage's coordinates.
 DrawView objectView(const DrawView& world, const ObjectTransform& transform);
 
 struct SceneSchemes {

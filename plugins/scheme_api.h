@@ -44,6 +44,7 @@
 #include <utility>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 #include <vulkan/vulkan.h>
@@ -144,6 +145,9 @@ struct DrawView {
     glm::vec3 eye{0.0f};             // in the cage's coordinates
     glm::vec3 background{0.9f, 0.92f, 0.95f};  // linear; record() clears target.area to it
     bool clear = true;                // false: record() draws over what target.area holds
+    // The linear part of the object's matrix (identity for a cage drawn alone): a scheme that
+    // lights in world space brings its lights into the cage's coordinates with its inverse.
+    glm::mat3 worldFromObject{1.0f};
     // True for the second and later objects drawing this scheme instance in one frame (instances
     // of one cage): draw the surface the previous record() laid out and evaluated, under this
     // view's matrix, instead of laying it out for this view (host-side data written now would

@@ -93,12 +93,9 @@ void recordBSplinePatches(VkCommandBuffer cmd, const BSplinePass& pass, const Pl
     assert(settings.uniformFactor > 0 && plans.colorFormat == target.colorFormat);
     beginRendering(cmd, target, view.clear, view.background);
 
-    PlanDrawPush push{};
-    push.viewProjection = view.viewProjection;
-    push.uniformFactor = float(settings.uniformFactor);
-    push.pixelsPerSegment = settings.pixelsPerSegment;
-    push.pixelsPerUnit = view.pixelsPerUnit;
+    PlanDrawPush push = planDrawPush(view, &settings);
     push.colorMode = 0;  // lit: the colour modes would walk the plan in plan.frag
+    push.capture = 0;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, plans.drawLayout, 0, 1, &plans.set, 0, nullptr);
     vkCmdPushConstants(cmd, plans.drawLayout, kPlanDrawStages, 0, sizeof push, &push);

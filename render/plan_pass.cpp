@@ -100,7 +100,9 @@ void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buff
     buffers.controlPointLevel = level;
 }
 
-PlanDrawPush drawPush(const PlanView& view, const TessellationSettings* settings) {
+}  // namespace
+
+PlanDrawPush planDrawPush(const PlanView& view, const TessellationSettings* settings) {
     PlanDrawPush push{};
     push.viewProjection = view.viewProjection;
     push.uniformFactor = settings ? float(settings->uniformFactor) : 0.0f;
@@ -109,10 +111,10 @@ PlanDrawPush drawPush(const PlanView& view, const TessellationSettings* settings
     // plan_lighting.glsl: bit 8 of the colour mode selects the matcap.
     push.colorMode = uint32_t(view.colorBy) | (view.shading == Shading::Matcap ? 0x100u : 0u);
     push.capture = view.capture ? 1u : 0u;
+    push.keyLight = glm::vec4(view.keyLight, 0.0f);
+    push.fillLight = glm::vec4(view.fillLight, 0.0f);
     return push;
 }
-
-}  // namespace
 
 void updateHoleDrawn(PlanBuffers& buffers, const PlannedCage& planned) {
     buffers.holeDrawn.clear();
@@ -277,7 +279,7 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
     }
     recordStencils(cmd, pass, buffers, maxTessellationLevel(settings));
     beginRendering(cmd, target, view.clear, view.background);
-    const PlanDrawPush push = drawPush(view, &settings);
+    const PlanDrawPush push = planDrawPush(view, &settings);
     const uint32_t perDraw = patchesPerDraw(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
     const std::vector<DrawnRun> runs = drawnRuns(buffers, view.hiddenDrawn);
     const bool displaced = buffers.displacement != nullptr;
@@ -431,7 +433,7 @@ void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertice
                      std::span<const std::pair<uint32_t, uint32_t>> ranges = {}) {
     assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
     beginRendering(cmd, target, view.clear, view.background);
-    PlanDrawPush push = drawPush(view, nullptr);
+    PlanDrawPush push = planDrawPush(view, nullptr);
     push.capture = 0;
     const VkPipeline surface = view.colorBy == ColorBy::Shading ? pass.gridTriangles : pass.gridColored;
     for (VkPipeline pipeline : {surface, view.wireframe ? pass.gridWire : VkPipeline(VK_NULL_HANDLE)}) {

@@ -132,6 +132,9 @@ void destroyPlanPass(const VulkanContext& context, PlanPass& pass);
 // cage.
 void bindPlanBuffers(const VulkanContext& context, PlanPass& pass, const PlanBuffers& buffers);
 
+// Where the plans' studio lights are in the world (toward the light; normalised in use).
+inline constexpr glm::vec3 kPlanKeyLight{0.3f, 0.5f, 1.0f}, kPlanFillLight{-0.6f, 0.8f, -0.2f};
+
 struct PlanView {
     glm::mat4 viewProjection{1.0f};
     float pixelsPerUnit = 1.0f;        // see pixelsPerUnit()
@@ -141,6 +144,9 @@ struct PlanView {
     bool wireframe = false;            // tessellation wireframe over the shaded surface
     bool capture = false;              // tessellated path: record every evaluated vertex
     bool clear = true;                 // false: draw over what target.area holds (later objects of a scene)
+    // The studio lights (plan_lighting.glsl), unit vectors toward them in the cage's coordinates:
+    // fixed in the world, so an object of a scene turned by its transform gets them turned back.
+    glm::vec3 keyLight = kPlanKeyLight, fillLight = kPlanFillLight;
     std::span<const uint32_t> hiddenDrawn;  // drawn sub-faces not to draw (sorted; the editor's hidden
                                             // faces); holes (PlanBuffers::holeDrawn) are never drawn
 };

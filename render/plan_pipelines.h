@@ -16,7 +16,7 @@
 
 namespace qp {
 
-// Mirrors DrawPush in shaders/plan_draw.glsl.
+// Mirrors DrawPush in shaders/plan_draw.glsl (std430: the vec4s start at byte 96).
 struct PlanDrawPush {
     glm::mat4 viewProjection;
     float uniformFactor;
@@ -24,8 +24,13 @@ struct PlanDrawPush {
     float pixelsPerUnit;
     uint32_t colorMode;
     uint32_t capture;
+    uint32_t padding[3];
+    glm::vec4 keyLight, fillLight;  // xyz: PlanView's, in the cage's coordinates
 };
-static_assert(sizeof(PlanDrawPush) <= 128, "push constants: 128 bytes guaranteed");
+static_assert(sizeof(PlanDrawPush) == 128, "push constants: 128 bytes guaranteed; the layout of plan_draw.glsl");
+
+// The push constants of a plan draw for `view` (`settings` null: the grid paths).
+PlanDrawPush planDrawPush(const PlanView& view, const TessellationSettings* settings);
 
 // Mirrors the push blocks of plan_stencils.comp and plan_grid.comp.
 struct PlanComputePush {

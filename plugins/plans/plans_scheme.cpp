@@ -30,6 +30,9 @@
 #include <cstdio>
 #include <iterator>
 
+#include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
+
 #include "draw_path.h"
 #include "plan_pass.h"
 #include "plan_update.h"
@@ -176,6 +179,11 @@ public:
         planView.background = view.background;
         planView.wireframe = view.wireframe;
         planView.clear = view.clear;
+        // Lights fixed in the world: toward them in the cage's coordinates (normals go by the
+        // inverse transpose, so dot(n, l) keeps its sign and, for rotations and uniform scales, its value).
+        const glm::mat3 objectFromWorld = glm::inverse(view.worldFromObject);
+        planView.keyLight = glm::normalize(objectFromWorld * kPlanKeyLight);
+        planView.fillLight = glm::normalize(objectFromWorld * kPlanFillLight);
         planView.colorBy = colorBy(view.colorBy);
         hiddenDrawn_.clear();
         for (uint32_t subface : view.hiddenSubfaces)

@@ -6,6 +6,8 @@ layout(push_constant) uniform DrawPush {
     float pixelsPerUnit;      // projection scale: pixels per unit at w = 1 (viewport height / 2 * P[1][1])
     uint colorMode;           // low byte: see plan.frag; bit 8: matcap (plan_lighting.glsl)
     uint capture;             // tessellated path: 1 records every evaluated vertex
+    vec4 keyLight;            // xyz: toward the studio key light, in the cage's coordinates
+    vec4 fillLight;           // xyz: toward the fill light
 } draw;
 
 layout(std430, set = 0, binding = 13) readonly buffer PointPositions { vec4 pointPositions[]; };

@@ -16,7 +16,7 @@ vec3 lightPlan(vec3 albedo, vec3 normal, bool frontFacing) {
         vec3 light = matcapLight(viewNormalFrom(draw.viewProjection, n), highlight);
         return albedo * light + highlight;
     }
-    vec3 key = normalize(vec3(0.3, 0.5, 1.0)), fill = normalize(vec3(-0.6, 0.8, -0.2));
+    vec3 key = normalize(draw.keyLight.xyz), fill = normalize(draw.fillLight.xyz);
     float diffuse = 0.75 * abs(dot(n, key)) + 0.25 * max(dot(n, fill), 0.0);
     return albedo * (0.18 + 0.82 * diffuse);
 }
