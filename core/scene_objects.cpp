@@ -67,9 +67,12 @@ Status validateObjects(const std::vector<SceneObject>& objects, const std::strin
             for (int k = 0; k < 3; ++k)
                 if (!std::isfinite((*v)[k])) return Error{prefix + name + ": its transform has a non-finite value"};
         for (int k = 0; k < 3; ++k)
-            if (std::fabs(t.scale[k]) < 1e-20f)
-                return Error{prefix + name + ": scale " + std::to_string(t.scale[k]) + " along " + "xyz"[k] +
+            if (std::fabs(t.scale[k]) < 1e-20f) {
+                char value[32];
+                std::snprintf(value, sizeof value, "%g", double(t.scale[k]));
+                return Error{prefix + name + ": scale " + value + " along " + "xyz"[k] +
                              " is zero (the object would have no volume and no normals)"};
+            }
         if (o.isInstance()) {
             if (o.cage.vertexCount() > 0 || o.cage.faceCount() > 0)
                 return Error{prefix + name + ": an instance draws its source's cage and cannot have one of its own"};
