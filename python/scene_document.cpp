@@ -134,6 +134,10 @@ Status SceneDocument::setActive(const std::string& name) {
     return success();
 }
 
+uint32_t SceneDocument::indexOfId(uint32_t id) const {
+    return uint32_t(std::find(ids_.begin(), ids_.end(), id) - ids_.begin());
+}
+
 PlannedCage& SceneDocument::cageOfTag(uint32_t tag) {
     for (uint32_t c = 0; c < cageOwnerIds_.size(); ++c)
         if (cageOwnerIds_[c] == tag) return planned_.cages[c];
@@ -146,7 +150,7 @@ void SceneDocument::reindex() {
     planned_.cageOfObject.assign(scene_.objects.size(), UINT32_MAX);
     planned_.objectOfCage.assign(planned_.cages.size(), UINT32_MAX);
     for (uint32_t c = 0; c < cageOwnerIds_.size(); ++c) {
-        const uint32_t owner = uint32_t(std::find(ids_.begin(), ids_.end(), cageOwnerIds_[c]) - ids_.begin());
+        const uint32_t owner = indexOfId(cageOwnerIds_[c]);
         planned_.objectOfCage[c] = owner;
         planned_.cageOfObject[owner] = c;
     }
@@ -166,7 +170,7 @@ Status SceneDocument::insertObject(uint32_t index, SceneObject object, uint32_t 
     scene_.objects.insert(scene_.objects.begin() + index, std::move(object));
     ids_.insert(ids_.begin() + index, id);
     reindex();
-    active_ = uint32_t(std::find(ids_.begin(), ids_.end(), activeId) - ids_.begin());
+    active_ = indexOfId(activeId);
     return success();
 }
 
@@ -188,7 +192,7 @@ SceneObject SceneDocument::takeObject(uint32_t index) {
         samples_.reset();
         active_ = planned_.objectOfCage[0];
     } else {
-        active_ = uint32_t(std::find(ids_.begin(), ids_.end(), activeId) - ids_.begin());
+        active_ = indexOfId(activeId);
     }
     return object;
 }
@@ -209,17 +213,20 @@ Result<std::string> SceneDocument::addObject(Cage cage, const std::string& name,
     std::vector<SceneObject> check{object};
     if (Status valid = validateObjects(check, source_); !valid) return valid.error();
     if (Status valid = validateCage(object.cage, "object \"" + object.name + "\""); !valid) return valid.error();
-    const uint32_t id = nextId_++;
     const std::string added = object.name;
-    Status done = performObjectEdit(
-        "Add object " + added, [this, object, id]() { return insertObject(uint32_t(scene_.objects.size()), object, id); },
-        [this, id]() {
-            takeObject(uint32_t(std::find(ids_.begin(), ids_.end(), id) - ids_.begin()));
-            return success();
-        });
-    if (!done) return done.error();
+    if (Status done = appendObject("Add object " + added, std::move(object)); !done) return done.error();
     if (database_->misses() > 0) (void)storeInPlanCache(*database_);
     return added;
+}
+
+Status SceneDocument::appendObject(const std::string& entryName, SceneObject object) {
+    const uint32_t id = nextId_++;
+    return performObjectEdit(
+        entryName, [this, object, id]() { return insertObject(uint32_t(scene_.objects.size()), object, id); },
+        [this, id]() {
+            takeObject(indexOfId(id));
+            return success();
+        });
 }
 
 Result<std::string> SceneDocument::addInstance(const std::string& source, const std::string& name,
@@ -233,15 +240,8 @@ Result<std::string> SceneDocument::addInstance(const std::string& source, const 
     std::vector<SceneObject> check = scene_.objects;
     check.push_back(object);
     if (Status valid = validateObjects(check, source_); !valid) return valid.error();
-    const uint32_t id = nextId_++;
     const std::string added = object.name;
-    Status done = performObjectEdit(
-        "Instance " + source, [this, object, id]() { return insertObject(uint32_t(scene_.objects.size()), object, id); },
-        [this, id]() {
-            takeObject(uint32_t(std::find(ids_.begin(), ids_.end(), id) - ids_.begin()));
-            return success();
-        });
-    if (!done) return done.error();
+    if (Status done = appendObject("Instance " + source, std::move(object)); !done) return done.error();
     return added;
 }
 
@@ -260,7 +260,7 @@ Status SceneDocument::removeObject(const std::string& name) {
     return performObjectEdit(
         "Remove object " + name,
         [this, id, removed]() {
-            *removed = takeObject(uint32_t(std::find(ids_.begin(), ids_.end(), id) - ids_.begin()));
+            *removed = takeObject(indexOfId(id));
             return success();
         },
         [this, id, index, removed]() { return insertObject(index, *removed, id); });
@@ -295,7 +295,7 @@ Status SceneDocument::setTransform(const std::string& name, const ObjectTransfor
     const uint32_t id = ids_[index];
     const ObjectTransform before = scene_.objects[index].transform;
     auto put = [this, id](const ObjectTransform& t) {
-        scene_.objects[uint32_t(std::find(ids_.begin(), ids_.end(), id) - ids_.begin())].transform = t;
+        scene_.objects[indexOfId(id)].transform = t;
         return success();
     };
     return performObjectEdit("Transform " + name, [=] { return put(transform); }, [=] { return put(before); });
@@ -308,7 +308,7 @@ Status SceneDocument::setVisible(const std::string& name, bool visible) {
     const uint32_t id = ids_[index];
     const bool before = scene_.objects[index].visible;
     auto put = [this, id](bool v) {
-        scene_.objects[uint32_t(std::find(ids_.begin(), ids_.end(), id) - ids_.begin())].visible = v;
+        scene_.objects[indexOfId(id)].visible = v;
         return success();
     };
     return performObjectEdit(std::string(visible ? "Show " : "Hide ") + name, [=] { return put(visible); },

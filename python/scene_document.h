@@ -155,6 +155,9 @@ private:
     PlannedCage& cageOfTag(uint32_t tag);
     // Object edits: `apply` and `revert` change the scene; recorded as one history entry.
     Status performObjectEdit(const std::string& name, std::function<Status()> apply, std::function<Status()> revert);
+    // An object edit that appends `object` (taken out again on undo).
+    Status appendObject(const std::string& entryName, SceneObject object);
+    uint32_t indexOfId(uint32_t id) const;
     // Inserts an object (with its cage when it has one, planned here) at `index`, or takes it
     // out again; both keep plannedScene()'s indices and the active object valid.
     Status insertObject(uint32_t index, SceneObject object, uint32_t id);

@@ -36,12 +36,7 @@ protected:
         return path(name);
     }
 
-    std::vector<std::string> listDir() const {
-        std::vector<std::string> names;
-        for (const auto& entry : fs::directory_iterator(dir_)) names.push_back(entry.path().filename().string());
-        std::sort(names.begin(), names.end());
-        return names;
-    }
+    std::vector<std::string> listDir() const { return qp::test::listDirectory(dir_); }
 
     fs::path dir_;
 };

@@ -30,12 +30,7 @@ protected:
     }
     void TearDown() override { fs::remove_all(dir_); }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    std::vector<std::string> listDir() const {
-        std::vector<std::string> names;
-        for (const auto& entry : fs::directory_iterator(dir_)) names.push_back(entry.path().filename().string());
-        std::sort(names.begin(), names.end());
-        return names;
-    }
+    std::vector<std::string> listDir() const { return qp::test::listDirectory(dir_); }
     fs::path dir_;
 };
 

@@ -27,6 +27,14 @@ inline std::vector<std::filesystem::path> sharedShapes(const std::string& prefix
     return paths;
 }
 
+// The names of the entries of a directory, sorted.
+inline std::vector<std::string> listDirectory(const std::filesystem::path& dir) {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(dir)) names.push_back(entry.path().filename().string());
+    std::sort(names.begin(), names.end());
+    return names;
+}
+
 #define QP_REQUIRE_SHARED_SHAPES()                                                             \
     if (!::qp::test::haveSharedShapes())                                                       \
     GTEST_SKIP() << "../shared/shapes is not beside the project; skipping shared-shape test"
