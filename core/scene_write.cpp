@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <span>
 
 #include "displacement_io.h"
@@ -223,16 +224,25 @@ std::string formatScene(const Scene& scene, CageStorage storage) {
     return formatSceneWith(scene, &cagePaths);
 }
 
-std::string savedCagePath(const Scene& scene, const std::string& scenePath, uint32_t index) {
-    const SceneObject& o = scene.objects[index];
-    if (!o.cagePath.empty()) return o.cagePath;
+namespace {
+
+// "<scene name>.obj" for the only object, else "<scene name>_<object name>.obj" (characters
+// awkward in file names, object names being free text, become '_').
+std::string objectCageFile(const std::string& scenePath, const std::string& objectName, bool onlyObject) {
     const std::string stem = fs::path(scenePath).stem().string();
-    if (scene.objects.size() == 1) return stem + ".obj";
-    // Characters that are awkward in file names become '_' (object names are free text).
-    std::string name = o.name;
+    if (onlyObject) return stem + ".obj";
+    std::string name = objectName;
     for (char& c : name)
         if (!(std::isalnum((unsigned char)c) || c == '-' || c == '_' || c == '.')) c = '_';
     return stem + "_" + name + ".obj";
+}
+
+}  // namespace
+
+std::string savedCagePath(const Scene& scene, const std::string& scenePath, uint32_t index) {
+    const SceneObject& o = scene.objects[index];
+    if (!o.cagePath.empty()) return o.cagePath;
+    return objectCageFile(scenePath, o.name, scene.objects.size() == 1);
 }
 
 Status saveScene(const Scene& scene, const std::string& path, CageStorage storage) {
@@ -241,11 +251,23 @@ Status saveScene(const Scene& scene, const std::string& path, CageStorage storag
     if (Status valid = validateObjects(scene.objects, ""); !valid) return Error{path + ": not saved: " + valid.error().message};
     if (storage == CageStorage::Inline) return writeFileAtomically(path, formatSceneWith(scene, nullptr));
     std::vector<std::string> cagePaths(scene.objects.size());
+    // Objects may reference one OBJ (the same file opened twice): it is written once while their
+    // cages agree; a cage that differs gets a file of its own instead of overwriting the other's.
+    std::map<std::string, uint32_t> writerOf;
     // The OBJs go first so that the scene never refers to a cage that is not there yet.
     for (uint32_t i = 0; i < scene.objects.size(); ++i) {
         const SceneObject& o = scene.objects[i];
         if (o.isInstance() || (storage == CageStorage::AsLoaded && o.cagePath.empty())) continue;
         cagePaths[i] = savedCagePath(scene, path, i);
+        if (auto it = writerOf.find(cagePaths[i]); it != writerOf.end()) {
+            const Cage& first = scene.objects[it->second].cage;
+            if (sameTopologyAndTags(first, o.cage) && first.positions == o.cage.positions && first.uvs == o.cage.uvs) continue;
+            cagePaths[i] = objectCageFile(path, o.name, false);
+            if (writerOf.count(cagePaths[i]))
+                return Error{path + ": not saved: objects \"" + scene.objects[writerOf[cagePaths[i]]].name + "\" and \"" +
+                             o.name + "\" would both be written to " + cagePaths[i]};
+        }
+        writerOf[cagePaths[i]] = i;
         if (Status saved = saveObj(o.cage, (fs::path(path).parent_path() / cagePaths[i]).string()); !saved) return saved;
     }
     return writeFileAtomically(path, formatSceneWith(scene, &cagePaths));

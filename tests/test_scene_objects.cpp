@@ -247,3 +247,25 @@ TEST(PlannedScenes, ABadCageNamesItsObject) {
     ASSERT_FALSE(planned);
     EXPECT_EQ(planned.error().message, "scene.json: object \"broken\" is an instance of \"nowhere\", which is not in the scene");
 }
+
+// Two objects that reference one OBJ (the same file opened twice): while their cages agree the
+// file is written once; once one is edited it gets a file of its own, never the other's.
+TEST_F(SceneObjects, ObjectsSharingAnObjFileNeverOverwriteEachOther) {
+    ASSERT_TRUE(qp::saveObj(qp::test::makeCube(), path("box.obj")));
+    const json source = {{"format", "quadplan-scene"}, {"version", 2},
+                         {"objects", {{{"name", "a"}, {"cage", {{"path", "box.obj"}}}},
+                                      {{"name", "b"}, {"cage", {{"path", "box.obj"}}}, {"transform", {{"translation", {3, 0, 0}}}}}}}};
+    qp::Result<qp::Scene> scene = qp::parseScene(source.dump(), "s.json", dir_.string());
+    ASSERT_TRUE(scene) << scene.error().message;
+    ASSERT_TRUE(qp::saveScene(*scene, path("same.json"), qp::CageStorage::AsLoaded));
+    EXPECT_EQ(listDir(), (std::vector<std::string>{"box.obj", "same.json"}));
+
+    scene->objects[0].cage.positions[6].z += 1.0f;  // a is edited, b is not
+    ASSERT_TRUE(qp::saveScene(*scene, path("edited.json"), qp::CageStorage::AsLoaded));
+    qp::Result<qp::Scene> back = qp::loadScene(path("edited.json"));
+    ASSERT_TRUE(back) << back.error().message;
+    EXPECT_EQ(back->objects[0].cage.positions, scene->objects[0].cage.positions);
+    EXPECT_EQ(back->objects[1].cage.positions, qp::test::makeCube().positions);
+    EXPECT_EQ(back->objects[0].cagePath, "box.obj");
+    EXPECT_EQ(back->objects[1].cagePath, "edited_b.obj");
+}

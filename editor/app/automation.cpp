@@ -623,7 +623,7 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                                 v.rect.extent.height / scale}},
                       {"camera", {{"eye", vec(eyePosition(camera))}, {"target", vec(camera.target)},
                                   {"up", vec(upVector(camera))}, {"orthographic", camera.orthographic}}}};
-        const AxisTriad triad = axisTriad(v.viewProjection);
+        const AxisTriad triad = axisTriad(v.worldViewProjection);
         entry["axis_triad"] = {{"screen", {{triad.screen[0].x, triad.screen[0].y}, {triad.screen[1].x, triad.screen[1].y},
                                            {triad.screen[2].x, triad.screen[2].y}}},
                                {"toward_viewer", triad.towardViewer}};

@@ -336,6 +336,17 @@ Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string&
                                                       path.empty() ? "cage" : path);
     if (!planned) return planned.error();
     doc->planned.emplace(std::move(planned).value());
+    const std::vector<uint32_t> owners = *cageOwners(scene.objects);
+    doc->otherCageOfObject.assign(scene.objects.size(), kActiveCage);
+    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+        if (owners[i] != i || i == doc->activeObject) continue;
+        Result<PlannedCage> other = PlannedCage::create(scene.objects[i].cage, *doc->database, options,
+                                                        (path.empty() ? "scene" : path) + ": object \"" + scene.objects[i].name + "\"");
+        if (!other) return other.error();
+        doc->otherCageOfObject[i] = uint32_t(doc->otherCages.size());
+        doc->otherCages.push_back(std::move(other).value());
+    }
+    for (uint32_t i = 0; i < scene.objects.size(); ++i) doc->otherCageOfObject[i] = doc->otherCageOfObject[owners[i]];
     doc->scene = std::move(scene);
     doc->path = path;
     return doc;
@@ -663,6 +674,20 @@ const SceneObject& activeObject(const Document& doc) { return doc.scene.objects[
 const Displacement& displacementOf(const Document& doc) {
     static const Displacement kNone;
     return doc.activeObject < doc.scene.objects.size() ? activeObject(doc).displacement : kNone;
+}
+
+Bounds documentBounds(const Document& doc) {
+    Bounds out{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
+    for (uint32_t i = 0; i < doc.scene.objects.size() && i < doc.otherCageOfObject.size(); ++i) {
+        const SceneObject& o = doc.scene.objects[i];
+        if (!o.visible && i != doc.activeObject) continue;
+        const uint32_t c = doc.otherCageOfObject[i];
+        const Bounds b = objectBounds(o, c == kActiveCage ? doc.planned->cage() : doc.otherCages[c].cage());
+        out.min = glm::min(out.min, b.min);
+        out.max = glm::max(out.max, b.max);
+    }
+    if (out.min.x > out.max.x) return doc.planned ? computeBounds(doc.planned->cage()) : Bounds{glm::vec3(-1), glm::vec3(1)};
+    return out;
 }
 
 Scene sceneToSave(const Document& doc) {

@@ -77,6 +77,8 @@ using Edit = std::variant<MoveVertices, SetEdgeSharpness, SetVertexSharpness, Se
 // The history entry's name: "move vertex 3", "extrude 2 faces", "sharpness 2.5 on 4 edges", ...
 std::string describeEdit(const Edit& edit);
 
+inline constexpr uint32_t kActiveCage = UINT32_MAX;
+
 struct LastEdit {
     std::string description;
     EditReport report;
@@ -92,6 +94,11 @@ struct Document {
     // saved with the scene.
     uint32_t activeObject = 0;
     std::unique_ptr<PlanDatabase> database;  // heap: `planned` points at it
+    // The other objects' cages (shown, not edited, in this editor): planned at open through the
+    // same database; per object, the index of the cage it draws in otherCages, or kActiveCage
+    // for the active object and its instances (they draw `planned`).
+    std::vector<PlannedCage> otherCages;
+    std::vector<uint32_t> otherCageOfObject;
     uint64_t storedMisses = 0;               // plans built when the plan cache was last written
     std::optional<PlannedCage> planned;
     EditHistory history;
@@ -142,6 +149,8 @@ SceneObject& activeObject(Document& document);
 const SceneObject& activeObject(const Document& document);
 // Its displacement, or an empty one while nothing is open (a recovery offer, a load).
 const Displacement& displacementOf(const Document& document);
+// The world bounds of every visible object (the active cage's when nothing else is set up).
+Bounds documentBounds(const Document& document);
 
 // Plans the cage of `scene`'s first object (or of the object it instances) into a new document (planning runs in parallel; can take seconds).
 // `planCache`: the persistent plan cache to copy plans from before building any (core/plan_cache.h).

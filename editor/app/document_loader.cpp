@@ -79,11 +79,10 @@ void DocumentLoader::run() {
     if (!scene) return finish(scene.error());
     Result<std::vector<uint32_t>> owners = cageOwners(scene->objects);
     if (!owners) return finish(Error{request.path + ": " + owners.error().message});
-    if (const SceneObject& first = scene->objects[(*owners)[0]]; scene->objects.size() > 1 || !first.transform.isIdentity())
+    if (scene->objects.size() > 1)
         warnings.push_back(request.path + ": the scene has " + std::to_string(scene->objects.size()) +
-                           " object(s); this editor shows and edits \"" + first.name +
-                           "\" only, in its own coordinates (its transform and the other objects are kept and saved as "
-                           "they are; quadplan render and the Python module draw them all)");
+                           " objects; this editor edits \"" + scene->objects[(*owners)[0]].name +
+                           "\" and shows the others without editing them (no object mode yet); they are saved as loaded");
     const uint32_t faces = scene->objects[(*owners)[0]].cage.faceCount();
     setStage(("Planning " + std::to_string(faces) + " faces").c_str(), 0.2f);
     const std::string documentPath = request.fromRecovery ? request.recoveredSource

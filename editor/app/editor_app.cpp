@@ -254,12 +254,14 @@ void layoutViewports(EditorApp& app) {
 }
 
 void updateViewMatrices(EditorApp& app) {
-    const Bounds bounds = app.doc->planned ? computeBounds(app.doc->planned->cage()) : Bounds{glm::vec3(-1), glm::vec3(1)};
+    const Bounds bounds = app.doc->planned ? documentBounds(*app.doc) : Bounds{glm::vec3(-1), glm::vec3(1)};
+    const glm::mat4 model = app.doc->planned ? activeObject(*app.doc).transform.matrix() : glm::mat4(1.0f);
     for (uint32_t i = 0; i < app.viewports.size(); ++i) {
         ViewportState& v = app.viewports[i];
         const float aspect = float(v.rect.extent.width) / float(v.rect.extent.height);
         v.renderCamera = renderCamera(cameraOf(app, i), aspect, bounds);
-        v.viewProjection = viewProjection(v.renderCamera);
+        v.worldViewProjection = viewProjection(v.renderCamera);
+        v.viewProjection = v.worldViewProjection * model;
     }
 }
 
@@ -387,9 +389,14 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     for (const ViewportState& v : app.viewports) {
         ViewportDraw d;
         d.rect = v.rect;
+        d.worldViewProjection = v.worldViewProjection;
+        d.worldEye = v.renderCamera.eye;
+        d.worldPixelsPerUnit = pixelsPerUnit(projectionMatrix(v.renderCamera), v.rect.extent.height);
+        // In the active object's coordinates (scene_renderer.h ViewportDraw).
+        const ObjectTransform transform = app.doc->planned ? activeObject(*app.doc).transform : ObjectTransform{};
         d.viewProjection = v.viewProjection;
-        d.eye = v.renderCamera.eye;
-        d.pixelsPerUnit = pixelsPerUnit(projectionMatrix(v.renderCamera), v.rect.extent.height);
+        d.eye = glm::vec3(glm::inverse(transform.matrix()) * glm::vec4(d.worldEye, 1.0f));
+        d.pixelsPerUnit = d.worldPixelsPerUnit * maxScale(transform);
         d.colorBy = v.colorBy;
         draws.push_back(d);
     }

@@ -61,7 +61,8 @@ struct ViewportState {
     ViewCamera camera;  // used when not linked
     // This frame:
     VkRect2D rect{};    // framebuffer pixels
-    glm::mat4 viewProjection{1.0f};
+    glm::mat4 viewProjection{1.0f};       // into the active object's coordinates (picking, tools)
+    glm::mat4 worldViewProjection{1.0f};  // the camera's (grid, axes, the other objects)
     RenderCamera renderCamera;
     uint32_t factor = 8;  // tessellation factor asked of the scheme (uniform, or adaptive for this view)
 };

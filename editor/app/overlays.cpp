@@ -202,7 +202,7 @@ void drawViewportOverlays(EditorApp& app) {
         }
         if (app.ui.brushHover && app.ui.brushViewport == i) drawBrush(list, app, v, at);
         const ImVec2 corner = at({float(v.rect.extent.width), float(v.rect.extent.height)});
-        drawAxisTriad(list, v.viewProjection, ImVec2(corner.x - kTriadMargin, corner.y - kTriadMargin));
+        drawAxisTriad(list, v.worldViewProjection, ImVec2(corner.x - kTriadMargin, corner.y - kTriadMargin));
         list->PopClipRect();
     }
     if (d.kind == DragKind::BoxSelect && glm::length(d.cursor - d.start) >= 4.0f) {

@@ -456,6 +456,7 @@ Result<SceneRenderer> createSceneRenderer(const VulkanContext& ctx, VkPipelineCa
 }
 
 void releaseSchemes(const VulkanContext& ctx, SceneRenderer& r) {
+    releaseOtherObjects(ctx, r);
     if (r.views.empty() && r.parked.empty()) return;
     vkQueueWaitIdle(ctx.queue);
     for (SchemeView& view : r.views) destroyView(ctx, view);
@@ -613,6 +614,7 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     r.displacementRevision = doc.displacementRevision;
     r.sampleRevision = doc.sampleRevision;
     r.hiddenRevision = doc.hiddenRevision;
+    syncOtherObjects(ctx, r, catalog, doc, generation, requests);
     r.lastSyncMs = msSince(start);
     return success();
 }
@@ -655,11 +657,12 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
             barrierBeforeEvaluation(cmd);
             Result<DrawStats> drawn = view.instance->record(cmd, area, drawView);
             if (drawn) r.recordedPatches[slot][i] = drawn->patches;
+            recordOtherObjects(cmd, r, i, area, v, drawView);
         }
         if (pool) vkCmdEndQuery(cmd, pool, i);
         r.recordedSurface[slot][i] = pool != VK_NULL_HANDLE;
         if (options.grid && r.gridLineCount > 0)
-            recordLines(cmd, r.lines, area, v.viewProjection, r.gridLines, r.gridLineCount, kGridLineWidth);
+            recordLines(cmd, r.lines, area, v.worldViewProjection, r.gridLines, r.gridLineCount, kGridLineWidth);
         const glm::mat4 cageView = withDepthBias(v.viewProjection, kCageDepthBias);
         if (options.cage && r.cageLineCount > 0)
             recordLines(cmd, r.lines, area, cageView, r.cageLines, r.cageLineCount, kCageLineWidth);

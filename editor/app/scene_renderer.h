@@ -28,6 +28,7 @@
 #include "document.h"
 #include "line_pass.h"
 #include "mesh_pass.h"
+#include "scheme_host.h"
 #include "scheme_loader.h"
 #include "scheme_support.h"
 #include "subface_index.h"
@@ -89,12 +90,35 @@ struct ParkedInstance {
 inline constexpr size_t kMaxParkedInstances = 4;
 
 // One viewport of a frame.
+// viewProjection, eye and pixelsPerUnit are in the active object's coordinates (the camera's
+// times the object's matrix: picking, the cage and every tool work there); the world ones are
+// the camera's (the ground grid and the other objects).
 struct ViewportDraw {
     VkRect2D rect{};
     glm::mat4 viewProjection{1.0f};
     glm::vec3 eye{0.0f};
     float pixelsPerUnit = 1.0f;  // plan_pass.h pixelsPerUnit() for the rect's height
+    glm::mat4 worldViewProjection{1.0f};
+    glm::vec3 worldEye{0.0f};
+    float worldPixelsPerUnit = 1.0f;
     std::string colorBy = "shading";
+};
+
+// The objects a viewport draws besides the active one (scene_objects_draw.cpp): the active
+// cage's instances through the viewport's own instance, the other cages through instances of the
+// viewport's scheme made for them (read-only: made once per document and scheme request).
+struct OtherObjectsView {
+    std::vector<PreparedScheme> cages;  // parallel to Document::otherCages
+    std::string scheme;
+    uint32_t factor = 0;
+    float adaptivePixels = 0.0f;
+    uint64_t generation = ~0ull;
+    std::string problem;  // why they are not drawn (a scheme that refuses one of them)
+};
+struct ObjectDraw {
+    ObjectTransform transform;
+    uint32_t cage = kActiveCage;  // Document::otherCageOfObject
+    bool active = false, visible = true;
 };
 
 struct DisplayOptions {
@@ -124,6 +148,8 @@ struct SceneRenderer {
     std::optional<UpAxis> gridUp;  // what the grid was made for (with gridBounds); empty: not made
     Bounds gridBounds;
     std::vector<SchemeView> views;  // one per viewport
+    std::vector<OtherObjectsView> others;  // one per viewport
+    std::vector<ObjectDraw> objects;       // the document's objects as last synced
     std::vector<ParkedInstance> parked;  // oldest first, at most kMaxParkedInstances
     // What the copies were made from.
     uint64_t generation = ~0ull, planRevision = ~0ull, positionRevision = ~0ull;
@@ -160,6 +186,14 @@ void releaseSchemes(const VulkanContext& context, SceneRenderer& renderer);
 Status syncScene(const VulkanContext& context, SceneRenderer& renderer, const PluginCatalog& catalog,
                  const Document& document, uint64_t generation, std::span<const SchemeRequest> requests,
                  std::span<const uint32_t> changedSamples, const EditReport& planChange, const DisplayOptions& display);
+
+// The other objects' instances and draws, brought up to date (scene_objects_draw.cpp).
+void syncOtherObjects(const VulkanContext& context, SceneRenderer& renderer, const PluginCatalog& catalog,
+                      const Document& document, uint64_t generation, std::span<const SchemeRequest> requests);
+void releaseOtherObjects(const VulkanContext& context, SceneRenderer& renderer);
+// Records viewport `i`'s other objects into `area` over what is there.
+void recordOtherObjects(VkCommandBuffer cmd, SceneRenderer& renderer, uint32_t i, const RenderTarget& area,
+                        const ViewportDraw& viewport, DrawView view);
 
 // Records every viewport into `target` (areas from ViewportDraw::rect), the statistics
 // queries into `slot`'s pool. Areas outside the viewports are left as they are.

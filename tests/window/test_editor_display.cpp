@@ -17,6 +17,7 @@
 
 #include "editor_process.h"
 #include "render_test_support.h"
+#include "scene.h"
 
 #include <stb/stb_image.h>  // implemented in test_editor_app.cpp
 
@@ -246,6 +247,65 @@ TEST_F(EditorDisplay, ShadingGridCreasesAndPanels) {
     EXPECT_GT(differing(matcap, noGrid, x0, y0, x1, y1), 300u) << "the grid draws nothing";
     // The heat map's colours carry the shading: many brightness levels, not a few flat colours.
     EXPECT_GT(shadedColorLevels(heatMap, x0, y0, x1, y1), 60u) << "the heat map is flat colour";
+}
+
+
+// A scene of three objects: the tower, an instance of it moved along x, and a second tower of its
+// own on the other side. The editor draws all three (the instance follows an edit of the tower as
+// it happens), and saves every object back as it was. Run twice, with the other two hidden in the
+// second run, from the scene's own camera, so the pictures compare pixel for pixel.
+TEST_F(EditorDisplay, SceneObjectsAreDrawnAndInstancesFollowEdits) {
+    auto scene = [&](bool othersVisible, const std::string& obj) {
+        json objects = json::array();
+        objects.push_back({{"name", "tower"}, {"cage", {{"path", obj}}}});
+        objects.push_back({{"name", "tower.001"}, {"instance_of", "tower"}, {"visible", othersVisible},
+                           {"transform", {{"translation", {4, 0, 0}}, {"rotation_degrees", {0, 0, 30}}}}});
+        objects.push_back({{"name", "other"}, {"cage", {{"path", obj}}}, {"visible", othersVisible},
+                           {"transform", {{"translation", {-4, 0, 0}}, {"scale", {0.8, 0.8, 0.8}}}}});
+        return json{{"format", "quadplan-scene"}, {"version", 2}, {"objects", objects},
+                    {"camera", {{"eye", {0, -14, 6}}, {"target", {0, 0, 1.5}}, {"up", {0, 0, 1}}}},
+                    {"display", {{"up_axis", "z"}}}};
+    };
+    std::map<bool, std::pair<Image, Image>> shots;  // others visible -> (before, after the edit)
+    std::array<float, 4> viewport{};                 // x, y, width, height
+    for (bool visible : {true, false}) {
+        const std::string tag = visible ? "shown" : "hidden";
+        // Each run its own OBJ: saving writes the edited tower back to it.
+        fs::copy_file(dir / "tower.obj", dir / ("tower_" + tag + ".obj"), fs::copy_options::overwrite_existing);
+        writeText(dir / (tag + ".json"), scene(visible, "tower_" + tag + ".obj").dump());
+        EditorProcess editor;
+        start(editor,
+              "wait-idle\nwait-frames 3\nscreenshot " + tag + "_before.png\nselect-vertex 6\nmove-selection 0 0 1.5\n"
+              "wait-frames 3\nscreenshot " + tag + "_after.png\nsave-as " + (dir / (tag + "_saved.json")).string() +
+              "\nwait-frames 2\ndump-state " + tag + ".state.json\nquit\n",
+              (dir / (tag + ".json")).string(), "900x600");
+        const json dumped = state(editor, tag + ".state.json");
+        EXPECT_EQ(editor.wait(kRunSeconds), 0) << editor.output();
+        if (visible) viewport = rectOf(dumped["viewports"][0]["rect"]);
+        shots[visible] = {loadImage(dir / (tag + "_before.png")), loadImage(dir / (tag + "_after.png"))};
+        ASSERT_GT(shots[visible].first.width, 0) << tag;
+    }
+    const auto& [shownBefore, shownAfter] = shots[true];
+    const auto& [hiddenBefore, hiddenAfter] = shots[false];
+    // Inside the viewport, away from its toolbar (the panels change with the selection).
+    const int x0 = int(viewport[0]), y0 = int(viewport[1]) + 50, x1 = int(viewport[0] + viewport[2]),
+              y1 = int(viewport[1] + viewport[3]);
+    // The other two objects are drawn.
+    EXPECT_GT(differing(shownBefore, hiddenBefore, x0, y0, x1, y1), 3000u);
+    // The edit changes the tower, and with the others shown the instance too: more pixels change.
+    const size_t alone = differing(hiddenBefore, hiddenAfter, x0, y0, x1, y1);
+    const size_t withInstance = differing(shownBefore, shownAfter, x0, y0, x1, y1);
+    EXPECT_GT(alone, 300u);
+    EXPECT_GT(withInstance, alone + 500) << alone << " pixels changed alone, " << withInstance << " with the instance";
+    // Saved as loaded: three objects, the link, the transforms, the visibility, the moved vertex.
+    Result<Scene> saved = loadScene((dir / "shown_saved.json").string());
+    ASSERT_TRUE(saved) << saved.error().message;
+    ASSERT_EQ(saved->objects.size(), 3u);
+    EXPECT_EQ(saved->objects[1].instanceOf, "tower");
+    EXPECT_EQ(saved->objects[1].transform.rotationDegrees, glm::vec3(0, 0, 30));
+    EXPECT_EQ(saved->objects[2].transform.scale, glm::vec3(0.8f));
+    EXPECT_FLOAT_EQ(saved->objects[0].cage.positions[6].z, 4.5f);
+    EXPECT_FLOAT_EQ(saved->objects[2].cage.positions[6].z, 3.0f);  // the other tower was not edited
 }
 
 }  // namespace
