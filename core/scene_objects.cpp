@@ -104,8 +104,10 @@ std::string uniqueObjectName(const std::vector<SceneObject>& objects, const std:
 }
 
 Bounds objectBounds(const SceneObject& object, const Cage& cage) {
-    const Bounds local = computeBounds(cage);
-    const glm::mat4 m = object.transform.matrix();
+    return transformBounds(computeBounds(cage), object.transform.matrix());
+}
+
+Bounds transformBounds(const Bounds& local, const glm::mat4& m) {
     Bounds out{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
     for (int corner = 0; corner < 8; ++corner) {
         const glm::vec3 p((corner & 1) ? local.max.x : local.min.x, (corner & 2) ? local.max.y : local.min.y,

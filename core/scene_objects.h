@@ -72,6 +72,8 @@ Status validateObjects(const std::vector<SceneObject>& objects, const std::strin
 // way of naming duplicates). A trailing ".NNN" of `base` is replaced, not extended.
 std::string uniqueObjectName(const std::vector<SceneObject>& objects, const std::string& base);
 
+// The box holding `bounds` carried by `matrix` (its eight corners' bounds).
+Bounds transformBounds(const Bounds& bounds, const glm::mat4& matrix);
 // Bounds of `cage` (the one the object draws) under the object's transform.
 Bounds objectBounds(const SceneObject& object, const Cage& cage);
 

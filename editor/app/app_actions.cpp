@@ -167,7 +167,9 @@ Bounds selectionBounds(const EditorApp& app) {
 
 void frameSelection(EditorApp& app, uint32_t viewport, bool wholeModel) {
     if (!app.doc->planned) return;
-    const Bounds b = wholeModel ? computeBounds(app.doc->planned->cage()) : selectionBounds(app);
+    // In the world: every visible object, or the selection carried by the active object's transform.
+    const Bounds b = wholeModel ? documentBounds(*app.doc)
+                                : transformBounds(selectionBounds(app), activeObject(*app.doc).transform.matrix());
     const VkRect2D r = app.viewports[std::min<size_t>(viewport, app.viewports.size() - 1)].rect;
     const float aspect = r.extent.height ? float(r.extent.width) / float(r.extent.height) : 1.0f;
     frameBox(cameraOf(app, viewport), b.min, b.max, aspect);

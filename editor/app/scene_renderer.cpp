@@ -501,8 +501,9 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     for (size_t i = requests.size(); i < r.views.size(); ++i) closed.push_back(std::move(r.views[i]));
     r.views.resize(requests.size());
     std::vector<char> rebuild(requests.size()), replan(requests.size()), heatWhole(requests.size()), heatOff(requests.size());
-    // The grid follows the cage's bounds, which tag edits and most topology edits leave alone.
-    const std::optional<Bounds> bounds = newPlans ? std::optional<Bounds>(computeBounds(cage)) : std::nullopt;
+    // The grid follows the scene's bounds in the world, which tag edits and most topology edits
+    // leave alone.
+    const std::optional<Bounds> bounds = newPlans ? std::optional<Bounds>(documentBounds(doc)) : std::nullopt;
     const bool newGrid = r.gridUp != display.up || (bounds && (bounds->min != r.gridBounds.min || bounds->max != r.gridBounds.max));
     bool work = newPositions || newDisplacement || newSamples || newGrid || newHidden || overlay != r.overlayKey ||
                 !closed.empty();
@@ -601,7 +602,7 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
         for (SchemeView& view : r.views) ++view.drawRevision;
     }
     if (newGrid) {
-        r.gridBounds = bounds ? *bounds : computeBounds(cage);
+        r.gridBounds = bounds ? *bounds : documentBounds(doc);
         const GroundGrid grid = groundGrid(r.gridBounds, display.up, display.background);
         if (Status s = fillLineBuffer(ctx, r.gridLines, r.gridLineCount, grid.lines); !s) return s;
         r.gridUp = display.up;
