@@ -521,6 +521,7 @@ Result<EditOutcome> SceneDocument::step(size_t entry, bool forward) {
     PlannedCage& cage = cageOfTag(history_.tag(entry));
     const bool onActive = &cage == &activeCage();
     Result<EditReport> report = forward ? history_.redo(cage) : history_.undo(cage);
+    history_.setTag(ids_[active_]);  // an object edit undone or redone may have changed the active object
     if (onActive) return finish(name, std::move(report));
     // Another object's cage: the active one's brush samples are still right.
     if (!report) return report.error();

@@ -512,3 +512,17 @@ def test_objects_round_trip_and_bad_requests(cube, tmp_path):
         cube.set_transform("tub", scale=(1, 0, 1))
     with pytest.raises(qp.Error, match='already called "cage"'):
         cube.rename_object("tub", "cage")
+
+
+def test_undoing_the_add_of_the_active_object_goes_back_to_a_cage_that_exists(cube):
+    cube.add_object(cube.cage, name="second")
+    cube.object("second").set_crease(0, 1, 2.0)
+    cube.undo()  # the crease
+    cube.undo()  # the add: "second" was active, "cage" is again
+    assert cube.active_object == "cage" and [o["name"] for o in cube.objects] == ["cage"]
+    cube.set_crease(2, 3, 1.0)  # recorded on "cage"
+    cube.undo()
+    assert cube.creases == []
+    cube.redo()
+    assert cube.creases == [(2, 3, 1.0)]
+    assert_matches_rebuild(cube)
