@@ -44,6 +44,7 @@ Result<SceneSchemes> prepareSceneSchemes(const PluginCatalog& catalog, const std
         if (scene.objects.size() > 1)
             for (std::string& w : prepared->support.approximations) w = "object \"" + owner.name + "\": " + w;
         out.cages.push_back(std::move(prepared).value());
+        out.bounds.push_back(computeBounds(cage.cage()));
     }
     return out;
 }
@@ -72,7 +73,7 @@ Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const 
     for (uint32_t c = 0; c < objectsOfCage.size(); ++c) {
         std::vector<uint32_t>& objects = objectsOfCage[c];
         if (objects.size() > 1) {
-            const Bounds bounds = computeBounds(planned.cages[c].cage());
+            const Bounds& bounds = schemes.bounds[c];
             auto largest = std::max_element(objects.begin(), objects.end(), [&](uint32_t a, uint32_t b) {
                 return apparentSize(scene.objects[a], bounds, world.eye) < apparentSize(scene.objects[b], bounds, world.eye);
             });
@@ -117,6 +118,7 @@ Status destroySceneSchemes(SceneSchemes& schemes) {
     for (PreparedScheme& p : schemes.cages)
         if (Status s = p.instance.destroyGpu(); !s && status) status = s;
     schemes.cages.clear();
+    schemes.bounds.clear();
     return status;
 }
 

@@ -20,6 +20,7 @@ DrawView objectView(const DrawView& world, const ObjectTransform& transform);
 
 struct SceneSchemes {
     std::vector<PreparedScheme> cages;  // one per PlannedScene cage
+    std::vector<Bounds> bounds;         // of each cage when prepared (which instance looks largest)
     double setupMs() const;
 };
 

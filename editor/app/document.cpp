@@ -344,6 +344,7 @@ Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string&
                                                         (path.empty() ? "scene" : path) + ": object \"" + scene.objects[i].name + "\"");
         if (!other) return other.error();
         doc->otherCageOfObject[i] = uint32_t(doc->otherCages.size());
+        doc->otherCageBounds.push_back(computeBounds(other->cage()));
         doc->otherCages.push_back(std::move(other).value());
     }
     for (uint32_t i = 0; i < scene.objects.size(); ++i) doc->otherCageOfObject[i] = doc->otherCageOfObject[owners[i]];
@@ -677,17 +678,18 @@ const Displacement& displacementOf(const Document& doc) {
 }
 
 Bounds documentBounds(const Document& doc) {
+    if (!doc.planned) return Bounds{glm::vec3(-1), glm::vec3(1)};
+    const Bounds active = computeBounds(doc.planned->cage());
     Bounds out{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
     for (uint32_t i = 0; i < doc.scene.objects.size() && i < doc.otherCageOfObject.size(); ++i) {
         const SceneObject& o = doc.scene.objects[i];
         if (!o.visible && i != doc.activeObject) continue;
         const uint32_t c = doc.otherCageOfObject[i];
-        const Bounds b = objectBounds(o, c == kActiveCage ? doc.planned->cage() : doc.otherCages[c].cage());
+        const Bounds b = transformBounds(c == kActiveCage ? active : doc.otherCageBounds[c], o.transform.matrix());
         out.min = glm::min(out.min, b.min);
         out.max = glm::max(out.max, b.max);
     }
-    if (out.min.x > out.max.x) return doc.planned ? computeBounds(doc.planned->cage()) : Bounds{glm::vec3(-1), glm::vec3(1)};
-    return out;
+    return out.min.x > out.max.x ? active : out;
 }
 
 Scene sceneToSave(const Document& doc) {

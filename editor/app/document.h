@@ -98,6 +98,7 @@ struct Document {
     // same database; per object, the index of the cage it draws in otherCages, or kActiveCage
     // for the active object and its instances (they draw `planned`).
     std::vector<PlannedCage> otherCages;
+    std::vector<Bounds> otherCageBounds;  // of each, in its own coordinates (they do not change)
     std::vector<uint32_t> otherCageOfObject;
     uint64_t storedMisses = 0;               // plans built when the plan cache was last written
     std::optional<PlannedCage> planned;

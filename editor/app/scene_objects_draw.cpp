@@ -53,8 +53,10 @@ void syncOtherObjects(const VulkanContext& ctx, SceneRenderer& r, const PluginCa
         view.problem.clear();
         for (uint32_t c = 0; c < doc.otherCages.size(); ++c) {
             const PlannedCage& cage = doc.otherCages[c];
-            uint32_t owner = 0;
-            while (owner < doc.otherCageOfObject.size() && doc.otherCageOfObject[owner] != c) ++owner;
+            uint32_t owner = 0;  // the object whose cage it is (instances may be listed before it)
+            while (owner < doc.otherCageOfObject.size() &&
+                   (doc.otherCageOfObject[owner] != c || doc.scene.objects[owner].isInstance()))
+                ++owner;
             const SceneObject& object = doc.scene.objects[owner];
             Result<PreparedScheme> prepared =
                 prepareScheme(catalog, request.name, cage, analyzeCage(cage.cage(), cage.topology()), request.settings, r.gpu,
