@@ -97,23 +97,10 @@ int runRender(const RenderArgs& args) {
                                                       : Result<std::vector<std::string>>(prepared.error());
     Result<OffscreenTarget> target = modes ? createOffscreenTarget(ctx, width, height, format) : Result<OffscreenTarget>(modes.error());
     Result<LinePass> lines = target ? createLinePass(ctx, vkCache, format) : Result<LinePass>(target.error());
-    // One line buffer per cage, drawn once per object under its transform.
-    std::vector<std::vector<LineVertex>> cageVertices;
-    std::vector<Buffer> lineBuffers;
-    Status linesReady = lines ? success() : Status(lines.error());
-    for (uint32_t c = 0; linesReady && c < planned->cages.size(); ++c) {
-        cageVertices.push_back(cageLines(planned->cages[c].cage()));
-        Result<Buffer> buffer = createBuffer(ctx, std::max<size_t>(cageVertices.back().size(), 2) * sizeof(LineVertex),
-                                             VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-        if (!buffer) {
-            linesReady = buffer.error();
-            break;
-        }
-        uploadBuffer(*buffer, cageVertices.back().data(), cageVertices.back().size() * sizeof(LineVertex));
-        lineBuffers.push_back(*buffer);
-    }
-    if (!linesReady) {
-        status = fail(prepared ? "cannot set up the renderer: " + linesReady.error().message : linesReady.error().message);
+    Result<SceneCageLines> cageLineBuffers = lines ? createSceneCageLines(ctx, *planned) : Result<SceneCageLines>(lines.error());
+    if (!cageLineBuffers) {
+        status = fail(prepared ? "cannot set up the renderer: " + cageLineBuffers.error().message
+                               : cageLineBuffers.error().message);
     } else if (std::find(modes->begin(), modes->end(), args.colorBy) == modes->end()) {
         std::string known;
         for (const std::string& m : *modes) known += (known.empty() ? "" : ", ") + m;
@@ -131,13 +118,7 @@ int runRender(const RenderArgs& args) {
         Result<DrawStats> drawStats = DrawStats{};
         Status drawn = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
             drawStats = recordScene(cmd, *prepared, *scene, *planned, renderTarget(*target), view);
-            if (!showCage) return;
-            for (uint32_t i = 0; i < scene->objects.size(); ++i) {
-                const uint32_t c = planned->cageOfObject[i];
-                if (!scene->objects[i].visible || cageVertices[c].empty()) continue;
-                recordLines(cmd, *lines, renderTarget(*target), objectView(view, scene->objects[i].transform).viewProjection,
-                            lineBuffers[c], uint32_t(cageVertices[c].size()));
-            }
+            if (showCage) recordSceneCageLines(cmd, *lines, renderTarget(*target), *cageLineBuffers, *scene, *planned, view);
         });
         if (drawn && !drawStats) drawn = drawStats.error();
         Result<std::vector<uint8_t>> pixels = drawn ? readPixels(ctx, *target) : Result<std::vector<uint8_t>>(drawn.error());
@@ -164,7 +145,7 @@ int runRender(const RenderArgs& args) {
             std::fprintf(stderr, "warning: pipeline cache not saved: %s\n", saved.error().message.c_str());
         destroyPipelineCache(ctx, *cache);
     }
-    for (Buffer& b : lineBuffers) destroyBuffer(ctx, b);
+    if (cageLineBuffers) destroySceneCageLines(ctx, *cageLineBuffers);
     if (lines) destroyLinePass(ctx, *lines);
     if (target) destroyOffscreenTarget(ctx, *target);
     destroyContext(ctx);

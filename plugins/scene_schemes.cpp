@@ -6,6 +6,7 @@
 #include <glm/matrix.hpp>
 
 #include "render_target.h"
+#include "vk_buffer.h"
 
 namespace qp {
 
@@ -111,6 +112,38 @@ Result<SchemeFrameTimes> timeSceneFrames(const VulkanContext& context, SceneSche
     };
     auto record = [&](VkCommandBuffer cmd) { return recordScene(cmd, schemes, scene, planned, target, view); };
     return timeFrames(context, update, record, timer, repeats);
+}
+
+Result<SceneCageLines> createSceneCageLines(const VulkanContext& context, const PlannedScene& planned) {
+    SceneCageLines out;
+    for (const PlannedCage& cage : planned.cages) {
+        const std::vector<LineVertex> vertices = cageLines(cage.cage());
+        Result<Buffer> buffer =
+            createBuffer(context, std::max<size_t>(vertices.size(), 2) * sizeof(LineVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
+        if (!buffer) {
+            destroySceneCageLines(context, out);
+            return buffer.error();
+        }
+        uploadBuffer(*buffer, vertices.data(), vertices.size() * sizeof(LineVertex));
+        out.buffers.push_back(*buffer);
+        out.counts.push_back(uint32_t(vertices.size()));
+    }
+    return out;
+}
+
+void recordSceneCageLines(VkCommandBuffer cmd, const LinePass& pass, const RenderTarget& target, const SceneCageLines& lines,
+                          const Scene& scene, const PlannedScene& planned, const DrawView& world) {
+    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+        const uint32_t c = planned.cageOfObject[i];
+        if (!scene.objects[i].visible || lines.counts[c] == 0) continue;
+        recordLines(cmd, pass, target, objectView(world, scene.objects[i].transform).viewProjection, lines.buffers[c],
+                    lines.counts[c]);
+    }
+}
+
+void destroySceneCageLines(const VulkanContext& context, SceneCageLines& lines) {
+    for (Buffer& b : lines.buffers) destroyBuffer(context, b);
+    lines = SceneCageLines{};
 }
 
 Status destroySceneSchemes(SceneSchemes& schemes) {

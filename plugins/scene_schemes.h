@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include "line_pass.h"
 #include "planned_scene.h"
 #include "scheme_host.h"
 
@@ -38,6 +39,17 @@ Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const 
                               const RenderTarget& target, const DrawView& world);
 
 Status destroySceneSchemes(SceneSchemes& schemes);
+
+// The cages' lines (line_pass.h cageLines) in one buffer per cage, drawn once per visible object
+// under its transform over what is there.
+struct SceneCageLines {
+    std::vector<Buffer> buffers;   // per cage
+    std::vector<uint32_t> counts;  // vertices in each
+};
+Result<SceneCageLines> createSceneCageLines(const VulkanContext& context, const PlannedScene& planned);
+void recordSceneCageLines(VkCommandBuffer cmd, const LinePass& pass, const RenderTarget& target, const SceneCageLines& lines,
+                          const Scene& scene, const PlannedScene& planned, const DrawView& world);
+void destroySceneCageLines(const VulkanContext& context, SceneCageLines& lines);
 
 // timeSchemeFrames for a scene: every cage's update(), then recordScene, per frame.
 Result<SchemeFrameTimes> timeSceneFrames(const VulkanContext& context, SceneSchemes& schemes, const Scene& scene,

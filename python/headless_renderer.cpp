@@ -192,19 +192,9 @@ Result<RenderedImage> HeadlessRenderer::render(const SceneDocument& document, co
     Result<OffscreenTarget> target = createOffscreenTarget(context_, request.width, request.height, kColorFormat);
     if (!target) return Error{"cannot set up the renderer: " + target.error().message};
     Defer releaseTarget{[&] { destroyOffscreenTarget(context_, *target); }};
-    std::vector<std::vector<LineVertex>> cageVertices;
-    std::vector<Buffer> lineBuffers;
-    Defer releaseLines{[&] {
-        for (Buffer& b : lineBuffers) destroyBuffer(context_, b);
-    }};
-    for (const PlannedCage& cage : cages.cages) {
-        cageVertices.push_back(cageLines(cage.cage()));
-        Result<Buffer> buffer = createBuffer(context_, std::max<size_t>(cageVertices.back().size(), 2) * sizeof(LineVertex),
-                                             VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-        if (!buffer) return Error{"cannot set up the renderer: " + buffer.error().message};
-        uploadBuffer(*buffer, cageVertices.back().data(), cageVertices.back().size() * sizeof(LineVertex));
-        lineBuffers.push_back(*buffer);
-    }
+    Result<SceneCageLines> cageLineBuffers = createSceneCageLines(context_, cages);
+    if (!cageLineBuffers) return Error{"cannot set up the renderer: " + cageLineBuffers.error().message};
+    Defer releaseLines{[&] { destroySceneCageLines(context_, *cageLineBuffers); }};
 
     DrawView view;
     view.viewProjection = viewProjection(*camera);
@@ -215,13 +205,7 @@ Result<RenderedImage> HeadlessRenderer::render(const SceneDocument& document, co
     Result<DrawStats> drawStats = DrawStats{};
     Status drawn = submitAndWait(context_, [&](VkCommandBuffer cmd) {
         drawStats = recordScene(cmd, *prepared, scene, cages, renderTarget(*target), view);
-        if (!showCage) return;
-        for (uint32_t i = 0; i < scene.objects.size(); ++i) {
-            const uint32_t c = cages.cageOfObject[i];
-            if (!scene.objects[i].visible || cageVertices[c].empty()) continue;
-            recordLines(cmd, *lines_, renderTarget(*target), objectView(view, scene.objects[i].transform).viewProjection,
-                        lineBuffers[c], uint32_t(cageVertices[c].size()));
-        }
+        if (showCage) recordSceneCageLines(cmd, *lines_, renderTarget(*target), *cageLineBuffers, scene, cages, view);
     });
     if (drawn && !drawStats) drawn = drawStats.error();
     if (!drawn) return Error{"rendering " + document.source() + " failed: " + drawn.error().message};
