@@ -34,6 +34,13 @@ struct ObjectTransform {
     bool operator==(const ObjectTransform&) const = default;
 };
 
+// The transform whose matrix() is `matrix` (a rotation above 90 degrees about y comes back as
+// its equal with the x and z angles turned by 180). Fails when the matrix shears (its axes are
+// not orthogonal: a non-uniform scale along axes other than the object's own), has a zero axis or
+// is not finite: what an object's transform cannot hold. Object-mode handles compose their
+// change with the start matrix and store the result through this.
+Result<ObjectTransform> decomposeTransform(const glm::mat4& matrix);
+
 // The largest factor the transform stretches a length by (the largest |scale| component):
 // what turns an object-space tolerance or a screen-size estimate into world units.
 float maxScale(const ObjectTransform& transform);

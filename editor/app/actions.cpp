@@ -62,9 +62,18 @@ const ActionInfo kActions[] = {
     {"display.cage", "Cage overlay", "C", {GLFW_KEY_C}, "Show or hide the cage (creases coloured yellow to red by sharpness, corners as stars)"},
     {"display.wireframe", "Tessellation wireframe", "Shift+W", {GLFW_KEY_W, false, true}, "Show or hide the tessellation wireframe"},
     {"help.toggle", "Help", "F1", {GLFW_KEY_F1}, "Show or hide this help"},
+    {"mode.toggle", "Object / edit mode", "Tab", {GLFW_KEY_TAB}, "Object mode places whole objects; edit mode edits the selected object's cage (an instance's: its source's)"},
+    {"object.delete", "Delete object", "X / Delete", {GLFW_KEY_X}, "Object mode: delete the selected object (refused while other objects instance it)", {GLFW_KEY_DELETE}},
+    {"object.duplicate", "Duplicate object", "Shift+D", {GLFW_KEY_D, false, true}, "Object mode: a copy of the selected object with a cage of its own, beside it"},
+    {"object.instance", "Instance object", "Alt+D", {GLFW_KEY_D, false, false, true}, "Object mode: an instance sharing the selected object's cage (edits of one show in both), beside it"},
+    {"object.hide", "Hide object", "H", {GLFW_KEY_H}, "Object mode: hide the selected object (saved with the scene; undoable)"},
+    {"object.unhide", "Show all objects", "Alt+H", {GLFW_KEY_H, false, false, true}, "Object mode: show every hidden object"},
+    {"object.deselect", "Deselect object", "Alt+A / Esc", {GLFW_KEY_A, false, false, true}, "Object mode: select no object", {GLFW_KEY_ESCAPE}},
 };
 
 const MouseBinding kMouse[] = {
+    {"Left click (object mode)", "Select the object under the cursor; empty space selects none"},
+    {"Left drag on a handle (object mode, W / E / R)", "Move, rotate or scale the selected object (scale along its own axes); one undo entry per drag"},
     {"Left click (select tool)", "Select the vertex, edge or face under the cursor (mode 1/2/3); empty space clears"},
     {"Shift / Ctrl / Ctrl+Shift + left click", "Add to / remove from / toggle in the selection"},
     {"Left drag (select, rotate, scale tools)", "Box select, wherever it starts (same modifiers); only what is visible unless 'Select hidden' is on"},
@@ -92,5 +101,12 @@ const ActionInfo* findAction(std::string_view id) {
 }
 
 std::span<const MouseBinding> mouseBindings() { return kMouse; }
+
+ActionScope scopeOf(std::string_view id) {
+    for (std::string_view prefix : {"select.", "mesh.", "crease.", "sculpt.", "tool.sculpt"})
+        if (id.starts_with(prefix)) return ActionScope::EditMode;
+    if (id.starts_with("object.")) return ActionScope::ObjectMode;
+    return ActionScope::Both;
+}
 
 }  // namespace qp::editor

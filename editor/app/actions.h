@@ -3,6 +3,7 @@
 // cannot disagree.
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string_view>
 
@@ -24,6 +25,12 @@ struct ActionInfo {
 
 std::span<const ActionInfo> actions();
 const ActionInfo* findAction(std::string_view id);
+
+// Where an action works: edit mode's act on the edited cage ("select.", "mesh.", "crease.",
+// "sculpt." and the sculpt tool), object mode's on whole objects ("object."), the rest in both.
+// One key may serve one action of each mode (H hides faces in edit mode, objects in object mode).
+enum class ActionScope : uint8_t { Both, EditMode, ObjectMode };
+ActionScope scopeOf(std::string_view id);
 
 // Mouse gestures in a viewport, for the help panel.
 struct MouseBinding {

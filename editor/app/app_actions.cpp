@@ -5,7 +5,9 @@
 #include <filesystem>
 
 #include "actions.h"
+#include "document_objects.h"
 #include "editor_app.h"
+#include "object_mode.h"
 #include "recovery.h"
 #include "sculpt_tool.h"
 #include "tools.h"
@@ -168,8 +170,13 @@ Bounds selectionBounds(const EditorApp& app) {
 void frameSelection(EditorApp& app, uint32_t viewport, bool wholeModel) {
     if (!app.doc->planned) return;
     // In the world: every visible object, or the selection carried by the active object's transform.
-    const Bounds b = wholeModel ? documentBounds(*app.doc)
-                                : transformBounds(selectionBounds(app), activeObject(*app.doc).transform.matrix());
+    const Document& doc = *app.doc;
+    const uint32_t object = app.mode == EditorMode::Object ? selectedObject(doc) : kNoObject;
+    const Bounds b = wholeModel ? documentBounds(doc)
+                     : app.mode == EditorMode::Object
+                         ? (object == kNoObject ? documentBounds(doc)
+                                                : transformBounds(objectCageBounds(doc, object), doc.scene.objects[object].transform.matrix()))
+                         : transformBounds(selectionBounds(app), activeObject(doc).transform.matrix());
     const VkRect2D r = app.viewports[std::min<size_t>(viewport, app.viewports.size() - 1)].rect;
     const float aspect = r.extent.height ? float(r.extent.width) / float(r.extent.height) : 1.0f;
     frameBox(cameraOf(app, viewport), b.min, b.max, aspect);
@@ -204,6 +211,15 @@ std::string proposedSaveAsPath(const std::string& path) {
 void runAction(EditorApp& app, std::string_view id) {
     const uint32_t active = app.activeViewport;
     auto standard = [&](StandardView v) { setStandardView(cameraOf(app, active), v); };
+    const ActionScope scope = scopeOf(id);
+    if (scope == ActionScope::EditMode && app.mode == EditorMode::Object) {
+        app.ui.status = "That works on a cage in edit mode: Tab edits the selected object's cage.";
+        return;
+    }
+    if (scope == ActionScope::ObjectMode && app.mode == EditorMode::Edit) {
+        app.ui.status = "That works on whole objects in object mode: Tab leaves edit mode.";
+        return;
+    }
     if (id == "file.open") {
         const std::filesystem::path parent = std::filesystem::path(app.doc->path).parent_path();
         std::error_code error;
@@ -319,6 +335,18 @@ void runAction(EditorApp& app, std::string_view id) {
         app.tessellation.showWireframe = !app.tessellation.showWireframe;
     } else if (id == "help.toggle") {
         app.ui.showHelp = !app.ui.showHelp;
+    } else if (id == "mode.toggle") {
+        toggleEditMode(app);
+    } else if (id == "object.delete") {
+        deleteSelectedObject(app);
+    } else if (id == "object.duplicate" || id == "object.instance") {
+        duplicateSelectedObject(app, id == "object.instance");
+    } else if (id == "object.hide") {
+        hideSelectedObject(app);
+    } else if (id == "object.unhide") {
+        unhideAllObjects(app);
+    } else if (id == "object.deselect") {
+        selectObject(*app.doc, kNoObject);
     } else {
         showError(app, "unknown action '" + std::string(id) + "'");
     }

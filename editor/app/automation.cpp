@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "actions.h"
+#include "document_objects.h"
 #include "editor_app.h"
 #include "file_io.h"
 #include "overlays.h"
@@ -519,6 +520,40 @@ void Automation::measureStep(EditorApp& app) {
     m = Measurement{};
 }
 
+
+// The scene's objects for dump-state: each one's transform, visibility, which is selected and
+// whose cage edit mode is on, and where the centre of its box lands in the first viewport
+// (window pixels; null when behind the camera), for tests that click objects.
+namespace {
+
+json objectsState(EditorApp& app) {
+    const Document& doc = *app.doc;
+    json objects = json::array();
+    if (!doc.planned || app.viewports.empty()) return objects;
+    const ViewportState& v = app.viewports[0];
+    const float scale = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.0f;
+    const PickView view{v.worldViewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
+    for (uint32_t i = 0; i < doc.scene.objects.size(); ++i) {
+        const SceneObject& o = doc.scene.objects[i];
+        const Bounds b = objectCageBounds(doc, i);
+        const PickView::Projected centre = view.project(glm::vec3(o.transform.matrix() * glm::vec4(0.5f * (b.min + b.max), 1.0f)));
+        const glm::vec2 window = (glm::vec2(float(v.rect.offset.x), float(v.rect.offset.y)) + centre.pixel) / scale;
+        objects.push_back({{"name", o.name},
+                           {"instance_of", o.instanceOf},
+                           {"translation", vec(o.transform.translation)},
+                           {"rotation_degrees", vec(o.transform.rotationDegrees)},
+                           {"scale", vec(o.transform.scale)},
+                           {"visible", o.visible},
+                           {"selected", selectedObject(doc) == i},
+                           {"edited", i == doc.activeObject},
+                           {"faces", plannedCageOf(doc, i).cage().faceCount()},
+                           {"screen", centre.inFront ? json(vec2(window)) : json(nullptr)}});
+    }
+    return objects;
+}
+
+}  // namespace
+
 void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     const Document& doc = *app.doc;
     json state;
@@ -601,6 +636,8 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
         state["displacement"] = {{"samples", displacement.samples.size()}, {"nonzero", nonzero}, {"max_abs", largest},
                                  {"revision", doc.displacementRevision}, {"sample_revision", doc.sampleRevision}};
     }
+    state["mode"] = app.mode == EditorMode::Object ? "object" : "edit";
+    state["objects"] = objectsState(app);
     state["drag"] = app.drag.kind == DragKind::None ? json(nullptr) : json(app.drag.readout);
     state["hidden_faces"] = doc.hiddenFaces;
     state["hidden_subfaces"] = app.renderer.hiddenSubfaces;  // what the viewports pass their schemes
@@ -649,6 +686,9 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                                 {"samples", view.heat.relError.size()},
                                 {"milliseconds", view.heat.lastMs},
                                 {"subfaces_evaluated", view.heat.lastSubfaces}};
+            const SceneHeat scene = sceneHeat(app.renderer, uint32_t(i));
+            entry["heatmap"]["scene"] = {{"cages", scene.cages}, {"max", scene.maxRelError}, {"rms", scene.rmsRelError},
+                                         {"samples", scene.samples}};
         }
         if (std::optional<GizmoShape> gizmo = gizmoIn(app, uint32_t(i))) {
             const glm::vec2 origin(float(v.rect.offset.x), float(v.rect.offset.y));

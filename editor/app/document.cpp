@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "displacement_edit.h"
+#include "document_objects.h"
 #include "obj_io.h"
 #include "plan_cache.h"
 
@@ -345,9 +346,17 @@ Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string&
         if (!other) return other.error();
         doc->otherCageOfObject[i] = uint32_t(doc->otherCages.size());
         doc->otherCageBounds.push_back(computeBounds(other->cage()));
+        doc->otherCageOwnerIds.push_back(i + 1);
         doc->otherCages.push_back(std::move(other).value());
     }
-    for (uint32_t i = 0; i < scene.objects.size(); ++i) doc->otherCageOfObject[i] = doc->otherCageOfObject[owners[i]];
+    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+        doc->otherCageOfObject[i] = doc->otherCageOfObject[owners[i]];
+        doc->objectIds.push_back(i + 1);
+    }
+    doc->nextObjectId = uint32_t(scene.objects.size()) + 1;
+    doc->selectedObjectId = doc->objectIds[doc->activeObject];
+    doc->history.setTag(doc->objectIds[doc->activeObject]);
+    doc->planOptions = options;
     doc->scene = std::move(scene);
     doc->path = path;
     return doc;
@@ -395,11 +404,23 @@ Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
     return report;
 }
 
+namespace {
+
+// Undoes (back) or redoes the next history entry on the cage it was made on: edit mode moves to
+// that object's cage first when it is another (Blender's undo across objects).
+Result<EditReport> historyStep(Document& doc, bool back) {
+    const size_t entry = back ? doc.history.position() - 1 : doc.history.position();
+    if (Status moved = editCageOfTag(doc, doc.history.tag(entry)); !moved) return moved.error();
+    return back ? doc.history.undo(*doc.planned) : doc.history.redo(*doc.planned);
+}
+
+}  // namespace
+
 Result<EditReport> undoEdit(Document& doc, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
     if (!doc.history.canUndo()) return Error{"nothing to undo"};
     const std::string name = doc.history.entry(doc.history.position() - 1).name;
-    Result<EditReport> report = doc.history.undo(*doc.planned);
+    Result<EditReport> report = historyStep(doc, true);
     if (!report) return report;
     noteChange(doc, "undo " + name, *report, frame);
     pruneSelection(doc);
@@ -410,7 +431,7 @@ Result<EditReport> redoEdit(Document& doc, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
     if (!doc.history.canRedo()) return Error{"nothing to redo"};
     const std::string name = doc.history.entry(doc.history.position()).name;
-    Result<EditReport> report = doc.history.redo(*doc.planned);
+    Result<EditReport> report = historyStep(doc, false);
     if (!report) return report;
     noteChange(doc, "redo " + name, *report, frame);
     pruneSelection(doc);
@@ -423,10 +444,27 @@ Result<EditReport> jumpToHistory(Document& doc, size_t position, uint64_t frame)
         return Error{"the history has " + std::to_string(doc.history.size()) + " entries; position " +
                      std::to_string(position) + " does not exist"};
     if (position == doc.history.position()) return EditReport{};
-    Result<EditReport> report = doc.history.jumpTo(*doc.planned, position);
-    if (!report) return report;
-    noteChange(doc, "jump to history position " + std::to_string(position), *report, frame);
+    EditReport total;
+    while (doc.history.position() != position) {
+        Result<EditReport> step = historyStep(doc, position < doc.history.position());
+        if (!step) return step;
+        accumulateReport(total, *step);
+    }
+    noteChange(doc, "jump to history position " + std::to_string(position), total, frame);
     pruneSelection(doc);
+    return total;
+}
+
+Result<EditReport> performObjectEdit(Document& doc, const std::string& name, std::unique_ptr<CustomEdit> edit,
+                                     uint64_t frame) {
+    if (!doc.planned) return Error{"no scene is open"};
+    const size_t before = doc.history.position(), sizeBefore = doc.history.size();
+    doc.history.setTag(0);
+    Result<EditReport> report = doc.history.perform(*doc.planned, name, std::move(edit));
+    doc.history.setTag(doc.objectIds[doc.activeObject]);
+    if (!report) return report;
+    forgetUnreachableSave(doc, false, before, sizeBefore);
+    noteHistoryStep(doc, name, *report, frame);
     return report;
 }
 

@@ -99,7 +99,19 @@ struct Document {
     // for the active object and its instances (they draw `planned`).
     std::vector<PlannedCage> otherCages;
     std::vector<Bounds> otherCageBounds;  // of each, in its own coordinates (they do not change)
+    std::vector<uint32_t> otherCageOwnerIds;  // of each, the id of the object owning it
     std::vector<uint32_t> otherCageOfObject;
+    // Per object, a stable id (objects are renumbered when one is added or removed): history
+    // entries carry the id of the object whose cage they changed, object edits 0.
+    std::vector<uint32_t> objectIds;
+    uint32_t nextObjectId = 1;
+    // The object picked in object mode (any object, an instance too); 0: none.
+    uint32_t selectedObjectId = 0;
+    PlanOptions planOptions;  // what every cage of the document is planned with
+    // objectsRevision changes when objects are added or removed or edit mode moves to another
+    // cage (the renderer and the pickers then start afresh); sceneRevision with any object edit
+    // (a transform, visibility, a name) too.
+    uint64_t objectsRevision = 0, sceneRevision = 0;
     uint64_t storedMisses = 0;               // plans built when the plan cache was last written
     std::optional<PlannedCage> planned;
     EditHistory history;
@@ -163,6 +175,11 @@ std::optional<std::string> storeNewPlans(Document& doc);
 
 // "name.json" or "untitled", with "*" when dirty.
 std::string documentTitle(const Document& document);
+
+// Performs an edit of the scene's objects (document_objects.h: its redo applies it) and records
+// it as a history entry with tag 0 (no cage: undo does not switch the cage edit mode acts on).
+Result<EditReport> performObjectEdit(Document& document, const std::string& name, std::unique_ptr<CustomEdit> edit,
+                                     uint64_t frame);
 
 // Applies the edit (see the header comment). Fails, changing nothing, on bad input: indices out
 // of range, no such edge, a negative or non-finite value, an operation the cage refuses.

@@ -204,8 +204,8 @@ void adoptFinishedLoad(EditorApp& app) {
 void autosave(EditorApp& app) {
     const Document& doc = *app.doc;
     if (!doc.dirty || !doc.planned || app.recoveryDir.empty()) return;
-    // Both displacement revisions only grow, so their sum changes whenever either does.
-    const uint64_t displacement = doc.displacementRevision + doc.sampleRevision;
+    // The displacement and scene revisions only grow, so their sum changes whenever one does.
+    const uint64_t displacement = doc.displacementRevision + doc.sampleRevision + doc.sceneRevision;
     const bool changed = !app.autosavedOnce || app.autosavedPositionRevision != doc.positionRevision ||
                          app.autosavedPlanRevision != doc.planRevision || app.autosavedDisplacementRevision != displacement;
     const double since = std::chrono::duration<double>(Clock::now() - app.lastAutosave).count();
@@ -326,6 +326,7 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
     appendKey(key, doc.positionRevision);
     appendKey(key, doc.planRevision);
     appendKey(key, doc.hiddenRevision);
+    appendKey(key, doc.sceneRevision);
     key += app.renderer.overlayKey;
     for (size_t i = 0; i < draws.size(); ++i) {
         const ViewportDraw& d = draws[i];
@@ -340,6 +341,7 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
     }
     appendKey(key, options.wireframe);
     appendKey(key, options.cage);
+    appendKey(key, options.selection);
     appendKey(key, options.grid);
     appendKey(key, options.shading);
     appendKey(key, options.up);
@@ -354,6 +356,17 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     options.grid = app.display.showGrid;
     options.shading = app.display.shading;
     options.up = upAxisOf(app);
+    // Object mode shows the objects, not the edited cage's lines and selection.
+    options.cage = options.cage && app.mode == EditorMode::Edit;
+    options.selection = app.mode == EditorMode::Edit;
+    if (app.doc->objectsRevision != app.syncedObjectsRevision) {
+        // Objects were added or removed, or edit mode moved to another cage: the scheme
+        // instances and pickers point into cages that moved, and start afresh.
+        releaseSchemes(app.ctx, app.renderer);
+        app.picking = PickCache{};
+        ++app.documentGeneration;
+        app.syncedObjectsRevision = app.doc->objectsRevision;
+    }
     const std::vector<SchemeRequest> requests = schemeRequests(app);
     const std::vector<uint32_t> changedSamples = takeUnsyncedSamples(*app.doc);
     const EditReport planChange = takeUnsyncedPlanChange(*app.doc);

@@ -23,6 +23,7 @@
 #include "gizmo.h"
 #include "gpu_timer.h"
 #include "imgui_layer.h"
+#include "object_mode.h"
 #include "pick_cache.h"
 #include "pipeline_cache.h"
 #include "scheme_loader.h"
@@ -70,6 +71,10 @@ struct ViewportState {
 // The tool of the left mouse button in the viewports (Maya's Q, W, E, R; B for the brush).
 enum class Tool : uint8_t { Select, Move, Rotate, Scale, Sculpt };
 
+// Blender's modes (Tab toggles): object mode picks and places whole objects; edit mode edits the
+// cage of one of them (document_objects.h), with every tool of the Mesh, Creases and Sculpt panels.
+enum class EditorMode : uint8_t { Object, Edit };
+
 enum class DragKind { None, Orbit, Pan, Zoom, Press, MoveSelection, BoxSelect, Gizmo, Sculpt };
 
 struct Drag {
@@ -93,6 +98,10 @@ struct Drag {
     uint32_t strokeDabs = 0;
     bool loopClick = false;              // Orbit from Alt+left: released in place, it selects a loop
     bool ring = false;                   // ... an edge ring (Ctrl held)
+    // Object mode's handle: the object and its transform at the start (shown live, one history
+    // entry when the drag ends).
+    uint32_t objectId = 0;
+    ObjectTransform objectStart;
 };
 
 // What happens once the user has answered "unsaved changes".
@@ -134,6 +143,10 @@ struct UiState {
     bool showHelp = false;
     bool showHistory = true;
     std::string openPath, saveAsPath;
+    std::string selectTab;      // the side panel's tab to bring forward in the next frame
+    std::string addObjectPath;  // the Scene tab's "Add from file"
+    std::string renameText;     // the Scene tab's name field, for the object with renameObjectId
+    uint32_t renameObjectId = 0;
     std::string requestPopup;  // opened at the top level of the next UI pass
     PendingAction pending;
     bool continuePendingAfterSave = false;
@@ -178,6 +191,7 @@ struct EditorApp {
     SceneCache sceneCache;
     bool sceneRecorded[kFramesInFlight] = {};  // the slot's last frame drew the 3D (its counts are fresh)
     uint64_t documentGeneration = 0;           // increases with every adopted document
+    uint64_t syncedObjectsRevision = 0;        // Document::objectsRevision the renderer last started from
     std::optional<GpuTimer> timers[kFramesInFlight];
     bool timerUsed[kFramesInFlight] = {};
     uint64_t timerFrame[kFramesInFlight] = {};
@@ -202,6 +216,8 @@ struct EditorApp {
     Drag drag;
     std::optional<ExtrudeSession> extrude;  // the interactive extrude in progress (extrude_tool.h)
     ToolSettings tools;
+    EditorMode mode = EditorMode::Edit;
+    ObjectPickCache objectPicking;
     UiState ui;
     std::vector<KeyPress> keyPresses;  // since the last frame, from GLFW or automation
     ClickPairing leftPresses;      // from GLFW (viewport_input.h)

@@ -7,6 +7,7 @@
 
 #include <imgui.h>
 
+#include "document_objects.h"
 #include "editor_app.h"
 #include "overlays.h"
 #include "surface_error.h"
@@ -74,7 +75,7 @@ void drawGizmo(ImDrawList* list, const GizmoShape& shape, const ToWindow& at, Gi
 }
 
 // The heat map's scale: one colour per decade (plugins/surface_error.h), labelled.
-void drawHeatLegend(ImDrawList* list, const HeatMap& heat, ImVec2 corner) {
+void drawHeatLegend(ImDrawList* list, const SceneHeat& heat, ImVec2 corner) {
     constexpr float kWidth = 280.0f, kHeight = 12.0f;
     const ImVec2 bar(corner.x + 10.0f, corner.y - 52.0f);
     list->AddRectFilled(ImVec2(bar.x - 6, bar.y - 22), ImVec2(bar.x + kWidth + 6, bar.y + kHeight + 30), rgba(0, 0, 0, 0.55f), 4.0f);
@@ -93,7 +94,11 @@ void drawHeatLegend(ImDrawList* list, const HeatMap& heat, ImVec2 corner) {
         list->AddText(ImVec2(x - 10.0f, bar.y + kHeight + 3), rgba(1, 1, 1), label);
     }
     char text[128];
-    std::snprintf(text, sizeof text, "error / diagonal: max %.2e, rms %.2e", heat.maxRelError, heat.rmsRelError);
+    if (heat.cages > 1)
+        std::snprintf(text, sizeof text, "error / diagonal, %u cages: max %.2e, rms %.2e", heat.cages, heat.maxRelError,
+                      heat.rmsRelError);
+    else
+        std::snprintf(text, sizeof text, "error / diagonal: max %.2e, rms %.2e", heat.maxRelError, heat.rmsRelError);
     list->AddText(ImVec2(bar.x, bar.y - 18), rgba(1, 1, 1), text);
 }
 
@@ -178,6 +183,29 @@ AxisTriad axisTriad(const glm::mat4& vp) {
     return triad;
 }
 
+// Object mode: the selected object's box (its cage's bounds under its transform), in orange
+// as Blender outlines the selected object, so it reads at a glance which object the handle moves.
+void drawSelectedObjectBox(ImDrawList* list, const EditorApp& app, const ViewportState& v, const ToWindow& at) {
+    const Document& doc = *app.doc;
+    const uint32_t object = doc.planned ? selectedObject(doc) : kNoObject;
+    if (object == kNoObject || !doc.scene.objects[object].visible) return;
+    const Bounds b = objectCageBounds(doc, object);
+    const glm::mat4 matrix = doc.scene.objects[object].transform.matrix();
+    const PickView view{v.worldViewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
+    PickView::Projected corners[8];
+    for (int k = 0; k < 8; ++k) {
+        const glm::vec3 p((k & 1) ? b.max.x : b.min.x, (k & 2) ? b.max.y : b.min.y, (k & 4) ? b.max.z : b.min.z);
+        corners[k] = view.project(glm::vec3(matrix * glm::vec4(p, 1.0f)));
+    }
+    const ImU32 orange = rgba(1.0f, 0.6f, 0.15f);
+    for (int k = 0; k < 8; ++k)
+        for (int axis = 1; axis < 8; axis <<= 1) {
+            const int other = k | axis;
+            if (other == k || !corners[k].inFront || !corners[other].inFront) continue;
+            list->AddLine(at(corners[k].pixel), at(corners[other].pixel), orange, 1.5f);
+        }
+}
+
 void drawViewportOverlays(EditorApp& app) {
     const float scale = framebufferScale();
     ImDrawList* list = ImGui::GetBackgroundDrawList();
@@ -186,8 +214,9 @@ void drawViewportOverlays(EditorApp& app) {
         const ViewportState& v = app.viewports[i];
         const ToWindow at{{float(v.rect.offset.x), float(v.rect.offset.y)}, scale};
         list->PushClipRect(at({0, 0}), at({float(v.rect.extent.width), float(v.rect.extent.height)}), true);
-        if (i < app.renderer.views.size() && app.renderer.views[i].heat.valid)
-            drawHeatLegend(list, app.renderer.views[i].heat, at({0, float(v.rect.extent.height)}));
+        if (const SceneHeat heat = sceneHeat(app.renderer, i); heat.valid)
+            drawHeatLegend(list, heat, at({0, float(v.rect.extent.height)}));
+        if (app.mode == EditorMode::Object) drawSelectedObjectBox(list, app, v, at);
         if (d.kind == DragKind::Gizmo && d.viewport == i) {
             drawGizmo(list, d.shape, at, d.handle, true);
         } else if (std::optional<GizmoShape> shape = gizmoIn(app, i)) {

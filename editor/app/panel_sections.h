@@ -1,7 +1,7 @@
 // The parts of the editor's interface (panels.h), one concept per file: the side panel's
 // sections (panels_model.cpp: selection, transforms, history; panels_mesh.cpp: mesh edits
 // (interactive extrude, hide) and creases (live sliders);
-// panels_sculpt.cpp; panels_display.cpp: display settings and statistics) and the windows and
+// panels_sculpt.cpp; panels_scene.cpp: modes and the outliner; panels_display.cpp: display settings and statistics) and the windows and
 // dialogs (panels_dialogs.cpp). Each draws into the current ImGui window.
 #pragma once
 
@@ -15,6 +15,8 @@ void meshSection(EditorApp& app);
 // Creases and corners: the sliders apply live to the selection (one entry per drag).
 void creaseSection(EditorApp& app);
 void historySection(EditorApp& app);
+// Object and edit mode, the outliner, the selected object's transform (panels_scene.cpp).
+void sceneSection(EditorApp& app);
 void sculptSection(EditorApp& app);
 void displaySection(EditorApp& app);
 void statsSection(EditorApp& app);

@@ -97,7 +97,7 @@ bool actionButton(EditorApp& app, const char* label, const char* id) {
 }
 
 bool tabItem(EditorApp& app, const char* label, const char* help) {
-    const bool pressed = pressedByAutomation(app, label);
+    const bool pressed = pressedByAutomation(app, label) || (!app.ui.selectTab.empty() && visibleText(label) == app.ui.selectTab);
     const bool open = ImGui::BeginTabItem(label, nullptr, pressed ? ImGuiTabItemFlags_SetSelected : 0);
     recordWidget(app, label);
     tooltip(app, label, help);

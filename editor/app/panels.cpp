@@ -8,6 +8,7 @@
 #include <imgui_stdlib.h>
 
 #include "actions.h"
+#include "document_objects.h"
 #include "editor_app.h"
 #include "panel_sections.h"
 #include "panel_widgets.h"
@@ -106,23 +107,44 @@ void documentSection(EditorApp& app) {
 }
 
 
+// Which mode the editor is in and what it acts on, whatever tab is open.
+void modeLine(const EditorApp& app) {
+    const Document& doc = *app.doc;
+    if (!doc.planned) return;
+    const ImVec4 colour(1.0f, 0.75f, 0.35f, 1.0f);
+    if (app.mode == EditorMode::Object) {
+        const uint32_t object = selectedObject(doc);
+        ImGui::TextColored(colour, "Object mode: %s (Tab edits its cage)",
+                           object == kNoObject ? "no object selected" : doc.scene.objects[object].name.c_str());
+    } else if (doc.scene.objects.size() > 1) {
+        ImGui::TextColored(colour, "Edit mode: the cage of %s (Tab: object mode)", activeObject(doc).name.c_str());
+    }
+}
+
 void sidePanel(EditorApp& app) {
     const ImGuiIO& io = ImGui::GetIO();
     ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kSidePanelWidth, menuBarHeight()));
     ImGui::SetNextWindowSize(ImVec2(kSidePanelWidth, io.DisplaySize.y - menuBarHeight()));
+    // NoNavInputs: Tab belongs to the editor (object / edit mode), not to ImGui's focus tabbing,
+    // which would otherwise put the keyboard into the panel's first text field.
     ImGui::Begin("##side", nullptr,
                  ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
-                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings);
+                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoNavInputs);
     ImGui::PushItemWidth(-90.0f);
     documentSection(app);
     ImGui::Separator();
     ImGui::TextWrapped("%s", app.ui.status.c_str());
+    modeLine(app);
     // Tabs, so that every section is reachable at 1280x800 without scrolling past the others.
     if (ImGui::BeginTabBar("##sidetabs")) {
         if (tabItem(app, "Model", "Select and transform, mesh edits, creases and corners")) {
             toolsSection(app);
             meshSection(app);
             creaseSection(app);
+            ImGui::EndTabItem();
+        }
+        if (tabItem(app, "Scene##tab", "Object and edit mode (Tab), the outliner, the selected object's transform")) {
+            sceneSection(app);
             ImGui::EndTabItem();
         }
         if (tabItem(app, "Sculpt##tab", "The sculpt brush and the displacement")) {
@@ -140,6 +162,7 @@ void sidePanel(EditorApp& app) {
         }
         ImGui::EndTabBar();
     }
+    app.ui.selectTab.clear();
     ImGui::PopItemWidth();
     ImGui::End();
 }

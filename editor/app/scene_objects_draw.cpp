@@ -1,8 +1,12 @@
 // The objects of a scene besides the active one, in every viewport (scene_renderer.h
 // OtherObjectsView). The active cage's instances are drawn by the viewport's own scheme instance
 // again under their transforms (DrawView::sameFrame: the layout the active object's draw made);
-// the other cages, which this editor shows but does not edit, get an instance of the viewport's
-// scheme each, made when the document or the viewport's scheme or factor changes.
+// the cages not in edit mode get an instance of the viewport's scheme each (and, in heat-map
+// mode, its error heat map), made when the document, edit mode's cage or the viewport's scheme,
+// factor or heat map changes.
+#include <algorithm>
+#include <cmath>
+
 #include <glm/matrix.hpp>
 
 #include "scene_renderer.h"
@@ -13,9 +17,19 @@ namespace qp::editor {
 
 namespace {
 
-void destroyOthers(OtherObjectsView& view) {
+void destroyOthers(const VulkanContext& ctx, OtherObjectsView& view) {
     for (PreparedScheme& p : view.cages) (void)p.instance.destroyGpu();
     view.cages.clear();
+    for (HeatMap& heat : view.heat) destroyHeat(ctx, heat);
+    view.heat.clear();
+}
+
+// The object whose cage other cage `c` is (instances may be listed before it).
+uint32_t ownerOfOtherCage(const Document& doc, uint32_t c) {
+    uint32_t owner = 0;
+    while (owner < doc.otherCageOfObject.size() && (doc.otherCageOfObject[owner] != c || doc.scene.objects[owner].isInstance()))
+        ++owner;
+    return owner;
 }
 
 }  // namespace
@@ -23,7 +37,7 @@ void destroyOthers(OtherObjectsView& view) {
 void releaseOtherObjects(const VulkanContext& ctx, SceneRenderer& r) {
     if (r.others.empty()) return;
     vkQueueWaitIdle(ctx.queue);
-    for (OtherObjectsView& view : r.others) destroyOthers(view);
+    for (OtherObjectsView& view : r.others) destroyOthers(ctx, view);
     r.others.clear();
 }
 
@@ -35,38 +49,46 @@ void syncOtherObjects(const VulkanContext& ctx, SceneRenderer& r, const PluginCa
                              doc.scene.objects[i].visible});
     if (r.others.size() > requests.size()) {
         vkQueueWaitIdle(ctx.queue);
-        for (size_t i = requests.size(); i < r.others.size(); ++i) destroyOthers(r.others[i]);
+        for (size_t i = requests.size(); i < r.others.size(); ++i) destroyOthers(ctx, r.others[i]);
     }
     r.others.resize(requests.size());
     for (size_t i = 0; i < requests.size(); ++i) {
         OtherObjectsView& view = r.others[i];
         const SchemeRequest& request = requests[i];
         if (view.generation == generation && view.scheme == request.name && view.factor == request.settings.tessFactor &&
-            view.adaptivePixels == request.settings.adaptivePixels)
+            view.adaptivePixels == request.settings.adaptivePixels && view.heatMap == request.heatMap &&
+            (!request.heatMap || view.heatFactor == request.heatFactor))
             continue;
         if (!view.cages.empty()) vkQueueWaitIdle(ctx.queue);
-        destroyOthers(view);
+        destroyOthers(ctx, view);
         view.generation = generation;
         view.scheme = request.name;
         view.factor = request.settings.tessFactor;
         view.adaptivePixels = request.settings.adaptivePixels;
+        view.heatMap = request.heatMap;
+        view.heatFactor = request.heatFactor;
         view.problem.clear();
         for (uint32_t c = 0; c < doc.otherCages.size(); ++c) {
             const PlannedCage& cage = doc.otherCages[c];
-            uint32_t owner = 0;  // the object whose cage it is (instances may be listed before it)
-            while (owner < doc.otherCageOfObject.size() &&
-                   (doc.otherCageOfObject[owner] != c || doc.scene.objects[owner].isInstance()))
-                ++owner;
-            const SceneObject& object = doc.scene.objects[owner];
+            const SceneObject& object = doc.scene.objects[ownerOfOtherCage(doc, c)];
+            const std::string name = "object \"" + object.name + "\"";
             Result<PreparedScheme> prepared =
                 prepareScheme(catalog, request.name, cage, analyzeCage(cage.cage(), cage.topology()), request.settings, r.gpu,
-                              "object \"" + object.name + "\"", object.displacement.empty() ? nullptr : &object.displacement);
+                              name, object.displacement.empty() ? nullptr : &object.displacement);
             if (!prepared) {
                 view.problem = prepared.error().message;
-                destroyOthers(view);
+                destroyOthers(ctx, view);
                 break;
             }
             view.cages.push_back(std::move(prepared).value());
+            if (!request.heatMap) continue;
+            // The other cages do not change while edit mode is elsewhere: measured once.
+            view.heat.emplace_back();
+            if (Status s = updateHeatMap(ctx, cage, view.cages.back().instance, request.heatFactor, view.heat.back(), nullptr); !s) {
+                view.problem = name + ": heat map: " + s.error().message;
+                destroyOthers(ctx, view);
+                break;
+            }
         }
     }
 }
@@ -92,6 +114,46 @@ void recordOtherObjects(VkCommandBuffer cmd, SceneRenderer& r, uint32_t i, const
             (void)others->cages[object.cage].instance.record(cmd, area, drawn);
         }
     }
+}
+
+}  // namespace qp::editor
+
+namespace qp::editor {
+
+void recordOtherHeatMaps(VkCommandBuffer cmd, SceneRenderer& r, uint32_t i, const RenderTarget& area,
+                         const ViewportDraw& viewport, const DisplayOptions& options) {
+    const OtherObjectsView* others = i < r.others.size() ? &r.others[i] : nullptr;
+    for (const ObjectDraw& object : r.objects) {
+        if (object.active || !object.visible) continue;
+        const HeatMap* heat = object.cage == kActiveCage ? &r.views[i].heat
+                              : others && object.cage < others->heat.size() ? &others->heat[object.cage]
+                                                                             : nullptr;
+        if (!heat || !heat->valid || !heat->mesh.indexCount) continue;
+        const glm::mat4 matrix = object.transform.matrix();
+        const glm::vec3 eye = glm::vec3(glm::inverse(matrix) * glm::vec4(viewport.worldEye, 1.0f));
+        MeshView view{viewport.worldViewProjection * matrix, eye, options.background, options.shading};
+        view.clear = false;
+        const MeshDraw draw{&heat->mesh, glm::vec3(0.8f), true, options.wireframe};
+        recordMeshPass(cmd, r.heatPass, area, view, std::span<const MeshDraw>(&draw, 1));
+    }
+}
+
+SceneHeat sceneHeat(const SceneRenderer& r, uint32_t i) {
+    SceneHeat total;
+    double sumSquares = 0.0;
+    auto add = [&](const HeatMap& heat) {
+        if (!heat.valid) return;
+        total.valid = true;
+        ++total.cages;
+        total.maxRelError = std::max(total.maxRelError, heat.maxRelError);
+        sumSquares += heat.rmsRelError * heat.rmsRelError * double(heat.relError.size());
+        total.samples += heat.relError.size();
+    };
+    if (i < r.views.size()) add(r.views[i].heat);
+    if (i < r.others.size())
+        for (const HeatMap& heat : r.others[i].heat) add(heat);
+    total.rmsRelError = total.samples ? std::sqrt(sumSquares / double(total.samples)) : 0.0;
+    return total;
 }
 
 }  // namespace qp::editor

@@ -232,10 +232,6 @@ bool sameSettings(const SchemeSettings& a, const SchemeSettings& b) {
            a.options == b.options;
 }
 
-void destroyHeat(const VulkanContext& ctx, HeatMap& heat) {
-    if (heat.mesh.indexCount) destroyMesh(ctx, heat.mesh);
-    heat = HeatMap{};
-}
 
 void destroyView(const VulkanContext& ctx, SchemeView& view) {
     if (view.instance) (void)view.instance->destroyGpu();
@@ -358,15 +354,27 @@ bool updatePlansInPlace(SchemeView& view, const Document& doc, const EditReport&
     return false;
 }
 
-// Heat map of the view's scheme: the whole grid, or (after a move) the sub-faces listed.
+// Heat map of the view's scheme over the edited cage.
 Status updateHeat(const VulkanContext& ctx, const Document& doc, SchemeView& view, const std::vector<uint32_t>* moved) {
-    HeatMap& heat = view.heat;
-    const PlannedCage& planned = *doc.planned;
+    if (Status s = updateHeatMap(ctx, *doc.planned, *view.instance, view.built.heatFactor, view.heat, moved); !s) return s;
+    ++view.drawRevision;
+    return success();
+}
+
+}  // namespace
+
+void destroyHeat(const VulkanContext& ctx, HeatMap& heat) {
+    if (heat.mesh.indexCount) destroyMesh(ctx, heat.mesh);
+    heat = HeatMap{};
+}
+
+Status updateHeatMap(const VulkanContext& ctx, const PlannedCage& planned, SchemeInstance& instance, uint32_t factor,
+                     HeatMap& heat, const std::vector<uint32_t>* moved) {
     const auto start = Clock::now();
     const bool whole = !moved || !heat.valid;
     if (whole) {
         destroyHeat(ctx, heat);
-        heat.grid = buildSubfaceGrid(planned, std::max(1u, view.built.heatFactor));
+        heat.grid = buildSubfaceGrid(planned, std::max(1u, factor));
         heat.index = VertexSubfaceIndex(planned, heat.grid.subfaces);
         heat.relError.assign(heat.grid.samples.size(), 0.0f);
     }
@@ -382,7 +390,7 @@ Status updateHeat(const VulkanContext& ctx, const Document& doc, SchemeView& vie
     }
     std::vector<SurfacePoint> points(samples.size());
     if (!samples.empty())
-        if (Status s = view.instance->evaluate(samples, points); !s) return s;
+        if (Status s = instance.evaluate(samples, points); !s) return s;
     const double diagonal = std::max(double(computeBounds(planned.cage()).diagonal()), 1e-12);
     const SurfaceError error = measureSurfaceError(planned, samples, points, diagonal);
     std::vector<MeshVertex> vertices = meshVertices(points);
@@ -417,11 +425,9 @@ Status updateHeat(const VulkanContext& ctx, const Document& doc, SchemeView& vie
     heat.rmsRelError = heat.relError.empty() ? 0.0 : std::sqrt(sumSquares / double(heat.relError.size()));
     heat.valid = true;
     heat.lastMs = msSince(start);
-    ++view.drawRevision;
     return success();
 }
 
-}  // namespace
 
 glm::vec3 sharpnessRampColor(float sharpness) {
     const float t = std::min(sharpness / kInfiniteSharpness, 1.0f);
@@ -517,7 +523,10 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
         heatOff[i] = !want.heatMap && view.heat.valid;
         work |= rebuild[i] || replan[i] || heatWhole[i] || heatOff[i];
     }
-    if (!work) return success();
+    if (!work) {  // the edited cage's views are as they were; objects may have moved or come and gone
+        syncOtherObjects(ctx, r, catalog, doc, generation, requests);
+        return success();
+    }
 
     const auto start = Clock::now();
     VK_CHECK(vkQueueWaitIdle(ctx.queue));
@@ -643,6 +652,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
             const MeshDraw draw{&view.heat.mesh, glm::vec3(0.8f), true, options.wireframe};
             recordMeshPass(cmd, r.heatPass, area, MeshView{v.viewProjection, v.eye, options.background, options.shading},
                            view.heat.mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
+            recordOtherHeatMaps(cmd, r, i, area, v, options);
         } else {
             DrawView drawView;
             drawView.viewProjection = v.viewProjection;
@@ -669,7 +679,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
             recordLines(cmd, r.lines, area, cageView, r.cageLines, r.cageLineCount, kCageLineWidth);
         if (options.cage && r.creaseLineCount > 0)
             recordLines(cmd, r.lines, area, cageView, r.creaseLines, r.creaseLineCount, kCreaseLineWidth);
-        if (r.overlayLineCount > 0)
+        if (options.selection && r.overlayLineCount > 0)
             recordLines(cmd, r.lines, area, withDepthBias(v.viewProjection, kOverlayDepthBias), r.overlayLines,
                         r.overlayLineCount, kOverlayLineWidth);
     }

@@ -58,6 +58,13 @@ struct HeatMap {
     bool valid = false;
 };
 
+// The error heat map of `instance` drawing `planned`, sampled `factor` times per sub-face edge:
+// the whole grid, or after a move only the sub-faces the `moved` vertices touch (rewritten in
+// place: the caller waited for the device).
+Status updateHeatMap(const VulkanContext& context, const PlannedCage& planned, SchemeInstance& instance, uint32_t factor,
+                     HeatMap& heat, const std::vector<uint32_t>* moved);
+void destroyHeat(const VulkanContext& context, HeatMap& heat);
+
 // One viewport's scheme instance and what it was made from.
 struct SchemeView {
     SchemeRequest built;                     // what the instance (or the failure) is for
@@ -109,9 +116,11 @@ struct ViewportDraw {
 // viewport's scheme made for them (read-only: made once per document and scheme request).
 struct OtherObjectsView {
     std::vector<PreparedScheme> cages;  // parallel to Document::otherCages
+    std::vector<HeatMap> heat;          // likewise, in heat-map mode
     std::string scheme;
-    uint32_t factor = 0;
+    uint32_t factor = 0, heatFactor = 0;
     float adaptivePixels = 0.0f;
+    bool heatMap = false;
     uint64_t generation = ~0ull;
     std::string problem;  // why they are not drawn (a scheme that refuses one of them)
 };
@@ -123,6 +132,7 @@ struct ObjectDraw {
 
 struct DisplayOptions {
     bool wireframe = false, cage = true, grid = true;
+    bool selection = true;  // the edited cage's selection (edit mode)
     Shading shading = Shading::Studio;
     UpAxis up = UpAxis::Y;  // the ground grid lies across it
     glm::vec3 background{0.22f, 0.23f, 0.25f};
@@ -191,9 +201,22 @@ Status syncScene(const VulkanContext& context, SceneRenderer& renderer, const Pl
 void syncOtherObjects(const VulkanContext& context, SceneRenderer& renderer, const PluginCatalog& catalog,
                       const Document& document, uint64_t generation, std::span<const SchemeRequest> requests);
 void releaseOtherObjects(const VulkanContext& context, SceneRenderer& renderer);
-// Records viewport `i`'s other objects into `area` over what is there.
+// Records viewport `i`'s other objects into `area` over what is there: through the schemes,
+// or their heat maps (heat-map mode).
 void recordOtherObjects(VkCommandBuffer cmd, SceneRenderer& renderer, uint32_t i, const RenderTarget& area,
                         const ViewportDraw& viewport, DrawView view);
+void recordOtherHeatMaps(VkCommandBuffer cmd, SceneRenderer& renderer, uint32_t i, const RenderTarget& area,
+                         const ViewportDraw& viewport, const DisplayOptions& options);
+
+// The error of viewport `i`'s scheme over every cage of the scene (the edited one and the
+// others; instances share their cage's samples, as `quadplan compare` counts them).
+struct SceneHeat {
+    double maxRelError = 0.0, rmsRelError = 0.0;
+    size_t samples = 0;
+    uint32_t cages = 0;
+    bool valid = false;
+};
+SceneHeat sceneHeat(const SceneRenderer& renderer, uint32_t i);
 
 // Records every viewport into `target` (areas from ViewportDraw::rect), the statistics
 // queries into `slot`'s pool. Areas outside the viewports are left as they are.

@@ -11,7 +11,9 @@
 
 #include "actions.h"
 #include "cage_pick.h"
+#include "document_objects.h"
 #include "extrude_tool.h"
+#include "object_mode.h"
 #include "sculpt_tool.h"
 #include "editor_app.h"
 #include "tools.h"
@@ -73,6 +75,40 @@ void applyMove(EditorApp& app, Drag& d, const std::vector<glm::vec3>& positions,
     else d = Drag{};
 }
 
+// Object mode's handle: the object follows the drag (no history entry until it ends).
+void moveObjectLive(EditorApp& app, Drag& d, const GizmoDrag& g) {
+    const uint32_t object = objectIndexOfId(*app.doc, d.objectId);
+    const std::optional<ObjectTransform> t = object == kNoObject ? std::nullopt : draggedTransform(d.objectStart, d.shape, g);
+    if (!t) return;  // a degenerate step: keep the last good one
+    app.doc->scene.objects[object].transform = *t;
+    ++app.doc->sceneRevision;
+    d.applied = true;
+    char text[128];
+    if (d.shape.mode == GizmoMode::Move)
+        std::snprintf(text, sizeof text, "location %.3f %.3f %.3f", t->translation.x, t->translation.y, t->translation.z);
+    else if (d.shape.mode == GizmoMode::Rotate)
+        std::snprintf(text, sizeof text, "rotate %.1f deg (XYZ %.1f %.1f %.1f)", g.values.x, t->rotationDegrees.x,
+                      t->rotationDegrees.y, t->rotationDegrees.z);
+    else
+        std::snprintf(text, sizeof text, "scale %.3f %.3f %.3f", t->scale.x, t->scale.y, t->scale.z);
+    d.readout = text;
+}
+
+// The object's drag ended: one history entry from where it started to where it is.
+void finishObjectDrag(EditorApp& app, const Drag& d) {
+    const uint32_t object = objectIndexOfId(*app.doc, d.objectId);
+    if (object == kNoObject || !d.applied) return;
+    const ObjectTransform now = app.doc->scene.objects[object].transform;
+    if (now == d.objectStart) return;
+    if (Status done = setObjectTransform(*app.doc, object, d.objectStart, now, app.frame); !done) {
+        app.doc->scene.objects[object].transform = d.objectStart;
+        ++app.doc->sceneRevision;
+        showError(app, "Transform failed: " + done.error().message);
+        return;
+    }
+    app.ui.status = d.readout;
+}
+
 void continueDrag(EditorApp& app, glm::vec2 cursor, glm::vec2 delta) {
     Drag& d = app.drag;
     if (d.kind == DragKind::Sculpt) return continueSculptStroke(app, cursor);  // it keeps its own cursor
@@ -106,6 +142,10 @@ void continueDrag(EditorApp& app, glm::vec2 cursor, glm::vec2 delta) {
         const PickView view{d.viewProjection, glm::vec2(float(d.rect.extent.width), float(d.rect.extent.height))};
         const glm::vec2 origin = viewportOrigin(v);
         const GizmoDrag g = dragGizmo(d.shape, d.handle, view, d.start - origin, cursor - origin, ImGui::GetIO().KeyCtrl);
+        if (d.objectId != 0) {
+            moveObjectLive(app, d, g);
+            break;
+        }
         Result<std::vector<glm::vec3>> positions = transformPoints(d.startPositions, g.matrix);
         if (!positions) break;  // a degenerate scale: keep the last good step
         const char* name = d.shape.mode == GizmoMode::Move ? "move" : d.shape.mode == GizmoMode::Rotate ? "rotate" : "scale";
@@ -126,7 +166,9 @@ void finishDrag(EditorApp& app) {
     if (app.drag.kind == DragKind::Sculpt) return finishSculptStroke(app);
     Drag d = std::exchange(app.drag, Drag{});
     const bool click = glm::length(d.cursor - d.start) < kDragThreshold;
-    if (d.kind == DragKind::Press) {  // a click on an element: select just it
+    if (d.kind == DragKind::Gizmo && d.objectId != 0) {
+        finishObjectDrag(app, d);
+    } else if (d.kind == DragKind::Press) {  // a click on an element: select just it
         PickHit hit = pickAt(app, d.viewport, d.start);
         applyPickHit(app, hit, SelectOp::Replace);
     } else if (d.kind == DragKind::BoxSelect) {
@@ -137,17 +179,39 @@ void finishDrag(EditorApp& app) {
     }
 }
 
+// Object mode: a handle drags the selected object; anywhere else a click selects the object
+// under the cursor.
+void objectPress(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
+    if (std::optional<GizmoShape> shape = gizmoIn(app, viewport)) {
+        const GizmoHandle handle = hitGizmo(*shape, cursor - viewportOrigin(app.viewports[viewport]));
+        const uint32_t object = selectedObject(*app.doc);
+        if (handle != GizmoHandle::None && object != kNoObject) {
+            Drag& d = app.drag;
+            d = Drag{DragKind::Gizmo, viewport, ImGuiMouseButton_Left, cursor, cursor};
+            d.shape = *shape;
+            d.handle = handle;
+            d.viewProjection = app.viewports[viewport].worldViewProjection;
+            d.rect = app.viewports[viewport].rect;
+            d.objectId = app.doc->objectIds[object];
+            d.objectStart = app.doc->scene.objects[object].transform;
+            return;
+        }
+    }
+    clickObject(app, viewport, cursor);
+}
+
 void leftPress(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
     const ImGuiIO& io = ImGui::GetIO();
     if (io.KeyAlt) {
         // An orbit, unless the button comes up where it went down: then a loop (Ctrl: ring) click.
         app.drag = Drag{DragKind::Orbit, viewport, ImGuiMouseButton_Left, cursor, cursor};
-        app.drag.loopClick = app.tools.tool != Tool::Sculpt && !app.tools.loopTool;
+        app.drag.loopClick = app.mode == EditorMode::Edit && app.tools.tool != Tool::Sculpt && !app.tools.loopTool;
         app.drag.ring = io.KeyCtrl;
         app.drag.op = io.KeyShift ? SelectOp::Add : SelectOp::Replace;
         return;
     }
     if (!app.doc->planned) return;
+    if (app.mode == EditorMode::Object) return objectPress(app, viewport, cursor);
     if (app.tools.tool == Tool::Sculpt && !app.tools.loopTool) {
         startSculptStroke(app, viewport, cursor, io.KeyCtrl, io.KeyShift);
         return;
@@ -224,10 +288,12 @@ std::optional<GizmoShape> gizmoIn(const EditorApp& app, uint32_t viewport) {
     const Tool tool = app.tools.tool;
     if ((tool != Tool::Move && tool != Tool::Rotate && tool != Tool::Scale) || viewport >= app.viewports.size())
         return std::nullopt;
-    std::optional<TransformFrame> frame = selectionFrame(app);
+    const bool objects = app.mode == EditorMode::Object;
+    std::optional<TransformFrame> frame = objects ? objectFrame(app) : selectionFrame(app);
     if (!frame) return std::nullopt;
     const ViewportState& v = app.viewports[viewport];
-    const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
+    const PickView view{objects ? v.worldViewProjection : v.viewProjection,
+                        glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
     const GizmoMode mode = app.tools.tool == Tool::Move ? GizmoMode::Move : app.tools.tool == Tool::Rotate ? GizmoMode::Rotate : GizmoMode::Scale;
     const RenderCamera& c = v.renderCamera;
     GizmoShape shape = gizmoShape(mode, *frame, view, c.eye, glm::normalize(c.target - c.eye), c.orthographic);
@@ -238,6 +304,15 @@ std::optional<GizmoShape> gizmoIn(const EditorApp& app, uint32_t viewport) {
 void cancelDrag(EditorApp& app) {
     if (app.drag.kind == DragKind::Sculpt) return cancelSculptStroke(app);
     Drag d = std::exchange(app.drag, Drag{});
+    if (d.kind == DragKind::Gizmo && d.objectId != 0) {
+        const uint32_t object = objectIndexOfId(*app.doc, d.objectId);
+        if (object != kNoObject && d.applied) {
+            app.doc->scene.objects[object].transform = d.objectStart;
+            ++app.doc->sceneRevision;
+            app.ui.status = "Cancelled the drag";
+        }
+        return;
+    }
     if ((d.kind == DragKind::MoveSelection || d.kind == DragKind::Gizmo) && d.applied) {
         undoTool(app);
         app.ui.status = "Cancelled the drag";
@@ -285,7 +360,7 @@ void handleViewportInput(EditorApp& app) {
     if (std::optional<GizmoShape> shape = gizmoIn(app, viewport))
         app.ui.gizmoHover = hitGizmo(*shape, cursor - viewportOrigin(app.viewports[viewport]));
     if (app.tools.loopTool && app.doc->planned) updateLoopPreview(app, viewport, cursor);
-    if (app.tools.tool == Tool::Sculpt && app.doc->planned) {
+    if (app.mode == EditorMode::Edit && app.tools.tool == Tool::Sculpt && app.doc->planned) {
         app.ui.brushHover = surfaceUnderCursor(app, viewport, cursor);
         app.ui.brushViewport = viewport;
     }
@@ -325,6 +400,7 @@ void handleShortcuts(EditorApp& app) {
     auto matches = [](const KeyChord& c, const KeyPress& p) {
         return c.key != 0 && c.key == p.key && c.ctrl == p.ctrl && c.shift == p.shift && c.alt == p.alt;
     };
+    const ActionScope otherMode = app.mode == EditorMode::Edit ? ActionScope::ObjectMode : ActionScope::EditMode;
     for (const KeyPress& press : presses) {
         if (app.extrude) {  // digits, Enter and Esc belong to the extrude until it ends
             extrudeKey(app, press);
@@ -348,7 +424,7 @@ void handleShortcuts(EditorApp& app) {
             }
         }
         for (const ActionInfo& action : actions())
-            if (matches(action.chord, press) || matches(action.alternate, press)) {
+            if ((matches(action.chord, press) || matches(action.alternate, press)) && scopeOf(action.id) != otherMode) {
                 runAction(app, action.id);
                 break;
             }
