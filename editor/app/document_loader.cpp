@@ -79,11 +79,9 @@ void DocumentLoader::run() {
     if (!scene) return finish(scene.error());
     Result<std::vector<uint32_t>> owners = cageOwners(scene->objects);
     if (!owners) return finish(Error{request.path + ": " + owners.error().message});
-    if (scene->objects.size() > 1)
-        warnings.push_back(request.path + ": the scene has " + std::to_string(scene->objects.size()) +
-                           " objects; this editor edits \"" + scene->objects[(*owners)[0]].name +
-                           "\" and shows the others without editing them (no object mode yet); they are saved as loaded");
-    const uint32_t faces = scene->objects[(*owners)[0]].cage.faceCount();
+    uint32_t faces = 0;
+    for (uint32_t i = 0; i < scene->objects.size(); ++i)
+        if ((*owners)[i] == i) faces += scene->objects[i].cage.faceCount();
     setStage(("Planning " + std::to_string(faces) + " faces").c_str(), 0.2f);
     const std::string documentPath = request.fromRecovery ? request.recoveredSource
                                      : request.untitled  ? std::string()

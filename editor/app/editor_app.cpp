@@ -190,6 +190,8 @@ void adoptFinishedLoad(EditorApp& app) {
     ++app.documentGeneration;
     app.drag = Drag{};
     app.tools.loopTool = false;
+    app.mode = EditorMode::Edit;  // on the first object's cage, as before object mode existed
+    app.objectPicking = ObjectPickCache{};
     app.autosavedOnce = false;
     applySceneView(app);
     const Cage& cage = app.doc->planned->cage();
@@ -198,6 +200,9 @@ void adoptFinishedLoad(EditorApp& app) {
     app.ui.status = (request.fromRecovery ? "Restored unsaved work" : "Opened " + request.path) + " (" +
                     std::to_string(cage.faceCount()) + " faces, " + std::to_string(app.doc->database->size()) +
                     " plans, " + std::to_string(int(std::lround(app.loader.secondsRunning() * 1000))) + " ms)";
+    if (app.doc->scene.objects.size() > 1)
+        app.ui.status += "; " + std::to_string(app.doc->scene.objects.size()) + " objects, edit mode on \"" +
+                         activeObject(*app.doc).name + "\" (Tab: object mode)";
     if (app.ui.recovery && app.ui.recovery->restoreWhenIdle) restoreRecovery(app);
 }
 
@@ -338,6 +343,7 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
             appendKey(key, app.renderer.views[i].drawRevision);
             appendKey(key, app.renderer.views[i].instance.has_value());
         }
+        if (i < app.renderer.others.size()) appendKey(key, app.renderer.others[i].drawRevision);
     }
     appendKey(key, options.wireframe);
     appendKey(key, options.cage);

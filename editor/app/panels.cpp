@@ -117,7 +117,7 @@ void modeLine(const EditorApp& app) {
         ImGui::TextColored(colour, "Object mode: %s (Tab edits its cage)",
                            object == kNoObject ? "no object selected" : doc.scene.objects[object].name.c_str());
     } else if (doc.scene.objects.size() > 1) {
-        ImGui::TextColored(colour, "Edit mode: the cage of %s (Tab: object mode)", activeObject(doc).name.c_str());
+        ImGui::TextColored(colour, "Edit mode: %s (Tab: object mode)", activeObject(doc).name.c_str());
     }
 }
 

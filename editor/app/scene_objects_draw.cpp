@@ -68,6 +68,7 @@ void syncOtherObjects(const VulkanContext& ctx, SceneRenderer& r, const PluginCa
         view.heatMap = request.heatMap;
         view.heatFactor = request.heatFactor;
         view.problem.clear();
+        ++view.drawRevision;
         for (uint32_t c = 0; c < doc.otherCages.size(); ++c) {
             const PlannedCage& cage = doc.otherCages[c];
             const SceneObject& object = doc.scene.objects[ownerOfOtherCage(doc, c)];

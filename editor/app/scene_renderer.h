@@ -122,6 +122,7 @@ struct OtherObjectsView {
     float adaptivePixels = 0.0f;
     bool heatMap = false;
     uint64_t generation = ~0ull;
+    uint64_t drawRevision = 0;  // changes whenever the instances or heat maps are made anew
     std::string problem;  // why they are not drawn (a scheme that refuses one of them)
 };
 struct ObjectDraw {
