@@ -13,6 +13,8 @@
 
 #include "document.h"
 #include "document_objects.h"
+#include "gizmo.h"
+#include "object_mode.h"
 #include "obj_io.h"
 #include "test_cages.h"
 
@@ -242,4 +244,40 @@ TEST(EditorObjects, AddsObjectsFromCageAndSceneFiles) {
     ASSERT_TRUE(undoEdit(*doc, 5));
     EXPECT_EQ(doc->scene.objects.size(), 3u);
     fs::remove_all(dir);
+}
+
+TEST(EditorObjects, HandleDragsBecomeTheObjectsTransform) {
+    ObjectTransform start;
+    start.translation = {1, 2, 3};
+    start.rotationDegrees = {0, 0, 30};
+    start.scale = {1, 2, 1};
+    GizmoShape shape;
+    shape.frame.pivot = start.translation;
+    // Rotating 45 degrees about the world's z through the origin: the matrix composes.
+    shape.mode = GizmoMode::Rotate;
+    GizmoDrag turn;
+    turn.matrix = glm::translate(glm::mat4(1.0f), start.translation) *
+                  glm::rotate(glm::mat4(1.0f), glm::radians(45.0f), glm::vec3(0, 0, 1)) *
+                  glm::translate(glm::mat4(1.0f), -start.translation);
+    std::optional<ObjectTransform> turned = draggedTransform(start, shape, turn);
+    ASSERT_TRUE(turned);
+    EXPECT_NEAR(turned->rotationDegrees.z, 75.0f, 1e-3f);
+    EXPECT_EQ(turned->translation, start.translation);
+    const glm::mat4 expected = turn.matrix * start.matrix(), got = turned->matrix();
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) EXPECT_NEAR(got[c][r], expected[c][r], 1e-4f);
+    // Scaling multiplies along the object's own axes; a zero factor is refused.
+    shape.mode = GizmoMode::Scale;
+    GizmoDrag grow;
+    grow.values = {2, 1, 0.5f};
+    std::optional<ObjectTransform> grown = draggedTransform(start, shape, grow);
+    ASSERT_TRUE(grown);
+    EXPECT_EQ(grown->scale, glm::vec3(2, 2, 0.5f));
+    grow.values = {0, 1, 1};
+    EXPECT_FALSE(draggedTransform(start, shape, grow));
+    // Moving carries the origin by the drag.
+    shape.mode = GizmoMode::Move;
+    GizmoDrag move;
+    move.matrix = glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, 0, 0));
+    EXPECT_EQ(draggedTransform(start, shape, move)->translation, glm::vec3(1.5f, 2, 3));
 }
