@@ -18,7 +18,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <nlohmann/json.hpp>
+#include <stb/stb_image.h>  // the implementation is in test_editor_app.cpp
+
+#include "render_test_support.h"
 
 namespace qp::test {
 
@@ -118,5 +123,42 @@ inline bool haveProgram(const char* name) {
 
 // Runs xdotool with `args` (real X events on the test's display).
 inline int xdotool(const std::string& args) { return std::system(("xdotool " + args).c_str()); }
+
+// Whether there is an X display (ctest runs the window suites under xvfb-run).
+inline bool haveDisplay() {
+    const char* display = std::getenv("DISPLAY");
+    return display && display[0];
+}
+
+// The environment an editor test starts `quadplan edit` in: its own recovery directory, and
+// lavapipe unless QUADPLAN_VK_DEVICE names another device.
+inline std::map<std::string, std::string> editorEnvironment(const fs::path& recoveryDir) {
+    std::map<std::string, std::string> env{{"QUADPLAN_RECOVERY_DIR", recoveryDir.string()}};
+    if (!std::getenv("QUADPLAN_VK_DEVICE") && fs::exists(kLavapipeIcd)) {
+        env["VK_ICD_FILENAMES"] = kLavapipeIcd;
+        env["VK_DRIVER_FILES"] = kLavapipeIcd;
+    }
+    return env;
+}
+
+// Screen position ("X Y" for xdotool) of window pixel p, for a window at (x, y).
+struct Screen {
+    int x = 0, y = 0;
+    std::string operator()(glm::vec2 p) const { return std::to_string(x + int(p.x)) + " " + std::to_string(y + int(p.y)); }
+};
+
+// Pixels whose colours differ by more than 24 (summed over RGB) between two PNGs of one size.
+inline size_t differingPixels(const fs::path& a, const fs::path& b) {
+    int wa = 0, ha = 0, wb = 0, hb = 0, c = 0;
+    uint8_t* pa = stbi_load(a.c_str(), &wa, &ha, &c, 3);
+    uint8_t* pb = stbi_load(b.c_str(), &wb, &hb, &c, 3);
+    size_t n = 0;
+    if (pa && pb && wa == wb && ha == hb)
+        for (size_t i = 0; i < size_t(wa) * ha * 3; i += 3)
+            n += std::abs(pa[i] - pb[i]) + std::abs(pa[i + 1] - pb[i + 1]) + std::abs(pa[i + 2] - pb[i + 2]) > 24;
+    stbi_image_free(pa);
+    stbi_image_free(pb);
+    return n;
+}
 
 }  // namespace qp::test

@@ -29,10 +29,6 @@ namespace {
 
 constexpr double kRunSeconds = 240.0;  // lavapipe on 2 busy cores can be slow; CI has the same
 
-bool haveDisplay() {
-    const char* display = std::getenv("DISPLAY");
-    return display && display[0];
-}
 
 #define REQUIRE_DISPLAY()                                                                                       \
     if (!haveDisplay())                                                                                         \
@@ -96,11 +92,7 @@ protected:
     }
 
     std::map<std::string, std::string> environment() const {
-        std::map<std::string, std::string> env{{"QUADPLAN_RECOVERY_DIR", (dir / "recovery").string()}};
-        if (!std::getenv("QUADPLAN_VK_DEVICE") && fs::exists(kLavapipeIcd)) {
-            env["VK_ICD_FILENAMES"] = kLavapipeIcd;
-            env["VK_DRIVER_FILES"] = kLavapipeIcd;
-        }
+        std::map<std::string, std::string> env = editorEnvironment(dir / "recovery");
         return env;
     }
 

@@ -19,7 +19,6 @@
 #include "render_test_support.h"
 #include "scene.h"
 
-#include <stb/stb_image.h>  // implemented in test_editor_app.cpp
 
 using namespace qp;
 using namespace qp::test;
@@ -29,10 +28,6 @@ namespace {
 
 constexpr double kRunSeconds = 240.0;  // lavapipe on 2 busy cores can be slow
 
-bool haveDisplay() {
-    const char* display = std::getenv("DISPLAY");
-    return display && display[0];
-}
 
 struct Image {
     int width = 0, height = 0;
@@ -112,11 +107,7 @@ protected:
 
     void start(EditorProcess& editor, const std::string& script, const std::string& file, const std::string& size) {
         writeText(dir / "script.txt", script);
-        std::map<std::string, std::string> env{{"QUADPLAN_RECOVERY_DIR", (dir / "recovery").string()}};
-        if (!std::getenv("QUADPLAN_VK_DEVICE") && fs::exists(kLavapipeIcd)) {
-            env["VK_ICD_FILENAMES"] = kLavapipeIcd;
-            env["VK_DRIVER_FILES"] = kLavapipeIcd;
-        }
+        std::map<std::string, std::string> env = editorEnvironment(dir / "recovery");
         editor.start({"edit", file, "--automation", (dir / "script.txt").string(), "--validate", "--size", size}, dir, env,
                      dir / "editor.log");
     }

@@ -11,7 +11,6 @@
 #include <set>
 
 #include <glm/geometric.hpp>
-#include <stb/stb_image.h>  // the implementation is in test_editor_app.cpp
 
 #include "edge_loops.h"
 #include "editor_process.h"
@@ -28,10 +27,6 @@ namespace {
 
 constexpr double kRunSeconds = 240.0;
 
-bool haveDisplay() {
-    const char* display = std::getenv("DISPLAY");
-    return display && display[0];
-}
 
 std::vector<EdgeKey> edgesOf(const json& selection) {
     std::vector<EdgeKey> out;
@@ -42,18 +37,6 @@ std::vector<EdgeKey> edgesOf(const json& selection) {
 
 std::vector<uint32_t> facesOf(const json& list) { return list.get<std::vector<uint32_t>>(); }
 
-size_t differingPixels(const fs::path& a, const fs::path& b) {
-    int wa = 0, ha = 0, wb = 0, hb = 0, c = 0;
-    uint8_t* pa = stbi_load(a.c_str(), &wa, &ha, &c, 3);
-    uint8_t* pb = stbi_load(b.c_str(), &wb, &hb, &c, 3);
-    size_t n = 0;
-    if (pa && pb && wa == wb && ha == hb)
-        for (size_t i = 0; i < size_t(wa) * ha * 3; i += 3)
-            n += std::abs(pa[i] - pb[i]) + std::abs(pa[i + 1] - pb[i + 1]) + std::abs(pa[i + 2] - pb[i + 2]) > 24;
-    stbi_image_free(pa);
-    stbi_image_free(pb);
-    return n;
-}
 
 class EditorHands : public ::testing::Test {
 protected:
@@ -73,11 +56,7 @@ protected:
 
     void start(EditorProcess& editor, const std::string& script) {
         writeText(dir / "script.txt", script);
-        std::map<std::string, std::string> env{{"QUADPLAN_RECOVERY_DIR", (dir / "recovery").string()}};
-        if (!std::getenv("QUADPLAN_VK_DEVICE") && fs::exists(kLavapipeIcd)) {
-            env["VK_ICD_FILENAMES"] = kLavapipeIcd;
-            env["VK_DRIVER_FILES"] = kLavapipeIcd;
-        }
+        std::map<std::string, std::string> env = editorEnvironment(dir / "recovery");
         editor.start({"edit", (dir / "cube.obj").string(), "--automation", (dir / "script.txt").string(), "--validate",
                       "--size", "1100x700"},
                      dir, env, dir / "editor.log");
@@ -95,11 +74,6 @@ protected:
     }
 };
 
-// Screen position ("X Y" for xdotool) of window pixel p.
-struct Screen {
-    int x = 0, y = 0;
-    std::string operator()(glm::vec2 p) const { return std::to_string(x + int(p.x)) + " " + std::to_string(y + int(p.y)); }
-};
 
 // Visible edges between regular (valence-4) vertices, long on screen, nearest the viewport's
 // centre first: what a click at the midpoint picks without doubt.

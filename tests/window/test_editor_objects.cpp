@@ -8,7 +8,6 @@
 #include <cmath>
 
 #include <glm/glm.hpp>
-#include <stb/stb_image.h>  // the implementation is in test_editor_app.cpp
 
 #include "editor_process.h"
 #include "obj_io.h"
@@ -24,23 +23,7 @@ namespace {
 
 constexpr double kRunSeconds = 240.0;
 
-bool haveDisplay() {
-    const char* display = std::getenv("DISPLAY");
-    return display && display[0];
-}
 
-size_t differingPixels(const fs::path& a, const fs::path& b) {
-    int wa = 0, ha = 0, wb = 0, hb = 0, c = 0;
-    uint8_t* pa = stbi_load(a.c_str(), &wa, &ha, &c, 3);
-    uint8_t* pb = stbi_load(b.c_str(), &wb, &hb, &c, 3);
-    size_t n = 0;
-    if (pa && pb && wa == wb && ha == hb)
-        for (size_t i = 0; i < size_t(wa) * ha * 3; i += 3)
-            n += std::abs(pa[i] - pb[i]) + std::abs(pa[i + 1] - pb[i + 1]) + std::abs(pa[i + 2] - pb[i + 2]) > 24;
-    stbi_image_free(pa);
-    stbi_image_free(pb);
-    return n;
-}
 
 const json& objectNamed(const json& state, const std::string& name) {
     for (const json& o : state["objects"])
@@ -52,10 +35,6 @@ const json& objectNamed(const json& state, const std::string& name) {
 
 glm::vec2 point(const json& j) { return {j[0].get<float>(), j[1].get<float>()}; }
 
-struct Screen {
-    int x = 0, y = 0;
-    std::string operator()(glm::vec2 p) const { return std::to_string(x + int(p.x)) + " " + std::to_string(y + int(p.y)); }
-};
 
 class EditorObjectMode : public ::testing::Test {
 protected:
@@ -87,12 +66,8 @@ protected:
 
     void start(EditorProcess& editor, const std::string& script) {
         writeText(dir / "script.txt", script);
-        std::map<std::string, std::string> env{{"QUADPLAN_RECOVERY_DIR", (dir / "recovery").string()},
-                                               {"QUADPLAN_PLAN_CACHE", "off"}};
-        if (!std::getenv("QUADPLAN_VK_DEVICE") && fs::exists(kLavapipeIcd)) {
-            env["VK_ICD_FILENAMES"] = kLavapipeIcd;
-            env["VK_DRIVER_FILES"] = kLavapipeIcd;
-        }
+        std::map<std::string, std::string> env = editorEnvironment(dir / "recovery");
+        env["QUADPLAN_PLAN_CACHE"] = "off";
         editor.start({"edit", (dir / "scene.json").string(), "--automation", (dir / "script.txt").string(), "--validate",
                       "--size", "1100x700"},
                      dir, env, dir / "editor.log");
