@@ -60,6 +60,16 @@ void menuBar(EditorApp& app) {
         ImGui::EndMenu();
     }
     recordWidget(app, "Mesh");
+    if (ImGui::BeginMenu("Object")) {
+        menuAction(app, "mode.toggle", haveCage);
+        ImGui::Separator();
+        const bool objectMode = haveCage && app.mode == EditorMode::Object;
+        for (const char* id : {"object.duplicate", "object.instance", "object.delete", "object.hide", "object.unhide",
+                               "object.deselect"})
+            menuAction(app, id, objectMode);
+        ImGui::EndMenu();
+    }
+    recordWidget(app, "Object");
     if (ImGui::BeginMenu("View")) {
         for (const char* id : {"view.front", "view.back", "view.right", "view.left", "view.top", "view.bottom",
                                "view.projection"})
