@@ -1,7 +1,6 @@
 // The editor's objects without a window (editor/app/document_objects.h): moving edit mode
 // between cages, object edits in the one history, undo across objects and modes, instances
-// following their cage, adding objects from files; and core's decomposeTransform, which the
-// object-mode handles store their result through.
+// following their cage, adding objects from files, and handle drags becoming transforms.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -52,35 +51,6 @@ SetEdgeSharpness creaseFirstEdge(const Document& doc, float sharpness) {
 }
 
 }  // namespace
-
-TEST(DecomposeTransform, RoundTripsTranslationRotationAndScale) {
-    const std::vector<ObjectTransform> cases = {
-        {{1, 2, 3}, {10, 20, 30}, {1, 2, 3}},
-        {{-4, 0, 1}, {-170, 45, 95}, {0.5f, 0.5f, 0.5f}},
-        {{0, 0, 0}, {0, 90, 0}, {1, 1, 1}},    // gimbal lock
-        {{0, 0, 0}, {30, -90, 10}, {2, 1, 1}},  // gimbal lock with x and z
-        {{5, 5, 5}, {0, 0, 0}, {-1, 2, 3}},     // a mirror
-    };
-    for (const ObjectTransform& t : cases) {
-        Result<ObjectTransform> back = decomposeTransform(t.matrix());
-        ASSERT_TRUE(back) << back.error().message;
-        const glm::mat4 a = t.matrix(), b = back->matrix();
-        for (int c = 0; c < 4; ++c)
-            for (int r = 0; r < 4; ++r) EXPECT_NEAR(a[c][r], b[c][r], 1e-4f) << "column " << c << " row " << r;
-    }
-}
-
-TEST(DecomposeTransform, RefusesShearFlatAndNonFinite) {
-    ObjectTransform turned;
-    turned.rotationDegrees = {0, 0, 45};
-    // A non-uniform scale along world axes of a turned object shears it.
-    const glm::mat4 sheared = glm::scale(glm::mat4(1.0f), glm::vec3(2, 1, 1)) * turned.matrix();
-    EXPECT_FALSE(decomposeTransform(sheared));
-    EXPECT_FALSE(decomposeTransform(glm::scale(glm::mat4(1.0f), glm::vec3(1, 0, 1))));
-    glm::mat4 nan(1.0f);
-    nan[3][0] = NAN;
-    EXPECT_FALSE(decomposeTransform(nan));
-}
 
 TEST(EditorObjects, EditModeMovesBetweenCagesAndUndoFollowsTheEntry) {
     std::unique_ptr<Document> doc = threeObjects();

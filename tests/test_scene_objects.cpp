@@ -9,6 +9,8 @@
 
 #include <unistd.h>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "obj_io.h"
 #include "planned_scene.h"
 #include "scene.h"
@@ -268,4 +270,36 @@ TEST_F(SceneObjects, ObjectsSharingAnObjFileNeverOverwriteEachOther) {
     EXPECT_EQ(back->objects[1].cage.positions, qp::test::makeCube().positions);
     EXPECT_EQ(back->objects[0].cagePath, "box.obj");
     EXPECT_EQ(back->objects[1].cagePath, "edited_b.obj");
+}
+
+TEST(DecomposeTransform, RoundTripsTranslationRotationAndScale) {
+    using qp::ObjectTransform;
+    const std::vector<ObjectTransform> cases = {
+        {{1, 2, 3}, {10, 20, 30}, {1, 2, 3}},
+        {{-4, 0, 1}, {-170, 45, 95}, {0.5f, 0.5f, 0.5f}},
+        {{0, 0, 0}, {0, 90, 0}, {1, 1, 1}},    // gimbal lock
+        {{0, 0, 0}, {30, -90, 10}, {2, 1, 1}},  // gimbal lock with x and z
+        {{5, 5, 5}, {0, 0, 0}, {-1, 2, 3}},     // a mirror
+    };
+    for (const ObjectTransform& t : cases) {
+        qp::Result<ObjectTransform> back = qp::decomposeTransform(t.matrix());
+        ASSERT_TRUE(back) << back.error().message;
+        const glm::mat4 a = t.matrix(), b = back->matrix();
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 4; ++r) EXPECT_NEAR(a[c][r], b[c][r], 1e-4f) << "column " << c << " row " << r;
+    }
+}
+
+TEST(DecomposeTransform, RefusesShearFlatAndNonFinite) {
+    using qp::decomposeTransform;
+    using qp::ObjectTransform;
+    ObjectTransform turned;
+    turned.rotationDegrees = {0, 0, 45};
+    // A non-uniform scale along world axes of a turned object shears it.
+    const glm::mat4 sheared = glm::scale(glm::mat4(1.0f), glm::vec3(2, 1, 1)) * turned.matrix();
+    EXPECT_FALSE(decomposeTransform(sheared));
+    EXPECT_FALSE(decomposeTransform(glm::scale(glm::mat4(1.0f), glm::vec3(1, 0, 1))));
+    glm::mat4 nan(1.0f);
+    nan[3][0] = NAN;
+    EXPECT_FALSE(decomposeTransform(nan));
 }
