@@ -30,3 +30,7 @@ find_package(Vulkan REQUIRED)
 add_library(quadplan_imgui INTERFACE)
 target_include_directories(quadplan_imgui INTERFACE ${IMGUI_INCLUDE_DIRS} ${IMGUI_BACKENDS_DIR})
 target_link_libraries(quadplan_imgui INTERFACE PkgConfig::IMGUI PkgConfig::GLFW3 Vulkan::Vulkan)
+
+# Exporting limit surfaces (export/): glTF through tinygltf, index order through meshoptimizer.
+find_package(TinyGLTF REQUIRED)
+find_package(meshoptimizer REQUIRED)

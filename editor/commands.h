@@ -27,6 +27,10 @@ void registerRender(CLI::App& app, int& exitCode);
 // side with their error against the exact limit surface
 void registerCompare(CLI::App& app, int& exitCode);
 
+// `quadplan export CAGE_OR_SCENE --out FILE.{glb,gltf,obj,ply,off,stl} [...]`: the limit surface
+// as a welded, watertight triangle mesh
+void registerExport(CLI::App& app, int& exitCode);
+
 // `quadplan schemes [CAGE] [--json]`: the scheme plugins found (and what they do with a cage)
 void registerSchemes(CLI::App& app, int& exitCode);
 

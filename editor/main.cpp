@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
     qp::cli::registerRender(app, exitCode);
     qp::cli::registerBench(app, exitCode);
     qp::cli::registerCompare(app, exitCode);
+    qp::cli::registerExport(app, exitCode);
     qp::cli::registerSchemes(app, exitCode);
     qp::cli::registerSculpt(app, exitCode);
     qp::cli::registerRunScript(app, exitCode);
