@@ -7,13 +7,11 @@
 // Exit status: 0 written; 1 bad input or a failure (nothing written).
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "mesh_files.h"
-#include "mesh_order.h"
+#include "scene_export.h"
 #include "pipeline_cache.h"
 #include "planned_scene.h"
 #include "render_setup.h"
@@ -80,15 +78,9 @@ private:
     std::optional<VulkanContext> context_;
 };
 
-std::string splitPath(const std::string& out, const std::string& object) {
-    const std::filesystem::path path(out);
-    return (path.parent_path() / (path.stem().string() + "_" + object + path.extension().string())).string();
-}
-
 int runExport(const ExportArgs& args) {
     const auto start = std::chrono::steady_clock::now();
-    Result<MeshFormat> format = meshFormatOf(args.out);
-    if (!format) return fail(format.error().message);
+    if (Result<MeshFormat> format = meshFormatOf(args.out); !format) return fail(format.error().message);
     if (args.displaced && args.scheme != "plans")
         return fail("--displaced exports the plans' displaced surface; give --scheme plans (or leave it out)");
     std::vector<std::string> warnings;
@@ -100,91 +92,53 @@ int runExport(const ExportArgs& args) {
     if (!planned) return fail(planned.error().message);
 
     std::optional<SchemeSlots> slots;
+    CageMesher mesher;
     if (args.scheme != "plans") {
         slots.emplace();
         if (Status opened = slots->open(args.pluginDir, args.validate); !opened) return fail(opened.error().message);
+        mesher = [&](const PlannedCage& cage, uint32_t, const std::string& source) {
+            return slots->mesh(args.scheme, cage, args.tess, args.depth, source);
+        };
     }
-    ExportScene exported;
-    OrderReport order;
-    MeshClosure closure;
-    for (uint32_t c = 0; c < planned->cages.size(); ++c) {
-        const SceneObject& owner = scene->objects[planned->objectOfCage[c]];
-        const std::string source = planned->cages.size() == 1 ? args.path : args.path + ": object \"" + owner.name + "\"";
-        if (args.displaced && owner.displacement.empty())
-            std::fprintf(stderr, "note: %s has no sculpted displacement; exported without\n", source.c_str());
-        const Displacement* displacement = args.displaced && !owner.displacement.empty() ? &owner.displacement : nullptr;
-        Result<LimitMesh> mesh = slots ? slots->mesh(args.scheme, planned->cages[c], args.tess, args.depth, source)
-                                       : exactLimitMesh(planned->cages[c], args.tess, displacement);
-        if (!mesh) return fail(source + ": " + mesh.error().message);
-        const MeshClosure cageClosure = meshClosure(mesh->indices);
-        closure.borderEdges += cageClosure.borderEdges;
-        closure.nonManifoldEdges += cageClosure.nonManifoldEdges;
-        if (!args.noOptimize) {
-            const OrderReport r = optimizeMeshOrder(*mesh);
-            const float weight = float(mesh->triangleCount());
-            order.acmrBefore += r.acmrBefore * weight, order.acmrAfter += r.acmrAfter * weight;
-        }
-        exported.meshes.push_back(std::move(mesh).value());
-        exported.meshNames.push_back(owner.name);
-    }
-    uint64_t triangles = 0, vertices = 0, meshTriangles = 0;
-    for (const LimitMesh& m : exported.meshes) meshTriangles += m.triangleCount();
-    if (!args.noOptimize && meshTriangles > 0) order.acmrBefore /= float(meshTriangles), order.acmrAfter /= float(meshTriangles);
-    for (uint32_t i = 0; i < scene->objects.size(); ++i)
-        if (scene->objects[i].visible)
-            exported.objects.push_back({scene->objects[i].name, scene->objects[i].transform, planned->cageOfObject[i]});
-
-    std::vector<std::string> files;
-    auto write = [&](const ExportScene& part, const std::string& path) -> Status {
-        if (Status written = writeMeshFile(part, path, *format); !written) return written;
-        files.push_back(path);
-        if (hasNodes(*format)) {
-            for (const LimitMesh& m : part.meshes) vertices += m.vertexCount(), triangles += m.triangleCount();
-        } else {
-            for (const ExportObject& o : part.objects)
-                vertices += part.meshes[o.mesh].vertexCount(), triangles += part.meshes[o.mesh].triangleCount();
-        }
-        return success();
-    };
-    if (args.split && exported.objects.size() > 1) {
-        for (const ExportObject& object : exported.objects) {
-            ExportScene one{exported.meshes, exported.meshNames, {object}};
-            if (Status s = write(one, splitPath(args.out, object.name)); !s) return fail(s.error().message);
-        }
-    } else if (Status s = write(exported, args.out); !s) {
-        return fail(s.error().message);
-    }
+    ExportOptions options;
+    options.factor = args.tess;
+    options.displaced = args.displaced;
+    options.optimize = !args.noOptimize;
+    options.split = args.split;
+    Result<ExportReport> report = exportScene(*scene, sceneCages(*planned), args.out, options, args.path, mesher);
+    if (!report) return fail(report.error().message);
+    for (const std::string& note : report->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
     if (slots && args.validate && slots->validationFailed()) return 4;
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const ExportReport& r = *report;
     if (args.json) {
-        nlohmann::json out = {{"file", files.size() == 1 ? nlohmann::json(files[0]) : nlohmann::json(files)},
-                              {"format", meshFormatName(*format)},
+        nlohmann::json out = {{"file", r.files.size() == 1 ? nlohmann::json(r.files[0]) : nlohmann::json(r.files)},
+                              {"format", meshFormatName(*meshFormatOf(args.out))},
                               {"scheme", args.scheme},
                               {"factor", args.tess},
                               {"displaced", args.displaced},
-                              {"objects", exported.objects.size()},
-                              {"meshes", exported.meshes.size()},
-                              {"vertices", vertices},
-                              {"triangles", triangles},
-                              {"watertight", closure.watertight()},
-                              {"border_edges", closure.borderEdges},
-                              {"non_manifold_edges", closure.nonManifoldEdges},
-                              {"acmr_before", args.noOptimize ? nlohmann::json(nullptr) : nlohmann::json(order.acmrBefore)},
-                              {"acmr_after", args.noOptimize ? nlohmann::json(nullptr) : nlohmann::json(order.acmrAfter)},
+                              {"objects", r.objects},
+                              {"meshes", r.meshes},
+                              {"vertices", r.vertices},
+                              {"triangles", r.triangles},
+                              {"watertight", r.closure.watertight()},
+                              {"border_edges", r.closure.borderEdges},
+                              {"non_manifold_edges", r.closure.nonManifoldEdges},
+                              {"acmr_before", args.noOptimize ? nlohmann::json(nullptr) : nlohmann::json(r.order.acmrBefore)},
+                              {"acmr_after", args.noOptimize ? nlohmann::json(nullptr) : nlohmann::json(r.order.acmrAfter)},
                               {"ms", ms}};
         std::printf("%s\n", out.dump(2).c_str());
-    } else {
-        std::printf("wrote %s: %llu vertices, %llu triangles (%s, factor %u%s), %s", files.size() == 1 ? files[0].c_str() : "files",
-                    (unsigned long long)vertices, (unsigned long long)triangles, args.scheme.c_str(), args.tess,
-                    args.displaced ? ", displaced" : "",
-                    closure.watertight() ? "watertight"
-                                         : (std::to_string(closure.borderEdges) + " border and " +
-                                            std::to_string(closure.nonManifoldEdges) + " non-manifold edges")
-                                               .c_str());
-        if (!args.noOptimize) std::printf(", ACMR %.3f -> %.3f", order.acmrBefore, order.acmrAfter);
-        std::printf(", %.0f ms\n", ms);
-        for (size_t i = 1; i < files.size(); ++i) std::printf("wrote %s\n", files[i].c_str());
+        return 0;
     }
+    const std::string closure = r.closure.watertight() ? "watertight"
+                                                       : std::to_string(r.closure.borderEdges) + " border and " +
+                                                             std::to_string(r.closure.nonManifoldEdges) + " non-manifold edges";
+    std::printf("wrote %s: %llu vertices, %llu triangles (%s, factor %u%s), %s", r.files.size() == 1 ? r.files[0].c_str() : "files",
+                (unsigned long long)r.vertices, (unsigned long long)r.triangles, args.scheme.c_str(), args.tess,
+                args.displaced ? ", displaced" : "", closure.c_str());
+    if (!args.noOptimize) std::printf(", ACMR %.3f -> %.3f", r.order.acmrBefore, r.order.acmrAfter);
+    std::printf(", %.0f ms\n", ms);
+    for (size_t i = 1; i < r.files.size(); ++i) std::printf("wrote %s\n", r.files[i].c_str());
     return 0;
 }
 

@@ -8,6 +8,7 @@
 #include "plan_evaluator.h"
 #include "plan_memory.h"
 #include "scene_document.h"
+#include "scene_export.h"
 #include "scheme_support.h"
 
 namespace qp::py {
@@ -275,6 +276,40 @@ Topology edits are refused while the scene has displacement (clear_displacement(
              py::arg("path"), py::arg("inline_cage") = py::none(),
              R"doc(Saves atomically. A .obj path writes the cage alone; a .json path the scene, with the cage inline,
 or beside it as an OBJ when inline_cage is False (default: as it was loaded).)doc")
+        .def("export",
+             [](const Document& doc, const std::string& path, uint32_t tess, bool displaced, bool split, bool optimize) {
+                 ExportOptions options;
+                 options.factor = tess;
+                 options.displaced = displaced;
+                 options.split = split;
+                 options.optimize = optimize;
+                 Result<ExportReport> report = [&] {
+                     py::gil_scoped_release release;
+                     return exportScene(doc.currentScene(), sceneCages(doc.plannedScene()), path, options, doc.source());
+                 }();
+                 if (!report) throw ScriptError(report.error().message);
+                 warnAll(report->notes);
+                 py::dict out;
+                 out["files"] = report->files;
+                 out["vertices"] = report->vertices;
+                 out["triangles"] = report->triangles;
+                 out["objects"] = report->objects;
+                 out["meshes"] = report->meshes;
+                 out["watertight"] = report->closure.watertight();
+                 out["border_edges"] = report->closure.borderEdges;
+                 out["non_manifold_edges"] = report->closure.nonManifoldEdges;
+                 out["acmr_before"] = optimize ? py::object(py::float_(report->order.acmrBefore)) : py::object(py::none());
+                 out["acmr_after"] = optimize ? py::object(py::float_(report->order.acmrAfter)) : py::object(py::none());
+                 out["ms"] = report->ms;
+                 return out;
+             },
+             py::arg("path"), py::arg("tess") = 8, py::arg("displaced") = false, py::arg("split") = false,
+             py::arg("optimize") = true,
+             R"doc(Exports the exact limit surface (as `quadplan export` does): one welded, watertight mesh per cage
+at the uniform factor `tess`, as .glb/.gltf (a node per visible object, instances sharing a mesh) or .obj/.ply/.off/.stl
+(objects merged in the world, or one file per object with split=True); displaced=True applies the sculpted
+displacement. Written atomically. Returns what was written (files, vertices, triangles, watertight, acmr_before,
+acmr_after, ms).)doc")
         .def_property_readonly("source", &Document::source, "The file the scene came from (or \"cage\").")
         .def_property_readonly("cage", [](const Document& d) { return d.cage(); }, "A copy of the current cage.")
         .def_property_readonly("positions", [](const Document& d) { return toArray(d.cage().positions); },

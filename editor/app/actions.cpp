@@ -14,6 +14,7 @@ const ActionInfo kActions[] = {
     {"file.open", "Open...", "Ctrl+O", {GLFW_KEY_O, true}, "Open a scene (.json) or a cage (.obj)"},
     {"file.save", "Save", "Ctrl+S", {GLFW_KEY_S, true}, "Save to the current file (asks for a name when untitled)"},
     {"file.save_as", "Save As...", "Ctrl+Shift+S", {GLFW_KEY_S, true, true}, "Save to a new file (.json scene or .obj cage)"},
+    {"file.export", "Export...", "", {}, "Export the limit surface as a welded, watertight mesh (.glb, .gltf, .obj, .ply, .off, .stl)"},
     {"file.quit", "Quit", "Ctrl+Q", {GLFW_KEY_Q, true}, "Close the editor (asks before losing unsaved changes)"},
     {"edit.undo", "Undo", "Ctrl+Z", {GLFW_KEY_Z, true}, "Undo the last edit (camera changes are not edits)"},
     {"edit.redo", "Redo", "Ctrl+Shift+Z / Ctrl+Y", {GLFW_KEY_Z, true, true}, "Redo the edit undone last", {GLFW_KEY_Y, true}},

@@ -2,6 +2,7 @@
 // with its confirmations, recovery, edits and framing. Menus, shortcuts and automation all
 // land here.
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 #include "actions.h"
@@ -48,6 +49,22 @@ void setViewportCount(EditorApp& app, uint32_t count) {
     }
     app.viewports.resize(count);
     app.activeViewport = std::min(app.activeViewport, count - 1);
+}
+
+bool exportTo(EditorApp& app, const std::string& path) {
+    Result<ExportReport> report = exportDocument(*app.doc, path, app.ui.exportOptions);
+    if (!report) {
+        showError(app, "Export failed: " + report.error().message);
+        return false;
+    }
+    char text[256];
+    std::snprintf(text, sizeof text, "Exported %zu file(s): %llu vertices, %llu triangles, %s, ACMR %.2f -> %.2f, %.0f ms",
+                  report->files.size(), (unsigned long long)report->vertices, (unsigned long long)report->triangles,
+                  report->closure.watertight() ? "watertight" : "with open borders", report->order.acmrBefore,
+                  report->order.acmrAfter, report->ms);
+    app.ui.status = text;
+    for (const std::string& note : report->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
+    return true;
 }
 
 void showError(EditorApp& app, const std::string& message) {
@@ -227,8 +244,11 @@ void runAction(EditorApp& app, std::string_view id) {
                                                          : std::filesystem::absolute(parent, error);
         app.ui.openPath = (dir / "").string();
         app.ui.requestPopup = "Open";
-    } else if ((id == "file.save" || id == "file.save_as") && (!app.doc->planned || app.loader.busy())) {
+    } else if ((id == "file.save" || id == "file.save_as" || id == "file.export") && (!app.doc->planned || app.loader.busy())) {
         app.ui.status = "Nothing to save while no cage is open or a file is loading.";
+    } else if (id == "file.export") {
+        app.ui.exportPath = proposedExportPath(*app.doc);
+        app.ui.requestPopup = "Export";
     } else if (id == "file.save") {
         if (app.doc->path.empty()) runAction(app, "file.save_as");
         else saveTo(app, app.doc->path);

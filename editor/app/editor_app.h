@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "document.h"
+#include "document_export.h"
 #include "document_loader.h"
 #include "extrude_tool.h"
 #include "frame_stats.h"
@@ -142,7 +143,8 @@ struct UiState {
     DialogKey dialogKey = DialogKey::None;  // taken by the modal dialog drawn this frame
     bool showHelp = false;
     bool showHistory = true;
-    std::string openPath, saveAsPath;
+    std::string openPath, saveAsPath, exportPath;
+    ExportOptions exportOptions;  // File > Export's settings
     std::string selectTab;      // the side panel's tab to bring forward in the next frame
     std::string addObjectPath;  // the Scene tab's "Add from file"
     std::string renameText;     // the Scene tab's name field, for the object with renameObjectId
@@ -246,6 +248,7 @@ void setViewportCount(EditorApp& app, uint32_t count);
 void requestOpen(EditorApp& app, const std::string& path);
 void requestQuit(EditorApp& app);
 bool saveTo(EditorApp& app, const std::string& path);  // false: failed (the error popup says why)
+bool exportTo(EditorApp& app, const std::string& path);  // File > Export with ui.exportOptions
 // A fault the editor cannot continue after (a lost Vulkan device): writes unsaved changes to
 // the recovery directory at once, prints the message and what happened to them, and stops
 // with exit status 1.

@@ -30,6 +30,7 @@ void menuBar(EditorApp& app) {
         menuAction(app, "file.open", idle);
         menuAction(app, "file.save", haveCage);
         menuAction(app, "file.save_as", haveCage);
+        menuAction(app, "file.export", haveCage);
         ImGui::Separator();
         menuAction(app, "file.quit");
         ImGui::EndMenu();

@@ -144,6 +144,29 @@ void dialogs(EditorApp& app) {
     }
 
     ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (ImGui::BeginPopupModal("Export", nullptr, modal)) {
+        app.ui.openPopups.push_back("Export");
+        ImGui::SetNextItemWidth(520);
+        if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+        ImGui::InputText("##exportpath", &app.ui.exportPath);
+        ImGui::TextDisabled("The exact limit surface, welded (watertight where the cage is closed): .glb / .gltf (a node per\nobject, instances share a mesh), or .obj, .ply, .off, .stl (objects merged)");
+        ExportOptions& options = app.ui.exportOptions;
+        int factor = int(options.factor);
+        ImGui::SetNextItemWidth(120);
+        if (ImGui::InputInt("Segments per sub-face edge", &factor)) options.factor = uint32_t(std::clamp(factor, 1, 64));
+        checkbox(app, "Displaced", &options.displaced, "Apply the sculpted displacement");
+        ImGui::SameLine();
+        checkbox(app, "One file per object", &options.split, "NAME_OBJECT.EXT for each visible object (formats without nodes)");
+        if (button(app, "Export##dialog", "Write the file (atomically; Enter)") || takeDialogKey(app, DialogKey::Confirm)) {
+            if (exportTo(app, app.ui.exportPath)) ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (button(app, "Cancel", "Close without exporting (Esc)") || takeDialogKey(app, DialogKey::Cancel))
+            ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+
+    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
     if (ImGui::BeginPopupModal("Unsaved changes", nullptr, modal)) {
         app.ui.openPopups.push_back("Unsaved changes");
         ImGui::Text("%s has unsaved changes.", documentTitle(*app.doc).c_str());

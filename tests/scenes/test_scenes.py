@@ -526,3 +526,23 @@ def test_undoing_the_add_of_the_active_object_goes_back_to_a_cage_that_exists(cu
     cube.redo()
     assert cube.creases == [(2, 3, 1.0)]
     assert_matches_rebuild(cube)
+
+
+def test_export_writes_the_welded_limit_surface(cube, tmp_path):
+    # A closed all-quad cage at factor F: V + (F-1)E + (F-1)^2 N welded vertices, watertight.
+    f = 3
+    report = cube.export(str(tmp_path / "cube.ply"), tess=f)
+    v, e, n = cube.vertex_count, len(cube.edges), cube.face_count
+    assert report["vertices"] == v + (f - 1) * e + (f - 1) ** 2 * n
+    assert report["watertight"] and report["triangles"] == 2 * f * f * n
+    assert report["acmr_after"] < report["acmr_before"]
+    assert (tmp_path / "cube.ply").read_bytes().startswith(b"ply\nformat binary_little_endian 1.0\n")
+    # A second object, an instance: glTF keeps one mesh for both; --split writes one file each.
+    cube.instance("cage", translation=(3, 0, 0))
+    report = cube.export(str(tmp_path / "two.glb"), tess=2)
+    assert report["objects"] == 2 and report["meshes"] == 1
+    report = cube.export(str(tmp_path / "two.obj"), tess=2, split=True)
+    assert sorted(p.name for p in tmp_path.glob("two_*.obj")) == ["two_cage.001.obj", "two_cage.obj"]
+    with pytest.raises(qp.Error, match=r"\.glb, \.gltf, \.obj, \.ply, \.off or \.stl"):
+        cube.export(str(tmp_path / "cube.fbx"))
+    assert not (tmp_path / "cube.fbx").exists()

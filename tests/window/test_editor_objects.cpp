@@ -2,7 +2,7 @@
 // an object, the move handle drags it (one history entry, the picture follows), undo and redo
 // of object edits, Tab into edit mode on the picked object's cage, undo across the modes (a cage
 // edit undone from object mode), the outliner's rows, Shift+D and X, and the scene saved with
-// the objects as edited. One editor run (lavapipe on 2 cores is slow to start).
+// the objects as edited, and File > Export. One editor run (lavapipe on 2 cores is slow to start).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -104,6 +104,7 @@ TEST_F(EditorObjectMode, PicksPlacesEditsAndUndoesObjectsAcrossModes) {
     step(10);
     step(11);
     step(12);
+    step(13, "action file.export\nwait-frames 3\nclick-button Export\nwait-frames 3\n");
     script += "quit\nclick-button Discard changes\n";
     start(editor, script);
 
@@ -199,5 +200,11 @@ TEST_F(EditorObjectMode, PicksPlacesEditsAndUndoesObjectsAcrossModes) {
     const json s12 = state(editor, "s12.json");
     EXPECT_EQ(s12["objects"].size(), 3u) << "X did not delete the selected object";
     EXPECT_EQ(s12["validation_messages"], 0);
+
+    // File > Export writes the scene's limit surface beside its file (saved.json since the Save As: saved.glb).
+    writeText(dir / "go13", "");
+    const json s13 = state(editor, "s13.json");
+    EXPECT_EQ(s13["status"].get<std::string>().rfind("Exported 1 file(s): ", 0), 0u) << s13["status"];
+    EXPECT_TRUE(fs::exists(dir / "saved.glb"));
     EXPECT_EQ(editor.wait(kRunSeconds), 0) << editor.output();
 }
