@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "displacement_io.h"
+#include "mesh_import.h"
 #include "file_io.h"
 #include "obj_io.h"
 #include "scene_names.h"
@@ -605,8 +606,13 @@ Result<Scene> loadSceneOrCage(const std::string& path, std::vector<std::string>*
         if (!cage) return cage.error();
         return sceneOfCage(std::move(cage).value(), fs::path(path).stem().string());
     }
+    if (isMeshCageExtension(ext)) {
+        Result<Cage> cage = loadMeshCage(path, warnings);
+        if (!cage) return cage.error();
+        return sceneOfCage(std::move(cage).value(), fs::path(path).stem().string());
+    }
     return Error{path + ": cannot open a file of type \"" + ext +
-                 "\"; Quadplan opens scenes (.json) and cages (.obj)"};
+                 "\"; Quadplan opens scenes (.json) and cages (.obj, .ply, .off, .stl)"};
 }
 
 }  // namespace qp

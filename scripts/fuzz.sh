@@ -16,7 +16,7 @@ export UBSAN_OPTIONS="suppressions=$PWD/tests/fuzz/ubsan.supp:print_stacktrace=1
 findings=build-fuzz/findings
 mkdir -p "$findings"
 status=0
-for target in obj scene plan_db automation sculpt_script; do
+for target in obj scene plan_db automation sculpt_script mesh_import; do
     work=$(mktemp -d)
     cp tests/fuzz/corpus/$target/* "$work"/
     log=build-fuzz/fuzz_$target.log

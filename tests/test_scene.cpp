@@ -423,5 +423,5 @@ TEST_F(SceneFiles, SceneOrCageByExtension) {
     qp::Result<qp::Scene> result = qp::loadSceneOrCage(text);
     ASSERT_FALSE(result);
     EXPECT_EQ(result.error().message,
-              text + ": cannot open a file of type \".txt\"; Quadplan opens scenes (.json) and cages (.obj)");
+              text + ": cannot open a file of type \".txt\"; Quadplan opens scenes (.json) and cages (.obj, .ply, .off, .stl)");
 }

@@ -11,7 +11,7 @@ namespace {
 // Component modes, select all/none/invert and grow/shrink follow Blender; the transform tools
 // (Q, W, E, R) and frame (F) follow Maya. docs/editor.md lists them too.
 const ActionInfo kActions[] = {
-    {"file.open", "Open...", "Ctrl+O", {GLFW_KEY_O, true}, "Open a scene (.json) or a cage (.obj)"},
+    {"file.open", "Open...", "Ctrl+O", {GLFW_KEY_O, true}, "Open a scene (.json) or a cage (.obj, .ply, .off, .stl)"},
     {"file.save", "Save", "Ctrl+S", {GLFW_KEY_S, true}, "Save to the current file (asks for a name when untitled)"},
     {"file.save_as", "Save As...", "Ctrl+Shift+S", {GLFW_KEY_S, true, true}, "Save to a new file (.json scene or .obj cage)"},
     {"file.export", "Export...", "", {}, "Export the limit surface as a welded, watertight mesh (.glb, .gltf, .obj, .ply, .off, .stl)"},

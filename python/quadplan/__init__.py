@@ -52,7 +52,7 @@ def _close_default_renderer():
 
 
 def load(path, depth=6):
-    """Opens a scene (.json) or a bare cage (.obj) and plans it to `depth`: a quadplan.Scene."""
+    """Opens a scene (.json) or a bare cage (.obj, .ply, .off, .stl) and plans it to `depth`: a quadplan.Scene."""
     return Scene.load(str(path), depth)
 
 

@@ -1,0 +1,226 @@
+#include "mesh_import.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+
+// OpenMesh's headers are slow to compile: this is the one translation unit that reads them.
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/System/omstream.hh>
+
+#include "file_io.h"
+
+namespace qp {
+
+namespace {
+
+namespace om = OpenMesh;
+
+std::string lower(std::string text) {
+    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return text;
+}
+
+// What OpenMesh's readers hand over, kept as they give it: vertices and faces (index lists).
+// Every other attribute is ignored; handles are the indices themselves.
+class CageImporter final : public om::IO::BaseImporter {
+public:
+    std::vector<glm::vec3> positions;
+    std::vector<std::vector<int>> faces;
+    uint32_t badFaces = 0;  // faces whose corners name no vertex read
+
+    om::VertexHandle add_vertex(const om::Vec3f& p) override {
+        positions.push_back({p[0], p[1], p[2]});
+        return om::VertexHandle(int(positions.size() - 1));
+    }
+    om::VertexHandle add_vertex() override { return add_vertex(om::Vec3f(0.0f, 0.0f, 0.0f)); }
+    om::FaceHandle add_face(const VHandles& corners) override {
+        std::vector<int> face;
+        for (const om::VertexHandle& h : corners) {
+            if (h.idx() < 0 || size_t(h.idx()) >= positions.size()) {
+                ++badFaces;
+                return om::FaceHandle();
+            }
+            face.push_back(h.idx());
+        }
+        faces.push_back(std::move(face));
+        return om::FaceHandle(int(faces.size() - 1));
+    }
+    void set_point(om::VertexHandle h, const om::Vec3f& p) override {
+        if (h.idx() >= 0 && size_t(h.idx()) < positions.size()) positions[size_t(h.idx())] = {p[0], p[1], p[2]};
+    }
+    size_t n_vertices() const override { return positions.size(); }
+    size_t n_faces() const override { return faces.size(); }
+    size_t n_edges() const override { return 0; }
+
+    // Not kept: half-edge structure, normals, colours, texture coordinates, status bits.
+    om::HalfedgeHandle add_edge(om::VertexHandle, om::VertexHandle) override { return om::HalfedgeHandle(); }
+    om::FaceHandle add_face(om::HalfedgeHandle) override { return om::FaceHandle(); }
+    void add_face_texcoords(om::FaceHandle, om::VertexHandle, const std::vector<om::Vec2f>&) override {}
+    void add_face_texcoords(om::FaceHandle, om::VertexHandle, const std::vector<om::Vec3f>&) override {}
+    void set_face_texindex(om::FaceHandle, int) override {}
+    void set_halfedge(om::VertexHandle, om::HalfedgeHandle) override {}
+    void set_normal(om::VertexHandle, const om::Vec3f&) override {}
+    void set_normal(om::VertexHandle, const om::Vec3d&) override {}
+    void set_color(om::VertexHandle, const om::Vec3uc&) override {}
+    void set_color(om::VertexHandle, const om::Vec4uc&) override {}
+    void set_color(om::VertexHandle, const om::Vec3f&) override {}
+    void set_color(om::VertexHandle, const om::Vec4f&) override {}
+    void set_texcoord(om::VertexHandle, const om::Vec2f&) override {}
+    void set_status(om::VertexHandle, const om::Attributes::StatusInfo&) override {}
+    void set_next(om::HalfedgeHandle, om::HalfedgeHandle) override {}
+    void set_face(om::HalfedgeHandle, om::FaceHandle) override {}
+    void request_face_texcoords2D() override {}
+    void set_texcoord(om::HalfedgeHandle, const om::Vec2f&) override {}
+    void set_texcoord(om::VertexHandle, const om::Vec3f&) override {}
+    void set_texcoord(om::HalfedgeHandle, const om::Vec3f&) override {}
+    void set_status(om::HalfedgeHandle, const om::Attributes::StatusInfo&) override {}
+    void set_color(om::EdgeHandle, const om::Vec3uc&) override {}
+    void set_color(om::EdgeHandle, const om::Vec4uc&) override {}
+    void set_color(om::EdgeHandle, const om::Vec3f&) override {}
+    void set_color(om::EdgeHandle, const om::Vec4f&) override {}
+    void set_status(om::EdgeHandle, const om::Attributes::StatusInfo&) override {}
+    void set_normal(om::FaceHandle, const om::Vec3f&) override {}
+    void set_normal(om::FaceHandle, const om::Vec3d&) override {}
+    void set_color(om::FaceHandle, const om::Vec3uc&) override {}
+    void set_color(om::FaceHandle, const om::Vec4uc&) override {}
+    void set_color(om::FaceHandle, const om::Vec3f&) override {}
+    void set_color(om::FaceHandle, const om::Vec4f&) override {}
+    void set_status(om::FaceHandle, const om::Attributes::StatusInfo&) override {}
+    void add_texture_information(int, std::string) override {}
+};
+
+// The vertex and face counts a PLY or OFF header declares (-1: not declared), read before
+// OpenMesh parses the file.
+struct DeclaredCounts {
+    long long vertices = -1, faces = -1;
+    size_t bodyBytes = 0;  // after the header
+};
+
+Result<DeclaredCounts> plyCounts(const std::string& bytes, const std::string& source) {
+    DeclaredCounts counts;
+    const size_t end = bytes.find("end_header");
+    if (bytes.rfind("ply", 0) != 0 || end == std::string::npos)
+        return Error{source + ": not a PLY file (it must start with 'ply' and have an 'end_header' line)"};
+    std::istringstream header(bytes.substr(0, end));
+    std::string line;
+    while (std::getline(header, line)) {
+        std::istringstream words(line);
+        std::string keyword, element;
+        long long count = -1;
+        if (!(words >> keyword) || keyword != "element") continue;
+        if (!(words >> element >> count) || count < 0)
+            return Error{source + ": the PLY header line '" + line + "' has no element count"};
+        if (element == "vertex") counts.vertices = count;
+        if (element == "face") counts.faces = count;
+    }
+    const size_t body = bytes.find('\n', end);
+    counts.bodyBytes = body == std::string::npos ? 0 : bytes.size() - body - 1;
+    return counts;
+}
+
+Result<DeclaredCounts> offCounts(const std::string& bytes, const std::string& source) {
+    DeclaredCounts counts;
+    std::istringstream in(bytes);
+    std::string word;
+    if (!(in >> word) || word.find("OFF") == std::string::npos) return Error{source + ": not an OFF file (it must start with 'OFF')"};
+    // Comments may stand between the keyword and the counts.
+    std::string line;
+    while (std::getline(in, line)) {
+        const size_t first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
+        std::istringstream numbers(line);
+        if (!(numbers >> counts.vertices >> counts.faces) || counts.vertices < 0 || counts.faces < 0)
+            return Error{source + ": the OFF header has no vertex and face counts"};
+        break;
+    }
+    counts.bodyBytes = bytes.size();
+    return counts;
+}
+
+Result<DeclaredCounts> stlCounts(const std::string& bytes, const std::string& source) {
+    DeclaredCounts counts;
+    const bool text = bytes.rfind("solid", 0) == 0 && bytes.find("facet") != std::string::npos;
+    if (text) return counts;  // ASCII STL declares nothing
+    if (bytes.size() < 84) return Error{source + ": not an STL file (binary STL needs an 84-byte header)"};
+    uint32_t triangles = 0;
+    std::memcpy(&triangles, bytes.data() + 80, 4);
+    if (84 + 50ull * triangles > bytes.size())
+        return Error{source + ": the binary STL declares " + std::to_string(triangles) + " triangles but holds " +
+                     std::to_string((bytes.size() - 84) / 50)};
+    counts.faces = triangles;
+    counts.bodyBytes = bytes.size() - 84;
+    return counts;
+}
+
+// OpenMesh's readers complain on their own error stream; our messages say what matters.
+struct QuietOpenMesh {
+    QuietOpenMesh() { omerr().disable(), omlog().disable(); }
+    ~QuietOpenMesh() { omerr().enable(), omlog().enable(); }
+};
+
+}  // namespace
+
+bool isMeshCageExtension(const std::string& extension) {
+    const std::string ext = lower(extension);
+    return ext == ".ply" || ext == ".off" || ext == ".stl";
+}
+
+Result<Cage> loadMeshCage(const std::string& path, std::vector<std::string>* warnings) {
+    const std::string ext = lower(std::filesystem::path(path).extension().string());
+    if (!isMeshCageExtension(ext)) return Error{path + ": not a PLY, OFF or STL file"};
+    Result<std::string> bytes = readFile(path);
+    if (!bytes) return bytes.error();
+    Result<DeclaredCounts> declared = ext == ".ply" ? plyCounts(*bytes, path)
+                                      : ext == ".off" ? offCounts(*bytes, path)
+                                                      : stlCounts(*bytes, path);
+    if (!declared) return declared.error();
+    // Each vertex and face takes at least a byte: larger counts are a corrupt header.
+    if (declared->vertices > (long long)bytes->size() || declared->faces > (long long)bytes->size())
+        return Error{path + ": the header declares " + std::to_string(declared->vertices) + " vertices and " +
+                     std::to_string(declared->faces) + " faces, more than its " + std::to_string(bytes->size()) +
+                     " bytes can hold"};
+
+    CageImporter importer;
+    om::IO::Options options;
+    bool read = false;
+    try {
+        QuietOpenMesh quiet;
+        read = om::IO::IOManager().read(path, importer, options);
+    } catch (const std::exception& e) {
+        return Error{path + ": the file could not be read (" + e.what() + ")"};
+    }
+    if (!read) return Error{path + ": OpenMesh could not parse it as " + ext.substr(1) + " (a corrupt or truncated file?)"};
+    if (declared->vertices >= 0 && (long long)importer.positions.size() != declared->vertices)
+        return Error{path + ": the header declares " + std::to_string(declared->vertices) + " vertices but " +
+                     std::to_string(importer.positions.size()) + " could be read (a truncated file, or comments "
+                     "where the reader does not take them?)"};
+    if (importer.badFaces > 0)
+        return Error{path + ": " + std::to_string(importer.badFaces) + " faces name vertices the file does not have "
+                     "(or a number before them could not be read: 'nan', a stray word)"};
+    if (declared->faces >= 0 && ext != ".stl" && (long long)importer.faces.size() != declared->faces)
+        return Error{path + ": the header declares " + std::to_string(declared->faces) + " faces but the reader gave " +
+                     std::to_string(importer.faces.size()) + ": faces with fewer than three corners or out-of-range "
+                     "indices were skipped, so the file is refused rather than read in part"};
+    if (ext == ".stl" && declared->faces >= 0 && (long long)importer.faces.size() != declared->faces)
+        return Error{path + ": the binary STL declares " + std::to_string(declared->faces) + " triangles but " +
+                     std::to_string(importer.faces.size()) + " could be read (degenerate triangles?)"};
+
+    Cage cage;
+    cage.positions = std::move(importer.positions);
+    for (size_t f = 0; f < importer.faces.size(); ++f) {
+        const std::vector<int>& face = importer.faces[f];
+        if (face.size() < 3) return Error{path + ": face " + std::to_string(f + 1) + " has fewer than three corners"};
+        std::vector<uint32_t> corners(face.begin(), face.end());
+        cage.addFace(corners.data(), uint32_t(corners.size()));
+    }
+    if (Status valid = validateCage(cage, path); !valid) return valid.error();
+    if (warnings && ext == ".stl")
+        warnings->push_back(path + ": STL holds triangles only; its repeated corners were welded where equal");
+    return cage;
+}
+
+}  // namespace qp

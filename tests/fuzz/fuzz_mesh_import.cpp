@@ -1,0 +1,34 @@
+// libFuzzer target: the PLY, OFF and STL cage readers (core/mesh_import.h, OpenMesh's parsers into
+// Quadplan's importer) on arbitrary bytes. The input is written to a scratch file whose extension
+// follows its first bytes ("ply" -> .ply, "OFF" -> .off, anything else -> .stl, where binary STL
+// takes any bytes). Whatever loads must be a valid cage the product can build topology for.
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <fstream>
+#include <string>
+#include <string_view>
+
+#include <unistd.h>
+
+#include "mesh_import.h"
+#include "topology.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    const std::string_view bytes(reinterpret_cast<const char*>(data), size);
+    const char* ext = bytes.rfind("ply", 0) == 0 ? ".ply" : bytes.rfind("OFF", 0) == 0 ? ".off" : ".stl";
+    static const std::string base = "/tmp/quadplan_fuzz_mesh_" + std::to_string(getpid());
+    const std::string path = base + ext;
+    {
+        std::ofstream out(path, std::ios::binary | std::ios::trunc);
+        out.write(bytes.data(), std::streamsize(bytes.size()));
+    }
+    qp::Result<qp::Cage> cage = qp::loadMeshCage(path);
+    if (cage) {
+        if (!qp::validateCage(*cage, "fuzz")) std::abort();  // the reader let an invalid cage through
+        const qp::Topology topology = qp::buildTopology(*cage);
+        (void)qp::computeStats(*cage, topology);
+    }
+    std::remove(path.c_str());
+    return 0;
+}

