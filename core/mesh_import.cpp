@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <sstream>
@@ -12,6 +13,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include "file_io.h"
+#include "mesh_file_check.h"
 
 namespace qp {
 
@@ -93,69 +95,6 @@ public:
     void add_texture_information(int, std::string) override {}
 };
 
-// The vertex and face counts a PLY or OFF header declares (-1: not declared), read before
-// OpenMesh parses the file.
-struct DeclaredCounts {
-    long long vertices = -1, faces = -1;
-    size_t bodyBytes = 0;  // after the header
-};
-
-Result<DeclaredCounts> plyCounts(const std::string& bytes, const std::string& source) {
-    DeclaredCounts counts;
-    const size_t end = bytes.find("end_header");
-    if (bytes.rfind("ply", 0) != 0 || end == std::string::npos)
-        return Error{source + ": not a PLY file (it must start with 'ply' and have an 'end_header' line)"};
-    std::istringstream header(bytes.substr(0, end));
-    std::string line;
-    while (std::getline(header, line)) {
-        std::istringstream words(line);
-        std::string keyword, element;
-        long long count = -1;
-        if (!(words >> keyword) || keyword != "element") continue;
-        if (!(words >> element >> count) || count < 0)
-            return Error{source + ": the PLY header line '" + line + "' has no element count"};
-        if (element == "vertex") counts.vertices = count;
-        if (element == "face") counts.faces = count;
-    }
-    const size_t body = bytes.find('\n', end);
-    counts.bodyBytes = body == std::string::npos ? 0 : bytes.size() - body - 1;
-    return counts;
-}
-
-Result<DeclaredCounts> offCounts(const std::string& bytes, const std::string& source) {
-    DeclaredCounts counts;
-    std::istringstream in(bytes);
-    std::string word;
-    if (!(in >> word) || word.find("OFF") == std::string::npos) return Error{source + ": not an OFF file (it must start with 'OFF')"};
-    // Comments may stand between the keyword and the counts.
-    std::string line;
-    while (std::getline(in, line)) {
-        const size_t first = line.find_first_not_of(" \t\r");
-        if (first == std::string::npos || line[first] == '#') continue;
-        std::istringstream numbers(line);
-        if (!(numbers >> counts.vertices >> counts.faces) || counts.vertices < 0 || counts.faces < 0)
-            return Error{source + ": the OFF header has no vertex and face counts"};
-        break;
-    }
-    counts.bodyBytes = bytes.size();
-    return counts;
-}
-
-Result<DeclaredCounts> stlCounts(const std::string& bytes, const std::string& source) {
-    DeclaredCounts counts;
-    const bool text = bytes.rfind("solid", 0) == 0 && bytes.find("facet") != std::string::npos;
-    if (text) return counts;  // ASCII STL declares nothing
-    if (bytes.size() < 84) return Error{source + ": not an STL file (binary STL needs an 84-byte header)"};
-    uint32_t triangles = 0;
-    std::memcpy(&triangles, bytes.data() + 80, 4);
-    if (84 + 50ull * triangles > bytes.size())
-        return Error{source + ": the binary STL declares " + std::to_string(triangles) + " triangles but holds " +
-                     std::to_string((bytes.size() - 84) / 50)};
-    counts.faces = triangles;
-    counts.bodyBytes = bytes.size() - 84;
-    return counts;
-}
-
 // OpenMesh's readers complain on their own error stream; our messages say what matters.
 struct QuietOpenMesh {
     QuietOpenMesh() { omerr().disable(), omlog().disable(); }
@@ -174,15 +113,11 @@ Result<Cage> loadMeshCage(const std::string& path, std::vector<std::string>* war
     if (!isMeshCageExtension(ext)) return Error{path + ": not a PLY, OFF or STL file"};
     Result<std::string> bytes = readFile(path);
     if (!bytes) return bytes.error();
-    Result<DeclaredCounts> declared = ext == ".ply" ? plyCounts(*bytes, path)
-                                      : ext == ".off" ? offCounts(*bytes, path)
-                                                      : stlCounts(*bytes, path);
+    // OpenMesh's readers trust the file: it is walked first (mesh_file_check.h).
+    Result<DeclaredCounts> declared = ext == ".ply" ? checkPlyFile(*bytes, path)
+                                      : ext == ".off" ? checkOffFile(*bytes, path)
+                                                      : checkStlFile(*bytes, path);
     if (!declared) return declared.error();
-    // Each vertex and face takes at least a byte: larger counts are a corrupt header.
-    if (declared->vertices > (long long)bytes->size() || declared->faces > (long long)bytes->size())
-        return Error{path + ": the header declares " + std::to_string(declared->vertices) + " vertices and " +
-                     std::to_string(declared->faces) + " faces, more than its " + std::to_string(bytes->size()) +
-                     " bytes can hold"};
 
     CageImporter importer;
     om::IO::Options options;

@@ -124,13 +124,20 @@ TEST_F(MeshImport, BadFilesAreRefusedNamingTheFile) {
     append(shortStl, uint32_t(1000000));
     const Case cases[] = {
         {"huge.off", "OFF\n999999999 1 0\n0 0 0\n", "more than its"},
-        {"index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 7\n", "vertices the file does not have"},
-        {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n1 1 0\n3 0 1 2\n", "could not be read"},
+        {"index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 7\n", "names vertex 7, but there are 3"},
+        {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n1 1 0\n3 0 1 2\n", "line 4 (vertex 2): a coordinate is missing or not a finite number"},
         {"truncated.ply", truncated, "truncated"},
-        {"short.stl", shortStl, "declares 1000000 triangles"},
+        {"short.stl", shortStl, "not an STL file"},
+        {"bigface.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n999999999 0 1 2\n", "a face of 999999999 corners"},
+        {"biglist.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                        "element face 1\nproperty list int int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n2000000000 0 1 2\n",
+         "a face of 2000000000 corners"},
         {"noheader.ply", "ply\nformat ascii 1.0\n", "end_header"},
         {"repeat.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 1\n", "repeat.off"},
         {"notoff.off", "hello\n", "not an OFF file"},
+        // The fuzzer's first find: OpenMesh's header parser crashed on a property before any element.
+        {"noelement.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n", "a property before any element"},
+        {"badtype.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n0\n", "known type"},
     };
     for (const Case& c : cases) {
         const std::string path = write(c.name, c.bytes);

@@ -1,0 +1,360 @@
+#include "mesh_file_check.h"
+
+#include <algorithm>
+#include <bit>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <string_view>
+#include <vector>
+
+namespace qp {
+
+namespace {
+
+// Whitespace-separated words of a text, with the line each starts on.
+class Words {
+public:
+    explicit Words(std::string_view text) : text_(text) {}
+    bool next(std::string_view& word) {
+        while (at_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[at_]))) {
+            if (text_[at_] == '\n') ++line_;
+            ++at_;
+        }
+        if (at_ >= text_.size()) return false;
+        const size_t start = at_;
+        while (at_ < text_.size() && !std::isspace(static_cast<unsigned char>(text_[at_]))) ++at_;
+        word = text_.substr(start, at_ - start);
+        return true;
+    }
+    // The rest of the current line, dropped (OFF faces may carry colours after their corners).
+    void skipLine() {
+        while (at_ < text_.size() && text_[at_] != '\n') ++at_;
+    }
+    int line() const { return line_; }
+
+private:
+    std::string_view text_;
+    size_t at_ = 0;
+    int line_ = 1;
+};
+
+bool parseNumber(std::string_view word, double& value) {
+    const char* end = word.data() + word.size();
+    const auto [ptr, ec] = std::from_chars(word.data(), end, value);
+    return ec == std::errc() && ptr == end && std::isfinite(value);
+}
+
+bool parseIndex(std::string_view word, long long& value) {
+    const char* end = word.data() + word.size();
+    const auto [ptr, ec] = std::from_chars(word.data(), end, value);
+    return ec == std::errc() && ptr == end;
+}
+
+Error at(const std::string& source, const std::string& where, const std::string& what) {
+    return Error{source + ": " + where + ": " + what};
+}
+
+// ---- PLY ------------------------------------------------------------------------------------
+
+enum class PlyType : uint8_t { Int8, Uint8, Int16, Uint16, Int32, Uint32, Float32, Float64, None };
+
+PlyType plyType(std::string_view name) {
+    if (name == "char" || name == "int8") return PlyType::Int8;
+    if (name == "uchar" || name == "uint8") return PlyType::Uint8;
+    if (name == "short" || name == "int16") return PlyType::Int16;
+    if (name == "ushort" || name == "uint16") return PlyType::Uint16;
+    if (name == "int" || name == "int32") return PlyType::Int32;
+    if (name == "uint" || name == "uint32") return PlyType::Uint32;
+    if (name == "float" || name == "float32") return PlyType::Float32;
+    if (name == "double" || name == "float64") return PlyType::Float64;
+    return PlyType::None;
+}
+
+size_t plySize(PlyType t) {
+    switch (t) {
+    case PlyType::Int8:
+    case PlyType::Uint8: return 1;
+    case PlyType::Int16:
+    case PlyType::Uint16: return 2;
+    case PlyType::Int32:
+    case PlyType::Uint32:
+    case PlyType::Float32: return 4;
+    case PlyType::Float64: return 8;
+    case PlyType::None: break;
+    }
+    return 0;
+}
+
+struct PlyProperty {
+    std::string name;
+    PlyType type = PlyType::None, countType = PlyType::None;  // countType: lists only
+    bool list = false;
+};
+struct PlyElement {
+    std::string name;
+    long long count = 0;
+    std::vector<PlyProperty> properties;
+};
+
+// A binary value of type `t` at `p` as a double (the caller checked the bytes are there).
+double binaryValue(const unsigned char* p, PlyType t, bool bigEndian) {
+    unsigned char b[8];
+    const size_t n = plySize(t);
+    std::memcpy(b, p, n);
+    if (bigEndian != (std::endian::native == std::endian::big)) std::reverse(b, b + n);
+    switch (t) {
+    case PlyType::Int8: return double(int8_t(b[0]));
+    case PlyType::Uint8: return double(b[0]);
+    case PlyType::Int16: { int16_t v; std::memcpy(&v, b, 2); return v; }
+    case PlyType::Uint16: { uint16_t v; std::memcpy(&v, b, 2); return v; }
+    case PlyType::Int32: { int32_t v; std::memcpy(&v, b, 4); return v; }
+    case PlyType::Uint32: { uint32_t v; std::memcpy(&v, b, 4); return v; }
+    case PlyType::Float32: { float v; std::memcpy(&v, b, 4); return v; }
+    case PlyType::Float64: { double v; std::memcpy(&v, b, 8); return v; }
+    case PlyType::None: break;
+    }
+    return 0.0;
+}
+
+bool isCornerList(const PlyElement& e, const PlyProperty& p) {
+    return e.name == "face" && p.list && (p.name == "vertex_indices" || p.name == "vertex_index");
+}
+bool isPosition(const PlyElement& e, const PlyProperty& p) {
+    return e.name == "vertex" && !p.list && (p.name == "x" || p.name == "y" || p.name == "z");
+}
+
+// Checks one value read for property `p` of element `e` (record `r`), `i` its place in a list.
+Status checkPlyValue(const PlyElement& e, const PlyProperty& p, long long r, double value, long long vertices,
+                     const std::string& source) {
+    const std::string where = e.name + " " + std::to_string(r + 1) + ", " + p.name;
+    if (!std::isfinite(value)) return at(source, where, "not a finite number");
+    if (isCornerList(e, p) && (value < 0 || value >= double(vertices) || value != std::floor(value)))
+        return at(source, where, "names vertex " + std::to_string((long long)value) + ", but there are " +
+                                     std::to_string(vertices));
+    return success();
+}
+
+Status checkListCount(const PlyElement& e, const PlyProperty& p, long long r, double count, size_t left,
+                      const std::string& source) {
+    const std::string where = e.name + " " + std::to_string(r + 1) + ", " + p.name;
+    if (!(count >= 0) || count != std::floor(count)) return at(source, where, "the list length is not a count");
+    if (isCornerList(e, p) && (count < 3 || count > kMaxFaceCorners))
+        return at(source, where, "a face of " + std::to_string((long long)count) + " corners (3 to " +
+                                     std::to_string(kMaxFaceCorners) + " are read)");
+    if (count > double(left)) return at(source, where, "the list is longer than the rest of the file");
+    return success();
+}
+
+}  // namespace
+
+Result<DeclaredCounts> checkPlyFile(const std::string& bytes, const std::string& source) {
+    const size_t headerEnd = bytes.find("\nend_header");
+    if (bytes.rfind("ply\n", 0) != 0 && bytes.rfind("ply\r\n", 0) != 0)
+        return Error{source + ": not a PLY file (it must start with a 'ply' line)"};
+    if (headerEnd == std::string::npos) return Error{source + ": the PLY header has no 'end_header' line"};
+    const size_t bodyStart = bytes.find('\n', headerEnd + 1);
+    std::vector<PlyElement> elements;
+    std::string format;
+    {
+        Words header(std::string_view(bytes).substr(0, headerEnd + 1));
+        std::string_view word;
+        header.next(word);  // "ply"
+        int lastLine = 0;
+        std::vector<std::string_view> line;
+        auto flush = [&](int number) -> Status {
+            if (line.empty()) return success();
+            const std::string where = "PLY header line " + std::to_string(number);
+            const std::string_view keyword = line[0];
+            if (keyword == "comment" || keyword == "obj_info") {
+            } else if (keyword == "format") {
+                if (line.size() != 3 || (line[1] != "ascii" && line[1] != "binary_little_endian" && line[1] != "binary_big_endian"))
+                    return at(source, where, "the format must be ascii, binary_little_endian or binary_big_endian and a version");
+                format = std::string(line[1]);
+            } else if (keyword == "element") {
+                long long count = -1;
+                if (format.empty()) return at(source, where, "an element before the format line");
+                if (line.size() != 3 || !parseIndex(line[2], count) || count < 0)
+                    return at(source, where, "an element needs a name and a count");
+                elements.push_back({std::string(line[1]), count, {}});
+            } else if (keyword == "property") {
+                if (elements.empty()) return at(source, where, "a property before any element");
+                PlyProperty p;
+                p.list = line.size() == 5 && line[1] == "list";
+                if (p.list) p.countType = plyType(line[2]), p.type = plyType(line[3]), p.name = std::string(line[4]);
+                else if (line.size() == 3) p.type = plyType(line[1]), p.name = std::string(line[2]);
+                if (p.type == PlyType::None || (p.list && p.countType == PlyType::None))
+                    return at(source, where, "a property needs a known type and a name ('property float x', "
+                                             "'property list uchar int vertex_indices')");
+                elements.back().properties.push_back(p);
+            } else {
+                return at(source, where, "'" + std::string(keyword.substr(0, 40)) + "' is not a PLY header keyword");
+            }
+            line.clear();
+            return success();
+        };
+        while (header.next(word)) {
+            if (header.line() != lastLine) {
+                if (Status s = flush(lastLine); !s) return s.error();
+                lastLine = header.line();
+            }
+            line.push_back(word);
+        }
+        if (Status s = flush(lastLine); !s) return s.error();
+    }
+    if (format.empty()) return Error{source + ": the PLY header has no format line"};
+    DeclaredCounts counts;
+    for (const PlyElement& e : elements) {
+        if (e.name == "vertex") counts.vertices = e.count;
+        if (e.name == "face") counts.faces = e.count;
+    }
+    if (counts.vertices < 0) return Error{source + ": the PLY header declares no vertex element"};
+    const long long vertices = counts.vertices;
+    if (bodyStart == std::string::npos) return counts.vertices == 0 && counts.faces <= 0 ? Result<DeclaredCounts>(counts)
+                                                                                        : Error{source + ": the PLY file ends after its header"};
+    const std::string_view body = std::string_view(bytes).substr(bodyStart + 1);
+    for (const PlyElement& e : elements)  // every record takes at least a byte
+        if (e.count > 0 && (e.properties.empty() || e.count > (long long)body.size()))
+            return Error{source + ": the PLY header declares " + std::to_string(e.count) + " " + e.name +
+                         " records, more than its " + std::to_string(body.size()) + " bytes of data can hold"};
+
+    if (format == "ascii") {
+        Words words(body);
+        std::string_view word;
+        for (const PlyElement& e : elements)
+            for (long long r = 0; r < e.count; ++r)
+                for (const PlyProperty& p : e.properties) {
+                    double value = 0.0;
+                    if (!words.next(word) || !parseNumber(word, value))
+                        return at(source, "line " + std::to_string(words.line()) + " (" + e.name + " " + std::to_string(r + 1) + ")",
+                                  "a number is missing or not finite");
+                    if (!p.list) {
+                        if (Status s = checkPlyValue(e, p, r, value, vertices, source); !s) return s.error();
+                        continue;
+                    }
+                    if (Status s = checkListCount(e, p, r, value, body.size(), source); !s) return s.error();
+                    for (long long i = 0; i < (long long)value; ++i) {
+                        double item = 0.0;
+                        if (!words.next(word) || !parseNumber(word, item))
+                            return at(source, "line " + std::to_string(words.line()), "a list item is missing or not finite");
+                        if (Status s = checkPlyValue(e, p, r, item, vertices, source); !s) return s.error();
+                    }
+                }
+        return counts;
+    }
+    const bool bigEndian = format == "binary_big_endian";
+    const auto* data = reinterpret_cast<const unsigned char*>(body.data());
+    size_t offset = 0;
+    for (const PlyElement& e : elements)
+        for (long long r = 0; r < e.count; ++r)
+            for (const PlyProperty& p : e.properties) {
+                const PlyType countOrValue = p.list ? p.countType : p.type;
+                if (offset + plySize(countOrValue) > body.size())
+                    return at(source, e.name + " " + std::to_string(r + 1), "the binary data ends early (a truncated file?)");
+                const double value = binaryValue(data + offset, countOrValue, bigEndian);
+                offset += plySize(countOrValue);
+                if (!p.list) {
+                    if (isPosition(e, p) || isCornerList(e, p))
+                        if (Status s = checkPlyValue(e, p, r, value, vertices, source); !s) return s.error();
+                    continue;
+                }
+                if (Status s = checkListCount(e, p, r, value, (body.size() - offset) / plySize(p.type), source); !s) return s.error();
+                for (long long i = 0; i < (long long)value; ++i, offset += plySize(p.type))
+                    if (isCornerList(e, p))
+                        if (Status s = checkPlyValue(e, p, r, binaryValue(data + offset, p.type, bigEndian), vertices, source); !s)
+                            return s.error();
+            }
+    return counts;
+}
+
+Result<DeclaredCounts> checkOffFile(const std::string& bytes, const std::string& source) {
+    Words words(bytes);
+    std::string_view word;
+    if (!words.next(word) || word != "OFF") {
+        if (word.find("OFF") != std::string_view::npos)
+            return Error{source + ": '" + std::string(word.substr(0, 16)) + "' files are not read; only plain OFF"};
+        return Error{source + ": not an OFF file (it must start with 'OFF')"};
+    }
+    // Comments may stand between the keyword and the counts (the reader skips them there only).
+    DeclaredCounts counts;
+    while (words.next(word) && word[0] == '#') words.skipLine();
+    long long edges = 0;
+    std::string_view faces, edgeWord;
+    if (!parseIndex(word, counts.vertices) || !words.next(faces) || !parseIndex(faces, counts.faces) ||
+        !words.next(edgeWord) || !parseIndex(edgeWord, edges) || counts.vertices < 0 || counts.faces < 0)
+        return Error{source + ": the OFF header needs its vertex, face and edge counts"};
+    if (counts.vertices > (long long)bytes.size() || counts.faces > (long long)bytes.size())
+        return Error{source + ": the header declares " + std::to_string(counts.vertices) + " vertices and " +
+                     std::to_string(counts.faces) + " faces, more than its " + std::to_string(bytes.size()) +
+                     " bytes can hold"};
+    for (long long v = 0; v < counts.vertices; ++v)
+        for (int k = 0; k < 3; ++k) {
+            double value = 0.0;
+            if (!words.next(word) || !parseNumber(word, value))
+                return at(source, "line " + std::to_string(words.line()) + " (vertex " + std::to_string(v + 1) + ")",
+                          "a coordinate is missing or not a finite number");
+        }
+    for (long long f = 0; f < counts.faces; ++f) {
+        long long corners = 0;
+        const std::string where = "line " + std::to_string(words.line() + 1) + " (face " + std::to_string(f + 1) + ")";
+        if (!words.next(word) || !parseIndex(word, corners)) return at(source, where, "the face's corner count is missing");
+        if (corners < 3 || corners > kMaxFaceCorners)
+            return at(source, where, "a face of " + std::to_string(corners) + " corners (3 to " + std::to_string(kMaxFaceCorners) + " are read)");
+        for (long long k = 0; k < corners; ++k) {
+            long long index = -1;
+            if (!words.next(word) || !parseIndex(word, index)) return at(source, where, "a corner is missing or not a vertex number");
+            if (index < 0 || index >= counts.vertices)
+                return at(source, where, "names vertex " + std::to_string(index) + ", but there are " + std::to_string(counts.vertices));
+        }
+        words.skipLine();  // an optional colour
+    }
+    return counts;
+}
+
+Result<DeclaredCounts> checkStlFile(const std::string& bytes, const std::string& source) {
+    DeclaredCounts counts;
+    if (bytes.size() >= 84) {
+        uint32_t triangles = 0;
+        std::memcpy(&triangles, bytes.data() + 80, 4);
+        if (84 + 50ull * triangles == bytes.size()) {  // binary (its header may start with "solid" too)
+            for (uint32_t t = 0; t < triangles; ++t)
+                for (int k = 0; k < 12; ++k) {
+                    float value = 0.0f;
+                    std::memcpy(&value, bytes.data() + 84 + 50 * size_t(t) + 4 * size_t(k), 4);
+                    if (!std::isfinite(value)) return at(source, "triangle " + std::to_string(t + 1), "a number is not finite");
+                }
+            counts.faces = triangles;
+            return counts;
+        }
+    }
+    if (bytes.rfind("solid", 0) != 0)
+        return Error{source + ": not an STL file (binary STL is 84 bytes and 50 per triangle its header counts; ASCII STL "
+                              "starts with 'solid')"};
+    Words words(bytes);
+    std::string_view word;
+    words.next(word);  // solid
+    words.skipLine();  // its name
+    long long facets = 0;
+    auto expect = [&](std::string_view keyword) {
+        return words.next(word) && word == keyword;
+    };
+    auto numbers = [&](int n) {
+        double value = 0.0;
+        for (int k = 0; k < n; ++k)
+            if (!words.next(word) || !parseNumber(word, value)) return false;
+        return true;
+    };
+    while (words.next(word)) {
+        if (word == "endsolid") return counts;
+        const std::string where = "line " + std::to_string(words.line()) + " (facet " + std::to_string(facets + 1) + ")";
+        if (word != "facet" || !expect("normal") || !numbers(3) || !expect("outer") || !expect("loop"))
+            return at(source, where, "expected 'facet normal X Y Z' and 'outer loop'");
+        for (int k = 0; k < 3; ++k)
+            if (!expect("vertex") || !numbers(3)) return at(source, where, "expected three 'vertex X Y Z' lines of finite numbers");
+        if (!expect("endloop") || !expect("endfacet")) return at(source, where, "expected 'endloop' and 'endfacet'");
+        ++facets;
+    }
+    return Error{source + ": the ASCII STL has no 'endsolid' line (a truncated file?)"};
+}
+
+}  // namespace qp

@@ -1,0 +1,30 @@
+// The structure checks a PLY, OFF or STL file passes before OpenMesh's readers parse it
+// (mesh_import.h). Those readers trust the file: a property before any element crashed the PLY
+// header parser, and a face list count read from garbage made the OFF reader allocate gigabytes
+// (both found by fuzz_mesh_import). So the whole file is walked here first, cheaply and without
+// building anything: the header against the format's grammar, then every record against the
+// header — numbers that parse and are finite, face lists of 3 to kMaxFaceCorners corners naming
+// vertices that exist, binary records that fit in the bytes there are. Only a file that passes
+// reaches OpenMesh. Each error names the file and the line, record or byte where it went wrong.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "result.h"
+
+namespace qp {
+
+inline constexpr uint32_t kMaxFaceCorners = 1024;
+
+struct DeclaredCounts {
+    long long vertices = -1, faces = -1;  // -1: the format declares none (ASCII STL)
+};
+
+Result<DeclaredCounts> checkPlyFile(const std::string& bytes, const std::string& source);
+// Plain OFF only (the NOFF, COFF, STOFF and binary variants are refused by name); comments only
+// before the counts.
+Result<DeclaredCounts> checkOffFile(const std::string& bytes, const std::string& source);
+Result<DeclaredCounts> checkStlFile(const std::string& bytes, const std::string& source);
+
+}  // namespace qp
