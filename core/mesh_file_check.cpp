@@ -149,9 +149,16 @@ Status checkListCount(const PlyElement& e, const PlyProperty& p, long long r, do
 }  // namespace
 
 Result<DeclaredCounts> checkPlyFile(const std::string& bytes, const std::string& source) {
-    const size_t headerEnd = bytes.find("\nend_header");
     if (bytes.rfind("ply\n", 0) != 0 && bytes.rfind("ply\r\n", 0) != 0)
         return Error{source + ": not a PLY file (it must start with a 'ply' line)"};
+    // The line that is exactly "end_header" (OpenMesh's reader looks for that word and nothing else).
+    size_t headerEnd = bytes.find("\nend_header");
+    while (headerEnd != std::string::npos) {
+        const size_t after = headerEnd + 11;
+        if (after == bytes.size() || bytes[after] == '\n' || (bytes[after] == '\r' && after + 1 < bytes.size() && bytes[after + 1] == '\n'))
+            break;
+        headerEnd = bytes.find("\nend_header", after);
+    }
     if (headerEnd == std::string::npos) return Error{source + ": the PLY header has no 'end_header' line"};
     const size_t bodyStart = bytes.find('\n', headerEnd + 1);
     std::vector<PlyElement> elements;
@@ -168,14 +175,18 @@ Result<DeclaredCounts> checkPlyFile(const std::string& bytes, const std::string&
             const std::string_view keyword = line[0];
             if (keyword == "comment" || keyword == "obj_info") {
             } else if (keyword == "format") {
-                if (line.size() != 3 || (line[1] != "ascii" && line[1] != "binary_little_endian" && line[1] != "binary_big_endian"))
-                    return at(source, where, "the format must be ascii, binary_little_endian or binary_big_endian and a version");
+                if (line.size() != 3 || (line[1] != "ascii" && line[1] != "binary_little_endian" && line[1] != "binary_big_endian") ||
+                    line[2] != "1.0")
+                    return at(source, where, "the format must be ascii, binary_little_endian or binary_big_endian, version 1.0");
+                if (!format.empty()) return at(source, where, "a second format line");
                 format = std::string(line[1]);
             } else if (keyword == "element") {
                 long long count = -1;
                 if (format.empty()) return at(source, where, "an element before the format line");
                 if (line.size() != 3 || !parseIndex(line[2], count) || count < 0)
                     return at(source, where, "an element needs a name and a count");
+                if (line[1] != "vertex" && line[1] != "face")
+                    return at(source, where, "only vertex and face elements are read, not '" + std::string(line[1].substr(0, 40)) + "'");
                 elements.push_back({std::string(line[1]), count, {}});
             } else if (keyword == "property") {
                 if (elements.empty()) return at(source, where, "a property before any element");
@@ -268,13 +279,19 @@ Result<DeclaredCounts> checkPlyFile(const std::string& bytes, const std::string&
 }
 
 Result<DeclaredCounts> checkOffFile(const std::string& bytes, const std::string& source) {
-    Words words(bytes);
-    std::string_view word;
-    if (!words.next(word) || word != "OFF") {
-        if (word.find("OFF") != std::string_view::npos)
-            return Error{source + ": '" + std::string(word.substr(0, 16)) + "' files are not read; only plain OFF"};
+    // The first line is "OFF" and nothing else (the reader takes what follows the keyword on its
+    // line for the variants' dimensions, and the counts from the next line).
+    const size_t firstEnd = std::min(bytes.find('\n'), bytes.size());
+    std::string_view first = std::string_view(bytes).substr(0, firstEnd);
+    while (!first.empty() && std::isspace(static_cast<unsigned char>(first.back()))) first.remove_suffix(1);
+    if (first != "OFF") {
+        if (first.find("OFF") != std::string_view::npos)
+            return Error{source + ": the first line is '" + std::string(first.substr(0, 24)) + "'; only plain OFF is read ('OFF' "
+                                  "alone on the first line, the counts below it)"};
         return Error{source + ": not an OFF file (it must start with 'OFF')"};
     }
+    Words words(std::string_view(bytes).substr(firstEnd));
+    std::string_view word;
     // Comments may stand between the keyword and the counts (the reader skips them there only).
     DeclaredCounts counts;
     while (words.next(word) && word[0] == '#') words.skipLine();

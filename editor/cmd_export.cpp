@@ -7,10 +7,14 @@
 // Exit status: 0 written; 1 bad input or a failure (nothing written).
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
+
+#include <glm/glm.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "mesh_cage_write.h"
 #include "scene_export.h"
 #include "pipeline_cache.h"
 #include "planned_scene.h"
@@ -25,8 +29,13 @@ namespace {
 struct ExportArgs {
     std::string path, out, scheme = "plans", pluginDir;
     uint32_t tess = 8, depth = 6;
-    bool displaced = false, split = false, noOptimize = false, json = false, validate = false;
+    bool displaced = false, split = false, noOptimize = false, json = false, validate = false, cage = false;
 };
+
+std::string splitPath(const std::string& out, const std::string& object) {
+    const std::filesystem::path path(out);
+    return (path.parent_path() / (path.stem().string() + "_" + object + path.extension().string())).string();
+}
 
 int fail(const std::string& message) {
     std::fprintf(stderr, "error: %s\n", message.c_str());
@@ -78,8 +87,64 @@ private:
     std::optional<VulkanContext> context_;
 };
 
+// --cage: the visible objects' cages (their polygons) in the world, merged or one file each.
+int exportCages(const ExportArgs& args, const Scene& scene, const PlannedScene& planned) {
+    auto placed = [&](uint32_t object) {
+        const Cage& source = planned.cages[planned.cageOfObject[object]].cage();
+        const glm::mat4 matrix = scene.objects[object].transform.matrix();
+        const bool mirrored = glm::determinant(glm::mat3(matrix)) < 0.0f;
+        Cage cage;
+        for (const glm::vec3& p : source.positions) cage.positions.push_back(glm::vec3(matrix * glm::vec4(p, 1.0f)));
+        for (uint32_t f = 0; f < source.faceCount(); ++f) {
+            std::vector<uint32_t> face(source.faceBegin(f), source.faceBegin(f) + source.faceSize(f));
+            if (mirrored) std::reverse(face.begin(), face.end());
+            cage.addFace(face.data(), uint32_t(face.size()));
+        }
+        cage.creases = source.creases, cage.corners = source.corners, cage.holes = source.holes;  // named as lost
+        return cage;
+    };
+    std::vector<std::pair<std::string, Cage>> files;
+    if (args.split || scene.objects.size() == 1) {
+        for (uint32_t i = 0; i < scene.objects.size(); ++i)
+            if (scene.objects[i].visible)
+                files.push_back({scene.objects.size() == 1 ? args.out : splitPath(args.out, scene.objects[i].name), placed(i)});
+    } else {
+        Cage merged;
+        for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+            if (!scene.objects[i].visible) continue;
+            Cage part = placed(i);
+            const uint32_t base = merged.vertexCount();
+            merged.positions.insert(merged.positions.end(), part.positions.begin(), part.positions.end());
+            for (uint32_t f = 0; f < part.faceCount(); ++f) {
+                std::vector<uint32_t> face(part.faceBegin(f), part.faceBegin(f) + part.faceSize(f));
+                for (uint32_t& v : face) v += base;
+                merged.addFace(face.data(), uint32_t(face.size()));
+            }
+            for (EdgeCrease c : part.creases) merged.creases.push_back({c.v0 + base, c.v1 + base, c.sharpness});
+        }
+        files.push_back({args.out, std::move(merged)});
+    }
+    for (const auto& [path, cage] : files) {
+        std::vector<std::string> lost;
+        if (Status saved = saveMeshCage(cage, path, &lost); !saved) return fail(saved.error().message);
+        for (const std::string& l : lost) std::fprintf(stderr, "warning: %s\n", l.c_str());
+        std::printf("wrote %s: the cage, %u vertices, %u faces\n", path.c_str(), cage.vertexCount(), cage.faceCount());
+    }
+    return 0;
+}
+
 int runExport(const ExportArgs& args) {
     const auto start = std::chrono::steady_clock::now();
+    if (args.cage) {
+        std::vector<std::string> warnings;
+        Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
+        for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+        if (!scene) return fail(scene.error().message);
+        PlanDatabase database;
+        Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{args.depth, true}, args.path);
+        if (!planned) return fail(planned.error().message);
+        return exportCages(args, *scene, *planned);
+    }
     if (Result<MeshFormat> format = meshFormatOf(args.out); !format) return fail(format.error().message);
     if (args.displaced && args.scheme != "plans")
         return fail("--displaced exports the plans' displaced surface; give --scheme plans (or leave it out)");
@@ -153,6 +218,7 @@ void registerExport(CLI::App& app, int& exitCode) {
     cmd->add_option("--tess", args->tess, "Uniform tessellation factor: segments per sub-face edge (default 8)")
         ->check(CLI::Range(1u, 64u));
     cmd->add_flag("--displaced", args->displaced, "Apply the scene's sculpted displacement (plans)");
+    cmd->add_flag("--cage", args->cage, "Write the cage itself (its polygons) as .ply, .off or .stl instead of the limit surface; tags are lost and named");
     cmd->add_flag("--split", args->split, "One file per object (NAME_OBJECT.EXT) instead of one for the scene");
     cmd->add_flag("--no-optimize", args->noOptimize, "Keep the grid's own triangle order (no meshoptimizer pass)");
     cmd->add_flag("--json", args->json, "Print what was written as JSON");

@@ -1,6 +1,6 @@
-// PLY, OFF and STL cages through OpenMesh's readers (core/mesh_import.h): every face read, in
-// order and winding, non-manifold ones too; what the file declares checked; bad files refused
-// with a message naming the file, nothing half read.
+// PLY, OFF and STL cages through OpenMesh's readers (core/mesh_import.h), and written back
+// (core/mesh_cage_write.h): every face read, in order and winding, non-manifold ones too; what
+// the file declares checked; bad files refused with a message naming the file, nothing half read.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,6 +8,7 @@
 
 #include <unistd.h>
 
+#include "mesh_cage_write.h"
 #include "mesh_import.h"
 #include "scene.h"
 #include "test_cages.h"
@@ -147,4 +148,35 @@ TEST_F(MeshImport, BadFilesAreRefusedNamingTheFile) {
         EXPECT_NE(cage.error().message.find(c.says), std::string::npos) << c.name << ": " << cage.error().message;
     }
     EXPECT_FALSE(loadMeshCage((dir / "missing.ply").string()));
+}
+
+TEST_F(MeshImport, CagesWrittenAsPlyOffAndStlReadBack) {
+    Cage mixed = test::makeMixedGrid();
+    mixed.setEdgeSharpness(mixed.faceBegin(0)[0], mixed.faceBegin(0)[1], 2.0f);
+    for (const char* ext : {".ply", ".off"}) {
+        const std::string path = (dir / (std::string("cage") + ext)).string();
+        std::vector<std::string> lost;
+        ASSERT_TRUE(saveMeshCage(mixed, path, &lost)) << ext;
+        ASSERT_EQ(lost.size(), 1u) << ext;
+        EXPECT_NE(lost[0].find("1 creases"), std::string::npos) << lost[0];
+        Result<Cage> back = loadMeshCage(path);
+        ASSERT_TRUE(back) << back.error().message;
+        EXPECT_EQ(back->faceVertices, mixed.faceVertices) << ext;
+        EXPECT_EQ(back->faceOffsets, mixed.faceOffsets) << ext;
+        EXPECT_EQ(back->positions, mixed.positions) << ext << ": shortest round-trip floats";
+        EXPECT_TRUE(back->creases.empty());
+    }
+    // STL: triangles (polygons fanned), welded back to the cage's vertices.
+    const std::string stl = (dir / "cage.stl").string();
+    std::vector<std::string> lost;
+    ASSERT_TRUE(saveMeshCage(mixed, stl, &lost));
+    EXPECT_EQ(lost.size(), 2u) << "creases and the fanned polygons";
+    Result<Cage> back = loadMeshCage(stl);
+    ASSERT_TRUE(back) << back.error().message;
+    uint32_t triangles = 0;
+    for (uint32_t f = 0; f < mixed.faceCount(); ++f) triangles += mixed.faceSize(f) - 2;
+    EXPECT_EQ(back->faceCount(), triangles);
+    EXPECT_EQ(back->vertexCount(), mixed.vertexCount());
+    EXPECT_FALSE(saveMeshCage(mixed, (dir / "cage.fbx").string()));
+    EXPECT_FALSE(fs::exists(dir / "cage.fbx"));
 }
