@@ -229,16 +229,21 @@ Result<DeclaredCounts> checkPlyFile(const std::string& bytes, const std::string&
             return Error{source + ": the PLY header declares " + std::to_string(e.count) + " " + e.name +
                          " records, more than its " + std::to_string(body.size()) + " bytes of data can hold"};
 
-    if (format == "ascii") {
-        Words words(body);
-        std::string_view word;
+    if (format == "ascii") {  // one record per line, as the reader takes them
+        size_t next = 0;
+        int lineNumber = 0;
         for (const PlyElement& e : elements)
-            for (long long r = 0; r < e.count; ++r)
+            for (long long r = 0; r < e.count; ++r) {
+                const size_t end = std::min(body.find('\n', next), body.size());
+                if (next >= body.size()) return at(source, e.name + " " + std::to_string(r + 1), "the file ends early (a truncated file?)");
+                Words words(body.substr(next, end - next));
+                next = end + 1;
+                ++lineNumber;
+                const std::string where = "data line " + std::to_string(lineNumber) + " (" + e.name + " " + std::to_string(r + 1) + ")";
+                std::string_view word;
                 for (const PlyProperty& p : e.properties) {
                     double value = 0.0;
-                    if (!words.next(word) || !parseNumber(word, value))
-                        return at(source, "line " + std::to_string(words.line()) + " (" + e.name + " " + std::to_string(r + 1) + ")",
-                                  "a number is missing or not finite");
+                    if (!words.next(word) || !parseNumber(word, value)) return at(source, where, "a number is missing or not finite");
                     if (!p.list) {
                         if (Status s = checkPlyValue(e, p, r, value, vertices, source); !s) return s.error();
                         continue;
@@ -246,11 +251,12 @@ Result<DeclaredCounts> checkPlyFile(const std::string& bytes, const std::string&
                     if (Status s = checkListCount(e, p, r, value, body.size(), source); !s) return s.error();
                     for (long long i = 0; i < (long long)value; ++i) {
                         double item = 0.0;
-                        if (!words.next(word) || !parseNumber(word, item))
-                            return at(source, "line " + std::to_string(words.line()), "a list item is missing or not finite");
+                        if (!words.next(word) || !parseNumber(word, item)) return at(source, where, "a list item is missing or not finite");
                         if (Status s = checkPlyValue(e, p, r, item, vertices, source); !s) return s.error();
                     }
                 }
+                if (words.next(word)) return at(source, where, "more values than the header's properties");
+            }
         return counts;
     }
     const bool bigEndian = format == "binary_big_endian";
@@ -290,40 +296,59 @@ Result<DeclaredCounts> checkOffFile(const std::string& bytes, const std::string&
                                   "alone on the first line, the counts below it)"};
         return Error{source + ": not an OFF file (it must start with 'OFF')"};
     }
-    Words words(std::string_view(bytes).substr(firstEnd));
-    std::string_view word;
-    // Comments may stand between the keyword and the counts (the reader skips them there only).
+    // Line by line, as the reader takes it: comments only before the counts, then one vertex per
+    // line (three numbers) and one face per line (its corner count, the corners, at most four
+    // colour numbers), no blank lines between them.
+    std::vector<std::string_view> lines;
+    for (size_t at = firstEnd + 1; at < bytes.size();) {
+        const size_t end = std::min(bytes.find('\n', at), bytes.size());
+        lines.push_back(std::string_view(bytes).substr(at, end - at));
+        at = end + 1;
+    }
+    auto tokens = [](std::string_view line) {
+        std::vector<std::string_view> out;
+        Words words(line);
+        for (std::string_view w; words.next(w);) out.push_back(w);
+        return out;
+    };
     DeclaredCounts counts;
-    while (words.next(word) && word[0] == '#') words.skipLine();
+    size_t l = 0;
+    while (l < lines.size() && (tokens(lines[l]).empty() || tokens(lines[l])[0][0] == '#')) ++l;
+    const std::vector<std::string_view> header = l < lines.size() ? tokens(lines[l]) : std::vector<std::string_view>{};
     long long edges = 0;
-    std::string_view faces, edgeWord;
-    if (!parseIndex(word, counts.vertices) || !words.next(faces) || !parseIndex(faces, counts.faces) ||
-        !words.next(edgeWord) || !parseIndex(edgeWord, edges) || counts.vertices < 0 || counts.faces < 0)
-        return Error{source + ": the OFF header needs its vertex, face and edge counts"};
-    if (counts.vertices > (long long)bytes.size() || counts.faces > (long long)bytes.size())
+    if (header.size() != 3 || !parseIndex(header[0], counts.vertices) || !parseIndex(header[1], counts.faces) ||
+        !parseIndex(header[2], edges) || counts.vertices < 0 || counts.faces < 0)
+        return Error{source + ": the OFF header needs its vertex, face and edge counts on one line"};
+    if (counts.vertices + counts.faces > (long long)lines.size())
         return Error{source + ": the header declares " + std::to_string(counts.vertices) + " vertices and " +
-                     std::to_string(counts.faces) + " faces, more than its " + std::to_string(bytes.size()) +
-                     " bytes can hold"};
-    for (long long v = 0; v < counts.vertices; ++v)
-        for (int k = 0; k < 3; ++k) {
-            double value = 0.0;
-            if (!words.next(word) || !parseNumber(word, value))
-                return at(source, "line " + std::to_string(words.line()) + " (vertex " + std::to_string(v + 1) + ")",
-                          "a coordinate is missing or not a finite number");
-        }
-    for (long long f = 0; f < counts.faces; ++f) {
+                     std::to_string(counts.faces) + " faces, more than its " + std::to_string(lines.size()) +
+                     " lines can hold"};
+    ++l;
+    for (long long v = 0; v < counts.vertices; ++v, ++l) {
+        const std::vector<std::string_view> t = tokens(lines[l]);
+        double value = 0.0;
+        if (t.size() != 3 || !parseNumber(t[0], value) || !parseNumber(t[1], value) || !parseNumber(t[2], value))
+            return at(source, "line " + std::to_string(l + 2) + " (vertex " + std::to_string(v + 1) + ")",
+                      "a vertex is three finite numbers on one line");
+    }
+    for (long long f = 0; f < counts.faces; ++f, ++l) {
+        const std::vector<std::string_view> t = tokens(lines[l]);
+        const std::string where = "line " + std::to_string(l + 2) + " (face " + std::to_string(f + 1) + ")";
         long long corners = 0;
-        const std::string where = "line " + std::to_string(words.line() + 1) + " (face " + std::to_string(f + 1) + ")";
-        if (!words.next(word) || !parseIndex(word, corners)) return at(source, where, "the face's corner count is missing");
+        if (t.empty() || !parseIndex(t[0], corners)) return at(source, where, "the face's corner count is missing");
         if (corners < 3 || corners > kMaxFaceCorners)
             return at(source, where, "a face of " + std::to_string(corners) + " corners (3 to " + std::to_string(kMaxFaceCorners) + " are read)");
-        for (long long k = 0; k < corners; ++k) {
+        if ((long long)t.size() < corners + 1 || (long long)t.size() > corners + 5)
+            return at(source, where, "a face is its corner count, that many corners and at most a colour, on one line");
+        for (long long k = 1; k <= corners; ++k) {
             long long index = -1;
-            if (!words.next(word) || !parseIndex(word, index)) return at(source, where, "a corner is missing or not a vertex number");
+            if (!parseIndex(t[size_t(k)], index)) return at(source, where, "a corner is not a vertex number");
             if (index < 0 || index >= counts.vertices)
                 return at(source, where, "names vertex " + std::to_string(index) + ", but there are " + std::to_string(counts.vertices));
         }
-        words.skipLine();  // an optional colour
+        double colour = 0.0;
+        for (size_t k = size_t(corners) + 1; k < t.size(); ++k)
+            if (!parseNumber(t[k], colour)) return at(source, where, "a colour component is not a number");
     }
     return counts;
 }

@@ -126,7 +126,7 @@ TEST_F(MeshImport, BadFilesAreRefusedNamingTheFile) {
     const Case cases[] = {
         {"huge.off", "OFF\n999999999 1 0\n0 0 0\n", "more than its"},
         {"index.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 7\n", "names vertex 7, but there are 3"},
-        {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n1 1 0\n3 0 1 2\n", "line 4 (vertex 2): a coordinate is missing or not a finite number"},
+        {"nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n1 1 0\n3 0 1 2\n", "line 4 (vertex 2): a vertex is three finite numbers on one line"},
         {"truncated.ply", truncated, "truncated"},
         {"short.stl", shortStl, "not an STL file"},
         {"bigface.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n999999999 0 1 2\n", "a face of 999999999 corners"},
