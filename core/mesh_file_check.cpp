@@ -319,11 +319,11 @@ Result<DeclaredCounts> checkOffFile(const std::string& bytes, const std::string&
     if (header.size() != 3 || !parseIndex(header[0], counts.vertices) || !parseIndex(header[1], counts.faces) ||
         !parseIndex(header[2], edges) || counts.vertices < 0 || counts.faces < 0)
         return Error{source + ": the OFF header needs its vertex, face and edge counts on one line"};
-    if (counts.vertices + counts.faces > (long long)lines.size())
-        return Error{source + ": the header declares " + std::to_string(counts.vertices) + " vertices and " +
-                     std::to_string(counts.faces) + " faces, more than its " + std::to_string(lines.size()) +
-                     " lines can hold"};
     ++l;
+    if (counts.vertices + counts.faces > (long long)(lines.size() - l))
+        return Error{source + ": the header declares " + std::to_string(counts.vertices) + " vertices and " +
+                     std::to_string(counts.faces) + " faces, more than its " + std::to_string(lines.size() - l) +
+                     " lines after the header can hold"};
     for (long long v = 0; v < counts.vertices; ++v, ++l) {
         const std::vector<std::string_view> t = tokens(lines[l]);
         double value = 0.0;

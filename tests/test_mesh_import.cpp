@@ -136,6 +136,7 @@ TEST_F(MeshImport, BadFilesAreRefusedNamingTheFile) {
         {"noheader.ply", "ply\nformat ascii 1.0\n", "end_header"},
         {"repeat.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 1\n", "repeat.off"},
         {"notoff.off", "hello\n", "not an OFF file"},
+        {"shortoff.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n1 1 0\n3 0 1 2\n", "lines after the header"},  // a fuzzer find
         // The fuzzer's first find: OpenMesh's header parser crashed on a property before any element.
         {"noelement.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n", "a property before any element"},
         {"badtype.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n0\n", "known type"},
