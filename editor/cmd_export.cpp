@@ -135,19 +135,11 @@ int exportCages(const ExportArgs& args, const Scene& scene, const PlannedScene& 
 
 int runExport(const ExportArgs& args) {
     const auto start = std::chrono::steady_clock::now();
-    if (args.cage) {
-        std::vector<std::string> warnings;
-        Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
-        for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-        if (!scene) return fail(scene.error().message);
-        PlanDatabase database;
-        Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{args.depth, true}, args.path);
-        if (!planned) return fail(planned.error().message);
-        return exportCages(args, *scene, *planned);
+    if (!args.cage) {
+        if (Result<MeshFormat> format = meshFormatOf(args.out); !format) return fail(format.error().message);
+        if (args.displaced && args.scheme != "plans")
+            return fail("--displaced exports the plans' displaced surface; give --scheme plans (or leave it out)");
     }
-    if (Result<MeshFormat> format = meshFormatOf(args.out); !format) return fail(format.error().message);
-    if (args.displaced && args.scheme != "plans")
-        return fail("--displaced exports the plans' displaced surface; give --scheme plans (or leave it out)");
     std::vector<std::string> warnings;
     Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -155,6 +147,7 @@ int runExport(const ExportArgs& args) {
     PlanDatabase database;
     Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{args.depth, true}, args.path);
     if (!planned) return fail(planned.error().message);
+    if (args.cage) return exportCages(args, *scene, *planned);
 
     std::optional<SchemeSlots> slots;
     CageMesher mesher;
