@@ -22,6 +22,7 @@
 #include "mesh_files.h"
 #include "mesh_order.h"
 #include "planned_cage.h"
+#include "scene.h"
 #include "test_cages.h"
 
 using namespace qp;
@@ -244,6 +245,14 @@ TEST(ExportCommand, WritesAndReportsAsJson) {
     ASSERT_EQ(run.status, 0) << run.out;
     EXPECT_TRUE(fs::exists(dir / "part_default.ply") && fs::exists(dir / "part_default.001.ply") &&
                 fs::exists(dir / "part_creased_box.ply"));
+    // --cage: the cages' polygons, merged in the world; the lost creases named.
+    run = test::runQuadplan("export " + std::string(QUADPLAN_SCENES_DIR) + "/objects.json --cage --out " + (dir / "cages.off").string(),
+                            true);
+    ASSERT_EQ(run.status, 0) << run.out;
+    EXPECT_NE(run.out.find("off cannot hold the cage's"), std::string::npos) << run.out;
+    Result<Scene> cages = loadSceneOrCage((dir / "cages.off").string());
+    ASSERT_TRUE(cages) << cages.error().message;
+    EXPECT_GT(cages->objects[0].cage.faceCount(), 300u) << "not every object's cage was written";
     // Bad requests: a clear error, nothing written.
     run = test::runQuadplan("export " + std::string(QUADPLAN_SCENES_DIR) + "/objects.json --out " + (dir / "x.fbx").string(), true);
     EXPECT_EQ(run.status, 1);
