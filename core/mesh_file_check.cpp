@@ -51,6 +51,12 @@ bool parseIndex(std::string_view word, long long& value) {
     return ec == std::errc() && ptr == end;
 }
 
+// A number read from a file for a message: whole when it is one, else as it came.
+std::string numberText(double value) {
+    if (std::abs(value) < 1e15 && value == std::floor(value)) return std::to_string((long long)value);
+    return std::to_string(value);
+}
+
 Error at(const std::string& source, const std::string& where, const std::string& what) {
     return Error{source + ": " + where + ": " + what};
 }
@@ -130,8 +136,7 @@ Status checkPlyValue(const PlyElement& e, const PlyProperty& p, long long r, dou
     const std::string where = e.name + " " + std::to_string(r + 1) + ", " + p.name;
     if (!std::isfinite(value)) return at(source, where, "not a finite number");
     if (isCornerList(e, p) && (value < 0 || value >= double(vertices) || value != std::floor(value)))
-        return at(source, where, "names vertex " + std::to_string((long long)value) + ", but there are " +
-                                     std::to_string(vertices));
+        return at(source, where, "names vertex " + numberText(value) + ", but there are " + std::to_string(vertices));
     return success();
 }
 
@@ -140,7 +145,7 @@ Status checkListCount(const PlyElement& e, const PlyProperty& p, long long r, do
     const std::string where = e.name + " " + std::to_string(r + 1) + ", " + p.name;
     if (!(count >= 0) || count != std::floor(count)) return at(source, where, "the list length is not a count");
     if (isCornerList(e, p) && (count < 3 || count > kMaxFaceCorners))
-        return at(source, where, "a face of " + std::to_string((long long)count) + " corners (3 to " +
+        return at(source, where, "a face of " + numberText(count) + " corners (3 to " +
                                      std::to_string(kMaxFaceCorners) + " are read)");
     if (count > double(left)) return at(source, where, "the list is longer than the rest of the file");
     return success();
