@@ -301,9 +301,9 @@ Result<DeclaredCounts> checkOffFile(const std::string& bytes, const std::string&
                                   "alone on the first line, the counts below it)"};
         return Error{source + ": not an OFF file (it must start with 'OFF')"};
     }
-    // Line by line, as the reader takes it: comments only before the counts, then one vertex per
-    // line (three numbers) and one face per line (its corner count, the corners, at most four
-    // colour numbers), no blank lines between them.
+    // Line by line and token by token alike (the reader takes vertices by lines and faces by
+    // tokens): comments only before the counts, then one vertex per line (three numbers) and one
+    // face per line (its corner count and the corners, nothing more), no blank lines between.
     std::vector<std::string_view> lines;
     for (size_t at = firstEnd + 1; at < bytes.size();) {
         const size_t end = std::min(bytes.find('\n', at), bytes.size());
@@ -343,17 +343,14 @@ Result<DeclaredCounts> checkOffFile(const std::string& bytes, const std::string&
         if (t.empty() || !parseIndex(t[0], corners)) return at(source, where, "the face's corner count is missing");
         if (corners < 3 || corners > kMaxFaceCorners)
             return at(source, where, "a face of " + std::to_string(corners) + " corners (3 to " + std::to_string(kMaxFaceCorners) + " are read)");
-        if ((long long)t.size() < corners + 1 || (long long)t.size() > corners + 5)
-            return at(source, where, "a face is its corner count, that many corners and at most a colour, on one line");
+        if ((long long)t.size() != corners + 1)
+            return at(source, where, "a face is its corner count and that many corners on one line (face colours are not read)");
         for (long long k = 1; k <= corners; ++k) {
             long long index = -1;
             if (!parseIndex(t[size_t(k)], index)) return at(source, where, "a corner is not a vertex number");
             if (index < 0 || index >= counts.vertices)
                 return at(source, where, "names vertex " + std::to_string(index) + ", but there are " + std::to_string(counts.vertices));
         }
-        double colour = 0.0;
-        for (size_t k = size_t(corners) + 1; k < t.size(); ++k)
-            if (!parseNumber(t[k], colour)) return at(source, where, "a colour component is not a number");
     }
     return counts;
 }
