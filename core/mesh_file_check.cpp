@@ -325,7 +325,8 @@ Result<DeclaredCounts> checkOffFile(const std::string& bytes, const std::string&
         !parseIndex(header[2], edges) || counts.vertices < 0 || counts.faces < 0)
         return Error{source + ": the OFF header needs its vertex, face and edge counts on one line"};
     ++l;
-    if (counts.vertices + counts.faces > (long long)(lines.size() - l))
+    const long long available = (long long)(lines.size() - l);
+    if (counts.vertices > available || counts.faces > available - counts.vertices)
         return Error{source + ": the header declares " + std::to_string(counts.vertices) + " vertices and " +
                      std::to_string(counts.faces) + " faces, more than its " + std::to_string(lines.size() - l) +
                      " lines after the header can hold"};
