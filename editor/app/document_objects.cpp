@@ -55,14 +55,25 @@ Status relinkObjects(Document& doc, uint32_t activeId) {
     const std::vector<SceneObject>& objects = doc.scene.objects;
     Result<std::vector<uint32_t>> owners = cageOwners(objects);
     if (!owners) return owners.error();
-    doc.activeObject = objectIndexOfId(doc, activeId);
-    assert(doc.activeObject != kNoObject && "edit mode's object is kept");
+    const uint32_t active = objectIndexOfId(doc, activeId);
+    assert(active != kNoObject && "edit mode's object is kept");
+    // New cages are planned first, so that a failure leaves the document as it was.
+    std::vector<std::pair<uint32_t, PlannedCage>> planned;  // (object id, its cage)
+    for (uint32_t i = 0; i < objects.size(); ++i) {
+        if ((*owners)[i] != i || i == active) continue;
+        const uint32_t id = doc.objectIds[i];
+        if (std::find(doc.otherCageOwnerIds.begin(), doc.otherCageOwnerIds.end(), id) != doc.otherCageOwnerIds.end()) continue;
+        Result<PlannedCage> cage = PlannedCage::create(objects[i].cage, *doc.database, doc.planOptions, "object " + inQuotes(objects[i].name));
+        if (!cage) return cage.error();
+        planned.push_back({id, std::move(cage).value()});
+    }
+    doc.activeObject = active;
     std::vector<PlannedCage> cages;
     std::vector<Bounds> bounds;
     std::vector<uint32_t> ownerIds;
     std::vector<uint32_t> cageOf(objects.size(), kActiveCage);
     for (uint32_t i = 0; i < objects.size(); ++i) {
-        if ((*owners)[i] != i || i == doc.activeObject) continue;
+        if ((*owners)[i] != i || i == active) continue;
         const uint32_t id = doc.objectIds[i];
         auto kept = std::find(doc.otherCageOwnerIds.begin(), doc.otherCageOwnerIds.end(), id);
         if (kept != doc.otherCageOwnerIds.end()) {
@@ -71,11 +82,9 @@ Status relinkObjects(Document& doc, uint32_t activeId) {
             bounds.push_back(doc.otherCageBounds[k]);
             *kept = 0;  // taken
         } else {
-            Result<PlannedCage> planned =
-                PlannedCage::create(objects[i].cage, *doc.database, doc.planOptions, "object " + inQuotes(objects[i].name));
-            if (!planned) return planned.error();
-            bounds.push_back(computeBounds(planned->cage()));
-            cages.push_back(std::move(planned).value());
+            auto made = std::find_if(planned.begin(), planned.end(), [&](const auto& p) { return p.first == id; });
+            bounds.push_back(computeBounds(made->second.cage()));
+            cages.push_back(std::move(made->second));
         }
         cageOf[i] = uint32_t(cages.size() - 1);
         ownerIds.push_back(id);
