@@ -27,7 +27,7 @@ namespace qp::cli {
 namespace {
 
 struct ExportArgs {
-    std::string path, out, scheme = "plans", pluginDir;
+    std::string path, out, scheme = "plans", pluginDir, uv = "none";
     uint32_t tess = 8, depth = 6;
     bool displaced = false, split = false, noOptimize = false, json = false, validate = false, cage = false;
 };
@@ -54,7 +54,7 @@ public:
         context_ = std::move(context).value();
         return success();
     }
-    Result<LimitMesh> mesh(const std::string& scheme, const PlannedCage& planned, uint32_t factor, uint32_t depth,
+    Result<LimitMesh> mesh(const std::string& scheme, const PlannedCage& planned, uint32_t factor, uint32_t depth, UvMode uv,
                            const std::string& source) {
         SchemeSettings settings;
         settings.tessFactor = factor;
@@ -72,7 +72,8 @@ public:
                 std::vector<SurfacePoint> points(requests.size());
                 evaluated = instance.evaluate(requests, points);
                 for (size_t i = 0; i < points.size(); ++i) positions[i] = points[i].position, normals[i] = points[i].normal;
-            });
+            },
+            uv);
         (void)instance.destroyGpu();
         if (!evaluated) return evaluated.error();
         return mesh;
@@ -155,7 +156,7 @@ int runExport(const ExportArgs& args) {
         slots.emplace();
         if (Status opened = slots->open(args.pluginDir, args.validate); !opened) return fail(opened.error().message);
         mesher = [&](const PlannedCage& cage, uint32_t, const std::string& source) {
-            return slots->mesh(args.scheme, cage, args.tess, args.depth, source);
+            return slots->mesh(args.scheme, cage, args.tess, args.depth, args.uv == "linear" ? UvMode::Linear : UvMode::None, source);
         };
     }
     ExportOptions options;
@@ -163,6 +164,7 @@ int runExport(const ExportArgs& args) {
     options.displaced = args.displaced;
     options.optimize = !args.noOptimize;
     options.split = args.split;
+    options.uv = args.uv == "linear" ? UvMode::Linear : UvMode::None;
     Result<ExportReport> report = exportScene(*scene, sceneCages(*planned), args.out, options, args.path, mesher);
     if (!report) return fail(report.error().message);
     for (const std::string& note : report->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
@@ -175,6 +177,7 @@ int runExport(const ExportArgs& args) {
                               {"scheme", args.scheme},
                               {"factor", args.tess},
                               {"displaced", args.displaced},
+                              {"uv", args.uv},
                               {"objects", r.objects},
                               {"meshes", r.meshes},
                               {"vertices", r.vertices},
@@ -213,6 +216,8 @@ void registerExport(CLI::App& app, int& exitCode) {
     cmd->add_flag("--displaced", args->displaced, "Apply the scene's sculpted displacement (plans)");
     cmd->add_flag("--cage", args->cage, "Write the cage itself (its polygons) as .ply, .off or .stl instead of the limit surface; tags are lost and named");
     cmd->add_flag("--split", args->split, "One file per object (NAME_OBJECT.EXT) instead of one for the scene");
+    cmd->add_option("--uv", args->uv, "none (default) or linear: the cage's texture coordinates, bilinear over each face")
+        ->check(CLI::IsMember({"none", "linear"}));
     cmd->add_flag("--no-optimize", args->noOptimize, "Keep the grid's own triangle order (no meshoptimizer pass)");
     cmd->add_flag("--json", args->json, "Print what was written as JSON");
     cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");

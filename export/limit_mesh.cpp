@@ -1,6 +1,7 @@
 #include "limit_mesh.h"
 
 #include <algorithm>
+#include <optional>
 #include <string>
 
 #include "cpu_grid.h"
@@ -30,43 +31,96 @@ uint32_t ownerSlot(const GridLayout& layout, uint32_t slot) {
     return slot;
 }
 
-// Welds by ownership and leaves out holes and degenerate triangles; `positions` and `normals`
-// are per slot (only evaluated slots are read).
-LimitMesh weld(const PlannedCage& planned, const SlotGrid& grid, std::span<const glm::vec3> positions,
-               std::span<const glm::vec3> normals) {
-    const GridLayout& layout = grid.layout;
-    std::vector<uint32_t> vertexOfSlot(layout.slotCount(), UINT32_MAX);
-    LimitMesh mesh;
-    auto vertexOf = [&](uint32_t slot) {
-        slot = ownerSlot(layout, slot);
-        uint32_t& v = vertexOfSlot[slot];
-        if (v == UINT32_MAX) {
-            v = mesh.vertexCount();
-            const uint32_t drawn = layout.slotSubface[slot];
-            float u = 0.0f, w = 0.0f;
-            slotParameter(slot - layout.subfaceOffset[drawn], layout.factors.subfaceFactor[drawn], u, w);
-            mesh.positions.push_back(positions[slot]);
-            mesh.normals.push_back(normals[slot]);
-            mesh.subfaces.push_back(grid.data.subfaces[drawn].subface);
-            mesh.parameters.push_back({u, w});
+// The cage's UVs at (u, v) of sub-face `subface`: bilinear over the face's corner UVs (an
+// n-gon's sub-face k: corner k, the midpoints of edges k and k-1, the centre).
+struct LinearUvs {
+    const PlannedCage& planned;
+    std::vector<uint32_t> faceOfSubface;
+
+    explicit LinearUvs(const PlannedCage& p) : planned(p), faceOfSubface(p.subfaceCount()) {
+        for (uint32_t f = 0; f < p.cage().faceCount(); ++f)
+            for (uint32_t s = p.firstSubface(f); s < p.firstSubface(f + 1); ++s) faceOfSubface[s] = f;
+    }
+    glm::vec2 at(uint32_t subface, float u, float v) const {
+        const Cage& cage = planned.cage();
+        const uint32_t f = faceOfSubface[subface], n = cage.faceSize(f);
+        auto uvOf = [&](uint32_t k) { return cage.uvs[cage.faceUVIndices[cage.faceOffsets[f] + (k % n)]]; };
+        glm::vec2 c[4];
+        if (n == 4) {
+            for (uint32_t k = 0; k < 4; ++k) c[k] = uvOf(k);
+        } else {
+            const uint32_t k = subface - planned.firstSubface(f);
+            glm::vec2 centre(0.0f);
+            for (uint32_t i = 0; i < n; ++i) centre += uvOf(i);
+            c[0] = uvOf(k), c[1] = 0.5f * (uvOf(k) + uvOf(k + 1)), c[2] = centre / float(n), c[3] = 0.5f * (uvOf(k) + uvOf(k + n - 1));
         }
+        return (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3];
+    }
+};
+
+// Welds by ownership and leaves out holes and degenerate triangles; `positions` and `normals`
+// are per slot (only evaluated slots are read). With UVs, a shared vertex is split where the
+// sub-faces around it give it different UVs (a seam).
+LimitMesh weld(const PlannedCage& planned, const SlotGrid& grid, std::span<const glm::vec3> positions,
+               std::span<const glm::vec3> normals, UvMode uvMode) {
+    const GridLayout& layout = grid.layout;
+    const std::optional<LinearUvs> uvs = uvMode == UvMode::Linear ? std::optional<LinearUvs>(planned) : std::nullopt;
+    std::vector<uint32_t> vertexOfSlot(layout.slotCount(), UINT32_MAX);  // the first vertex made for an owned slot
+    std::vector<uint32_t> nextAtSlot;                                      // per vertex: another one at the same slot
+    std::vector<uint32_t> surfaceIndices;                                  // triangles by owned slot (the closure)
+    LimitMesh mesh;
+    auto localParameter = [&](uint32_t slot) {
+        const uint32_t drawn = layout.slotSubface[slot];
+        glm::vec2 p(0.0f);
+        slotParameter(slot - layout.subfaceOffset[drawn], layout.factors.subfaceFactor[drawn], p.x, p.y);
+        return p;
+    };
+    auto vertexOf = [&](uint32_t cornerSlot) {
+        const uint32_t slot = ownerSlot(layout, cornerSlot);
+        glm::vec2 uv(0.0f);
+        if (uvs) {  // the UV the triangle's own sub-face gives this corner
+            const glm::vec2 p = localParameter(cornerSlot);
+            uv = uvs->at(grid.data.subfaces[layout.slotSubface[cornerSlot]].subface, p.x, p.y);
+        }
+        for (uint32_t v = vertexOfSlot[slot]; v != UINT32_MAX; v = nextAtSlot[v])
+            if (!uvs || mesh.uvs[v] == uv) return v;
+        const uint32_t v = mesh.vertexCount();
+        const glm::vec2 p = localParameter(slot);
+        mesh.positions.push_back(positions[slot]);
+        mesh.normals.push_back(normals[slot]);
+        mesh.subfaces.push_back(grid.data.subfaces[layout.slotSubface[slot]].subface);
+        mesh.parameters.push_back(p);
+        if (uvs) mesh.uvs.push_back(uv);
+        nextAtSlot.push_back(vertexOfSlot[slot]);
+        vertexOfSlot[slot] = v;
         return v;
     };
     for (uint32_t drawn = 0; drawn < grid.data.subfaces.size(); ++drawn) {
         if (!planned.hasSurface(grid.data.subfaces[drawn].subface)) continue;  // a hole
         for (uint32_t i = layout.indexOffset[drawn]; i + 2 < layout.indexOffset[drawn + 1]; i += 3) {
-            const uint32_t a = vertexOf(layout.indices[i]), b = vertexOf(layout.indices[i + 1]),
-                           c = vertexOf(layout.indices[i + 2]);
-            if (a == b || b == c || a == c) continue;  // snapped flat along an edge
-            mesh.indices.insert(mesh.indices.end(), {a, b, c});
+            const uint32_t sa = ownerSlot(layout, layout.indices[i]), sb = ownerSlot(layout, layout.indices[i + 1]),
+                           sc = ownerSlot(layout, layout.indices[i + 2]);
+            if (sa == sb || sb == sc || sa == sc) continue;  // snapped flat along an edge
+            surfaceIndices.insert(surfaceIndices.end(), {sa, sb, sc});
+            mesh.indices.insert(mesh.indices.end(),
+                                {vertexOf(layout.indices[i]), vertexOf(layout.indices[i + 1]), vertexOf(layout.indices[i + 2])});
         }
     }
+    mesh.closure = meshClosure(surfaceIndices);
     return mesh;
+}
+
+Status checkUvs(const PlannedCage& planned, UvMode uv) {
+    const Cage& cage = planned.cage();
+    if (uv == UvMode::Linear && (cage.uvs.empty() || cage.faceUVIndices.size() != cage.faceVertices.size()))
+        return Error{"the cage has no texture coordinates (OBJ 'vt' with 'f v/vt') to interpolate"};
+    return success();
 }
 
 }  // namespace
 
-Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, uint32_t factor, const Displacement* displacement) {
+Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, uint32_t factor, const Displacement* displacement, UvMode uv) {
+    if (Status s = checkUvs(planned, uv); !s) return s.error();
     Result<SlotGrid> grid = slotGrid(planned, factor);
     if (!grid) return grid.error();
     std::vector<GridVertex> vertices(grid->layout.slotCount());
@@ -78,10 +132,11 @@ Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, uint32_t factor, co
         positions[s] = {vertices[s].position[0], vertices[s].position[1], vertices[s].position[2]};
         normals[s] = {vertices[s].normal[0], vertices[s].normal[1], vertices[s].normal[2]};
     }
-    return weld(planned, *grid, positions, normals);
+    return weld(planned, *grid, positions, normals, uv);
 }
 
-Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, uint32_t factor, const SlotEvaluator& evaluate) {
+Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, uint32_t factor, const SlotEvaluator& evaluate, UvMode uv) {
+    if (Status s = checkUvs(planned, uv); !s) return s.error();
     Result<SlotGrid> grid = slotGrid(planned, factor);
     if (!grid) return grid.error();
     const GridLayout& layout = grid->layout;
@@ -102,7 +157,7 @@ Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, uint32_t factor
         positions[owned[k]] = evaluatedPositions[k];
         normals[owned[k]] = evaluatedNormals[k];
     }
-    return weld(planned, *grid, positions, normals);
+    return weld(planned, *grid, positions, normals, uv);
 }
 
 MeshClosure meshClosure(std::span<const uint32_t> indices) {

@@ -29,12 +29,26 @@
 
 namespace qp {
 
+// How closed a triangle mesh is: edges used by one triangle (a border), by more than two or
+// twice in the same direction (non-manifold). Watertight: neither.
+struct MeshClosure {
+    uint32_t borderEdges = 0, nonManifoldEdges = 0;
+    bool watertight() const { return borderEdges == 0 && nonManifoldEdges == 0; }
+};
+MeshClosure meshClosure(std::span<const uint32_t> indices);
+
 struct LimitMesh {
     std::vector<glm::vec3> positions;
     std::vector<glm::vec3> normals;     // unit; zero where the surface has no tangent plane
     std::vector<uint32_t> indices;      // three per triangle, counter-clockwise seen from outside
     std::vector<uint32_t> subfaces;     // per vertex: the sub-face it was evaluated in
     std::vector<glm::vec2> parameters;  // per vertex: (u, v) there
+    // With linear UVs: per vertex, the cage's face-varying UVs interpolated bilinearly over the
+    // face (over the sub-face's corners for an n-gon: the vertex, edge midpoints and the face's
+    // centre), as NVIDIA's RTXMG does. A vertex on a UV seam is split into one per UV, so the
+    // index buffer opens there; `closure` is the surface's, counted before the split.
+    std::vector<glm::vec2> uvs;
+    MeshClosure closure;
 
     uint32_t vertexCount() const { return uint32_t(positions.size()); }
     uint32_t triangleCount() const { return uint32_t(indices.size() / 3); }
@@ -43,20 +57,17 @@ struct LimitMesh {
 // The exact limit surface (the plans, evaluated on the CPU as the grid path does) at a uniform
 // `factor` (1..64; odd factors become even on cages with n-gons, as grid_layout.h says), with
 // `displacement` applied when given (it must match `planned`).
-Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, uint32_t factor, const Displacement* displacement = nullptr);
+enum class UvMode { None, Linear };
+
+Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, uint32_t factor, const Displacement* displacement = nullptr,
+                                 UvMode uv = UvMode::None);
 
 // The same slots evaluated by another surface (a scheme plugin's CPU evaluator): `evaluate` gets
 // each owned slot's (sub-face, u, v) once and returns positions and normals.
 using SlotEvaluator = std::function<void(std::span<const SampleRequest>, std::span<glm::vec3> positions,
                                          std::span<glm::vec3> normals)>;
-Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, uint32_t factor, const SlotEvaluator& evaluate);
+Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, uint32_t factor, const SlotEvaluator& evaluate,
+                                     UvMode uv = UvMode::None);
 
-// How closed a triangle mesh is: edges used by one triangle (a border), by more than two or
-// twice in the same direction (non-manifold). Watertight: neither.
-struct MeshClosure {
-    uint32_t borderEdges = 0, nonManifoldEdges = 0;
-    bool watertight() const { return borderEdges == 0 && nonManifoldEdges == 0; }
-};
-MeshClosure meshClosure(std::span<const uint32_t> indices);
 
 }  // namespace qp

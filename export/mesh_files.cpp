@@ -52,10 +52,15 @@ std::string objText(const LimitMesh& mesh) {
             std::to_string(mesh.triangleCount()) + " triangles\n";
     for (const glm::vec3& p : mesh.positions) t.out += "v ", t.vec(p), t.out += '\n';
     for (const glm::vec3& n : mesh.normals) t.out += "vn ", t.vec(n), t.out += '\n';
+    for (const glm::vec2& uv : mesh.uvs) t.out += "vt ", t.number(uv.x), t.out += ' ', t.number(uv.y), t.out += '\n';
+    const bool uvs = !mesh.uvs.empty();
     for (size_t i = 0; i < mesh.indices.size(); i += 3) {
         t.out += 'f';
         for (int k = 0; k < 3; ++k) {
-            t.out += ' ', t.number(mesh.indices[i + k] + 1), t.out += "//", t.number(mesh.indices[i + k] + 1);
+            const uint32_t v = mesh.indices[i + k] + 1;
+            t.out += ' ', t.number(v), t.out += '/';
+            if (uvs) t.number(v);
+            t.out += '/', t.number(v);
         }
         t.out += '\n';
     }
@@ -78,10 +83,13 @@ std::string plyBytes(const LimitMesh& mesh) {
     std::string out = "ply\nformat binary_little_endian 1.0\ncomment Quadplan limit surface\nelement vertex " +
                       std::to_string(mesh.vertexCount()) +
                       "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\n"
-                      "property float nz\nelement face " +
+                      "property float nz\n" + (mesh.uvs.empty() ? "" : "property float s\nproperty float t\n") + "element face " +
                       std::to_string(mesh.triangleCount()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
     out.reserve(out.size() + mesh.vertexCount() * 24 + mesh.triangleCount() * 13);
-    for (uint32_t v = 0; v < mesh.vertexCount(); ++v) appendBytes(out, mesh.positions[v]), appendBytes(out, mesh.normals[v]);
+    for (uint32_t v = 0; v < mesh.vertexCount(); ++v) {
+        appendBytes(out, mesh.positions[v]), appendBytes(out, mesh.normals[v]);
+        if (!mesh.uvs.empty()) appendBytes(out, mesh.uvs[v]);
+    }
     for (size_t i = 0; i < mesh.indices.size(); i += 3) {
         appendBytes(out, uint8_t(3));
         for (int k = 0; k < 3; ++k) appendBytes(out, mesh.indices[i + k]);
@@ -148,6 +156,9 @@ int addMesh(tinygltf::Model& model, const LimitMesh& mesh, const std::string& na
                                                    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER);
     primitive.attributes["_SUBFACE_UV"] = addAccessor(model, mesh.parameters.data(), mesh.parameters.size(), sizeof(glm::vec2),
                                                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
+    if (!mesh.uvs.empty())
+        primitive.attributes["TEXCOORD_0"] = addAccessor(model, mesh.uvs.data(), mesh.uvs.size(), sizeof(glm::vec2),
+                                                         TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
     primitive.indices = addAccessor(model, mesh.indices.data(), mesh.indices.size(), sizeof(uint32_t),
                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
                                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
@@ -219,6 +230,9 @@ bool hasNodes(MeshFormat format) { return format == MeshFormat::Glb || format ==
 
 LimitMesh mergedInWorld(const ExportScene& scene) {
     LimitMesh merged;
+    // UVs only when every object's mesh has them (a file has them for all its vertices or none).
+    const bool uvs = std::all_of(scene.objects.begin(), scene.objects.end(),
+                                 [&](const ExportObject& o) { return !scene.meshes.at(o.mesh).uvs.empty(); });
     for (const ExportObject& object : scene.objects) {
         const LimitMesh& mesh = scene.meshes.at(object.mesh);
         const glm::mat4 matrix = object.transform.matrix();
@@ -232,6 +246,7 @@ LimitMesh mergedInWorld(const ExportScene& scene) {
         }
         merged.subfaces.insert(merged.subfaces.end(), mesh.subfaces.begin(), mesh.subfaces.end());
         merged.parameters.insert(merged.parameters.end(), mesh.parameters.begin(), mesh.parameters.end());
+        if (uvs) merged.uvs.insert(merged.uvs.end(), mesh.uvs.begin(), mesh.uvs.end());
         for (size_t i = 0; i < mesh.indices.size(); i += 3) {
             const uint32_t a = base + mesh.indices[i], b = base + mesh.indices[i + 1], c = base + mesh.indices[i + 2];
             if (mirrored) merged.indices.insert(merged.indices.end(), {a, c, b});

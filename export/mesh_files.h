@@ -3,9 +3,10 @@
 //   .glb / .gltf  glTF 2.0 through tinygltf (binary by default): one mesh per cage, a node per
 //                 object with its transform (translation, rotation as a quaternion, scale), so
 //                 instances share their mesh; POSITION, NORMAL, 32-bit indices, and per vertex
-//                 _SUBFACE (the Ptex face) and _SUBFACE_UV ((u, v) in it) for pipelines.
-//   .obj          positions and normals (v, vn, f v//n), text
-//   .ply          binary little-endian: positions, normals, triangles
+//                 _SUBFACE (the Ptex face) and _SUBFACE_UV ((u, v) in it) for pipelines;
+//                 TEXCOORD_0 when the mesh has UVs.
+//   .obj          positions, normals and UVs when there are (v, vn, vt, f v/t/n), text
+//   .ply          binary little-endian: positions, normals, UVs (s, t) when there are, triangles
 //   .off          positions and triangles, text (OFF has no normals)
 //   .stl          binary: facets with their flat normals (STL has no shared vertices)
 // The formats without nodes get every object merged, each carried into the world by its

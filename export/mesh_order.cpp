@@ -33,6 +33,7 @@ OrderReport optimizeMeshOrder(LimitMesh& mesh) {
     remapVertices(mesh.normals, remap, used);
     remapVertices(mesh.subfaces, remap, used);
     remapVertices(mesh.parameters, remap, used);
+    if (!mesh.uvs.empty()) remapVertices(mesh.uvs, remap, used);
     report.acmrAfter = averageCacheMissRatio(mesh.indices, mesh.vertexCount());
     return report;
 }

@@ -34,9 +34,10 @@ Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, 
         const bool displace = options.displaced && !owner.displacement.empty();
         if (options.displaced && !displace) report.notes.push_back(where + " has no sculpted displacement: exported without");
         Result<LimitMesh> mesh = mesher ? mesher(*planned.cages[c], c, where)
-                                        : exactLimitMesh(*planned.cages[c], options.factor, displace ? &owner.displacement : nullptr);
+                                        : exactLimitMesh(*planned.cages[c], options.factor, displace ? &owner.displacement : nullptr,
+                                                         options.uv);
         if (!mesh) return Error{where + ": " + mesh.error().message};
-        const MeshClosure closure = meshClosure(mesh->indices);
+        const MeshClosure closure = mesh->closure;
         report.closure.borderEdges += closure.borderEdges;
         report.closure.nonManifoldEdges += closure.nonManifoldEdges;
         if (options.optimize) {

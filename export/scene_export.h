@@ -21,6 +21,7 @@ struct ExportOptions {
     bool displaced = false;  // apply each cage's sculpted displacement (the exact surface only)
     bool optimize = true;    // meshoptimizer's vertex cache and fetch order
     bool split = false;      // one file per visible object
+    UvMode uv = UvMode::None;  // Linear: the cages' texture coordinates (limit_mesh.h)
 };
 
 struct ExportReport {

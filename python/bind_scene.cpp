@@ -277,8 +277,11 @@ Topology edits are refused while the scene has displacement (clear_displacement(
              R"doc(Saves atomically. A .obj path writes the cage alone; a .json path the scene, with the cage inline,
 or beside it as an OBJ when inline_cage is False (default: as it was loaded).)doc")
         .def("export",
-             [](const Document& doc, const std::string& path, uint32_t tess, bool displaced, bool split, bool optimize) {
+             [](const Document& doc, const std::string& path, uint32_t tess, bool displaced, bool split, bool optimize,
+                const std::string& uv) {
+                 if (uv != "none" && uv != "linear") throw ScriptError("uv must be 'none' or 'linear', got '" + uv + "'");
                  ExportOptions options;
+                 options.uv = uv == "linear" ? UvMode::Linear : UvMode::None;
                  options.factor = tess;
                  options.displaced = displaced;
                  options.split = split;
@@ -304,11 +307,11 @@ or beside it as an OBJ when inline_cage is False (default: as it was loaded).)do
                  return out;
              },
              py::arg("path"), py::arg("tess") = 8, py::arg("displaced") = false, py::arg("split") = false,
-             py::arg("optimize") = true,
+             py::arg("optimize") = true, py::arg("uv") = "none",
              R"doc(Exports the exact limit surface (as `quadplan export` does): one welded, watertight mesh per cage
 at the uniform factor `tess`, as .glb/.gltf (a node per visible object, instances sharing a mesh) or .obj/.ply/.off/.stl
 (objects merged in the world, or one file per object with split=True); displaced=True applies the sculpted
-displacement. Written atomically. Returns what was written (files, vertices, triangles, watertight, acmr_before,
+displacement; uv="linear" adds the cage's texture coordinates, bilinear over each face. Written atomically. Returns what was written (files, vertices, triangles, watertight, acmr_before,
 acmr_after, ms).)doc")
         .def_property_readonly("source", &Document::source, "The file the scene came from (or \"cage\").")
         .def_property_readonly("cage", [](const Document& d) { return d.cage(); }, "A copy of the current cage.")

@@ -262,3 +262,60 @@ TEST(ExportCommand, WritesAndReportsAsJson) {
     EXPECT_FALSE(fs::exists(dir / "y.obj"));
     fs::remove_all(dir);
 }
+
+TEST(LimitMeshExport, LinearUvsFollowTheCageAndSplitOnlyAtSeams) {
+    PlanDatabase database;
+    // Continuous UVs (one per vertex: its x, y): no seam, so no vertex is split.
+    Cage grid = test::makeGrid(3);
+    for (const glm::vec3& p : grid.positions) grid.uvs.push_back({p.x, p.y});
+    grid.faceUVIndices = grid.faceVertices;
+    const PlannedCage smooth = planned(grid, database);
+    Result<LimitMesh> plain = exactLimitMesh(smooth, 4);
+    Result<LimitMesh> mapped = exactLimitMesh(smooth, 4, nullptr, UvMode::Linear);
+    ASSERT_TRUE(plain && mapped);
+    EXPECT_EQ(mapped->vertexCount(), plain->vertexCount());
+    ASSERT_EQ(mapped->uvs.size(), mapped->vertexCount());
+    for (uint32_t v = 0; v < mapped->vertexCount(); ++v) {  // bilinear over each quad's corner UVs
+        const uint32_t f = mapped->subfaces[v];  // quads: sub-face = face
+        const glm::vec2 uv = mapped->parameters[v];
+        auto corner = [&](uint32_t k) { return grid.uvs[grid.faceUVIndices[grid.faceOffsets[f] + k]]; };
+        const glm::vec2 expected = (1 - uv.x) * (1 - uv.y) * corner(0) + uv.x * (1 - uv.y) * corner(1) +
+                                   uv.x * uv.y * corner(2) + (1 - uv.x) * uv.y * corner(3);
+        EXPECT_LT(glm::length(mapped->uvs[v] - expected), 1e-5f) << "vertex " << v;
+    }
+    // Each face its own UV island: every face border is a seam, the surface stays closed.
+    Cage cube = test::makeSubdividedCube(2);
+    const glm::vec2 square[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (uint32_t f = 0; f < cube.faceCount(); ++f)  // islands side by side, so no two faces share a UV
+        for (uint32_t k = 0; k < cube.faceSize(f); ++k) {
+            cube.faceUVIndices.push_back(uint32_t(cube.uvs.size()));
+            cube.uvs.push_back(square[k] + glm::vec2(2.0f * float(f), 0.0f));
+        }
+    const PlannedCage islands = planned(cube, database);
+    const uint32_t f = 3;
+    Result<LimitMesh> split = exactLimitMesh(islands, f, nullptr, UvMode::Linear);
+    ASSERT_TRUE(split);
+    EXPECT_EQ(split->vertexCount(), cube.faceCount() * (f + 1) * (f + 1)) << "every face border is a seam";
+    EXPECT_TRUE(split->closure.watertight()) << "the seams opened the surface's closure";
+    EXPECT_FALSE(meshClosure(split->indices).watertight()) << "the index buffer should open at the seams";
+    // Formats: glTF's TEXCOORD_0, OBJ's vt; a cage without UVs is refused.
+    const fs::path dir = scratch();
+    ExportScene scene = sceneOf(*split);
+    ASSERT_TRUE(writeMeshFile(scene, (dir / "uv.glb").string(), MeshFormat::Glb));
+    tinygltf::Model model;
+    tinygltf::TinyGLTF reader;
+    std::string error, warning;
+    ASSERT_TRUE(reader.LoadBinaryFromFile(&model, &error, &warning, (dir / "uv.glb").string())) << error;
+    ASSERT_TRUE(model.meshes[0].primitives[0].attributes.count("TEXCOORD_0"));
+    EXPECT_EQ(model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")].count, split->vertexCount());
+    ASSERT_TRUE(writeMeshFile(scene, (dir / "uv.obj").string(), MeshFormat::Obj));
+    std::ifstream obj(dir / "uv.obj");
+    std::stringstream text;
+    text << obj.rdbuf();
+    EXPECT_NE(text.str().find("\nvt "), std::string::npos);
+    EXPECT_NE(text.str().find("1/1/1"), std::string::npos);
+    Result<LimitMesh> none = exactLimitMesh(planned(test::makeCube(), database), 2, nullptr, UvMode::Linear);
+    ASSERT_FALSE(none);
+    EXPECT_NE(none.error().message.find("no texture coordinates"), std::string::npos);
+    fs::remove_all(dir);
+}

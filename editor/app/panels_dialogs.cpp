@@ -157,6 +157,10 @@ void dialogs(EditorApp& app) {
         checkbox(app, "Displaced", &options.displaced, "Apply the sculpted displacement");
         ImGui::SameLine();
         checkbox(app, "One file per object", &options.split, "NAME_OBJECT.EXT for each visible object (formats without nodes)");
+        ImGui::SameLine();
+        bool uvs = options.uv == UvMode::Linear;
+        if (checkbox(app, "Texture coordinates", &uvs, "The cage's UVs, bilinear over each face (split along seams)"))
+            options.uv = uvs ? UvMode::Linear : UvMode::None;
         if (button(app, "Export##dialog", "Write the file (atomically; Enter)") || takeDialogKey(app, DialogKey::Confirm)) {
             if (exportTo(app, app.ui.exportPath)) ImGui::CloseCurrentPopup();
         }
