@@ -1,5 +1,7 @@
 #include "file_io.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -114,6 +116,12 @@ Status writeFileAtomically(const std::string& path, std::string_view contents) {
         ::close(dirFd);
     }
     return success();
+}
+
+std::string lowercaseExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
 }
 
 }  // namespace qp

@@ -17,6 +17,8 @@
 namespace qp {
 
 Result<std::string> readFile(const std::string& path);
+// A path's extension in lower case, with its dot (".obj"); empty when it has none.
+std::string lowercaseExtension(const std::string& path);
 Status writeFileAtomically(const std::string& path, std::string_view contents);
 
 }  // namespace qp

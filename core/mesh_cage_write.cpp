@@ -73,8 +73,7 @@ std::string stlBytes(const Cage& cage) {
 }  // namespace
 
 Status saveMeshCage(const Cage& cage, const std::string& path, std::vector<std::string>* lost) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lowercaseExtension(path);
     std::string bytes;
     if (ext == ".ply") bytes = plyBytes(cage);
     else if (ext == ".off") bytes = offText(cage);

@@ -21,11 +21,6 @@ namespace {
 
 namespace om = OpenMesh;
 
-std::string lower(std::string text) {
-    std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return text;
-}
-
 // What OpenMesh's readers hand over, kept as they give it: vertices and faces (index lists).
 // Every other attribute is ignored; handles are the indices themselves.
 class CageImporter final : public om::IO::BaseImporter {
@@ -104,12 +99,11 @@ struct QuietOpenMesh {
 }  // namespace
 
 bool isMeshCageExtension(const std::string& extension) {
-    const std::string ext = lower(extension);
-    return ext == ".ply" || ext == ".off" || ext == ".stl";
+    return extension == ".ply" || extension == ".off" || extension == ".stl";
 }
 
 Result<Cage> loadMeshCage(const std::string& path, std::vector<std::string>* warnings) {
-    const std::string ext = lower(std::filesystem::path(path).extension().string());
+    const std::string ext = lowercaseExtension(path);
     if (!isMeshCageExtension(ext)) return Error{path + ": not a PLY, OFF or STL file"};
     Result<std::string> bytes = readFile(path);
     if (!bytes) return bytes.error();

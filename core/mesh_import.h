@@ -24,7 +24,8 @@
 
 namespace qp {
 
-// Whether the extension (".ply", ".off", ".stl", any case) is one of these formats.
+// Whether a lower-case extension (file_io.h lowercaseExtension: ".ply", ".off", ".stl") is one of
+// these formats.
 bool isMeshCageExtension(const std::string& extension);
 
 Result<Cage> loadMeshCage(const std::string& path, std::vector<std::string>* warnings = nullptr);

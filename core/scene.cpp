@@ -538,12 +538,6 @@ Error syntaxError(std::string_view text, const std::string& source, const json::
                  "): " + detail};
 }
 
-std::string lowercaseExtension(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
-
 }  // namespace
 
 Result<Scene> parseScene(std::string_view text, const std::string& source, const std::string& baseDir,

@@ -7,7 +7,6 @@
 // Exit status: 0 written; 1 bad input or a failure (nothing written).
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
 
 #include <glm/glm.hpp>
 
@@ -15,12 +14,10 @@
 
 #include "commands.h"
 #include "mesh_cage_write.h"
-#include "scene_export.h"
-#include "pipeline_cache.h"
 #include "planned_scene.h"
 #include "render_setup.h"
+#include "scene_export.h"
 #include "scheme_host.h"
-#include "scheme_support.h"
 
 namespace qp::cli {
 
@@ -31,11 +28,6 @@ struct ExportArgs {
     uint32_t tess = 8, depth = 6;
     bool displaced = false, split = false, noOptimize = false, json = false, validate = false, cage = false;
 };
-
-std::string splitPath(const std::string& out, const std::string& object) {
-    const std::filesystem::path path(out);
-    return (path.parent_path() / (path.stem().string() + "_" + object + path.extension().string())).string();
-}
 
 int fail(const std::string& message) {
     std::fprintf(stderr, "error: %s\n", message.c_str());
@@ -108,7 +100,7 @@ int exportCages(const ExportArgs& args, const Scene& scene, const PlannedScene& 
     if (args.split || scene.objects.size() == 1) {
         for (uint32_t i = 0; i < scene.objects.size(); ++i)
             if (scene.objects[i].visible)
-                files.push_back({scene.objects.size() == 1 ? args.out : splitPath(args.out, scene.objects[i].name), placed(i)});
+                files.push_back({scene.objects.size() == 1 ? args.out : splitExportPath(args.out, scene.objects[i].name), placed(i)});
     } else {
         Cage merged;
         for (uint32_t i = 0; i < scene.objects.size(); ++i) {

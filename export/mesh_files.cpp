@@ -19,12 +19,6 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "the binary PLY and STL writers assume a little-endian host");
 
-std::string lowerExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
-
 // Text output without locale or stream overhead (100k-face exports write millions of numbers).
 struct Text {
     std::string out;
@@ -204,7 +198,7 @@ Result<std::string> gltfBytes(const ExportScene& scene, bool binary) {
 }  // namespace
 
 Result<MeshFormat> meshFormatOf(const std::string& path) {
-    const std::string ext = lowerExtension(path);
+    const std::string ext = lowercaseExtension(path);
     if (ext == ".glb") return MeshFormat::Glb;
     if (ext == ".gltf") return MeshFormat::Gltf;
     if (ext == ".obj") return MeshFormat::Obj;

@@ -5,14 +5,10 @@
 
 namespace qp {
 
-namespace {
-
-std::string splitPath(const std::string& out, const std::string& object) {
+std::string splitExportPath(const std::string& out, const std::string& object) {
     const std::filesystem::path path(out);
     return (path.parent_path() / (path.stem().string() + "_" + object + path.extension().string())).string();
 }
-
-}  // namespace
 
 SceneCages sceneCages(const PlannedScene& planned) {
     SceneCages out{{}, planned.cageOfObject, planned.objectOfCage};
@@ -69,7 +65,7 @@ Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, 
     if (options.split && exported.objects.size() > 1) {
         for (const ExportObject& object : exported.objects) {
             ExportScene one{exported.meshes, exported.meshNames, {object}};
-            if (Status s = write(one, splitPath(path, object.name)); !s) return s.error();
+            if (Status s = write(one, splitExportPath(path, object.name)); !s) return s.error();
         }
     } else if (Status s = write(exported, path); !s) {
         return s.error();

@@ -42,6 +42,9 @@ struct SceneCages {
 };
 SceneCages sceneCages(const PlannedScene& planned);
 
+// Where `split` writes object `object` of an export to `out`: NAME_OBJECT.EXT beside it.
+std::string splitExportPath(const std::string& out, const std::string& object);
+
 // Makes cage `c`'s mesh; the default is exactLimitMesh (with the owner's displacement when asked).
 using CageMesher = std::function<Result<LimitMesh>(const PlannedCage& cage, uint32_t c, const std::string& source)>;
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "displacement_edit.h"
+#include "file_io.h"
 #include "document_objects.h"
 #include "obj_io.h"
 #include "plan_cache.h"
@@ -15,12 +16,6 @@
 namespace qp::editor {
 
 namespace {
-
-std::string lowerExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
 
 std::string number(double value) {
     char text[32];
@@ -738,7 +733,7 @@ Scene sceneToSave(const Document& doc) {
 
 Status saveDocument(Document& doc, const std::string& path) {
     if (!doc.planned) return Error{"nothing to save"};
-    const std::string ext = lowerExtension(path);
+    const std::string ext = lowercaseExtension(path);
     Status saved = success();
     if (ext == ".obj") {
         saved = saveObj(doc.planned->cage(), path);

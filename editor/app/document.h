@@ -109,9 +109,10 @@ struct Document {
     uint32_t selectedObjectId = 0;
     PlanOptions planOptions;  // what every cage of the document is planned with
     // objectsRevision changes when objects are added or removed or edit mode moves to another
-    // cage (the renderer and the pickers then start afresh); sceneRevision with any object edit
-    // (a transform, visibility, a name) too.
-    uint64_t objectsRevision = 0, sceneRevision = 0;
+    // cage (otherCages is rebuilt: what was made from it starts afresh); editedCageRevision when
+    // edit mode moves to another cage (what was made from `planned` starts afresh too);
+    // sceneRevision with any object edit (a transform, visibility, a name) as well.
+    uint64_t objectsRevision = 0, editedCageRevision = 0, sceneRevision = 0;
     uint64_t storedMisses = 0;               // plans built when the plan cache was last written
     std::optional<PlannedCage> planned;
     EditHistory history;

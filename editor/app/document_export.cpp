@@ -2,6 +2,8 @@
 
 #include <filesystem>
 
+#include "document_objects.h"
+
 namespace qp::editor {
 
 SceneCages documentCages(const Document& doc) {
@@ -12,9 +14,7 @@ SceneCages documentCages(const Document& doc) {
     out.objectOfCage.push_back(doc.activeObject);
     for (uint32_t c = 0; c < doc.otherCages.size(); ++c) {
         out.cages.push_back(&doc.otherCages[c]);
-        uint32_t owner = 0;
-        while (owner < objects.size() && (doc.otherCageOfObject[owner] != c || objects[owner].isInstance())) ++owner;
-        out.objectOfCage.push_back(owner);
+        out.objectOfCage.push_back(ownerOfOtherCage(doc, c));
     }
     for (uint32_t i = 0; i < objects.size(); ++i)
         out.cageOfObject.push_back(doc.otherCageOfObject[i] == kActiveCage ? 0 : doc.otherCageOfObject[i] + 1);

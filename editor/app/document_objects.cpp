@@ -29,16 +29,27 @@ private:
     size_t bytes_;
 };
 
-size_t objectBytes(const SceneObject& object) {
-    return sizeof(SceneObject) + object.cage.positions.size() * sizeof(glm::vec3) +
-           object.cage.faceVertices.size() * sizeof(uint32_t) + object.displacement.samples.size() * sizeof(float);
+size_t objectBytes(const SceneObject& object, const Cage& cage) {
+    return sizeof(SceneObject) + cage.positions.size() * sizeof(glm::vec3) + cage.faceVertices.size() * sizeof(uint32_t) +
+           object.displacement.samples.size() * sizeof(float);
+}
+
+// What validateObjects needs to check names, links and transforms, without copying cages.
+SceneObject withoutGeometry(const SceneObject& object) {
+    SceneObject light;
+    light.name = object.name;
+    light.instanceOf = object.instanceOf;
+    light.transform = object.transform;
+    light.visible = object.visible;
+    return light;
 }
 
 std::string inQuotes(const std::string& name) { return "\"" + name + "\""; }
 
-// Every view of the edited cage starts afresh (a new cage, or the same one renumbered).
+// Every view of the edited cage starts afresh (another cage is in `planned`).
 void cageReplaced(Document& doc) {
     ++doc.objectsRevision;
+    ++doc.editedCageRevision;
     ++doc.sceneRevision;
     ++doc.positionRevision;
     ++doc.planRevision;
@@ -154,14 +165,15 @@ ObjectTransform besideOf(const Document& doc, uint32_t object) {
 
 // Appends `added` (names already unique) as one history entry; returns the first one's index.
 Result<uint32_t> appendObjects(Document& doc, const std::string& entryName, std::vector<SceneObject> added, uint64_t frame) {
-    std::vector<SceneObject> check = doc.scene.objects;
-    check.insert(check.end(), added.begin(), added.end());
+    std::vector<SceneObject> check;
+    for (const SceneObject& o : doc.scene.objects) check.push_back(withoutGeometry(o));
+    check.insert(check.end(), added.begin(), added.end());  // their cages and displacements checked too
     if (Status valid = validateObjects(check, "the scene"); !valid) return valid.error();
     std::vector<uint32_t> ids;
     size_t bytes = 0;
     for (const SceneObject& o : added) {
         ids.push_back(doc.nextObjectId++);
-        bytes += objectBytes(o);
+        bytes += objectBytes(o, o.cage);
     }
     const uint32_t previousSelection = doc.selectedObjectId;
     auto apply = [&doc, added, ids]() -> Status {
@@ -197,6 +209,8 @@ uint32_t cageOwnerOf(const Document& doc, uint32_t object) {
     if (c == kActiveCage) return doc.activeObject;
     return objectIndexOfId(doc, doc.otherCageOwnerIds[c]);
 }
+
+uint32_t ownerOfOtherCage(const Document& doc, uint32_t cage) { return objectIndexOfId(doc, doc.otherCageOwnerIds.at(cage)); }
 
 const PlannedCage& plannedCageOf(const Document& doc, uint32_t object) {
     const uint32_t c = doc.otherCageOfObject.at(object);
@@ -252,12 +266,10 @@ Status editCageOfTag(Document& doc, uint32_t tag) {
 Status setObjectTransform(Document& doc, uint32_t object, const ObjectTransform& before, const ObjectTransform& after,
                           uint64_t frame) {
     if (Status valid = checkObject(doc, object); !valid) return valid;
-    std::vector<SceneObject> check{doc.scene.objects[object]};
-    check[0].transform = after;
-    check[0].instanceOf.clear();
-    check[0].cage = Cage{};
-    check[0].displacement = Displacement{};
-    if (Status valid = validateObjects(check, "the scene"); !valid) return valid;
+    SceneObject moved;
+    moved.name = doc.scene.objects[object].name;
+    moved.transform = after;
+    if (Status valid = validateObjects({moved}, "the scene"); !valid) return valid;
     const uint32_t id = doc.objectIds[object];
     auto set = [&doc, id](const ObjectTransform& t) {
         return [&doc, id, t]() -> Status {
@@ -341,9 +353,7 @@ Status deleteObject(Document& doc, uint32_t object, uint64_t frame) {
         if (wasSelected) doc.selectedObjectId = id;
         return success();
     };
-    SceneObject sized = objects[object];
-    if (!sized.isInstance()) sized.cage = plannedCageOf(doc, object).cage();
-    const size_t bytes = objectBytes(sized);
+    const size_t bytes = objectBytes(objects[object], objects[object].isInstance() ? Cage{} : plannedCageOf(doc, object).cage());
     Result<EditReport> done = performObjectEdit(doc, "Delete " + name, std::make_unique<ObjectEdit>(apply, revert, bytes), frame);
     if (!done) return done.error();
     return success();

@@ -25,6 +25,8 @@ inline constexpr uint32_t kNoObject = UINT32_MAX;
 uint32_t objectIndexOfId(const Document& document, uint32_t id);
 // The object whose cage `object` draws: itself, or where its instance links end.
 uint32_t cageOwnerOf(const Document& document, uint32_t object);
+// The object owning Document::otherCages[cage].
+uint32_t ownerOfOtherCage(const Document& document, uint32_t cage);
 // The cage `object` draws (the edited one for the active object and its instances).
 const PlannedCage& plannedCageOf(const Document& document, uint32_t object);
 // Its bounds in the object's own coordinates.

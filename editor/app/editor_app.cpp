@@ -365,14 +365,19 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     // Object mode shows the objects, not the edited cage's lines and selection.
     options.cage = options.cage && app.mode == EditorMode::Edit;
     options.selection = app.mode == EditorMode::Edit;
-    if (app.doc->objectsRevision != app.syncedObjectsRevision) {
-        // Objects were added or removed, or edit mode moved to another cage: the scheme
-        // instances and pickers point into cages that moved, and start afresh.
+    if (app.doc->editedCageRevision != app.syncedEditedCageRevision) {
+        // Edit mode moved to another cage: every scheme instance and picker points into cages
+        // that moved, and starts afresh.
         releaseSchemes(app.ctx, app.renderer);
         app.picking = PickCache{};
         ++app.documentGeneration;
-        app.syncedObjectsRevision = app.doc->objectsRevision;
+    } else if (app.doc->objectsRevision != app.syncedObjectsRevision) {
+        // Objects were added or removed: only the other cages' instances point into cages that
+        // moved; the edited cage's views stay as they are.
+        releaseOtherObjects(app.ctx, app.renderer);
     }
+    app.syncedEditedCageRevision = app.doc->editedCageRevision;
+    app.syncedObjectsRevision = app.doc->objectsRevision;
     const std::vector<SchemeRequest> requests = schemeRequests(app);
     const std::vector<uint32_t> changedSamples = takeUnsyncedSamples(*app.doc);
     const EditReport planChange = takeUnsyncedPlanChange(*app.doc);

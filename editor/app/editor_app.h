@@ -193,7 +193,8 @@ struct EditorApp {
     SceneCache sceneCache;
     bool sceneRecorded[kFramesInFlight] = {};  // the slot's last frame drew the 3D (its counts are fresh)
     uint64_t documentGeneration = 0;           // increases with every adopted document
-    uint64_t syncedObjectsRevision = 0;        // Document::objectsRevision the renderer last started from
+    // Document::objectsRevision and editedCageRevision the renderer last started from.
+    uint64_t syncedObjectsRevision = 0, syncedEditedCageRevision = 0;
     std::optional<GpuTimer> timers[kFramesInFlight];
     bool timerUsed[kFramesInFlight] = {};
     uint64_t timerFrame[kFramesInFlight] = {};

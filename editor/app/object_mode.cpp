@@ -14,13 +14,16 @@ namespace {
 const CageRaycaster& raycasterOf(EditorApp& app, uint32_t cage) {
     Document& doc = *app.doc;
     ObjectPickCache& cache = app.objectPicking;
-    // Vertex moves change only the edited cage; object edits may change any.
-    const uint64_t key = (doc.objectsRevision << 40) ^ doc.positionRevision ^ (app.documentGeneration << 20);
-    if (cache.key != key) {
+    // Vertex moves change only the edited cage; adding, removing or switching cages any.
+    if (cache.generation != app.documentGeneration || cache.objectsRevision != doc.objectsRevision) {
+        cache.others.assign(doc.otherCages.size(), std::nullopt);
         cache.edited.reset();
-        if (cache.others.size() != doc.otherCages.size() || (cache.key >> 40) != doc.objectsRevision)
-            cache.others.assign(doc.otherCages.size(), std::nullopt);
-        cache.key = key;
+        cache.generation = app.documentGeneration;
+        cache.objectsRevision = doc.objectsRevision;
+    }
+    if (cache.positionRevision != doc.positionRevision) {
+        cache.edited.reset();
+        cache.positionRevision = doc.positionRevision;
     }
     if (cage == kActiveCage) {
         if (!cache.edited) cache.edited.emplace(doc.planned->cage());

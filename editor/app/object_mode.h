@@ -24,7 +24,8 @@ struct EditorApp;
 // A raycaster per cage (the edited one and every other), remade when objects or the edited
 // cage change.
 struct ObjectPickCache {
-    uint64_t key = ~0ull;
+    uint64_t generation = ~0ull, objectsRevision = ~0ull;  // what `others` was made for
+    uint64_t positionRevision = ~0ull;                      // ... and `edited` (vertex moves)
     std::optional<CageRaycaster> edited;
     std::vector<std::optional<CageRaycaster>> others;  // parallel to Document::otherCages, built on demand
 };

@@ -9,6 +9,7 @@
 
 #include <glm/matrix.hpp>
 
+#include "document_objects.h"
 #include "scene_renderer.h"
 #include "scene_schemes.h"
 #include "scheme_host.h"
@@ -24,13 +25,6 @@ void destroyOthers(const VulkanContext& ctx, OtherObjectsView& view) {
     view.heat.clear();
 }
 
-// The object whose cage other cage `c` is (instances may be listed before it).
-uint32_t ownerOfOtherCage(const Document& doc, uint32_t c) {
-    uint32_t owner = 0;
-    while (owner < doc.otherCageOfObject.size() && (doc.otherCageOfObject[owner] != c || doc.scene.objects[owner].isInstance()))
-        ++owner;
-    return owner;
-}
 
 }  // namespace
 
