@@ -34,3 +34,5 @@ target_link_libraries(quadplan_imgui INTERFACE PkgConfig::IMGUI PkgConfig::GLFW3
 # Exporting limit surfaces (export/): glTF through tinygltf, index order through meshoptimizer.
 find_package(TinyGLTF REQUIRED)
 find_package(meshoptimizer REQUIRED)
+# Baking displacement maps (export/displacement_bake.h).
+find_package(OpenEXR 3 REQUIRED CONFIG)

@@ -24,8 +24,9 @@ namespace qp::cli {
 namespace {
 
 struct ExportArgs {
-    std::string path, out, scheme = "plans", pluginDir, uv = "none";
+    std::string path, out, scheme = "plans", pluginDir, uv = "none", size = "800x600", camera;
     uint32_t tess = 8, depth = 6;
+    float adaptive = 0.0f;  // pixels per segment; 0: uniform --tess
     bool displaced = false, split = false, noOptimize = false, json = false, validate = false, cage = false;
 };
 
@@ -46,10 +47,10 @@ public:
         context_ = std::move(context).value();
         return success();
     }
-    Result<LimitMesh> mesh(const std::string& scheme, const PlannedCage& planned, uint32_t factor, uint32_t depth, UvMode uv,
-                           const std::string& source) {
+    Result<LimitMesh> mesh(const std::string& scheme, const PlannedCage& planned, const MeshDensity& density, uint32_t depth,
+                           UvMode uv, const std::string& source) {
         SchemeSettings settings;
-        settings.tessFactor = factor;
+        settings.tessFactor = density.adaptive ? 64 : density.factor;
         settings.planDepth = depth;
         const GpuContext gpu{&*context_, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
         Result<PreparedScheme> prepared =
@@ -60,7 +61,7 @@ public:
         SchemeInstance& instance = prepared->instance;
         Status evaluated = success();
         Result<LimitMesh> mesh = evaluatedLimitMesh(
-            planned, factor, [&](std::span<const SampleRequest> requests, std::span<glm::vec3> positions, std::span<glm::vec3> normals) {
+            planned, density, [&](std::span<const SampleRequest> requests, std::span<glm::vec3> positions, std::span<glm::vec3> normals) {
                 std::vector<SurfacePoint> points(requests.size());
                 evaluated = instance.evaluate(requests, points);
                 for (size_t i = 0; i < points.size(); ++i) positions[i] = points[i].position, normals[i] = points[i].normal;
@@ -142,22 +143,31 @@ int runExport(const ExportArgs& args) {
     if (!planned) return fail(planned.error().message);
     if (args.cage) return exportCages(args, *scene, *planned);
 
-    std::optional<SchemeSlots> slots;
-    CageMesher mesher;
-    if (args.scheme != "plans") {
-        slots.emplace();
-        if (Status opened = slots->open(args.pluginDir, args.validate); !opened) return fail(opened.error().message);
-        mesher = [&](const PlannedCage& cage, uint32_t, const std::string& source) {
-            return slots->mesh(args.scheme, cage, args.tess, args.depth, args.uv == "linear" ? UvMode::Linear : UvMode::None, source);
-        };
-    }
     ExportOptions options;
     options.factor = args.tess;
     options.displaced = args.displaced;
     options.optimize = !args.noOptimize;
     options.split = args.split;
-    options.uv = args.uv == "linear" ? UvMode::Linear : UvMode::None;
-    Result<ExportReport> report = exportScene(*scene, sceneCages(*planned), args.out, options, args.path, mesher);
+    options.uv = *parseUvMode(args.uv);
+    if (args.adaptive > 0.0f) {
+        uint32_t width = 0, height = 0;
+        if (!parseSize(args.size, width, height))
+            return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.size + "'");
+        Result<RenderCamera> camera = chooseCamera(*scene, sceneBounds(*scene), float(width) / float(height), args.camera);
+        if (!camera) return fail(camera.error().message);
+        options.adaptive = adaptiveExport(*camera, height, args.adaptive);
+    }
+    std::optional<SchemeSlots> slots;
+    CageMesher mesher;
+    const SceneCages cages = sceneCages(*planned);
+    if (args.scheme != "plans") {
+        slots.emplace();
+        if (Status opened = slots->open(args.pluginDir, args.validate); !opened) return fail(opened.error().message);
+        mesher = [&](const PlannedCage& cage, uint32_t c, const std::string& source) {
+            return slots->mesh(args.scheme, cage, exportDensity(*scene, cages, c, options), args.depth, options.uv, source);
+        };
+    }
+    Result<ExportReport> report = exportScene(*scene, cages, args.out, options, args.path, mesher);
     if (!report) return fail(report.error().message);
     for (const std::string& note : report->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
     if (slots && args.validate && slots->validationFailed()) return 4;
@@ -167,7 +177,8 @@ int runExport(const ExportArgs& args) {
         nlohmann::json out = {{"file", r.files.size() == 1 ? nlohmann::json(r.files[0]) : nlohmann::json(r.files)},
                               {"format", meshFormatName(*meshFormatOf(args.out))},
                               {"scheme", args.scheme},
-                              {"factor", args.tess},
+                              {"factor", args.adaptive > 0.0f ? nlohmann::json(nullptr) : nlohmann::json(args.tess)},
+                              {"adaptive_pixels", args.adaptive > 0.0f ? nlohmann::json(args.adaptive) : nlohmann::json(nullptr)},
                               {"displaced", args.displaced},
                               {"uv", args.uv},
                               {"objects", r.objects},
@@ -186,8 +197,11 @@ int runExport(const ExportArgs& args) {
     const std::string closure = r.closure.watertight() ? "watertight"
                                                        : std::to_string(r.closure.borderEdges) + " border and " +
                                                              std::to_string(r.closure.nonManifoldEdges) + " non-manifold edges";
-    std::printf("wrote %s: %llu vertices, %llu triangles (%s, factor %u%s), %s", r.files.size() == 1 ? r.files[0].c_str() : "files",
-                (unsigned long long)r.vertices, (unsigned long long)r.triangles, args.scheme.c_str(), args.tess,
+    char adaptive[64];
+    std::snprintf(adaptive, sizeof adaptive, "adaptive, %g px per segment at %s", double(args.adaptive), args.size.c_str());
+    const std::string density = args.adaptive > 0.0f ? adaptive : "factor " + std::to_string(args.tess);
+    std::printf("wrote %s: %llu vertices, %llu triangles (%s, %s%s), %s", r.files.size() == 1 ? r.files[0].c_str() : "files",
+                (unsigned long long)r.vertices, (unsigned long long)r.triangles, args.scheme.c_str(), density.c_str(),
                 args.displaced ? ", displaced" : "", closure.c_str());
     if (!args.noOptimize) std::printf(", ACMR %.3f -> %.3f", r.order.acmrBefore, r.order.acmrAfter);
     std::printf(", %.0f ms\n", ms);
@@ -203,13 +217,22 @@ void registerExport(CLI::App& app, int& exitCode) {
     cmd->add_option("file", args->path, "Cage (.obj, .ply, .off, .stl) or scene (.json)")->required();
     cmd->add_option("--out", args->out, "File to write: .glb (default glTF), .gltf, .obj, .ply, .off or .stl")->required();
     cmd->add_option("--scheme", args->scheme, "Surface to export (default plans, the exact limit surface; `quadplan schemes` lists them)");
-    cmd->add_option("--tess", args->tess, "Uniform tessellation factor: segments per sub-face edge (default 8)")
+    auto* tess = cmd->add_option("--tess", args->tess, "Uniform tessellation factor: segments per sub-face edge (default 8)")
         ->check(CLI::Range(1u, 64u));
+    cmd->add_option("--adaptive", args->adaptive,
+                    "Screen-adaptive density instead of --tess: each edge cut into segments of about this many pixels, "
+                    "as the grid path cuts it for the scene's camera (or --camera) at --size")
+        ->check(CLI::Range(0.25f, 1024.0f))
+        ->excludes(tess);
+    cmd->add_option("--size", args->size, "Image size the --adaptive pixels refer to (default 800x600, as render)");
+    cmd->add_option("--camera", args->camera, "--adaptive's camera: EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed)");
     cmd->add_flag("--displaced", args->displaced, "Apply the scene's sculpted displacement (plans)");
     cmd->add_flag("--cage", args->cage, "Write the cage itself (its polygons) as .ply, .off or .stl instead of the limit surface; tags are lost and named");
     cmd->add_flag("--split", args->split, "One file per object (NAME_OBJECT.EXT) instead of one for the scene");
-    cmd->add_option("--uv", args->uv, "none (default) or linear: the cage's texture coordinates, bilinear over each face")
-        ->check(CLI::IsMember({"none", "linear"}));
+    cmd->add_option("--uv", args->uv,
+                    "none (default); linear: the cage's texture coordinates bilinear over each face; smooth: OpenSubdiv's "
+                    "face-varying limit with the cage's face-varying rule")
+        ->check(CLI::IsMember({"none", "linear", "smooth"}));
     cmd->add_flag("--no-optimize", args->noOptimize, "Keep the grid's own triangle order (no meshoptimizer pass)");
     cmd->add_flag("--json", args->json, "Print what was written as JSON");
     cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");

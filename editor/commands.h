@@ -31,6 +31,10 @@ void registerCompare(CLI::App& app, int& exitCode);
 // as a welded, watertight triangle mesh
 void registerExport(CLI::App& app, int& exitCode);
 
+// `quadplan bake CAGE_OR_SCENE --out FILE.exr [--size N] [--uv linear|smooth] [--normal-map FILE.png]`:
+// the sculpted displacement as an OpenEXR map in UV space
+void registerBake(CLI::App& app, int& exitCode);
+
 // `quadplan schemes [CAGE] [--json]`: the scheme plugins found (and what they do with a cage)
 void registerSchemes(CLI::App& app, int& exitCode);
 

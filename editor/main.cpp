@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     qp::cli::registerBench(app, exitCode);
     qp::cli::registerCompare(app, exitCode);
     qp::cli::registerExport(app, exitCode);
+    qp::cli::registerBake(app, exitCode);
     qp::cli::registerSchemes(app, exitCode);
     qp::cli::registerSculpt(app, exitCode);
     qp::cli::registerRunScript(app, exitCode);

@@ -16,12 +16,17 @@ struct SlotGrid {
     GridLayout layout;
 };
 
-Result<SlotGrid> slotGrid(const PlannedCage& planned, uint32_t factor) {
-    if (factor < 1 || factor > 64) return Error{"the tessellation factor must be 1 to 64, got " + std::to_string(factor)};
+Result<SlotGrid> slotGrid(const PlannedCage& planned, const MeshDensity& density) {
+    if (!density.adaptive && (density.factor < 1 || density.factor > 64))
+        return Error{"the tessellation factor must be 1 to 64, got " + std::to_string(density.factor)};
+    if (density.adaptive && !(density.adaptive->pixelsPerSegment > 0.0f))
+        return Error{"the adaptive target must be a positive number of pixels"};
     SlotGrid grid;
     grid.data = packPlans(planned);
     if (grid.data.subfaces.empty()) return Error{"the cage has no surface to export (every face is a hole or unplanned)"};
-    grid.layout = buildGridLayout(grid.data, uniformGridFactors(grid.data, factor));
+    grid.layout = buildGridLayout(grid.data, density.adaptive ? adaptiveGridFactors(grid.data, boundaryPointPositions(planned),
+                                                                                    *density.adaptive)
+                                                              : uniformGridFactors(grid.data, density.factor));
     return grid;
 }
 
@@ -31,40 +36,12 @@ uint32_t ownerSlot(const GridLayout& layout, uint32_t slot) {
     return slot;
 }
 
-// The cage's UVs at (u, v) of sub-face `subface`: bilinear over the face's corner UVs (an
-// n-gon's sub-face k: corner k, the midpoints of edges k and k-1, the centre).
-struct LinearUvs {
-    const PlannedCage& planned;
-    std::vector<uint32_t> faceOfSubface;
-
-    explicit LinearUvs(const PlannedCage& p) : planned(p), faceOfSubface(p.subfaceCount()) {
-        for (uint32_t f = 0; f < p.cage().faceCount(); ++f)
-            for (uint32_t s = p.firstSubface(f); s < p.firstSubface(f + 1); ++s) faceOfSubface[s] = f;
-    }
-    glm::vec2 at(uint32_t subface, float u, float v) const {
-        const Cage& cage = planned.cage();
-        const uint32_t f = faceOfSubface[subface], n = cage.faceSize(f);
-        auto uvOf = [&](uint32_t k) { return cage.uvs[cage.faceUVIndices[cage.faceOffsets[f] + (k % n)]]; };
-        glm::vec2 c[4];
-        if (n == 4) {
-            for (uint32_t k = 0; k < 4; ++k) c[k] = uvOf(k);
-        } else {
-            const uint32_t k = subface - planned.firstSubface(f);
-            glm::vec2 centre(0.0f);
-            for (uint32_t i = 0; i < n; ++i) centre += uvOf(i);
-            c[0] = uvOf(k), c[1] = 0.5f * (uvOf(k) + uvOf(k + 1)), c[2] = centre / float(n), c[3] = 0.5f * (uvOf(k) + uvOf(k + n - 1));
-        }
-        return (1 - u) * (1 - v) * c[0] + u * (1 - v) * c[1] + u * v * c[2] + (1 - u) * v * c[3];
-    }
-};
-
 // Welds by ownership and leaves out holes and degenerate triangles; `positions` and `normals`
 // are per slot (only evaluated slots are read). With UVs, a shared vertex is split where the
 // sub-faces around it give it different UVs (a seam).
-LimitMesh weld(const PlannedCage& planned, const SlotGrid& grid, std::span<const glm::vec3> positions,
-               std::span<const glm::vec3> normals, UvMode uvMode) {
+LimitMesh weld(const SlotGrid& grid, std::span<const glm::vec3> positions, std::span<const glm::vec3> normals,
+               const PlannedCage& planned, const CageUvs* uvs) {
     const GridLayout& layout = grid.layout;
-    const std::optional<LinearUvs> uvs = uvMode == UvMode::Linear ? std::optional<LinearUvs>(planned) : std::nullopt;
     std::vector<uint32_t> vertexOfSlot(layout.slotCount(), UINT32_MAX);  // the first vertex made for an owned slot
     std::vector<uint32_t> nextAtSlot;                                      // per vertex: another one at the same slot
     std::vector<uint32_t> surfaceIndices;                                  // triangles by owned slot (the closure)
@@ -83,7 +60,7 @@ LimitMesh weld(const PlannedCage& planned, const SlotGrid& grid, std::span<const
             uv = uvs->at(grid.data.subfaces[layout.slotSubface[cornerSlot]].subface, p.x, p.y);
         }
         for (uint32_t v = vertexOfSlot[slot]; v != UINT32_MAX; v = nextAtSlot[v])
-            if (!uvs || mesh.uvs[v] == uv) return v;
+            if (!uvs || uvs->sameUv(mesh.uvs[v], uv)) return v;
         const uint32_t v = mesh.vertexCount();
         const glm::vec2 p = localParameter(slot);
         mesh.positions.push_back(positions[slot]);
@@ -110,18 +87,20 @@ LimitMesh weld(const PlannedCage& planned, const SlotGrid& grid, std::span<const
     return mesh;
 }
 
-Status checkUvs(const PlannedCage& planned, UvMode uv) {
-    const Cage& cage = planned.cage();
-    if (uv == UvMode::Linear && (cage.uvs.empty() || cage.faceUVIndices.size() != cage.faceVertices.size()))
-        return Error{"the cage has no texture coordinates (OBJ 'vt' with 'f v/vt') to interpolate"};
-    return success();
+Result<std::optional<CageUvs>> cageUvs(const PlannedCage& planned, UvMode uv) {
+    if (uv == UvMode::None) return std::optional<CageUvs>();
+    Result<CageUvs> uvs = CageUvs::create(planned, uv);
+    if (!uvs) return uvs.error();
+    return std::optional<CageUvs>(std::move(uvs).value());
 }
 
 }  // namespace
 
-Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, uint32_t factor, const Displacement* displacement, UvMode uv) {
-    if (Status s = checkUvs(planned, uv); !s) return s.error();
-    Result<SlotGrid> grid = slotGrid(planned, factor);
+Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, const MeshDensity& density, const Displacement* displacement,
+                                 UvMode uv) {
+    Result<std::optional<CageUvs>> uvs = cageUvs(planned, uv);
+    if (!uvs) return uvs.error();
+    Result<SlotGrid> grid = slotGrid(planned, density);
     if (!grid) return grid.error();
     std::vector<GridVertex> vertices(grid->layout.slotCount());
     GridFrames frames;
@@ -132,12 +111,14 @@ Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, uint32_t factor, co
         positions[s] = {vertices[s].position[0], vertices[s].position[1], vertices[s].position[2]};
         normals[s] = {vertices[s].normal[0], vertices[s].normal[1], vertices[s].normal[2]};
     }
-    return weld(planned, *grid, positions, normals, uv);
+    return weld(*grid, positions, normals, planned, *uvs ? &**uvs : nullptr);
 }
 
-Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, uint32_t factor, const SlotEvaluator& evaluate, UvMode uv) {
-    if (Status s = checkUvs(planned, uv); !s) return s.error();
-    Result<SlotGrid> grid = slotGrid(planned, factor);
+Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, const MeshDensity& density, const SlotEvaluator& evaluate,
+                                     UvMode uv) {
+    Result<std::optional<CageUvs>> uvs = cageUvs(planned, uv);
+    if (!uvs) return uvs.error();
+    Result<SlotGrid> grid = slotGrid(planned, density);
     if (!grid) return grid.error();
     const GridLayout& layout = grid->layout;
     std::vector<uint32_t> owned;
@@ -157,7 +138,7 @@ Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, uint32_t factor
         positions[owned[k]] = evaluatedPositions[k];
         normals[owned[k]] = evaluatedNormals[k];
     }
-    return weld(planned, *grid, positions, normals, uv);
+    return weld(*grid, positions, normals, planned, *uvs ? &**uvs : nullptr);
 }
 
 MeshClosure meshClosure(std::span<const uint32_t> indices) {

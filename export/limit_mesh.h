@@ -16,13 +16,16 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "cage_uvs.h"
 #include "displacement.h"
+#include "grid_layout.h"
 #include "plan_evaluator.h"
 #include "planned_cage.h"
 #include "result.h"
@@ -43,10 +46,9 @@ struct LimitMesh {
     std::vector<uint32_t> indices;      // three per triangle, counter-clockwise seen from outside
     std::vector<uint32_t> subfaces;     // per vertex: the sub-face it was evaluated in
     std::vector<glm::vec2> parameters;  // per vertex: (u, v) there
-    // With linear UVs: per vertex, the cage's face-varying UVs interpolated bilinearly over the
-    // face (over the sub-face's corners for an n-gon: the vertex, edge midpoints and the face's
-    // centre), as NVIDIA's RTXMG does. A vertex on a UV seam is split into one per UV, so the
-    // index buffer opens there; `closure` is the surface's, counted before the split.
+    // With UVs (cage_uvs.h): per vertex, the cage's texture coordinates there. A vertex on a UV
+    // seam is split into one per UV, so the index buffer opens there; `closure` is the
+    // surface's, counted before the split.
     std::vector<glm::vec2> uvs;
     MeshClosure closure;
 
@@ -54,20 +56,28 @@ struct LimitMesh {
     uint32_t triangleCount() const { return uint32_t(indices.size() / 3); }
 };
 
-// The exact limit surface (the plans, evaluated on the CPU as the grid path does) at a uniform
-// `factor` (1..64; odd factors become even on cages with n-gons, as grid_layout.h says), with
-// `displacement` applied when given (it must match `planned`).
-enum class UvMode { None, Linear };
+// How finely the mesh samples the surface: a uniform `factor` (1..64; odd factors become even
+// on cages with n-gons, as grid_layout.h says), or with `adaptive` the grid path's
+// screen-adaptive factors for that view (each cage edge cut by its length on screen).
+struct MeshDensity {
+    uint32_t factor = 8;
+    std::optional<AdaptiveView> adaptive;
 
-Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, uint32_t factor, const Displacement* displacement = nullptr,
-                                 UvMode uv = UvMode::None);
+    MeshDensity(uint32_t uniform = 8) : factor(uniform) {}
+    explicit MeshDensity(const AdaptiveView& view) : factor(0), adaptive(view) {}
+};
+
+// The exact limit surface (the plans, evaluated on the CPU as the grid path does), with
+// `displacement` applied when given (it must match `planned`).
+Result<LimitMesh> exactLimitMesh(const PlannedCage& planned, const MeshDensity& density,
+                                 const Displacement* displacement = nullptr, UvMode uv = UvMode::None);
 
 // The same slots evaluated by another surface (a scheme plugin's CPU evaluator): `evaluate` gets
 // each owned slot's (sub-face, u, v) once and returns positions and normals.
 using SlotEvaluator = std::function<void(std::span<const SampleRequest>, std::span<glm::vec3> positions,
                                          std::span<glm::vec3> normals)>;
-Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, uint32_t factor, const SlotEvaluator& evaluate,
-                                     UvMode uv = UvMode::None);
+Result<LimitMesh> evaluatedLimitMesh(const PlannedCage& planned, const MeshDensity& density,
+                                     const SlotEvaluator& evaluate, UvMode uv = UvMode::None);
 
 
 }  // namespace qp

@@ -150,8 +150,11 @@ int addMesh(tinygltf::Model& model, const LimitMesh& mesh, const std::string& na
                                                    TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, TINYGLTF_TARGET_ARRAY_BUFFER);
     primitive.attributes["_SUBFACE_UV"] = addAccessor(model, mesh.parameters.data(), mesh.parameters.size(), sizeof(glm::vec2),
                                                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
+    // glTF's texture coordinates start at the image's top left, OBJ's (the cage's) at its bottom left.
+    std::vector<glm::vec2> texcoords;
+    for (const glm::vec2& uv : mesh.uvs) texcoords.push_back({uv.x, 1.0f - uv.y});
     if (!mesh.uvs.empty())
-        primitive.attributes["TEXCOORD_0"] = addAccessor(model, mesh.uvs.data(), mesh.uvs.size(), sizeof(glm::vec2),
+        primitive.attributes["TEXCOORD_0"] = addAccessor(model, texcoords.data(), texcoords.size(), sizeof(glm::vec2),
                                                          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, TINYGLTF_TARGET_ARRAY_BUFFER);
     primitive.indices = addAccessor(model, mesh.indices.data(), mesh.indices.size(), sizeof(uint32_t),
                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <filesystem>
 
+#include "plan_pass.h"
+
 namespace qp {
 
 std::string splitExportPath(const std::string& out, const std::string& object) {
@@ -14,6 +16,18 @@ SceneCages sceneCages(const PlannedScene& planned) {
     SceneCages out{{}, planned.cageOfObject, planned.objectOfCage};
     for (const PlannedCage& cage : planned.cages) out.cages.push_back(&cage);
     return out;
+}
+
+AdaptiveExport adaptiveExport(const RenderCamera& camera, uint32_t viewportHeight, float pixelsPerSegment) {
+    return {viewProjection(camera), pixelsPerUnit(projectionMatrix(camera), viewportHeight), pixelsPerSegment};
+}
+
+MeshDensity exportDensity(const Scene& scene, const SceneCages& planned, uint32_t c, const ExportOptions& options) {
+    if (!options.adaptive) return MeshDensity(options.factor);
+    // The cage is seen through its owner's transform (its instances share the owner's mesh).
+    const glm::mat4 model = scene.objects[planned.objectOfCage[c]].transform.matrix();
+    return MeshDensity(AdaptiveView{options.adaptive->viewProjection * model, options.adaptive->pixelsPerUnit,
+                                    options.adaptive->pixelsPerSegment});
 }
 
 Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, const std::string& path,
@@ -30,7 +44,7 @@ Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, 
         const bool displace = options.displaced && !owner.displacement.empty();
         if (options.displaced && !displace) report.notes.push_back(where + " has no sculpted displacement: exported without");
         Result<LimitMesh> mesh = mesher ? mesher(*planned.cages[c], c, where)
-                                        : exactLimitMesh(*planned.cages[c], options.factor, displace ? &owner.displacement : nullptr,
+                                        : exactLimitMesh(*planned.cages[c], exportDensity(scene, planned, c, options), displace ? &owner.displacement : nullptr,
                                                          options.uv);
         if (!mesh) return Error{where + ": " + mesh.error().message};
         const MeshClosure closure = mesh->closure;

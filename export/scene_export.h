@@ -5,9 +5,11 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "camera.h"
 #include "limit_mesh.h"
 #include "mesh_files.h"
 #include "mesh_order.h"
@@ -16,12 +18,24 @@
 
 namespace qp {
 
+// Screen-adaptive density: each cage's grid cut as the grid path cuts it for this camera
+// (world space; each object's transform is applied), `pixelsPerSegment` pixels per segment.
+struct AdaptiveExport {
+    glm::mat4 viewProjection{1.0f};
+    float pixelsPerUnit = 1.0f;  // render/plan_pass.h pixelsPerUnit() for the view's height
+    float pixelsPerSegment = 8.0f;
+};
+
+// The adaptive density for what `camera` sees in a viewport `viewportHeight` pixels tall.
+AdaptiveExport adaptiveExport(const RenderCamera& camera, uint32_t viewportHeight, float pixelsPerSegment);
+
 struct ExportOptions {
     uint32_t factor = 8;     // uniform tessellation factor (segments per sub-face edge)
+    std::optional<AdaptiveExport> adaptive;  // instead of `factor`
     bool displaced = false;  // apply each cage's sculpted displacement (the exact surface only)
     bool optimize = true;    // meshoptimizer's vertex cache and fetch order
     bool split = false;      // one file per visible object
-    UvMode uv = UvMode::None;  // Linear: the cages' texture coordinates (limit_mesh.h)
+    UvMode uv = UvMode::None;  // the cages' texture coordinates (cage_uvs.h)
 };
 
 struct ExportReport {
@@ -44,6 +58,9 @@ SceneCages sceneCages(const PlannedScene& planned);
 
 // Where `split` writes object `object` of an export to `out`: NAME_OBJECT.EXT beside it.
 std::string splitExportPath(const std::string& out, const std::string& object);
+
+// How finely cage `c` of `planned` is meshed under `options`.
+MeshDensity exportDensity(const Scene& scene, const SceneCages& planned, uint32_t c, const ExportOptions& options);
 
 // Makes cage `c`'s mesh; the default is exactLimitMesh (with the owner's displacement when asked).
 using CageMesher = std::function<Result<LimitMesh>(const PlannedCage& cage, uint32_t c, const std::string& source)>;

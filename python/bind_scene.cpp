@@ -1,12 +1,15 @@
 // quadplan.Scene (a SceneDocument), quadplan.EditReport, quadplan.HistoryEntry.
 #include <algorithm>
+#include <optional>
 #include <set>
 
 #include "conversions.h"
+#include "displacement_bake.h"
 #include "displacement_io.h"
 #include "limit_check.h"
 #include "plan_evaluator.h"
 #include "plan_memory.h"
+#include "render_setup.h"
 #include "scene_document.h"
 #include "scene_export.h"
 #include "scheme_support.h"
@@ -278,11 +281,21 @@ Topology edits are refused while the scene has displacement (clear_displacement(
 or beside it as an OBJ when inline_cage is False (default: as it was loaded).)doc")
         .def("export",
              [](const Document& doc, const std::string& path, uint32_t tess, bool displaced, bool split, bool optimize,
-                const std::string& uv) {
-                 if (uv != "none" && uv != "linear") throw ScriptError("uv must be 'none' or 'linear', got '" + uv + "'");
+                const std::string& uv, const std::optional<float>& adaptive, std::pair<uint32_t, uint32_t> size) {
+                 Result<UvMode> uvMode = parseUvMode(uv);
+                 if (!uvMode) throw ScriptError(uvMode.error().message);
                  ExportOptions options;
-                 options.uv = uv == "linear" ? UvMode::Linear : UvMode::None;
+                 options.uv = *uvMode;
                  options.factor = tess;
+                 if (adaptive) {
+                     if (!(*adaptive > 0.0f)) throw ScriptError("adaptive must be a positive number of pixels per segment");
+                     if (size.first < 16 || size.second < 16) throw ScriptError("size must be at least 16 x 16 pixels");
+                     Result<RenderCamera> camera =
+                         cli::chooseCamera(doc.currentScene(), sceneBounds(doc.currentScene(), doc.plannedScene()),
+                                           float(size.first) / float(size.second), "");
+                     if (!camera) throw ScriptError(camera.error().message);
+                     options.adaptive = adaptiveExport(*camera, size.second, *adaptive);
+                 }
                  options.displaced = displaced;
                  options.split = split;
                  options.optimize = optimize;
@@ -307,12 +320,46 @@ or beside it as an OBJ when inline_cage is False (default: as it was loaded).)do
                  return out;
              },
              py::arg("path"), py::arg("tess") = 8, py::arg("displaced") = false, py::arg("split") = false,
-             py::arg("optimize") = true, py::arg("uv") = "none",
+             py::arg("optimize") = true, py::arg("uv") = "none", py::arg("adaptive") = py::none(),
+             py::arg("size") = std::pair<uint32_t, uint32_t>(800, 600),
              R"doc(Exports the exact limit surface (as `quadplan export` does): one welded, watertight mesh per cage
-at the uniform factor `tess`, as .glb/.gltf (a node per visible object, instances sharing a mesh) or .obj/.ply/.off/.stl
-(objects merged in the world, or one file per object with split=True); displaced=True applies the sculpted
-displacement; uv="linear" adds the cage's texture coordinates, bilinear over each face. Written atomically. Returns what was written (files, vertices, triangles, watertight, acmr_before,
+at the uniform factor `tess` (or, with adaptive=PIXELS, cut as the grid path cuts it for the scene's camera at `size`),
+as .glb/.gltf (a node per visible object, instances sharing a mesh) or .obj/.ply/.off/.stl (objects merged in the
+world, or one file per object with split=True); displaced=True applies the sculpted displacement; uv="linear" adds
+the cage's texture coordinates bilinear over each face, uv="smooth" OpenSubdiv's face-varying limit. Written atomically. Returns what was written (files, vertices, triangles, watertight, acmr_before,
 acmr_after, ms).)doc")
+        .def("bake",
+             [](const Document& doc, const std::string& path, uint32_t size, const std::string& uv,
+                const std::optional<std::string>& normalMap, uint32_t padding) {
+                 Result<UvMode> uvMode = parseUvMode(uv);
+                 if (!uvMode || *uvMode == UvMode::None) throw ScriptError("uv must be 'linear' or 'smooth', got '" + uv + "'");
+                 BakeOptions options;
+                 options.size = size;
+                 options.uv = *uvMode;
+                 options.padding = padding;
+                 options.normalMap = normalMap.has_value();
+                 Result<BakeReport> report = [&] {
+                     py::gil_scoped_release release;
+                     return bakeScene(doc.currentScene(), sceneCages(doc.plannedScene()), path, normalMap.value_or(""), options,
+                                      doc.source());
+                 }();
+                 if (!report) throw ScriptError(report.error().message);
+                 warnAll(report->notes);
+                 py::dict out;
+                 out["files"] = report->files;
+                 out["island_texels"] = report->islandTexels;
+                 out["padding_texels"] = report->paddingTexels;
+                 out["min"] = report->minValue;
+                 out["max"] = report->maxValue;
+                 out["ms"] = report->ms;
+                 return out;
+             },
+             py::arg("path"), py::arg("size") = 1024, py::arg("uv") = "linear", py::arg("normal_map") = py::none(),
+             py::arg("padding") = 4,
+             R"doc(Bakes the sculpted displacement (as `quadplan bake` does) into a size x size, 32-bit float OpenEXR
+map at `path` (.exr) in the cage's UV space (uv="linear" or "smooth"), with `padding` texels grown around each UV
+island, and with normal_map="FILE.png" a tangent-space normal map (OpenGL convention). Several sculpted objects give
+one map each (NAME_OBJECT.exr). Written atomically. Returns files, island_texels, padding_texels, min, max, ms.)doc")
         .def_property_readonly("source", &Document::source, "The file the scene came from (or \"cage\").")
         .def_property_readonly("cage", [](const Document& d) { return d.cage(); }, "A copy of the current cage.")
         .def_property_readonly("positions", [](const Document& d) { return toArray(d.cage().positions); },

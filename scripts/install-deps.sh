@@ -10,7 +10,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers vulkan-validationlayers-dev glslc spirv-tools
   libgtest-dev libgmock-dev libbenchmark-dev
   libeigen3-dev
-  libtinygltf-dev libmeshoptimizer-dev libopenmesh-dev  # exports (export/) and reading them back in tests
+  libtinygltf-dev libmeshoptimizer-dev libopenmesh-dev libopenexr-dev  # exports (export/) and reading them back in tests
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   xvfb xauth xdotool imagemagick
   clang libclang-rt-14-dev  # the test command's fuzzing (libFuzzer) and sanitizer runs

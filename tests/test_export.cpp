@@ -17,10 +17,12 @@
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
 
+#include "camera.h"
 #include "cli_run.h"
 #include "limit_mesh.h"
 #include "mesh_files.h"
 #include "mesh_order.h"
+#include "plan_pass.h"
 #include "planned_cage.h"
 #include "scene.h"
 #include "test_cages.h"
@@ -307,7 +309,13 @@ TEST(LimitMeshExport, LinearUvsFollowTheCageAndSplitOnlyAtSeams) {
     std::string error, warning;
     ASSERT_TRUE(reader.LoadBinaryFromFile(&model, &error, &warning, (dir / "uv.glb").string())) << error;
     ASSERT_TRUE(model.meshes[0].primitives[0].attributes.count("TEXCOORD_0"));
-    EXPECT_EQ(model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")].count, split->vertexCount());
+    const tinygltf::Accessor& texcoords = model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")];
+    ASSERT_EQ(texcoords.count, split->vertexCount());
+    const tinygltf::BufferView& texcoordView = model.bufferViews[texcoords.bufferView];
+    const auto* written = reinterpret_cast<const glm::vec2*>(model.buffers[texcoordView.buffer].data.data() +
+                                                             texcoordView.byteOffset + texcoords.byteOffset);
+    for (uint32_t v = 0; v < split->vertexCount(); ++v)  // glTF's v runs down the image, OBJ's up
+        ASSERT_EQ(written[v], glm::vec2(split->uvs[v].x, 1.0f - split->uvs[v].y)) << "vertex " << v;
     ASSERT_TRUE(writeMeshFile(scene, (dir / "uv.obj").string(), MeshFormat::Obj));
     std::ifstream obj(dir / "uv.obj");
     std::stringstream text;
@@ -318,4 +326,35 @@ TEST(LimitMeshExport, LinearUvsFollowTheCageAndSplitOnlyAtSeams) {
     ASSERT_FALSE(none);
     EXPECT_NE(none.error().message.find("no texture coordinates"), std::string::npos);
     fs::remove_all(dir);
+}
+
+TEST(LimitMeshExport, AdaptiveDensityFollowsTheViewAndStaysWatertight) {
+    PlanDatabase database;
+    const PlannedCage mixed = planned(test::makeMixedGrid(), database);
+    const PlannedCage cube = planned(test::makeSubdividedCube(2), database);
+    auto viewFrom = [](float distance) {
+        RenderCamera camera;
+        camera.eye = {0.3f * distance, 0.4f * distance, distance};
+        camera.target = glm::vec3(0.0f);
+        camera.aspect = 4.0f / 3.0f;
+        camera.farZ = 100.0f + distance;
+        return AdaptiveView{viewProjection(camera), pixelsPerUnit(projectionMatrix(camera), 600), 6.0f};
+    };
+    Result<LimitMesh> nearCube = exactLimitMesh(cube, MeshDensity(viewFrom(4.0f)));
+    Result<LimitMesh> farCube = exactLimitMesh(cube, MeshDensity(viewFrom(40.0f)));
+    ASSERT_TRUE(nearCube && farCube);
+    EXPECT_TRUE(nearCube->closure.watertight()) << nearCube->closure.borderEdges << " border, "
+                                                << nearCube->closure.nonManifoldEdges << " non-manifold edges";
+    EXPECT_TRUE(farCube->closure.watertight());
+    EXPECT_GT(nearCube->triangleCount(), 4 * farCube->triangleCount()) << "a closer view should cut the surface finer";
+    // N-gons and a boundary: no edge used more than twice, the border only along the cage's.
+    Result<LimitMesh> nearMixed = exactLimitMesh(mixed, MeshDensity(viewFrom(5.0f)));
+    ASSERT_TRUE(nearMixed);
+    EXPECT_EQ(nearMixed->closure.nonManifoldEdges, 0u);
+    Result<LimitMesh> uniform = exactLimitMesh(mixed, 2);
+    ASSERT_TRUE(uniform);
+    EXPECT_GT(nearMixed->closure.borderEdges, uniform->closure.borderEdges) << "the boundary was not cut finer";
+    AdaptiveView nothing = viewFrom(4.0f);
+    nothing.pixelsPerSegment = 0.0f;
+    EXPECT_FALSE(exactLimitMesh(cube, MeshDensity(nothing)));
 }

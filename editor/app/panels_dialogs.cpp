@@ -157,10 +157,11 @@ void dialogs(EditorApp& app) {
         checkbox(app, "Displaced", &options.displaced, "Apply the sculpted displacement");
         ImGui::SameLine();
         checkbox(app, "One file per object", &options.split, "NAME_OBJECT.EXT for each visible object (formats without nodes)");
-        ImGui::SameLine();
-        bool uvs = options.uv == UvMode::Linear;
-        if (checkbox(app, "Texture coordinates", &uvs, "The cage's UVs, bilinear over each face (split along seams)"))
-            options.uv = uvs ? UvMode::Linear : UvMode::None;
+        int uv = int(options.uv);
+        ImGui::SetNextItemWidth(120);
+        if (ImGui::Combo("Texture coordinates", &uv, "None\0Linear\0Smooth\0")) options.uv = UvMode(uv);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("The cage's UVs, split along seams: Linear bilinear over each face, Smooth OpenSubdiv's face-varying limit");
         if (button(app, "Export##dialog", "Write the file (atomically; Enter)") || takeDialogKey(app, DialogKey::Confirm)) {
             if (exportTo(app, app.ui.exportPath)) ImGui::CloseCurrentPopup();
         }

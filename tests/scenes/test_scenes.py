@@ -546,3 +546,31 @@ def test_export_writes_the_welded_limit_surface(cube, tmp_path):
     with pytest.raises(qp.Error, match=r"\.glb, \.gltf, \.obj, \.ply, \.off or \.stl"):
         cube.export(str(tmp_path / "cube.fbx"))
     assert not (tmp_path / "cube.fbx").exists()
+
+
+def test_bake_writes_the_displacement_map(cube, tmp_path):
+    # The cube without UVs cannot be baked; the same cube with one UV island per face can.
+    cube.stroke([(0.6, 0.75, 0.75), (-0.6, 0.75, 0.75)], radius=0.35, strength=0.3, resolution=8)
+    with pytest.raises(qp.Error, match="no texture coordinates"):
+        cube.bake(str(tmp_path / "none.exr"))
+    assert not (tmp_path / "none.exr").exists()
+    lines = ["v %d %d %d" % p for p in [(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
+                                         (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)]]
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    for f in range(6):  # a 3 x 2 atlas
+        x, y = f % 3, f // 3
+        lines += ["vt %g %g" % ((x + 0.1 + 0.8 * u) / 3, (y + 0.1 + 0.8 * v) / 2) for u, v in [(0, 0), (1, 0), (1, 1), (0, 1)]]
+    lines += ["f " + " ".join("%d/%d" % (v + 1, 4 * f + k + 1) for k, v in enumerate(face)) for f, face in enumerate(faces)]
+    (tmp_path / "atlas.obj").write_text("\n".join(lines) + "\n")
+    scene = qp.load(tmp_path / "atlas.obj")
+    scene.stroke([(0.6, 0.75, 0.75), (-0.6, 0.75, 0.75)], radius=0.35, strength=0.3, resolution=8)
+    report = scene.bake(str(tmp_path / "d.exr"), size=128, normal_map=str(tmp_path / "n.png"))
+    assert report["files"] == [str(tmp_path / "d.exr"), str(tmp_path / "n.png")]
+    assert report["max"] > 0 and report["min"] >= 0  # a raise brush only raises
+    assert abs(report["island_texels"] / 128**2 - 0.64) < 0.03  # each island 0.8 x 0.8 of its cell
+    assert (tmp_path / "d.exr").read_bytes()[:4] == b"\x76\x2f\x31\x01"  # OpenEXR's magic number
+    assert (tmp_path / "n.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with pytest.raises(qp.Error, match="'linear' or 'smooth'"):
+        scene.bake(str(tmp_path / "x.exr"), uv="none")
+    with pytest.raises(qp.Error, match=r"\.exr"):
+        scene.bake(str(tmp_path / "x.tif"))
