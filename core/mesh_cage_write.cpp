@@ -9,6 +9,8 @@
 #include <glm/geometric.hpp>
 
 #include "file_io.h"
+#include "mesh_om.h"
+#include "obj_io.h"
 
 namespace qp {
 
@@ -74,11 +76,17 @@ std::string stlBytes(const Cage& cage) {
 
 Status saveMeshCage(const Cage& cage, const std::string& path, std::vector<std::string>* lost) {
     const std::string ext = lowercaseExtension(path);
+    if (ext == ".obj") return saveObj(cage, path);  // carries every tag
+    if (ext == ".om") {  // carries every tag too
+        Result<std::string> bytes = omCageBytes(cage, path);
+        if (!bytes) return bytes.error();
+        return writeFileAtomically(path, *bytes);
+    }
     std::string bytes;
     if (ext == ".ply") bytes = plyBytes(cage);
     else if (ext == ".off") bytes = offText(cage);
     else if (ext == ".stl") bytes = stlBytes(cage);
-    else return Error{"cannot write a cage as '" + path + "': the name must end in .ply, .off or .stl (or .obj, which keeps the tags)"};
+    else return Error{"cannot write a cage as '" + path + "': the name must end in .obj, .om, .ply, .off or .stl"};
     if (lost) {
         const std::string format = ext.substr(1);
         auto note = [&](size_t count, const char* what) {

@@ -402,4 +402,105 @@ Result<DeclaredCounts> checkStlFile(const std::string& bytes, const std::string&
     return Error{source + ": the ASCII STL has no 'endsolid' line (a truncated file?)"};
 }
 
+// ---- OpenMesh .om ---------------------------------------------------------------------------
+
+Result<OmCounts> checkOmFile(const std::string& bytes, const std::string& source) {
+    auto u32 = [&](size_t at) {
+        uint32_t v = 0;
+        std::memcpy(&v, bytes.data() + at, 4);  // little-endian files on little-endian hosts
+        return v;
+    };
+    if (bytes.size() < 16 || bytes[0] != 'O' || bytes[1] != 'M')
+        return Error{source + ": not an OpenMesh .om file (it must start with 'OM' and a 16-byte header)"};
+    OmCounts counts;
+    counts.meshType = bytes[2];
+    counts.version = uint8_t(bytes[3]);
+    if (counts.meshType != 'T' && counts.meshType != 'Q' && counts.meshType != 'P')
+        return Error{source + ": the .om header names an unknown mesh type (byte 2 must be T, Q or P)"};
+    if (counts.version > kOmVersion)
+        return Error{source + ": written by a newer OpenMesh (.om version " + std::to_string(counts.version >> 5) + "." +
+                     std::to_string(counts.version & 31) + "; this build reads up to 2.2)"};
+    counts.vertices = u32(4), counts.faces = u32(8), counts.edges = u32(12);
+    const uint64_t V = counts.vertices, F = counts.faces, E = counts.edges;
+    if (V > bytes.size() || F > bytes.size() || E > bytes.size())
+        return Error{source + ": the .om header declares more vertices, faces or edges than the file has bytes (a corrupt header)"};
+    size_t at = 16;
+    uint32_t customChunks = 0;
+    std::string problem;
+    auto take = [&](uint64_t n, const char* what) {
+        if (n > bytes.size() - at) {
+            problem = "byte " + std::to_string(at) + ": the " + std::string(what) + " runs past the end of the file (a truncated file?)";
+            return false;
+        }
+        at += size_t(n);
+        return true;
+    };
+    auto custom = [&]() {
+        if (++customChunks > 64) {
+            problem = "more than 64 custom property chunks (a corrupt file?)";
+            return false;
+        }
+        if (counts.version > ((2 << 5) | 1)) {  // 2.2 names the property's type
+            if (at >= bytes.size()) return take(1, "property type");
+            if (!take(1 + uint8_t(bytes[at]), "property type")) return false;
+        }
+        if (bytes.size() - at < 4) return take(4, "property size");
+        const uint32_t block = u32(at);
+        return take(4, "property size") && take(block, "property data");
+    };
+    while (at < bytes.size()) {
+        if (bytes.size() - at < 2) return Error{source + ": byte " + std::to_string(at) + ": half a chunk header at the end"};
+        const uint16_t header = uint16_t(uint8_t(bytes[at]) | uint8_t(bytes[at + 1]) << 8);
+        at += 2;
+        const bool named = (header >> 1) & 1, isFloat = (header >> 10) & 1;
+        const uint32_t entity = (header >> 2) & 7, type = (header >> 5) & 15, dims = ((header >> 11) & 7) + 1, bits = (header >> 14) & 3;
+        if (named && (at >= bytes.size() || !take(1 + uint8_t(bytes[at]), "property name")))
+            return Error{source + ": " + (problem.empty() ? "a property name runs past the end of the file" : problem)};
+        enum { Vertex = 0, Mesh = 1, Face = 2, Edge = 4, Halfedge = 6, Sentinel = 7 };
+        enum { Pos = 0, Normal = 1, Texcoord = 2, Status = 3, Color = 4, Custom = 6, Topology = 7 };
+        if (entity == Sentinel) return counts;
+        const uint64_t elements = entity == Vertex ? V : entity == Face ? F : entity == Edge ? E : entity == Halfedge ? 2 * E : 1;
+        if (entity != Vertex && entity != Mesh && entity != Face && entity != Edge && entity != Halfedge)
+            return Error{source + ": byte " + std::to_string(at - 2) + ": a chunk of an unknown kind (entity " + std::to_string(entity) + ")"};
+        const uint64_t index = uint64_t(1) << bits, scalar = isFloat ? (uint64_t(1) << bits) : (uint64_t(4) << bits);
+        auto vectors = [&](const char* what) {  // positions and normals: floats or doubles, three each
+            if (bits > 1) {
+                problem = std::string(what) + " that are neither floats nor doubles";
+                return false;
+            }
+            return take(elements * (bits == 0 ? 12 : 24), what);
+        };
+        // The reader asserts each standard chunk's dimension (and Debian builds it with asserts on).
+        const uint32_t expected = type == Pos || type == Normal || type == Color ? 3 : type == Texcoord ? 2 : 1;
+        if ((type == Pos || type == Normal || type == Texcoord || type == Color || type == Status) && entity != Mesh &&
+            dims != expected)
+            return Error{source + ": byte " + std::to_string(at - 2) + ": a chunk of " + std::to_string(dims) +
+                         "-component values where OpenMesh expects " + std::to_string(expected)};
+        bool ok = true;
+        if (type == Custom) ok = custom();
+        else if (entity == Vertex && type == Pos) ok = vectors("vertex positions");
+        else if ((entity == Vertex || entity == Face) && type == Normal) ok = vectors("normals");
+        else if (entity == Vertex && type == Texcoord) ok = take(V * 8, "texture coordinates");
+        else if ((entity == Vertex || entity == Face) && type == Color) ok = take(elements * 3, "colours");
+        else if (entity != Mesh && type == Status) ok = take(elements * 4, "status flags");
+        else if (entity == Vertex && type == Topology) ok = take(V * index, "vertex topology");
+        else if (entity == Halfedge && type == Topology) ok = take(E * 6 * index, "half-edge topology");
+        else if (entity == Face && type == Topology && counts.version >= (2 << 5)) ok = take(F * index, "face topology");
+        else if (entity == Face && type == Topology) {  // before 2.0: vertex lists
+            for (uint64_t f = 0; ok && f < F; ++f) {
+                uint64_t corners = counts.meshType == 'T' ? 3 : 4;
+                if (counts.meshType == 'P') {
+                    if (bytes.size() - at < 2) ok = take(2, "face list");
+                    else corners = uint8_t(bytes[at]) | uint8_t(bytes[at + 1]) << 8, ok = take(2, "face list");
+                }
+                ok = ok && take(corners * index, "face list");
+            }
+        } else {
+            ok = take(elements * dims * scalar, "chunk");  // what the reader skips
+        }
+        if (!ok) return Error{source + ": " + problem};
+    }
+    return counts;
+}
+
 }  // namespace qp

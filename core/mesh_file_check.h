@@ -27,4 +27,18 @@ Result<DeclaredCounts> checkPlyFile(const std::string& bytes, const std::string&
 Result<DeclaredCounts> checkOffFile(const std::string& bytes, const std::string& source);
 Result<DeclaredCounts> checkStlFile(const std::string& bytes, const std::string& source);
 
+// OpenMesh's binary format (.om, versions up to kOmVersion): the header's counts, then every
+// chunk's size as OpenMesh's reader will consume it (which reads fixed-size vectors whatever a
+// chunk's header claims, and loops over the header's counts without looking for the file's end),
+// so each chunk must fit in the bytes left and the last must end where the file does. Chunks the
+// reader would refuse (an unknown entity, positions that are neither floats nor doubles) are
+// refused here by name. What the topology chunks say is checked after reading (mesh_om.h).
+inline constexpr uint8_t kOmVersion = (2 << 5) | 2;  // 2.2, what OpenMesh 9 writes
+struct OmCounts {
+    uint32_t vertices = 0, faces = 0, edges = 0;
+    uint8_t version = 0;
+    char meshType = 'P';  // 'T' triangles, 'Q' quads, 'P' polygons
+};
+Result<OmCounts> checkOmFile(const std::string& bytes, const std::string& source);
+
 }  // namespace qp

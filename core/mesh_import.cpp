@@ -14,6 +14,7 @@
 
 #include "file_io.h"
 #include "mesh_file_check.h"
+#include "mesh_om.h"
 
 namespace qp {
 
@@ -99,14 +100,15 @@ struct QuietOpenMesh {
 }  // namespace
 
 bool isMeshCageExtension(const std::string& extension) {
-    return extension == ".ply" || extension == ".off" || extension == ".stl";
+    return extension == ".ply" || extension == ".off" || extension == ".stl" || extension == ".om";
 }
 
 Result<Cage> loadMeshCage(const std::string& path, std::vector<std::string>* warnings) {
     const std::string ext = lowercaseExtension(path);
-    if (!isMeshCageExtension(ext)) return Error{path + ": not a PLY, OFF or STL file"};
+    if (!isMeshCageExtension(ext)) return Error{path + ": not a PLY, OFF, STL or OM file"};
     Result<std::string> bytes = readFile(path);
     if (!bytes) return bytes.error();
+    if (ext == ".om") return loadOmCage(path, *bytes);
     // OpenMesh's readers trust the file: it is walked first (mesh_file_check.h).
     Result<DeclaredCounts> declared = ext == ".ply" ? checkPlyFile(*bytes, path)
                                       : ext == ".off" ? checkOffFile(*bytes, path)

@@ -1,6 +1,6 @@
 // Cages from the mesh formats other tools write: PLY (ASCII or binary), OFF and STL (ASCII or
 // binary; its repeated vertices are welded where their positions are equal), parsed by
-// OpenMesh's readers.
+// OpenMesh's readers; and OpenMesh's own .om, which carries the tags (mesh_om.h).
 //
 // The faces go into Quadplan's own importer, not into OpenMesh's mesh kernel: the kernel
 // refuses non-manifold ("complex") faces and would drop them, while a cage may be non-manifold
@@ -11,7 +11,7 @@
 // could hold are refused before parsing (a corrupt header must not make the reader loop), and
 // the cage must pass validateCage (finite positions, faces of distinct vertices, ...).
 //
-// These files carry no creases, corners or holes; normals, colours and texture coordinates in
+// PLY, OFF and STL carry no creases, corners or holes; normals, colours and texture coordinates in
 // them are ignored (a subdivision surface's normals come from the surface).
 #pragma once
 
@@ -24,8 +24,8 @@
 
 namespace qp {
 
-// Whether a lower-case extension (file_io.h lowercaseExtension: ".ply", ".off", ".stl") is one of
-// these formats.
+// Whether a lower-case extension (file_io.h lowercaseExtension: ".ply", ".off", ".stl", ".om") is
+// one of these formats.
 bool isMeshCageExtension(const std::string& extension);
 
 Result<Cage> loadMeshCage(const std::string& path, std::vector<std::string>* warnings = nullptr);

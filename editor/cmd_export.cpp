@@ -81,20 +81,22 @@ private:
     std::optional<VulkanContext> context_;
 };
 
-// --cage: the visible objects' cages (their polygons) in the world, merged or one file each.
+// --cage: the visible objects' cages (their polygons, tags and UVs) in the world, merged or one
+// file each.
 int exportCages(const ExportArgs& args, const Scene& scene, const PlannedScene& planned) {
     auto placed = [&](uint32_t object) {
         const Cage& source = planned.cages[planned.cageOfObject[object]].cage();
         const glm::mat4 matrix = scene.objects[object].transform.matrix();
         const bool mirrored = glm::determinant(glm::mat3(matrix)) < 0.0f;
-        Cage cage;
-        for (const glm::vec3& p : source.positions) cage.positions.push_back(glm::vec3(matrix * glm::vec4(p, 1.0f)));
-        for (uint32_t f = 0; f < source.faceCount(); ++f) {
-            std::vector<uint32_t> face(source.faceBegin(f), source.faceBegin(f) + source.faceSize(f));
-            if (mirrored) std::reverse(face.begin(), face.end());
-            cage.addFace(face.data(), uint32_t(face.size()));
+        Cage cage = source;  // tags, UVs and options as they are
+        for (glm::vec3& p : cage.positions) p = glm::vec3(matrix * glm::vec4(p, 1.0f));
+        if (mirrored) {  // keep the faces facing out: each face backwards from its first corner
+            for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+                std::reverse(cage.faceVertices.begin() + cage.faceOffsets[f] + 1, cage.faceVertices.begin() + cage.faceOffsets[f + 1]);
+                if (!cage.faceUVIndices.empty())
+                    std::reverse(cage.faceUVIndices.begin() + cage.faceOffsets[f] + 1, cage.faceUVIndices.begin() + cage.faceOffsets[f + 1]);
+            }
         }
-        cage.creases = source.creases, cage.corners = source.corners, cage.holes = source.holes;  // named as lost
         return cage;
     };
     std::vector<std::pair<std::string, Cage>> files;
@@ -104,10 +106,17 @@ int exportCages(const ExportArgs& args, const Scene& scene, const PlannedScene& 
                 files.push_back({scene.objects.size() == 1 ? args.out : splitExportPath(args.out, scene.objects[i].name), placed(i)});
     } else {
         Cage merged;
+        bool first = true, uvs = true;
+        for (uint32_t i = 0; i < scene.objects.size(); ++i)
+            if (scene.objects[i].visible) uvs = uvs && !placed(i).uvs.empty();
         for (uint32_t i = 0; i < scene.objects.size(); ++i) {
             if (!scene.objects[i].visible) continue;
-            Cage part = placed(i);
-            const uint32_t base = merged.vertexCount();
+            const Cage part = placed(i);
+            if (first) merged.options = part.options;
+            else if (!(merged.options == part.options))
+                std::fprintf(stderr, "warning: the objects' subdivision options differ: the merged cage takes the first's\n");
+            first = false;
+            const uint32_t base = merged.vertexCount(), faceBase = merged.faceCount(), uvBase = uint32_t(merged.uvs.size());
             merged.positions.insert(merged.positions.end(), part.positions.begin(), part.positions.end());
             for (uint32_t f = 0; f < part.faceCount(); ++f) {
                 std::vector<uint32_t> face(part.faceBegin(f), part.faceBegin(f) + part.faceSize(f));
@@ -115,6 +124,12 @@ int exportCages(const ExportArgs& args, const Scene& scene, const PlannedScene& 
                 merged.addFace(face.data(), uint32_t(face.size()));
             }
             for (EdgeCrease c : part.creases) merged.creases.push_back({c.v0 + base, c.v1 + base, c.sharpness});
+            for (VertexCorner c : part.corners) merged.corners.push_back({c.vertex + base, c.sharpness});
+            for (uint32_t h : part.holes) merged.holes.push_back(h + faceBase);
+            if (uvs) {
+                merged.uvs.insert(merged.uvs.end(), part.uvs.begin(), part.uvs.end());
+                for (uint32_t index : part.faceUVIndices) merged.faceUVIndices.push_back(index + uvBase);
+            }
         }
         files.push_back({args.out, std::move(merged)});
     }
@@ -227,7 +242,7 @@ void registerExport(CLI::App& app, int& exitCode) {
     cmd->add_option("--size", args->size, "Image size the --adaptive pixels refer to (default 800x600, as render)");
     cmd->add_option("--camera", args->camera, "--adaptive's camera: EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed)");
     cmd->add_flag("--displaced", args->displaced, "Apply the scene's sculpted displacement (plans)");
-    cmd->add_flag("--cage", args->cage, "Write the cage itself (its polygons) as .ply, .off or .stl instead of the limit surface; tags are lost and named");
+    cmd->add_flag("--cage", args->cage, "Write the cage itself (its polygons) instead of the limit surface: .obj or .om keep its tags, .ply, .off or .stl lose them (named)");
     cmd->add_flag("--split", args->split, "One file per object (NAME_OBJECT.EXT) instead of one for the scene");
     cmd->add_option("--uv", args->uv,
                     "none (default); linear: the cage's texture coordinates bilinear over each face; smooth: OpenSubdiv's "

@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
@@ -20,6 +21,7 @@
 #include "camera.h"
 #include "cli_run.h"
 #include "limit_mesh.h"
+#include "mesh_cage_write.h"
 #include "mesh_files.h"
 #include "mesh_order.h"
 #include "plan_pass.h"
@@ -357,4 +359,37 @@ TEST(LimitMeshExport, AdaptiveDensityFollowsTheViewAndStaysWatertight) {
     AdaptiveView nothing = viewFrom(4.0f);
     nothing.pixelsPerSegment = 0.0f;
     EXPECT_FALSE(exactLimitMesh(cube, MeshDensity(nothing)));
+}
+
+TEST(LimitMeshExport, OpenMeshReadsTheTagsOfAnOmCage) {
+    // The second reader: OpenMesh's own .om reader into its own mesh, tags as named properties.
+    Cage cage = test::makeSubdividedCube(2);
+    cage.setEdgeSharpness(cage.faceBegin(0)[0], cage.faceBegin(0)[1], 4.0f);
+    cage.setVertexSharpness(5, 2.0f);
+    cage.setHole(3, true);
+    const fs::path dir = scratch();
+    const std::string path = (dir / "tags.om").string();
+    ASSERT_TRUE(saveMeshCage(cage, path));
+    OpenMesh::PolyMesh_ArrayKernelT<> mesh;
+    OpenMesh::EPropHandleT<float> crease;
+    OpenMesh::VPropHandleT<float> corner;
+    OpenMesh::FPropHandleT<int> hole;
+    mesh.add_property(crease, "quadplan:crease");
+    mesh.add_property(corner, "quadplan:corner");
+    mesh.add_property(hole, "quadplan:hole");
+    ASSERT_TRUE(OpenMesh::IO::read_mesh(mesh, path));
+    ASSERT_EQ(mesh.n_vertices(), cage.vertexCount());
+    ASSERT_EQ(mesh.n_faces(), cage.faceCount());
+    uint32_t creased = 0;
+    for (auto e : mesh.edges())
+        if (const float s = mesh.property(crease, e); s != 0.0f) {
+            ++creased;
+            EXPECT_EQ(s, 4.0f);
+            const int a = mesh.from_vertex_handle(mesh.halfedge_handle(e, 0)).idx(), b = mesh.to_vertex_handle(mesh.halfedge_handle(e, 0)).idx();
+            EXPECT_EQ(cage.edgeSharpness(uint32_t(a), uint32_t(b)), 4.0f);
+        }
+    EXPECT_EQ(creased, 1u);
+    EXPECT_EQ(mesh.property(corner, OpenMesh::VertexHandle(5)), 2.0f);
+    for (auto f : mesh.faces()) EXPECT_EQ(mesh.property(hole, f), f.idx() == 3 ? 1 : 0);
+    fs::remove_all(dir);
 }

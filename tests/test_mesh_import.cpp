@@ -181,3 +181,114 @@ TEST_F(MeshImport, CagesWrittenAsPlyOffAndStlReadBack) {
     EXPECT_FALSE(saveMeshCage(mixed, (dir / "cage.fbx").string()));
     EXPECT_FALSE(fs::exists(dir / "cage.fbx"));
 }
+
+namespace {
+
+// A cage with every tag and option .om carries: creases (one infinite), a corner, a hole, UVs
+// with a seam, n-gons, options other than the defaults.
+Cage taggedMixedGrid() {
+    Cage cage = test::makeMixedGrid();
+    cage.setEdgeSharpness(0, 1, 2.5f);
+    cage.setEdgeSharpness(6, 7, kInfiniteSharpness);
+    cage.setVertexSharpness(12, 3.0f);
+    cage.setHole(2, true);
+    for (uint32_t f = 0; f < cage.faceCount(); ++f)
+        for (uint32_t k = 0; k < cage.faceSize(f); ++k) {
+            const glm::vec3 p = cage.positions[cage.faceBegin(f)[k]];
+            cage.faceUVIndices.push_back(uint32_t(cage.uvs.size()));  // every corner its own UV: seams everywhere
+            cage.uvs.push_back({p.x * 0.25f + float(f) * 1e-3f, p.y * 0.25f});
+        }
+    cage.options.boundary = BoundaryInterpolation::EdgesOnly;
+    cage.options.creaseMethod = CreaseMethod::Chaikin;
+    cage.options.fvarInterpolation = FVarInterpolation::CornersPlus1;
+    cage.options.fvarPropagateCorners = true;
+    EXPECT_TRUE(validateCage(cage, "tagged"));
+    return cage;
+}
+
+void expectSameCage(const Cage& a, const Cage& b) {
+    EXPECT_EQ(a.positions, b.positions);
+    EXPECT_EQ(a.faceOffsets, b.faceOffsets);
+    EXPECT_EQ(a.faceVertices, b.faceVertices);
+    ASSERT_EQ(a.creases.size(), b.creases.size());
+    for (size_t i = 0; i < a.creases.size(); ++i)
+        EXPECT_TRUE(a.creases[i].v0 == b.creases[i].v0 && a.creases[i].v1 == b.creases[i].v1 &&
+                    a.creases[i].sharpness == b.creases[i].sharpness) << "crease " << i;
+    ASSERT_EQ(a.corners.size(), b.corners.size());
+    for (size_t i = 0; i < a.corners.size(); ++i)
+        EXPECT_TRUE(a.corners[i].vertex == b.corners[i].vertex && a.corners[i].sharpness == b.corners[i].sharpness);
+    EXPECT_EQ(a.holes, b.holes);
+    EXPECT_TRUE(a.options == b.options);
+    EXPECT_EQ(a.uvs, b.uvs);
+    EXPECT_EQ(a.faceUVIndices, b.faceUVIndices);
+}
+
+}  // namespace
+
+TEST_F(MeshImport, OmRoundTripsEveryTagExactly) {
+    const Cage tagged = taggedMixedGrid();
+    const std::string path = (dir / "tagged.om").string();
+    std::vector<std::string> lost;
+    ASSERT_TRUE(saveMeshCage(tagged, path, &lost));
+    EXPECT_TRUE(lost.empty()) << lost.front();
+    Result<Cage> back = loadMeshCage(path);
+    ASSERT_TRUE(back) << back.error().message;
+    expectSameCage(tagged, *back);
+    // Without UVs and with default options too.
+    const Cage plain = test::makeSubdividedCube(2);
+    ASSERT_TRUE(saveMeshCage(plain, path));
+    back = loadMeshCage(path);
+    ASSERT_TRUE(back) << back.error().message;
+    expectSameCage(plain, *back);
+}
+
+TEST_F(MeshImport, OmRefusesNonManifoldCagesNamingTheFaces) {
+    Cage fan = test::makeGrid(1);  // one quad, then three more faces on its first edge
+    for (int k = 0; k < 3; ++k) {
+        const uint32_t v = fan.vertexCount();
+        fan.positions.push_back({0.5f, float(k) * 0.1f - 0.5f, 1.0f + float(k)});
+        const uint32_t tri[3] = {1, 0, v};
+        fan.addFace(tri, 3);
+    }
+    const std::string path = (dir / "fan.om").string();
+    Status saved = saveMeshCage(fan, path);
+    ASSERT_FALSE(saved);
+    EXPECT_NE(saved.error().message.find("non-manifold faces 2, 3"), std::string::npos) << saved.error().message;
+    EXPECT_FALSE(fs::exists(path)) << "a refused save left a file";
+}
+
+TEST_F(MeshImport, CorruptOmFilesAreRefusedNeverHalfRead) {
+    const std::string path = (dir / "good.om").string();
+    ASSERT_TRUE(saveMeshCage(taggedMixedGrid(), path));
+    std::ifstream in(path, std::ios::binary);
+    const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(good.size(), 200u);
+    // Every truncation is refused (or, cut after the last chunk, reads the same cage).
+    for (size_t length = 0; length < good.size(); length += 7) {
+        Result<Cage> cage = loadMeshCage(write("cut.om", good.substr(0, length)));
+        if (cage) EXPECT_EQ(cage->faceVertices, taggedMixedGrid().faceVertices) << "cut at " << length;
+        else EXPECT_NE(cage.error().message.find("cut.om"), std::string::npos) << cage.error().message;
+    }
+    // Flipped bytes anywhere: an error naming the file, or a valid cage.
+    for (size_t at = 0; at < good.size(); at += 3) {
+        std::string bad = good;
+        bad[at] = char(bad[at] ^ 0x5a);
+        Result<Cage> cage = loadMeshCage(write("flipped.om", bad));
+        if (cage) EXPECT_TRUE(validateCage(*cage, "flipped"));
+        else EXPECT_NE(cage.error().message.find("flipped.om"), std::string::npos) << cage.error().message;
+    }
+    // Counts larger than the file, a newer version, another magic.
+    std::string huge = good;
+    huge[7] = char(0x7f);  // vertices ~ 2^31
+    Result<Cage> refused = loadMeshCage(write("huge.om", huge));
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("more vertices, faces or edges than the file has bytes"), std::string::npos);
+    std::string newer = good;
+    newer[3] = char((3 << 5) | 0);
+    refused = loadMeshCage(write("newer.om", newer));
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("newer OpenMesh"), std::string::npos) << refused.error().message;
+    refused = loadMeshCage(write("other.om", "PLY not an OM file at all, just text"));
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find("not an OpenMesh .om file"), std::string::npos);
+}

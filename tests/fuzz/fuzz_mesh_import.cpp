@@ -1,7 +1,7 @@
-// libFuzzer target: the PLY, OFF and STL cage readers (core/mesh_import.h, OpenMesh's parsers into
-// Quadplan's importer) on arbitrary bytes. The input is written to a scratch file whose extension
-// follows its first bytes ("ply" -> .ply, "OFF" -> .off, anything else -> .stl, where binary STL
-// takes any bytes). Whatever loads must be a valid cage the product can build topology for.
+// libFuzzer target: the PLY, OFF, STL and OM cage readers (core/mesh_import.h, OpenMesh's parsers
+// into Quadplan's importers) on arbitrary bytes. The input is written to a scratch file whose
+// extension follows its first bytes ("ply" -> .ply, "OFF" -> .off, "OM" -> .om, anything else ->
+// .stl, where binary STL takes any bytes). Whatever loads must be a valid cage the product can build topology for.
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -16,7 +16,10 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string_view bytes(reinterpret_cast<const char*>(data), size);
-    const char* ext = bytes.rfind("ply", 0) == 0 ? ".ply" : bytes.rfind("OFF", 0) == 0 ? ".off" : ".stl";
+    const char* ext = bytes.rfind("ply", 0) == 0 ? ".ply"
+                      : bytes.rfind("OFF", 0) == 0 ? ".off"
+                      : bytes.rfind("OM", 0) == 0  ? ".om"
+                                                   : ".stl";
     static const std::string base = "/tmp/quadplan_fuzz_mesh_" + std::to_string(getpid());
     const std::string path = base + ext;
     {
