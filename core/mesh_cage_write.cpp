@@ -74,6 +74,27 @@ std::string stlBytes(const Cage& cage) {
 
 }  // namespace
 
+std::vector<std::string> meshFormatLosses(const Cage& cage, const std::string& path) {
+    const std::string ext = lowercaseExtension(path);
+    std::vector<std::string> lost;
+    if (ext == ".obj" || ext == ".om") return lost;
+    const std::string format = ext.empty() ? "the format" : ext.substr(1);
+    auto note = [&](size_t count, const char* what) {
+        if (count) lost.push_back(path + ": " + format + " cannot hold the cage's " + std::to_string(count) + " " + what + ": not written");
+    };
+    note(cage.creases.size(), "creases");
+    note(cage.corners.size(), "corners");
+    note(cage.holes.size(), "holes (written as faces)");
+    note(cage.uvs.empty() ? 0 : cage.faceUVIndices.size(), "face-varying texture coordinates");
+    if (!(cage.options == SubdivisionOptions{})) lost.push_back(path + ": " + format + " cannot hold the boundary rule and crease method");
+    if (ext == ".stl") {
+        uint32_t polygons = 0;
+        for (uint32_t f = 0; f < cage.faceCount(); ++f) polygons += cage.faceSize(f) > 3;
+        if (polygons) lost.push_back(path + ": STL holds triangles: " + std::to_string(polygons) + " polygons were fanned into triangles");
+    }
+    return lost;
+}
+
 Status saveMeshCage(const Cage& cage, const std::string& path, std::vector<std::string>* lost) {
     const std::string ext = lowercaseExtension(path);
     if (ext == ".obj") return saveObj(cage, path);  // carries every tag
@@ -87,22 +108,7 @@ Status saveMeshCage(const Cage& cage, const std::string& path, std::vector<std::
     else if (ext == ".off") bytes = offText(cage);
     else if (ext == ".stl") bytes = stlBytes(cage);
     else return Error{"cannot write a cage as '" + path + "': the name must end in .obj, .om, .ply, .off or .stl"};
-    if (lost) {
-        const std::string format = ext.substr(1);
-        auto note = [&](size_t count, const char* what) {
-            if (count) lost->push_back(path + ": " + format + " cannot hold the cage's " + std::to_string(count) + " " + what + ": not written");
-        };
-        note(cage.creases.size(), "creases");
-        note(cage.corners.size(), "corners");
-        note(cage.holes.size(), "holes (written as faces)");
-        note(cage.uvs.empty() ? 0 : cage.faceUVIndices.size(), "face-varying texture coordinates");
-        if (!(cage.options == SubdivisionOptions{})) lost->push_back(path + ": " + format + " cannot hold the boundary rule and crease method");
-        if (ext == ".stl") {
-            uint32_t polygons = 0;
-            for (uint32_t f = 0; f < cage.faceCount(); ++f) polygons += cage.faceSize(f) > 3;
-            if (polygons) lost->push_back(path + ": STL holds triangles: " + std::to_string(polygons) + " polygons were fanned into triangles");
-        }
-    }
+    if (lost) *lost = meshFormatLosses(cage, path);
     return writeFileAtomically(path, bytes);
 }
 

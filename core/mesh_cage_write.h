@@ -16,4 +16,7 @@ namespace qp {
 // `path` ends in .ply (binary little-endian), .off, .stl (binary), .om or .obj (obj_io.h).
 Status saveMeshCage(const Cage& cage, const std::string& path, std::vector<std::string>* lost = nullptr);
 
+// What writing `cage` to `path` would lose, one sentence each (none for .obj and .om).
+std::vector<std::string> meshFormatLosses(const Cage& cage, const std::string& path);
+
 }  // namespace qp

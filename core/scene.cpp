@@ -313,15 +313,17 @@ constexpr const char* kInlineOnlyFields[] = {"positions", "faces", "creases", "c
                                              "options", "uvs", "face_uvs"};
 
 Cage readReferencedCage(ObjectReader& object, const Context& ctx, std::string& cagePath) {
-    // Keeping tags in exactly one place (the OBJ) means there is nothing to merge or to
-    // get out of sync when the OBJ is edited elsewhere.
+    // Keeping tags in exactly one place (the cage file) means there is nothing to merge or to
+    // get out of sync when the file is edited elsewhere. OBJ and OM carry them; a PLY, OFF or
+    // STL cage has none until the scene is saved (saveScene then writes an OBJ beside it).
     for (const char* key : kInlineOnlyFields)
         if (object.has(key))
             fail(object.field(key), "not allowed with \"path\": a referenced cage keeps its geometry and tags "
                                     "in the OBJ file");
     cagePath = readName(object.required("path"), object.field("path"));
     std::string resolved = (fs::path(ctx.baseDir) / cagePath).string();
-    Result<Cage> cage = loadObj(resolved, ctx.warnings);
+    Result<Cage> cage = isMeshCageExtension(lowercaseExtension(resolved)) ? loadMeshCage(resolved, ctx.warnings)
+                                                                          : loadObj(resolved, ctx.warnings);
     if (!cage) fail(object.field("path"), "cannot load the referenced cage \"" + cagePath + "\": " + cage.error().message);
     return std::move(cage).value();
 }

@@ -10,6 +10,7 @@
 
 #include "displacement_io.h"
 #include "file_io.h"
+#include "mesh_cage_write.h"
 #include "obj_io.h"
 #include "scene.h"
 #include "scene_names.h"
@@ -267,8 +268,11 @@ Status saveScene(const Scene& scene, const std::string& path, CageStorage storag
                 return Error{path + ": not saved: objects \"" + scene.objects[writerOf[cagePaths[i]]].name + "\" and \"" +
                              o.name + "\" would both be written to " + cagePaths[i]};
         }
+        // A cage file that cannot hold what the cage has now (PLY, OFF and STL carry no tags or UVs)
+        // is left as it is: the cage goes to an OBJ beside it, and the scene points there.
+        if (!meshFormatLosses(o.cage, cagePaths[i]).empty()) cagePaths[i] = (fs::path(cagePaths[i]).replace_extension(".obj")).string();
         writerOf[cagePaths[i]] = i;
-        if (Status saved = saveObj(o.cage, (fs::path(path).parent_path() / cagePaths[i]).string()); !saved) return saved;
+        if (Status saved = saveMeshCage(o.cage, (fs::path(path).parent_path() / cagePaths[i]).string()); !saved) return saved;
     }
     return writeFileAtomically(path, formatSceneWith(scene, &cagePaths));
 }

@@ -264,7 +264,8 @@ Status writeNormalMapPng(const BakedMaps& maps, const std::string& path) {
 }
 
 Result<BakeReport> bakeScene(const Scene& scene, const SceneCages& cages, const std::string& path,
-                             const std::string& normalMapPath, const BakeOptions& options, const std::string& source) {
+                             const std::string& normalMapPath, const BakeOptions& options, const std::string& source,
+                             const ExportProgress& progress) {
     const auto start = std::chrono::steady_clock::now();
     if (lowercaseExtension(path) != ".exr") return Error{"the displacement map must be an .exr file, got '" + path + "'"};
     if (!normalMapPath.empty() && lowercaseExtension(normalMapPath) != ".png")
@@ -280,6 +281,7 @@ Result<BakeReport> bakeScene(const Scene& scene, const SceneCages& cages, const 
             if (cages.cages.size() > 1) report.notes.push_back(where + " has no sculpted displacement: not baked");
             continue;
         }
+        if (progress) progress("Baking " + object.name, 0.9f * float(c) / float(cages.cages.size()));
         Result<BakedMaps> maps = bakeDisplacement(*cages.cages[c], object.displacement, options, where);
         if (!maps) return maps.error();
         if (maps->subfacesOutsideUnitSquare > 0)
@@ -297,6 +299,7 @@ Result<BakeReport> bakeScene(const Scene& scene, const SceneCages& cages, const 
     auto fileFor = [&](const std::string& out, uint32_t owner) {
         return baked.size() == 1 ? out : splitExportPath(out, scene.objects[owner].name);
     };
+    if (progress) progress("Writing " + path, 0.9f);
     for (const auto& [owner, maps] : baked) {
         const std::string file = fileFor(path, owner);
         if (Status s = writeDisplacementExr(maps, file); !s) return s.error();

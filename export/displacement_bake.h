@@ -82,6 +82,7 @@ struct BakeReport {
 // `normalMapPath` (a .png) the normal maps likewise. Everything is baked before anything is
 // written; a scene without displacement is an error.
 Result<BakeReport> bakeScene(const Scene& scene, const SceneCages& cages, const std::string& path,
-                             const std::string& normalMapPath, const BakeOptions& options, const std::string& source);
+                             const std::string& normalMapPath, const BakeOptions& options, const std::string& source,
+                             const ExportProgress& progress = nullptr);
 
 }  // namespace qp

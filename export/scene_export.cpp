@@ -31,15 +31,22 @@ MeshDensity exportDensity(const Scene& scene, const SceneCages& planned, uint32_
 }
 
 Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, const std::string& path,
-                                 const ExportOptions& options, const std::string& source, const CageMesher& mesher) {
+                                 const ExportOptions& options, const std::string& source, const CageMesher& mesher,
+                                 const ExportProgress& progress) {
     const auto start = std::chrono::steady_clock::now();
     Result<MeshFormat> format = meshFormatOf(path);
     if (!format) return format.error();
     ExportReport report;
     ExportScene exported;
     double weightedBefore = 0.0, weightedAfter = 0.0, weight = 0.0;
+    const float cages = float(planned.cages.size());
+    auto step = [&](const std::string& stage, float fraction) {
+        if (progress) progress(stage, fraction);
+    };
     for (uint32_t c = 0; c < planned.cages.size(); ++c) {
         const SceneObject& owner = scene.objects[planned.objectOfCage[c]];
+        const std::string of = cages > 1 ? " (" + owner.name + ", " + std::to_string(c + 1) + " of " + std::to_string(planned.cages.size()) + ")" : "";
+        step("Evaluating the surface" + of, 0.9f * float(c) / cages);
         const std::string where = planned.cages.size() == 1 ? source : source + ": object \"" + owner.name + "\"";
         const bool displace = options.displaced && !owner.displacement.empty();
         if (options.displaced && !displace) report.notes.push_back(where + " has no sculpted displacement: exported without");
@@ -51,6 +58,7 @@ Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, 
         report.closure.borderEdges += closure.borderEdges;
         report.closure.nonManifoldEdges += closure.nonManifoldEdges;
         if (options.optimize) {
+            step("Optimising the vertex order" + of, 0.9f * (float(c) + 0.6f) / cages);
             const OrderReport order = optimizeMeshOrder(*mesh);
             weightedBefore += double(order.acmrBefore) * mesh->triangleCount();
             weightedAfter += double(order.acmrAfter) * mesh->triangleCount();
@@ -66,6 +74,7 @@ Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, 
     report.meshes = uint32_t(exported.meshes.size());
 
     auto write = [&](const ExportScene& part, const std::string& file) -> Status {
+        step("Writing " + file, 0.9f);
         if (Status written = writeMeshFile(part, file, *format); !written) return written;
         report.files.push_back(file);
         if (hasNodes(*format)) {
@@ -85,6 +94,7 @@ Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, 
         return s.error();
     }
     report.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    step("Done", 1.0f);
     return report;
 }
 

@@ -62,6 +62,10 @@ std::string splitExportPath(const std::string& out, const std::string& object);
 // How finely cage `c` of `planned` is meshed under `options`.
 MeshDensity exportDensity(const Scene& scene, const SceneCages& planned, uint32_t c, const ExportOptions& options);
 
+// Where a long export or bake is (the editor's progress bar): what it does now and the fraction
+// of the whole done. Called from the exporting thread.
+using ExportProgress = std::function<void(const std::string& stage, float fraction)>;
+
 // Makes cage `c`'s mesh; the default is exactLimitMesh (with the owner's displacement when asked).
 using CageMesher = std::function<Result<LimitMesh>(const PlannedCage& cage, uint32_t c, const std::string& source)>;
 
@@ -69,6 +73,6 @@ using CageMesher = std::function<Result<LimitMesh>(const PlannedCage& cage, uint
 // `source` names the scene in messages. Nothing is written when any cage fails.
 Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, const std::string& path,
                                  const ExportOptions& options, const std::string& source,
-                                 const CageMesher& mesher = nullptr);
+                                 const CageMesher& mesher = nullptr, const ExportProgress& progress = nullptr);
 
 }  // namespace qp

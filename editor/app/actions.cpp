@@ -11,10 +11,12 @@ namespace {
 // Component modes, select all/none/invert and grow/shrink follow Blender; the transform tools
 // (Q, W, E, R) and frame (F) follow Maya. docs/editor.md lists them too.
 const ActionInfo kActions[] = {
-    {"file.open", "Open...", "Ctrl+O", {GLFW_KEY_O, true}, "Open a scene (.json) or a cage (.obj, .ply, .off, .stl)"},
+    {"file.open", "Open...", "Ctrl+O", {GLFW_KEY_O, true}, "Open a scene (.json) or a cage (.obj, .om, .ply, .off, .stl)"},
     {"file.save", "Save", "Ctrl+S", {GLFW_KEY_S, true}, "Save to the current file (asks for a name when untitled)"},
-    {"file.save_as", "Save As...", "Ctrl+Shift+S", {GLFW_KEY_S, true, true}, "Save to a new file (.json scene or .obj cage)"},
+    {"file.save_as", "Save As...", "Ctrl+Shift+S", {GLFW_KEY_S, true, true}, "Save to a new file (.json scene, or the cage as .obj or .om)"},
+    {"file.import", "Import...", "", {}, "Add the objects of a scene (.json) or a cage file (.obj, .om, .ply, .off, .stl) to this scene"},
     {"file.export", "Export...", "", {}, "Export the limit surface as a welded, watertight mesh (.glb, .gltf, .obj, .ply, .off, .stl)"},
+    {"file.bake", "Bake Displacement...", "", {}, "Bake the sculpted displacement into an OpenEXR map in UV space (and a normal map)"},
     {"file.quit", "Quit", "Ctrl+Q", {GLFW_KEY_Q, true}, "Close the editor (asks before losing unsaved changes)"},
     {"edit.undo", "Undo", "Ctrl+Z", {GLFW_KEY_Z, true}, "Undo the last edit (camera changes are not edits)"},
     {"edit.redo", "Redo", "Ctrl+Shift+Z / Ctrl+Y", {GLFW_KEY_Z, true, true}, "Redo the edit undone last", {GLFW_KEY_Y, true}},

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "actions.h"
+#include "document_export.h"
 #include "document_objects.h"
 #include "editor_app.h"
 #include "object_mode.h"
@@ -51,20 +52,55 @@ void setViewportCount(EditorApp& app, uint32_t count) {
     app.activeViewport = std::min(app.activeViewport, count - 1);
 }
 
+// The job reads a copy of the scene and the document's planned cages, which no action changes
+// while it runs (runAction refuses them).
 bool exportTo(EditorApp& app, const std::string& path) {
-    Result<ExportReport> report = exportDocument(*app.doc, path, app.ui.exportOptions);
-    if (!report) {
-        showError(app, "Export failed: " + report.error().message);
+    if (app.job.busy() || !app.doc->planned) return false;
+    if (Result<MeshFormat> format = meshFormatOf(path); !format) {
+        showError(app, "Export refused: " + format.error().message);
         return false;
     }
-    char text[256];
-    std::snprintf(text, sizeof text, "Exported %zu file(s): %llu vertices, %llu triangles, %s, ACMR %.2f -> %.2f, %.0f ms",
-                  report->files.size(), (unsigned long long)report->vertices, (unsigned long long)report->triangles,
-                  report->closure.watertight() ? "watertight" : "with open borders", report->order.acmrBefore,
-                  report->order.acmrAfter, report->ms);
-    app.ui.status = text;
-    for (const std::string& note : report->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
+    app.job.start("Exporting " + path, [scene = sceneToSave(*app.doc), cages = documentCages(*app.doc), path,
+                                        options = app.ui.exportOptions, source = app.doc->path](const ExportProgress& progress)
+                                           -> Result<std::string> {
+        Result<ExportReport> report = exportScene(scene, cages, path, options, source.empty() ? "untitled" : source, nullptr, progress);
+        if (!report) return Error{"Export failed: " + report.error().message};
+        for (const std::string& note : report->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
+        char text[256];
+        std::snprintf(text, sizeof text, "Exported %zu file(s): %llu vertices, %llu triangles, %s, ACMR %.2f -> %.2f, %.0f ms",
+                      report->files.size(), (unsigned long long)report->vertices, (unsigned long long)report->triangles,
+                      report->closure.watertight() ? "watertight" : "with open borders", report->order.acmrBefore,
+                      report->order.acmrAfter, report->ms);
+        return std::string(text);
+    });
+    app.ui.status = "Exporting " + path + "...";
     return true;
+}
+
+bool bakeTo(EditorApp& app, const std::string& path) {
+    if (app.job.busy() || !app.doc->planned) return false;
+    BakeOptions options = app.ui.bakeOptions;
+    options.normalMap = !app.ui.bakeNormalMapPath.empty();
+    app.job.start("Baking " + path, [scene = sceneToSave(*app.doc), cages = documentCages(*app.doc), path, options,
+                                     normalMap = app.ui.bakeNormalMapPath, source = app.doc->path](const ExportProgress& progress)
+                                        -> Result<std::string> {
+        Result<BakeReport> report = bakeScene(scene, cages, path, normalMap, options, source.empty() ? "untitled" : source, progress);
+        if (!report) return Error{"Bake failed: " + report.error().message};
+        for (const std::string& note : report->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
+        char text[256];
+        std::snprintf(text, sizeof text, "Baked %zu file(s): %u x %u texels, displacement %.4g to %.4g, %.0f ms", report->files.size(),
+                      options.size, options.size, double(report->minValue), double(report->maxValue), report->ms);
+        return std::string(text);
+    });
+    app.ui.status = "Baking " + path + "...";
+    return true;
+}
+
+void adoptFinishedJob(EditorApp& app) {
+    std::optional<Result<std::string>> done = app.job.take();
+    if (!done) return;
+    if (!*done) return showError(app, done->error().message);
+    app.ui.status = **done;
 }
 
 void showError(EditorApp& app, const std::string& message) {
@@ -237,6 +273,10 @@ void runAction(EditorApp& app, std::string_view id) {
         app.ui.status = "That works on whole objects in object mode: Tab leaves edit mode.";
         return;
     }
+    if (app.job.busy() && id != "file.quit") {
+        app.ui.status = app.job.title() + " is still running: wait for it to finish.";
+        return;
+    }
     if (id == "file.open") {
         const std::filesystem::path parent = std::filesystem::path(app.doc->path).parent_path();
         std::error_code error;
@@ -246,6 +286,14 @@ void runAction(EditorApp& app, std::string_view id) {
         app.ui.requestPopup = "Open";
     } else if ((id == "file.save" || id == "file.save_as" || id == "file.export") && (!app.doc->planned || app.loader.busy())) {
         app.ui.status = "Nothing to save while no cage is open or a file is loading.";
+    } else if ((id == "file.import" || id == "file.bake") && (!app.doc->planned || app.loader.busy())) {
+        app.ui.status = "Open a scene first: Import adds objects to it, Bake writes its displacement.";
+    } else if (id == "file.import") {
+        app.ui.importPath = (std::filesystem::path(proposedExportPath(*app.doc)).parent_path() / "").string();
+        app.ui.requestPopup = "Import";
+    } else if (id == "file.bake") {
+        app.ui.bakePath = std::filesystem::path(proposedExportPath(*app.doc)).replace_extension(".exr").string();
+        app.ui.requestPopup = "Bake";
     } else if (id == "file.export") {
         app.ui.exportPath = proposedExportPath(*app.doc);
         app.ui.requestPopup = "Export";

@@ -91,7 +91,7 @@ void Automation::beforeFrame(EditorApp& app) {
     if (measurement_.framesLeft > 0 || measurement_.settleFrames > 0) return measureStep(app);
     if (waitFrames_ > 0 && --waitFrames_ > 0) return;
     if (waitIdle_) {
-        if (app.loader.busy()) return;
+        if (app.loader.busy() || app.job.busy()) return;
         waitIdle_ = false;
     }
     if (!waitFile_.empty()) {

@@ -10,6 +10,7 @@
 #include "displacement_edit.h"
 #include "file_io.h"
 #include "document_objects.h"
+#include "mesh_cage_write.h"
 #include "obj_io.h"
 #include "plan_cache.h"
 
@@ -735,12 +736,12 @@ Status saveDocument(Document& doc, const std::string& path) {
     if (!doc.planned) return Error{"nothing to save"};
     const std::string ext = lowercaseExtension(path);
     Status saved = success();
-    if (ext == ".obj") {
-        saved = saveObj(doc.planned->cage(), path);
+    if (ext == ".obj" || ext == ".om") {
+        saved = saveMeshCage(doc.planned->cage(), path);
     } else if (ext == ".json") {
         saved = saveScene(sceneToSave(doc), path, CageStorage::AsLoaded);
     } else {
-        return Error{"cannot save as '" + path + "': the name must end in .json (scene) or .obj (cage only)"};
+        return Error{"cannot save as '" + path + "': the name must end in .json (scene), or .obj or .om (the cage only)"};
     }
     if (!saved) return saved;
     doc.path = path;

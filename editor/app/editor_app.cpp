@@ -465,7 +465,7 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
 // Whether the next frame can wait for input: nothing animates, loads or replays.
 bool canIdle(const EditorApp& app) {
     const ImGuiIO& io = ImGui::GetIO();
-    return (!app.automation || app.automation->finished()) && !app.loader.busy() && app.drag.kind == DragKind::None && !io.MouseDown[0] &&
+    return (!app.automation || app.automation->finished()) && !app.loader.busy() && !app.job.busy() && app.drag.kind == DragKind::None && !io.MouseDown[0] &&
            !io.MouseDown[1] && !io.MouseDown[2] && app.pendingScreenshot.empty();
 }
 
@@ -486,6 +486,7 @@ void runLoop(EditorApp& app) {
             requestQuit(app);
         }
         adoptFinishedLoad(app);
+        adoptFinishedJob(app);
         if (app.automation) app.automation->beforeFrame(app);
 
         beginImGuiBackends();

@@ -18,6 +18,8 @@
 
 #include "document.h"
 #include "document_export.h"
+#include "background_job.h"
+#include "displacement_bake.h"
 #include "document_loader.h"
 #include "extrude_tool.h"
 #include "frame_stats.h"
@@ -143,8 +145,9 @@ struct UiState {
     DialogKey dialogKey = DialogKey::None;  // taken by the modal dialog drawn this frame
     bool showHelp = false;
     bool showHistory = true;
-    std::string openPath, saveAsPath, exportPath;
+    std::string openPath, saveAsPath, exportPath, importPath, bakePath, bakeNormalMapPath;
     ExportOptions exportOptions;  // File > Export's settings
+    BakeOptions bakeOptions;      // File > Bake's
     std::string selectTab;      // the side panel's tab to bring forward in the next frame
     std::string addObjectPath;  // the Scene tab's "Add from file"
     std::string renameText;     // the Scene tab's name field, for the object with renameObjectId
@@ -201,6 +204,7 @@ struct EditorApp {
 
     std::unique_ptr<Document> doc;  // never null once started (an empty cage at worst)
     DocumentLoader loader;
+    BackgroundJob job;  // File > Export and Bake, off the UI thread
     PickCache picking;
     std::string recoveryDir;
     std::chrono::steady_clock::time_point lastAutosave;
@@ -249,7 +253,9 @@ void setViewportCount(EditorApp& app, uint32_t count);
 void requestOpen(EditorApp& app, const std::string& path);
 void requestQuit(EditorApp& app);
 bool saveTo(EditorApp& app, const std::string& path);  // false: failed (the error popup says why)
-bool exportTo(EditorApp& app, const std::string& path);  // File > Export with ui.exportOptions
+bool exportTo(EditorApp& app, const std::string& path);  // File > Export with ui.exportOptions: starts the job
+bool bakeTo(EditorApp& app, const std::string& path);    // File > Bake with ui.bakeOptions: starts the job
+void adoptFinishedJob(EditorApp& app);                   // shows a finished job's outcome
 // A fault the editor cannot continue after (a lost Vulkan device): writes unsaved changes to
 // the recovery directory at once, prints the message and what happened to them, and stops
 // with exit status 1.

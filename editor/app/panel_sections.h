@@ -23,6 +23,7 @@ void statsSection(EditorApp& app);
 
 void helpWindow(EditorApp& app);
 void loadingWindow(EditorApp& app);
+void jobWindow(EditorApp& app);  // an export or bake's progress
 // Open, Save As, unsaved changes, restore after a crash, errors: modal popups opened through
 // UiState::requestPopup. Enter answers with the first button, Esc with Cancel.
 void dialogs(EditorApp& app);

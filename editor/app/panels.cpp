@@ -24,13 +24,16 @@ constexpr float kSidePanelWidth = 380.0f;
 
 void menuBar(EditorApp& app) {
     if (!ImGui::BeginMainMenuBar()) return;
-    const bool idle = !app.loader.busy();
+    const bool idle = !app.loader.busy() && !app.job.busy();
     const bool haveCage = idle && app.doc->planned.has_value();
     if (ImGui::BeginMenu("File")) {
         menuAction(app, "file.open", idle);
         menuAction(app, "file.save", haveCage);
         menuAction(app, "file.save_as", haveCage);
+        ImGui::Separator();
+        menuAction(app, "file.import", haveCage);
         menuAction(app, "file.export", haveCage);
+        menuAction(app, "file.bake", haveCage);
         ImGui::Separator();
         menuAction(app, "file.quit");
         ImGui::EndMenu();
@@ -252,11 +255,16 @@ void drawPanels(EditorApp& app) {
     app.ui.widgets.clear();
     app.ui.tooltips.clear();
     app.ui.openPopups.clear();
+    // An export or bake reads the document's cages: nothing may change them until it is done.
+    const bool working = app.job.busy();
+    ImGui::BeginDisabled(working);
     menuBar(app);
     viewportBars(app);
     sidePanel(app);
+    ImGui::EndDisabled();
     helpWindow(app);
     loadingWindow(app);
+    jobWindow(app);
     dialogs(app);
 }
 

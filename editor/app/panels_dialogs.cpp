@@ -124,7 +124,7 @@ void dialogs(EditorApp& app) {
         ImGui::SetNextItemWidth(520);
         if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
         ImGui::InputText("##savepath", &app.ui.saveAsPath);
-        ImGui::TextDisabled(".json saves the scene (settings and cage); .obj saves the cage alone");
+        ImGui::TextDisabled(".json saves the scene (settings and cage); .obj or .om saves the cage alone");
         std::error_code error;
         const bool exists = fs::exists(app.ui.saveAsPath, error);
         if (button(app, exists ? "Overwrite" : "Save", "Write the file (atomically: a crash never leaves half a file; Enter)") ||
@@ -167,6 +167,57 @@ void dialogs(EditorApp& app) {
         }
         ImGui::SameLine();
         if (button(app, "Cancel", "Close without exporting (Esc)") || takeDialogKey(app, DialogKey::Cancel))
+            ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+
+    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (ImGui::BeginPopupModal("Import", nullptr, modal)) {
+        app.ui.openPopups.push_back("Import");
+        ImGui::SetNextItemWidth(520);
+        if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+        ImGui::InputText("##importpath", &app.ui.importPath);
+        fileList(app.ui.importPath);
+        ImGui::TextDisabled("A cage (.obj, .om, .ply, .off, .stl) becomes one object; a scene (.json) adds all of its objects");
+        if (button(app, "Import##dialog", "Add the file's objects to this scene (one undo step; Enter)") ||
+            takeDialogKey(app, DialogKey::Confirm)) {
+            if (addObjectFromFile(app, app.ui.importPath)) ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (button(app, "Cancel", "Close without importing (Esc)") || takeDialogKey(app, DialogKey::Cancel))
+            ImGui::CloseCurrentPopup();
+        ImGui::EndPopup();
+    }
+
+    ImGui::SetNextWindowPos(centre, ImGuiCond_Appearing, ImVec2(0.5f, 0.5f));
+    if (ImGui::BeginPopupModal("Bake", nullptr, modal)) {
+        app.ui.openPopups.push_back("Bake");
+        ImGui::SetNextItemWidth(520);
+        if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
+        ImGui::InputText("##bakepath", &app.ui.bakePath);
+        ImGui::TextDisabled("The sculpted displacement as a 32-bit float OpenEXR map (.exr) in the cage's UV space;\n"
+                            "several sculpted objects give NAME_OBJECT.exr each");
+        BakeOptions& options = app.ui.bakeOptions;
+        int sizeIndex = options.size <= 512 ? 0 : options.size <= 1024 ? 1 : options.size <= 2048 ? 2 : 3;
+        ImGui::SetNextItemWidth(120);
+        if (ImGui::Combo("Size", &sizeIndex, "512\0" "1024\0" "2048\0" "4096\0")) options.size = 512u << sizeIndex;
+        ImGui::SameLine();
+        int uv = options.uv == UvMode::Smooth ? 1 : 0;
+        ImGui::SetNextItemWidth(120);
+        if (ImGui::Combo("UVs", &uv, "Linear\0Smooth\0")) options.uv = uv ? UvMode::Smooth : UvMode::Linear;
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("Linear: the cage's UVs bilinear over each face; Smooth: OpenSubdiv's face-varying limit");
+        int padding = int(options.padding);
+        ImGui::SetNextItemWidth(120);
+        if (ImGui::InputInt("Padding (texels)", &padding)) options.padding = uint32_t(std::clamp(padding, 0, 64));
+        ImGui::SetNextItemWidth(520);
+        ImGui::InputText("Normal map (.png, optional)", &app.ui.bakeNormalMapPath);
+        recordWidget(app, "Normal map (.png, optional)");
+        if (button(app, "Bake##dialog", "Write the map (atomically; Enter)") || takeDialogKey(app, DialogKey::Confirm)) {
+            if (bakeTo(app, app.ui.bakePath)) ImGui::CloseCurrentPopup();
+        }
+        ImGui::SameLine();
+        if (button(app, "Cancel", "Close without baking (Esc)") || takeDialogKey(app, DialogKey::Cancel))
             ImGui::CloseCurrentPopup();
         ImGui::EndPopup();
     }
@@ -245,6 +296,20 @@ void loadingWindow(EditorApp& app) {
     char overlay[96];
     std::snprintf(overlay, sizeof overlay, "%s... %.1f s", app.loader.stage().c_str(), app.loader.secondsRunning());
     ImGui::ProgressBar(app.loader.fraction(), ImVec2(360, 0), overlay);
+    ImGui::End();
+}
+
+void jobWindow(EditorApp& app) {
+    if (!app.job.busy()) return;
+    const ImGuiIO& io = ImGui::GetIO();
+    ImGui::SetNextWindowPos(ImVec2((io.DisplaySize.x - sidePanelWidth()) * 0.5f, io.DisplaySize.y * 0.5f),
+                            ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+    ImGui::Begin("Working", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoCollapse);
+    ImGui::TextUnformatted(app.job.title().c_str());
+    char overlay[160];
+    std::snprintf(overlay, sizeof overlay, "%s... %.1f s", app.job.stage().c_str(), app.job.secondsRunning());
+    ImGui::ProgressBar(app.job.fraction(), ImVec2(420, 0), overlay);
+    ImGui::TextDisabled("Edits wait until it is done");
     ImGui::End();
 }
 }  // namespace qp::editor

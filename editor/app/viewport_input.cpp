@@ -352,7 +352,7 @@ void handleViewportInput(EditorApp& app) {
         }
         return;
     }
-    if (io.WantCaptureMouse || app.loader.busy()) return;
+    if (io.WantCaptureMouse || app.loader.busy() || app.job.busy()) return;
     const int hovered = viewportAt(app, cursor);
     if (hovered < 0) return;
     const uint32_t viewport = uint32_t(hovered);

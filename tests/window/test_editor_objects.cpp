@@ -104,7 +104,7 @@ TEST_F(EditorObjectMode, PicksPlacesEditsAndUndoesObjectsAcrossModes) {
     step(10);
     step(11);
     step(12);
-    step(13, "action file.export\nwait-frames 3\nclick-button Export\nwait-frames 3\n");
+    step(13, "action file.export\nwait-frames 3\nclick-button Export\nwait-frames 3\nwait-idle\nwait-frames 2\n");
     script += "quit\nclick-button Discard changes\n";
     start(editor, script);
 
