@@ -9,11 +9,10 @@
 
 // OpenMesh's headers are slow to compile: this is the one translation unit that reads them.
 #include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include "file_io.h"
 #include "mesh_file_check.h"
+#include "mesh_importer_base.h"
 #include "mesh_om.h"
 
 namespace qp {
@@ -24,7 +23,7 @@ namespace om = OpenMesh;
 
 // What OpenMesh's readers hand over, kept as they give it: vertices and faces (index lists).
 // Every other attribute is ignored; handles are the indices themselves.
-class CageImporter final : public om::IO::BaseImporter {
+class CageImporter final : public AttributeFreeImporter {
 public:
     std::vector<glm::vec3> positions;
     std::vector<std::vector<int>> faces;
@@ -54,47 +53,11 @@ public:
     size_t n_faces() const override { return faces.size(); }
     size_t n_edges() const override { return 0; }
 
-    // Not kept: half-edge structure, normals, colours, texture coordinates, status bits.
+    // Not kept: the half-edge structure (attributes: AttributeFreeImporter).
     om::HalfedgeHandle add_edge(om::VertexHandle, om::VertexHandle) override { return om::HalfedgeHandle(); }
     om::FaceHandle add_face(om::HalfedgeHandle) override { return om::FaceHandle(); }
-    void add_face_texcoords(om::FaceHandle, om::VertexHandle, const std::vector<om::Vec2f>&) override {}
-    void add_face_texcoords(om::FaceHandle, om::VertexHandle, const std::vector<om::Vec3f>&) override {}
-    void set_face_texindex(om::FaceHandle, int) override {}
-    void set_halfedge(om::VertexHandle, om::HalfedgeHandle) override {}
-    void set_normal(om::VertexHandle, const om::Vec3f&) override {}
-    void set_normal(om::VertexHandle, const om::Vec3d&) override {}
-    void set_color(om::VertexHandle, const om::Vec3uc&) override {}
-    void set_color(om::VertexHandle, const om::Vec4uc&) override {}
-    void set_color(om::VertexHandle, const om::Vec3f&) override {}
-    void set_color(om::VertexHandle, const om::Vec4f&) override {}
-    void set_texcoord(om::VertexHandle, const om::Vec2f&) override {}
-    void set_status(om::VertexHandle, const om::Attributes::StatusInfo&) override {}
     void set_next(om::HalfedgeHandle, om::HalfedgeHandle) override {}
     void set_face(om::HalfedgeHandle, om::FaceHandle) override {}
-    void request_face_texcoords2D() override {}
-    void set_texcoord(om::HalfedgeHandle, const om::Vec2f&) override {}
-    void set_texcoord(om::VertexHandle, const om::Vec3f&) override {}
-    void set_texcoord(om::HalfedgeHandle, const om::Vec3f&) override {}
-    void set_status(om::HalfedgeHandle, const om::Attributes::StatusInfo&) override {}
-    void set_color(om::EdgeHandle, const om::Vec3uc&) override {}
-    void set_color(om::EdgeHandle, const om::Vec4uc&) override {}
-    void set_color(om::EdgeHandle, const om::Vec3f&) override {}
-    void set_color(om::EdgeHandle, const om::Vec4f&) override {}
-    void set_status(om::EdgeHandle, const om::Attributes::StatusInfo&) override {}
-    void set_normal(om::FaceHandle, const om::Vec3f&) override {}
-    void set_normal(om::FaceHandle, const om::Vec3d&) override {}
-    void set_color(om::FaceHandle, const om::Vec3uc&) override {}
-    void set_color(om::FaceHandle, const om::Vec4uc&) override {}
-    void set_color(om::FaceHandle, const om::Vec3f&) override {}
-    void set_color(om::FaceHandle, const om::Vec4f&) override {}
-    void set_status(om::FaceHandle, const om::Attributes::StatusInfo&) override {}
-    void add_texture_information(int, std::string) override {}
-};
-
-// OpenMesh's readers complain on their own error stream; our messages say what matters.
-struct QuietOpenMesh {
-    QuietOpenMesh() { omerr().disable(), omlog().disable(); }
-    ~QuietOpenMesh() { omerr().enable(), omlog().enable(); }
 };
 
 }  // namespace

@@ -5,12 +5,11 @@
 // OpenMesh's headers are slow to compile: this and mesh_import.cpp are the only translation
 // units that read them.
 #include <OpenMesh/Core/IO/MeshIO.hh>
-#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/IO/reader/OMReader.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
-#include <OpenMesh/Core/System/omstream.hh>
 
 #include "mesh_file_check.h"
+#include "mesh_importer_base.h"
 
 namespace qp {
 
@@ -69,7 +68,7 @@ struct OmProperties {
 // come (positions, each half-edge's target, next and face, each face's first half-edge) and lets
 // the reader restore named properties into `host`, a kernel sized to the header's counts that
 // holds nothing else; the faces are rebuilt afterwards with every index checked.
-class OmRecords final : public om::IO::BaseImporter {
+class OmRecords final : public AttributeFreeImporter {
 public:
     OmMesh host;
     OmProperties properties;
@@ -119,38 +118,8 @@ public:
     size_t n_faces() const override { return faceHalfedge.size() + faceLists.size(); }
     size_t n_edges() const override { return target.size() / 2; }
 
-    // Not kept: normals, colours, per-vertex texture coordinates, status bits.
+    // Positions come from add_vertex; attributes are dropped (AttributeFreeImporter).
     void set_point(om::VertexHandle, const om::Vec3f&) override {}
-    void set_halfedge(om::VertexHandle, om::HalfedgeHandle) override {}
-    void add_face_texcoords(om::FaceHandle, om::VertexHandle, const std::vector<om::Vec2f>&) override {}
-    void add_face_texcoords(om::FaceHandle, om::VertexHandle, const std::vector<om::Vec3f>&) override {}
-    void set_face_texindex(om::FaceHandle, int) override {}
-    void set_normal(om::VertexHandle, const om::Vec3f&) override {}
-    void set_normal(om::VertexHandle, const om::Vec3d&) override {}
-    void set_color(om::VertexHandle, const om::Vec3uc&) override {}
-    void set_color(om::VertexHandle, const om::Vec4uc&) override {}
-    void set_color(om::VertexHandle, const om::Vec3f&) override {}
-    void set_color(om::VertexHandle, const om::Vec4f&) override {}
-    void set_texcoord(om::VertexHandle, const om::Vec2f&) override {}
-    void set_status(om::VertexHandle, const om::Attributes::StatusInfo&) override {}
-    void request_face_texcoords2D() override {}
-    void set_texcoord(om::HalfedgeHandle, const om::Vec2f&) override {}
-    void set_texcoord(om::VertexHandle, const om::Vec3f&) override {}
-    void set_texcoord(om::HalfedgeHandle, const om::Vec3f&) override {}
-    void set_status(om::HalfedgeHandle, const om::Attributes::StatusInfo&) override {}
-    void set_color(om::EdgeHandle, const om::Vec3uc&) override {}
-    void set_color(om::EdgeHandle, const om::Vec4uc&) override {}
-    void set_color(om::EdgeHandle, const om::Vec3f&) override {}
-    void set_color(om::EdgeHandle, const om::Vec4f&) override {}
-    void set_status(om::EdgeHandle, const om::Attributes::StatusInfo&) override {}
-    void set_normal(om::FaceHandle, const om::Vec3f&) override {}
-    void set_normal(om::FaceHandle, const om::Vec3d&) override {}
-    void set_color(om::FaceHandle, const om::Vec3uc&) override {}
-    void set_color(om::FaceHandle, const om::Vec4uc&) override {}
-    void set_color(om::FaceHandle, const om::Vec3f&) override {}
-    void set_color(om::FaceHandle, const om::Vec4f&) override {}
-    void set_status(om::FaceHandle, const om::Attributes::StatusInfo&) override {}
-    void add_texture_information(int, std::string) override {}
 
 private:
     bool valid(om::HalfedgeHandle h) {
@@ -158,11 +127,6 @@ private:
         ++outOfRange;
         return false;
     }
-};
-
-struct QuietOpenMesh {
-    QuietOpenMesh() { omerr().disable(), omlog().disable(); }
-    ~QuietOpenMesh() { omerr().enable(), omlog().enable(); }
 };
 
 // Face f's corners from its half-edge loop (each half-edge's start: its twin's target), and
