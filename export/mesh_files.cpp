@@ -77,12 +77,15 @@ std::string plyBytes(const LimitMesh& mesh) {
     std::string out = "ply\nformat binary_little_endian 1.0\ncomment Quadplan limit surface\nelement vertex " +
                       std::to_string(mesh.vertexCount()) +
                       "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\n"
-                      "property float nz\n" + (mesh.uvs.empty() ? "" : "property float s\nproperty float t\n") + "element face " +
+                      "property float nz\n" + (mesh.uvs.empty() ? "" : "property float s\nproperty float t\n") +
+                      // For pipelines: where each vertex was evaluated (readers skip properties they do not know).
+                      "property uint subface\nproperty float subface_u\nproperty float subface_v\nelement face " +
                       std::to_string(mesh.triangleCount()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
-    out.reserve(out.size() + mesh.vertexCount() * 24 + mesh.triangleCount() * 13);
+    out.reserve(out.size() + mesh.vertexCount() * 44 + mesh.triangleCount() * 13);
     for (uint32_t v = 0; v < mesh.vertexCount(); ++v) {
         appendBytes(out, mesh.positions[v]), appendBytes(out, mesh.normals[v]);
         if (!mesh.uvs.empty()) appendBytes(out, mesh.uvs[v]);
+        appendBytes(out, mesh.subfaces[v]), appendBytes(out, mesh.parameters[v]);
     }
     for (size_t i = 0; i < mesh.indices.size(); i += 3) {
         appendBytes(out, uint8_t(3));

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -163,6 +164,17 @@ TEST(LimitMeshExport, EveryFormatReadsBackThroughASecondReader) {
         EXPECT_EQ(read.n_faces(), mesh->triangleCount()) << ext;
         EXPECT_EQ(read.n_vertices(), mesh->vertexCount()) << ext << " (STL: OpenMesh welds equal positions)";
     }
+    // PLY's per-vertex sub-face and (u, v), which OpenMesh skipped above: the last vertex's, read by hand.
+    std::ifstream ply(dir / "cube.ply", std::ios::binary);
+    const std::string plyBytes((std::istreambuf_iterator<char>(ply)), std::istreambuf_iterator<char>());
+    EXPECT_NE(plyBytes.find("property uint subface\nproperty float subface_u\nproperty float subface_v\n"), std::string::npos);
+    const size_t vertexEnd = plyBytes.find("end_header\n") + 11 + size_t(mesh->vertexCount()) * 36;
+    uint32_t subface = 0;
+    glm::vec2 uv(0.0f);
+    std::memcpy(&subface, plyBytes.data() + vertexEnd - 12, 4);
+    std::memcpy(&uv, plyBytes.data() + vertexEnd - 8, 8);
+    EXPECT_EQ(subface, mesh->subfaces.back());
+    EXPECT_EQ(uv, mesh->parameters.back());
     // glTF, binary and text: the counts, the node, the attributes.
     for (const char* ext : {".glb", ".gltf"}) {
         const std::string path = (dir / (std::string("cube") + ext)).string();

@@ -12,9 +12,11 @@ redo. Topology edits are excursions: now and then (5% of the steps) the history 
 before the oldest one still applied, so the cage keeps its size and character, and tags are
 cleared about as often as set; what memory holds after warm-up is then the same kind of cage. The history gets a 32 MiB budget; warm-up ends when it is 90% full (and
 --warmup of the edits are done): from then on the history drops as much as it records.
-Resident memory is sampled every 50 edits and must stay within 10% of its level at the end of
-warm-up. Exit status 1 on
-any failure, with the reason.
+Resident memory is sampled every 50 edits; after warm-up, its level over the last third of the
+samples (their median) must stay within 10% of its level over the first third. Medians, not
+single samples: the allocator returns and takes pages in steps of a few MiB, which one sample at
+the end of warm-up against the highest one after it read as growth (7.6 to 10.6% on runs without
+a leak), while a leak raises the whole last third. Exit status 1 on any failure, with the reason.
 """
 import argparse
 import json
@@ -235,12 +237,17 @@ def main():
         print(f"FAIL: the history never reached its budget ({args.history_budget_mib} MiB) in {args.edits} edits: "
               "no warm-up end to measure from; run more edits or lower --history-budget-mib", file=sys.stderr)
         return 1
-    after = [s[1] for s in samples if s[0] > warm_at]
-    peak = max(after) if after else baseline
-    growth = peak / baseline - 1.0
+    after = [s[1] for s in samples if s[0] >= warm_at]
+    peak = max(after)
+    third = max(1, len(after) // 3)
+    if len(after) < 6:
+        print(f"FAIL: only {len(after)} memory samples after warm-up (edit {warm_at}): run more edits", file=sys.stderr)
+        return 1
+    early, late = float(np.median(after[:third])), float(np.median(after[-third:]))
+    growth = late / early - 1.0
     if growth > args.tolerance:
-        failures.append(f"resident memory grew {100 * growth:.1f}% after warm-up "
-                        f"({baseline / 2**20:.1f} MiB -> {peak / 2**20:.1f} MiB), more than {100 * args.tolerance:.0f}%")
+        failures.append(f"resident memory grew {100 * growth:.1f}% after warm-up (median of the first third of the "
+                        f"samples {early / 2**20:.1f} MiB -> last third {late / 2**20:.1f} MiB), more than {100 * args.tolerance:.0f}%")
     differences = scene.differences_from_rebuild()
     if differences:
         failures.append(f"{len(differences)} sub-faces differ from a rebuild, e.g. {differences[:3]}")
@@ -250,6 +257,7 @@ def main():
         "min_faces": min(s[3] for s in samples), "max_faces": max(s[3] for s in samples),
         "seconds": round(elapsed, 1), "edits_per_second": round(args.edits / elapsed, 1),
         "warm_after_edits": warm_at, "resident_after_warmup_mib": round(baseline / 2**20, 2), "resident_peak_after_warmup_mib": round(peak / 2**20, 2),
+        "resident_early_median_mib": round(early / 2**20, 2), "resident_late_median_mib": round(late / 2**20, 2),
         "resident_end_mib": round(samples[-1][1] / 2**20, 2), "growth_percent": round(100 * growth, 2),
         "history_entries": len(scene.history), "history_mib": round(scene.history_bytes / 2**20, 2),
         "database_plans": scene.plan_stats()["database_plans"], "plans_in_use": scene.plan_stats()["unique_plans"],
