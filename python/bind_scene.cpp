@@ -274,11 +274,14 @@ Topology edits are refused while the scene has displacement (clear_displacement(
                  const CageStorage storage = inlineCage.is_none() ? CageStorage::AsLoaded
                                              : inlineCage.cast<bool>() ? CageStorage::Inline
                                                                        : CageStorage::Referenced;
-                 check(doc.save(path, storage));
+                 std::vector<std::string> lost;
+                 check(doc.save(path, storage, &lost));
+                 warnAll(lost);
              },
              py::arg("path"), py::arg("inline_cage") = py::none(),
-             R"doc(Saves atomically. A .obj path writes the cage alone; a .json path the scene, with the cage inline,
-or beside it as an OBJ when inline_cage is False (default: as it was loaded).)doc")
+             R"doc(Saves atomically. A .json path writes the scene, with the cage inline, or beside it as an OBJ when
+inline_cage is False (default: as it was loaded); .obj or .om the cage alone with its tags; .ply, .off or .stl its
+polygons alone (a warning names each tag lost). Any other name is refused.)doc")
         .def("export",
              [](const Document& doc, const std::string& path, uint32_t tess, bool displaced, bool split, bool optimize,
                 const std::string& uv, const std::optional<float>& adaptive, std::pair<uint32_t, uint32_t> size) {

@@ -4,6 +4,9 @@
 #include <cassert>
 #include <cmath>
 
+#include "file_io.h"
+#include "mesh_cage_write.h"
+#include "mesh_import.h"
 #include "obj_io.h"
 #include "plan_cache.h"
 
@@ -17,10 +20,6 @@ Status checkVertices(const Cage& cage, std::span<const uint32_t> vertices) {
             return Error{"vertex " + std::to_string(uint64_t(v) + 1) + " does not exist (the cage has " +
                          std::to_string(cage.vertexCount()) + " vertices)"};
     return success();
-}
-
-bool endsWith(const std::string& text, const std::string& suffix) {
-    return text.size() >= suffix.size() && text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 }  // namespace
@@ -80,12 +79,12 @@ Scene SceneDocument::currentScene() const {
     return scene;
 }
 
-Status SceneDocument::save(const std::string& path, CageStorage storage) {
-    if (endsWith(path, ".obj")) return saveObj(path);
-    return saveScene(currentScene(), path, storage);
+Status SceneDocument::save(const std::string& path, CageStorage storage, std::vector<std::string>* lost) {
+    const std::string ext = lowercaseExtension(path);
+    if (ext == ".json") return saveScene(currentScene(), path, storage);
+    if (ext == ".obj" || isMeshCageExtension(ext)) return saveMeshCage(cage(), path, lost);
+    return Error{"cannot save as '" + path + "': the name must end in .json (the scene) or .obj, .om, .ply, .off or .stl (the cage)"};
 }
-
-Status SceneDocument::saveObj(const std::string& path) const { return qp::saveObj(cage(), path); }
 
 // ---- objects ----------------------------------------------------------------------------
 

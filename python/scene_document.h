@@ -90,9 +90,10 @@ public:
 
     // The scene as it would be saved now (its cage is the current one).
     Scene currentScene() const;
-    // `.obj`: the active object's cage alone; otherwise the scene, its cages stored as `storage` says.
-    Status save(const std::string& path, CageStorage storage);
-    Status saveObj(const std::string& path) const;
+    // `.json`: the scene, its cages stored as `storage` says; `.obj`, `.om`, `.ply`, `.off`, `.stl`:
+    // the active object's cage alone (core/mesh_cage_write.h; `lost` names what PLY, OFF and STL
+    // cannot hold). Any other name is refused.
+    Status save(const std::string& path, CageStorage storage, std::vector<std::string>* lost = nullptr);
 
     // ---- edits (all recorded in the history) ----
     Result<EditOutcome> moveVertices(std::span<const uint32_t> vertices, std::span<const glm::vec3> positions,

@@ -574,3 +574,13 @@ def test_bake_writes_the_displacement_map(cube, tmp_path):
         scene.bake(str(tmp_path / "x.exr"), uv="none")
     with pytest.raises(qp.Error, match=r"\.exr"):
         scene.bake(str(tmp_path / "x.tif"))
+
+
+def test_om_cages_round_trip_their_tags(cube, tmp_path):
+    cube.set_crease(0, 1, 2.5)
+    cube.set_corner(3, 4.0)
+    cube.set_holes([2], True)
+    cube.save(str(tmp_path / "cube.om"))
+    again = qp.load(tmp_path / "cube.om")
+    assert again.creases == cube.creases and again.corners == cube.corners and again.holes == cube.holes
+    assert np.array_equal(again.positions, cube.positions) and again.face_count == cube.face_count
