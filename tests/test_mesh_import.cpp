@@ -292,3 +292,29 @@ TEST_F(MeshImport, CorruptOmFilesAreRefusedNeverHalfRead) {
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.error().message.find("not an OpenMesh .om file"), std::string::npos);
 }
+
+TEST_F(MeshImport, ScenesReferenceCagesInEveryFormatAndSaveWhatTheyCannotHoldAsObj) {
+    const Cage grid = test::makeMixedGrid();
+    ASSERT_TRUE(saveMeshCage(grid, (dir / "grid.ply").string()));
+    ASSERT_TRUE(saveMeshCage(taggedMixedGrid(), (dir / "tagged.om").string()));
+    const std::string scenePath = write("scene.json", R"({"format": "quadplan-scene", "version": 2, "objects": [
+        {"name": "plain", "cage": {"path": "grid.ply"}},
+        {"name": "tagged", "cage": {"path": "tagged.om"}}]})");
+    Result<Scene> scene = loadScene(scenePath);
+    ASSERT_TRUE(scene) << scene.error().message;
+    EXPECT_EQ(scene->objects[0].cage.faceVertices, grid.faceVertices);
+    expectSameCage(scene->objects[1].cage, taggedMixedGrid());
+    // The PLY cage gains a crease: saving keeps grid.ply as it was and writes grid.obj beside it.
+    std::ifstream before(dir / "grid.ply", std::ios::binary);
+    const std::string plyBefore((std::istreambuf_iterator<char>(before)), std::istreambuf_iterator<char>());
+    scene->objects[0].cage.setEdgeSharpness(0, 1, 3.0f);
+    ASSERT_TRUE(saveScene(*scene, scenePath, CageStorage::AsLoaded));
+    std::ifstream after(dir / "grid.ply", std::ios::binary);
+    EXPECT_EQ(std::string((std::istreambuf_iterator<char>(after)), std::istreambuf_iterator<char>()), plyBefore);
+    Result<Scene> again = loadScene(scenePath);
+    ASSERT_TRUE(again) << again.error().message;
+    EXPECT_EQ(again->objects[0].cagePath, "grid.obj");
+    EXPECT_EQ(again->objects[0].cage.edgeSharpness(0, 1), 3.0f);
+    EXPECT_EQ(again->objects[1].cagePath, "tagged.om") << "an .om cage keeps its tags in place";
+    expectSameCage(again->objects[1].cage, taggedMixedGrid());
+}
