@@ -281,7 +281,8 @@ Result<BakeReport> bakeScene(const Scene& scene, const SceneCages& cages, const 
             if (cages.cages.size() > 1) report.notes.push_back(where + " has no sculpted displacement: not baked");
             continue;
         }
-        if (progress) progress("Baking " + object.name, 0.9f * float(c) / float(cages.cages.size()));
+        if (progress && !progress("Baking " + object.name, 0.9f * float(c) / float(cages.cages.size())))
+            return Error{"cancelled: nothing was written"};
         Result<BakedMaps> maps = bakeDisplacement(*cages.cages[c], object.displacement, options, where);
         if (!maps) return maps.error();
         if (maps->subfacesOutsideUnitSquare > 0)
@@ -299,7 +300,7 @@ Result<BakeReport> bakeScene(const Scene& scene, const SceneCages& cages, const 
     auto fileFor = [&](const std::string& out, uint32_t owner) {
         return baked.size() == 1 ? out : splitExportPath(out, scene.objects[owner].name);
     };
-    if (progress) progress("Writing " + path, 0.9f);
+    if (progress && !progress("Writing " + path, 0.9f)) return Error{"cancelled: nothing was written"};
     for (const auto& [owner, maps] : baked) {
         const std::string file = fileFor(path, owner);
         if (Status s = writeDisplacementExr(maps, file); !s) return s.error();

@@ -40,13 +40,12 @@ Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, 
     ExportScene exported;
     double weightedBefore = 0.0, weightedAfter = 0.0, weight = 0.0;
     const float cages = float(planned.cages.size());
-    auto step = [&](const std::string& stage, float fraction) {
-        if (progress) progress(stage, fraction);
-    };
+    auto step = [&](const std::string& stage, float fraction) { return !progress || progress(stage, fraction); };
+    const Error cancelled{"cancelled: nothing was written"};
     for (uint32_t c = 0; c < planned.cages.size(); ++c) {
         const SceneObject& owner = scene.objects[planned.objectOfCage[c]];
         const std::string of = cages > 1 ? " (" + owner.name + ", " + std::to_string(c + 1) + " of " + std::to_string(planned.cages.size()) + ")" : "";
-        step("Evaluating the surface" + of, 0.9f * float(c) / cages);
+        if (!step("Evaluating the surface" + of, 0.9f * float(c) / cages)) return cancelled;
         const std::string where = planned.cages.size() == 1 ? source : source + ": object \"" + owner.name + "\"";
         const bool displace = options.displaced && !owner.displacement.empty();
         if (options.displaced && !displace) report.notes.push_back(where + " has no sculpted displacement: exported without");
@@ -58,7 +57,7 @@ Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, 
         report.closure.borderEdges += closure.borderEdges;
         report.closure.nonManifoldEdges += closure.nonManifoldEdges;
         if (options.optimize) {
-            step("Optimising the vertex order" + of, 0.9f * (float(c) + 0.6f) / cages);
+            if (!step("Optimising the vertex order" + of, 0.9f * (float(c) + 0.6f) / cages)) return cancelled;
             const OrderReport order = optimizeMeshOrder(*mesh);
             weightedBefore += double(order.acmrBefore) * mesh->triangleCount();
             weightedAfter += double(order.acmrAfter) * mesh->triangleCount();
@@ -73,8 +72,8 @@ Result<ExportReport> exportScene(const Scene& scene, const SceneCages& planned, 
     report.objects = uint32_t(exported.objects.size());
     report.meshes = uint32_t(exported.meshes.size());
 
+    if (!step("Writing " + path, 0.9f)) return cancelled;
     auto write = [&](const ExportScene& part, const std::string& file) -> Status {
-        step("Writing " + file, 0.9f);
         if (Status written = writeMeshFile(part, file, *format); !written) return written;
         report.files.push_back(file);
         if (hasNodes(*format)) {

@@ -63,8 +63,9 @@ std::string splitExportPath(const std::string& out, const std::string& object);
 MeshDensity exportDensity(const Scene& scene, const SceneCages& planned, uint32_t c, const ExportOptions& options);
 
 // Where a long export or bake is (the editor's progress bar): what it does now and the fraction
-// of the whole done. Called from the exporting thread.
-using ExportProgress = std::function<void(const std::string& stage, float fraction)>;
+// of the whole done. Called from the exporting thread; returning false cancels the job, which
+// then fails with "cancelled" having written nothing (it is asked before the first file).
+using ExportProgress = std::function<bool(const std::string& stage, float fraction)>;
 
 // Makes cage `c`'s mesh; the default is exactLimitMesh (with the owner's displacement when asked).
 using CageMesher = std::function<Result<LimitMesh>(const PlannedCage& cage, uint32_t c, const std::string& source)>;

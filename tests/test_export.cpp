@@ -27,6 +27,8 @@
 #include "mesh_order.h"
 #include "plan_pass.h"
 #include "planned_cage.h"
+#include "planned_scene.h"
+#include "scene_export.h"
 #include "scene.h"
 #include "test_cages.h"
 
@@ -403,5 +405,39 @@ TEST(LimitMeshExport, OpenMeshReadsTheTagsOfAnOmCage) {
     EXPECT_EQ(creased, 1u);
     EXPECT_EQ(mesh.property(corner, OpenMesh::VertexHandle(5)), 2.0f);
     for (auto f : mesh.faces()) EXPECT_EQ(mesh.property(hole, f), f.idx() == 3 ? 1 : 0);
+    fs::remove_all(dir);
+}
+
+TEST(LimitMeshExport, ACancelledExportWritesNothing) {
+    std::vector<std::string> warnings;
+    Result<Scene> scene = loadSceneOrCage(std::string(QUADPLAN_SCENES_DIR) + "/objects.json", &warnings);
+    ASSERT_TRUE(scene) << scene.error().message;
+    PlanDatabase database;
+    Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{}, "objects.json");
+    ASSERT_TRUE(planned);
+    const fs::path dir = scratch();
+    const std::string path = (dir / "cancelled.glb").string();
+    // Stopped at its first, second and third report (evaluating, ordering, the next cage).
+    for (int stopAt = 0; stopAt < 3; ++stopAt) {
+        int calls = 0;
+        std::vector<std::string> stages;
+        Result<ExportReport> report =
+            exportScene(*scene, sceneCages(*planned), path, ExportOptions{}, "objects.json", nullptr,
+                        [&](const std::string& stage, float fraction) {
+                            stages.push_back(stage);
+                            EXPECT_GE(fraction, 0.0f);
+                            EXPECT_LE(fraction, 1.0f);
+                            return calls++ < stopAt;
+                        });
+        ASSERT_FALSE(report) << "stage " << stopAt;
+        EXPECT_NE(report.error().message.find("cancelled"), std::string::npos) << report.error().message;
+        EXPECT_FALSE(fs::exists(path)) << "cancelled at '" << stages.back() << "' but a file was written";
+    }
+    // Never cancelled: the stages run to "Done".
+    std::string last;
+    ASSERT_TRUE(exportScene(*scene, sceneCages(*planned), path, ExportOptions{}, "objects.json", nullptr,
+                            [&](const std::string& stage, float) { return last = stage, true; }));
+    EXPECT_EQ(last, "Done");
+    EXPECT_TRUE(fs::exists(path));
     fs::remove_all(dir);
 }

@@ -99,6 +99,10 @@ bool bakeTo(EditorApp& app, const std::string& path) {
 void adoptFinishedJob(EditorApp& app) {
     std::optional<Result<std::string>> done = app.job.take();
     if (!done) return;
+    if (!*done && app.job.cancelled()) {  // the user's choice, not an error
+        app.ui.status = app.job.title() + ": cancelled, nothing was written.";
+        return;
+    }
     if (!*done) return showError(app, done->error().message);
     app.ui.status = **done;
 }

@@ -15,6 +15,7 @@ void BackgroundJob::start(std::string title, Work work) {
     {
         std::lock_guard lock(mutex_);
         running_ = true;
+        cancelled_ = false;
         stage_ = "Starting";
         fraction_ = 0.0f;
         started_ = std::chrono::steady_clock::now();
@@ -24,6 +25,7 @@ void BackgroundJob::start(std::string title, Work work) {
             std::lock_guard lock(mutex_);
             stage_ = stage;
             fraction_ = fraction;
+            return !cancelled_;
         });
         std::lock_guard lock(mutex_);
         result_ = std::move(result);

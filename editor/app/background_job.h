@@ -4,6 +4,7 @@
 // The UI thread takes the result and shows it as the status line or an error.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <mutex>
@@ -18,7 +19,8 @@ namespace qp::editor {
 
 class BackgroundJob {
 public:
-    // The work gets a progress function to call as it goes and returns the status line to show.
+    // The work gets a progress function to call as it goes (false back: cancelled) and returns the
+    // status line to show.
     using Work = std::function<Result<std::string>(const ExportProgress& progress)>;
 
     ~BackgroundJob();
@@ -31,12 +33,16 @@ public:
     double secondsRunning() const;
     // The result once the worker has finished (then the job is idle again).
     std::optional<Result<std::string>> take();
+    // Asks the work to stop at its next progress report (it then fails, having written nothing).
+    void cancel() { cancelled_ = true; }
+    bool cancelled() const { return cancelled_; }
 
 private:
     std::string title_;
     std::thread worker_;
     mutable std::mutex mutex_;
     bool running_ = false;
+    std::atomic<bool> cancelled_ = false;
     std::string stage_;
     float fraction_ = 0.0f;
     std::chrono::steady_clock::time_point started_;

@@ -310,6 +310,8 @@ void jobWindow(EditorApp& app) {
     std::snprintf(overlay, sizeof overlay, "%s... %.1f s", app.job.stage().c_str(), app.job.secondsRunning());
     ImGui::ProgressBar(app.job.fraction(), ImVec2(420, 0), overlay);
     ImGui::TextDisabled("Edits wait until it is done");
+    ImGui::SameLine();
+    if (button(app, "Cancel##job", "Stop it: nothing is written (a file being written is finished first)")) app.job.cancel();
     ImGui::End();
 }
 }  // namespace qp::editor
