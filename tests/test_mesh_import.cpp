@@ -3,6 +3,7 @@
 // the file declares checked; bad files refused with a message naming the file, nothing half read.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -74,6 +75,31 @@ TEST_F(MeshImport, ReadsEveryFaceOfOffAndPlyInOrderAndWinding) {
     ASSERT_TRUE(binary) << binary.error().message;
     EXPECT_EQ(binary->faceVertices, mixed.faceVertices);
     EXPECT_EQ(binary->positions, mixed.positions);
+    // The same file declared big-endian is read as such: its numbers are garbage (counts of corners
+    // past 1024, indices past the vertices, or non-finite positions) and it is refused; written
+    // big-endian for real, it reads the same cage.
+    std::string mislabelled = ply;
+    mislabelled.replace(mislabelled.find("binary_little_endian"), 20, "binary_big_endian");
+    Result<Cage> wrongEndian = loadMeshCage(write("wrong_endian.ply", mislabelled));
+    ASSERT_FALSE(wrongEndian) << "a little-endian body read as big-endian was accepted";
+    EXPECT_NE(wrongEndian.error().message.find("wrong_endian.ply"), std::string::npos) << wrongEndian.error().message;
+    auto bigEndian = [](auto value) {
+        std::string bytes(reinterpret_cast<const char*>(&value), sizeof value);
+        std::reverse(bytes.begin(), bytes.end());
+        return bytes;
+    };
+    std::string big = "ply\nformat binary_big_endian 1.0\nelement vertex " + std::to_string(mixed.vertexCount()) +
+                      "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+                      std::to_string(mixed.faceCount()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const glm::vec3& p : mixed.positions) big += bigEndian(p.x) + bigEndian(p.y) + bigEndian(p.z);
+    for (uint32_t f = 0; f < mixed.faceCount(); ++f) {
+        big += char(mixed.faceSize(f));
+        for (uint32_t k = 0; k < mixed.faceSize(f); ++k) big += bigEndian(int32_t(mixed.faceBegin(f)[k]));
+    }
+    Result<Cage> bigCage = loadMeshCage(write("big_endian.ply", big));
+    ASSERT_TRUE(bigCage) << bigCage.error().message;
+    EXPECT_EQ(bigCage->faceVertices, mixed.faceVertices);
+    EXPECT_EQ(bigCage->positions, mixed.positions);
     // Everywhere a cage opens: loadSceneOrCage (info, render, edit, File > Open, Python's load).
     Result<Scene> scene = loadSceneOrCage((dir / "mixed.ply").string());
     ASSERT_TRUE(scene) << scene.error().message;
