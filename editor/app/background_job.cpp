@@ -4,7 +4,10 @@
 
 namespace qp::editor {
 
+// Quitting while a job runs cancels it (it stops at its next report, writing nothing) rather than
+// waiting for it; declared after the document in EditorApp, the job is gone before the document.
 BackgroundJob::~BackgroundJob() {
+    cancelled_ = true;
     if (worker_.joinable()) worker_.join();
 }
 
