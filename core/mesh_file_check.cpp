@@ -422,8 +422,12 @@ Result<OmCounts> checkOmFile(const std::string& bytes, const std::string& source
                      std::to_string(counts.version & 31) + "; this build reads up to 2.2)"};
     counts.vertices = u32(4), counts.faces = u32(8), counts.edges = u32(12);
     const uint64_t V = counts.vertices, F = counts.faces, E = counts.edges;
-    if (V > bytes.size() || F > bytes.size() || E > bytes.size())
-        return Error{source + ": the .om header declares more vertices, faces or edges than the file has bytes (a corrupt header)"};
+    // What the counts need at the least (three floats a position; from 2.0 six indices of a byte or
+    // more an edge, one a face): a header that claims more is corrupt, and is refused before
+    // anything is sized from it.
+    const uint64_t edgeBytes = counts.version >= (2 << 5) ? 6 : 1;
+    if (V * 12 > bytes.size() || F > bytes.size() || E * edgeBytes > bytes.size())
+        return Error{source + ": the .om header declares more vertices, faces or edges than the file has bytes for (a corrupt header)"};
     size_t at = 16;
     uint32_t customChunks = 0;
     std::string problem;
