@@ -13,6 +13,7 @@
 #include <opensubdiv/far/patchTableFactory.h>
 #include <opensubdiv/far/stencilTableFactory.h>
 
+#include "bench_far.h"
 #include "bench_stats.h"
 #include "osd_refiner.h"
 #include "plan_memory.h"
@@ -32,54 +33,6 @@ using namespace OpenSubdiv;
 constexpr uint32_t kGridSide = 16;  // evaluation grid per sub-face
 
 // ---- OpenSubdiv baselines ---------------------------------------------------------------
-
-Far::PatchTableFactory::Options farPatchOptions(const PlanOptions& options) {
-    // The options the plan builder uses (plan_builder.cpp), so both sides do the same work.
-    Far::PatchTableFactory::Options patchOptions(options.maxDepth);
-    patchOptions.useInfSharpPatch = true;
-    patchOptions.useSingleCreasePatch = options.useCreaseNodes;
-    patchOptions.generateLegacySharpCornerPatches = false;
-    patchOptions.generateVaryingTables = false;
-    patchOptions.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
-    return patchOptions;
-}
-
-struct FarBuild {
-    std::unique_ptr<Far::TopologyRefiner> refiner;
-    std::unique_ptr<Far::PatchTable> patches;
-    std::unique_ptr<const Far::StencilTable> stencils;  // refined + local points
-    double patchesMs = 0.0, stencilsMs = 0.0;          // both from the start
-};
-
-// One full rebuild; the patch-table time is taken on the way to the stencil tables, so one
-// run gives both baselines.
-FarBuild buildFar(const Cage& cage, const PlanOptions& options) {
-    FarBuild build;
-    auto start = Clock::now();
-    auto patchOptions = farPatchOptions(options);
-    build.refiner = std::move(createRefiner(cage, "bench").value());
-    build.refiner->RefineAdaptive(patchOptions.GetRefineAdaptiveOptions());
-    build.patches.reset(Far::PatchTableFactory::Create(*build.refiner, patchOptions));
-    build.patchesMs = msSince(start);
-
-    Far::StencilTableFactory::Options stencilOptions;
-    stencilOptions.generateOffsets = true;
-    stencilOptions.generateIntermediateLevels = true;
-    build.stencils.reset(Far::StencilTableFactory::Create(*build.refiner, stencilOptions));
-    if (const Far::StencilTable* local = build.patches->GetLocalPointStencilTable(); local && local->GetNumStencils())
-        build.stencils.reset(
-            Far::StencilTableFactory::AppendLocalPointStencilTable(*build.refiner, build.stencils.get(), local));
-    build.stencilsMs = msSince(start);
-    return build;
-}
-
-// The vertex type Far::StencilTable::UpdateValues needs.
-struct FarPoint {
-    float x, y, z;
-    void Clear(void* = nullptr) { x = y = z = 0.0f; }
-    void AddWithWeight(const FarPoint& p, float w) { x += w * p.x; y += w * p.y; z += w * p.z; }
-};
-static_assert(sizeof(FarPoint) == sizeof(glm::vec3));
 
 struct BfrThroughput {
     double setupAndEvaluateMpts = 0.0, evaluateOnlyMpts = 0.0;

@@ -122,6 +122,10 @@ std::string loadAverage();
 inline constexpr uint32_t kLargeCageFaces = 20000;
 inline constexpr uint32_t kLargeCageRepeats = 5;
 
+// The animation suite (a deforming cage played frame by frame against Far's per-frame work):
+// bench_animation.cpp.
+void benchAnimation(const BenchCage& bench, const BenchArgs& args, Report& report);
+
 // The plans suite (plan engine against OpenSubdiv Far and Bfr): bench_plans.cpp.
 void benchPlans(const BenchCage& bench, const BenchArgs& args, Report& report);
 // One full Far rebuild (refiner, adaptive refinement, patch table) with the plan builder's

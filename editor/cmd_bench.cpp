@@ -455,6 +455,7 @@ constexpr Suite kSuites[] = {
     {"displacement", benchDisplacement, 2000},
     {"editor", benchEditor, 2000},
     {"scene", benchScene, 0},
+    {"animation", benchAnimation, 100000},
 };
 
 int runSuite(const Suite& suite, const BenchArgs& args) {

@@ -12,7 +12,7 @@ import pathlib
 import re
 import sys
 
-SUITES = ["plans", "edit", "render", "schemes", "fas", "displacement", "editor"]
+SUITES = ["plans", "edit", "render", "schemes", "fas", "displacement", "editor", "scene", "animation"]
 
 
 def slug(text):
