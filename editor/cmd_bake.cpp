@@ -8,7 +8,7 @@
 
 #include "commands.h"
 #include "displacement_bake.h"
-#include "planned_scene.h"
+#include "render_setup.h"
 
 namespace qp::cli {
 
@@ -26,19 +26,15 @@ int fail(const std::string& message) {
 }
 
 int runBake(const BakeArgs& args) {
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (!scene) return fail(scene.error().message);
     PlanDatabase database;
-    Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{args.depth, true}, args.path);
-    if (!planned) return fail(planned.error().message);
+    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.depth, true});
+    if (!file) return fail(file.error().message);
     BakeOptions options;
     options.size = args.size;
     options.uv = *parseUvMode(args.uv);
     options.padding = args.padding;
     options.normalMap = !args.normalMap.empty();
-    Result<BakeReport> report = bakeScene(*scene, sceneCages(*planned), args.out, args.normalMap, options, args.path);
+    Result<BakeReport> report = bakeScene(file->scene, sceneCages(file->planned), args.out, args.normalMap, options, args.path);
     if (!report) return fail(report.error().message);
     for (const std::string& note : report->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
     const BakeReport& r = *report;

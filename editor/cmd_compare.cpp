@@ -300,14 +300,12 @@ int runCompare(const CompareArgs& args) {
         options.push_back({text.substr(0, colon), *option});
     }
 
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (!scene) return fail(scene.error().message);
     PlanDatabase database;
-    Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{args.depth, true}, args.path);
-    if (!planned) return fail(planned.error().message);
-    Result<RenderCamera> camera = chooseCamera(*scene, sceneBounds(*scene), float(tileWidth) / float(tileHeight), args.camera);
+    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.depth, true});
+    if (!file) return fail(file.error().message);
+    Scene& scene = file->scene;
+    PlannedScene& planned = file->planned;
+    Result<RenderCamera> camera = chooseCamera(scene, sceneBounds(scene), float(tileWidth) / float(tileHeight), args.camera);
     if (!camera) return fail(camera.error().message);
     if (args.reference != "far" && args.reference != "plans")
         return fail("--reference must be far or plans, got '" + args.reference + "'");
@@ -318,11 +316,11 @@ int runCompare(const CompareArgs& args) {
     std::vector<size_t> firstSampleOfCage{0};
     std::vector<double> diagonalOfSample;
     ExactReference reference;
-    for (uint32_t c = 0; c < planned->cages.size(); ++c) {
-        const PlannedCage& cage = planned->cages[c];
-        const std::string source = planned->cages.size() == 1
+    for (uint32_t c = 0; c < planned.cages.size(); ++c) {
+        const PlannedCage& cage = planned.cages[c];
+        const std::string source = planned.cages.size() == 1
                                        ? args.path
-                                       : args.path + ": object \"" + scene->objects[planned->objectOfCage[c]].name + "\"";
+                                       : args.path + ": object \"" + scene.objects[planned.objectOfCage[c]].name + "\"";
         grids.push_back(buildSubfaceGrid(cage, args.samples));
         Result<ExactReference> part = evaluateReference(referenceKind, args.referenceDepth, cage, grids.back().samples, source);
         if (!part) return fail("the exact reference failed: " + part.error().message);
@@ -380,7 +378,7 @@ int runCompare(const CompareArgs& args) {
                 if (scheme == r.name) settings.options.push_back(option);
             // The tiles show the objects' sculpted displacement; the error is the undisplaced
             // surface's (Scheme::evaluate), against the exact limit surface.
-            Result<SceneSchemes> prepared = prepareSceneSchemes(catalog, r.name, *scene, *planned, settings, gpu, args.path);
+            Result<SceneSchemes> prepared = prepareSceneSchemes(catalog, r.name, scene, planned, settings, gpu, args.path);
             if (!prepared) {
                 r.reason = prepared.error().message;
                 std::fprintf(stderr, "error: %s\n", r.reason.c_str());
@@ -397,7 +395,7 @@ int runCompare(const CompareArgs& args) {
             const RenderTarget tile = subArea(renderTarget(*target), layout.tile(i, false));
             Status ok = success();
             if (Result<SchemeFrameTimes> times =
-                    timeSceneFrames(ctx, *prepared, *scene, *planned, tile, view, *timer, args.repeats)) {
+                    timeSceneFrames(ctx, *prepared, scene, planned, tile, view, *timer, args.repeats)) {
                 r.draw = times->draw;
                 r.frameMs = times->frameMs;
                 r.drawMs = times->drawMs;
@@ -423,8 +421,8 @@ int runCompare(const CompareArgs& args) {
             if (ok) {
                 SurfaceError error = measureSurfaceError(reference, points, diagonalOfSample);
                 r.error = error.stats;
-                ok = drawHeatMaps(ctx, *heatPass, subArea(renderTarget(*target), layout.tile(i, true)), view, *scene,
-                                  *planned, grids, firstSampleOfCage, points, error.relError);
+                ok = drawHeatMaps(ctx, *heatPass, subArea(renderTarget(*target), layout.tile(i, true)), view, scene,
+                                  planned, grids, firstSampleOfCage, points, error.relError);
             }
             if (Status destroyed = destroySceneSchemes(*prepared); ok && !destroyed) ok = destroyed;
             if (!ok) {

@@ -149,14 +149,12 @@ int runExport(const ExportArgs& args) {
         if (args.displaced && args.scheme != "plans")
             return fail("--displaced exports the plans' displaced surface; give --scheme plans (or leave it out)");
     }
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (!scene) return fail(scene.error().message);
     PlanDatabase database;
-    Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{args.depth, true}, args.path);
-    if (!planned) return fail(planned.error().message);
-    if (args.cage) return exportCages(args, *scene, *planned);
+    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.depth, true});
+    if (!file) return fail(file.error().message);
+    const Scene& scene = file->scene;
+    const PlannedScene& planned = file->planned;
+    if (args.cage) return exportCages(args, scene, planned);
 
     ExportOptions options;
     options.factor = args.tess;
@@ -168,21 +166,21 @@ int runExport(const ExportArgs& args) {
         uint32_t width = 0, height = 0;
         if (!parseSize(args.size, width, height))
             return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.size + "'");
-        Result<RenderCamera> camera = chooseCamera(*scene, sceneBounds(*scene), float(width) / float(height), args.camera);
+        Result<RenderCamera> camera = chooseCamera(scene, sceneBounds(scene), float(width) / float(height), args.camera);
         if (!camera) return fail(camera.error().message);
         options.adaptive = adaptiveExport(*camera, height, args.adaptive);
     }
     std::optional<SchemeSlots> slots;
     CageMesher mesher;
-    const SceneCages cages = sceneCages(*planned);
+    const SceneCages cages = sceneCages(planned);
     if (args.scheme != "plans") {
         slots.emplace();
         if (Status opened = slots->open(args.pluginDir, args.validate); !opened) return fail(opened.error().message);
         mesher = [&](const PlannedCage& cage, uint32_t c, const std::string& source) {
-            return slots->mesh(args.scheme, cage, exportDensity(*scene, cages, c, options), args.depth, options.uv, source);
+            return slots->mesh(args.scheme, cage, exportDensity(scene, cages, c, options), args.depth, options.uv, source);
         };
     }
-    Result<ExportReport> report = exportScene(*scene, cages, args.out, options, args.path, mesher);
+    Result<ExportReport> report = exportScene(scene, cages, args.out, options, args.path, mesher);
     if (!report) return fail(report.error().message);
     for (const std::string& note : report->notes) std::fprintf(stderr, "note: %s\n", note.c_str());
     if (slots && args.validate && slots->validationFailed()) return 4;

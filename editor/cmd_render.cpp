@@ -56,28 +56,26 @@ int runRender(const RenderArgs& args) {
     for (const PluginProblem& p : catalog.problems) std::fprintf(stderr, "warning: %s\n", p.message.c_str());
     if (!catalog.find(args.scheme)) return fail(unknownSchemeMessage(catalog, args.scheme));
 
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (!scene) return fail(scene.error().message);
+    PlanDatabase database;
+    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.depth, true});
+    if (!file) return fail(file.error().message);
+    Scene& scene = file->scene;
+    PlannedScene& planned = file->planned;
 
     if (args.tess > 0) {
         settings.tessFactor = args.tess;
     } else if (args.adaptive > 0.0f) {
         settings.adaptivePixels = args.adaptive;
     } else {
-        const Tessellation& t = scene->tessellation;
+        const Tessellation& t = scene.tessellation;
         if (t.mode == TessellationMode::Uniform) settings.tessFactor = uint32_t(t.factor);
         else settings.adaptivePixels = t.pixelsPerEdge;
     }
-    const bool showCage = !args.noCage && scene->tessellation.showCage;
+    const bool showCage = !args.noCage && scene.tessellation.showCage;
 
-    PlanDatabase database;
-    Result<PlannedScene> planned = PlannedScene::create(*scene, database, PlanOptions{args.depth, true}, args.path);
-    if (!planned) return fail(planned.error().message);
 
     const float aspect = float(width) / float(height);
-    Result<RenderCamera> camera = chooseCamera(*scene, sceneBounds(*scene), aspect, args.camera);
+    Result<RenderCamera> camera = chooseCamera(scene, sceneBounds(scene), aspect, args.camera);
     if (!camera) return fail(camera.error().message);
 
     Result<VulkanContext> context = createHeadlessContext(args.validate);
@@ -92,12 +90,12 @@ int runRender(const RenderArgs& args) {
     const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
     const GpuContext gpu{&ctx, vkCache, format, VK_FORMAT_D32_SFLOAT};
 
-    Result<SceneSchemes> prepared = prepareSceneSchemes(catalog, args.scheme, *scene, *planned, settings, gpu, args.path);
+    Result<SceneSchemes> prepared = prepareSceneSchemes(catalog, args.scheme, scene, planned, settings, gpu, args.path);
     Result<std::vector<std::string>> modes = prepared ? prepared->cages.front().instance.colorModes()
                                                       : Result<std::vector<std::string>>(prepared.error());
     Result<OffscreenTarget> target = modes ? createOffscreenTarget(ctx, width, height, format) : Result<OffscreenTarget>(modes.error());
     Result<LinePass> lines = target ? createLinePass(ctx, vkCache, format) : Result<LinePass>(target.error());
-    Result<SceneCageLines> cageLineBuffers = lines ? createSceneCageLines(ctx, *planned) : Result<SceneCageLines>(lines.error());
+    Result<SceneCageLines> cageLineBuffers = lines ? createSceneCageLines(ctx, planned) : Result<SceneCageLines>(lines.error());
     if (!cageLineBuffers) {
         status = fail(prepared ? "cannot set up the renderer: " + cageLineBuffers.error().message
                                : cageLineBuffers.error().message);
@@ -114,11 +112,11 @@ int runRender(const RenderArgs& args) {
         view.eye = camera->eye;
         view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(*camera), height);
         view.colorBy = args.colorBy;
-        view.wireframe = args.wire || scene->tessellation.showWireframe;
+        view.wireframe = args.wire || scene.tessellation.showWireframe;
         Result<DrawStats> drawStats = DrawStats{};
         Status drawn = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            drawStats = recordScene(cmd, *prepared, *scene, *planned, renderTarget(*target), view);
-            if (showCage) recordSceneCageLines(cmd, *lines, renderTarget(*target), *cageLineBuffers, *scene, *planned, view);
+            drawStats = recordScene(cmd, *prepared, scene, planned, renderTarget(*target), view);
+            if (showCage) recordSceneCageLines(cmd, *lines, renderTarget(*target), *cageLineBuffers, scene, planned, view);
         });
         if (drawn && !drawStats) drawn = drawStats.error();
         Result<std::vector<uint8_t>> pixels = drawn ? readPixels(ctx, *target) : Result<std::vector<uint8_t>>(drawn.error());
@@ -129,9 +127,9 @@ int runRender(const RenderArgs& args) {
             const std::string triangles = drawStats->triangles > 0
                                               ? std::to_string(drawStats->triangles) + " triangles"
                                               : "triangle count set by the tessellator at draw time";
-            const std::string objects = scene->objects.size() == 1 ? ""
-                                        : std::to_string(scene->objects.size()) + " objects, " +
-                                              std::to_string(planned->cages.size()) + " cages, ";
+            const std::string objects = scene.objects.size() == 1 ? ""
+                                        : std::to_string(scene.objects.size()) + " objects, " +
+                                              std::to_string(planned.cages.size()) + " cages, ";
             std::fprintf(stderr, "wrote %s (%ux%u, scheme %s on %s, %s%llu patches, %s)\n", args.out.c_str(), width,
                          height, args.scheme.c_str(), ctx.deviceName.c_str(), objects.c_str(),
                          (unsigned long long)drawStats->patches, triangles.c_str());

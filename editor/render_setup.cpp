@@ -63,6 +63,16 @@ bool parseSize(const std::string& text, uint32_t& width, uint32_t& height) {
     return true;
 }
 
+Result<PlannedFile> loadAndPlan(const std::string& path, PlanDatabase& database, const PlanOptions& options) {
+    std::vector<std::string> warnings;
+    Result<Scene> scene = loadSceneOrCage(path, &warnings);
+    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (!scene) return scene.error();
+    Result<PlannedScene> planned = PlannedScene::create(*scene, database, options, path);
+    if (!planned) return planned.error();
+    return PlannedFile{std::move(scene).value(), std::move(planned).value()};
+}
+
 Result<RenderCamera> chooseCamera(const Scene& scene, const Bounds& bounds, float aspect, const std::string& cameraText) {
     RenderCamera camera = frameBounds(bounds.min, bounds.max, aspect);
     if (!cameraText.empty()) {

@@ -1,5 +1,6 @@
-// What the headless drawing commands (render, compare) share: image size and camera options,
-// the Vulkan context, and the scheme plugins' settings.
+// What the commands share: loading and planning a file; and for the headless drawing ones
+// (render, compare, export's adaptive density) image size and camera options, the Vulkan
+// context, and the scheme plugins' settings.
 #pragma once
 
 #include <optional>
@@ -8,12 +9,21 @@
 
 #include "camera.h"
 #include "cage.h"
+#include "planned_scene.h"
 #include "result.h"
 #include "scene.h"
 #include "scheme_api.h"
 #include "vk_context.h"
 
 namespace qp::cli {
+
+// A scene or cage file, planned with `options` through `database` (every command's first step);
+// the reader's warnings go to stderr as "warning: ...".
+struct PlannedFile {
+    Scene scene;
+    PlannedScene planned;
+};
+Result<PlannedFile> loadAndPlan(const std::string& path, PlanDatabase& database, const PlanOptions& options);
 
 // "WIDTHxHEIGHT", each side 16..8192.
 bool parseSize(const std::string& text, uint32_t& width, uint32_t& height);
