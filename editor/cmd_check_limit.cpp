@@ -139,7 +139,7 @@ void registerCheckLimit(CLI::App& app, int& exitCode) {
     auto* cmd = app.add_subcommand("check-limit",
                                    "Compare the planned limit surface with OpenSubdiv's at the same depth");
     auto args = std::make_shared<CheckLimitArgs>();
-    cmd->add_option("file", args->path, "Cage (.obj, .ply, .off, .stl) or scene (.json)")->required();
+    cmd->add_option("file", args->path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json)")->required();
     cmd->add_option("--samples", args->samples, "Samples per side of each face's grid")->check(CLI::Range(2, 1000));
     cmd->add_option("--depth", args->depth, "Plan and reference depth")->check(CLI::Range(1u, kMaxPlanDepth));
     cmd->add_flag("--no-crease-nodes", args->noCreaseNodes, "Isolate semi-sharp creases instead of crease nodes");

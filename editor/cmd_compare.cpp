@@ -475,7 +475,7 @@ void registerCompare(CLI::App& app, int& exitCode) {
     auto* cmd = app.add_subcommand(
         "compare", "Render a cage through several schemes side by side with their error against the exact limit surface");
     auto args = std::make_shared<CompareArgs>();
-    cmd->add_option("file", args->path, "Cage (.obj, .ply, .off, .stl) or scene (.json)")->required();
+    cmd->add_option("file", args->path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json)")->required();
     cmd->add_option("--out", args->out, "PNG file to write")->required();
     cmd->add_option("--schemes", args->schemes, "Comma-separated scheme names (default: every loaded scheme)");
     cmd->add_option("--size", args->size, "Size of one tile, WIDTHxHEIGHT (default 360x300)");

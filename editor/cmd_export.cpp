@@ -227,8 +227,8 @@ int runExport(const ExportArgs& args) {
 void registerExport(CLI::App& app, int& exitCode) {
     auto* cmd = app.add_subcommand("export", "Export the limit surface as a welded, watertight triangle mesh (glTF, OBJ, PLY, OFF, STL)");
     auto args = std::make_shared<ExportArgs>();
-    cmd->add_option("file", args->path, "Cage (.obj, .ply, .off, .stl) or scene (.json)")->required();
-    cmd->add_option("--out", args->out, "File to write: .glb (default glTF), .gltf, .obj, .ply, .off or .stl")->required();
+    cmd->add_option("file", args->path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json)")->required();
+    cmd->add_option("--out", args->out, "File to write: .glb (default glTF), .gltf, .obj, .ply, .off or .stl; with --cage .obj, .om, .ply, .off or .stl")->required();
     cmd->add_option("--scheme", args->scheme, "Surface to export (default plans, the exact limit surface; `quadplan schemes` lists them)");
     auto* tess = cmd->add_option("--tess", args->tess, "Uniform tessellation factor: segments per sub-face edge (default 8)")
         ->check(CLI::Range(1u, 64u));

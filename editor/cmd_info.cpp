@@ -147,7 +147,7 @@ void registerInfo(CLI::App& app, int& exitCode) {
     auto* cmd = app.add_subcommand("info", "Print counts and histograms of a cage or scene");
     auto path = std::make_shared<std::string>();
     auto json = std::make_shared<bool>(false);
-    cmd->add_option("file", *path, "Cage (.obj, .ply, .off, .stl) or scene (.json)")->required();
+    cmd->add_option("file", *path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json)")->required();
     cmd->add_flag("--json", *json, "Print one JSON object instead of text");
     cmd->callback([path, json, &exitCode] { exitCode = runInfo(*path, *json); });
 }

@@ -122,7 +122,7 @@ int runPlanStats(const PlanStatsArgs& args) {
 void registerPlanStats(CLI::App& app, int& exitCode) {
     auto* cmd = app.add_subcommand("plan-stats", "Build the subdivision plans of a cage and print their statistics");
     auto args = std::make_shared<PlanStatsArgs>();
-    cmd->add_option("file", args->path, "Cage (.obj, .ply, .off, .stl) or scene (.json)")->required();
+    cmd->add_option("file", args->path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json)")->required();
     cmd->add_option("--depth", args->depth, "Maximum quadtree depth")->check(CLI::Range(1u, kMaxPlanDepth));
     cmd->add_flag("--no-crease-nodes", args->noCreaseNodes, "Isolate semi-sharp creases instead of crease nodes");
     cmd->add_flag("--json", args->json, "Print one JSON object");

@@ -156,7 +156,7 @@ int runRender(const RenderArgs& args) {
 void registerRender(CLI::App& app, int& exitCode) {
     auto* cmd = app.add_subcommand("render", "Render a cage or scene to a PNG (headless, Vulkan) through a scheme plugin");
     auto args = std::make_shared<RenderArgs>();
-    cmd->add_option("file", args->path, "Cage (.obj, .ply, .off, .stl) or scene (.json)")->required();
+    cmd->add_option("file", args->path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json)")->required();
     cmd->add_option("--out", args->out, "PNG file to write")->required();
     cmd->add_option("--scheme", args->scheme, "Patching scheme (default plans; `quadplan schemes` lists them)");
     cmd->add_option("--size", args->size, "Image size, WIDTHxHEIGHT (default 800x600)");

@@ -89,7 +89,7 @@ int runSchemes(const SchemesArgs& args) {
 void registerSchemes(CLI::App& app, int& exitCode) {
     auto* cmd = app.add_subcommand("schemes", "List the patching-scheme plugins (and what each does with a cage)");
     auto args = std::make_shared<SchemesArgs>();
-    cmd->add_option("cage", args->cage, "Cage (.obj, .ply, .off, .stl) or scene (.json): say what each scheme approximates or refuses");
+    cmd->add_option("cage", args->cage, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json): say what each scheme approximates or refuses");
     cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
     cmd->add_flag("--json", args->json, "Print JSON");
     cmd->callback([args, &exitCode] { exitCode = runSchemes(*args); });

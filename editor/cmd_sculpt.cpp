@@ -196,7 +196,7 @@ void registerSculpt(CLI::App& app, int& exitCode) {
     auto* cmd = app.add_subcommand(
         "sculpt", "Apply displacement brush strokes headless and write the scene (cage inline) with its displacement");
     auto args = std::make_shared<SculptArgs>();
-    cmd->add_option("input", args->input, "Scene (.json) or cage (.obj)")->required();
+    cmd->add_option("input", args->input, "Scene (.json) or cage (.obj, .om, .ply, .off, .stl)")->required();
     cmd->add_option("--out", args->out, "Scene file to write (.json)")->required();
     cmd->add_option("--object", args->object,
                     "The object to sculpt (default: the first with a cage of its own); stroke points are in its "

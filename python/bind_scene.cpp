@@ -267,7 +267,7 @@ Topology edits are refused while the scene has displacement (clear_displacement(
                         return unwrap(std::move(doc));
                     },
                     py::arg("path"), py::arg("depth") = 6,
-                    "Opens a scene (.json) or a bare cage (.obj, .ply, .off, .stl) and plans it (also quadplan.load).")
+                    "Opens a scene (.json) or a bare cage (.obj, .om, .ply, .off, .stl) and plans it (also quadplan.load).")
         .def("copy", &Document::copy, "An independent copy of the current state, with an empty history.")
         .def("save",
              [](Document& doc, const std::string& path, const py::object& inlineCage) {
