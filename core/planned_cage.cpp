@@ -292,9 +292,25 @@ Result<EditReport> PlannedCage::moveVertices(std::span<const uint32_t> vertices,
     for (size_t i = 0; i < vertices.size(); ++i) cage_.positions[vertices[i]] = positions[i];
 
     EditReport report;
-    report.updatedSubfaceList = subfacesSeeing(vertices);
+    report.updatedSubfaceList = movesEveryVertex(vertices) ? allSubfaces() : subfacesSeeing(vertices);
     updateControlPoints(report.updatedSubfaceList);
     return finished(std::move(report), start);
+}
+
+// A whole-body deformation (an animation frame) moves every vertex: then every sub-face sees one,
+// and finding them through the faces around each vertex (three sorts of the whole cage) is skipped.
+bool PlannedCage::movesEveryVertex(std::span<const uint32_t> vertices) const {
+    if (vertices.size() < cage_.vertexCount()) return false;
+    std::vector<uint8_t> moved(cage_.vertexCount(), 0);
+    uint32_t distinct = 0;
+    for (uint32_t v : vertices) distinct += moved[v] == 0 ? (moved[v] = 1) : 0;
+    return distinct == cage_.vertexCount();
+}
+
+std::vector<uint32_t> PlannedCage::allSubfaces() const {
+    std::vector<uint32_t> all(subfaceCount());
+    for (uint32_t s = 0; s < all.size(); ++s) all[s] = s;
+    return all;
 }
 
 Result<EditReport> PlannedCage::setEdgeSharpness(uint32_t a, uint32_t b, float sharpness) {

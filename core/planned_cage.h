@@ -138,6 +138,8 @@ private:
     void updateControlPoints(const std::vector<uint32_t>& subfaces);
     std::vector<uint32_t> facesSharingVertexWith(std::span<const uint32_t> vertices) const;
     // Sub-faces whose 1-ring holds one of the vertices (sorted).
+    bool movesEveryVertex(std::span<const uint32_t> vertices) const;
+    std::vector<uint32_t> allSubfaces() const;
     std::vector<uint32_t> subfacesSeeing(std::span<const uint32_t> vertices) const;
     // Rebuilds the sub-face arrays after a topology change; `oldFaceOf[f]` is the face's index
     // before the change (UINT32_MAX for a new face) so unaffected faces keep their plans.

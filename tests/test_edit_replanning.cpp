@@ -2,6 +2,7 @@
 // are re-planned, every other face keeps its plan and control points, and the result always
 // equals planning the edited cage from scratch.
 #include <algorithm>
+#include <cmath>
 #include <bit>
 #include <functional>
 #include <random>
@@ -393,4 +394,32 @@ TEST(EditReplanning, SharedShapesSurviveEveryOperationOrRefuseCleanly) {
     }
     EXPECT_GT(shapes, 50u);
     EXPECT_GT(applied, shapes * 3);
+}
+
+TEST(EditReplanning, MovingEveryVertexUpdatesEverySubfaceAndReplansNothing) {
+    // An animation frame: every vertex moves. The whole-cage shortcut must give what a rebuild
+    // gives; a list as long as the cage that repeats a vertex is not "every vertex".
+    PlanDatabase database;
+    auto planned = PlannedCage::create(qp::test::makeMixedGrid(), database, qp::PlanOptions{}, "mixed");
+    ASSERT_TRUE(planned) << planned.error().message;
+    std::vector<uint32_t> all(planned->cage().vertexCount());
+    std::vector<glm::vec3> twisted(all.size());
+    for (uint32_t v = 0; v < all.size(); ++v) {
+        all[v] = v;
+        const glm::vec3 p = planned->cage().positions[v];
+        const float a = 0.2f * p.y;
+        twisted[v] = {std::cos(a) * p.x - std::sin(a) * p.z, p.y, std::sin(a) * p.x + std::cos(a) * p.z};
+    }
+    std::reverse(all.begin(), all.end()), std::reverse(twisted.begin(), twisted.end());  // any order
+    auto moved = planned->moveVertices(all, twisted);
+    ASSERT_TRUE(moved) << moved.error().message;
+    EXPECT_EQ(moved->updatedSubfaces, planned->subfaceCount());
+    EXPECT_EQ(moved->replannedFaces, 0u);
+    EXPECT_TRUE(planned->differencesFromRebuild().empty());
+    const std::vector<uint32_t> one(all.size(), 0);
+    const std::vector<glm::vec3> same(all.size(), planned->cage().positions[0]);
+    auto repeated = planned->moveVertices(one, same);
+    ASSERT_TRUE(repeated) << repeated.error().message;
+    EXPECT_LT(repeated->updatedSubfaces, planned->subfaceCount()) << "vertex 0 repeated was taken for every vertex";
+    EXPECT_TRUE(planned->differencesFromRebuild().empty());
 }
