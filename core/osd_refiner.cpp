@@ -24,6 +24,16 @@ void collectFarError(Far::ErrorType, const char* message) {
 
 }  // namespace
 
+OpenSubdiv::Far::PatchTableFactory::Options planPatchOptions(uint32_t depth, bool useCreaseNodes) {
+    OpenSubdiv::Far::PatchTableFactory::Options options(depth);
+    options.useInfSharpPatch = true;
+    options.useSingleCreasePatch = useCreaseNodes;
+    options.generateLegacySharpCornerPatches = false;
+    options.generateVaryingTables = false;
+    options.SetEndCapType(OpenSubdiv::Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
+    return options;
+}
+
 Sdc::Options toSdcOptions(const SubdivisionOptions& options) {
     Sdc::Options sdc;
     switch (options.boundary) {

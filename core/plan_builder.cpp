@@ -339,12 +339,7 @@ Result<Plan> buildPlan(const std::vector<uint32_t>& key) {
     auto refiner = createLocalRefiner(mesh);
     if (!refiner) return refiner.error();
 
-    Far::PatchTableFactory::Options patchOptions(mesh.maxDepth);
-    patchOptions.useInfSharpPatch = true;
-    patchOptions.useSingleCreasePatch = mesh.useCreaseNodes;
-    patchOptions.generateLegacySharpCornerPatches = false;
-    patchOptions.generateVaryingTables = false;
-    patchOptions.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
+    Far::PatchTableFactory::Options patchOptions = planPatchOptions(mesh.maxDepth, mesh.useCreaseNodes);
 
     Far::Index selected[1] = {0};
     Far::ConstIndexArray selectedFaces(selected, 1);

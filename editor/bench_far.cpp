@@ -10,25 +10,10 @@ namespace qp::cli {
 
 using namespace OpenSubdiv;
 
-namespace {
-
-Far::PatchTableFactory::Options farPatchOptions(const PlanOptions& options) {
-    // The options the plan builder uses (plan_builder.cpp), so both sides do the same work.
-    Far::PatchTableFactory::Options patchOptions(options.maxDepth);
-    patchOptions.useInfSharpPatch = true;
-    patchOptions.useSingleCreasePatch = options.useCreaseNodes;
-    patchOptions.generateLegacySharpCornerPatches = false;
-    patchOptions.generateVaryingTables = false;
-    patchOptions.SetEndCapType(Far::PatchTableFactory::Options::ENDCAP_GREGORY_BASIS);
-    return patchOptions;
-}
-
-}  // namespace
-
 FarBuild buildFar(const Cage& cage, const PlanOptions& options) {
     FarBuild build;
     auto start = Clock::now();
-    auto patchOptions = farPatchOptions(options);
+    auto patchOptions = planPatchOptions(options.maxDepth, options.useCreaseNodes);
     build.refiner = std::move(createRefiner(cage, "bench").value());
     build.refiner->RefineAdaptive(patchOptions.GetRefineAdaptiveOptions());
     build.patches.reset(Far::PatchTableFactory::Create(*build.refiner, patchOptions));
