@@ -15,6 +15,7 @@
 
 #include "displacement_io.h"
 #include "mesh_import.h"
+#include "cage_sequence.h"
 #include "file_io.h"
 #include "obj_io.h"
 #include "scene_names.h"
@@ -433,6 +434,135 @@ ObjectTransform readTransform(const json& value, const std::string& field, const
     return t;
 }
 
+// --- animation (cage_animation.h) ---
+
+int32_t readFrame(const json& value, const std::string& field) {
+    return int32_t(readIntInRange(value, field, -1000000000, 1000000000));
+}
+
+// A key's frame, which must come after `previous` (the key before it, if any).
+int32_t readKeyFrame(ObjectReader& key, const std::optional<int32_t>& previous) {
+    const int32_t frame = readFrame(key.required("frame"), key.field("frame"));
+    if (previous && frame <= *previous)
+        fail(key.field("frame"), "frame " + std::to_string(frame) + " is not after the previous key's frame " +
+                                     std::to_string(*previous) + " (keys are listed in increasing frame order, one per frame)");
+    return frame;
+}
+
+// "keys": [{"frame": F, "vertices": [...], "positions": [[x, y, z], ...]}, ...], into per-vertex tracks.
+VertexKeys readVertexKeys(const json& value, const std::string& field, uint32_t vertexCount, const Context& ctx) {
+    std::vector<std::vector<std::pair<int32_t, glm::vec3>>> tracks(vertexCount);
+    std::optional<int32_t> previous;
+    for (size_t i = 0; i < readArray(value, field).size(); ++i) {
+        ObjectReader key(value[i], element(field, i));
+        const int32_t frame = readKeyFrame(key, previous);
+        previous = frame;
+        const json& vertices = readArray(key.required("vertices"), key.field("vertices"));
+        std::vector<glm::vec3> positions = readPositions(key.required("positions"), key.field("positions"));
+        if (positions.size() != vertices.size())
+            fail(key.field("positions"), std::to_string(positions.size()) + " positions for " +
+                                             std::to_string(vertices.size()) + " vertices");
+        for (size_t k = 0; k < vertices.size(); ++k) {
+            const uint32_t v = readIndex(vertices[k], element(key.field("vertices"), k), "vertex", vertexCount, "vertices");
+            if (!tracks[v].empty() && tracks[v].back().first == frame)
+                fail(element(key.field("vertices"), k), "vertex " + std::to_string(v) + " is keyed twice at frame " +
+                                                            std::to_string(frame));
+            tracks[v].push_back({frame, positions[k]});
+        }
+        key.warnAboutUnknownFields(ctx.source, ctx.warnings);
+    }
+    VertexKeys keys;
+    keys.offsets.assign(size_t(vertexCount) + 1, 0);
+    for (uint32_t v = 0; v < vertexCount; ++v) {
+        for (const auto& [frame, position] : tracks[v]) {
+            keys.frames.push_back(frame);
+            keys.positions.push_back(position);
+        }
+        keys.offsets[v + 1] = uint32_t(keys.frames.size());
+    }
+    if (keys.frames.empty()) keys.offsets.clear();
+    return keys;
+}
+
+// Every frame of the sequence, read now: a bad frame fails the whole scene.
+VertexKeys readSequence(const std::string& pattern, const std::string& field, const Cage& cage, const Context& ctx) {
+    const std::string resolved = (fs::path(ctx.baseDir) / pattern).string();
+    Result<std::vector<SequenceFile>> files = sequenceFiles(resolved);
+    if (!files) fail(field, files.error().message);
+    VertexKeys keys;
+    const uint32_t vertexCount = uint32_t(cage.positions.size());
+    std::vector<std::vector<glm::vec3>> frames;
+    for (const SequenceFile& file : *files) {
+        if (file.number > uint64_t(1000000000)) fail(field, file.path + ": frame number " + std::to_string(file.number) + " is too large");
+        Result<std::vector<glm::vec3>> positions = loadSequenceFrame(file.path, cage);
+        if (!positions) fail(field, positions.error().message);
+        frames.push_back(std::move(positions).value());
+    }
+    keys.offsets.resize(size_t(vertexCount) + 1);
+    for (uint32_t v = 0; v <= vertexCount; ++v) keys.offsets[v] = uint32_t(v * frames.size());
+    keys.frames.reserve(size_t(vertexCount) * frames.size());
+    keys.positions.reserve(size_t(vertexCount) * frames.size());
+    for (uint32_t v = 0; v < vertexCount; ++v)
+        for (size_t f = 0; f < frames.size(); ++f) {
+            keys.frames.push_back(int32_t((*files)[f].number));
+            keys.positions.push_back(frames[f][v]);
+        }
+    return keys;
+}
+
+std::vector<TransformKey> readTransformKeys(const json& value, const std::string& field, const Context& ctx) {
+    std::vector<TransformKey> keys;
+    std::optional<int32_t> previous;
+    for (size_t i = 0; i < readArray(value, field).size(); ++i) {
+        ObjectReader key(value[i], element(field, i));
+        TransformKey k;
+        k.frame = readKeyFrame(key, previous);
+        previous = k.frame;
+        if (const json* t = key.optional("transform")) k.transform = readTransform(*t, key.field("transform"), ctx);
+        keys.push_back(k);
+        key.warnAboutUnknownFields(ctx.source, ctx.warnings);
+    }
+    return keys;
+}
+
+// `cage`: the object's own (null for an instance, which may key its transform only).
+ObjectAnimation readAnimation(const json& value, const std::string& field, const Cage* cage, const Context& ctx) {
+    ObjectReader object(value, field);
+    ObjectAnimation a;
+    if (const json* v = object.optional("interpolation"))
+        a.interpolation = readEnum<Interpolation>(*v, object.field("interpolation"), kInterpolationNames);
+    const json* sequence = object.optional("sequence");
+    const json* keys = object.optional("keys");
+    if ((sequence || keys) && !cage)
+        fail(object.field(sequence ? "sequence" : "keys"), "an instance follows its source's cage; it can key its transform only");
+    if (sequence && keys) fail(object.field("keys"), "not allowed with \"sequence\": the positions come from one or the other");
+    if (sequence) {
+        a.sequencePattern = readName(*sequence, object.field("sequence"));
+        a.vertexKeys = readSequence(a.sequencePattern, object.field("sequence"), *cage, ctx);
+    }
+    if (keys) a.vertexKeys = readVertexKeys(*keys, object.field("keys"), uint32_t(cage->positions.size()), ctx);
+    if (const json* v = object.optional("transform_keys"))
+        a.transformKeys = readTransformKeys(*v, object.field("transform_keys"), ctx);
+    object.warnAboutUnknownFields(ctx.source, ctx.warnings);
+    return a;
+}
+
+Timeline readTimeline(const json& value, const Context& ctx) {
+    ObjectReader object(value, "timeline");
+    Timeline t;
+    if (const json* v = object.optional("fps")) {
+        t.framesPerSecond = readPositiveFloat(*v, object.field("fps"));
+        if (t.framesPerSecond > 1000.0) fail(object.field("fps"), "must be at most 1000, got " + v->dump());
+    }
+    t.firstFrame = readFrame(object.required("first_frame"), object.field("first_frame"));
+    t.lastFrame = readFrame(object.required("last_frame"), object.field("last_frame"));
+    if (t.lastFrame < t.firstFrame)
+        fail(object.field("last_frame"), "the last frame " + std::to_string(t.lastFrame) + " comes before the first, " +
+                                             std::to_string(t.firstFrame));
+    object.warnAboutUnknownFields(ctx.source, ctx.warnings);
+    return t;
+}
+
 SceneObject readObject(const json& value, const std::string& field, const Context& ctx) {
     ObjectReader object(value, field);
     SceneObject o;
@@ -450,6 +580,8 @@ SceneObject readObject(const json& value, const std::string& field, const Contex
     }
     if (const json* v = object.optional("transform")) o.transform = readTransform(*v, object.field("transform"), ctx);
     if (const json* v = object.optional("visible")) o.visible = readBool(*v, object.field("visible"));
+    if (const json* v = object.optional("animation"))
+        o.animation = readAnimation(*v, object.field("animation"), o.isInstance() ? nullptr : &o.cage, ctx);
     object.warnAboutUnknownFields(ctx.source, ctx.warnings);
     return o;
 }
@@ -505,6 +637,7 @@ Scene readScene(const json& root, const Context& ctx) {
     if (const json* v = top.optional("viewports")) scene.viewports = readViewports(*v, ctx);
     if (const json* v = top.optional("tessellation")) scene.tessellation = readTessellation(*v, ctx);
     if (const json* v = top.optional("display")) scene.display = readDisplay(*v, ctx);
+    if (const json* v = top.optional("timeline")) scene.timeline = readTimeline(*v, ctx);
     top.warnAboutUnknownFields(ctx.source, ctx.warnings);
     return scene;
 }
@@ -592,6 +725,24 @@ Bounds sceneBounds(const Scene& scene) {
     }
     if (scene.objects.empty()) return Bounds{};
     return out;
+}
+
+Timeline timelineOf(const Scene& scene) {
+    if (scene.timeline) return *scene.timeline;
+    Timeline timeline;
+    bool any = false;
+    for (const SceneObject& o : scene.objects) {
+        int32_t first = 0, last = 0;
+        if (!keyedFrameRange(o.animation, first, last)) continue;
+        timeline.firstFrame = any ? std::min(timeline.firstFrame, first) : first;
+        timeline.lastFrame = any ? std::max(timeline.lastFrame, last) : last;
+        any = true;
+    }
+    return timeline;
+}
+
+bool isAnimated(const Scene& scene) {
+    return std::any_of(scene.objects.begin(), scene.objects.end(), [](const SceneObject& o) { return !o.animation.empty(); });
 }
 
 Result<Scene> loadSceneOrCage(const std::string& path, std::vector<std::string>* warnings) {

@@ -81,7 +81,15 @@ struct Scene {
     std::vector<Viewport> viewports{Viewport{}};
     Tessellation tessellation;
     DisplaySettings display;
+    // The frames played and their rate; absent: the range of the objects' keys at 24 fps
+    // (timelineOf).
+    std::optional<Timeline> timeline;
 };
+
+// The scene's timeline, or the one its keys imply (frames 1..1 when nothing is keyed).
+Timeline timelineOf(const Scene& scene);
+// Whether any object has keys.
+bool isAnimated(const Scene& scene);
 
 // A scene of one object, `name`, holding `cage` (what opening a bare cage file gives).
 Scene sceneOfCage(Cage cage, const std::string& name);

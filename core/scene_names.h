@@ -39,6 +39,8 @@ inline constexpr EnumName<CameraLink> kCameraLinkNames[] = {
 inline constexpr EnumName<TessellationMode> kTessellationModeNames[] = {
     {"uniform", TessellationMode::Uniform}, {"adaptive", TessellationMode::Adaptive}};
 inline constexpr EnumName<UpAxis> kUpAxisNames[] = {{"y", UpAxis::Y}, {"z", UpAxis::Z}};
+inline constexpr EnumName<Interpolation> kInterpolationNames[] = {
+    {"linear", Interpolation::Linear}, {"catmull-rom", Interpolation::CatmullRom}};
 inline constexpr EnumName<Shading> kShadingNames[] = {{"studio", Shading::Studio}, {"matcap", Shading::Matcap}};
 
 template <class E>

@@ -17,33 +17,12 @@
 #include <glm/vec3.hpp>
 
 #include "cage.h"
+#include "cage_animation.h"
 #include "displacement.h"
+#include "object_transform.h"
 #include "result.h"
 
 namespace qp {
-
-// Scale, then rotation about x, then y, then z (degrees, right-handed), then translation: the
-// order Blender's "XYZ Euler" applies. Scale may be negative (a mirror) but not zero.
-struct ObjectTransform {
-    glm::vec3 translation{0.0f};
-    glm::vec3 rotationDegrees{0.0f};
-    glm::vec3 scale{1.0f};
-
-    glm::mat4 matrix() const;
-    bool isIdentity() const { return *this == ObjectTransform{}; }
-    bool operator==(const ObjectTransform&) const = default;
-};
-
-// The transform whose matrix() is `matrix` (a rotation above 90 degrees about y comes back as
-// its equal with the x and z angles turned by 180). Fails when the matrix shears (its axes are
-// not orthogonal: a non-uniform scale along axes other than the object's own), has a zero axis or
-// is not finite: what an object's transform cannot hold. Object-mode handles compose their
-// change with the start matrix and store the result through this.
-Result<ObjectTransform> decomposeTransform(const glm::mat4& matrix);
-
-// The largest factor the transform stretches a length by (the largest |scale| component):
-// what turns an object-space tolerance or a screen-size estimate into world units.
-float maxScale(const ObjectTransform& transform);
 
 struct SceneObject {
     std::string name;
@@ -57,6 +36,9 @@ struct SceneObject {
     // which draws its source's. Its layout follows the cage's topology: rebuild it
     // (resampleDisplacement, makeDisplacement) after topology edits.
     Displacement displacement;
+    // Keys of the cage's positions (empty for an instance, which follows its source's) and of
+    // the object's transform (cage_animation.h); the cage holds the rest positions.
+    ObjectAnimation animation;
 
     bool isInstance() const { return !instanceOf.empty(); }
 };

@@ -121,6 +121,34 @@ ordered_json transformJson(const ObjectTransform& t) {
             {"scale", vec3Json(t.scale)}};
 }
 
+// Vertex keys are written grouped by frame, as an animator keys them.
+ordered_json vertexKeysJson(const VertexKeys& keys) {
+    std::map<int32_t, std::pair<std::vector<uint32_t>, ordered_json>> byFrame;
+    for (uint32_t v = 0; v + 1 < keys.offsets.size(); ++v)
+        for (uint32_t k = keys.offsets[v]; k < keys.offsets[v + 1]; ++k) {
+            auto& [vertices, positions] = byFrame[keys.frames[k]];
+            vertices.push_back(v);
+            positions.push_back(vec3Json(keys.positions[k]));
+        }
+    ordered_json out = ordered_json::array();
+    for (auto& [frame, key] : byFrame)
+        out.push_back({{"frame", frame}, {"vertices", key.first}, {"positions", std::move(key.second)}});
+    return out;
+}
+
+ordered_json animationJson(const ObjectAnimation& a) {
+    ordered_json out;
+    out["interpolation"] = enumName<Interpolation>(kInterpolationNames, a.interpolation);
+    if (!a.sequencePattern.empty()) out["sequence"] = a.sequencePattern;
+    else if (!a.vertexKeys.empty()) out["keys"] = vertexKeysJson(a.vertexKeys);
+    if (!a.transformKeys.empty()) {
+        ordered_json keys = ordered_json::array();
+        for (const TransformKey& k : a.transformKeys) keys.push_back({{"frame", k.frame}, {"transform", transformJson(k.transform)}});
+        out["transform_keys"] = std::move(keys);
+    }
+    return out;
+}
+
 // `cagePath`: the OBJ the object's cage is referenced by; null or empty: inline.
 ordered_json objectJson(const SceneObject& o, const std::string* cagePath) {
     ordered_json out;
@@ -134,6 +162,7 @@ ordered_json objectJson(const SceneObject& o, const std::string* cagePath) {
     }
     out["transform"] = transformJson(o.transform);
     out["visible"] = o.visible;
+    if (!o.animation.empty()) out["animation"] = animationJson(o.animation);
     return out;
 }
 
@@ -148,6 +177,10 @@ ordered_json sceneJson(const Scene& scene, const std::vector<std::string>* cageP
     root["viewports"] = viewportsJson(scene.viewports);
     root["tessellation"] = tessellationJson(scene.tessellation);
     root["display"] = displayJson(scene.display);
+    if (scene.timeline)
+        root["timeline"] = {{"fps", scene.timeline->framesPerSecond},
+                            {"first_frame", scene.timeline->firstFrame},
+                            {"last_frame", scene.timeline->lastFrame}};
     return root;
 }
 
