@@ -13,6 +13,7 @@
 #include <glm/geometric.hpp>
 #include <glm/trigonometric.hpp>
 
+#include "animation_edits.h"
 #include "animation_playback.h"
 #include "cage_animation.h"
 #include "obj_io.h"
@@ -304,4 +305,58 @@ TEST(AnimationPlayback, EveryFrameReplansNothingAndEqualsACagePlannedFromScratch
             }
     }
     EXPECT_EQ(database.size(), plansBefore);
+}
+
+// The history entries of core/animation_edits.h: a move at a frame keys it, a topology edit
+// carries the keys, and undo and redo give back keys, rest and positions at the frame shown.
+TEST(AnimationEdits, KeyedMovesAndTopologyEditsUndoAndRedoWithTheirKeys) {
+    const Cage cube = test::makeSubdividedCube(2);
+    ObjectAnimation animation = twist(cube, {0, 4}, Interpolation::Linear);
+    std::vector<glm::vec3> rest = cube.positions;
+    double frame = 2.0;
+    AnimationAccess access = [&] { return AnimatedCageState{&animation, &rest, frame}; };
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(cube, database, {});
+    ASSERT_TRUE(planned);
+    ASSERT_TRUE(showFrame(*planned, animation, rest, frame));
+    EditHistory history;
+
+    const ObjectAnimation original = animation;
+    const uint32_t vertex = 5;
+    const glm::vec3 target = planned->cage().positions[vertex] + glm::vec3(0, 0.5f, 0);
+    ASSERT_TRUE(history.perform(*planned, "key", makeKeyedMove(access(), access, 2, std::span(&vertex, 1), std::span(&target, 1))));
+    EXPECT_EQ(planned->cage().positions[vertex], target);
+    EXPECT_EQ(animation.vertexKeys.keyCount(vertex), 3u);
+    frame = 4.0;  // the entry is undone at another frame: positions follow the keys there
+    ASSERT_TRUE(history.undo(*planned));
+    EXPECT_EQ(animation, original);
+    EXPECT_EQ(planned->cage().positions, positionsAtFrame(original, rest, 4.0));
+    ASSERT_TRUE(history.redo(*planned));
+    EXPECT_EQ(animation.vertexKeys.keyCount(vertex), 3u);
+    const ObjectAnimation keyed = animation;
+
+    const Topology topology = buildTopology(planned->cage());
+    const uint32_t face = 3;
+    Result<TopologyEdit> extrude = extrudeFaces(planned->cage(), topology, std::span(&face, 1), 0.2f);
+    ASSERT_TRUE(extrude);
+    const std::vector<glm::vec3> restBefore = rest;
+    Result<EditReport> report =
+        history.perform(*planned, "extrude", makeAnimatedTopologyEdit(*planned, access(), access, *extrude));
+    ASSERT_TRUE(report) << report.error().message;
+    EXPECT_EQ(planned->cage().vertexCount(), extrude->cage.vertexCount());
+    EXPECT_EQ(rest.size(), extrude->cage.vertexCount());
+    EXPECT_LT(maxDistance(planned->cage().positions, extrude->cage.positions), 1e-6f);
+    EXPECT_TRUE(planned->differencesFromRebuild().empty());
+    frame = 0.0;
+    ASSERT_TRUE(history.undo(*planned));
+    EXPECT_EQ(animation, keyed);
+    EXPECT_EQ(rest, restBefore);
+    EXPECT_EQ(planned->cage().positions, positionsAtFrame(keyed, rest, 0.0));
+    ASSERT_TRUE(history.redo(*planned));
+    EXPECT_EQ(rest.size(), extrude->cage.vertexCount());
+    EXPECT_EQ(planned->cage().positions, positionsAtFrame(animation, rest, 0.0));
+    EXPECT_TRUE(planned->differencesFromRebuild().empty());
+
+    ASSERT_TRUE(history.perform(*planned, "unkey", makeKeyRemoval(access(), access, 4)));
+    EXPECT_EQ(keyedFrames(animation), std::vector<int32_t>({0, 2}));  // the extrude was made at frame 4
 }
