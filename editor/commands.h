@@ -23,6 +23,10 @@ void registerBench(CLI::App& app, int& exitCode);
 // `quadplan render CAGE_OR_SCENE --out FILE.png [...]`
 void registerRender(CLI::App& app, int& exitCode);
 
+// `quadplan animate CAGE_OR_SCENE [--sequence GLOB] --out DIR [--frames A:B] [...] [--json]`: an
+// animation (keys or an OBJ sequence) played headless into DIR/frame_NNNN.png
+void registerAnimate(CLI::App& app, int& exitCode);
+
 // `quadplan compare CAGE_OR_SCENE --schemes a,b,... --out FILE.png [--json]`: schemes side by
 // side with their error against the exact limit surface
 void registerCompare(CLI::App& app, int& exitCode);

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
     qp::cli::registerCheckLimit(app, exitCode);
     qp::cli::registerPlanStats(app, exitCode);
     qp::cli::registerRender(app, exitCode);
+    qp::cli::registerAnimate(app, exitCode);
     qp::cli::registerBench(app, exitCode);
     qp::cli::registerCompare(app, exitCode);
     qp::cli::registerExport(app, exitCode);
