@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 
+#include "animation_playback.h"
+#include "cage_sequence.h"
 #include "file_io.h"
 #include "mesh_cage_write.h"
 #include "mesh_import.h"
@@ -11,6 +15,8 @@
 #include "plan_cache.h"
 
 namespace qp::py {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -20,6 +26,19 @@ Status checkVertices(const Cage& cage, std::span<const uint32_t> vertices) {
             return Error{"vertex " + std::to_string(uint64_t(v) + 1) + " does not exist (the cage has " +
                          std::to_string(cage.vertexCount()) + " vertices)"};
     return success();
+}
+
+// A sequence pattern as an absolute path: the document keeps them so, whatever folder a scene
+// was opened from or is saved to (save() writes them relative to the scene again).
+std::string absolutePattern(const fs::path& pattern) {
+    std::error_code error;
+    const fs::path absolute = fs::absolute(pattern, error);
+    return error ? pattern.string() : absolute.lexically_normal().string();
+}
+
+std::string patternRelativeTo(const std::string& pattern, const fs::path& folder) {
+    const fs::path relative = fs::path(pattern).lexically_relative(folder);
+    return relative.empty() ? pattern : relative.string();
 }
 
 }  // namespace
@@ -42,12 +61,17 @@ Result<std::unique_ptr<SceneDocument>> SceneDocument::create(Scene scene, const 
     for (uint32_t i = 0; i < scene.objects.size(); ++i) document->ids_.push_back(document->nextId_++);
     for (uint32_t owner : document->planned_.objectOfCage) {
         document->cageOwnerIds_.push_back(document->ids_[owner]);
+        document->rest_.push_back(std::move(scene.objects[owner].cage.positions));
         scene.objects[owner].cage = Cage{};  // planned_ holds the cages from now on
     }
     document->active_ = document->planned_.objectOfCage[0];
     document->history_.setTag(document->ids_[document->active_]);
     document->scene_ = std::move(scene);
     document->source_ = source;
+    // An animated scene opens at its first frame (the cages were planned at rest).
+    document->frame_ = timelineOf(document->scene_).firstFrame;
+    for (uint32_t i = 0; i < document->scene_.objects.size(); ++i)
+        if (Result<EditReport> shown = document->showObject(i); !shown) return shown.error();
     return document;
 }
 
@@ -55,6 +79,10 @@ Result<std::unique_ptr<SceneDocument>> SceneDocument::load(const std::string& pa
                                                            std::vector<std::string>* warnings) {
     Result<Scene> scene = loadSceneOrCage(path, warnings);
     if (!scene) return scene.error();
+    for (SceneObject& object : scene->objects)
+        if (!object.animation.sequencePattern.empty())  // relative to the scene file
+            object.animation.sequencePattern =
+                absolutePattern(fs::path(path).parent_path() / object.animation.sequencePattern);
     return create(std::move(scene).value(), options, path, warnings);
 }
 
@@ -64,6 +92,8 @@ std::unique_ptr<SceneDocument> SceneDocument::copy() const {
     document->planned_ = planned_;
     document->ids_ = ids_;
     document->cageOwnerIds_ = cageOwnerIds_;
+    document->rest_ = rest_;
+    document->frame_ = frame_;
     document->nextId_ = nextId_;
     document->active_ = active_;
     document->options_ = options_;
@@ -75,13 +105,23 @@ std::unique_ptr<SceneDocument> SceneDocument::copy() const {
 
 Scene SceneDocument::currentScene() const {
     Scene scene = scene_;
-    for (uint32_t c = 0; c < planned_.cages.size(); ++c) scene.objects[planned_.objectOfCage[c]].cage = planned_.cages[c].cage();
+    for (uint32_t c = 0; c < planned_.cages.size(); ++c) {
+        Cage& cage = scene.objects[planned_.objectOfCage[c]].cage = planned_.cages[c].cage();
+        cage.positions = rest_[c];  // an animated cage at rest: its keys hold the frames' positions
+    }
     return scene;
 }
 
 Status SceneDocument::save(const std::string& path, CageStorage storage, std::vector<std::string>* lost) {
     const std::string ext = lowercaseExtension(path);
-    if (ext == ".json") return saveScene(currentScene(), path, storage);
+    if (ext == ".json") {
+        Scene scene = currentScene();
+        const fs::path folder = fs::path(absolutePattern(path)).parent_path();
+        for (SceneObject& object : scene.objects)
+            if (!object.animation.sequencePattern.empty())  // the scene file resolves it from its folder
+                object.animation.sequencePattern = patternRelativeTo(object.animation.sequencePattern, folder);
+        return saveScene(scene, path, storage);
+    }
     if (ext == ".obj" || isMeshCageExtension(ext)) return saveMeshCage(cage(), path, lost);
     return Error{"cannot save as '" + path + "': the name must end in .json (the scene) or .obj, .om, .ply, .off or .stl (the cage)"};
 }
@@ -90,23 +130,37 @@ Status SceneDocument::save(const std::string& path, CageStorage storage, std::ve
 
 namespace {
 
-// An object edit in the history: the scene changes through the document's own functions; the
-// planned cage the history passes is not touched.
+// An object edit in the history: the scene changes through the document's own functions, which
+// find what they change by id (the planned cage the history passes may not be the one).
 class ObjectEdit : public CustomEdit {
 public:
-    ObjectEdit(std::function<Status()> apply, std::function<Status()> revert)
-        : apply_(std::move(apply)), revert_(std::move(revert)) {}
-    Result<EditReport> redo(PlannedCage&) override { return run(apply_); }
-    Result<EditReport> undo(PlannedCage&) override { return run(revert_); }
-    size_t bytes() const override { return 256; }
+    using Step = std::function<Result<EditReport>()>;
+    ObjectEdit(Step apply, Step revert, size_t bytes) : apply_(std::move(apply)), revert_(std::move(revert)), bytes_(bytes) {}
+    Result<EditReport> redo(PlannedCage&) override { return apply_(); }
+    Result<EditReport> undo(PlannedCage&) override { return revert_(); }
+    size_t bytes() const override { return bytes_; }
 
 private:
-    static Result<EditReport> run(const std::function<Status()>& step) {
+    Step apply_, revert_;
+    size_t bytes_;
+};
+
+Status checkTransform(const std::string& name, const ObjectTransform& transform) {
+    SceneObject probe;
+    probe.name = name;
+    probe.transform = transform;
+    std::vector<SceneObject> check{probe};
+    return validateObjects(check, "");
+}
+
+constexpr size_t kObjectEditBytes = 256;  // the entry and its two functions
+
+ObjectEdit::Step reporting(std::function<Status()> step) {
+    return [step = std::move(step)]() -> Result<EditReport> {
         if (Status s = step(); !s) return s.error();
         return EditReport{};
-    }
-    std::function<Status()> apply_, revert_;
-};
+    };
+}
 
 }  // namespace
 
@@ -164,12 +218,15 @@ Status SceneDocument::insertObject(uint32_t index, SceneObject object, uint32_t 
         planned_.cages.push_back(std::move(cage).value());
         planned_.newPlansOfCage.push_back(0);
         cageOwnerIds_.push_back(id);
+        rest_.push_back(std::move(object.cage.positions));
         object.cage = Cage{};
     }
     scene_.objects.insert(scene_.objects.begin() + index, std::move(object));
     ids_.insert(ids_.begin() + index, id);
     reindex();
     active_ = indexOfId(activeId);
+    // An object taken out at another frame comes back at this one.
+    if (Result<EditReport> shown = showObject(index); !shown) return shown.error();
     return success();
 }
 
@@ -179,6 +236,8 @@ SceneObject SceneDocument::takeObject(uint32_t index) {
     for (uint32_t c = 0; c < cageOwnerIds_.size(); ++c) {
         if (cageOwnerIds_[c] != id) continue;
         object.cage = planned_.cages[c].cage();
+        object.cage.positions = std::move(rest_[c]);  // kept at rest, as a saved scene holds it
+        rest_.erase(rest_.begin() + c);
         planned_.cages.erase(planned_.cages.begin() + c);
         planned_.newPlansOfCage.erase(planned_.newPlansOfCage.begin() + c);
         cageOwnerIds_.erase(cageOwnerIds_.begin() + c);
@@ -198,10 +257,17 @@ SceneObject SceneDocument::takeObject(uint32_t index) {
 
 Status SceneDocument::performObjectEdit(const std::string& name, std::function<Status()> apply,
                                         std::function<Status()> revert) {
-    Result<EditReport> done = history_.perform(activeCage(), name, std::make_unique<ObjectEdit>(std::move(apply), std::move(revert)));
+    Result<EditReport> done = history_.perform(
+        activeCage(), name, std::make_unique<ObjectEdit>(reporting(std::move(apply)), reporting(std::move(revert)), kObjectEditBytes));
     history_.setTag(ids_[active_]);
     if (!done) return done.error();
     return success();
+}
+
+Result<EditOutcome> SceneDocument::performEdit(const std::string& name, std::function<Result<EditReport>()> apply,
+                                               std::function<Result<EditReport>()> revert, size_t bytes) {
+    return finish(name, history_.perform(activeCage(), name,
+                                         std::make_unique<ObjectEdit>(std::move(apply), std::move(revert), kObjectEditBytes + bytes)));
 }
 
 Result<std::string> SceneDocument::addObject(Cage cage, const std::string& name, const ObjectTransform& transform) {
@@ -286,11 +352,12 @@ Status SceneDocument::setTransform(const std::string& name, const ObjectTransfor
     Status error = success();
     const uint32_t index = objectIndex(name, error);
     if (index == UINT32_MAX) return error;
-    SceneObject probe;
-    probe.name = name;
-    probe.transform = transform;
-    std::vector<SceneObject> check{probe};
-    if (Status valid = validateObjects(check, ""); !valid) return valid.error();
+    if (!scene_.objects[index].animation.transformKeys.empty()) {  // an animated transform is keyed
+        Result<int32_t> frame = keyFrame("Transform " + name);
+        if (!frame) return frame.error();
+        return setTransformKey(name, *frame, transform);
+    }
+    if (Status valid = checkTransform(name, transform); !valid) return valid;
     const uint32_t id = ids_[index];
     const ObjectTransform before = scene_.objects[index].transform;
     auto put = [this, id](const ObjectTransform& t) {
@@ -353,6 +420,7 @@ const SculptSamples& SceneDocument::sculptSamples() {
 
 Result<EditOutcome> SceneDocument::finish(const std::string& name, Result<EditReport> report) {
     if (!report) return report.error();
+    keepRest(ids_[active_]);
     afterEdit(*report);
     EditOutcome outcome;
     outcome.name = name;
@@ -364,6 +432,11 @@ Result<EditOutcome> SceneDocument::finish(const std::string& name, Result<EditRe
 
 Result<EditOutcome> SceneDocument::moveVertices(std::span<const uint32_t> vertices, std::span<const glm::vec3> positions,
                                                 const std::string& name, bool mergeWithPrevious) {
+    if (activeHasVertexKeys()) {  // keys the moved vertices at the current frame
+        Result<int32_t> frame = keyFrame(name);
+        if (!frame) return frame.error();
+        return keyedMove(name + ", key at frame " + std::to_string(*frame), *frame, vertices, positions, mergeWithPrevious);
+    }
     return finish(name, history_.moveVertices(activeCage(), name, vertices, positions, mergeWithPrevious));
 }
 
@@ -427,7 +500,11 @@ Result<EditOutcome> SceneDocument::topologyEdit(const std::string& name, Result<
     if (!edit) return edit.error();
     std::vector<uint32_t> resultVertices = edit->resultVertices, resultFaces = edit->resultFaces;
     std::vector<EdgeKey> resultEdges = edit->resultEdges;
-    Result<EditOutcome> outcome = finish(name, history_.applyTopologyEdit(activeCage(), name, std::move(edit).value()));
+    Result<EditOutcome> outcome =
+        finish(name, activeHasVertexKeys()
+                         ? history_.perform(activeCage(), name,
+                                            makeAnimatedTopologyEdit(activeCage(), animatedState(active_), animationAccess(), *edit))
+                         : history_.applyTopologyEdit(activeCage(), name, std::move(edit).value()));
     if (outcome) {
         outcome->resultVertices = std::move(resultVertices);
         outcome->resultFaces = std::move(resultFaces);
@@ -503,6 +580,263 @@ Result<EditOutcome> SceneDocument::stroke(const StrokeOptions& options, std::spa
     return outcome;
 }
 
+// ---- animation --------------------------------------------------------------------------
+
+namespace {
+
+// Key frames as a scene file holds them.
+constexpr int64_t kMaxKeyFrame = 1000000000;
+
+std::string frameName(double frame) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.10g", frame);
+    return text;
+}
+
+Status checkKeyFrame(int64_t frame) {
+    if (frame < -kMaxKeyFrame || frame > kMaxKeyFrame)
+        return Error{"frame " + std::to_string(frame) + " is out of range (keys go on frames -1000000000 to 1000000000)"};
+    return success();
+}
+
+Status checkPositions(std::span<const uint32_t> vertices, std::span<const glm::vec3> positions) {
+    if (positions.size() != vertices.size())
+        return Error{std::to_string(positions.size()) + " positions for " + std::to_string(vertices.size()) +
+                     " vertices (one position per vertex)"};
+    for (size_t i = 0; i < positions.size(); ++i)
+        if (!std::isfinite(positions[i].x) || !std::isfinite(positions[i].y) || !std::isfinite(positions[i].z))
+            return Error{"cannot move vertex " + std::to_string(uint64_t(vertices[i]) + 1) + " to a NaN or infinite position"};
+    return success();
+}
+
+void showTransform(SceneObject& object, double frame) {
+    if (!object.animation.transformKeys.empty())
+        object.transform = evaluateTransform(object.animation, frame, object.transform);
+}
+
+// " (its keys are at frames 1, 5, 9)", at most a few of them named.
+std::string keyedFramesNote(const std::vector<int32_t>& frames) {
+    if (frames.empty()) return " (it has no vertex keys)";
+    constexpr size_t kNamed = 8;
+    std::string list;
+    for (size_t i = 0; i < std::min(frames.size(), kNamed); ++i) list += (i ? ", " : "") + std::to_string(frames[i]);
+    if (frames.size() > kNamed) list += ", ... " + std::to_string(frames.back());
+    return " (its keys are at frames " + list + ")";
+}
+
+// The vertex keys a sequence gives: each vertex keyed at every file's number.
+VertexKeys sequenceKeys(const std::vector<SequenceFile>& files, const std::vector<std::vector<glm::vec3>>& frames,
+                        uint32_t vertexCount) {
+    VertexKeys keys;
+    keys.offsets.resize(size_t(vertexCount) + 1);
+    for (uint32_t v = 0; v <= vertexCount; ++v) keys.offsets[v] = uint32_t(v * frames.size());
+    keys.frames.reserve(size_t(vertexCount) * frames.size());
+    keys.positions.reserve(size_t(vertexCount) * frames.size());
+    for (uint32_t v = 0; v < vertexCount; ++v)
+        for (size_t f = 0; f < frames.size(); ++f) {
+            keys.frames.push_back(int32_t(files[f].number));
+            keys.positions.push_back(frames[f][v]);
+        }
+    return keys;
+}
+
+size_t keyBytes(const VertexKeys& keys) {
+    return keys.offsets.size() * sizeof(uint32_t) + keys.frames.size() * (sizeof(int32_t) + sizeof(glm::vec3));
+}
+
+}  // namespace
+
+AnimatedCageState SceneDocument::animatedState(uint32_t index) {
+    return {&scene_.objects[index].animation, &rest_[planned_.cageOfObject[index]], frame_};
+}
+
+AnimationAccess SceneDocument::animationAccess() {
+    const uint32_t id = ids_[active_];
+    return [this, id] { return animatedState(indexOfId(id)); };
+}
+
+Result<EditReport> SceneDocument::showObject(uint32_t index) {
+    SceneObject& object = scene_.objects[index];
+    showTransform(object, frame_);
+    if (object.isInstance()) return EditReport{};  // it shows its source's cage
+    // Without keys the cage is at rest already, unless keys were just taken away.
+    const uint32_t c = planned_.cageOfObject[index];
+    return showFrame(planned_.cages[c], object.animation, rest_[c], frame_);
+}
+
+void SceneDocument::keepRest(uint32_t id) {
+    for (uint32_t c = 0; c < cageOwnerIds_.size(); ++c)
+        if (cageOwnerIds_[c] == id && scene_.objects[planned_.objectOfCage[c]].animation.vertexKeys.empty())
+            rest_[c] = planned_.cages[c].cage().positions;
+}
+
+Result<int32_t> SceneDocument::keyFrame(const std::string& what) const {
+    if (frame_ != std::floor(frame_))
+        return Error{what + ": keys go on whole frames and the scene shows frame " + frameName(frame_) +
+                     "; go to a whole frame first"};
+    if (std::fabs(frame_) > double(kMaxKeyFrame))
+        return Error{what + ": the scene shows frame " + frameName(frame_) + ", out of the range keys go on (-1000000000 to 1000000000)"};
+    return int32_t(frame_);
+}
+
+Result<EditOutcome> SceneDocument::setFrame(double frame) {
+    if (!std::isfinite(frame)) return Error{"the frame must be a finite number, not " + frameName(frame)};
+    frame_ = frame;
+    EditOutcome outcome;
+    outcome.name = "Frame " + frameName(frame);
+    EditReport& total = outcome.report;
+    for (uint32_t i = 0; i < scene_.objects.size(); ++i) {
+        if (scene_.objects[i].animation.empty()) continue;  // shown at rest already
+        Result<EditReport> shown = showObject(i);
+        if (!shown) return shown.error();
+        if (i == active_) {  // sub-face numbers are per cage: the lists are the active object's
+            afterEdit(*shown);
+            total.replannedFaceList = shown->replannedFaceList;
+            total.updatedSubfaceList = shown->updatedSubfaceList;
+        }
+        total.replannedFaces += shown->replannedFaces;
+        total.updatedSubfaces += shown->updatedSubfaces;
+        total.newPlans += shown->newPlans;
+        total.milliseconds += shown->milliseconds;
+    }
+    return outcome;
+}
+
+Result<EditOutcome> SceneDocument::keyedMove(const std::string& name, int32_t frame, std::span<const uint32_t> vertices,
+                                             std::span<const glm::vec3> positions, bool merge) {
+    if (Status ok = checkVertices(cage(), vertices); !ok) return ok.error();
+    if (Status ok = checkPositions(vertices, positions); !ok) return ok.error();
+    std::vector<uint32_t> moved(vertices.begin(), vertices.end());
+    const size_t newest = history_.size();
+    // The entry's tag and name as well as its position: trimming the history to its budget may
+    // have put another entry where the drag's was.
+    const bool replacing = merge && keyedDrag_ && keyedDrag_->position == newest && history_.position() == newest &&
+                           history_.tag(newest - 1) == ids_[active_] && history_.entry(newest - 1).name == name &&
+                           keyedDrag_->vertices == moved;
+    EditReport undone;
+    if (replacing) {  // undone, then made again from where the drag started
+        Result<EditReport> undo = history_.undo(activeCage());
+        if (!undo) return undo.error();
+        undone = std::move(undo).value();
+    }
+    Result<EditReport> done =
+        history_.perform(activeCage(), name, makeKeyedMove(animatedState(active_), animationAccess(), frame, vertices, positions));
+    if (!done) {
+        if (replacing) (void)history_.redo(activeCage());
+        return done.error();
+    }
+    accumulateReport(undone, *done);
+    keyedDrag_ = KeyedDrag{history_.position(), std::move(moved)};
+    return finish(name, std::move(undone));
+}
+
+Result<EditOutcome> SceneDocument::setKeys(std::span<const uint32_t> vertices, const std::optional<std::vector<glm::vec3>>& positions,
+                                           std::optional<int64_t> frame) {
+    if (frame)
+        if (Status ok = checkKeyFrame(*frame); !ok) return ok.error();
+    Result<int32_t> at = frame ? Result<int32_t>(int32_t(*frame)) : keyFrame("Key");
+    if (!at) return at.error();
+    if (Status ok = checkVertices(cage(), vertices); !ok) return ok.error();
+    const std::string name = (positions ? "Move, key at frame " : "Key at frame ") + std::to_string(*at);
+    if (positions) return keyedMove(name, *at, vertices, *positions, false);
+    const std::vector<glm::vec3> all = positionsAtFrame(animation(), restPositions(), *at);
+    std::vector<glm::vec3> keyed;
+    keyed.reserve(vertices.size());
+    for (uint32_t v : vertices) keyed.push_back(all[v]);
+    return keyedMove(name, *at, vertices, keyed, false);
+}
+
+Result<EditOutcome> SceneDocument::removeKeys(int64_t frame) {
+    if (Status ok = checkKeyFrame(frame); !ok) return ok.error();
+    const std::vector<int32_t> keyed = keyedFrames(animation());
+    if (!std::binary_search(keyed.begin(), keyed.end(), int32_t(frame)))
+        return Error{"\"" + active().name + "\" has no vertex keys at frame " + std::to_string(frame) + keyedFramesNote(keyed)};
+    const std::string name = "Remove keys at frame " + std::to_string(frame);
+    return finish(name, history_.perform(activeCage(), name, makeKeyRemoval(animatedState(active_), animationAccess(), int32_t(frame))));
+}
+
+Status SceneDocument::setTransformKey(const std::string& name, int64_t frame, const ObjectTransform& transform) {
+    Status error = success();
+    const uint32_t index = objectIndex(name, error);
+    if (index == UINT32_MAX) return error;
+    if (Status ok = checkKeyFrame(frame); !ok) return ok;
+    if (Status ok = checkTransform(name, transform); !ok) return ok;
+    const uint32_t id = ids_[index];
+    const SceneObject& object = scene_.objects[index];
+    ObjectAnimation keyed;
+    keyed.transformKeys = object.animation.transformKeys;
+    qp::setTransformKey(keyed, int32_t(frame), transform);
+    // Without keys an object keeps the transform it has now.
+    auto put = [this, id, unkeyed = object.transform](const std::vector<TransformKey>& keys) {
+        SceneObject& o = scene_.objects[indexOfId(id)];
+        o.animation.transformKeys = keys;
+        o.transform = unkeyed;
+        showTransform(o, frame_);
+        return success();
+    };
+    return performObjectEdit("Transform key " + name + " at frame " + std::to_string(frame),
+                             [=, after = std::move(keyed.transformKeys)] { return put(after); },
+                             [=, before = object.animation.transformKeys] { return put(before); });
+}
+
+Result<EditOutcome> SceneDocument::setInterpolation(Interpolation interpolation) {
+    const uint32_t id = ids_[active_];
+    const Interpolation before = animation().interpolation;
+    auto put = [this, id](Interpolation value) {
+        const uint32_t index = indexOfId(id);
+        scene_.objects[index].animation.interpolation = value;
+        return showObject(index);
+    };
+    const std::string name = interpolation == Interpolation::Linear ? "Linear interpolation" : "Catmull-Rom interpolation";
+    return performEdit(name, [=] { return put(interpolation); }, [=] { return put(before); }, 0);
+}
+
+Status SceneDocument::setTimeline(int64_t first, int64_t last, double framesPerSecond) {
+    if (!(framesPerSecond > 0.0 && framesPerSecond <= 1000.0))
+        return Error{"fps must be a positive number of at most 1000, not " + frameName(framesPerSecond)};
+    if (Status ok = checkKeyFrame(first); !ok) return ok;
+    if (Status ok = checkKeyFrame(last); !ok) return ok;
+    if (last < first)
+        return Error{"the last frame " + std::to_string(last) + " comes before the first, " + std::to_string(first)};
+    const Timeline timeline{framesPerSecond, int32_t(first), int32_t(last)};
+    auto put = [this](const std::optional<Timeline>& value) {
+        scene_.timeline = value;
+        return success();
+    };
+    return performObjectEdit("Timeline " + std::to_string(first) + " to " + std::to_string(last),
+                             [=] { return put(timeline); }, [=, before = scene_.timeline] { return put(before); });
+}
+
+Result<EditOutcome> SceneDocument::loadSequence(const std::string& pattern) {
+    Result<std::vector<SequenceFile>> files = sequenceFiles(pattern);
+    if (!files) return files.error();
+    std::vector<std::vector<glm::vec3>> frames;
+    for (const SequenceFile& file : *files) {
+        const std::string frame = "sequence frame " + std::to_string(file.number);
+        if (file.number > uint64_t(kMaxKeyFrame))
+            return Error{frame + " (" + file.path + "): the number is too large (keys go on frames up to 1000000000)"};
+        Result<std::vector<glm::vec3>> positions = loadSequenceFrame(file.path, cage());
+        if (!positions) return Error{frame + ": " + positions.error().message};
+        frames.push_back(std::move(positions).value());
+    }
+    struct Keys {
+        VertexKeys keys;
+        std::string pattern;
+    };
+    auto before = std::make_shared<const Keys>(Keys{animation().vertexKeys, animation().sequencePattern});
+    auto after = std::make_shared<const Keys>(Keys{sequenceKeys(*files, frames, cage().vertexCount()), absolutePattern(pattern)});
+    frames.clear();  // before the keys are copied into the animation
+    const uint32_t id = ids_[active_];
+    auto put = [this, id](const Keys& value) {
+        const uint32_t index = indexOfId(id);
+        scene_.objects[index].animation.vertexKeys = value.keys;
+        scene_.objects[index].animation.sequencePattern = value.pattern;
+        return showObject(index);
+    };
+    return performEdit("Sequence " + pattern, [=] { return put(*after); }, [=] { return put(*before); },
+                       keyBytes(before->keys) + keyBytes(after->keys));
+}
+
 // ---- history ----------------------------------------------------------------------------
 
 Result<EditOutcome> SceneDocument::undo() {
@@ -517,13 +851,15 @@ Result<EditOutcome> SceneDocument::redo() {
 
 Result<EditOutcome> SceneDocument::step(size_t entry, bool forward) {
     const std::string name = (forward ? "Redo " : "Undo ") + history_.entry(entry).name;
-    PlannedCage& cage = cageOfTag(history_.tag(entry));
+    const uint32_t tag = history_.tag(entry);
+    PlannedCage& cage = cageOfTag(tag);
     const bool onActive = &cage == &activeCage();
     Result<EditReport> report = forward ? history_.redo(cage) : history_.undo(cage);
     history_.setTag(ids_[active_]);  // an object edit undone or redone may have changed the active object
     if (onActive) return finish(name, std::move(report));
     // Another object's cage: the active one's brush samples are still right.
     if (!report) return report.error();
+    keepRest(tag);
     if (report->newPlans > 0) releaseUnusedPlans();
     EditOutcome outcome;
     outcome.name = name;

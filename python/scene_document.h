@@ -8,6 +8,13 @@
 // (add, instance, remove, rename, transform, visibility) act on the scene; a transform or
 // visibility change re-plans nothing. Undo and redo go through every kind in order.
 //
+// Animation (core/cage_animation.h): the scene shows one current frame. Every object with vertex
+// keys has its planned cage moved there (a vertex move: nothing is re-planned) from its rest
+// positions, which the document keeps per planned cage (what a saved scene holds as the cage);
+// every object with transform keys has its transform evaluated there. On an object with vertex
+// keys a move keys the moved vertices at the current frame and a topology edit carries the keys
+// (core/animation_edits.h); objects without keys are edited as if nothing were animated.
+//
 // Plain C++ (no Python here): python/bindings_*.cpp wrap it. Rules it keeps:
 //   - every edit goes through EditHistory, so undo/redo re-plan only what the edit re-planned;
 //   - displacement strokes, resolution changes and clearing the displacement are history
@@ -29,6 +36,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "animation_edits.h"
 #include "brush.h"
 #include "displacement_edit.h"
 #include "edit_history.h"
@@ -88,11 +96,13 @@ public:
     void setHistoryBudget(size_t bytes) { history_.setBudget(bytes); }
     const std::string& source() const { return source_; }
 
-    // The scene as it would be saved now (its cage is the current one).
+    // The scene as it would be saved now: the current cages, animated ones at rest; transforms as
+    // shown at the current frame.
     Scene currentScene() const;
-    // `.json`: the scene, its cages stored as `storage` says; `.obj`, `.om`, `.ply`, `.off`, `.stl`:
-    // the active object's cage alone (core/mesh_cage_write.h; `lost` names what PLY, OFF and STL
-    // cannot hold). Any other name is refused.
+    // `.json`: the scene, its cages stored as `storage` says and OBJ sequences referenced relative
+    // to it; `.obj`, `.om`, `.ply`, `.off`, `.stl`: the active object's cage alone as the current
+    // frame shows it (core/mesh_cage_write.h; `lost` names what PLY, OFF and STL cannot hold). Any
+    // other name is refused.
     Status save(const std::string& path, CageStorage storage, std::vector<std::string>* lost = nullptr);
 
     // ---- edits (all recorded in the history) ----
@@ -126,11 +136,35 @@ public:
     Result<EditOutcome> redo();
     Result<EditOutcome> jumpTo(size_t position);
 
+    // ---- animation ----
+    double frame() const { return frame_; }
+    Timeline timeline() const { return timelineOf(scene_); }
+    const ObjectAnimation& animation() const { return scene_.objects[active_].animation; }
+    // The active object's rest positions (its positions when it has no vertex keys).
+    const std::vector<glm::vec3>& restPositions() const { return rest_[planned_.cageOfObject[active_]]; }
+    // Shows `frame` (any finite number; between keys it is interpolated). Re-plans nothing; the
+    // report's counts add up every object's, its lists are the active object's.
+    Result<EditOutcome> setFrame(double frame);
+    // Keys `vertices` of the active object at `frame` (none: the current frame, which must then
+    // be whole) at `positions`, or, without them, where the animation has them at that frame.
+    Result<EditOutcome> setKeys(std::span<const uint32_t> vertices, const std::optional<std::vector<glm::vec3>>& positions,
+                                std::optional<int64_t> frame);
+    // Removes every vertex key of the active object at `frame` (refused when it has none there).
+    Result<EditOutcome> removeKeys(int64_t frame);
+    Status setTransformKey(const std::string& name, int64_t frame, const ObjectTransform& transform);
+    Result<EditOutcome> setInterpolation(Interpolation interpolation);
+    Status setTimeline(int64_t first, int64_t last, double framesPerSecond);
+    // Makes an OBJ sequence (core/cage_sequence.h) the active object's vertex keys, one per
+    // vertex per file, keyed at the file's number; all frames are read before anything changes
+    // and a bad one is refused naming it.
+    Result<EditOutcome> loadSequence(const std::string& pattern);
+
     // Plans of the current cage vs planning it from scratch (empty when equal).
     std::vector<std::string> differencesFromRebuild() const { return planned().differencesFromRebuild(); }
 
 private:
     SceneDocument() = default;
+    // Records the outcome of an edit of the active object's cage (keeping its rest positions).
     Result<EditOutcome> finish(const std::string& name, Result<EditReport> report);
     // Undoes (or redoes) history entry `entry` on the cage it was made on.
     Result<EditOutcome> step(size_t entry, bool forward);
@@ -156,6 +190,28 @@ private:
     PlannedCage& cageOfTag(uint32_t tag);
     // Object edits: `apply` and `revert` change the scene; recorded as one history entry.
     Status performObjectEdit(const std::string& name, std::function<Status()> apply, std::function<Status()> revert);
+    // The same for a change that moves the active object's cage (`apply` and `revert` report the
+    // move); `bytes` is what the two hold.
+    Result<EditOutcome> performEdit(const std::string& name, std::function<Result<EditReport>()> apply,
+                                    std::function<Result<EditReport>()> revert, size_t bytes);
+
+    // Animation.
+    bool activeHasVertexKeys() const { return !animation().vertexKeys.empty(); }
+    AnimatedCageState animatedState(uint32_t index);
+    // The active object's state, looked up by its id whenever a history entry runs.
+    AnimationAccess animationAccess();
+    // Object `index` at the current frame: its cage shown there (at rest without vertex keys),
+    // its transform evaluated there when it has transform keys.
+    Result<EditReport> showObject(uint32_t index);
+    // The current frame as the frame keys go on: refused (naming `what`) between frames.
+    Result<int32_t> keyFrame(const std::string& what) const;
+    // With `merge`, a move of the same vertices as the newest entry, a keyed move named `name`
+    // (the same frame), replaces that entry: one drag, one entry, as for unkeyed moves.
+    Result<EditOutcome> keyedMove(const std::string& name, int32_t frame, std::span<const uint32_t> vertices,
+                                  std::span<const glm::vec3> positions, bool merge);
+    // Rest positions follow the cage of an object (`id`) without vertex keys, so that keys set
+    // later, or an undo back to keys, start from where it is.
+    void keepRest(uint32_t id);
     // An object edit that appends `object` (taken out again on undo).
     Status appendObject(const std::string& entryName, SceneObject object);
     uint32_t indexOfId(uint32_t id) const;
@@ -169,6 +225,13 @@ private:
     PlannedScene planned_;
     std::vector<uint32_t> ids_;           // per object: a stable id (history tags)
     std::vector<uint32_t> cageOwnerIds_;  // per planned cage: the id of the object owning it
+    std::vector<std::vector<glm::vec3>> rest_;  // per planned cage: its rest positions
+    double frame_ = 1.0;                        // the frame shown
+    struct KeyedDrag {
+        size_t position;  // the history position after it
+        std::vector<uint32_t> vertices;
+    };
+    std::optional<KeyedDrag> keyedDrag_;  // the newest keyed move, which a merged one may replace
     uint32_t nextId_ = 1;
     uint32_t active_ = 0;  // the object edits act on (one with a cage of its own)
     PlanOptions options_;
