@@ -72,6 +72,17 @@ const ActionInfo kActions[] = {
     {"object.hide", "Hide object", "H", {GLFW_KEY_H}, "Object mode: hide the selected object (saved with the scene; undoable)"},
     {"object.unhide", "Show all objects", "Alt+H", {GLFW_KEY_H, false, false, true}, "Object mode: show every hidden object"},
     {"object.deselect", "Deselect object", "Alt+A / Esc", {GLFW_KEY_A, false, false, true}, "Object mode: select no object", {GLFW_KEY_ESCAPE}},
+    // Blender's timeline keys, except play: its Alt+A is Deselect all here.
+    {"anim.play", "Play / pause", "Space", {GLFW_KEY_SPACE}, "Play the animation at the timeline's frame rate (frames are skipped when drawing is slower), or pause it"},
+    {"anim.prev_frame", "Previous frame", "Left", {GLFW_KEY_LEFT}, "Show the frame before this one (pauses)"},
+    {"anim.next_frame", "Next frame", "Right", {GLFW_KEY_RIGHT}, "Show the frame after this one (pauses)"},
+    {"anim.first_frame", "First frame", "Shift+Left", {GLFW_KEY_LEFT, false, true}, "Show the timeline's first frame"},
+    {"anim.last_frame", "Last frame", "Shift+Right", {GLFW_KEY_RIGHT, false, true}, "Show the timeline's last frame"},
+    {"anim.prev_key", "Previous key", "Down", {GLFW_KEY_DOWN}, "Show the previous frame with a key (of the edited cage, or the selected object in object mode)"},
+    {"anim.next_key", "Next key", "Up", {GLFW_KEY_UP}, "Show the next frame with a key (of the edited cage, or the selected object in object mode)"},
+    {"anim.loop", "Loop playback", "", {}, "Start again at the first frame after the last, or stop there"},
+    {"anim.insert_key", "Insert key", "I", {GLFW_KEY_I}, "Key the selected vertices (all when none is selected) where they are, at this frame; object mode: the selected object's transform"},
+    {"anim.delete_keys", "Delete keys at frame", "Alt+I", {GLFW_KEY_I, false, false, true}, "Remove the edited cage's vertex keys at this frame (object mode: the selected object's transform key)"},
 };
 
 const MouseBinding kMouse[] = {

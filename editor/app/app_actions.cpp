@@ -10,6 +10,7 @@
 #include "document_objects.h"
 #include "editor_app.h"
 #include "object_mode.h"
+#include "playback.h"
 #include "recovery.h"
 #include "sculpt_tool.h"
 #include "tools.h"
@@ -202,6 +203,7 @@ bool edit(EditorApp& app, const Edit& e) {
         showError(app, "Edit failed: " + report.error().message);
         return false;
     }
+    if (!app.doc->animationNote.empty()) app.ui.status = describeEdit(e) + ": " + app.doc->animationNote;
     return true;
 }
 
@@ -261,6 +263,21 @@ namespace {
 std::string proposedSaveAsPath(const std::string& path) {
     if (path.empty()) return (std::filesystem::current_path() / "untitled.json").string();
     return std::filesystem::path(path).replace_extension(".json").string();
+}
+
+// The timeline's actions (playback.h).
+void runAnimationAction(EditorApp& app, std::string_view id) {
+    if (id == "anim.play") togglePlayback(app);
+    else if (id == "anim.prev_frame") stepFrame(app, -1);
+    else if (id == "anim.next_frame") stepFrame(app, 1);
+    else if (id == "anim.first_frame") jumpToEnd(app, false);
+    else if (id == "anim.last_frame") jumpToEnd(app, true);
+    else if (id == "anim.prev_key") jumpToKey(app, -1);
+    else if (id == "anim.next_key") jumpToKey(app, 1);
+    else if (id == "anim.loop") app.doc->loopPlayback = !app.doc->loopPlayback;
+    else if (id == "anim.insert_key") insertKeyTool(app);
+    else if (id == "anim.delete_keys") deleteKeysTool(app);
+    else showError(app, "unknown action '" + std::string(id) + "'");
 }
 
 }  // namespace
@@ -419,6 +436,8 @@ void runAction(EditorApp& app, std::string_view id) {
         unhideAllObjects(app);
     } else if (id == "object.deselect") {
         selectObject(*app.doc, kNoObject);
+    } else if (id.starts_with("anim.")) {
+        runAnimationAction(app, id);
     } else {
         showError(app, "unknown action '" + std::string(id) + "'");
     }

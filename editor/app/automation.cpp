@@ -16,8 +16,7 @@
 #include "document_objects.h"
 #include "editor_app.h"
 #include "file_io.h"
-#include "overlays.h"
-#include "recovery.h"
+#include "playback.h"
 #include "schemes.h"
 #include "tools.h"
 #include "viewport_input.h"
@@ -32,9 +31,6 @@ const AutomationVocabulary& editorVocabulary() {
     static const AutomationVocabulary words{[](std::string_view id) { return findAction(id) != nullptr; }};
     return words;
 }
-
-json vec(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
-json vec2(const glm::vec2& v) { return json::array({v.x, v.y}); }
 
 json summaryJson(const Summary& s) { return {{"median", s.median}, {"p90", s.p90}, {"max", s.max}, {"count", s.count}}; }
 
@@ -59,7 +55,7 @@ Result<std::unique_ptr<Automation>> loadAutomation(const std::string& path) {
 }
 
 bool Automation::busy() const {
-    return waitFrames_ > 0 || waitIdle_ || !waitFile_.empty() || !pressLabel_.empty() || !screenshot_.empty() ||
+    return waitFrames_ > 0 || waitIdle_ || !waitFile_.empty() || waitUntil_ || !pressLabel_.empty() || !screenshot_.empty() ||
            keyUpAfterFrame_ != 0 || measurement_.framesLeft > 0 || measurement_.settleFrames > 0;
 }
 
@@ -90,6 +86,10 @@ void Automation::beforeFrame(EditorApp& app) {
     if (!screenshot_.empty()) return;
     if (measurement_.framesLeft > 0 || measurement_.settleFrames > 0) return measureStep(app);
     if (waitFrames_ > 0 && --waitFrames_ > 0) return;
+    if (waitUntil_) {
+        if (std::chrono::steady_clock::now() < *waitUntil_) return;
+        waitUntil_.reset();
+    }
     if (waitIdle_) {
         if (app.loader.busy() || app.job.busy()) return;
         waitIdle_ = false;
@@ -155,6 +155,10 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
     if (n == "wait-frames") {
         waitFrames_ = int(integer(0));
         return waitFrames_ == 0;
+    }
+    if (n == "wait-seconds") {
+        waitUntil_ = std::chrono::steady_clock::now() + std::chrono::milliseconds(int64_t(1000.0 * std::max(number(0), 0.0f)));
+        return false;
     }
     if (n == "wait-idle") {
         waitIdle_ = true;
@@ -308,6 +312,18 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         if (!edit(app, SetEdgeSharpness{{{integer(0), integer(1), number(2)}}})) fail(c, app.ui.errorMessage);
         return true;
     }
+    if (n == "set-frame") {
+        if (!needDocument()) return true;
+        pausePlayback(app);
+        return tool(showFrameAt(app, std::strtod(a[0].c_str(), nullptr)));
+    }
+    if (n == "play" || n == "pause") {
+        if (!needDocument()) return true;
+        if (n == "play") startPlayback(app);
+        else pausePlayback(app);
+        return true;
+    }
+    if (n == "insert-key") return needDocument() ? tool(insertKeyTool(app)) : true;
     if (n == "undo" || n == "redo") {
         if (!needDocument()) return true;
         return tool(n == "undo" ? undoTool(app) : redoTool(app));
@@ -518,257 +534,6 @@ void Automation::measureStep(EditorApp& app) {
         fail(c, s.error().message);
     }
     m = Measurement{};
-}
-
-
-// The scene's objects for dump-state: each one's transform, visibility, which is selected and
-// whose cage edit mode is on, and where the centre of its box lands in the first viewport
-// (window pixels; null when behind the camera), for tests that click objects.
-namespace {
-
-json objectsState(EditorApp& app) {
-    const Document& doc = *app.doc;
-    json objects = json::array();
-    if (!doc.planned || app.viewports.empty()) return objects;
-    const ViewportState& v = app.viewports[0];
-    const float scale = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.0f;
-    const PickView view{v.worldViewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
-    for (uint32_t i = 0; i < doc.scene.objects.size(); ++i) {
-        const SceneObject& o = doc.scene.objects[i];
-        const Bounds b = objectCageBounds(doc, i);
-        const PickView::Projected centre = view.project(glm::vec3(o.transform.matrix() * glm::vec4(0.5f * (b.min + b.max), 1.0f)));
-        const glm::vec2 window = (glm::vec2(float(v.rect.offset.x), float(v.rect.offset.y)) + centre.pixel) / scale;
-        objects.push_back({{"name", o.name},
-                           {"instance_of", o.instanceOf},
-                           {"translation", vec(o.transform.translation)},
-                           {"rotation_degrees", vec(o.transform.rotationDegrees)},
-                           {"scale", vec(o.transform.scale)},
-                           {"visible", o.visible},
-                           {"selected", selectedObject(doc) == i},
-                           {"edited", i == doc.activeObject},
-                           {"faces", plannedCageOf(doc, i).cage().faceCount()},
-                           {"screen", centre.inFront ? json(vec2(window)) : json(nullptr)}});
-    }
-    return objects;
-}
-
-}  // namespace
-
-void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
-    const Document& doc = *app.doc;
-    json state;
-    state["frame"] = app.frame;
-    state["dirty"] = doc.dirty;
-    state["title"] = app.ui.title;
-    state["path"] = doc.path;
-    state["loading"] = app.loader.busy();
-    if (app.loader.busy()) state["loading_stage"] = app.loader.stage(), state["loading_fraction"] = app.loader.fraction();
-    state["status"] = app.ui.status;
-    json vertices = json::array(), creases = json::array(), corners = json::array();
-    if (doc.planned) {
-        const Cage& cage = doc.planned->cage();
-        for (const glm::vec3& p : cage.positions) vertices.push_back(vec(p));
-        for (const EdgeCrease& e : cage.creases) creases.push_back({e.v0, e.v1, e.sharpness});
-        for (const VertexCorner& k : cage.corners) corners.push_back({k.vertex, k.sharpness});
-        state["faces"] = cage.faceCount();
-        state["subfaces"] = doc.planned->subfaceCount();
-        state["unique_plans"] = doc.database->size();
-    }
-    state["vertices"] = vertices;
-    state["creases"] = creases;
-    state["corners"] = corners;
-    json edges = json::array();
-    for (const EdgeKey& e : doc.selection.edges) edges.push_back({e.v0, e.v1});
-    state["selection"] = {{"mode", selectionModeWord(doc.selection.mode)},
-                          {"vertices", doc.selection.vertices},
-                          {"edges", edges},
-                          {"faces", doc.selection.faces}};
-    if (doc.planned) {
-        const Cage& cage = doc.planned->cage();
-        state["holes"] = cage.holes;
-        state["crease_method"] = cage.options.creaseMethod == CreaseMethod::Chaikin ? "chaikin" : "normal";
-        if (cage.faceCount() <= 5000) {
-            json faces = json::array();
-            for (uint32_t f = 0; f < cage.faceCount(); ++f)
-                faces.push_back(std::vector<uint32_t>(cage.faceBegin(f), cage.faceBegin(f) + cage.faceSize(f)));
-            state["face_vertices"] = faces;
-        }
-        state["selected_vertices"] = selectedVertices(doc.selection, cage);
-    }
-    if (doc.lastEdit) {
-        const EditReport& r = doc.lastEdit->report;
-        state["last_edit"] = {{"description", doc.lastEdit->description}, {"replanned_faces", r.replannedFaces},
-                              {"updated_subfaces", r.updatedSubfaces}, {"new_plans", r.newPlans},
-                              {"milliseconds", r.milliseconds}, {"frame", doc.lastEdit->frame},
-                              {"topology_changed", r.topologyChanged}};
-        if (app.lastEditFrame.frame == doc.lastEdit->frame)
-            state["last_edit"]["shown_in_frame"] = {{"cpu_ms", app.lastEditFrame.cpuMs},
-                                                    {"interval_ms", app.lastEditFrame.intervalMs},
-                                                    {"scheme_updates_ms", app.lastEditFrame.syncMs}};
-    } else {
-        state["last_edit"] = nullptr;
-    }
-    json entries = json::array();
-    for (size_t i = 0; i < doc.history.size(); ++i) {
-        const HistoryEntryInfo e = doc.history.entry(i);
-        entries.push_back({{"name", e.name}, {"replanned_faces", e.report.replannedFaces},
-                           {"milliseconds", e.report.milliseconds}, {"bytes", e.bytes}});
-    }
-    state["history"] = {{"position", doc.history.position()}, {"size", doc.history.size()},
-                        {"bytes", doc.history.bytes()}, {"entries", entries}};
-    const char* tools[] = {"select", "move", "rotate", "scale", "sculpt"};
-    state["tool"] = {{"tool", tools[int(app.tools.tool)]},
-                     {"space", app.tools.space == TransformSpace::World ? "world" : "local"},
-                     {"loop_tool", app.tools.loopTool},
-                     {"visible_only", app.tools.visibleOnly},
-                     {"extrude_distance", app.tools.extrudeDistance}};
-    const SculptSettings& brush = app.tools.sculpt;
-    state["brush"] = {{"kind", brushKindName(brush.kind)}, {"radius", brush.radius}, {"strength", brush.strength},
-                      {"falloff", falloffName(brush.falloff)}, {"resolution", brush.resolution},
-                      {"hover", app.ui.brushHover ? json(vec(app.ui.brushHover->position)) : json(nullptr)}};
-    const Displacement& displacement = displacementOf(doc);
-    if (displacement.empty()) {
-        state["displacement"] = nullptr;
-    } else {
-        uint32_t nonzero = 0;
-        float largest = 0.0f;
-        for (float x : displacement.samples) nonzero += x != 0.0f, largest = std::max(largest, std::fabs(x));
-        state["displacement"] = {{"samples", displacement.samples.size()}, {"nonzero", nonzero}, {"max_abs", largest},
-                                 {"revision", doc.displacementRevision}, {"sample_revision", doc.sampleRevision}};
-    }
-    state["mode"] = app.mode == EditorMode::Object ? "object" : "edit";
-    state["objects"] = objectsState(app);
-    state["drag"] = app.drag.kind == DragKind::None ? json(nullptr) : json(app.drag.readout);
-    state["hidden_faces"] = doc.hiddenFaces;
-    state["hidden_subfaces"] = app.renderer.hiddenSubfaces;  // what the viewports pass their schemes
-    state["extrude"] = app.extrude ? json{{"distance", app.extrude->distance},
-                                          {"typed", app.extrude->typed},
-                                          {"faces", app.extrude->faces},
-                                          {"readout", extrudeReadout(*app.extrude)}}
-                                   : json(nullptr);
-    const ImGuiIO& io = ImGui::GetIO();
-    const float scale = io.DisplayFramebufferScale.x > 0 ? io.DisplayFramebufferScale.x : 1.0f;
-    json viewports = json::array();
-    for (size_t i = 0; i < app.viewports.size(); ++i) {
-        ViewportState& v = app.viewports[i];
-        const ViewCamera& camera = cameraOf(app, uint32_t(i));
-        json entry = {{"scheme", v.scheme},
-                      {"color_by", v.colorBy},
-                      {"linked", v.linked},
-                      {"factor", v.factor},
-                      {"rect", {v.rect.offset.x / scale, v.rect.offset.y / scale, v.rect.extent.width / scale,
-                                v.rect.extent.height / scale}},
-                      {"camera", {{"eye", vec(eyePosition(camera))}, {"target", vec(camera.target)},
-                                  {"up", vec(upVector(camera))}, {"orthographic", camera.orthographic}}}};
-        const AxisTriad triad = axisTriad(v.worldViewProjection);
-        entry["axis_triad"] = {{"screen", {{triad.screen[0].x, triad.screen[0].y}, {triad.screen[1].x, triad.screen[1].y},
-                                           {triad.screen[2].x, triad.screen[2].y}}},
-                               {"toward_viewer", triad.towardViewer}};
-        if (i < app.stats.viewportCounts.size())
-            entry["triangles"] = app.stats.viewportCounts[i].triangles, entry["patches"] = app.stats.viewportCounts[i].patches;
-        if (i < app.renderer.views.size()) {
-            const SchemeView& view = app.renderer.views[i];
-            entry["drawn"] = view.instance.has_value();
-            entry["problem"] = view.problem;
-            entry["warnings"] = view.support.approximations;
-            entry["color_modes"] = view.colorModes;
-            entry["setup_ms"] = view.setupMs;
-            entry["plan_update"] = {{"milliseconds", view.planUpdateMs}, {"in_place", view.planUpdateInPlace},
-                                    {"note", view.planUpdateNote}};
-            entry["update_ms"] = view.updateMs;
-            entry["updated_vertices"] = view.updatedVertices;
-            entry["displacement_ms"] = view.displacementMs;
-            entry["updated_samples"] = view.updatedSamples;
-            entry["heatmap"] = {{"on", v.heatMap},
-                                {"valid", view.heat.valid},
-                                {"max", view.heat.maxRelError},
-                                {"rms", view.heat.rmsRelError},
-                                {"samples", view.heat.relError.size()},
-                                {"milliseconds", view.heat.lastMs},
-                                {"subfaces_evaluated", view.heat.lastSubfaces}};
-            const SceneHeat scene = sceneHeat(app.renderer, uint32_t(i));
-            entry["heatmap"]["scene"] = {{"cages", scene.cages}, {"max", scene.maxRelError}, {"rms", scene.rmsRelError},
-                                         {"samples", scene.samples}};
-        }
-        if (std::optional<GizmoShape> gizmo = gizmoIn(app, uint32_t(i))) {
-            const glm::vec2 origin(float(v.rect.offset.x), float(v.rect.offset.y));
-            auto window = [&](glm::vec2 p) { return vec2((origin + p) / scale); };
-            entry["gizmo"] = {{"centre", window(gizmo->centre)},
-                              {"x", window(gizmo->axisEnd[0])},
-                              {"y", window(gizmo->axisEnd[1])},
-                              {"z", window(gizmo->axisEnd[2])},
-                              {"view_ring_radius", gizmo->viewRingRadius / scale},
-                              {"pivot", vec(gizmo->frame.pivot)}};
-        }
-        // Where each cage vertex appears (window pixels), so tests can click real vertices.
-        if (doc.planned && doc.planned->cage().vertexCount() <= 5000) {
-            json projected = json::array();
-            json pickable = json::array();
-            for (bool visible : pickableVertices(app, uint32_t(i))) pickable.push_back(visible);
-            entry["pickable_vertices"] = pickable;
-            for (const glm::vec3& p : doc.planned->cage().positions) {
-                const glm::vec4 clip = v.viewProjection * glm::vec4(p, 1.0f);
-                if (clip.w <= 0) {
-                    projected.push_back(nullptr);
-                    continue;
-                }
-                const glm::vec2 ndc = glm::vec2(clip) / clip.w;
-                projected.push_back({(v.rect.offset.x + (0.5f * ndc.x + 0.5f) * v.rect.extent.width) / scale,
-                                     (v.rect.offset.y + (0.5f * ndc.y + 0.5f) * v.rect.extent.height) / scale,
-                                     clip.z / clip.w});
-            }
-            entry["projected_vertices"] = projected;
-        }
-        viewports.push_back(entry);
-    }
-    state["viewports"] = viewports;
-    state["active_viewport"] = app.activeViewport;
-    state["display"] = {{"mode", app.tessellation.mode == TessellationMode::Uniform ? "uniform" : "adaptive"},
-                        {"factor", app.tessellation.factor},
-                        {"pixels_per_edge", app.tessellation.pixelsPerEdge},
-                        {"cage", app.tessellation.showCage},
-                        {"wireframe", app.tessellation.showWireframe},
-                        {"plans_path", app.plansPath},
-                        {"shading", app.display.shading == Shading::Matcap ? "matcap" : "studio"},
-                        {"up_axis", upAxisOf(app) == UpAxis::Z ? "z" : "y"},
-                        {"grid", app.display.showGrid},
-                        {"grid_lines", app.renderer.gridLineCount / 2},
-                        {"crease_lines", app.renderer.creaseLineCount / 2},
-                        {"crease_line_width", std::min(kCreaseLineWidth, app.renderer.lines.maxLineWidth)}};
-    state["renderer"] = {{"last_sync_ms", app.renderer.lastSyncMs}};
-    json schemes = json::array();
-    for (const auto& plugin : app.catalog.plugins) schemes.push_back(plugin->name);
-    state["schemes"] = schemes;
-    state["frame_times_ms"] = {{"cpu", summaryJson(summarize(app.stats, FrameField::Cpu, 120))},
-                               {"gpu", summaryJson(summarize(app.stats, FrameField::Gpu, 120))},
-                               {"interval", summaryJson(summarize(app.stats, FrameField::Interval, 120))},
-                               {"gpu_scene_drawn", summaryJson(summarize(app.stats, FrameField::Gpu, 120, FrameFilter::SceneDrawn))}};
-    int wx = 0, wy = 0, ww = 0, wh = 0, fw = 0, fh = 0;
-    glfwGetWindowPos(app.window, &wx, &wy);
-    glfwGetWindowSize(app.window, &ww, &wh);
-    glfwGetFramebufferSize(app.window, &fw, &fh);
-    state["window"] = {{"x", wx}, {"y", wy}, {"width", ww}, {"height", wh}, {"framebuffer", {fw, fh}}};
-    json widgets = json::object();
-    for (const auto& [label, rect] : app.ui.widgets)
-        if (!widgets.contains(label)) widgets[label] = {rect[0], rect[1], rect[2], rect[3]};
-    state["widgets"] = widgets;
-    // Tools without a tooltip (menus and dialog buttons explain themselves).
-    json untipped = json::array();
-    for (const auto& [label, rect] : app.ui.widgets)
-        if (std::find(app.ui.tooltips.begin(), app.ui.tooltips.end(), label) == app.ui.tooltips.end()) untipped.push_back(label);
-    state["widgets_without_tooltip"] = untipped;
-    state["open_popups"] = app.ui.openPopups;
-    // Any ImGui popup (a menu, a drop-down or a dialog), and whether a text field has the keyboard.
-    state["popup_open"] = ImGui::IsPopupOpen(nullptr, ImGuiPopupFlags_AnyPopupId);
-    state["text_input"] = ImGui::GetIO().WantTextInput;
-    state["save_as_path"] = app.ui.saveAsPath;
-    state["show_help"] = app.ui.showHelp;
-    state["recovery"] = {{"directory", app.recoveryDir},
-                         {"offered", app.ui.recovery.has_value()},
-                         {"file_exists", findRecovery(app.recoveryDir).has_value()}};
-    state["validation_messages"] = validationMessageCount(app.ctx);
-    state["device"] = app.ctx.deviceName;
-    if (Status s = writeFileAtomically(c.args[0], state.dump(1) + "\n"); !s) fail(c, s.error().message);
 }
 
 }  // namespace qp::editor

@@ -11,6 +11,7 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -75,6 +76,7 @@ private:
     bool waitIdle_ = false;
     std::string waitFile_;
     std::chrono::steady_clock::time_point waitFileDeadline_;
+    std::optional<std::chrono::steady_clock::time_point> waitUntil_;  // `wait-seconds`
     std::string pressLabel_;
     int pressFramesLeft_ = 0;
     int pressLine_ = 0;

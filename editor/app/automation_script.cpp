@@ -26,6 +26,7 @@ struct CommandSpec {
 const std::vector<CommandSpec> kCommands = {
     {"wait-frames", {Arg::Int}, {}},
     {"wait-idle", {}, {}},
+    {"wait-seconds", {Arg::Float}, {}},
     {"wait-file", {Arg::Word}, {Arg::Float}},
     {"action", {Arg::Word}, {}},
     {"click-button", {Arg::Text}, {}},
@@ -57,6 +58,10 @@ const std::vector<CommandSpec> kCommands = {
     {"hole", {Arg::Word}, {}},
     {"crease-method", {Arg::Word}, {}},
     {"set-edge-sharpness", {Arg::Int, Arg::Int, Arg::Float}, {}},
+    {"set-frame", {Arg::Float}, {}},
+    {"play", {}, {}},
+    {"pause", {}, {}},
+    {"insert-key", {}, {}},
     {"undo", {}, {}},
     {"redo", {}, {}},
     {"jump-history", {Arg::Int}, {}},
@@ -100,7 +105,8 @@ int automationKeyCode(std::string_view name) {
         {"esc", GLFW_KEY_ESCAPE}, {"escape", GLFW_KEY_ESCAPE}, {"home", GLFW_KEY_HOME}, {"enter", GLFW_KEY_ENTER},
         {"tab", GLFW_KEY_TAB},    {"space", GLFW_KEY_SPACE},   {"delete", GLFW_KEY_DELETE}, {"backspace", GLFW_KEY_BACKSPACE},
         {"period", GLFW_KEY_PERIOD}, {"comma", GLFW_KEY_COMMA}, {"kpadd", GLFW_KEY_KP_ADD}, {"kpsubtract", GLFW_KEY_KP_SUBTRACT},
-        {"alt", GLFW_KEY_LEFT_ALT}, {"ctrl", GLFW_KEY_LEFT_CONTROL}, {"shift", GLFW_KEY_LEFT_SHIFT}};
+        {"alt", GLFW_KEY_LEFT_ALT}, {"ctrl", GLFW_KEY_LEFT_CONTROL}, {"shift", GLFW_KEY_LEFT_SHIFT},
+        {"left", GLFW_KEY_LEFT}, {"right", GLFW_KEY_RIGHT}, {"up", GLFW_KEY_UP}, {"down", GLFW_KEY_DOWN}};
     for (auto [text, code] : named)
         if (n == text) return code;
     return -1;

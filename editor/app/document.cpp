@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "displacement_edit.h"
+#include "document_animation.h"
 #include "file_io.h"
 #include "document_objects.h"
 #include "mesh_cage_write.h"
@@ -67,6 +68,7 @@ Result<EditReport> perform(Document& doc, const MoveVertices& move, const std::s
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
             return Error{"move: the new position of vertex " + std::to_string(move.vertices[i]) + " is not finite"};
     }
+    if (hasVertexKeys(activeObject(doc))) return performKeyedMove(doc, name, move.vertices, move.positions, move.continueDrag);
     return doc.history.moveVertices(*doc.planned, name, move.vertices, move.positions, move.continueDrag);
 }
 
@@ -129,6 +131,7 @@ Result<EditReport> performTopology(Document& doc, const Op& op, const std::strin
     Result<TopologyEdit> edit = operation(doc, op);
     if (!edit) return edit.error();
     *applied = *edit;  // the result selection is read after the history takes the edit
+    if (hasVertexKeys(activeObject(doc))) return performAnimatedTopologyEdit(doc, name, *edit);
     return doc.history.applyTopologyEdit(*doc.planned, name, std::move(edit).value());
 }
 
@@ -355,6 +358,9 @@ Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string&
     doc->planOptions = options;
     doc->scene = std::move(scene);
     doc->path = path;
+    // An animated scene opens on its first frame (the cages were planned at rest).
+    if (isAnimated(doc->scene))
+        if (Result<EditReport> shown = goToFrame(*doc, documentTimeline(*doc).firstFrame); !shown) return shown.error();
     return doc;
 }
 
@@ -374,6 +380,7 @@ std::string documentTitle(const Document& doc) {
 
 Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
+    doc.animationNote = settleFrameForEdit(doc);
     const std::string name = describeEdit(edit);
     const size_t before = doc.history.position(), sizeBefore = doc.history.size();
     std::optional<TopologyEdit> topology;
@@ -397,6 +404,16 @@ Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
     // entry's name.
     noteChange(doc, name, *report, frame);
     if (topology) selectResult(doc, *topology);
+    return report;
+}
+
+Result<EditReport> performCageEdit(Document& doc, const std::string& name, std::unique_ptr<CustomEdit> edit, uint64_t frame) {
+    if (!doc.planned) return Error{"no cage is open"};
+    const size_t before = doc.history.position(), sizeBefore = doc.history.size();
+    Result<EditReport> report = doc.history.perform(*doc.planned, name, std::move(edit));
+    if (!report) return report;
+    forgetUnreachableSave(doc, false, before, sizeBefore);
+    noteChange(doc, name, *report, frame);
     return report;
 }
 
@@ -728,7 +745,10 @@ Bounds documentBounds(const Document& doc) {
 
 Scene sceneToSave(const Document& doc) {
     Scene scene = doc.scene;
-    scene.objects[doc.activeObject].cage = doc.planned->cage();
+    SceneObject& active = scene.objects[doc.activeObject];
+    std::vector<glm::vec3> rest = std::move(active.cage.positions);
+    active.cage = doc.planned->cage();
+    if (hasVertexKeys(active)) active.cage.positions = std::move(rest);  // the cage shows a frame
     return scene;
 }
 

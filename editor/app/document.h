@@ -156,6 +156,29 @@ struct Document {
     // hiddenRevision changes with it.
     std::vector<uint32_t> hiddenFaces;
     uint64_t hiddenRevision = 0;
+
+    // Cage animation (document_animation.h). The frame every animated cage and keyed transform
+    // shows (keys sit on whole frames; between them the tracks interpolate), whether the
+    // editor's clock is playing it, and whether playback wraps at the timeline's end.
+    double currentFrame = 1.0;
+    bool playing = false, loopPlayback = true;
+    // What showing the last frame did (every animated cage moved: no face re-planned).
+    EditReport lastFrameChange;
+    // Changes when the cages in otherCages moved (they animate too): the renderer updates their
+    // instances and the object picker rebuilds.
+    uint64_t otherPositionRevision = 0;
+    // The keyed drag in progress (its entry is the newest): later steps replace the entry, so a
+    // drag on an animated cage stays one entry as on any other.
+    struct KeyedDrag {
+        size_t position = 0;  // history position just after the entry
+        uint32_t tag = 0;
+        int32_t frame = 0;
+        std::vector<uint32_t> vertices;
+    };
+    std::optional<KeyedDrag> keyedDrag;
+    // What the last applyEdit did to the animation ("keyed 3 vertices at frame 12"); empty for
+    // a cage without keys. The status line shows it.
+    std::string animationNote;
 };
 
 // The object edit mode acts on; only while a document is open (`planned` set).
@@ -183,8 +206,14 @@ Result<EditReport> performObjectEdit(Document& document, const std::string& name
                                      uint64_t frame);
 
 // Applies the edit (see the header comment). Fails, changing nothing, on bad input: indices out
-// of range, no such edge, a negative or non-finite value, an operation the cage refuses.
+// of range, no such edge, a negative or non-finite value, an operation the cage refuses. On a
+// cage with keys, a move keys the moved vertices at the current frame and a topology edit
+// carries the keys (document_animation.h); an edit while playing pauses first.
 Result<EditReport> applyEdit(Document& document, const Edit& edit, uint64_t frame);
+// Records an entry of the edited cage made elsewhere (inserting or deleting keys) with the same
+// bookkeeping as applyEdit: revisions, dirty flag, the last edit.
+Result<EditReport> performCageEdit(Document& document, const std::string& name, std::unique_ptr<CustomEdit> edit,
+                                   uint64_t frame);
 Result<EditReport> undoEdit(Document& document, uint64_t frame);
 Result<EditReport> redoEdit(Document& document, uint64_t frame);
 // Undoes or redoes until `position` entries are applied (0: before the oldest kept entry).

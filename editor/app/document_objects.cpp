@@ -6,6 +6,8 @@
 #include <functional>
 #include <utility>
 
+#include "document_animation.h"
+
 namespace qp::editor {
 
 namespace {
@@ -76,6 +78,7 @@ Status relinkObjects(Document& doc, uint32_t activeId) {
         if (std::find(doc.otherCageOwnerIds.begin(), doc.otherCageOwnerIds.end(), id) != doc.otherCageOwnerIds.end()) continue;
         Result<PlannedCage> cage = PlannedCage::create(objects[i].cage, *doc.database, doc.planOptions, "object " + inQuotes(objects[i].name));
         if (!cage) return cage.error();
+        if (Status shown = showCurrentFrameOn(doc, i, *cage); !shown) return shown;  // planned at rest
         planned.push_back({id, std::move(cage).value()});
     }
     doc.activeObject = active;
@@ -199,6 +202,11 @@ Result<uint32_t> appendObjects(Document& doc, const std::string& entryName, std:
 
 }  // namespace
 
+Result<EditReport> performObjectChange(Document& doc, const std::string& name, std::function<Status()> apply,
+                                       std::function<Status()> revert, size_t bytes, uint64_t frame) {
+    return performObjectEdit(doc, name, std::make_unique<ObjectEdit>(std::move(apply), std::move(revert), bytes), frame);
+}
+
 uint32_t objectIndexOfId(const Document& doc, uint32_t id) {
     auto it = std::find(doc.objectIds.begin(), doc.objectIds.end(), id);
     return id == 0 || it == doc.objectIds.end() ? kNoObject : uint32_t(it - doc.objectIds.begin());
@@ -236,7 +244,11 @@ Status editObjectCage(Document& doc, uint32_t object) {
     const uint32_t owner = cageOwnerOf(doc, object);
     if (owner == doc.activeObject) return success();
     const uint32_t c = doc.otherCageOfObject[owner];
-    doc.scene.objects[doc.activeObject].cage = doc.planned->cage();  // it stays current while not edited
+    // It stays current while not edited; an animated cage shows a frame, and keeps its rest.
+    SceneObject& leaving = doc.scene.objects[doc.activeObject];
+    std::vector<glm::vec3> rest = std::move(leaving.cage.positions);
+    leaving.cage = doc.planned->cage();
+    if (hasVertexKeys(leaving)) leaving.cage.positions = std::move(rest);
     std::swap(*doc.planned, doc.otherCages[c]);
     doc.otherCageOwnerIds[c] = doc.objectIds[doc.activeObject];
     doc.otherCageBounds[c] = computeBounds(doc.otherCages[c].cage());
@@ -271,17 +283,23 @@ Status setObjectTransform(Document& doc, uint32_t object, const ObjectTransform&
     moved.transform = after;
     if (Status valid = validateObjects({moved}, "the scene"); !valid) return valid;
     const uint32_t id = doc.objectIds[object];
-    auto set = [&doc, id](const ObjectTransform& t) {
-        return [&doc, id, t]() -> Status {
+    const std::vector<TransformKey> keysBefore = doc.scene.objects[object].animation.transformKeys;
+    ObjectAnimation keyed;
+    keyed.transformKeys = keysBefore;
+    if (!keysBefore.empty()) setTransformKey(keyed, keyFrame(doc), after);
+    auto set = [&doc, id](const ObjectTransform& t, const std::vector<TransformKey>& keys) {
+        return [&doc, id, t, keys]() -> Status {
             const uint32_t i = objectIndexOfId(doc, id);
             if (i == kNoObject) return Error{"the object is gone"};
             doc.scene.objects[i].transform = t;
+            doc.scene.objects[i].animation.transformKeys = keys;
             ++doc.sceneRevision;
             return success();
         };
     };
     const std::string name = "Transform " + doc.scene.objects[object].name;
-    Result<EditReport> done = performObjectEdit(doc, name, std::make_unique<ObjectEdit>(set(after), set(before), 64), frame);
+    const size_t bytes = 64 + (keysBefore.size() + keyed.transformKeys.size()) * sizeof(TransformKey);
+    Result<EditReport> done = performObjectChange(doc, name, set(after, keyed.transformKeys), set(before, keysBefore), bytes, frame);
     if (!done) return done.error();
     return success();
 }
@@ -369,8 +387,14 @@ Result<uint32_t> duplicateObject(Document& doc, uint32_t object, bool linked, ui
     if (linked) {
         copy.instanceOf = doc.scene.objects[owner].name;
     } else {
+        const SceneObject& source = doc.scene.objects[owner];
         copy.cage = plannedCageOf(doc, object).cage();
-        copy.displacement = doc.scene.objects[owner].displacement;
+        copy.displacement = source.displacement;
+        if (hasVertexKeys(source)) {  // the cage shows a frame: the copy gets the rest and the keys
+            copy.cage.positions = source.cage.positions;
+            copy.animation.interpolation = source.animation.interpolation;
+            copy.animation.vertexKeys = source.animation.vertexKeys;
+        }
     }
     const std::string entry = (linked ? "Instance " : "Duplicate ") + doc.scene.objects[object].name;
     std::vector<SceneObject> added;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "document.h"
@@ -42,9 +43,15 @@ Status editObjectCage(Document& document, uint32_t object);
 // For undo and redo: moves edit mode to the cage of the object with id `tag` (0: none needed).
 Status editCageOfTag(Document& document, uint32_t tag);
 
+// An object edit as one history entry: `apply` runs now and on redo, `revert` on undo; both
+// change the document's objects (or the scene's settings), never the cage edit mode is on.
+Result<EditReport> performObjectChange(Document& document, const std::string& name, std::function<Status()> apply,
+                                       std::function<Status()> revert, size_t bytes, uint64_t frame);
+
 // Object edits, each one history entry (or nothing and an error).
 // A transform whose drag already showed it: `before` is where the drag started (undo returns
-// there), the object is at `after` when it returns.
+// there), the object is at `after` when it returns. An object with transform keys gets `after`
+// keyed at the current frame in the same entry (else the next frame would take it back).
 Status setObjectTransform(Document& document, uint32_t object, const ObjectTransform& before,
                           const ObjectTransform& after, uint64_t frame);
 Status setObjectVisible(Document& document, uint32_t object, bool visible, uint64_t frame);
@@ -54,7 +61,8 @@ Status renameObject(Document& document, uint32_t object, const std::string& name
 // mode is on moves edit mode to another cage first.
 Status deleteObject(Document& document, uint32_t object, uint64_t frame);
 // A copy beside it ("name.001"): with `linked`, an instance sharing its cage (Blender's Alt+D);
-// otherwise a cage of its own, a copy of the one it draws, with its displacement (Shift+D).
+// otherwise a cage of its own, a copy of the one it draws, with its displacement and vertex keys
+// (Shift+D; not its transform keys, which would put it back on the original).
 // Returns the new object's index; it becomes the selected object.
 Result<uint32_t> duplicateObject(Document& document, uint32_t object, bool linked, uint64_t frame);
 // Every object of a scene file, or one object for a cage file (named after the file), with

@@ -189,6 +189,7 @@ void adoptFinishedLoad(EditorApp& app) {
     app.doc = std::move(result.document);
     ++app.documentGeneration;
     app.drag = Drag{};
+    app.playback = PlaybackClock{};  // the new document opens paused
     app.tools.loopTool = false;
     app.mode = EditorMode::Edit;  // on the first object's cage, as before object mode existed
     app.objectPicking = ObjectPickCache{};
@@ -238,14 +239,16 @@ void updateTitle(EditorApp& app) {
     }
 }
 
-// Viewport rectangles (framebuffer pixels) below the menu bar and left of the side panel.
+// Viewport rectangles (framebuffer pixels) below the menu bar, above the timeline strip and left
+// of the side panel.
 void layoutViewports(EditorApp& app) {
     int w = 0, h = 0;
     glfwGetFramebufferSize(app.window, &w, &h);
     const float scale = ImGui::GetIO().DisplayFramebufferScale.x > 0 ? ImGui::GetIO().DisplayFramebufferScale.x : 1.0f;
     const int top = int(std::ceil(menuBarHeight() * scale));
     const int right = std::max(w - int(sidePanelWidth() * scale), w / 2);
-    const int width = std::max(right, 1), height = std::max(h - top, 1);
+    const int bottom = int(std::ceil(timelineHeight() * scale));  // the timeline strip
+    const int width = std::max(right, 1), height = std::max(h - top - bottom, 1);
     const int gap = 2;  // px of background between viewports
     const int n = int(app.viewports.size()), columns = n >= 2 ? 2 : 1, rows = n == 4 ? 2 : 1;
     for (int i = 0; i < n; ++i) {
@@ -473,9 +476,12 @@ void runLoop(EditorApp& app) {
     int settleFrames = 3;  // ImGui needs a frame or two after an event to settle hover and popups
     while (app.running) {
         if (settleFrames <= 0 && canIdle(app)) {
+            // While an animation plays, until its next frame is due.
+            const double untilFrame = secondsToNextFrame(app);
+            const double timeout = untilFrame >= 0.0 ? std::min(untilFrame, 0.5) : 0.5;
             const Clock::time_point waitStart = Clock::now();
-            glfwWaitEventsTimeout(0.5);
-            if (msSince(waitStart) < 490.0) settleFrames = 3;
+            glfwWaitEventsTimeout(timeout);
+            if (msSince(waitStart) < 1000.0 * timeout - 10.0) settleFrames = 3;
         } else {
             glfwPollEvents();
             --settleFrames;
@@ -488,6 +494,7 @@ void runLoop(EditorApp& app) {
         adoptFinishedLoad(app);
         adoptFinishedJob(app);
         if (app.automation) app.automation->beforeFrame(app);
+        advancePlayback(app);
 
         beginImGuiBackends();
         if (app.automation) app.automation->applySyntheticInput();

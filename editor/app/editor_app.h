@@ -29,6 +29,7 @@
 #include "object_mode.h"
 #include "pick_cache.h"
 #include "pipeline_cache.h"
+#include "playback.h"
 #include "scheme_loader.h"
 #include "scene_cache.h"
 #include "scene_renderer.h"
@@ -223,6 +224,7 @@ struct EditorApp {
     Drag drag;
     std::optional<ExtrudeSession> extrude;  // the interactive extrude in progress (extrude_tool.h)
     ToolSettings tools;
+    PlaybackClock playback;  // the animation's clock while Document::playing
     EditorMode mode = EditorMode::Edit;
     ObjectPickCache objectPicking;
     UiState ui;

@@ -14,12 +14,15 @@ namespace {
 const CageRaycaster& raycasterOf(EditorApp& app, uint32_t cage) {
     Document& doc = *app.doc;
     ObjectPickCache& cache = app.objectPicking;
-    // Vertex moves change only the edited cage; adding, removing or switching cages any.
-    if (cache.generation != app.documentGeneration || cache.objectsRevision != doc.objectsRevision) {
+    // Vertex moves change only the edited cage; adding, removing or switching cages any, and an
+    // animation frame the animated ones.
+    if (cache.generation != app.documentGeneration || cache.objectsRevision != doc.objectsRevision ||
+        cache.otherPositionRevision != doc.otherPositionRevision) {
         cache.others.assign(doc.otherCages.size(), std::nullopt);
         cache.edited.reset();
         cache.generation = app.documentGeneration;
         cache.objectsRevision = doc.objectsRevision;
+        cache.otherPositionRevision = doc.otherPositionRevision;
     }
     if (cache.positionRevision != doc.positionRevision) {
         cache.edited.reset();

@@ -25,6 +25,7 @@ struct EditorApp;
 // cage change.
 struct ObjectPickCache {
     uint64_t generation = ~0ull, objectsRevision = ~0ull;  // what `others` was made for
+    uint64_t otherPositionRevision = ~0ull;                 // ... (animated cages move)
     uint64_t positionRevision = ~0ull;                      // ... and `edited` (vertex moves)
     std::optional<CageRaycaster> edited;
     std::vector<std::optional<CageRaycaster>> others;  // parallel to Document::otherCages, built on demand

@@ -1,7 +1,8 @@
 // The parts of the editor's interface (panels.h), one concept per file: the side panel's
 // sections (panels_model.cpp: selection, transforms, history; panels_mesh.cpp: mesh edits
 // (interactive extrude, hide) and creases (live sliders);
-// panels_sculpt.cpp; panels_scene.cpp: modes and the outliner; panels_display.cpp: display settings and statistics) and the windows and
+// panels_sculpt.cpp; panels_scene.cpp: modes and the outliner; panels_display.cpp: display settings and statistics), the
+// timeline strip (panels_timeline.cpp) and the windows and
 // dialogs (panels_dialogs.cpp). Each draws into the current ImGui window.
 #pragma once
 
@@ -20,6 +21,8 @@ void sceneSection(EditorApp& app);
 void sculptSection(EditorApp& app);
 void displaySection(EditorApp& app);
 void statsSection(EditorApp& app);
+// The timeline strip under the viewports (panels_timeline.cpp).
+void timelineStrip(EditorApp& app);
 
 void helpWindow(EditorApp& app);
 void loadingWindow(EditorApp& app);

@@ -74,6 +74,16 @@ void menuBar(EditorApp& app) {
         ImGui::EndMenu();
     }
     recordWidget(app, "Object");
+    if (ImGui::BeginMenu("Animation")) {
+        for (const char* id : {"anim.play", "anim.prev_frame", "anim.next_frame", "anim.first_frame", "anim.last_frame",
+                               "anim.prev_key", "anim.next_key", "anim.loop"})
+            menuAction(app, id, haveCage);
+        ImGui::Separator();
+        menuAction(app, "anim.insert_key", haveCage);
+        menuAction(app, "anim.delete_keys", haveCage);
+        ImGui::EndMenu();
+    }
+    recordWidget(app, "Animation");
     if (ImGui::BeginMenu("View")) {
         for (const char* id : {"view.front", "view.back", "view.right", "view.left", "view.top", "view.bottom",
                                "view.projection"})
@@ -261,6 +271,7 @@ void drawPanels(EditorApp& app) {
     menuBar(app);
     viewportBars(app);
     sidePanel(app);
+    timelineStrip(app);
     ImGui::EndDisabled();
     helpWindow(app);
     loadingWindow(app);

@@ -13,6 +13,7 @@ struct EditorApp;
 
 float menuBarHeight();    // window pixels
 float sidePanelWidth();   // window pixels
+float timelineHeight();   // window pixels: the strip under the viewports (panels_timeline.cpp)
 
 void drawPanels(EditorApp& app);
 

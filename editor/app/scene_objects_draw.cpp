@@ -3,7 +3,8 @@
 // again under their transforms (DrawView::sameFrame: the layout the active object's draw made);
 // the cages not in edit mode get an instance of the viewport's scheme each (and, in heat-map
 // mode, its error heat map), made when the document, edit mode's cage or the viewport's scheme,
-// factor or heat map changes.
+// factor or heat map changes; when an animation moves those cages, the instances and heat maps
+// take the moved vertices as an edited cage's do.
 #include <algorithm>
 #include <cmath>
 
@@ -23,6 +24,32 @@ void destroyOthers(const VulkanContext& ctx, OtherObjectsView& view) {
     view.cages.clear();
     for (HeatMap& heat : view.heat) destroyHeat(ctx, heat);
     view.heat.clear();
+    view.positions.clear();
+}
+
+// The other cages moved (an animation frame): each instance and heat map re-evaluates what its
+// moved vertices touch. The caller drained the queue.
+void updateMovedOthers(const VulkanContext& ctx, OtherObjectsView& view, const Document& doc, uint32_t heatFactor) {
+    for (uint32_t c = 0; c < view.cages.size() && c < doc.otherCages.size(); ++c) {
+        const std::vector<glm::vec3>& now = doc.otherCages[c].cage().positions;
+        if (view.positions[c].size() != now.size()) continue;  // a rebuild follows a new topology
+        const std::vector<uint32_t> moved = movedVertices(view.positions[c], now);
+        if (moved.empty()) continue;
+        view.positions[c] = now;
+        const std::string name = "object \"" + doc.scene.objects[ownerOfOtherCage(doc, c)].name + "\"";
+        if (Status s = view.cages[c].instance.updateMoved(moved); !s) {
+            view.problem = name + ": " + s.error().message;
+            destroyOthers(ctx, view);
+            return;
+        }
+        if (c < view.heat.size())
+            if (Status s = updateHeatMap(ctx, doc.otherCages[c], view.cages[c].instance, heatFactor, view.heat[c], &moved); !s) {
+                view.problem = name + ": heat map: " + s.error().message;
+                destroyOthers(ctx, view);
+                return;
+            }
+        ++view.drawRevision;
+    }
 }
 
 
@@ -51,8 +78,14 @@ void syncOtherObjects(const VulkanContext& ctx, SceneRenderer& r, const PluginCa
         const SchemeRequest& request = requests[i];
         if (view.generation == generation && view.scheme == request.name && view.factor == request.settings.tessFactor &&
             view.adaptivePixels == request.settings.adaptivePixels && view.heatMap == request.heatMap &&
-            (!request.heatMap || view.heatFactor == request.heatFactor))
+            (!request.heatMap || view.heatFactor == request.heatFactor)) {
+            if (view.positionRevision != doc.otherPositionRevision && !view.cages.empty()) {
+                vkQueueWaitIdle(ctx.queue);
+                updateMovedOthers(ctx, view, doc, request.heatFactor);
+            }
+            view.positionRevision = doc.otherPositionRevision;
             continue;
+        }
         if (!view.cages.empty()) vkQueueWaitIdle(ctx.queue);
         destroyOthers(ctx, view);
         view.generation = generation;
@@ -62,6 +95,7 @@ void syncOtherObjects(const VulkanContext& ctx, SceneRenderer& r, const PluginCa
         view.heatMap = request.heatMap;
         view.heatFactor = request.heatFactor;
         view.problem.clear();
+        view.positionRevision = doc.otherPositionRevision;
         ++view.drawRevision;
         for (uint32_t c = 0; c < doc.otherCages.size(); ++c) {
             const PlannedCage& cage = doc.otherCages[c];
@@ -76,8 +110,9 @@ void syncOtherObjects(const VulkanContext& ctx, SceneRenderer& r, const PluginCa
                 break;
             }
             view.cages.push_back(std::move(prepared).value());
+            view.positions.push_back(cage.cage().positions);
             if (!request.heatMap) continue;
-            // The other cages do not change while edit mode is elsewhere: measured once.
+            // Measured whole once; animation frames update it where the cage moved.
             view.heat.emplace_back();
             if (Status s = updateHeatMap(ctx, cage, view.cages.back().instance, request.heatFactor, view.heat.back(), nullptr); !s) {
                 view.problem = name + ": heat map: " + s.error().message;

@@ -122,8 +122,12 @@ struct OtherObjectsView {
     float adaptivePixels = 0.0f;
     bool heatMap = false;
     uint64_t generation = ~0ull;
-    uint64_t drawRevision = 0;  // changes whenever the instances or heat maps are made anew
+    uint64_t drawRevision = 0;  // changes whenever the instances or heat maps change
     std::string problem;  // why they are not drawn (a scheme that refuses one of them)
+    // What the instances were last brought to (Document::otherPositionRevision): animated cages
+    // move, and their instances take the moved vertices (Scheme::updateMoved).
+    uint64_t positionRevision = ~0ull;
+    std::vector<std::vector<glm::vec3>> positions;  // per cage, as last synced
 };
 struct ObjectDraw {
     ObjectTransform transform;

@@ -54,6 +54,7 @@ bool perform(EditorApp& app, const Edit& e) {
     text[0] = char(std::toupper(text[0]));
     app.ui.status = text + ": re-planned " + std::to_string(report->replannedFaces) + " faces in " +
                     millis(report->milliseconds);
+    if (!app.doc->animationNote.empty()) app.ui.status += "; " + app.doc->animationNote;
     return true;
 }
 
