@@ -32,6 +32,9 @@ namespace qp {
 
 enum class Interpolation : uint8_t { Linear, CatmullRom };
 
+// Keys sit on frames within +-kMaxKeyFrame (what the scene file, sequences and commands accept).
+inline constexpr int32_t kMaxKeyFrame = 1000000000;
+
 // Per-vertex position tracks, CSR: the keys of vertex v are [offsets[v], offsets[v + 1]).
 // Empty `offsets`: no vertex has keys.
 struct VertexKeys {

@@ -21,6 +21,9 @@ Result<std::vector<SequenceFile>> sequenceFiles(const std::string& pattern) {
     std::error_code error;
     std::vector<SequenceFile> files;
     for (fs::directory_iterator it(folder, error), end; !error && it != end; it.increment(error)) {
+        // Regular files only: a pattern may name any folder, and a device file (/dev/tty1) could block.
+        std::error_code typeError;
+        if (!it->is_regular_file(typeError)) continue;
         const std::string candidate = it->path().filename().string();
         if (candidate.size() <= prefix.size() + suffix.size() || candidate.compare(0, prefix.size(), prefix) != 0 ||
             candidate.compare(candidate.size() - suffix.size(), suffix.size(), suffix) != 0)
@@ -59,6 +62,33 @@ Result<std::vector<glm::vec3>> loadSequenceFrame(const std::string& path, const 
         return Error{path + ": the frame has " + std::to_string(frame->faceCount()) + " faces, the cage " +
                      std::to_string(reference.faceCount()) + " (a sequence keeps one topology)"};
     return std::move(frame->positions);
+}
+
+Result<VertexKeys> loadSequenceKeys(const std::string& pattern, const Cage& reference) {
+    Result<std::vector<SequenceFile>> files = sequenceFiles(pattern);
+    if (!files) return files.error();
+    std::vector<std::vector<glm::vec3>> frames;
+    for (const SequenceFile& file : *files) {
+        const std::string frame = "frame " + std::to_string(file.number) + " (" + file.path + ")";
+        if (file.number > uint64_t(kMaxKeyFrame))
+            return Error{frame + ": the number is too large (keys go on frames up to " + std::to_string(kMaxKeyFrame) + ")"};
+        Result<std::vector<glm::vec3>> positions = loadSequenceFrame(file.path, reference);
+        if (!positions) return Error{"frame " + std::to_string(file.number) + ": " + positions.error().message};
+        frames.push_back(std::move(positions).value());
+    }
+    const uint32_t vertexCount = reference.vertexCount();
+    VertexKeys keys;
+    keys.offsets.resize(size_t(vertexCount) + 1);
+    for (uint32_t v = 0; v <= vertexCount; ++v) keys.offsets[v] = uint32_t(size_t(v) * frames.size());
+    keys.frames.reserve(size_t(vertexCount) * frames.size());
+    keys.positions.reserve(size_t(vertexCount) * frames.size());
+    for (uint32_t v = 0; v < vertexCount; ++v)
+        for (size_t f = 0; f < frames.size(); ++f) {
+            keys.frames.push_back(int32_t((*files)[f].number));
+            keys.positions.push_back(frames[f][v]);
+        }
+    if (keys.frames.empty()) keys.offsets.clear();
+    return keys;
 }
 
 }  // namespace qp

@@ -437,7 +437,7 @@ ObjectTransform readTransform(const json& value, const std::string& field, const
 // --- animation (cage_animation.h) ---
 
 int32_t readFrame(const json& value, const std::string& field) {
-    return int32_t(readIntInRange(value, field, -1000000000, 1000000000));
+    return int32_t(readIntInRange(value, field, -kMaxKeyFrame, kMaxKeyFrame));
 }
 
 // A key's frame, which must come after `previous` (the key before it, if any).
@@ -486,28 +486,9 @@ VertexKeys readVertexKeys(const json& value, const std::string& field, uint32_t 
 
 // Every frame of the sequence, read now: a bad frame fails the whole scene.
 VertexKeys readSequence(const std::string& pattern, const std::string& field, const Cage& cage, const Context& ctx) {
-    const std::string resolved = (fs::path(ctx.baseDir) / pattern).string();
-    Result<std::vector<SequenceFile>> files = sequenceFiles(resolved);
-    if (!files) fail(field, files.error().message);
-    VertexKeys keys;
-    const uint32_t vertexCount = uint32_t(cage.positions.size());
-    std::vector<std::vector<glm::vec3>> frames;
-    for (const SequenceFile& file : *files) {
-        if (file.number > uint64_t(1000000000)) fail(field, file.path + ": frame number " + std::to_string(file.number) + " is too large");
-        Result<std::vector<glm::vec3>> positions = loadSequenceFrame(file.path, cage);
-        if (!positions) fail(field, positions.error().message);
-        frames.push_back(std::move(positions).value());
-    }
-    keys.offsets.resize(size_t(vertexCount) + 1);
-    for (uint32_t v = 0; v <= vertexCount; ++v) keys.offsets[v] = uint32_t(v * frames.size());
-    keys.frames.reserve(size_t(vertexCount) * frames.size());
-    keys.positions.reserve(size_t(vertexCount) * frames.size());
-    for (uint32_t v = 0; v < vertexCount; ++v)
-        for (size_t f = 0; f < frames.size(); ++f) {
-            keys.frames.push_back(int32_t((*files)[f].number));
-            keys.positions.push_back(frames[f][v]);
-        }
-    return keys;
+    Result<VertexKeys> keys = loadSequenceKeys((fs::path(ctx.baseDir) / pattern).string(), cage);
+    if (!keys) fail(field, keys.error().message);
+    return std::move(keys).value();
 }
 
 std::vector<TransformKey> readTransformKeys(const json& value, const std::string& field, const Context& ctx) {

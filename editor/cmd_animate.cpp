@@ -39,7 +39,6 @@ namespace {
 namespace fs = std::filesystem;
 
 // Frame numbers as the scene reader accepts them (and as a file name's four digits grow from).
-constexpr long long kMaxFrameNumber = 1000000000;
 
 struct AnimateArgs {
     std::string path, out, sequence, frames;
@@ -61,13 +60,13 @@ int fail(const std::string& message) {
     return 1;
 }
 
-// One integer of "A:B", within +-kMaxFrameNumber.
+// One integer of "A:B", within +-kMaxKeyFrame.
 bool parseFrameNumber(const std::string& text, int32_t& out) {
     if (text.empty()) return false;
     errno = 0;
     char* end = nullptr;
     const long long value = std::strtoll(text.c_str(), &end, 10);
-    if (*end != '\0' || errno == ERANGE || value > kMaxFrameNumber || value < -kMaxFrameNumber) return false;
+    if (*end != '\0' || errno == ERANGE || value > kMaxKeyFrame || value < -kMaxKeyFrame) return false;
     out = int32_t(value);
     return true;
 }
@@ -82,34 +81,6 @@ Result<std::pair<int32_t, int32_t>> parseFrames(const std::string& text) {
         return Error{"--frames " + text + ": the first frame, " + std::to_string(first) + ", comes after the last, " +
                      std::to_string(last)};
     return std::make_pair(first, last);
-}
-
-// The OBJ sequence `pattern` as keys of every vertex of `cage` at every file's frame number; every
-// frame is read and checked here (cage_sequence.h), errors naming the file.
-Result<VertexKeys> readSequenceKeys(const std::string& pattern, const Cage& cage) {
-    Result<std::vector<SequenceFile>> files = sequenceFiles(pattern);
-    if (!files) return files.error();
-    std::vector<std::vector<glm::vec3>> frames;
-    for (const SequenceFile& file : *files) {
-        if (file.number > uint64_t(kMaxFrameNumber))
-            return Error{file.path + ": frame number " + std::to_string(file.number) + " is too large"};
-        Result<std::vector<glm::vec3>> positions = loadSequenceFrame(file.path, cage);
-        if (!positions) return positions.error();
-        frames.push_back(std::move(positions).value());
-    }
-    const uint32_t vertexCount = cage.vertexCount();
-    VertexKeys keys;
-    keys.offsets.resize(size_t(vertexCount) + 1);
-    for (uint32_t v = 0; v <= vertexCount; ++v) keys.offsets[v] = uint32_t(size_t(v) * frames.size());
-    keys.frames.reserve(size_t(vertexCount) * frames.size());
-    keys.positions.reserve(size_t(vertexCount) * frames.size());
-    for (uint32_t v = 0; v < vertexCount; ++v)
-        for (size_t f = 0; f < frames.size(); ++f) {
-            keys.frames.push_back(int32_t((*files)[f].number));
-            keys.positions.push_back(frames[f][v]);
-        }
-    if (keys.frames.empty()) keys.offsets.clear();
-    return keys;
 }
 
 // The world bounds of the visible objects (of all when none is visible) over every frame
@@ -186,7 +157,7 @@ int runAnimate(const AnimateArgs& args) {
         if (target.isInstance())
             return fail("--sequence: the first object, \"" + target.name + "\", is an instance of \"" + target.instanceOf +
                         "\"; an OBJ sequence moves the cage of an object that has its own");
-        Result<VertexKeys> keys = readSequenceKeys(args.sequence, target.cage);
+        Result<VertexKeys> keys = loadSequenceKeys(args.sequence, target.cage);
         if (!keys) return fail("--sequence: " + keys.error().message);
         if (!target.animation.vertexKeys.empty())
             std::fprintf(stderr, "warning: --sequence replaces the keys of object \"%s\"\n", target.name.c_str());

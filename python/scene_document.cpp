@@ -585,7 +585,6 @@ Result<EditOutcome> SceneDocument::stroke(const StrokeOptions& options, std::spa
 namespace {
 
 // Key frames as a scene file holds them.
-constexpr int64_t kMaxKeyFrame = 1000000000;
 
 std::string frameName(double frame) {
     char text[32];
@@ -622,22 +621,6 @@ std::string keyedFramesNote(const std::vector<int32_t>& frames) {
     for (size_t i = 0; i < std::min(frames.size(), kNamed); ++i) list += (i ? ", " : "") + std::to_string(frames[i]);
     if (frames.size() > kNamed) list += ", ... " + std::to_string(frames.back());
     return " (its keys are at frames " + list + ")";
-}
-
-// The vertex keys a sequence gives: each vertex keyed at every file's number.
-VertexKeys sequenceKeys(const std::vector<SequenceFile>& files, const std::vector<std::vector<glm::vec3>>& frames,
-                        uint32_t vertexCount) {
-    VertexKeys keys;
-    keys.offsets.resize(size_t(vertexCount) + 1);
-    for (uint32_t v = 0; v <= vertexCount; ++v) keys.offsets[v] = uint32_t(v * frames.size());
-    keys.frames.reserve(size_t(vertexCount) * frames.size());
-    keys.positions.reserve(size_t(vertexCount) * frames.size());
-    for (uint32_t v = 0; v < vertexCount; ++v)
-        for (size_t f = 0; f < frames.size(); ++f) {
-            keys.frames.push_back(int32_t(files[f].number));
-            keys.positions.push_back(frames[f][v]);
-        }
-    return keys;
 }
 
 size_t keyBytes(const VertexKeys& keys) {
@@ -808,24 +791,14 @@ Status SceneDocument::setTimeline(int64_t first, int64_t last, double framesPerS
 }
 
 Result<EditOutcome> SceneDocument::loadSequence(const std::string& pattern) {
-    Result<std::vector<SequenceFile>> files = sequenceFiles(pattern);
-    if (!files) return files.error();
-    std::vector<std::vector<glm::vec3>> frames;
-    for (const SequenceFile& file : *files) {
-        const std::string frame = "sequence frame " + std::to_string(file.number);
-        if (file.number > uint64_t(kMaxKeyFrame))
-            return Error{frame + " (" + file.path + "): the number is too large (keys go on frames up to 1000000000)"};
-        Result<std::vector<glm::vec3>> positions = loadSequenceFrame(file.path, cage());
-        if (!positions) return Error{frame + ": " + positions.error().message};
-        frames.push_back(std::move(positions).value());
-    }
+    Result<VertexKeys> loaded = loadSequenceKeys(pattern, cage());
+    if (!loaded) return Error{"sequence " + loaded.error().message};
     struct Keys {
         VertexKeys keys;
         std::string pattern;
     };
     auto before = std::make_shared<const Keys>(Keys{animation().vertexKeys, animation().sequencePattern});
-    auto after = std::make_shared<const Keys>(Keys{sequenceKeys(*files, frames, cage().vertexCount()), absolutePattern(pattern)});
-    frames.clear();  // before the keys are copied into the animation
+    auto after = std::make_shared<const Keys>(Keys{std::move(loaded).value(), absolutePattern(pattern)});
     const uint32_t id = ids_[active_];
     auto put = [this, id](const Keys& value) {
         const uint32_t index = indexOfId(id);

@@ -91,3 +91,14 @@ TEST_F(CageSequence, RefusesGapsOtherTopologiesAndBadPatterns) {
     ASSERT_FALSE(nan);
     EXPECT_NE(nan.error().message.find("bad_0009.obj"), std::string::npos) << nan.error().message;
 }
+
+// Only regular files are frames: a folder (or a device) named like one is not read, so the
+// sequence is missing that frame.
+TEST_F(CageSequence, OnlyRegularFilesAreFrames) {
+    write(1, frame(1));
+    write(3, frame(3));
+    fs::create_directories(dir / "frame_0002.obj");
+    Result<std::vector<SequenceFile>> files = sequenceFiles((dir / "frame_*.obj").string());
+    ASSERT_FALSE(files);
+    EXPECT_NE(files.error().message.find("missing frame 2"), std::string::npos) << files.error().message;
+}
