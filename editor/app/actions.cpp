@@ -83,6 +83,7 @@ const ActionInfo kActions[] = {
     {"anim.loop", "Loop playback", "", {}, "Start again at the first frame after the last, or stop there"},
     {"anim.insert_key", "Insert key", "I", {GLFW_KEY_I}, "Key the selected vertices (all when none is selected) where they are, at this frame; object mode: the selected object's transform"},
     {"anim.delete_keys", "Delete keys at frame", "Alt+I", {GLFW_KEY_I, false, false, true}, "Remove the edited cage's vertex keys at this frame (object mode: the selected object's transform key)"},
+    {"anim.interpolation", "Linear / Catmull-Rom", "", {}, "Switch how the edited cage's keys (object mode: the selected object's) are interpolated between keys: linearly or by Catmull-Rom (one undoable entry)"},
 };
 
 const MouseBinding kMouse[] = {

@@ -277,6 +277,7 @@ void runAnimationAction(EditorApp& app, std::string_view id) {
     else if (id == "anim.loop") app.doc->loopPlayback = !app.doc->loopPlayback;
     else if (id == "anim.insert_key") insertKeyTool(app);
     else if (id == "anim.delete_keys") deleteKeysTool(app);
+    else if (id == "anim.interpolation") toggleInterpolationTool(app);
     else showError(app, "unknown action '" + std::string(id) + "'");
 }
 

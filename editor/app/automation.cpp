@@ -324,6 +324,10 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         return true;
     }
     if (n == "insert-key") return needDocument() ? tool(insertKeyTool(app)) : true;
+    if (n == "set-interpolation") {
+        if (!needDocument()) return true;
+        return tool(setInterpolationTool(app, a[0] == "catmull-rom" ? Interpolation::CatmullRom : Interpolation::Linear));
+    }
     if (n == "undo" || n == "redo") {
         if (!needDocument()) return true;
         return tool(n == "undo" ? undoTool(app) : redoTool(app));

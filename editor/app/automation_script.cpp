@@ -62,6 +62,7 @@ const std::vector<CommandSpec> kCommands = {
     {"play", {}, {}},
     {"pause", {}, {}},
     {"insert-key", {}, {}},
+    {"set-interpolation", {Arg::Word}, {}},
     {"undo", {}, {}},
     {"redo", {}, {}},
     {"jump-history", {Arg::Int}, {}},
@@ -219,6 +220,8 @@ std::string checkWords(const AutomationCommand& c, const AutomationVocabulary& w
     if (name == "merge" && !c.args.empty() && !isOneOf(c.args[0], {"centroid", "last"})) return "merge at 'centroid' or 'last'";
     if ((name == "hole" || name == "heatmap") && !isOneOf(c.args.back(), {"on", "off"})) return "use 'on' or 'off'";
     if (name == "crease-method" && !isOneOf(c.args[0], {"normal", "chaikin"})) return "the crease method must be normal or chaikin";
+    if (name == "set-interpolation" && !isOneOf(c.args[0], {"linear", "catmull-rom"}))
+        return "the interpolation must be linear or catmull-rom";
     if (name == "measure-frames" && c.args.size() > 2 && !isOneOf(c.args[2], {"drag", "orbit", "sculpt"}))
         return "the optional mode must be 'drag', 'orbit' or 'sculpt'";
     return {};

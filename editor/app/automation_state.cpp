@@ -15,6 +15,7 @@
 #include "overlays.h"
 #include "playback.h"
 #include "recovery.h"
+#include "scene_names.h"
 #include "tools.h"
 
 namespace qp::editor {
@@ -27,6 +28,12 @@ json vec(const glm::vec3& v) { return json::array({v.x, v.y, v.z}); }
 json vec2(const glm::vec2& v) { return json::array({v.x, v.y}); }
 
 json summaryJson(const Summary& s) { return {{"median", s.median}, {"p90", s.p90}, {"max", s.max}, {"count", s.count}}; }
+
+// "linear" or "catmull-rom" as the scene file writes it; null without an object.
+json interpolationName(std::optional<Interpolation> interpolation) {
+    if (!interpolation) return nullptr;
+    return scene_names::enumName<Interpolation>(scene_names::kInterpolationNames, *interpolation);
+}
 
 }  // namespace
 
@@ -157,6 +164,7 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                           {"fps", timeline.framesPerSecond},
                           {"fps_achieved", app.playback.fpsAchieved},
                           {"key_frames", keyMarks(app)},
+                          {"interpolation", interpolationName(timelineInterpolation(app))},
                           {"last_frame_change", {{"replanned_faces", shown.replannedFaces},
                                                  {"updated_subfaces", shown.updatedSubfaces},
                                                  {"milliseconds", shown.milliseconds}}}};

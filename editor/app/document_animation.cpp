@@ -246,6 +246,32 @@ Status deleteTransformKey(Document& doc, uint32_t object, uint64_t frame) {
                                 o.animation.transformKeys, std::move(kept), frame);
 }
 
+Status setInterpolation(Document& doc, uint32_t object, Interpolation interpolation, uint64_t frame) {
+    if (!doc.planned) return Error{"no scene is open"};
+    if (object >= doc.scene.objects.size()) return Error{"no object is selected"};
+    const SceneObject& o = doc.scene.objects[object];
+    const Interpolation before = o.animation.interpolation;
+    if (before == interpolation) return success();
+    const uint32_t id = doc.objectIds[object];
+    // The object's keys now evaluate otherwise between keys: the frame is shown again (every
+    // cage and transform; those not this object's stay where they are).
+    auto set = [&doc, id](Interpolation value) {
+        return [&doc, id, value]() -> Status {
+            const uint32_t i = objectIndexOfId(doc, id);
+            if (i == kNoObject) return Error{"the object is gone"};
+            doc.scene.objects[i].animation.interpolation = value;
+            Result<EditReport> shown = goToFrame(doc, doc.currentFrame);
+            if (!shown) return shown.error();
+            return success();
+        };
+    };
+    const std::string name =
+        std::string(interpolation == Interpolation::CatmullRom ? "Catmull-Rom" : "Linear") + " interpolation of " + o.name;
+    Result<EditReport> done = performObjectChange(doc, name, set(interpolation), set(before), 64, frame);
+    if (!done) return done.error();
+    return success();
+}
+
 Status setTimeline(Document& doc, const Timeline& timeline, uint64_t frame) {
     if (!doc.planned) return Error{"no scene is open"};
     if (timeline.firstFrame > timeline.lastFrame)

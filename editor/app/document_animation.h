@@ -63,6 +63,11 @@ Result<EditReport> deleteKeysAtFrame(Document& document, uint64_t frame);
 Status insertTransformKey(Document& document, uint32_t object, uint64_t frame);
 Status deleteTransformKey(Document& document, uint32_t object, uint64_t frame);
 
+// How object `object`'s keys (of its vertices and its transform) are interpolated, as one
+// history entry that shows the current frame again, done and undone (nothing when it is so
+// already). "Linear interpolation of NAME" / "Catmull-Rom interpolation of NAME".
+Status setInterpolation(Document& document, uint32_t object, Interpolation interpolation, uint64_t frame);
+
 // A new frame range and rate stored in the scene, as one history entry. Refused unless
 // first <= last and 0 < fps <= 1000.
 Status setTimeline(Document& document, const Timeline& timeline, uint64_t frame);

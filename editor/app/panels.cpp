@@ -81,6 +81,7 @@ void menuBar(EditorApp& app) {
         ImGui::Separator();
         menuAction(app, "anim.insert_key", haveCage);
         menuAction(app, "anim.delete_keys", haveCage);
+        menuAction(app, "anim.interpolation", haveCage);
         ImGui::EndMenu();
     }
     recordWidget(app, "Animation");

@@ -1,9 +1,11 @@
 // The timeline strip under the viewports (issue 22): transport buttons, the frame slider with the
 // key marks of the object the timeline follows (playback.h keyMarks), the frame range and rate
-// (stored in the scene, one history entry per change), the rate achieved while playing, and
-// Insert key / Delete keys. Always shown, so that a scene without keys can start an animation.
+// (stored in the scene, one history entry per change), the rate achieved while playing, Insert
+// key / Delete keys, and the interpolation of the object the timeline follows (one history entry
+// per change). Always shown, so that a scene without keys can start an animation.
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <imgui.h>
 
@@ -55,7 +57,9 @@ void transportRow(EditorApp& app, const Timeline& t) {
     ImGui::SetNextItemWidth(-1.0f);
     int frame = int(std::lround(doc.currentFrame));
     const int last = std::max(t.lastFrame, t.firstFrame + 1);  // a slider needs two values
-    const bool scrubbed = ImGui::SliderInt("##frame", &frame, t.firstFrame, last, "frame %d");
+    // A scene without keys says so on the slider (the row below has no room left at 1280 px).
+    const bool scrubbed =
+        ImGui::SliderInt("##frame", &frame, t.firstFrame, last, isAnimated(doc.scene) ? "frame %d" : "frame %d (no keys yet)");
     recordWidget(app, "Timeline");  // under a visible name: dump-state's widgets are keyed by it
     tooltip(app, "Timeline", "Drag to scrub; the marks are the keys of the edited cage (object mode: the selected object)");
     drawKeyMarks(keyMarks(app), t.firstFrame, last);
@@ -78,6 +82,26 @@ void rangeField(EditorApp& app, const char* caption, const char* label, int valu
     Timeline t = documentTimeline(*app.doc);
     (first ? t.firstFrame : t.lastFrame) = value;
     if (Status done = setTimeline(*app.doc, t, app.frame); !done) app.ui.status = "Timeline: " + done.error().message;
+}
+
+// Linear or Catmull-Rom between the keys of the object the timeline follows (edit mode: the
+// edited cage; object mode: the selected object, disabled without one).
+void interpolationCombo(EditorApp& app) {
+    static const char* const kNames[] = {"Linear", "Catmull-Rom"};
+    const std::optional<Interpolation> now = timelineInterpolation(app);
+    int current = now == Interpolation::CatmullRom ? 1 : 0;
+    ImGui::TextUnformatted("Interpolation");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(!now);
+    ImGui::SetNextItemWidth(ImGui::CalcTextSize("Catmull-Rom").x + ImGui::GetFrameHeight() + 2.0f * ImGui::GetStyle().FramePadding.x);
+    const bool changed = ImGui::Combo("##interpolation", &current, kNames, 2);
+    ImGui::EndDisabled();
+    recordWidget(app, "Interpolation");
+    tooltip(app, "Interpolation",
+            "How keys are interpolated between their frames: linearly, or by Catmull-Rom (a smooth curve through "
+            "the keys). The edited cage's vertex and transform keys (object mode: the selected object's); saved "
+            "with the scene, undoable");
+    if (changed && now) setInterpolationTool(app, current == 1 ? Interpolation::CatmullRom : Interpolation::Linear);
 }
 
 void settingsRow(EditorApp& app, const Timeline& t) {
@@ -113,10 +137,8 @@ void settingsRow(EditorApp& app, const Timeline& t) {
         runAction(app, "anim.insert_key");
     ImGui::SameLine();
     if (button(app, "Delete keys##anim", "Remove the keys at this frame (Alt+I)")) runAction(app, "anim.delete_keys");
-    if (doc.planned && !isAnimated(doc.scene)) {
-        ImGui::SameLine();
-        ImGui::TextDisabled("no keys yet");
-    }
+    ImGui::SameLine();
+    interpolationCombo(app);
 }
 
 }  // namespace

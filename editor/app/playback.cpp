@@ -150,6 +150,34 @@ bool deleteKeysTool(EditorApp& app) {
     return done.ok();
 }
 
+std::optional<Interpolation> timelineInterpolation(const EditorApp& app) {
+    const uint32_t object = markedObject(app);
+    if (object == kNoObject) return std::nullopt;
+    return app.doc->scene.objects[object].animation.interpolation;
+}
+
+bool setInterpolationTool(EditorApp& app, Interpolation interpolation) {
+    if (!haveDocument(app)) return false;
+    Document& doc = *app.doc;
+    const uint32_t object = markedObject(app);
+    const char* name = interpolation == Interpolation::CatmullRom ? "Catmull-Rom" : "linear";
+    if (Status done = setInterpolation(doc, object, interpolation, app.frame); !done) {
+        app.ui.status = std::string("Interpolation: ") + done.error().message;
+        return false;
+    }
+    app.ui.status = "\"" + doc.scene.objects[object].name + "\": " + name + " interpolation between keys";
+    return true;
+}
+
+bool toggleInterpolationTool(EditorApp& app) {
+    const std::optional<Interpolation> now = timelineInterpolation(app);
+    if (!now) {
+        app.ui.status = "Interpolation: no object is selected";
+        return false;
+    }
+    return setInterpolationTool(app, *now == Interpolation::Linear ? Interpolation::CatmullRom : Interpolation::Linear);
+}
+
 std::vector<int32_t> keyMarks(const EditorApp& app) {
     const uint32_t object = markedObject(app);
     if (object == kNoObject) return {};

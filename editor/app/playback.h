@@ -9,7 +9,10 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <vector>
+
+#include "cage_animation.h"
 
 namespace qp::editor {
 
@@ -37,6 +40,13 @@ void jumpToKey(EditorApp& app, int direction);
 // cage's keys at the current frame; object mode does the same for the selected object's transform.
 bool insertKeyTool(EditorApp& app);
 bool deleteKeysTool(EditorApp& app);
+
+// The interpolation of the object the timeline follows (keyMarks), none without one; setting it
+// is one history entry (document_animation.h setInterpolation) and the frame is shown again.
+// The timeline's combo, the Animation menu's toggle and automation's set-interpolation.
+std::optional<Interpolation> timelineInterpolation(const EditorApp& app);
+bool setInterpolationTool(EditorApp& app, Interpolation interpolation);
+bool toggleInterpolationTool(EditorApp& app);
 
 // The frames the timeline marks: the keys (of any vertex, or of the transform) of the object
 // edit mode is on, or in object mode of the selected object.

@@ -3,11 +3,14 @@
 // and interpolated frames re-planning nothing, the other object's cage and transform follow, and
 // the picture changes; playback advances by the clock and reports the rate it achieved; a move at
 // a frame without keys keys it there (saved in the scene, the rest positions untouched) and undo
-// takes the key away; a topology edit carries the keys. One editor run, automation only.
+// takes the key away; with a third key, Catmull-Rom interpolation (set-interpolation, one history
+// entry, the timeline's combo) moves a vertex between keys off the linear path and undo brings
+// linear back; a topology edit carries the keys. One editor run, automation only.
 #include <gtest/gtest.h>
 
 #include <glm/glm.hpp>
 
+#include "cage_animation.h"
 #include "editor_process.h"
 #include "render_test_support.h"
 #include "scene.h"
@@ -22,6 +25,7 @@ namespace {
 constexpr double kRunSeconds = 240.0;
 const glm::vec3 kLift(0.5f, 0.8f, 0.0f);  // what frame 24 does to the top of the tower
 constexpr uint32_t kMovedVertex = 0;      // a bottom corner: no keys of its own
+const glm::vec3 kThirdKey(0.0f, 0.0f, 1.0f);  // top[0] at frame 36: frame 24's lift and this
 
 json positionsJson(const std::vector<glm::vec3>& positions) {
     json out = json::array();
@@ -114,6 +118,10 @@ TEST_F(EditorAnimation, ShowsFramesPlaysAndKeysEditsAtTheFrame) {
         "set-frame 30\nselect-vertex " + std::to_string(kMovedVertex) + "\nmove-selection 0 -0.5 0\n"
         "wait-frames 2\ndump-state moved.json\nsave-as " + saved + "\n"
         "undo\nwait-frames 2\ndump-state undone.json\nsave-as " + unkeyed + "\n"
+        "resize 1280 800\nset-frame 36\nselect-vertex " + std::to_string(top[0]) + "\nmove-selection 0 0 1\n"
+        "set-frame 12.5\nwait-frames 3\ndump-state linear.json\n"
+        "set-interpolation catmull-rom\nwait-frames 3\ndump-state catmull.json\nscreenshot catmull.png\n"
+        "undo\nwait-frames 2\ndump-state relinear.json\n"
         "set-frame 24\nselect face 0\nextrude 0.3\nset-frame 1\nwait-frames 2\ndump-state extruded.json\n"
         "quit\nclick-button Discard changes\n";
     writeText(dir / "script.txt", script);
@@ -181,6 +189,36 @@ TEST_F(EditorAnimation, ShowsFramesPlaysAndKeysEditsAtTheFrame) {
     EXPECT_EQ(back["animation"]["key_frames"], json::array({1, 24}));
     EXPECT_EQ(vec(back["vertices"][kMovedVertex]), tower.positions[kMovedVertex]);
     EXPECT_TRUE(savedKey(readJson(unkeyed), kMovedVertex, 30).is_null());
+
+    // A third key (top[0] at frame 36): between frames 1 and 24 linear stays on the line,
+    // Catmull-Rom (its tangent at 24 now sees frame 36) leaves it; one entry, undone to linear.
+    const glm::vec3 p0 = tower.positions[top[0]];
+    VertexKeys keys{{0, 3}, {1, 24, 36}, {p0, p0 + kLift, p0 + kLift + kThirdKey}};
+    glm::vec3 smooth;
+    evaluatePositions(keys, Interpolation::CatmullRom, std::span(&p0, 1), 12.5, std::span(&smooth, 1));
+    ASSERT_GT(glm::distance(smooth, p0 + 0.5f * kLift), 1e-3f) << "the keys do not tell the interpolations apart";
+    const json lin = state(editor, "linear.json");
+    EXPECT_EQ(lin["animation"]["interpolation"], "linear");
+    EXPECT_EQ(lin["animation"]["key_frames"], json::array({1, 24, 36}));
+    EXPECT_LT(glm::distance(vec(lin["vertices"][top[0]]), p0 + 0.5f * kLift), 1e-5f);
+    const json smoothed = state(editor, "catmull.json");
+    EXPECT_EQ(smoothed["animation"]["interpolation"], "catmull-rom");
+    EXPECT_EQ(smoothed["animation"]["frame"], 12.5);
+    EXPECT_LT(glm::distance(vec(smoothed["vertices"][top[0]]), smooth), 1e-5f);
+    EXPECT_GT(glm::distance(vec(smoothed["vertices"][top[0]]), vec(lin["vertices"][top[0]])), 1e-3f);
+    EXPECT_EQ(smoothed["animation"]["last_frame_change"]["replanned_faces"], 0);
+    EXPECT_EQ(smoothed["history"]["size"], lin["history"]["size"].get<int>() + 1);
+    EXPECT_EQ(smoothed["history"]["entries"].back()["name"], "Catmull-Rom interpolation of tower");
+    EXPECT_TRUE(smoothed["dirty"].get<bool>());
+    // The combo sits in the timeline strip, left of the side panel, at 1280x800.
+    ASSERT_TRUE(smoothed["widgets"].contains("Interpolation"));
+    const json& combo = smoothed["widgets"]["Interpolation"];
+    EXPECT_LE(combo[0].get<float>() + combo[2].get<float>(), 1280.0f - 380.0f) << combo.dump();
+    EXPECT_LE(combo[1].get<float>() + combo[3].get<float>(), 800.0f) << combo.dump();
+    const json relin = state(editor, "relinear.json");
+    EXPECT_EQ(relin["animation"]["interpolation"], "linear");
+    EXPECT_EQ(relin["history"]["position"], lin["history"]["position"]);
+    EXPECT_LT(glm::distance(vec(relin["vertices"][top[0]]), p0 + 0.5f * kLift), 1e-5f);
 
     // An extrude at frame 24 carries the keys: at frame 1 the cage has the new faces and vertices
     // and shows the first frame again without re-planning.
