@@ -559,6 +559,11 @@ frame of the new keys. Undoable.)doc")
              py::arg("scale") = py::none(),
              R"doc(Keys an object's transform (any object, instances too) at `frame`: the parts given, the others as
 the object has them at that frame. Between keys each part is interpolated. Undoable.)doc")
+        .def("remove_transform_key",
+             [](Document& d, const std::string& name, int64_t frame) { check(d.removeTransformKey(name, frame)); },
+             py::arg("name"), py::arg("frame"),
+             R"doc(Removes an object's transform key at `frame` (refused, naming the object and the frame, where it has
+none). Without keys left the object keeps the transform it shows now. Undoable.)doc")
         .def("set_interpolation",
              [](Document& d, const std::string& name) {
                  return unwrap(d.setInterpolation(enumFrom(kInterpolationNames, name, "interpolation")));

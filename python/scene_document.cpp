@@ -613,14 +613,15 @@ void showTransform(SceneObject& object, double frame) {
         object.transform = evaluateTransform(object.animation, frame, object.transform);
 }
 
-// " (its keys are at frames 1, 5, 9)", at most a few of them named.
-std::string keyedFramesNote(const std::vector<int32_t>& frames) {
-    if (frames.empty()) return " (it has no vertex keys)";
+// " (its keys are at frames 1, 5, 9)", at most a few of them named; `kind` names the keys when
+// there are none (" (it has no vertex keys)") and, unless "vertex", when there are.
+std::string keyedFramesNote(const std::vector<int32_t>& frames, const std::string& kind = "vertex") {
+    if (frames.empty()) return " (it has no " + kind + " keys)";
     constexpr size_t kNamed = 8;
     std::string list;
     for (size_t i = 0; i < std::min(frames.size(), kNamed); ++i) list += (i ? ", " : "") + std::to_string(frames[i]);
     if (frames.size() > kNamed) list += ", ... " + std::to_string(frames.back());
-    return " (its keys are at frames " + list + ")";
+    return " (its " + (kind == "vertex" ? std::string() : kind + " ") + "keys are at frames " + list + ")";
 }
 
 size_t keyBytes(const VertexKeys& keys) {
@@ -759,6 +760,33 @@ Status SceneDocument::setTransformKey(const std::string& name, int64_t frame, co
     };
     return performObjectEdit("Transform key " + name + " at frame " + std::to_string(frame),
                              [=, after = std::move(keyed.transformKeys)] { return put(after); },
+                             [=, before = object.animation.transformKeys] { return put(before); });
+}
+
+Status SceneDocument::removeTransformKey(const std::string& name, int64_t frame) {
+    Status error = success();
+    const uint32_t index = objectIndex(name, error);
+    if (index == UINT32_MAX) return error;
+    if (Status ok = checkKeyFrame(frame); !ok) return ok;
+    const uint32_t id = ids_[index];
+    const SceneObject& object = scene_.objects[index];
+    std::vector<TransformKey> kept = object.animation.transformKeys;
+    if (std::erase_if(kept, [&](const TransformKey& k) { return k.frame == frame; }) == 0) {
+        std::vector<int32_t> frames;
+        for (const TransformKey& k : object.animation.transformKeys) frames.push_back(k.frame);
+        return Error{"\"" + name + "\" has no transform key at frame " + std::to_string(frame) +
+                     keyedFramesNote(frames, "transform")};
+    }
+    // As setTransformKey: without keys left the object keeps the transform it shows now.
+    auto put = [this, id, unkeyed = object.transform](const std::vector<TransformKey>& keys) {
+        SceneObject& o = scene_.objects[indexOfId(id)];
+        o.animation.transformKeys = keys;
+        o.transform = unkeyed;
+        showTransform(o, frame_);
+        return success();
+    };
+    return performObjectEdit("Remove transform key " + name + " at frame " + std::to_string(frame),
+                             [=, after = std::move(kept)] { return put(after); },
                              [=, before = object.animation.transformKeys] { return put(before); });
 }
 

@@ -152,6 +152,9 @@ public:
     // Removes every vertex key of the active object at `frame` (refused when it has none there).
     Result<EditOutcome> removeKeys(int64_t frame);
     Status setTransformKey(const std::string& name, int64_t frame, const ObjectTransform& transform);
+    // Removes object `name`'s transform key at `frame` (refused, naming both, when it has none
+    // there); without keys left the object keeps the transform it shows now.
+    Status removeTransformKey(const std::string& name, int64_t frame);
     Result<EditOutcome> setInterpolation(Interpolation interpolation);
     Status setTimeline(int64_t first, int64_t last, double framesPerSecond);
     // Makes an OBJ sequence (core/cage_sequence.h) the active object's vertex keys, one per

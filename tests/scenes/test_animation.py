@@ -275,3 +275,43 @@ def test_a_sequence_becomes_keys_and_bad_ones_change_nothing(tmp_path):
     with pytest.raises(qp.Error, match="the last frame 1 comes before the first, 5"):
         scene.set_timeline(5, 1)
     unchanged()
+
+
+def test_transform_keys_are_removed_undoably_and_a_missing_one_is_named():
+    scene = qp.Scene(qp.Cage(CUBE, FACES))
+    scene.set_transform_key("cage", 1, translation=(0, 0, 0))
+    scene.set_transform_key("cage", 5, translation=(4, 0, 0))
+    scene.set_transform_key("cage", 9, translation=(4, 4, 0))
+    scene.set_frame(7)
+    assert scene.objects[0]["translation"] == (4, 2, 0)
+    entries = len(scene.history)
+    scene.remove_transform_key("cage", 5)
+    assert len(scene.history) == entries + 1 and scene.history[-1].name == "Remove transform key cage at frame 5"
+    assert scene.objects[0]["translation"] == (3, 3, 0)  # now 1 to 9: three quarters of the way at 7
+    scene.undo()
+    assert scene.objects[0]["translation"] == (4, 2, 0)
+    scene.redo()
+    assert scene.objects[0]["translation"] == (3, 3, 0)
+
+    before = (scene.objects, len(scene.history))
+    with pytest.raises(qp.Error, match=r'"cage" has no transform key at frame 5 \(its transform keys are at frames 1, 9\)'):
+        scene.remove_transform_key("cage", 5)
+    with pytest.raises(qp.Error, match=r'no object is called "car" \(the scene has cage\)'):
+        scene.remove_transform_key("car", 1)
+    with pytest.raises(qp.Error, match="frame 2000000000 is out of range"):
+        scene.remove_transform_key("cage", 2000000000)
+    assert (scene.objects, len(scene.history)) == before
+
+    # Frame 9's key alone holds from frame 7 on; without keys left the object keeps what it shows.
+    scene.remove_transform_key("cage", 1)
+    assert scene.is_animated and scene.objects[0]["translation"] == (4, 4, 0)
+    scene.remove_transform_key("cage", 9)
+    assert not scene.is_animated and scene.objects[0]["translation"] == (4, 4, 0)
+    scene.set_frame(1)
+    assert scene.objects[0]["translation"] == (4, 4, 0)
+    with pytest.raises(qp.Error, match=r'"cage" has no transform key at frame 9 \(it has no transform keys\)'):
+        scene.remove_transform_key("cage", 9)
+    scene.undo()
+    assert scene.is_animated and scene.objects[0]["translation"] == (4, 4, 0)
+    scene.undo()  # frame 1's key back, shown at frame 1
+    assert scene.objects[0]["translation"] == (0, 0, 0)
