@@ -22,9 +22,7 @@
 #include "bench_stats.h"
 #include "cage_sequence.h"
 #include "commands.h"
-#include "line_pass.h"
-#include "offscreen_target.h"
-#include "pipeline_cache.h"
+#include "headless_scene.h"
 #include "plan_pass.h"
 #include "planned_scene.h"
 #include "render_setup.h"
@@ -134,17 +132,12 @@ int runAnimate(const AnimateArgs& args) {
     if (fs::exists(args.out) && !fs::is_directory(args.out))
         return fail("--out " + args.out + " is a file; give the folder to write the frames into");
 
-    SchemeSettings settings;
-    settings.planDepth = args.depth;
-    if (!args.drawPath.empty()) settings.options.push_back({"path", args.drawPath});
-    for (const std::string& text : args.options) {
-        auto option = parseOption(text);
-        if (!option) return fail(option.error().message);
-        settings.options.push_back(*option);
-    }
-    const PluginCatalog catalog = loadPlugins(pluginDirectory(args.pluginDir));
-    for (const PluginProblem& p : catalog.problems) std::fprintf(stderr, "warning: %s\n", p.message.c_str());
-    if (!catalog.find(args.scheme)) return fail(unknownSchemeMessage(catalog, args.scheme));
+    Result<SchemeSettings> parsedSettings = schemeSettingsOf(args.depth, args.drawPath, args.options);
+    if (!parsedSettings) return fail(parsedSettings.error().message);
+    SchemeSettings settings = *parsedSettings;
+    Result<PluginCatalog> loadedCatalog = loadCatalogWith(args.pluginDir, args.scheme);
+    if (!loadedCatalog) return fail(loadedCatalog.error().message);
+    const PluginCatalog& catalog = *loadedCatalog;
 
     PlanDatabase database;
     Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.depth, true});
@@ -171,15 +164,7 @@ int runAnimate(const AnimateArgs& args) {
     const int32_t first = frameRange ? frameRange->first : timeline.firstFrame;
     const int32_t last = frameRange ? frameRange->second : timeline.lastFrame;
 
-    if (args.tess > 0) {
-        settings.tessFactor = args.tess;
-    } else if (args.adaptive > 0.0f) {
-        settings.adaptivePixels = args.adaptive;
-    } else {
-        const Tessellation& t = scene.tessellation;
-        if (t.mode == TessellationMode::Uniform) settings.tessFactor = uint32_t(t.factor);
-        else settings.adaptivePixels = t.pixelsPerEdge;
-    }
+    setTessellation(settings, args.tess, args.adaptive, scene.tessellation);
     const bool showCage = !args.noCage && scene.tessellation.showCage;
     const float aspect = float(width) / float(height);
     Result<RenderCamera> camera = chooseCamera(scene, animationBounds(scene, planned, first, last), aspect, args.camera);
@@ -189,24 +174,13 @@ int runAnimate(const AnimateArgs& args) {
     std::vector<ObjectTransform> restTransforms;
     for (const SceneObject& o : scene.objects) restTransforms.push_back(o.transform);
 
-    Result<VulkanContext> context = createHeadlessContext(args.validate);
-    if (!context) return fail(context.error().message);
-    VulkanContext& ctx = *context;
-
-    int status = 0;
-    std::vector<std::string> cacheWarnings;
-    Result<PipelineCache> cache = loadPipelineCache(ctx, defaultPipelineCachePath(), &cacheWarnings);
-    for (const std::string& w : cacheWarnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    const VkPipelineCache vkCache = cache ? cache->cache : VK_NULL_HANDLE;
-    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
-    const GpuContext gpu{&ctx, vkCache, format, VK_FORMAT_D32_SFLOAT};
-
-    Result<SceneSchemes> prepared = prepareSceneSchemes(catalog, args.scheme, scene, planned, settings, gpu, args.path);
-    Result<std::vector<std::string>> modes = prepared ? prepared->cages.front().instance.colorModes()
-                                                      : Result<std::vector<std::string>>(prepared.error());
-    Result<OffscreenTarget> target = modes ? createOffscreenTarget(ctx, width, height, format) : Result<OffscreenTarget>(modes.error());
-    Result<LinePass> lines = target ? createLinePass(ctx, vkCache, format) : Result<LinePass>(target.error());
-    Result<SceneCageLines> cageLineBuffers = lines ? createSceneCageLines(ctx, planned) : Result<SceneCageLines>(lines.error());
+    HeadlessSceneRequest request{&catalog, args.scheme, settings, args.path, width, height, args.colorBy, args.validate};
+    Result<std::unique_ptr<HeadlessScene>> created = createHeadlessScene(request, scene, planned);
+    if (!created) return fail(created.error().message);
+    HeadlessScene& h = **created;
+    VulkanContext& ctx = h.ctx;
+    const GpuContext& gpu = h.gpu;
+    int status = h.problem.empty() ? 0 : fail(h.problem);
 
     // What the frames measured and wrote.
     std::vector<std::string> written;
@@ -215,23 +189,10 @@ int runAnimate(const AnimateArgs& args) {
     uint64_t replanned = 0;
     uint32_t rebuilds = 0;
     bool createdOut = false;
-    if (!cageLineBuffers) {
-        status = fail(prepared ? "cannot set up the renderer: " + cageLineBuffers.error().message
-                               : cageLineBuffers.error().message);
-    } else if (std::find(modes->begin(), modes->end(), args.colorBy) == modes->end()) {
-        std::string known;
-        for (const std::string& m : *modes) known += (known.empty() ? "" : ", ") + m;
-        status = fail("unknown --color-by '" + args.colorBy + "' for scheme " + args.scheme + "; use " + known);
-    } else {
-        for (const PreparedScheme& p : prepared->cages)
-            for (const std::string& w : p.support.approximations)
-                std::fprintf(stderr, "warning: %s: %s\n", args.scheme.c_str(), w.c_str());
-        DrawView view;
-        view.viewProjection = viewProjection(*camera);
-        view.eye = camera->eye;
-        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(*camera), height);
-        view.colorBy = args.colorBy;
-        view.wireframe = args.wire || scene.tessellation.showWireframe;
+    if (status == 0) {
+        const DrawView view = headlessView(*camera, height, args.colorBy, args.wire || scene.tessellation.showWireframe);
+        SceneSchemes& schemes = *h.schemes;
+        SceneCageLines& cageLineBuffers = *h.cageLines;
 
         std::error_code error;
         createdOut = !fs::exists(args.out);
@@ -263,7 +224,7 @@ int runAnimate(const AnimateArgs& args) {
                 for (uint32_t v = 0; v < now.size(); ++v)
                     if (now[v] != shown[v]) moved.push_back(v);
                 if (moved.empty()) continue;
-                SchemeInstance& instance = prepared->cages[c].instance;
+                SchemeInstance& instance = schemes.cages[c].instance;
                 if (Status updated = instance.updateMoved(moved); !updated) {
                     // Built again for the cage as it is now, as the editor does when a scheme
                     // cannot take a change in place.
@@ -277,13 +238,13 @@ int runAnimate(const AnimateArgs& args) {
                         problem = again.error().message;
                         break;
                     }
-                    prepared->cages[c] = std::move(again).value();
+                    schemes.cages[c] = std::move(again).value();
                     ++rebuilds;
                 }
                 if (showCage) {
                     const std::vector<LineVertex> vertices = cageLines(cage.cage());
-                    if (vertices.size() == cageLineBuffers->counts[c])
-                        uploadBuffer(cageLineBuffers->buffers[c], vertices.data(), vertices.size() * sizeof(LineVertex));
+                    if (vertices.size() == cageLineBuffers.counts[c])
+                        uploadBuffer(cageLineBuffers.buffers[c], vertices.data(), vertices.size() * sizeof(LineVertex));
                 }
             }
             for (uint32_t i = 0; i < scene.objects.size(); ++i)
@@ -293,11 +254,11 @@ int runAnimate(const AnimateArgs& args) {
             Status drawn = problem.empty() ? success() : Status(Error{problem});
             if (drawn)
                 drawn = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-                    drawStats = recordScene(cmd, *prepared, scene, planned, renderTarget(*target), view);
-                    if (showCage) recordSceneCageLines(cmd, *lines, renderTarget(*target), *cageLineBuffers, scene, planned, view);
+                    drawStats = recordScene(cmd, schemes, scene, planned, renderTarget(*h.target), view);
+                    if (showCage) recordSceneCageLines(cmd, *h.lines, renderTarget(*h.target), cageLineBuffers, scene, planned, view);
                 });
             if (drawn && !drawStats) drawn = drawStats.error();
-            Result<std::vector<uint8_t>> pixels = drawn ? readPixels(ctx, *target) : Result<std::vector<uint8_t>>(drawn.error());
+            Result<std::vector<uint8_t>> pixels = drawn ? readPixels(ctx, *h.target) : Result<std::vector<uint8_t>>(drawn.error());
             if (pixels) {
                 frameMs.push_back(msSince(frameStart));
                 updateMs.push_back(frameUpdateMs);
@@ -320,19 +281,7 @@ int runAnimate(const AnimateArgs& args) {
         }
     }
     const std::string device = ctx.deviceName;
-    if (prepared) {
-        if (Status s = destroySceneSchemes(*prepared); !s) status = fail(s.error().message);
-    }
-    if (cache) {
-        if (Status saved = savePipelineCache(ctx, *cache); !saved)
-            std::fprintf(stderr, "warning: pipeline cache not saved: %s\n", saved.error().message.c_str());
-        destroyPipelineCache(ctx, *cache);
-    }
-    if (cageLineBuffers) destroySceneCageLines(ctx, *cageLineBuffers);
-    if (lines) destroyLinePass(ctx, *lines);
-    if (target) destroyOffscreenTarget(ctx, *target);
-    destroyContext(ctx);
-    if (args.validate && reportValidation(ctx)) return status ? status : 4;
+    status = destroyHeadlessScene(h, args.validate, status);
     if (status != 0) return status;
 
     if (replanned > 0)

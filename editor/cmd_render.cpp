@@ -4,9 +4,7 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "line_pass.h"
-#include "offscreen_target.h"
-#include "pipeline_cache.h"
+#include "headless_scene.h"
 #include "plan_pass.h"
 #include "planned_scene.h"
 #include "render_setup.h"
@@ -43,18 +41,12 @@ int runRender(const RenderArgs& args) {
         return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.size + "'");
     if (args.tess > 0 && args.adaptive > 0.0f) return fail("give either --tess or --adaptive, not both");
 
-    SchemeSettings settings;
-    settings.planDepth = args.depth;
-    if (!args.drawPath.empty()) settings.options.push_back({"path", args.drawPath});
-    for (const std::string& text : args.options) {
-        auto option = parseOption(text);
-        if (!option) return fail(option.error().message);
-        settings.options.push_back(*option);
-    }
-
-    const PluginCatalog catalog = loadPlugins(pluginDirectory(args.pluginDir));
-    for (const PluginProblem& p : catalog.problems) std::fprintf(stderr, "warning: %s\n", p.message.c_str());
-    if (!catalog.find(args.scheme)) return fail(unknownSchemeMessage(catalog, args.scheme));
+    Result<SchemeSettings> parsedSettings = schemeSettingsOf(args.depth, args.drawPath, args.options);
+    if (!parsedSettings) return fail(parsedSettings.error().message);
+    SchemeSettings settings = *parsedSettings;
+    Result<PluginCatalog> loadedCatalog = loadCatalogWith(args.pluginDir, args.scheme);
+    if (!loadedCatalog) return fail(loadedCatalog.error().message);
+    const PluginCatalog& catalog = *loadedCatalog;
 
     PlanDatabase database;
     Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.depth, true});
@@ -62,15 +54,7 @@ int runRender(const RenderArgs& args) {
     Scene& scene = file->scene;
     PlannedScene& planned = file->planned;
 
-    if (args.tess > 0) {
-        settings.tessFactor = args.tess;
-    } else if (args.adaptive > 0.0f) {
-        settings.adaptivePixels = args.adaptive;
-    } else {
-        const Tessellation& t = scene.tessellation;
-        if (t.mode == TessellationMode::Uniform) settings.tessFactor = uint32_t(t.factor);
-        else settings.adaptivePixels = t.pixelsPerEdge;
-    }
+    setTessellation(settings, args.tess, args.adaptive, scene.tessellation);
     const bool showCage = !args.noCage && scene.tessellation.showCage;
 
 
@@ -78,48 +62,21 @@ int runRender(const RenderArgs& args) {
     Result<RenderCamera> camera = chooseCamera(scene, sceneBounds(scene), aspect, args.camera);
     if (!camera) return fail(camera.error().message);
 
-    Result<VulkanContext> context = createHeadlessContext(args.validate);
-    if (!context) return fail(context.error().message);
-    VulkanContext& ctx = *context;
-
-    int status = 0;
-    std::vector<std::string> cacheWarnings;
-    Result<PipelineCache> cache = loadPipelineCache(ctx, defaultPipelineCachePath(), &cacheWarnings);
-    for (const std::string& w : cacheWarnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    const VkPipelineCache vkCache = cache ? cache->cache : VK_NULL_HANDLE;
-    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
-    const GpuContext gpu{&ctx, vkCache, format, VK_FORMAT_D32_SFLOAT};
-
-    Result<SceneSchemes> prepared = prepareSceneSchemes(catalog, args.scheme, scene, planned, settings, gpu, args.path);
-    Result<std::vector<std::string>> modes = prepared ? prepared->cages.front().instance.colorModes()
-                                                      : Result<std::vector<std::string>>(prepared.error());
-    Result<OffscreenTarget> target = modes ? createOffscreenTarget(ctx, width, height, format) : Result<OffscreenTarget>(modes.error());
-    Result<LinePass> lines = target ? createLinePass(ctx, vkCache, format) : Result<LinePass>(target.error());
-    Result<SceneCageLines> cageLineBuffers = lines ? createSceneCageLines(ctx, planned) : Result<SceneCageLines>(lines.error());
-    if (!cageLineBuffers) {
-        status = fail(prepared ? "cannot set up the renderer: " + cageLineBuffers.error().message
-                               : cageLineBuffers.error().message);
-    } else if (std::find(modes->begin(), modes->end(), args.colorBy) == modes->end()) {
-        std::string known;
-        for (const std::string& m : *modes) known += (known.empty() ? "" : ", ") + m;
-        status = fail("unknown --color-by '" + args.colorBy + "' for scheme " + args.scheme + "; use " + known);
-    } else {
-        for (const PreparedScheme& p : prepared->cages)
-            for (const std::string& w : p.support.approximations)
-                std::fprintf(stderr, "warning: %s: %s\n", args.scheme.c_str(), w.c_str());
-        DrawView view;
-        view.viewProjection = viewProjection(*camera);
-        view.eye = camera->eye;
-        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(*camera), height);
-        view.colorBy = args.colorBy;
-        view.wireframe = args.wire || scene.tessellation.showWireframe;
+    HeadlessSceneRequest request{&catalog, args.scheme, settings, args.path, width, height, args.colorBy, args.validate};
+    Result<std::unique_ptr<HeadlessScene>> created = createHeadlessScene(request, scene, planned);
+    if (!created) return fail(created.error().message);
+    HeadlessScene& h = **created;
+    int status = h.problem.empty() ? 0 : fail(h.problem);
+    if (status == 0) {
+        const DrawView view = headlessView(*camera, height, args.colorBy, args.wire || scene.tessellation.showWireframe);
+        const RenderTarget target = renderTarget(*h.target);
         Result<DrawStats> drawStats = DrawStats{};
-        Status drawn = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            drawStats = recordScene(cmd, *prepared, scene, planned, renderTarget(*target), view);
-            if (showCage) recordSceneCageLines(cmd, *lines, renderTarget(*target), *cageLineBuffers, scene, planned, view);
+        Status drawn = submitAndWait(h.ctx, [&](VkCommandBuffer cmd) {
+            drawStats = recordScene(cmd, *h.schemes, scene, planned, target, view);
+            if (showCage) recordSceneCageLines(cmd, *h.lines, target, *h.cageLines, scene, planned, view);
         });
         if (drawn && !drawStats) drawn = drawStats.error();
-        Result<std::vector<uint8_t>> pixels = drawn ? readPixels(ctx, *target) : Result<std::vector<uint8_t>>(drawn.error());
+        Result<std::vector<uint8_t>> pixels = drawn ? readPixels(h.ctx, *h.target) : Result<std::vector<uint8_t>>(drawn.error());
         Status written = pixels ? writePng(args.out, width, height, *pixels) : Status(pixels.error());
         if (!written)
             status = fail("rendering " + args.path + " failed: " + written.error().message);
@@ -131,24 +88,11 @@ int runRender(const RenderArgs& args) {
                                         : std::to_string(scene.objects.size()) + " objects, " +
                                               std::to_string(planned.cages.size()) + " cages, ";
             std::fprintf(stderr, "wrote %s (%ux%u, scheme %s on %s, %s%llu patches, %s)\n", args.out.c_str(), width,
-                         height, args.scheme.c_str(), ctx.deviceName.c_str(), objects.c_str(),
+                         height, args.scheme.c_str(), h.ctx.deviceName.c_str(), objects.c_str(),
                          (unsigned long long)drawStats->patches, triangles.c_str());
         }
     }
-    if (prepared) {
-        if (Status s = destroySceneSchemes(*prepared); !s) status = fail(s.error().message);
-    }
-    if (cache) {
-        if (Status saved = savePipelineCache(ctx, *cache); !saved)
-            std::fprintf(stderr, "warning: pipeline cache not saved: %s\n", saved.error().message.c_str());
-        destroyPipelineCache(ctx, *cache);
-    }
-    if (cageLineBuffers) destroySceneCageLines(ctx, *cageLineBuffers);
-    if (lines) destroyLinePass(ctx, *lines);
-    if (target) destroyOffscreenTarget(ctx, *target);
-    destroyContext(ctx);
-    if (args.validate && reportValidation(ctx)) return status ? status : 4;
-    return status;
+    return destroyHeadlessScene(h, args.validate, status);
 }
 
 }  // namespace

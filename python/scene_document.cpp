@@ -745,21 +745,26 @@ Status SceneDocument::setTransformKey(const std::string& name, int64_t frame, co
     if (index == UINT32_MAX) return error;
     if (Status ok = checkKeyFrame(frame); !ok) return ok;
     if (Status ok = checkTransform(name, transform); !ok) return ok;
+    ObjectAnimation keyed;
+    keyed.transformKeys = scene_.objects[index].animation.transformKeys;
+    qp::setTransformKey(keyed, int32_t(frame), transform);
+    return replaceTransformKeys(index, "Transform key " + name + " at frame " + std::to_string(frame),
+                                std::move(keyed.transformKeys));
+}
+
+// One history entry replacing the object's transform keys. Without keys an object keeps the
+// transform it shows when the entry is made.
+Status SceneDocument::replaceTransformKeys(uint32_t index, const std::string& entryName, std::vector<TransformKey> keys) {
     const uint32_t id = ids_[index];
     const SceneObject& object = scene_.objects[index];
-    ObjectAnimation keyed;
-    keyed.transformKeys = object.animation.transformKeys;
-    qp::setTransformKey(keyed, int32_t(frame), transform);
-    // Without keys an object keeps the transform it has now.
-    auto put = [this, id, unkeyed = object.transform](const std::vector<TransformKey>& keys) {
+    auto put = [this, id, unkeyed = object.transform](const std::vector<TransformKey>& value) {
         SceneObject& o = scene_.objects[indexOfId(id)];
-        o.animation.transformKeys = keys;
+        o.animation.transformKeys = value;
         o.transform = unkeyed;
         showTransform(o, frame_);
         return success();
     };
-    return performObjectEdit("Transform key " + name + " at frame " + std::to_string(frame),
-                             [=, after = std::move(keyed.transformKeys)] { return put(after); },
+    return performObjectEdit(entryName, [=, after = std::move(keys)] { return put(after); },
                              [=, before = object.animation.transformKeys] { return put(before); });
 }
 
@@ -768,7 +773,6 @@ Status SceneDocument::removeTransformKey(const std::string& name, int64_t frame)
     const uint32_t index = objectIndex(name, error);
     if (index == UINT32_MAX) return error;
     if (Status ok = checkKeyFrame(frame); !ok) return ok;
-    const uint32_t id = ids_[index];
     const SceneObject& object = scene_.objects[index];
     std::vector<TransformKey> kept = object.animation.transformKeys;
     if (std::erase_if(kept, [&](const TransformKey& k) { return k.frame == frame; }) == 0) {
@@ -777,17 +781,7 @@ Status SceneDocument::removeTransformKey(const std::string& name, int64_t frame)
         return Error{"\"" + name + "\" has no transform key at frame " + std::to_string(frame) +
                      keyedFramesNote(frames, "transform")};
     }
-    // As setTransformKey: without keys left the object keeps the transform it shows now.
-    auto put = [this, id, unkeyed = object.transform](const std::vector<TransformKey>& keys) {
-        SceneObject& o = scene_.objects[indexOfId(id)];
-        o.animation.transformKeys = keys;
-        o.transform = unkeyed;
-        showTransform(o, frame_);
-        return success();
-    };
-    return performObjectEdit("Remove transform key " + name + " at frame " + std::to_string(frame),
-                             [=, after = std::move(kept)] { return put(after); },
-                             [=, before = object.animation.transformKeys] { return put(before); });
+    return replaceTransformKeys(index, "Remove transform key " + name + " at frame " + std::to_string(frame), std::move(kept));
 }
 
 Result<EditOutcome> SceneDocument::setInterpolation(Interpolation interpolation) {

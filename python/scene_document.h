@@ -191,6 +191,8 @@ private:
     // The planned cage history entries tagged `tag` (an object id) were made on; the active one
     // for object edits.
     PlannedCage& cageOfTag(uint32_t tag);
+    // One history entry giving object `index` these transform keys (set or remove one).
+    Status replaceTransformKeys(uint32_t index, const std::string& entryName, std::vector<TransformKey> keys);
     // Object edits: `apply` and `revert` change the scene; recorded as one history entry.
     Status performObjectEdit(const std::string& name, std::function<Status()> apply, std::function<Status()> revert);
     // The same for a change that moves the active object's cage (`apply` and `revert` report the

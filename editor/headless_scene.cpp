@@ -1,0 +1,115 @@
+#include "headless_scene.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "plan_pass.h"
+#include "render_setup.h"
+
+namespace qp::cli {
+
+namespace {
+
+// Each step after the context; the first failure is kept as the problem.
+std::string setUp(HeadlessScene& h, const HeadlessSceneRequest& request, const Scene& scene, const PlannedScene& planned) {
+    Result<SceneSchemes> schemes =
+        prepareSceneSchemes(*request.catalog, request.scheme, scene, planned, request.settings, h.gpu, request.source);
+    if (!schemes) return schemes.error().message;
+    h.schemes = std::move(schemes).value();
+    Result<std::vector<std::string>> modes = h.schemes->cages.front().instance.colorModes();
+    if (!modes) return modes.error().message;
+    const VkFormat format = h.gpu.colorFormat;
+    Result<OffscreenTarget> target = createOffscreenTarget(h.ctx, request.width, request.height, format);
+    if (!target) return "cannot set up the renderer: " + target.error().message;
+    h.target = *target;
+    Result<LinePass> lines = createLinePass(h.ctx, h.gpu.cache, format);
+    if (!lines) return "cannot set up the renderer: " + lines.error().message;
+    h.lines = *lines;
+    Result<SceneCageLines> cageLines = createSceneCageLines(h.ctx, planned);
+    if (!cageLines) return "cannot set up the renderer: " + cageLines.error().message;
+    h.cageLines = std::move(cageLines).value();
+    if (std::find(modes->begin(), modes->end(), request.colorBy) == modes->end()) {
+        std::string known;
+        for (const std::string& m : *modes) known += (known.empty() ? "" : ", ") + m;
+        return "unknown --color-by '" + request.colorBy + "' for scheme " + request.scheme + "; use " + known;
+    }
+    for (const PreparedScheme& p : h.schemes->cages)
+        for (const std::string& w : p.support.approximations)
+            std::fprintf(stderr, "warning: %s: %s\n", request.scheme.c_str(), w.c_str());
+    return "";
+}
+
+}  // namespace
+
+Result<SchemeSettings> schemeSettingsOf(uint32_t depth, const std::string& drawPath, const std::vector<std::string>& options) {
+    SchemeSettings settings;
+    settings.planDepth = depth;
+    if (!drawPath.empty()) settings.options.push_back({"path", drawPath});
+    for (const std::string& text : options) {
+        Result<std::pair<std::string, std::string>> option = parseOption(text);
+        if (!option) return option.error();
+        settings.options.push_back(*option);
+    }
+    return settings;
+}
+
+void setTessellation(SchemeSettings& settings, uint32_t tess, float adaptive, const Tessellation& scene) {
+    if (tess > 0) settings.tessFactor = tess;
+    else if (adaptive > 0.0f) settings.adaptivePixels = adaptive;
+    else if (scene.mode == TessellationMode::Uniform) settings.tessFactor = uint32_t(scene.factor);
+    else settings.adaptivePixels = scene.pixelsPerEdge;
+}
+
+Result<PluginCatalog> loadCatalogWith(const std::string& pluginDir, const std::string& scheme) {
+    PluginCatalog catalog = loadPlugins(pluginDirectory(pluginDir));
+    for (const PluginProblem& p : catalog.problems) std::fprintf(stderr, "warning: %s\n", p.message.c_str());
+    if (!catalog.find(scheme)) return Error{unknownSchemeMessage(catalog, scheme)};
+    return catalog;
+}
+
+Result<std::unique_ptr<HeadlessScene>> createHeadlessScene(const HeadlessSceneRequest& request, const Scene& scene,
+                                                           const PlannedScene& planned) {
+    Result<VulkanContext> context = createHeadlessContext(request.validate);
+    if (!context) return context.error();
+    auto h = std::make_unique<HeadlessScene>();
+    h->ctx = std::move(context).value();
+    std::vector<std::string> cacheWarnings;
+    Result<PipelineCache> cache = loadPipelineCache(h->ctx, defaultPipelineCachePath(), &cacheWarnings);
+    for (const std::string& w : cacheWarnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    if (cache) h->cache = *cache;
+    h->gpu = GpuContext{&h->ctx, h->cache ? h->cache->cache : VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+    h->problem = setUp(*h, request, scene, planned);
+    return h;
+}
+
+DrawView headlessView(const RenderCamera& camera, uint32_t height, const std::string& colorBy, bool wireframe) {
+    DrawView view;
+    view.viewProjection = viewProjection(camera);
+    view.eye = camera.eye;
+    view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), height);
+    view.colorBy = colorBy;
+    view.wireframe = wireframe;
+    return view;
+}
+
+int destroyHeadlessScene(HeadlessScene& h, bool validate, int status) {
+    if (h.schemes) {
+        if (Status s = destroySceneSchemes(*h.schemes); !s) {
+            std::fprintf(stderr, "error: %s\n", s.error().message.c_str());
+            if (status == 0) status = 1;
+        }
+    }
+    if (h.cache) {
+        if (Status saved = savePipelineCache(h.ctx, *h.cache); !saved)
+            std::fprintf(stderr, "warning: pipeline cache not saved: %s\n", saved.error().message.c_str());
+        destroyPipelineCache(h.ctx, *h.cache);
+    }
+    if (h.cageLines) destroySceneCageLines(h.ctx, *h.cageLines);
+    if (h.lines) destroyLinePass(h.ctx, *h.lines);
+    if (h.target) destroyOffscreenTarget(h.ctx, *h.target);
+    destroyContext(h.ctx);
+    if (validate && reportValidation(h.ctx)) return status ? status : 4;
+    return status;
+}
+
+}  // namespace qp::cli

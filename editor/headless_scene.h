@@ -1,0 +1,67 @@
+// The Vulkan side a headless command draws a scene with (render, animate): the context, the
+// pipeline cache, one scheme instance per cage, an offscreen target and the cages' lines. Set up
+// in one call and torn down in one, so each command writes only what it draws.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "camera.h"
+#include "line_pass.h"
+#include "offscreen_target.h"
+#include "pipeline_cache.h"
+#include "planned_scene.h"
+#include "result.h"
+#include "scene.h"
+#include "scene_schemes.h"
+#include "scheme_loader.h"
+
+namespace qp::cli {
+
+// The scheme settings render's options give: the plan depth, `--path` (as the option path=...)
+// and `--option KEY=VALUE` pairs (refused naming a malformed one).
+Result<SchemeSettings> schemeSettingsOf(uint32_t depth, const std::string& drawPath, const std::vector<std::string>& options);
+// The tessellation: `tess` when set, else `adaptive` pixels when set, else the scene's.
+void setTessellation(SchemeSettings& settings, uint32_t tess, float adaptive, const Tessellation& scene);
+// The plugins of `pluginDir` (problems printed as warnings); fails, naming the schemes there,
+// when `scheme` is not one of them.
+Result<PluginCatalog> loadCatalogWith(const std::string& pluginDir, const std::string& scheme);
+
+struct HeadlessSceneRequest {
+    const PluginCatalog* catalog = nullptr;
+    std::string scheme;
+    SchemeSettings settings;
+    std::string source;  // the file, in messages
+    uint32_t width = 0, height = 0;
+    std::string colorBy;  // must be one of the scheme's colour modes
+    bool validate = false;
+};
+
+struct HeadlessScene {
+    VulkanContext ctx;  // heap-held with the rest: `gpu` points at it
+    std::optional<PipelineCache> cache;
+    GpuContext gpu;
+    std::optional<SceneSchemes> schemes;
+    std::optional<OffscreenTarget> target;
+    std::optional<LinePass> lines;
+    std::optional<SceneCageLines> cageLines;
+    // Set when a step after the context failed, or the colour mode is unknown to the scheme: the
+    // command reports it and draws nothing.
+    std::string problem;
+};
+
+// Fails only when no Vulkan context can be made (then there is nothing to tear down). The
+// pipeline cache's warnings and the scheme's approximations are printed as "warning: ...".
+Result<std::unique_ptr<HeadlessScene>> createHeadlessScene(const HeadlessSceneRequest& request, const Scene& scene,
+                                                           const PlannedScene& planned);
+
+// The view of `camera` on an image `height` pixels high.
+DrawView headlessView(const RenderCamera& camera, uint32_t height, const std::string& colorBy, bool wireframe);
+
+// Tears everything down (saving the pipeline cache) and reports validation messages; returns the
+// command's exit status given its own `status` so far (4 for validation messages, as documented).
+int destroyHeadlessScene(HeadlessScene& headless, bool validate, int status);
+
+}  // namespace qp::cli
