@@ -485,8 +485,8 @@ VertexKeys readVertexKeys(const json& value, const std::string& field, uint32_t 
 }
 
 // Every frame of the sequence, read now: a bad frame fails the whole scene.
-VertexKeys readSequence(const std::string& pattern, const std::string& field, const Cage& cage, const Context& ctx) {
-    Result<VertexKeys> keys = loadSequenceKeys((fs::path(ctx.baseDir) / pattern).string(), cage);
+VertexKeys readSequence(const std::string& pattern, const std::string& field, const Cage& cage) {
+    Result<VertexKeys> keys = loadSequenceKeys(pattern, cage);
     if (!keys) fail(field, keys.error().message);
     return std::move(keys).value();
 }
@@ -518,8 +518,13 @@ ObjectAnimation readAnimation(const json& value, const std::string& field, const
         fail(object.field(sequence ? "sequence" : "keys"), "an instance follows its source's cage; it can key its transform only");
     if (sequence && keys) fail(object.field("keys"), "not allowed with \"sequence\": the positions come from one or the other");
     if (sequence) {
-        a.sequencePattern = readName(*sequence, object.field("sequence"));
-        a.vertexKeys = readSequence(a.sequencePattern, object.field("sequence"), *cage, ctx);
+        // Kept absolute, so the scene can be saved to any folder (saveScene writes it relative
+        // to the scene file again).
+        const fs::path pattern = fs::path(ctx.baseDir) / readName(*sequence, object.field("sequence"));
+        std::error_code error;
+        const fs::path absolute = fs::absolute(pattern, error);
+        a.sequencePattern = (error ? pattern : absolute).lexically_normal().string();
+        a.vertexKeys = readSequence(a.sequencePattern, object.field("sequence"), *cage);
     }
     if (keys) a.vertexKeys = readVertexKeys(*keys, object.field("keys"), uint32_t(cage->positions.size()), ctx);
     if (const json* v = object.optional("transform_keys"))

@@ -114,7 +114,9 @@ enum class CageStorage : uint8_t {
 std::string formatScene(const Scene& scene, CageStorage storage);
 
 // Checks the objects (validateObjects) and writes atomically. Referenced cages are saved first
-// (atomically) as OBJs at savedCagePath relative to the scene file.
+// (atomically) as OBJs at savedCagePath relative to the scene file. OBJ sequences (kept absolute
+// once read) are written relative to the scene file, so a scene saved to another folder still
+// finds them.
 Status saveScene(const Scene& scene, const std::string& path, CageStorage storage);
 
 // The OBJ a referenced cage of object `index` is saved as (relative to the scene): its cagePath,

@@ -279,10 +279,24 @@ std::string savedCagePath(const Scene& scene, const std::string& scenePath, uint
     return objectCageFile(scenePath, o.name, scene.objects.size() == 1);
 }
 
-Status saveScene(const Scene& scene, const std::string& path, CageStorage storage) {
+// The scene with its OBJ sequences named relative to `folder`, where the scene file resolves them.
+Scene withSequencesRelativeTo(const Scene& scene, const fs::path& folder) {
+    Scene out = scene;
+    for (SceneObject& o : out.objects) {
+        if (o.animation.sequencePattern.empty() || !fs::path(o.animation.sequencePattern).is_absolute()) continue;
+        const fs::path relative = fs::path(o.animation.sequencePattern).lexically_relative(folder);
+        if (!relative.empty()) o.animation.sequencePattern = relative.string();
+    }
+    return out;
+}
+
+Status saveScene(const Scene& original, const std::string& path, CageStorage storage) {
     // A displacement laid out for another topology, or a broken instance link, would save fine
     // and then not load.
-    if (Status valid = validateObjects(scene.objects, ""); !valid) return Error{path + ": not saved: " + valid.error().message};
+    if (Status valid = validateObjects(original.objects, ""); !valid) return Error{path + ": not saved: " + valid.error().message};
+    std::error_code error;
+    const fs::path folder = fs::absolute(path, error).lexically_normal().parent_path();
+    const Scene scene = error ? original : withSequencesRelativeTo(original, folder);
     if (storage == CageStorage::Inline) return writeFileAtomically(path, formatSceneWith(scene, nullptr));
     std::vector<std::string> cagePaths(scene.objects.size());
     // Objects may reference one OBJ (the same file opened twice): it is written once while their

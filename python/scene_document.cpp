@@ -28,18 +28,14 @@ Status checkVertices(const Cage& cage, std::span<const uint32_t> vertices) {
     return success();
 }
 
-// A sequence pattern as an absolute path: the document keeps them so, whatever folder a scene
-// was opened from or is saved to (save() writes them relative to the scene again).
+// A sequence pattern as an absolute path, as the scene reader keeps them (saveScene writes them
+// relative to the scene again).
 std::string absolutePattern(const fs::path& pattern) {
     std::error_code error;
     const fs::path absolute = fs::absolute(pattern, error);
     return error ? pattern.string() : absolute.lexically_normal().string();
 }
 
-std::string patternRelativeTo(const std::string& pattern, const fs::path& folder) {
-    const fs::path relative = fs::path(pattern).lexically_relative(folder);
-    return relative.empty() ? pattern : relative.string();
-}
 
 }  // namespace
 
@@ -79,10 +75,6 @@ Result<std::unique_ptr<SceneDocument>> SceneDocument::load(const std::string& pa
                                                            std::vector<std::string>* warnings) {
     Result<Scene> scene = loadSceneOrCage(path, warnings);
     if (!scene) return scene.error();
-    for (SceneObject& object : scene->objects)
-        if (!object.animation.sequencePattern.empty())  // relative to the scene file
-            object.animation.sequencePattern =
-                absolutePattern(fs::path(path).parent_path() / object.animation.sequencePattern);
     return create(std::move(scene).value(), options, path, warnings);
 }
 
@@ -115,12 +107,7 @@ Scene SceneDocument::currentScene() const {
 Status SceneDocument::save(const std::string& path, CageStorage storage, std::vector<std::string>* lost) {
     const std::string ext = lowercaseExtension(path);
     if (ext == ".json") {
-        Scene scene = currentScene();
-        const fs::path folder = fs::path(absolutePattern(path)).parent_path();
-        for (SceneObject& object : scene.objects)
-            if (!object.animation.sequencePattern.empty())  // the scene file resolves it from its folder
-                object.animation.sequencePattern = patternRelativeTo(object.animation.sequencePattern, folder);
-        return saveScene(scene, path, storage);
+        return saveScene(currentScene(), path, storage);
     }
     if (ext == ".obj" || isMeshCageExtension(ext)) return saveMeshCage(cage(), path, lost);
     return Error{"cannot save as '" + path + "': the name must end in .json (the scene) or .obj, .om, .ply, .off or .stl (the cage)"};

@@ -261,11 +261,22 @@ TEST_F(AnimatedScene, SequencesLoadWholeOrNotAtAll) {
     Result<Scene> scene = parseScene(text, "seq.json", dir.string());
     ASSERT_TRUE(scene) << scene.error().message;
     const ObjectAnimation& a = scene->objects[0].animation;
-    EXPECT_EQ(a.sequencePattern, "walk_*.obj");
+    EXPECT_EQ(a.sequencePattern, (dir / "walk_*.obj").string());  // kept absolute
     EXPECT_EQ(a.vertexKeys.keyCount(0), 4u);
     const std::vector<glm::vec3> at3 = positionsAtFrame(a, scene->objects[0].cage.positions, 3);
     for (size_t v = 0; v < at3.size(); ++v) EXPECT_NEAR(at3[v].x, cube.positions[v].x * 1.3f, 1e-5f);
-    EXPECT_NE(formatScene(*scene, CageStorage::AsLoaded).find("\"sequence\": \"walk_*.obj\""), std::string::npos);
+    // Saved beside the frames it names them as written; saved in another folder it names them
+    // from there, and loads from there.
+    ASSERT_TRUE(saveScene(*scene, (dir / "again.json").string(), CageStorage::Inline));
+    std::ifstream again((dir / "again.json").string());
+    EXPECT_NE(std::string(std::istreambuf_iterator<char>(again), {}).find("\"sequence\": \"walk_*.obj\""), std::string::npos);
+    fs::create_directories(dir / "elsewhere");
+    ASSERT_TRUE(saveScene(*scene, (dir / "elsewhere" / "moved.json").string(), CageStorage::Inline));
+    std::ifstream moved((dir / "elsewhere" / "moved.json").string());
+    EXPECT_NE(std::string(std::istreambuf_iterator<char>(moved), {}).find("\"sequence\": \"../walk_*.obj\""), std::string::npos);
+    Result<Scene> reloaded = loadScene((dir / "elsewhere" / "moved.json").string());
+    ASSERT_TRUE(reloaded) << reloaded.error().message;
+    EXPECT_EQ(reloaded->objects[0].animation.vertexKeys, a.vertexKeys);
 
     Cage other = test::makeSubdividedCube(3);
     ASSERT_TRUE(saveObj(other, (dir / "walk_0003.obj").string()));
