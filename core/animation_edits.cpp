@@ -91,16 +91,10 @@ private:
 
 std::unique_ptr<CustomEdit> makeKeyedMove(const AnimatedCageState& state, AnimationAccess access, int32_t frame,
                                           std::span<const uint32_t> vertices, std::span<const glm::vec3> positions) {
-    std::vector<uint32_t> sorted(vertices.begin(), vertices.end());
-    std::sort(sorted.begin(), sorted.end());
-    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
-    std::vector<VertexTrack> before = vertexTracks(state.animation->vertexKeys, sorted);
-    // The keyed copy of just these vertices' tracks.
-    ObjectAnimation keyed;
-    const uint32_t count = uint32_t(state.rest->size());
-    replaceVertexTracks(keyed, count, before);
-    setVertexKeys(keyed, count, frame, vertices, positions);
-    std::vector<VertexTrack> after = vertexTracks(keyed.vertexKeys, sorted);
+    std::vector<VertexTrack> after = keyedTracks(state.animation->vertexKeys, frame, vertices, positions);
+    std::vector<uint32_t> keyed;
+    for (const VertexTrack& t : after) keyed.push_back(t.vertex);
+    std::vector<VertexTrack> before = vertexTracks(state.animation->vertexKeys, keyed);
     return std::make_unique<TrackSwap>(std::move(access), std::move(before), std::move(after),
                                        state.animation->sequencePattern);
 }

@@ -67,12 +67,26 @@ void storeTracks(VertexKeys& keys, const std::vector<std::vector<std::pair<int32
     if (keys.frames.empty()) keys.offsets.clear();
 }
 
-std::vector<std::vector<std::pair<int32_t, glm::vec3>>> loadTracks(const VertexKeys& keys, uint32_t vertexCount) {
-    std::vector<std::vector<std::pair<int32_t, glm::vec3>>> tracks(vertexCount);
-    if (keys.offsets.empty()) return tracks;
-    for (uint32_t v = 0; v < vertexCount; ++v)
-        for (uint32_t k = keys.offsets[v]; k < keys.offsets[v + 1]; ++k) tracks[v].push_back({keys.frames[k], keys.positions[k]});
-    return tracks;
+// The keys with the tracks of `replacements` (sorted by vertex, each vertex once) in place of
+// those vertices' own: one pass over the keys, copying the others' ranges as they are.
+VertexKeys splicedKeys(const VertexKeys& keys, uint32_t vertexCount, std::span<const VertexTrack* const> replacements) {
+    VertexKeys out;
+    out.offsets.assign(size_t(vertexCount) + 1, 0);
+    size_t next = 0;
+    for (uint32_t v = 0; v < vertexCount; ++v) {
+        if (next < replacements.size() && replacements[next]->vertex == v) {
+            const VertexTrack& t = *replacements[next++];
+            out.frames.insert(out.frames.end(), t.frames.begin(), t.frames.end());
+            out.positions.insert(out.positions.end(), t.positions.begin(), t.positions.end());
+        } else if (!keys.offsets.empty()) {
+            out.frames.insert(out.frames.end(), keys.frames.begin() + keys.offsets[v], keys.frames.begin() + keys.offsets[v + 1]);
+            out.positions.insert(out.positions.end(), keys.positions.begin() + keys.offsets[v],
+                                 keys.positions.begin() + keys.offsets[v + 1]);
+        }
+        out.offsets[v + 1] = uint32_t(out.frames.size());
+    }
+    if (out.frames.empty()) out.offsets.clear();
+    return out;
 }
 
 glm::vec3 trackValue(const VertexKeys& keys, uint32_t v, Interpolation interpolation, double frame) {
@@ -162,26 +176,25 @@ std::vector<int32_t> keyedFrames(const ObjectAnimation& animation) {
 
 void setVertexKeys(ObjectAnimation& animation, uint32_t vertexCount, int32_t frame, std::span<const uint32_t> vertices,
                    std::span<const glm::vec3> positions) {
-    assert(vertices.size() == positions.size());
     if (vertices.empty()) return;
-    auto tracks = loadTracks(animation.vertexKeys, vertexCount);
-    for (size_t i = 0; i < vertices.size(); ++i) {
-        auto& track = tracks.at(vertices[i]);
-        auto at = std::lower_bound(track.begin(), track.end(), frame,
-                                   [](const std::pair<int32_t, glm::vec3>& key, int32_t f) { return key.first < f; });
-        if (at != track.end() && at->first == frame) at->second = positions[i];
-        else track.insert(at, {frame, positions[i]});
-    }
-    storeTracks(animation.vertexKeys, tracks);
-    animation.sequencePattern.clear();
+    replaceVertexTracks(animation, vertexCount, keyedTracks(animation.vertexKeys, frame, vertices, positions));
 }
 
 void removeVertexKeysAt(ObjectAnimation& animation, int32_t frame) {
-    if (animation.vertexKeys.empty()) return;
-    auto tracks = loadTracks(animation.vertexKeys, uint32_t(animation.vertexKeys.offsets.size() - 1));
-    for (auto& track : tracks)
-        std::erase_if(track, [&](const std::pair<int32_t, glm::vec3>& key) { return key.first == frame; });
-    storeTracks(animation.vertexKeys, tracks);
+    VertexKeys& keys = animation.vertexKeys;
+    if (keys.empty()) return;
+    size_t kept = 0;
+    uint32_t begin = 0;
+    for (size_t v = 0; v + 1 < keys.offsets.size(); ++v) {
+        const uint32_t end = keys.offsets[v + 1];
+        for (uint32_t k = begin; k < end; ++k)
+            if (keys.frames[k] != frame) keys.frames[kept] = keys.frames[k], keys.positions[kept++] = keys.positions[k];
+        begin = end;
+        keys.offsets[v + 1] = uint32_t(kept);
+    }
+    keys.frames.resize(kept);
+    keys.positions.resize(kept);
+    if (kept == 0) keys.offsets.clear();
     animation.sequencePattern.clear();
 }
 
@@ -190,6 +203,31 @@ void setTransformKey(ObjectAnimation& animation, int32_t frame, const ObjectTran
     auto at = std::lower_bound(keys.begin(), keys.end(), frame, [](const TransformKey& k, int32_t f) { return k.frame < f; });
     if (at != keys.end() && at->frame == frame) at->transform = transform;
     else keys.insert(at, TransformKey{frame, transform});
+}
+
+void insertKey(VertexTrack& track, int32_t frame, const glm::vec3& position) {
+    const auto at = std::lower_bound(track.frames.begin(), track.frames.end(), frame);
+    const size_t i = size_t(at - track.frames.begin());
+    if (at != track.frames.end() && *at == frame) {
+        track.positions[i] = position;
+    } else {
+        track.frames.insert(at, frame);
+        track.positions.insert(track.positions.begin() + long(i), position);
+    }
+}
+
+std::vector<VertexTrack> keyedTracks(const VertexKeys& keys, int32_t frame, std::span<const uint32_t> vertices,
+                                     std::span<const glm::vec3> positions) {
+    assert(vertices.size() == positions.size());
+    std::vector<uint32_t> sorted(vertices.begin(), vertices.end());
+    std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+    std::vector<VertexTrack> tracks = vertexTracks(keys, sorted);
+    for (size_t i = 0; i < vertices.size(); ++i) {
+        const size_t t = size_t(std::lower_bound(sorted.begin(), sorted.end(), vertices[i]) - sorted.begin());
+        insertKey(tracks[t], frame, positions[i]);
+    }
+    return tracks;
 }
 
 std::vector<VertexTrack> vertexTracks(const VertexKeys& keys, std::span<const uint32_t> vertices) {
@@ -207,13 +245,17 @@ std::vector<VertexTrack> vertexTracks(const VertexKeys& keys, std::span<const ui
 
 void replaceVertexTracks(ObjectAnimation& animation, uint32_t vertexCount, std::span<const VertexTrack> replacements) {
     if (replacements.empty()) return;
-    auto tracks = loadTracks(animation.vertexKeys, vertexCount);
-    for (const VertexTrack& r : replacements) {
-        auto& track = tracks.at(r.vertex);
-        track.clear();
-        for (size_t k = 0; k < r.frames.size(); ++k) track.push_back({r.frames[k], r.positions[k]});
+    std::vector<const VertexTrack*> byVertex;
+    for (const VertexTrack& t : replacements) byVertex.push_back(&t);
+    // Sorted by vertex; of a vertex listed twice the last one counts.
+    std::stable_sort(byVertex.begin(), byVertex.end(), [](const VertexTrack* a, const VertexTrack* b) { return a->vertex < b->vertex; });
+    std::vector<const VertexTrack*> unique;
+    for (const VertexTrack* t : byVertex) {
+        assert(t->vertex < vertexCount);
+        if (!unique.empty() && unique.back()->vertex == t->vertex) unique.back() = t;
+        else unique.push_back(t);
     }
-    storeTracks(animation.vertexKeys, tracks);
+    animation.vertexKeys = splicedKeys(animation.vertexKeys, vertexCount, unique);
     animation.sequencePattern.clear();
 }
 

@@ -108,6 +108,11 @@ struct VertexTrack {
     std::vector<glm::vec3> positions;
 };
 std::vector<VertexTrack> vertexTracks(const VertexKeys& keys, std::span<const uint32_t> vertices);
+// Puts a key at `frame` into a track (replacing one at an equal frame).
+void insertKey(VertexTrack& track, int32_t frame, const glm::vec3& position);
+// The tracks of `vertices` (sorted, each once) with a key at `frame` at their positions.
+std::vector<VertexTrack> keyedTracks(const VertexKeys& keys, int32_t frame, std::span<const uint32_t> vertices,
+                                     std::span<const glm::vec3> positions);
 // Replaces the tracks of the listed vertices (an empty track removes the vertex's keys).
 void replaceVertexTracks(ObjectAnimation& animation, uint32_t vertexCount, std::span<const VertexTrack> tracks);
 
