@@ -1,6 +1,7 @@
 #include "draw_path.h"
 
 #include "displaced_grid_factors.h"
+#include "grid_relayout.h"
 
 #include <cassert>
 
@@ -34,7 +35,11 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
     GridFactors factors = settings.uniformFactor ? uniformGridFactors(buffers.data, settings.uniformFactor)
                                                  : adaptiveGridFactors(buffers, view, settings);
     if (buffers.displacement) factors = displacedGridFactors(buffers.data, *buffers.displacement, std::move(factors));
-    Status laidOut = prepareGrid(ctx, pass, buffers, std::move(factors));
+    // The compute shader's pending sub-faces are not for the CPU path: it evaluates whole instead.
+    if (path == DrawPath::CpuGrid && !buffers.pendingGridSubfaces.empty()) buffers.gridEvaluator = GridEvaluator::None;
+    Result<bool> kept = relayoutGridKeepingSlots(ctx, pass, buffers, planned, factors);
+    if (!kept) return kept.error();
+    Status laidOut = *kept ? success() : prepareGrid(ctx, pass, buffers, std::move(factors));
     if (!laidOut) return laidOut;
     buffers.gridLayout.uniformRequest = buffers.displacement ? 0 : settings.uniformFactor;
     // A grid filled by the other evaluator is equally good; only a missing one is filled.

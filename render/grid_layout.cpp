@@ -215,6 +215,16 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors) {
     return layout;
 }
 
+std::vector<uint32_t> subfacesWithNewFactors(const GpuPlanData& data, const GridFactors& before, const GridFactors& after) {
+    std::vector<uint32_t> changed;
+    for (uint32_t d = 0; d < uint32_t(data.subfaces.size()); ++d) {
+        bool differs = before.subfaceFactor[d] != after.subfaceFactor[d];
+        for (uint32_t e = 0; e < 4 && !differs; ++e) differs = edgePieces(data, before, d, e) != edgePieces(data, after, d, e);
+        if (differs) changed.push_back(d);
+    }
+    return changed;
+}
+
 std::vector<uint32_t> withDependents(const GridLayout& layout, std::span<const uint32_t> drawn) {
     std::vector<uint32_t> out(drawn.begin(), drawn.end());
     for (uint32_t d : drawn)

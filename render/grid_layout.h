@@ -85,6 +85,10 @@ struct GridLayout {
 
 GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors);
 
+// Drawn sub-faces whose slots mean something else under `after` than under `before`: their
+// factor or the pieces of one of their edges changed (sorted).
+std::vector<uint32_t> subfacesWithNewFactors(const GpuPlanData& data, const GridFactors& before, const GridFactors& after);
+
 // (u, v) of a slot of drawn sub-face `drawn`, as both evaluators compute it.
 inline void slotParameter(uint32_t local, uint32_t n, float& u, float& v) {
     u = float(local % (n + 1)) / float(n);

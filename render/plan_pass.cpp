@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <utility>
 #include <iterator>
 #include <tuple>
 
@@ -365,6 +366,7 @@ Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffer
     if (!buffers.gridLayout.subfaceOffset.empty() && buffers.gridLayout.factors == factors) return success();
     if (Status s = installGridLayout(ctx, pass, buffers, buildGridLayout(buffers.data, std::move(factors))); !s) return s;
     buffers.gridEvaluator = GridEvaluator::None;
+    buffers.pendingGridSubfaces.clear();
     return success();
 }
 
@@ -409,6 +411,7 @@ void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers
     const uint32_t count = uint32_t(buffers.data.subfaces.size());
     dispatchGridPhase(cmd, pass, buffers, count, 0, kWholeCage);
     dispatchGridPhase(cmd, pass, buffers, count, 1, kWholeCage);
+    buffers.pendingGridSubfaces.clear();
     // Tests read the grid back on the host.
     barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, VK_PIPELINE_STAGE_2_HOST_BIT,
             VK_ACCESS_2_HOST_READ_BIT);
@@ -422,6 +425,7 @@ void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers) {
     evaluateWholeGridOnCpu(planned, buffers.data, buffers.gridLayout, static_cast<GridVertex*>(buffers.grid.data),
                            buffers.displacement, buffers.displacement ? &buffers.gridFrames : nullptr);
     buffers.gridEvaluator = GridEvaluator::Cpu;
+    buffers.pendingGridSubfaces.clear();
 }
 
 namespace {
@@ -476,13 +480,34 @@ void recordShadedTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer v
     recordTriangles(cmd, pass, vertices, indices, indexCount, target, shaded);
 }
 
-void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,
-                const PlanView& view) {
-    if (buffers.gridEvaluator == GridEvaluator::None) recordGridEvaluation(cmd, pass, buffers);
-    recordGridDraw(cmd, pass, buffers, target, view);
-}
 
 namespace {
+
+// Writes the lists a partial update dispatches over: `evaluate` at 0, `copy` after it. The lists
+// are recorded into the command buffer, so updates in flight never see another's.
+void recordUpdateLists(VkCommandBuffer cmd, const PlanBuffers& buffers, const std::vector<uint32_t>& evaluate,
+                       const std::vector<uint32_t>& copy) {
+    barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
+            VK_ACCESS_2_TRANSFER_WRITE_BIT);
+    recordListUpload(cmd, buffers, evaluate, 0);
+    if (!copy.empty()) recordListUpload(cmd, buffers, copy, uint32_t(evaluate.size()));
+    barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
+            VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+}
+
+// Phase 1 over the first `evaluated` entries of the update list, phase 2 over the `copied` after them.
+void dispatchGridPhases(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, uint32_t evaluated,
+                        uint32_t copied) {
+    dispatchGridPhase(cmd, pass, buffers, evaluated, 0, 0);
+    dispatchGridPhase(cmd, pass, buffers, copied, 1, evaluated);
+}
+
+// The compute shader's part of a partial grid update.
+void recordGpuGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers,
+                          const std::vector<uint32_t>& evaluate, const std::vector<uint32_t>& copy) {
+    recordUpdateLists(cmd, buffers, evaluate, copy);
+    dispatchGridPhases(cmd, pass, buffers, uint32_t(evaluate.size()), uint32_t(copy.size()));
+}
 
 struct GridRefresh {
     uint32_t controlPointSubfaces = 0, evaluatedSubfaces = 0, copiedSubfaces = 0;
@@ -498,23 +523,15 @@ GridRefresh recordGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuf
     if (touched.empty()) return update;
 
     const uint32_t touchedCount = uint32_t(touched.size());
-    if (controlPoints || buffers.gridEvaluator == GridEvaluator::Gpu) {
-        // The list is recorded into the command buffer, so updates in flight never see another's.
-        barrier(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT,
-                VK_ACCESS_2_TRANSFER_WRITE_BIT);
-        recordListUpload(cmd, buffers, touched, 0);
-        if (buffers.gridEvaluator == GridEvaluator::Gpu) recordListUpload(cmd, buffers, copying, touchedCount);
-        barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT,
-                VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-    }
+    if (controlPoints || buffers.gridEvaluator == GridEvaluator::Gpu)
+        recordUpdateLists(cmd, buffers, touched, buffers.gridEvaluator == GridEvaluator::Gpu ? copying : std::vector<uint32_t>{});
     if (controlPoints) {
         dispatchPerSubface(cmd, pass, pass.stencils, PlanComputePush{touchedCount, buffers.controlPointLevel, 0, 0});
         computeWritesBeforeReads(cmd);
         update.controlPointSubfaces = touchedCount;
     }
     if (buffers.gridEvaluator == GridEvaluator::Gpu) {
-        dispatchGridPhase(cmd, pass, buffers, touchedCount, 0, 0);
-        dispatchGridPhase(cmd, pass, buffers, uint32_t(copying.size()), 1, touchedCount);
+        dispatchGridPhases(cmd, pass, buffers, touchedCount, uint32_t(copying.size()));
     } else if (buffers.gridEvaluator == GridEvaluator::Cpu) {
         evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, touched, copying,
                           static_cast<GridVertex*>(buffers.grid.data), buffers.displacement,
@@ -528,6 +545,20 @@ GridRefresh recordGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuf
 }
 
 }  // namespace
+
+void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,
+                const PlanView& view) {
+    if (buffers.gridEvaluator == GridEvaluator::None) recordGridEvaluation(cmd, pass, buffers);
+    else recordPendingGridRefresh(cmd, pass, buffers);
+    recordGridDraw(cmd, pass, buffers, target, view);
+}
+
+void recordPendingGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers) {
+    if (buffers.pendingGridSubfaces.empty()) return;
+    const std::vector<uint32_t> pending = std::exchange(buffers.pendingGridSubfaces, {});
+    recordStencils(cmd, pass, buffers, levelFor(buffers.gridLayout.maxFactor));  // raised factors may go deeper
+    recordGpuGridRefresh(cmd, pass, buffers, pending, withDependents(buffers.gridLayout, pending));
+}
 
 MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
                                const PlannedCage& planned, std::span<const uint32_t> vertices) {

@@ -79,6 +79,9 @@ struct PlanBuffers {
     // update in place: then the stencil counts packPlans gave them).
     std::vector<uint32_t> controlPointCapacity;
     GridEvaluator gridEvaluator = GridEvaluator::None;
+    // Drawn sub-faces the compute shader evaluates at the next recordGrid (and their neighbours'
+    // copies): a relayout kept the rest (grid_relayout.h).
+    std::vector<uint32_t> pendingGridSubfaces;
 
     // Sculpted displacement (setPlanDisplacement): DisplacementLayout's subfaces and segments
     // and the samples; 16-byte placeholders (no sub-face record) when there is none.
@@ -198,7 +201,10 @@ void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers
 // differs from a view frame only in where its vertices came from.
 void recordShadedTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices,
                            uint32_t indexCount, const RenderTarget& target, const PlanView& view);
-// recordGridEvaluation unless the grid is cached, then recordGridDraw.
+// The sub-faces a relayout left to the compute shader (PlanBuffers::pendingGridSubfaces) and
+// their neighbours' copies; nothing when none are pending.
+void recordPendingGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers);
+// recordGridEvaluation unless the grid is cached (then the pending refresh), then recordGridDraw.
 void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,
                 const PlanView& view);
 

@@ -6,6 +6,8 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include "grid_relayout.h"
+
 namespace qp {
 
 namespace {
@@ -96,40 +98,6 @@ EdgeOwners ownersOf(const GpuPlanData& data, uint32_t drawn, std::span<const uin
     return o;
 }
 bool operator==(const EdgeOwners& a, const EdgeOwners& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-// The grid laid out for `factors` (every kept sub-face's own unchanged), the evaluated vertices of
-// kept sub-faces moved to their new slots (`oldOf`: drawn index now -> before, or UINT32_MAX).
-Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors,
-                 const std::vector<uint32_t>& oldOf) {
-    const std::vector<uint32_t> oldOffset = std::move(buffers.gridLayout.subfaceOffset);
-    GridLayout layout = buildGridLayout(buffers.data, std::move(factors));
-    layout.uniformRequest = buffers.gridLayout.uniformRequest;
-    // The vertices move inside the grid buffer when the new layout fits it, else through a copy.
-    const bool inPlace = VkDeviceSize(layout.slotCount()) * sizeof(GridVertex) <= buffers.grid.size;
-    std::vector<GridVertex> before;
-    if (!inPlace) {
-        const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
-        before.assign(grid, grid + (oldOffset.empty() ? 0 : oldOffset.back()));
-    }
-    if (Status s = installGridLayout(ctx, pass, buffers, std::move(layout)); !s) return s;
-    const std::vector<uint32_t>& newOffset = buffers.gridLayout.subfaceOffset;
-    auto* slots = static_cast<GridVertex*>(buffers.grid.data);
-    const GridVertex* from = inPlace ? slots : before.data();
-    auto move = [&](uint32_t d) {
-        const uint32_t old = oldOf[d];
-        if (!inPlace || newOffset[d] != oldOffset[old])
-            std::memmove(slots + newOffset[d], from + oldOffset[old], (oldOffset[old + 1] - oldOffset[old]) * sizeof(GridVertex));
-    };
-    // Kept sub-faces keep their order (holes and topology edits renumber in order), so moving
-    // those whose range goes down first, in ascending order, then those whose range goes up, in
-    // descending order, never overwrites a range that has yet to move.
-    const uint32_t count = uint32_t(oldOf.size());
-    for (uint32_t d = 0; d < count; ++d)
-        if (oldOf[d] != UINT32_MAX && newOffset[d] <= oldOffset[oldOf[d]]) move(d);
-    for (uint32_t d = count; d-- > 0;)
-        if (oldOf[d] != UINT32_MAX && newOffset[d] > oldOffset[oldOf[d]]) move(d);
-    return success();
-}
 
 // The grid is laid out and evaluated whole at the next draw.
 Status dropGrid(PlanBuffers& buffers, PlanTableUpdate& update) {

@@ -21,6 +21,7 @@
 #include "displaced_mesh.h"
 #include "displacement_users.h"
 #include "generated_cage.h"
+#include "grid_relayout.h"
 #include "offscreen_target.h"
 #include "osd_refiner.h"
 #include "plan_pass.h"
@@ -397,6 +398,69 @@ TEST_F(DisplacementRender, DabUpdatesExactlyWhatAFullEvaluationWould) {
                 << what << ": the updated grid differs from a full evaluation";
         }
         destroyPlanBuffers(ctx, buffers);
+    }
+}
+
+// A stroke that reaches tiles that were zero raises their factors: the grid is laid out again
+// keeping every sub-face whose slots mean the same (their factor and edges' pieces unchanged)
+// and evaluates only the others and the neighbours that copy from them, on both evaluators,
+// with the same bits as laying out and evaluating the whole grid.
+TEST_F(DisplacementRender, AStrokeReachingNewTilesRelaysTheGridKeepingWhatIsEvaluated) {
+    for (auto& [name, cage] : displacementCages()) {
+        for (bool gpu : {true, false}) {
+            const std::string what = name + (gpu ? ", compute shader" : ", CPU evaluator");
+            PlanDatabase db;
+            PlannedCage planned = planCage(cage, db);
+            const float diagonal = computeBounds(planned.cage()).diagonal();
+            Displacement d = makeDisplacement(planned.cage(), planned.topology(), 8);
+            const SculptSamples samples = SculptSamples::build(planned, d.layout);
+            std::vector<uint32_t> sited;
+            for (uint32_t i = 0; i < samples.sampleCount(); ++i)
+                if (samples.hasSite(i)) sited.push_back(i);
+            const Brush brush{BrushKind::Raise, 0.08f * diagonal, 0.05f, Falloff::Smooth};
+            applyStroke(d, samples, StrokeOptions{brush}, std::vector<glm::vec3>{samples.position(sited[sited.size() / 5])});
+            PlanBuffers buffers = upload(planned, d);
+            const GridFactors base = uniformGridFactors(buffers.data, 2);
+            ASSERT_TRUE(prepareGrid(ctx, pass, buffers, displacedGridFactors(buffers.data, d, base)).ok());
+            fillGrid(planned, buffers, gpu);
+            const uint32_t slotsBefore = buffers.gridLayout.slotCount();
+
+            // A dab far from the first: its samples are sent and re-displaced in the old layout
+            // (as the editor does after each dab), then the next frame's factors differ.
+            Sculptor sculptor(d, samples);
+            sculptor.beginStroke();
+            ASSERT_GT(sculptor.dab(brush, MirrorAxis::None, samples.position(sited[4 * sited.size() / 5])), 0u) << what;
+            const std::vector<uint32_t> reached(sculptor.lastDabSamples().begin(), sculptor.lastDabSamples().end());
+            sculptor.endStroke();
+            ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordDisplacementChange(cmd, pass, buffers, planned, reached); }).ok());
+            const GridFactors raised = displacedGridFactors(buffers.data, d, base);
+            const std::vector<uint32_t> changed = subfacesWithNewFactors(buffers.data, buffers.gridLayout.factors, raised);
+            ASSERT_GT(changed.size(), 0u) << what << ": the dab raised no factor";
+            ASSERT_LT(2 * changed.size(), buffers.data.subfaces.size()) << what;
+            Result<bool> kept = relayoutGridKeepingSlots(ctx, pass, buffers, planned, raised);
+            ASSERT_TRUE(kept.ok()) << kept.error().message;
+            ASSERT_TRUE(*kept) << what << ": laid out whole";
+            EXPECT_EQ(buffers.gridLayout.factors, raised) << what;
+            EXPECT_GT(buffers.gridLayout.slotCount(), slotsBefore) << what;
+            EXPECT_EQ(buffers.pendingGridSubfaces.empty(), !gpu) << what;
+            ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordPendingGridRefresh(cmd, pass, buffers); }).ok());
+            EXPECT_TRUE(buffers.pendingGridSubfaces.empty()) << what;
+            const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+            const std::vector<GridVertex> updated(grid, grid + buffers.gridLayout.slotCount());
+            const std::vector<float> frames = buffers.gridFrames.components;
+            const std::vector<GridVertex> full = fillGrid(planned, buffers, gpu);
+            EXPECT_EQ(std::memcmp(updated.data(), full.data(), full.size() * sizeof(GridVertex)), 0)
+                << what << ": the relaid grid differs from a whole evaluation";
+            if (!gpu) {
+                ASSERT_EQ(frames.size(), buffers.gridFrames.components.size()) << what;
+                // Padding past the last slot is never written by either.
+                EXPECT_EQ(std::memcmp(frames.data(), buffers.gridFrames.components.data(),
+                                      size_t(kFrameComponents) * buffers.gridLayout.slotCount() * sizeof(float)), 0)
+                    << what << ": the carried displacement frames differ";
+            }
+            destroyPlanBuffers(ctx, buffers);
+            if (HasFatalFailure()) return;
+        }
     }
 }
 

@@ -1,0 +1,82 @@
+#include "grid_relayout.h"
+
+#include <cstring>
+
+#include "cpu_grid.h"
+
+namespace qp {
+
+Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors,
+                 const std::vector<uint32_t>& oldOf) {
+    const GridLayout oldLayout = std::move(buffers.gridLayout);
+    const std::vector<uint32_t>& oldOffset = oldLayout.subfaceOffset;
+    GridLayout layout = buildGridLayout(buffers.data, std::move(factors));
+    layout.uniformRequest = oldLayout.uniformRequest;
+    // The vertices move inside the grid buffer when the new layout fits it, else through a copy.
+    const bool inPlace = VkDeviceSize(layout.slotCount()) * sizeof(GridVertex) <= buffers.grid.size;
+    std::vector<GridVertex> before;
+    if (!inPlace) {
+        const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+        before.assign(grid, grid + (oldOffset.empty() ? 0 : oldOffset.back()));
+    }
+    if (Status s = installGridLayout(ctx, pass, buffers, std::move(layout)); !s) return s;
+    const GridLayout& now = buffers.gridLayout;
+    const std::vector<uint32_t>& newOffset = now.subfaceOffset;
+    auto* slots = static_cast<GridVertex*>(buffers.grid.data);
+    const GridVertex* from = inPlace ? slots : before.data();
+    auto move = [&](uint32_t d) {
+        const uint32_t old = oldOf[d];
+        if (!inPlace || newOffset[d] != oldOffset[old])
+            std::memmove(slots + newOffset[d], from + oldOffset[old], (oldOffset[old + 1] - oldOffset[old]) * sizeof(GridVertex));
+    };
+    // Kept sub-faces keep their order (holes and topology edits renumber in order), so moving
+    // those whose range goes down first, in ascending order, then those whose range goes up, in
+    // descending order, never overwrites a range that has yet to move.
+    const uint32_t count = uint32_t(oldOf.size());
+    for (uint32_t d = 0; d < count; ++d)
+        if (oldOf[d] != UINT32_MAX && newOffset[d] <= oldOffset[oldOf[d]]) move(d);
+    for (uint32_t d = count; d-- > 0;)
+        if (oldOf[d] != UINT32_MAX && newOffset[d] > oldOffset[oldOf[d]]) move(d);
+
+    // The CPU path's displacement frames follow their slots (a dab re-displaces from them).
+    if (!buffers.gridFrames.components.empty()) {
+        GridFrames frames;
+        frames.resize(now);
+        for (uint32_t d = 0; d < count; ++d) {
+            const uint32_t old = oldOf[d];
+            if (old == UINT32_MAX) continue;
+            const size_t floats = size_t(kFrameComponents) * (oldOffset[old + 1] - oldOffset[old]);
+            std::memcpy(frames.block(now, d), buffers.gridFrames.block(oldLayout, old), floats * sizeof(float));
+        }
+        buffers.gridFrames = std::move(frames);
+    }
+    return success();
+}
+
+Result<bool> relayoutGridKeepingSlots(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
+                                      const PlannedCage& planned, const GridFactors& factors) {
+    const uint32_t count = uint32_t(buffers.data.subfaces.size());
+    const GridLayout& current = buffers.gridLayout;
+    if (buffers.gridEvaluator == GridEvaluator::None || current.subfaceOffset.size() != count + 1 ||
+        factors.subfaceFactor.size() != count || !buffers.pendingGridSubfaces.empty())
+        return false;
+    if (current.factors == factors) return false;
+    const std::vector<uint32_t> changed = subfacesWithNewFactors(buffers.data, current.factors, factors);
+    if (changed.empty() || 2 * changed.size() > count) return false;
+    std::vector<uint32_t> oldOf(count);
+    for (uint32_t d = 0; d < count; ++d) oldOf[d] = d;
+    for (uint32_t d : changed) oldOf[d] = UINT32_MAX;
+    const GridEvaluator evaluator = buffers.gridEvaluator;
+    if (Status s = carryGrid(ctx, pass, buffers, factors, oldOf); !s) return s.error();
+    buffers.gridEvaluator = evaluator;
+    if (evaluator == GridEvaluator::Cpu) {
+        evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, changed, withDependents(buffers.gridLayout, changed),
+                          static_cast<GridVertex*>(buffers.grid.data), buffers.displacement,
+                          buffers.displacement ? &buffers.gridFrames : nullptr);
+    } else {
+        buffers.pendingGridSubfaces = changed;  // recordGrid evaluates them
+    }
+    return true;
+}
+
+}  // namespace qp
