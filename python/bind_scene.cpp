@@ -91,32 +91,6 @@ py::dict planStats(const PlannedCage& planned) {
     return out;
 }
 
-// (sub-faces, u, v) broadcast against each other, checked.
-std::vector<SampleRequest> sampleRequests(const PlannedCage& planned, const py::object& subfaces, const py::object& u,
-                                          const py::object& v) {
-    py::object numpy = py::module_::import("numpy");
-    py::tuple arrays = numpy.attr("broadcast_arrays")(numpy.attr("asarray")(subfaces), numpy.attr("asarray")(u),
-                                                       numpy.attr("asarray")(v));
-    auto s = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(numpy.attr("ravel")(arrays[0]));
-    auto us = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(numpy.attr("ravel")(arrays[1]));
-    auto vs = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(numpy.attr("ravel")(arrays[2]));
-    if (!s || !us || !vs) throw ScriptError("sub-faces must be integers and u, v numbers");
-    std::vector<SampleRequest> requests(size_t(s.size()));
-    for (size_t i = 0; i < requests.size(); ++i) {
-        const int64_t subface = s.data()[i];
-        const double a = us.data()[i], b = vs.data()[i];
-        if (subface < 0 || subface >= int64_t(planned.subfaceCount()))
-            throw ScriptError("sub-face " + std::to_string(subface) + " does not exist (the cage has " +
-                              std::to_string(planned.subfaceCount()) + " sub-faces)");
-        if (!planned.hasSurface(uint32_t(subface)))
-            throw ScriptError("sub-face " + std::to_string(subface) + " has no limit surface (a hole, or a boundary under the rule \"none\")");
-        if (!(a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0))
-            throw ScriptError("u and v must lie in [0, 1]; sample " + std::to_string(i) + " has (" + std::to_string(a) + ", " +
-                              std::to_string(b) + ")");
-        requests[i] = {uint32_t(subface), float(a), float(b)};
-    }
-    return requests;
-}
 
 py::array_t<float> pointsArray(const std::vector<LimitSample>& samples, glm::vec3 LimitSample::*member) {
     py::array_t<float> out({py::ssize_t(samples.size()), py::ssize_t(3)});
@@ -172,6 +146,33 @@ py::dict scenePlanStatsDict(const Document& d) {
 }
 
 }  // namespace
+
+// (sub-faces, u, v) broadcast against each other, checked.
+std::vector<SampleRequest> sampleRequests(const PlannedCage& planned, const py::object& subfaces, const py::object& u,
+                                          const py::object& v) {
+    py::object numpy = py::module_::import("numpy");
+    py::tuple arrays = numpy.attr("broadcast_arrays")(numpy.attr("asarray")(subfaces), numpy.attr("asarray")(u),
+                                                       numpy.attr("asarray")(v));
+    auto s = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(numpy.attr("ravel")(arrays[0]));
+    auto us = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(numpy.attr("ravel")(arrays[1]));
+    auto vs = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(numpy.attr("ravel")(arrays[2]));
+    if (!s || !us || !vs) throw ScriptError("sub-faces must be integers and u, v numbers");
+    std::vector<SampleRequest> requests(size_t(s.size()));
+    for (size_t i = 0; i < requests.size(); ++i) {
+        const int64_t subface = s.data()[i];
+        const double a = us.data()[i], b = vs.data()[i];
+        if (subface < 0 || subface >= int64_t(planned.subfaceCount()))
+            throw ScriptError("sub-face " + std::to_string(subface) + " does not exist (the cage has " +
+                              std::to_string(planned.subfaceCount()) + " sub-faces)");
+        if (!planned.hasSurface(uint32_t(subface)))
+            throw ScriptError("sub-face " + std::to_string(subface) + " has no limit surface (a hole, or a boundary under the rule \"none\")");
+        if (!(a >= 0.0 && a <= 1.0 && b >= 0.0 && b <= 1.0))
+            throw ScriptError("u and v must lie in [0, 1]; sample " + std::to_string(i) + " has (" + std::to_string(a) + ", " +
+                              std::to_string(b) + ")");
+        requests[i] = {uint32_t(subface), float(a), float(b)};
+    }
+    return requests;
+}
 
 std::vector<uint32_t> verticesOf(const Document& doc, const py::object& target) {
     if (py::isinstance<Selection>(target)) {
@@ -492,6 +493,7 @@ object with transform keys gets a key at the current frame instead (set_transfor
         .def("set_visible", [](Document& d, const std::string& name, bool visible) { check(d.setVisible(name, visible)); },
              py::arg("name"), py::arg("visible"), "Shows or hides an object (hidden ones are kept and saved). Undoable.");
     bindSceneAnimation(scene);
+    bindSceneDisplacement(scene);
     scene
         .def("scene_plan_stats", [](const Document& d) { return scenePlanStatsDict(d); },
              R"doc(Plans per object and for the whole scene, as `quadplan plan-stats --json` reports them: objects
@@ -671,54 +673,6 @@ afterwards). Re-plans the region, its neighbours and the new side quads.)doc")
              "Merges the vertices into the last one, placed at their centroid or where the last one is.")
         .def("make_face", [](Document& d, const py::object& vertices) { return unwrap(d.makeFace(indicesFrom(vertices, "vertices"))); },
              py::arg("vertices"), "Adds a face through existing vertices (reversed if its neighbours' orientation says so).")
-
-        // ---- displacement ----
-        .def("stroke",
-             [](Document& d, const py::object& path, float radius, float strength, const std::string& brush,
-                const std::string& falloff, const std::string& mirror, float spacing, uint32_t resolution) {
-                 StrokeOptions options;
-                 auto kind = brushKindFromName(brush);
-                 if (!kind) throw ScriptError("unknown brush \"" + brush + "\"; expected raise, lower, smooth, flatten or erase");
-                 auto fall = falloffFromName(falloff);
-                 if (!fall) throw ScriptError("unknown falloff \"" + falloff + "\"; expected smooth, linear, constant or sphere");
-                 auto axis = mirrorAxisFromName(mirror);
-                 if (!axis) throw ScriptError("unknown mirror axis \"" + mirror + "\"; expected none, x, y or z");
-                 options.brush = {*kind, radius, strength, *fall};
-                 options.mirror = *axis;
-                 options.spacing = spacing;
-                 const std::vector<glm::vec3> points = pointsFrom(path, "path");
-                 py::gil_scoped_release release;
-                 return unwrap(d.stroke(options, points, resolution));
-             },
-             py::arg("path"), py::arg("radius"), py::arg("strength"), py::arg("brush") = "raise", py::arg("falloff") = "smooth",
-             py::arg("mirror") = "none", py::arg("spacing") = 0.0f, py::arg("resolution") = 8,
-             R"doc(One brush stroke along a world-space polyline (as `quadplan sculpt`): dabs every `spacing`
-(0: a quarter of the radius) change the displacement samples whose limit positions lie within the
-radius. brush: raise, lower, smooth, flatten or erase; strength: raise/lower height per dab in
-radii, the others a blend in [0, 1]. A scene without displacement first gets a zero one at
-`resolution` per sub-face (its own history entry). One undo takes the stroke back.)doc")
-        .def("set_displacement_resolution", [](Document& d, uint32_t r) { return unwrap(d.setDisplacementResolution(r)); },
-             py::arg("resolution"), "Resamples the displacement (or creates a zero one) at this power-of-two resolution per sub-face.")
-        .def("clear_displacement", [](Document& d) { return unwrap(d.clearDisplacement()); },
-             "Removes the displacement (undoable); topology edits are possible again afterwards.")
-        .def_property_readonly("has_displacement", [](const Document& d) { return !d.displacement().empty(); },
-                               "Whether the scene has sculpted displacement.")
-        .def_property_readonly("displacement_samples", [](const Document& d) {
-                                   const auto& s = d.displacement().samples;
-                                   return py::array_t<float>(py::ssize_t(s.size()), s.data());
-                               }, "Every displacement sample (a copy; empty without displacement): docs/displacement.md.")
-        .def_property_readonly("displacement_resolutions", [](const Document& d) { return subfaceResolutions(d.displacement().layout); },
-                               "Resolution of each sub-face's displacement grid.")
-        .def("evaluate_displacement",
-             [](const Document& d, const py::object& subfaces, const py::object& u, const py::object& v) {
-                 if (d.displacement().empty()) throw ScriptError("the scene has no displacement");
-                 const std::vector<SampleRequest> requests = sampleRequests(d.planned(), subfaces, u, v);
-                 py::array_t<float> out(py::ssize_t(requests.size()));
-                 for (size_t i = 0; i < requests.size(); ++i)
-                     out.mutable_data()[i] = evaluateDisplacement(d.displacement(), requests[i].subface, requests[i].u, requests[i].v).value;
-                 return out;
-             },
-             py::arg("subfaces"), py::arg("u"), py::arg("v"), "The displacement D at (sub-face, u, v), broadcast like evaluate().")
 
         // ---- history ----
         .def("undo", [](Document& d) { return unwrap(d.undo()); }, "Undoes the newest applied entry (raises when there is none).")

@@ -1,10 +1,11 @@
-// What quadplan.Scene's binding files share (bind_scene.cpp, bind_animation.cpp).
+// What quadplan.Scene's binding files share (bind_scene.cpp, bind_animation.cpp, bind_displacement.cpp).
 #pragma once
 
 #include <memory>
 #include <vector>
 
 #include "conversions.h"
+#include "plan_evaluator.h"
 #include "scene_document.h"
 
 namespace qp::py {
@@ -17,6 +18,13 @@ std::vector<uint32_t> verticesOf(const Document& doc, const py::object& target);
 // Translation, rotation and scale given as 3-sequences (None: keep `base`'s).
 ObjectTransform transformFrom(const py::object& translation, const py::object& rotation, const py::object& scale,
                               ObjectTransform base);
+
+// (sub-faces, u, v) broadcast against each other (numpy rules), checked against the cage.
+std::vector<SampleRequest> sampleRequests(const PlannedCage& planned, const py::object& subfaces, const py::object& u,
+                                          const py::object& v);
+
+// Scene's sculpted displacement: strokes, mask, resolution, evaluation (bind_displacement.cpp).
+void bindSceneDisplacement(SceneClass& scene);
 
 // Scene's animation: frame, frames, fps, set_frame, keys, transform keys, interpolation, timeline,
 // sequences (bind_animation.cpp).

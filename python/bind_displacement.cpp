@@ -1,0 +1,58 @@
+// quadplan.Scene's sculpted displacement (docs/python.md, "Sculpting"; SceneDocument's strokes in
+// scene_document.cpp).
+#include "bind_scene.h"
+#include "displacement_io.h"
+
+namespace qp::py {
+
+void bindSceneDisplacement(SceneClass& scene) {
+    scene
+        .def("stroke",
+             [](Document& d, const py::object& path, float radius, float strength, const std::string& brush,
+                const std::string& falloff, const std::string& mirror, float spacing, uint32_t resolution) {
+                 StrokeOptions options;
+                 auto kind = brushKindFromName(brush);
+                 if (!kind) throw ScriptError("unknown brush \"" + brush + "\"; expected raise, lower, smooth, flatten or erase");
+                 auto fall = falloffFromName(falloff);
+                 if (!fall) throw ScriptError("unknown falloff \"" + falloff + "\"; expected smooth, linear, constant or sphere");
+                 auto axis = mirrorAxisFromName(mirror);
+                 if (!axis) throw ScriptError("unknown mirror axis \"" + mirror + "\"; expected none, x, y or z");
+                 options.brush = {*kind, radius, strength, *fall};
+                 options.mirror = *axis;
+                 options.spacing = spacing;
+                 const std::vector<glm::vec3> points = pointsFrom(path, "path");
+                 py::gil_scoped_release release;
+                 return unwrap(d.stroke(options, points, resolution));
+             },
+             py::arg("path"), py::arg("radius"), py::arg("strength"), py::arg("brush") = "raise", py::arg("falloff") = "smooth",
+             py::arg("mirror") = "none", py::arg("spacing") = 0.0f, py::arg("resolution") = 8,
+             R"doc(One brush stroke along a world-space polyline (as `quadplan sculpt`): dabs every `spacing`
+(0: a quarter of the radius) change the displacement samples whose limit positions lie within the
+radius. brush: raise, lower, smooth, flatten or erase; strength: raise/lower height per dab in
+radii, the others a blend in [0, 1]. A scene without displacement first gets a zero one at
+`resolution` per sub-face (its own history entry). One undo takes the stroke back.)doc")
+        .def("set_displacement_resolution", [](Document& d, uint32_t r) { return unwrap(d.setDisplacementResolution(r)); },
+             py::arg("resolution"), "Resamples the displacement (or creates a zero one) at this power-of-two resolution per sub-face.")
+        .def("clear_displacement", [](Document& d) { return unwrap(d.clearDisplacement()); },
+             "Removes the displacement (undoable); topology edits are possible again afterwards.")
+        .def_property_readonly("has_displacement", [](const Document& d) { return !d.displacement().empty(); },
+                               "Whether the scene has sculpted displacement.")
+        .def_property_readonly("displacement_samples", [](const Document& d) {
+                                   const auto& s = d.displacement().samples;
+                                   return py::array_t<float>(py::ssize_t(s.size()), s.data());
+                               }, "Every displacement sample (a copy; empty without displacement): docs/displacement.md.")
+        .def_property_readonly("displacement_resolutions", [](const Document& d) { return subfaceResolutions(d.displacement().layout); },
+                               "Resolution of each sub-face's displacement grid.")
+        .def("evaluate_displacement",
+             [](const Document& d, const py::object& subfaces, const py::object& u, const py::object& v) {
+                 if (d.displacement().empty()) throw ScriptError("the scene has no displacement");
+                 const std::vector<SampleRequest> requests = sampleRequests(d.planned(), subfaces, u, v);
+                 py::array_t<float> out(py::ssize_t(requests.size()));
+                 for (size_t i = 0; i < requests.size(); ++i)
+                     out.mutable_data()[i] = evaluateDisplacement(d.displacement(), requests[i].subface, requests[i].u, requests[i].v).value;
+                 return out;
+             },
+             py::arg("subfaces"), py::arg("u"), py::arg("v"), "The displacement D at (sub-face, u, v), broadcast like evaluate().");
+}
+
+}  // namespace qp::py
