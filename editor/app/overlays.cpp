@@ -102,8 +102,8 @@ void drawHeatLegend(ImDrawList* list, const SceneHeat& heat, ImVec2 corner) {
     list->AddText(ImVec2(bar.x, bar.y - 18), rgba(1, 1, 1), text);
 }
 
-// The brush: a circle of its radius on the tangent plane at the surface under the cursor (lifted
-// to the displaced surface), and a tick along the normal; in its stroke's colour while painting.
+// The brush: a circle of its radius in the tangent plane of the displaced surface under the
+// cursor, and a tick along its normal; in its stroke's colour while painting.
 void drawBrushCircle(ImDrawList* list, const PickView& view, const ToWindow& at, const glm::vec3& centre,
                      const glm::vec3& normal, float radius, bool lowering, ImU32 color, float thickness) {
     const glm::vec3 t =
@@ -123,8 +123,8 @@ void drawBrushCircle(ImDrawList* list, const PickView& view, const ToWindow& at,
     if (c.inFront && tip.inFront) list->AddLine(at(c.pixel), at(tip.pixel), color, 1.5f);
 }
 
-// The brush: a circle of its radius on the tangent plane at the surface under the cursor (lifted
-// to the displaced surface), a tick along the normal, in its stroke's colour while painting;
+// The brush: a circle of its radius in the tangent plane of the displaced surface under the
+// cursor, a tick along its normal, in its stroke's colour while painting;
 // with mirror symmetry a fainter one where the mirrored dab lands.
 void drawBrush(ImDrawList* list, const EditorApp& app, const ViewportState& v, const ToWindow& at) {
     const SurfaceHit& hit = *app.ui.brushHover;
@@ -136,11 +136,11 @@ void drawBrush(ImDrawList* list, const EditorApp& app, const ViewportState& v, c
                           : lowering                             ? glm::vec3(0.35f, 0.65f, 1.0f)
                                                                  : glm::vec3(0.85f);
     const float radius = options.brush.radius;
-    drawBrushCircle(list, view, at, hit.displaced, hit.normal, radius, lowering, rgba(rgb.r, rgb.g, rgb.b), stroking ? 2.0f : 1.5f);
+    drawBrushCircle(list, view, at, hit.position, hit.normal, radius, lowering, rgba(rgb.r, rgb.g, rgb.b), stroking ? 2.0f : 1.5f);
     if (options.mirror == MirrorAxis::None) return;
     const int axis = int(options.mirror) - 1;
     const glm::vec3 mirrorCentre = mirrorCentreOf(*app.doc);
-    glm::vec3 centre = hit.displaced, normal = hit.normal;
+    glm::vec3 centre = hit.position, normal = hit.normal;
     centre[axis] = 2.0f * mirrorCentre[axis] - centre[axis];
     normal[axis] = -normal[axis];
     drawBrushCircle(list, view, at, centre, normal, radius, lowering, rgba(rgb.r, rgb.g, rgb.b, 0.5f), 1.0f);

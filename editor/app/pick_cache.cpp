@@ -1,6 +1,7 @@
 #include "pick_cache.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <numeric>
 
@@ -25,14 +26,18 @@ void resetIfStale(PickCache& c, const Document& doc, uint64_t generation) {
         // whose plan (a hole has none) or rotation changed; the cage raycaster does not care.
         const std::vector<uint32_t> now = plansAndRotations(*doc.planned);
         for (uint32_t s = 0; s < doc.planned->subfaceCount(); ++s)
-            if (now[2 * s] != c.limitPlans[2 * s] || now[2 * s + 1] != c.limitPlans[2 * s + 1]) c.replanned.push_back(s);
+            if (now[2 * s] != c.limitPlans[2 * s] || now[2 * s + 1] != c.limitPlans[2 * s + 1]) {
+                c.replanned.push_back(s);
+                c.displacedReplanned.push_back(s);
+            }
         c.limitPlans = now;
         c.planRevision = doc.planRevision;
         return;
     }
-    const uint32_t builds = c.limitBuilds;
+    const uint32_t builds = c.limitBuilds, displacedBuilds = c.displacedBuilds;
     c = PickCache{};
     c.limitBuilds = builds;
+    c.displacedBuilds = displacedBuilds;
     c.generation = generation;
     c.planRevision = doc.planRevision;
     c.topologyRevision = doc.topologyRevision;
@@ -77,6 +82,60 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
     c.limitRevision = doc.positionRevision;
     c.lastLimitMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return *c.limit;
+}
+
+namespace {
+
+// The samples that differ from the copy the picker was displaced with.
+std::vector<uint32_t> changedSamples(const std::vector<float>& before, const std::vector<float>& now) {
+    std::vector<uint32_t> out;
+    for (uint32_t k = 0; k < now.size(); ++k)
+        if (std::bit_cast<uint32_t>(before[k]) != std::bit_cast<uint32_t>(now[k])) out.push_back(k);
+    return out;
+}
+
+void sortUnique(std::vector<uint32_t>& list) {
+    std::sort(list.begin(), list.end());
+    list.erase(std::unique(list.begin(), list.end()), list.end());
+}
+
+}  // namespace
+
+const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64_t generation) {
+    resetIfStale(c, doc, generation);
+    const Displacement& displacement = displacementOf(doc);
+    const std::vector<glm::vec3>& positions = doc.planned->cage().positions;
+    const auto start = std::chrono::steady_clock::now();
+    // A new layout (new, resampled, cleared displacement) or a lost picker: sample everything.
+    const bool rebuild = !c.displaced || c.displacedLayout != doc.displacementRevision ||
+                         c.displacedSamples.size() != displacement.samples.size();
+    if (rebuild) {
+        c.displaced.emplace(*doc.planned, displacement);
+        ++c.displacedBuilds;
+        c.displacedReplanned.clear();
+    } else {
+        const bool moved = c.displacedRevision != doc.positionRevision || !c.displacedReplanned.empty();
+        const bool painted = c.displacedSampleRevision != doc.sampleRevision;
+        if (!moved && !painted) return *c.displaced;
+        if (moved) {  // the limit surface changed under these sub-faces
+            std::vector<uint32_t> stale = c.index.touched(movedVertices(c.displacedPositions, positions));
+            stale.insert(stale.end(), c.displacedReplanned.begin(), c.displacedReplanned.end());
+            sortUnique(stale);
+            c.displacedReplanned.clear();
+            if (!stale.empty()) c.displaced->updateSubfaces(*doc.planned, displacement, stale);
+        }
+        if (painted) {
+            const std::vector<uint32_t> samples = changedSamples(c.displacedSamples, displacement.samples);
+            if (!samples.empty()) c.displaced->updateSamples(*doc.planned, displacement, samples);
+        }
+    }
+    c.displacedPositions = positions;
+    c.displacedSamples = displacement.samples;
+    c.displacedRevision = doc.positionRevision;
+    c.displacedLayout = doc.displacementRevision;
+    c.displacedSampleRevision = doc.sampleRevision;
+    c.lastDisplacedMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return *c.displaced;
 }
 
 float pickTolerance(const Document& doc) { return std::max(computeBounds(doc.planned->cage()).diagonal(), 1e-6f); }

@@ -2,13 +2,17 @@
 // the cage raycaster (rebuilt after any change: ~2 ms on 2,000 faces) and the limit-surface
 // picker (built on first use; after vertex moves only the sub-faces whose 1-ring holds a moved
 // vertex are re-sampled, after tag edits only the sub-faces whose plan or rotation changed, found
-// by comparing them with what it was sampled from; rebuilt after a topology change).
+// by comparing them with what it was sampled from; rebuilt after a topology change); and the
+// displaced-surface picker the sculpt tool uses (core/displaced_picker.h), kept the same way and
+// also after the samples changed: a dab re-displaces only the sub-faces reading the samples
+// that differ from the copy it was sampled from (a 128k-sample compare: ~0.1 ms).
 #pragma once
 
 #include <cstdint>
 #include <optional>
 #include <vector>
 
+#include "displaced_picker.h"
 #include "document.h"
 #include "picking.h"
 #include "subface_index.h"
@@ -24,6 +28,15 @@ struct PickCache {
     std::vector<uint32_t> limitPlans;       // ... and each sub-face's plan and rotation then
     std::vector<uint32_t> replanned;        // sub-faces re-planned since `limit` was sampled
     VertexSubfaceIndex index;               // vertex -> sub-faces seeing it
+    // The displaced picker and what it was sampled from (positions, the displacement's layout
+    // revision and samples), as for `limit`.
+    std::optional<DisplacedPicker> displaced;
+    uint64_t displacedRevision = ~0ull, displacedLayout = ~0ull, displacedSampleRevision = ~0ull;
+    std::vector<glm::vec3> displacedPositions;
+    std::vector<float> displacedSamples;
+    std::vector<uint32_t> displacedReplanned;
+    double lastDisplacedMs = 0.0;
+    uint32_t displacedBuilds = 0;           // times the displaced picker was built whole
     double lastLimitMs = 0.0;
     uint32_t limitBuilds = 0;               // times the limit picker was built whole
 };
@@ -31,6 +44,9 @@ struct PickCache {
 // Up to date for `document` (adopted as `generation`); the document must have a cage.
 const CageRaycaster& cageRaycaster(PickCache& cache, const Document& document, uint64_t generation);
 const LimitPicker& limitPicker(PickCache& cache, const Document& document, uint64_t generation);
+// Picks the active object's displaced surface (displacementOf(document)); without displacement
+// the limit surface.
+const DisplacedPicker& displacedPicker(PickCache& cache, const Document& document, uint64_t generation);
 
 // Scale for visibility tolerances: the cage's bounding-box diagonal.
 float pickTolerance(const Document& document);

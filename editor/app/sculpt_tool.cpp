@@ -42,13 +42,10 @@ std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, 
     const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
     const glm::vec2 pixel = cursor - glm::vec2(float(v.rect.offset.x), float(v.rect.offset.y));
     const PlannedCage& planned = *app.doc->planned;
-    const LimitPicker::Hit hit = limitPicker(app.picking, *app.doc, app.documentGeneration).intersect(planned, view.rayThrough(pixel));
+    const DisplacedPicker& picker = displacedPicker(app.picking, *app.doc, app.documentGeneration);
+    const DisplacedPicker::Hit hit = picker.intersect(planned, displacementOf(*app.doc), view.rayThrough(pixel));
     if (hit.subface == kNoHit) return std::nullopt;
-    const LimitSample sample = planned.evaluate(hit.subface, hit.u, hit.v);
-    SurfaceHit out{hit.position, limitNormal(planned, hit.subface, hit.u, hit.v, sample), hit.position};
-    const Displacement& d = displacementOf(*app.doc);
-    if (!d.empty()) out.displaced += evaluateDisplacement(d, hit.subface, hit.u, hit.v).value * out.normal;
-    return out;
+    return SurfaceHit{hit.position, hit.normal, hit.limit};
 }
 
 StrokeOptions sculptStrokeOptions(const EditorApp& app, bool ctrl, bool shift) {

@@ -2,8 +2,8 @@
 // of ToolSettings::sculpt (core/brush.h: raise, lower, smooth, flatten, erase; radius,
 // strength, falloff, mirror). Ctrl swaps raise and lower, Shift smooths, for the stroke they
 // start. One stroke is one undo entry; a right click or Esc during the stroke puts the samples
-// back. Strokes sample the undisplaced limit surface under the cursor (the brushes act on
-// limit positions, so a stroke lands where the brush circle shows it).
+// back. Strokes follow the displaced surface under the cursor, the one the user sees: the pick,
+// the dab centres and the brush circle are all on s + D N.
 #pragma once
 
 #include <cstdint>
@@ -27,10 +27,11 @@ struct SculptSettings {
     uint32_t resolution = 16;  // of a new displacement, and what "Apply resolution" sets
 };
 
-// The limit surface under a cursor (framebuffer pixels), its unit normal there, and where the
-// displaced surface is at that point (position + D normal: where the brush circle is drawn).
+// The DISPLACED surface under a cursor (framebuffer pixels): the exact limit surface moved by
+// the displacement, s + D N (core/displaced_picker.h), with its unit normal normalize(f_u x f_v)
+// there: where dabs act and the brush circle lies. `limit` is the undisplaced point s.
 struct SurfaceHit {
-    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, displaced{0.0f};
+    glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, limit{0.0f};
 };
 std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, glm::vec2 cursor);
 
