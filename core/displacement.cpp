@@ -360,7 +360,19 @@ std::vector<uint32_t> subfaceResolutions(const DisplacementLayout& layout) {
     return out;
 }
 
-Displacement resampleDisplacement(const Displacement& old, std::span<const uint32_t> resolutions) {
+bool Displacement::operator==(const Displacement& o) const {
+    if (!(layout == o.layout) || samples != o.samples) return false;
+    if (mask.size() == o.mask.size()) return mask == o.mask;
+    const std::vector<float>& other = mask.empty() ? o.mask : mask;
+    if (!mask.empty() && !o.mask.empty()) return false;
+    return std::all_of(other.begin(), other.end(), [](float m) { return m == 0.0f; });
+}
+
+namespace {
+
+// resampleDisplacement of the samples alone (the mask is resampled by the same code, as the
+// samples of a second displacement on the same layout).
+Displacement resampleSamples(const Displacement& old, std::span<const uint32_t> resolutions) {
     Displacement out;
     out.layout = withResolutions(old.layout, resolutions);
     out.samples.assign(out.layout.sampleCount, 0.0f);
@@ -387,6 +399,21 @@ Displacement resampleDisplacement(const Displacement& old, std::span<const uint3
             for (uint32_t i = 1; i < R; ++i)
                 out.samples[to.interiorOffset + (j - 1) * (R - 1) + (i - 1)] =
                     evaluateDisplacement(old, s, float(i) / float(R), float(j) / float(R)).value + 0.0f;
+    }
+    return out;
+}
+
+}  // namespace
+
+Displacement resampleDisplacement(const Displacement& old, std::span<const uint32_t> resolutions) {
+    Displacement out = resampleSamples(old, resolutions);
+    if (old.mask.size() == old.samples.size() && !old.mask.empty()) {
+        Displacement mask;
+        mask.layout = old.layout;
+        mask.samples = old.mask;
+        out.mask = std::move(resampleSamples(mask, resolutions).samples);
+        // Interpolation stays within the old values' range; the clamp only guards rounding.
+        for (float& m : out.mask) m = std::clamp(m, 0.0f, 1.0f) + 0.0f;
     }
     return out;
 }

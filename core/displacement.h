@@ -101,9 +101,16 @@ DisplacementLayout withResolutions(const DisplacementLayout& layout, std::span<c
 struct Displacement {
     DisplacementLayout layout;   // empty: no displacement at all
     std::vector<float> samples;  // layout.sampleCount values
+    // The sculpting mask: empty (nothing masked) or one value in [0, 1] per sample, parallel to
+    // `samples`; 1 is fully masked (brushes that change D leave the sample alone), 0 not at
+    // all. Only brushes read it: renderers and exporters ignore it.
+    std::vector<float> mask;
 
     bool empty() const { return layout.subfaces.empty(); }
-    bool operator==(const Displacement&) const = default;
+    bool hasMask() const { return !mask.empty(); }
+    // Equal layouts, samples and masks, where an empty mask equals one of zeros (both mask
+    // nothing: undoing the first mask stroke leaves a mask of zeros, not an empty one).
+    bool operator==(const Displacement&) const;
 };
 
 // All samples zero.
@@ -232,7 +239,8 @@ constexpr float kCornerV[4] = {0.0f, 0.0f, 1.0f, 1.0f};
 // takes the old D at its position. Raising reproduces the old surface (bilinear refines
 // bilinear exactly, up to the boundary strips of edges finer than the old grid); lowering
 // keeps the old values at the samples that remain (injection), so raise-then-lower gives back
-// the original bit for bit. Unchanged segments and tiles are copied.
+// the original bit for bit. Unchanged segments and tiles are copied. A mask is resampled the
+// same way (it interpolates like D; values stay in [0, 1]); an empty mask stays empty.
 Displacement resampleDisplacement(const Displacement& displacement, std::span<const uint32_t> resolutions);
 
 // Per-sub-face resolutions of a layout.

@@ -25,13 +25,14 @@ Result<EditReport> DisplacementEdit::apply(bool forward) {
         if (forward) redoStroke(target_, stroke_);
         else undoStroke(target_, stroke_);
         change.samples = stroke_.changes;
+        change.maskOnly = stroke_.mask;
     }
     if (listener_) listener_(change);
     return EditReport{};
 }
 
 size_t displacementBytes(const Displacement& d) {
-    return d.samples.capacity() * sizeof(float) + d.layout.subfaces.capacity() * sizeof(DisplacementSubface) +
+    return (d.samples.capacity() + d.mask.capacity()) * sizeof(float) + d.layout.subfaces.capacity() * sizeof(DisplacementSubface) +
            d.layout.segments.capacity() * sizeof(DisplacementSegment);
 }
 

@@ -23,6 +23,7 @@ namespace qp {
 struct DisplacementChange {
     bool newLayout = false;                 // replaced whole: every sample may differ
     std::span<const SampleChange> samples;  // otherwise: the samples changed in place
+    bool maskOnly = false;                  // `samples` are mask values: D did not change
 };
 using DisplacementListener = std::function<void(const DisplacementChange&)>;
 

@@ -1,5 +1,6 @@
 #include "displacement_io.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -63,10 +64,22 @@ std::string pointName(const DisplacementLayout& layout, size_t id) {
     return "centre of face " + std::to_string(id - layout.vertexCount - layout.edgeCount);
 }
 
+// The optional mask: one value in [0, 1] per sample, in sample order.
+std::vector<float> readMask(const json& value, size_t sampleCount) {
+    std::vector<float> mask = readFloats(value, "displacement.mask", sampleCount,
+                                         [](size_t i) { return "the mask of sample " + std::to_string(i); });
+    for (size_t i = 0; i < mask.size(); ++i)
+        if (!(mask[i] >= 0.0f && mask[i] <= 1.0f))
+            fail("displacement.mask", "value " + std::to_string(i) + " is " + std::to_string(mask[i]) +
+                                          "; mask values must lie between 0 (not masked) and 1 (fully masked)");
+    return mask;
+}
+
 // `at` prefixes the field paths of warnings (errors get it where they are caught).
 Displacement readVersion1(const json& value, const Cage& cage, const std::string& source,
                           std::vector<std::string>* warnings, const std::string& at) {
-    warnUnknown(value, {"version", "encoding", "subfaces", "points", "segments"}, at + "displacement", source, warnings);
+    warnUnknown(value, {"version", "encoding", "subfaces", "points", "segments", "mask"}, at + "displacement", source,
+                warnings);
     if (auto it = value.find("encoding"); it != value.end() && (!it->is_string() || it->get<std::string>() != kEncoding))
         fail("displacement.encoding", "expected \"" + std::string(kEncoding) + "\", got " + it->dump());
     auto subfacesIt = value.find("subfaces");
@@ -74,7 +87,7 @@ Displacement readVersion1(const json& value, const Cage& cage, const std::string
     const json& subfaces = *subfacesIt;
     if (!subfaces.is_array()) fail("displacement.subfaces", "expected an array, got " + describe(subfaces));
     if (subfaces.empty()) {
-        for (const char* key : {"points", "segments"})
+        for (const char* key : {"points", "segments", "mask"})
             if (value.contains(key))
                 fail(std::string("displacement.") + key, "not allowed when \"subfaces\" is empty (no displacement)");
         return Displacement{};
@@ -139,6 +152,7 @@ Displacement readVersion1(const json& value, const Cage& cage, const std::string
         });
         std::copy(values.begin(), values.end(), d.samples.begin() + layout.subfaces[s].interiorOffset);
     }
+    if (auto mask = value.find("mask"); mask != value.end()) d.mask = readMask(*mask, layout.sampleCount);
     return d;
 }
 
@@ -248,6 +262,9 @@ nlohmann::ordered_json displacementJson(const Displacement& d) {
     out["points"] = encodeFloats(d.samples.data(), layout.pointCount);
     out["segments"] = encodeFloats(d.samples.data() + layout.segmentSampleBegin(),
                                    layout.tileSampleBegin() - layout.segmentSampleBegin());
+    // A mask of zeros masks nothing: it is left out, as an empty one is.
+    if (d.mask.size() == d.samples.size() && std::any_of(d.mask.begin(), d.mask.end(), [](float m) { return m != 0.0f; }))
+        out["mask"] = encodeFloats(d.mask.data(), d.mask.size());
     return out;
 }
 

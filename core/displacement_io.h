@@ -6,7 +6,10 @@
 //   {"version": 1, "encoding": "base64-float32-le",
 //    "subfaces": [{"resolution": R, "interior": "<(R-1)^2 floats>"}, ...],   one per sub-face
 //    "points": "<V + E + F floats>", "segments": "<every segment's interior floats>"}
-// An empty "subfaces" means no displacement (and then no "points" or "segments").
+// An empty "subfaces" means no displacement (and then no "points", "segments" or "mask").
+// Optional (added within version 1: older readers warn that it is unknown and drop it):
+//   "mask": "<layout.sampleCount floats in sample order, each in [0, 1]>"   the sculpting mask;
+// absent means nothing masked (a mask of zeros is written as no mask).
 // Version 0 was a placeholder ({"version": 0, "faces": []}); it migrates to no displacement.
 #pragma once
 

@@ -1,6 +1,8 @@
 #include "sculpt_samples.h"
 
 #include <algorithm>
+#include <atomic>
+#include <cassert>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -16,6 +18,17 @@ namespace {
 constexpr float kSamplesPerCellSide = 4.0f;
 constexpr int kCellBits = 21;
 constexpr int64_t kCellBias = int64_t(1) << (kCellBits - 1);
+
+// Revisions are unique across every SculptSamples, so cells built for one cache (or one that
+// stood at the same address before) are never taken as current for another.
+std::atomic<uint64_t> nextRevision{1};
+
+// Squared distance from a point to a box (0 inside). Monotonic in each coordinate's gap, so a
+// point in the box is never farther in float than the box is.
+inline float squaredDistanceToBox(const glm::vec3& p, const glm::vec3& lo, const glm::vec3& hi) {
+    const glm::vec3 gap = glm::max(glm::max(lo - p, p - hi), glm::vec3(0.0f));
+    return glm::dot(gap, gap);
+}
 
 }  // namespace
 
@@ -175,6 +188,7 @@ SculptSamples SculptSamples::build(const PlannedCage& planned, const Displacemen
         out.neighbours_[fill[b]++] = a;
     }
     out.buildIndex();
+    out.revision_ = nextRevision++;
     return out;
 }
 
@@ -186,6 +200,7 @@ void SculptSamples::refresh(const PlannedCage& planned, std::span<const uint32_t
     std::vector<glm::vec3> before(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) before[i] = positions_[samples[i]];
     evaluateSites(planned, samples);
+    revision_ = nextRevision++;
     for (uint32_t sample : samples) {
         cellPositions_[cellIndexOfSample_[sample]] = positions_[sample];
         cellNormals_[cellIndexOfSample_[sample]] = normals_[sample];
@@ -241,6 +256,7 @@ void SculptSamples::buildIndex() {
         }
     cellKeys_.clear(), cellOffsets_.assign(1, 0), cellSamples_.clear(), cellPositions_.clear(), cellNormals_.clear();
     cellIndexOfSample_.assign(sites_.size(), UINT32_MAX);
+    cellOfIndexed_.clear();
     slack_ = 0.0f;
     if (sited.empty()) {
         boundsMin_ = boundsMax_ = glm::vec3(0.0f);
@@ -266,6 +282,7 @@ void SculptSamples::buildIndex() {
             cellKeys_.push_back(keyed[i].first);
         }
         cellSamples_.push_back(keyed[i].second);
+        cellOfIndexed_.push_back(uint32_t(cellKeys_.size() - 1));
         cellPositions_.push_back(positions_[keyed[i].second]);
         cellNormals_.push_back(normals_[keyed[i].second]);
         cellIndexOfSample_[keyed[i].second] = uint32_t(i);
@@ -309,6 +326,150 @@ void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uin
                 }
             }
         }
+}
+
+// Displaced queries ---------------------------------------------------------------------------
+
+bool DisplacedCells::current(const SculptSamples& samples) const {
+    return revision_ != 0 && revision_ == samples.revision() && lift_.size() == samples.cellKeys_.size();
+}
+
+void DisplacedCells::include(uint32_t cell, const glm::vec3& displaced, float lift) {
+    lo_[cell] = glm::min(lo_[cell], displaced);
+    hi_[cell] = glm::max(hi_[cell], displaced);
+    if (!(lift <= lift_[cell])) lift_[cell] = lift;  // NaN lifts too: such a cell is always tested
+    uint32_t slot = farSlot_[cell];
+    if (slot == UINT32_MAX) {
+        if (lift_[cell] <= farLift_) {
+            nearLift_ = std::max(nearLift_, lift_[cell]);
+            return;
+        }
+        slot = farSlot_[cell] = uint32_t(farCells_.size());
+        farCells_.push_back(cell);
+        farLo_.push_back(lo_[cell]);
+        farHi_.push_back(hi_[cell]);
+    }
+    farLo_[slot] = lo_[cell];
+    farHi_[slot] = hi_[cell];
+}
+
+void DisplacedCells::rebuild(const SculptSamples& samples, std::span<const float> values) {
+    const size_t cells = samples.cellKeys_.size();
+    lo_.assign(cells, glm::vec3(INFINITY));
+    hi_.assign(cells, glm::vec3(-INFINITY));
+    lift_.assign(cells, 0.0f);
+    farSlot_.assign(cells, UINT32_MAX);
+    farCells_.clear(), farLo_.clear(), farHi_.clear();
+    nearLift_ = 0.0f;
+    revision_ = samples.revision();
+    values_.resize(samples.cellSamples_.size());
+    // Cells are independent: each one's box and lift in parallel, then the far list in order.
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, cells, 256), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t cell = range.begin(); cell != range.end(); ++cell)
+            for (uint32_t k = samples.cellOffsets_[cell]; k < samples.cellOffsets_[cell + 1]; ++k) {
+                const float d = values_[k] = values[samples.cellSamples_[k]];
+                const glm::vec3 p = samples.cellPositions_[k] + d * samples.cellNormals_[k];
+                lo_[cell] = glm::min(lo_[cell], p);
+                hi_[cell] = glm::max(hi_[cell], p);
+                const float lift = std::abs(d);
+                if (!(lift <= lift_[cell])) lift_[cell] = lift;
+            }
+    });
+    // The far threshold: at least a cell, and at least the kMaxFarCells-th largest lift.
+    farLift_ = samples.cellSize_;
+    if (cells > kMaxFarCells) {
+        std::vector<float> lifts(lift_);
+        auto nth = lifts.begin() + std::ptrdiff_t(cells - kMaxFarCells);
+        std::nth_element(lifts.begin(), nth, lifts.end());
+        if (*nth > farLift_) farLift_ = *nth;
+    }
+    for (uint32_t cell = 0; cell < cells; ++cell) {
+        if (!(lift_[cell] <= farLift_)) {
+            farSlot_[cell] = uint32_t(farCells_.size());
+            farCells_.push_back(cell);
+            farLo_.push_back(lo_[cell]);
+            farHi_.push_back(hi_[cell]);
+        } else {
+            nearLift_ = std::max(nearLift_, lift_[cell]);
+        }
+    }
+}
+
+void DisplacedCells::grow(const SculptSamples& samples, std::span<const float> values, std::span<const uint32_t> changed) {
+    for (uint32_t sample : changed) {
+        const uint32_t k = samples.cellIndexOfSample_[sample];
+        if (k == UINT32_MAX) continue;  // no site: never queried
+        const float d = values_[k] = values[sample];
+        include(samples.cellOfIndexed_[k], samples.cellPositions_[k] + d * samples.cellNormals_[k], std::abs(d));
+    }
+}
+
+void DisplacedCells::growIndexed(const SculptSamples& samples, std::span<const float> values,
+                                 std::span<const uint32_t> indexed) {
+    size_t i = 0;
+    while (i < indexed.size()) {
+        const uint32_t cell = samples.cellOfIndexed_[indexed[i]];
+        glm::vec3 lo(INFINITY), hi(-INFINITY);
+        float lift = 0.0f;
+        for (; i < indexed.size() && samples.cellOfIndexed_[indexed[i]] == cell; ++i) {
+            const uint32_t k = indexed[i];
+            const float d = values_[k] = values[samples.cellSamples_[k]];
+            const glm::vec3 p = samples.cellPositions_[k] + d * samples.cellNormals_[k];
+            lo = glm::min(lo, p), hi = glm::max(hi, p);
+            if (!(std::abs(d) <= lift)) lift = std::abs(d);
+        }
+        include(cell, lo, lift);
+        include(cell, hi, lift);
+    }
+}
+
+void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const DisplacedCells& cells,
+                                   std::vector<uint32_t>& out, std::vector<uint32_t>* indexed) const {
+    if (cellKeys_.empty() || !(radius >= 0.0f)) return;
+    assert(cells.current(*this) && "DisplacedCells built for other samples or an older index");
+    const float r2 = radius * radius;
+    // Tests a cell's box, then each of its samples' displaced positions.
+    auto visitSamples = [&](size_t cell) {
+        for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
+            const glm::vec3 d = cellPositions_[k] + cells.values_[k] * cellNormals_[k] - centre;
+            if (glm::dot(d, d) > r2) continue;
+            out.push_back(cellSamples_[k]);
+            if (indexed) indexed->push_back(k);
+        }
+    };
+    auto visit = [&](size_t cell) {
+        if (squaredDistanceToBox(centre, cells.lo_[cell], cells.hi_[cell]) <= r2) visitSamples(cell);
+    };
+    // Near cells: a displaced position within the radius has its limit position within
+    // radius + lift of the centre, and that within slack of where the index filed it.
+    const float reach = radius + slack_ + cells.nearLift_;
+    int64_t lo[3], hi[3];
+    bool walk = true;
+    for (int axis = 0; axis < 3; ++axis) {
+        float a = std::max(centre[axis] - reach, indexMin_[axis]);
+        float b = std::min(centre[axis] + reach, indexMax_[axis]);
+        if (!(a <= b)) walk = false;
+        if (!walk) break;
+        lo[axis] = int64_t(std::floor((a - indexMin_[axis]) / cellSize_)) + kCellBias;
+        hi[axis] = int64_t(std::floor((b - indexMin_[axis]) / cellSize_)) + kCellBias;
+    }
+    auto it = cellKeys_.begin();
+    const auto end = cellKeys_.end();
+    for (int64_t x = lo[0]; walk && x <= hi[0]; ++x)
+        for (int64_t y = lo[1]; y <= hi[1]; ++y) {
+            uint64_t first = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(lo[2]);
+            uint64_t last = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(hi[2]);
+            ptrdiff_t step = 1;
+            while (step < end - it && it[step] < first) step *= 2;
+            it = std::lower_bound(it + step / 2, it + std::min(step, ptrdiff_t(end - it)), first);
+            for (; it != end && *it <= last; ++it) {
+                const size_t cell = size_t(it - cellKeys_.begin());
+                if (cells.farSlot_[cell] == UINT32_MAX) visit(cell);
+            }
+        }
+    // Far cells: each box on its own, wherever the cell is filed.
+    for (size_t slot = 0; slot < cells.farCells_.size(); ++slot)
+        if (squaredDistanceToBox(centre, cells.farLo_[slot], cells.farHi_[slot]) <= r2) visitSamples(cells.farCells_[slot]);
 }
 
 }  // namespace qp

@@ -11,6 +11,18 @@
 // limit changed (subfacesAffectedByVertices); the index is rebuilt only once samples have
 // moved more than half a cell since its last build (queries widen by that much meanwhile).
 // After a resolution change or a topology edit, build a new cache (the layout changed).
+//
+// Brushes act on the DISPLACED surface (s + D N): queryDisplaced finds the samples whose
+// displaced positions lie in a sphere. The index stays filed by limit positions (D changes at
+// every dab; refiling would cost a sort); a DisplacedCells, kept by the caller next to the D it
+// describes, bounds per index cell where its displaced positions lie: the box around them and
+// the largest |D| (its lift). Cells lifted by at most a cell are reached by widening the walk
+// over the index by the largest such lift (zero on an unsculpted model: the walk is then the
+// limit query's); cells lifted farther (a tall bump) are kept in a short list and tested box by
+// box, so a tall bump elsewhere does not widen every query. "Farther" adapts to the sculpt: at
+// least a cell, and high enough that at most kMaxFarCells cells are far when the bounds are
+// built (a model lifted everywhere by a few cells is walked a few cells wider instead of
+// scanning a list of every cell). Cells a stroke lifts past it join the list as it goes.
 #pragma once
 
 #include <cstdint>
@@ -61,6 +73,42 @@ glm::vec3 limitNormal(const PlannedCage& planned, uint32_t subface, float u, flo
 // Sub-faces whose limit surface depends on one of these cage vertices.
 std::vector<uint32_t> subfacesAffectedByVertices(const PlannedCage& planned, std::span<const uint32_t> vertices);
 
+class SculptSamples;
+
+// Per index cell of a SculptSamples: bounds of its samples' displaced positions for one set of
+// D values. Valid for the samples' current positions and index (current()); after D changed
+// outside the holder's knowledge (undo, a load) rebuild it, after a dab grow it.
+class DisplacedCells {
+public:
+    static constexpr size_t kMaxFarCells = 4096;
+
+    // From every sample's value (values.size() == samples.sampleCount()): O(samples).
+    void rebuild(const SculptSamples& samples, std::span<const float> values);
+    // After these samples' values changed: their cells' bounds grow to hold them (they never
+    // shrink before the next rebuild: a bound, not the tightest one).
+    void grow(const SculptSamples& samples, std::span<const float> values, std::span<const uint32_t> changed);
+    // The same for samples given by their places in the index (queryDisplaced's `indexed`):
+    // no lookups, and consecutive entries of one cell (as queries return them) merged first.
+    void growIndexed(const SculptSamples& samples, std::span<const float> values, std::span<const uint32_t> indexed);
+    // Built for the samples' present positions and index.
+    bool current(const SculptSamples& samples) const;
+
+private:
+    friend class SculptSamples;
+    void include(uint32_t cell, const glm::vec3& displaced, float lift);
+
+    std::vector<float> values_;       // D in the index's order (SculptSamples::cellSamples_)
+    std::vector<glm::vec3> lo_, hi_;  // per cell: the box around its displaced positions
+    std::vector<float> lift_;         // per cell: the largest |D| of its samples
+    std::vector<uint32_t> farSlot_;   // per cell: its place in farCells_, or UINT32_MAX (near)
+    // Far cells and copies of their boxes, side by side: queries scan them in sequence.
+    std::vector<uint32_t> farCells_;
+    std::vector<glm::vec3> farLo_, farHi_;
+    float farLift_ = 0.0f;   // lifts above it make a far cell
+    float nearLift_ = 0.0f;  // the largest lift of the other cells
+    uint64_t revision_ = 0;  // SculptSamples::revision() when built; 0: never
+};
+
 class SculptSamples {
 public:
     static SculptSamples build(const PlannedCage& planned, const DisplacementLayout& layout);
@@ -81,6 +129,15 @@ public:
     // and with `indexed` where each is in the spatial index (indexedPosition, indexedNormal).
     void query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out,
                std::vector<uint32_t>* indexed = nullptr) const;
+    // Appends every sited sample whose DISPLACED position, position + D * normal(sample), lies
+    // within `radius` of `centre` (unordered), with `indexed` as query's. D is the values `cells`
+    // holds (it keeps a copy in the index's order, read in sequence): cells must be current()
+    // and rebuilt or grown with every change of D since.
+    void queryDisplaced(const glm::vec3& centre, float radius, const DisplacedCells& cells, std::vector<uint32_t>& out,
+                        std::vector<uint32_t>* indexed = nullptr) const;
+    // Bumped whenever positions or the index change (build, refresh): DisplacedCells built
+    // before are stale.
+    uint64_t revision() const { return revision_; }
     // The index's copies of position(sample) and normal(sample), same bits, in the order of its
     // cells: what a query finds lies close together there, not scattered over the samples.
     const glm::vec3& indexedPosition(uint32_t k) const { return cellPositions_[k]; }
@@ -90,6 +147,7 @@ public:
     glm::vec3 centre() const { return 0.5f * (boundsMin_ + boundsMax_); }
 
 private:
+    friend class DisplacedCells;
     void evaluateSites(const PlannedCage& planned, std::span<const uint32_t> samples);
     void buildIndex();
     uint64_t cellKey(const glm::vec3& p) const;
@@ -111,6 +169,8 @@ private:
     // is in it.
     std::vector<glm::vec3> cellPositions_, cellNormals_;
     std::vector<uint32_t> cellIndexOfSample_;
+    std::vector<uint32_t> cellOfIndexed_;  // per entry of cellSamples_: its cell
+    uint64_t revision_ = 0;
     // Kept between index builds: fresh allocations of this size cost page faults every time.
     std::vector<uint32_t> scratchSited_;
     std::vector<std::pair<uint64_t, uint32_t>> scratchKeyed_;

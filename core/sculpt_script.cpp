@@ -56,7 +56,8 @@ ScriptedStroke readStroke(const json& value, const std::string& field) {
     ScriptedStroke stroke;
     Brush& brush = stroke.options.brush;
     brush.kind = readName<BrushKind>(value["brush"], field + ".brush", brushKindFromName,
-                                     "\"raise\", \"lower\", \"smooth\", \"flatten\", \"erase\"");
+                                     "\"raise\", \"lower\", \"smooth\", \"flatten\", \"erase\", \"inflate\", \"crease\", "
+                                     "\"mask\", \"unmask\"");
     brush.radius = readFloat(value["radius"], field + ".radius");
     brush.strength = readFloat(value["strength"], field + ".strength");
     if (value.contains("falloff"))

@@ -4,7 +4,8 @@
 //   {"strokes": [{"brush": "raise", "radius": 0.3, "strength": 0.1,
 //                 "falloff": "smooth", "mirror": "x", "spacing": 0.05,
 //                 "path": [[0, 1, 0.5], [0.4, 1, 0.2]]}, ...]}
-// with brush, radius, strength and path required; falloff (default "smooth"), mirror
+// with brush ("raise", "lower", "smooth", "flatten", "erase", "inflate", "crease", "mask",
+// "unmask"; brush.h), radius, strength and path required; falloff (default "smooth"), mirror
 // ("none", "x", "y", "z"; default "none") and spacing (default 0: a quarter of the radius)
 // optional. Strokes run in order, each on the result of the one before.
 #pragma once

@@ -91,7 +91,7 @@ TEST(CliSculpt, BadInputIsRefusedWithAMessage) {
     std::ofstream(strokes) << R"({"strokes": [{"brush": "raise", "radius": -1, "strength": 0.1, "path": [[0, 0, 0]]}]})";
     const Case cases[] = {
         {"--radius 0.5 --strength 0.1 --path \"0,1\"", "--path: point 1 (\"0,1\") needs three numbers separated by commas"},
-        {"--brush inflate --radius 0.5 --strength 0.1 --path \"0,1,0\"", "--brush: unknown brush \"inflate\""},
+        {"--brush pinch --radius 0.5 --strength 0.1 --path \"0,1,0\"", "--brush: unknown brush \"pinch\""},
         {"--brush erase --radius 0.5 --strength 3 --path \"0,1,0\"", "its strength must be between 0 and 1, got 3"},
         {"--radius 0.5 --strength 0.1 --path \"0,1,0\" --resolution 12", "--resolution must be a power of two"},
         {"--radius 0.5 --strength 0.1", "nothing to sculpt"},
