@@ -33,9 +33,16 @@ const ActionInfo kActions[] = {
     {"tool.move", "Move tool", "W", {GLFW_KEY_W}, "Show the move handle: drag an arrow along its axis, the centre square or any element in the view plane"},
     {"tool.rotate", "Rotate tool", "E", {GLFW_KEY_E}, "Show the rotate handle: drag a ring about its axis, the outer ring about the view direction"},
     {"tool.scale", "Scale tool", "R", {GLFW_KEY_R}, "Show the scale handle: drag a box along its axis, the centre box to scale evenly"},
-    {"tool.sculpt", "Sculpt tool", "B", {GLFW_KEY_B}, "Left drag paints displacement with the brush of the Sculpt panel (Ctrl: raise <-> lower, Shift: smooth)"},
+    {"tool.sculpt", "Sculpt tool", "B", {GLFW_KEY_B}, "Left drag paints with the brush of the Sculpt panel on the displaced surface (Ctrl: raise <-> lower, mask <-> unmask; Shift: smooth)"},
     {"sculpt.smaller", "Smaller brush", "[", {GLFW_KEY_LEFT_BRACKET}, "Shrink the sculpt brush's radius by a fifth"},
     {"sculpt.larger", "Larger brush", "]", {GLFW_KEY_RIGHT_BRACKET}, "Grow the sculpt brush's radius by a quarter"},
+    // With the sculpt tool these keys win over the same keys' edit-mode actions (merge, invert
+    // selection), which they serve with any other tool.
+    {"brush.mask", "Mask brush", "M (sculpt tool)", {GLFW_KEY_M}, "Paint the mask: masked samples keep their displacement under every brush (Ctrl: unmask)"},
+    {"brush.invert_mask", "Invert mask", "Ctrl+I (sculpt tool)", {GLFW_KEY_I, true}, "Mask what is not masked and the other way round (one undo entry)"},
+    {"brush.clear_mask", "Clear mask", "Alt+M", {GLFW_KEY_M, false, false, true}, "Unmask everything (one undo entry)"},
+    {"brush.inflate", "Inflate brush", "Shift+I (sculpt tool)", {GLFW_KEY_I, false, true}, "Swell the displaced surface along its own normal (its slopes move out too, so bumps grow fatter)"},
+    {"brush.crease", "Crease brush", "Shift+C (sculpt tool)", {GLFW_KEY_C, false, true}, "Cut a sharp V-shaped crease, pinching its sides together"},
     {"tool.space", "World / local axes", "L", {GLFW_KEY_L}, "Toggle the handle's and the numeric entry's axes: world, or local (the selection's normal is z)"},
     {"mesh.extrude", "Extrude faces", "Ctrl+E", {GLFW_KEY_E, true}, "Extrude the selected faces interactively: the mouse sets the distance along their normal (or type it), click or Enter confirms, Esc or right click cancels"},
     {"mesh.delete", "Delete faces", "Delete / Backspace", {GLFW_KEY_DELETE}, "Delete the selected faces (vertices no other face uses go too)", {GLFW_KEY_BACKSPACE}},
@@ -98,7 +105,7 @@ const MouseBinding kMouse[] = {
     {"Left drag on an element (move tool)", "Select it if it is not, then move the selection in the view plane"},
     {"Left drag on a handle (move, rotate, scale tools)", "Transform along / about that axis; the centre handle works in the view plane; Ctrl snaps"},
     {"Right click or Esc during a drag", "Cancel the drag (the selection goes back)"},
-    {"Left drag (sculpt tool, B)", "Paint displacement on the surface (one undo entry per stroke); Ctrl: raise <-> lower, Shift: smooth"},
+    {"Left drag (sculpt tool, B)", "Paint on the displaced surface under the cursor (one undo entry per stroke); Ctrl: raise <-> lower, mask <-> unmask; Shift: smooth"},
     {"Mouse (extrude, Ctrl+E)", "Sets the distance along the faces' normal (or type digits . -, Backspace); left click or Enter confirms, right click or Esc cancels"},
     {"Left click (loop tool, Ctrl+R)", "Insert an edge loop across the edge under the cursor, where the cursor is"},
     {"Alt + left drag, or middle drag", "Orbit (an Alt+click without a drag selects a loop)"},
@@ -118,6 +125,7 @@ const ActionInfo* findAction(std::string_view id) {
 std::span<const MouseBinding> mouseBindings() { return kMouse; }
 
 ActionScope scopeOf(std::string_view id) {
+    if (id.starts_with("brush.")) return ActionScope::SculptTool;
     for (std::string_view prefix : {"select.", "mesh.", "crease.", "sculpt.", "tool.sculpt"})
         if (id.starts_with(prefix)) return ActionScope::EditMode;
     if (id.starts_with("object.")) return ActionScope::ObjectMode;

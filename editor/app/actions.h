@@ -29,7 +29,9 @@ const ActionInfo* findAction(std::string_view id);
 // Where an action works: edit mode's act on the edited cage ("select.", "mesh.", "crease.",
 // "sculpt." and the sculpt tool), object mode's on whole objects ("object."), the rest in both.
 // One key may serve one action of each mode (H hides faces in edit mode, objects in object mode).
-enum class ActionScope : uint8_t { Both, EditMode, ObjectMode };
+// The sculpt tool's ("brush.") work in edit mode too; their keys act only while the sculpt tool
+// is active, where they win over an edit-mode action on the same key (M masks, not merges).
+enum class ActionScope : uint8_t { Both, EditMode, ObjectMode, SculptTool };
 ActionScope scopeOf(std::string_view id);
 
 // Mouse gestures in a viewport, for the help panel.

@@ -287,7 +287,7 @@ void runAction(EditorApp& app, std::string_view id) {
     const uint32_t active = app.activeViewport;
     auto standard = [&](StandardView v) { setStandardView(cameraOf(app, active), v); };
     const ActionScope scope = scopeOf(id);
-    if (scope == ActionScope::EditMode && app.mode == EditorMode::Object) {
+    if ((scope == ActionScope::EditMode || scope == ActionScope::SculptTool) && app.mode == EditorMode::Object) {
         app.ui.status = "That works on a cage in edit mode: Tab edits the selected object's cage.";
         return;
     }
@@ -363,6 +363,8 @@ void runAction(EditorApp& app, std::string_view id) {
         scaleBrushRadius(app, 1.0f / 1.25f);
     } else if (id == "sculpt.larger") {
         scaleBrushRadius(app, 1.25f);
+    } else if (id.starts_with("brush.")) {
+        runBrushAction(app, id);
     } else if (id == "tool.space") {
         app.tools.space = app.tools.space == TransformSpace::World ? TransformSpace::Local : TransformSpace::World;
     } else if (id == "mesh.extrude") {

@@ -207,7 +207,7 @@ std::string checkWords(const AutomationCommand& c, const AutomationVocabulary& w
     if (name == "set-tool" && !isOneOf(c.args[0], {"select", "move", "rotate", "scale", "sculpt"}))
         return "the tool must be select, move, rotate, scale or sculpt";
     if (name == "brush") {
-        if (!brushKindFromName(c.args[0])) return "the brush must be raise, lower, smooth, flatten or erase";
+        if (!brushKindFromName(c.args[0])) return "the brush must be raise, lower, smooth, flatten, erase, inflate, crease, mask or unmask";
         if (c.args.size() > 3 && !falloffFromName(c.args[3])) return "the falloff must be smooth, linear, constant or sphere";
         if (c.args.size() > 4 && !mirrorAxisFromName(c.args[4])) return "the mirror axis must be none, x, y or z";
     }

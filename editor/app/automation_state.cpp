@@ -143,6 +143,11 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     state["brush"] = {{"kind", brushKindName(brush.kind)}, {"radius", brush.radius}, {"strength", brush.strength},
                       {"falloff", falloffName(brush.falloff)}, {"resolution", brush.resolution},
                       {"hover", app.ui.brushHover ? json(vec(app.ui.brushHover->position)) : json(nullptr)}};
+    if (const std::optional<SurfaceHit>& hover = app.ui.brushHover) {  // on the displaced surface; `limit` beneath it
+        state["brush"]["hover_normal"] = vec(hover->normal);
+        state["brush"]["hover_limit"] = vec(hover->limit);
+        state["brush"]["hover_site"] = {{"subface", hover->subface}, {"u", hover->u}, {"v", hover->v}};
+    }
     const Displacement& displacement = displacementOf(doc);
     if (displacement.empty()) {
         state["displacement"] = nullptr;
@@ -150,8 +155,12 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
         uint32_t nonzero = 0;
         float largest = 0.0f;
         for (float x : displacement.samples) nonzero += x != 0.0f, largest = std::max(largest, std::fabs(x));
+        uint32_t masked = 0;
+        for (float m : displacement.mask) masked += m > 0.0f;
         state["displacement"] = {{"samples", displacement.samples.size()}, {"nonzero", nonzero}, {"max_abs", largest},
-                                 {"revision", doc.displacementRevision}, {"sample_revision", doc.sampleRevision}};
+                                 {"revision", doc.displacementRevision}, {"sample_revision", doc.sampleRevision},
+                                 {"masked", masked}, {"mask_revision", doc.maskRevision},
+                                 {"mask_dots", app.ui.maskDots.positions.size()}};
     }
     const Timeline timeline = documentTimeline(doc);
     const EditReport& shown = doc.lastFrameChange;

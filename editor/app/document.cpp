@@ -223,14 +223,21 @@ void noteChange(Document& doc, const std::string& description, const EditReport&
     noteHistoryStep(doc, description, report, frame);
 }
 
+}  // namespace
+
 // The history's DisplacementEdit entries report here (performed, undone or redone), so the
 // renderer and the brushes see every change whichever route made it.
 DisplacementListener displacementListener(Document& doc) {
     return [&doc](const DisplacementChange& change) {
         if (change.newLayout) {
             ++doc.displacementRevision;
+            ++doc.maskRevision;
             doc.unsyncedSamples.clear();
             doc.sculptSamples.reset();
+            return;
+        }
+        if (change.maskOnly) {  // D did not change: nothing to upload or re-pick
+            ++doc.maskRevision;
             return;
         }
         ++doc.sampleRevision;
@@ -248,32 +255,6 @@ Result<EditReport> performDisplacementEdit(Document& doc, const std::string& nam
     noteHistoryStep(doc, name, *report, frame);
     return report;
 }
-
-// An entry whose change is already made (the first stroke made and painted the displacement):
-// the history's perform() must not apply it again (that would re-send every sample to the
-// renderer); later redos do.
-class AlreadyDone final : public CustomEdit {
-public:
-    explicit AlreadyDone(std::unique_ptr<CustomEdit> edit) : edit_(std::move(edit)) {}
-    Result<EditReport> redo(PlannedCage& planned) override {
-        if (std::exchange(first_, false)) return EditReport{};
-        return edit_->redo(planned);
-    }
-    Result<EditReport> undo(PlannedCage& planned) override { return edit_->undo(planned); }
-    size_t bytes() const override { return edit_->bytes(); }
-
-private:
-    std::unique_ptr<CustomEdit> edit_;
-    bool first_ = true;
-};
-
-Result<EditReport> replaceDisplacement(Document& doc, const std::string& name, Displacement next, uint64_t frame) {
-    auto edit = std::make_unique<DisplacementEdit>(activeObject(doc).displacement, activeObject(doc).displacement, std::move(next),
-                                                   displacementListener(doc));
-    return performDisplacementEdit(doc, name, std::move(edit), frame);
-}
-
-}  // namespace
 
 std::string describeEdit(const Edit& edit) {
     struct Describe {
@@ -601,116 +582,6 @@ std::vector<EdgeKey> selectedEdges(const Document& doc) {
     if (!doc.planned) return {};
     if (doc.selection.mode == SelectionMode::Edge) return doc.selection.edges;
     return convertSelection(doc.selection, SelectionMode::Edge, doc.planned->cage(), doc.planned->topology()).edges;
-}
-
-// ---- displacement ---------------------------------------------------------------------------
-
-Status beginStroke(Document& doc, uint32_t newResolution, uint64_t frame) {
-    if (!doc.planned) return Error{"no cage is open"};
-    if (doc.sculptor) return Error{"a stroke is already in progress"};
-    doc.strokeMadeDisplacement = activeObject(doc).displacement.empty();
-    if (doc.strokeMadeDisplacement) {
-        // Not a history entry of its own: endStroke records it with the stroke.
-        if (Status ok = checkDisplacementResolution(newResolution); !ok) return ok;
-        activeObject(doc).displacement = makeDisplacement(doc.planned->cage(), doc.planned->topology(), newResolution);
-        displacementListener(doc)(DisplacementChange{true, {}});
-    }
-    doc.sculptor.emplace(activeObject(doc).displacement, sculptSamplesOf(doc));
-    doc.sculptor->beginStroke();
-    return success();
-}
-
-bool strokeActive(const Document& doc) { return doc.sculptor.has_value(); }
-
-uint32_t strokeTo(Document& doc, const StrokeOptions& options, const glm::vec3& point) {
-    assert(doc.sculptor && "strokeTo outside beginStroke / endStroke");
-    const size_t before = doc.unsyncedSamples.size();
-    const uint32_t changed = doc.sculptor->dabTo(options, point, &doc.unsyncedSamples);
-    if (doc.unsyncedSamples.size() != before) ++doc.sampleRevision;
-    return changed;
-}
-
-uint32_t strokeDab(Document& doc, const StrokeOptions& options, const glm::vec3& centre) {
-    assert(doc.sculptor && "strokeDab outside beginStroke / endStroke");
-    const uint32_t changed = doc.sculptor->dab(options.brush, options.mirror, centre);
-    const std::span<const uint32_t> reached = doc.sculptor->lastDabSamples();
-    doc.unsyncedSamples.insert(doc.unsyncedSamples.end(), reached.begin(), reached.end());
-    if (!reached.empty()) ++doc.sampleRevision;
-    return changed;
-}
-
-Result<EditReport> endStroke(Document& doc, const std::string& name, uint64_t frame) {
-    if (!doc.sculptor) return Error{"no stroke is in progress"};
-    StrokeRecord record = doc.sculptor->endStroke();
-    doc.sculptor.reset();
-    if (std::exchange(doc.strokeMadeDisplacement, false)) {
-        if (record.changes.empty()) {  // nothing painted: back to no displacement, no entry
-            activeObject(doc).displacement = Displacement{};
-            displacementListener(doc)(DisplacementChange{true, {}});
-            return EditReport{};
-        }
-        // One entry from "none" to the painted displacement, already in place.
-        auto replace = std::make_unique<DisplacementEdit>(activeObject(doc).displacement, Displacement{}, activeObject(doc).displacement,
-                                                          displacementListener(doc));
-        return performDisplacementEdit(doc, name, std::make_unique<AlreadyDone>(std::move(replace)), frame);
-    }
-    if (record.changes.empty()) return EditReport{};
-    // perform() re-applies the `after` values: the listener then lists the samples once more,
-    // which costs one idempotent upload.
-    auto edit = std::make_unique<DisplacementEdit>(activeObject(doc).displacement, std::move(record), displacementListener(doc));
-    return performDisplacementEdit(doc, name, std::move(edit), frame);
-}
-
-void cancelStroke(Document& doc) {
-    if (!doc.sculptor) return;
-    const StrokeRecord record = doc.sculptor->endStroke();
-    doc.sculptor.reset();
-    if (std::exchange(doc.strokeMadeDisplacement, false)) {
-        activeObject(doc).displacement = Displacement{};
-        displacementListener(doc)(DisplacementChange{true, {}});
-        return;
-    }
-    undoStroke(activeObject(doc).displacement, record);
-    ++doc.sampleRevision;
-    for (const SampleChange& c : record.changes) doc.unsyncedSamples.push_back(c.sample);
-}
-
-Result<EditReport> setDisplacementResolution(Document& doc, uint32_t resolution, uint64_t frame) {
-    if (!doc.planned) return Error{"no cage is open"};
-    if (doc.sculptor) return Error{"finish the stroke first"};
-    if (Status ok = checkDisplacementResolution(resolution); !ok) return ok.error();
-    const Displacement& d = activeObject(doc).displacement;
-    if (d.empty())
-        return replaceDisplacement(doc, "New displacement",
-                                   makeDisplacement(doc.planned->cage(), doc.planned->topology(), resolution), frame);
-    const std::vector<uint32_t> resolutions(d.layout.subfaces.size(), resolution);
-    return replaceDisplacement(doc, "Displacement resolution " + std::to_string(resolution),
-                               resampleDisplacement(d, resolutions), frame);
-}
-
-Result<EditReport> clearDisplacement(Document& doc, uint64_t frame) {
-    if (!doc.planned) return Error{"no cage is open"};
-    if (doc.sculptor) return Error{"finish the stroke first"};
-    if (activeObject(doc).displacement.empty()) return Error{"the scene has no displacement to clear"};
-    return replaceDisplacement(doc, "Clear displacement", Displacement{}, frame);
-}
-
-glm::vec3 mirrorCentreOf(const Document& doc) {
-    if (doc.sculptSamples) return doc.sculptSamples->centre();
-    const Bounds bounds = computeBounds(doc.planned->cage());
-    return 0.5f * (bounds.min + bounds.max);
-}
-
-const SculptSamples& sculptSamplesOf(Document& doc) {
-    if (!doc.sculptSamples) doc.sculptSamples.emplace(SculptSamples::build(*doc.planned, activeObject(doc).displacement.layout));
-    return *doc.sculptSamples;
-}
-
-std::vector<uint32_t> takeUnsyncedSamples(Document& doc) {
-    std::vector<uint32_t> samples = std::exchange(doc.unsyncedSamples, {});
-    std::sort(samples.begin(), samples.end());
-    samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
-    return samples;
 }
 
 EditReport takeUnsyncedPlanChange(Document& doc) {

@@ -20,6 +20,7 @@
 #include <glm/vec3.hpp>
 
 #include "brush.h"
+#include "displacement_edit.h"
 #include "edit_history.h"
 #include "plan_database.h"
 #include "planned_cage.h"
@@ -137,6 +138,10 @@ struct Document {
     // undone or redone), the samples then being appended to unsyncedSamples until the renderer
     // has taken them (takeUnsyncedSamples).
     uint64_t displacementRevision = 0, sampleRevision = 0;
+    // maskRevision changes whenever the sculpting mask changed (a mask stroke, invert, clear, one
+    // undone or redone, a new displacement): the mask overlay redraws then. Mask changes leave
+    // sampleRevision alone (D did not change; renderers ignore the mask).
+    uint64_t maskRevision = 0;
     std::vector<uint32_t> unsyncedSamples;
     // What tag and topology edits (and their undo and redo) re-planned since the renderer last
     // took it (takeUnsyncedPlanChange): the sub-faces a scheme may update in place.
@@ -277,6 +282,17 @@ glm::vec3 mirrorCentreOf(const Document& document);
 const SculptSamples& sculptSamplesOf(Document& document);
 // The samples changed in place since the last call (sorted, each once).
 std::vector<uint32_t> takeUnsyncedSamples(Document& document);
+// The sculpting mask (Displacement::mask; mask strokes are strokes with a mask brush): every
+// sample's mask m -> 1 - m, or every mask value to 0. Each is one history entry; they fail
+// without a displacement or during a stroke, and clearing a mask that masks nothing makes no
+// entry (the report is empty then).
+Result<EditReport> invertSculptMask(Document& document, uint64_t frame);
+Result<EditReport> clearSculptMask(Document& document, uint64_t frame);
+// What DisplacementEdit entries report to (revisions, the samples to upload), and how
+// document_sculpt.cpp records one (dirty flag, the last edit).
+DisplacementListener displacementListener(Document& document);
+Result<EditReport> performDisplacementEdit(Document& document, const std::string& name, std::unique_ptr<CustomEdit> edit,
+                                           uint64_t frame);
 // The plans changed since the last call (EditReport lists sorted; topologyChanged after a
 // renumbering), reset to nothing.
 EditReport takeUnsyncedPlanChange(Document& document);

@@ -33,6 +33,7 @@
 #include "scheme_loader.h"
 #include "scene_cache.h"
 #include "scene_renderer.h"
+#include "mask_overlay.h"
 #include "sculpt_tool.h"
 #include "swapchain_target.h"
 #include "view_camera.h"
@@ -171,6 +172,8 @@ struct UiState {
     std::vector<glm::vec3> loopPreview;   // the loop the loop tool would cut, as segment pairs
     std::string loopPreviewKey;
     std::optional<SurfaceHit> brushHover;  // the sculpt tool: the surface under the cursor
+    bool showMask = true;                  // the sculpt tool: masked samples as dark dots
+    MaskDots maskDots;
     uint32_t brushViewport = 0;
     // A live slider's drag (creases, corners): the history position just after its entry,
     // which later changes of the same drag replace.

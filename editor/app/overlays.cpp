@@ -1,6 +1,6 @@
 // Viewport overlays drawn with Dear ImGui over the cached 3D picture, so hovering and dragging
 // them needs no 3D redraw: the transform handle, the box of a box selection, the loop the loop
-// tool would cut, the sculpt brush, the readout of a drag, and the heat map's colour scale.
+// tool would cut, the sculpt brush and mask, the readout of a drag, and the heat map's colour scale.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -146,6 +146,24 @@ void drawBrush(ImDrawList* list, const EditorApp& app, const ViewportState& v, c
     drawBrushCircle(list, view, at, centre, normal, radius, lowering, rgba(rgb.r, rgb.g, rgb.b, 0.5f), 1.0f);
 }
 
+// The mask: a dark square per masked sample facing the camera, alpha by its mask value. The
+// camera's side is found per dot from the ray through its pixel (unprojecting the pixel at the
+// near and far planes), which also holds for orthographic views.
+void drawMaskDots(ImDrawList* list, const MaskDots& dots, const ViewportState& v, const ToWindow& at) {
+    const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
+    const glm::mat4 inverse = glm::inverse(v.viewProjection);
+    for (size_t k = 0; k < dots.positions.size(); ++k) {
+        const glm::vec4 clip = v.viewProjection * glm::vec4(dots.positions[k], 1.0f);
+        if (!(clip.w > 0.0f)) continue;
+        const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+        const glm::vec4 nearPoint = inverse * glm::vec4(ndc, 0.0f, 1.0f), farPoint = inverse * glm::vec4(ndc, 1.0f, 1.0f);
+        const glm::vec3 direction = glm::vec3(farPoint) / farPoint.w - glm::vec3(nearPoint) / nearPoint.w;
+        if (glm::dot(direction, dots.normals[k]) > 0.0f) continue;  // facing away
+        const ImVec2 c = at((ndc + 1.0f) * 0.5f * view.size);
+        list->AddRectFilled(ImVec2(c.x - 1.5f, c.y - 1.5f), ImVec2(c.x + 1.5f, c.y + 1.5f), rgba(0.05f, 0.05f, 0.12f, 0.25f + 0.65f * dots.values[k]));
+    }
+}
+
 constexpr float kTriadLength = 30.0f, kTriadMargin = 44.0f;  // window pixels
 
 // Farthest axis first, so the nearer ones are drawn over it.
@@ -210,6 +228,8 @@ void drawViewportOverlays(EditorApp& app) {
     const float scale = framebufferScale();
     ImDrawList* list = ImGui::GetBackgroundDrawList();
     const Drag& d = app.drag;
+    const bool showMask = app.ui.showMask && app.mode == EditorMode::Edit && app.tools.tool == Tool::Sculpt && app.doc;
+    if (showMask) updateMaskDots(app.ui.maskDots, *app.doc, app.documentGeneration);
     for (uint32_t i = 0; i < app.viewports.size(); ++i) {
         const ViewportState& v = app.viewports[i];
         const ToWindow at{{float(v.rect.offset.x), float(v.rect.offset.y)}, scale};
@@ -229,6 +249,7 @@ void drawViewportOverlays(EditorApp& app) {
                 if (a.inFront && b.inFront) list->AddLine(at(a.pixel), at(b.pixel), kHover, 2.5f);
             }
         }
+        if (showMask) drawMaskDots(list, app.ui.maskDots, v, at);
         if (app.ui.brushHover && app.ui.brushViewport == i) drawBrush(list, app, v, at);
         const ImVec2 corner = at({float(v.rect.extent.width), float(v.rect.extent.height)});
         drawAxisTriad(list, v.worldViewProjection, ImVec2(corner.x - kTriadMargin, corner.y - kTriadMargin));

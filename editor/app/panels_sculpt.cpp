@@ -10,8 +10,6 @@
 
 namespace qp::editor {
 
-
-
 void sculptSection(EditorApp& app) {
     if (!ImGui::CollapsingHeader("Sculpt", ImGuiTreeNodeFlags_DefaultOpen)) return;
     SculptSettings& s = app.tools.sculpt;
@@ -26,13 +24,17 @@ void sculptSection(EditorApp& app) {
         const char* help;
     };
     const KindButton kinds[] = {
-        {"Raise", BrushKind::Raise, "Push the surface out along its normal (strength: height per dab, in radii)"},
-        {"Lower", BrushKind::Lower, "Push the surface in along its normal"},
-        {"Smooth", BrushKind::Smooth, "Even out the displacement towards its neighbours' mean"},
+        {"Raise", BrushKind::Raise, "Push the surface out along its normal (strength: height per dab, in radii; Ctrl: lower)"},
+        {"Lower", BrushKind::Lower, "Push the surface in along its normal (Ctrl: raise)"},
+        {"Smooth", BrushKind::Smooth, "Even out the displacement towards its neighbours' mean (Shift with any brush)"},
         {"Flatten", BrushKind::Flatten, "Pull the displaced surface towards the plane under the brush"},
-        {"Erase", BrushKind::Erase, "Take the displacement back towards zero (strength 1, constant falloff: exactly 0)"}};
+        {"Erase", BrushKind::Erase, "Take the displacement back towards zero (strength 1, constant falloff: exactly 0)"},
+        {"Inflate", BrushKind::Inflate, "Swell the displaced surface along its own normal: slopes move out too, so bumps grow fatter (Shift+I)"},
+        {"Crease", BrushKind::Crease, "Cut a sharp V-shaped crease and pinch its sides together (strength: depth per dab, in radii; Shift+C)"},
+        {"Mask", BrushKind::Mask, "Paint the mask: masked samples (dark dots) keep their displacement under every brush (M; Ctrl: unmask)"},
+        {"Unmask", BrushKind::Unmask, "Take the mask away where you paint (Ctrl: mask)"}};
     for (size_t k = 0; k < std::size(kinds); ++k) {
-        if (k > 0) ImGui::SameLine();
+        if (k % 5 != 0) ImGui::SameLine();  // two rows: the height brushes, then the rest
         if (radio(app, kinds[k].label, s.kind == kinds[k].kind, kinds[k].help)) s.kind = kinds[k].kind;
     }
     float percent = s.radius * 100.0f;
@@ -43,7 +45,7 @@ void sculptSection(EditorApp& app) {
         s.radius = std::clamp(percent, 0.1f, 50.0f) / 100.0f;
     ImGui::SetNextItemWidth(200);
     sliderFloat(app, "Strength", &s.strength, 0.001f, 1.0f, "%.3f",
-                "Raise / lower: height per dab in brush radii; smooth, flatten, erase: how far each dab blends (0..1)",
+                "Raise, lower, inflate, crease: height per dab in brush radii; smooth, flatten, erase, mask, unmask: how far each dab blends (0..1)",
                 ImGuiSliderFlags_Logarithmic);
     const char* falloffs[] = {"smooth", "linear", "constant", "sphere"};
     int falloff = int(s.falloff);
@@ -69,6 +71,12 @@ void sculptSection(EditorApp& app) {
         applyDisplacementResolution(app);
     ImGui::SameLine();
     if (button(app, "Clear##displacement", "Remove the displacement (one undo entry)")) clearDisplacementTool(app);
+    if (button(app, "Invert mask", "Mask what is not masked and the other way round (Ctrl+I with the sculpt tool; one undo entry)"))
+        invertMaskTool(app);
+    ImGui::SameLine();
+    if (button(app, "Clear mask", "Unmask everything (Alt+M; one undo entry)")) clearMaskTool(app);
+    ImGui::SameLine();
+    checkbox(app, "Show mask", &app.ui.showMask, "Dark dots where samples are masked (the darker, the more), while sculpting");
     const Displacement& d = displacementOf(doc);
     if (d.empty()) {
         ImGui::TextDisabled("No displacement yet: the first stroke makes one.");

@@ -34,6 +34,28 @@ void dabReadout(EditorApp& app) {
     app.drag.readout = text;
 }
 
+// Ctrl's brush: the opposite where there is one (crease's ridge and a deflate are not brushes).
+BrushKind invertedBrush(BrushKind kind) {
+    switch (kind) {
+    case BrushKind::Raise: return BrushKind::Lower;
+    case BrushKind::Lower: return BrushKind::Raise;
+    case BrushKind::Mask: return BrushKind::Unmask;
+    case BrushKind::Unmask: return BrushKind::Mask;
+    default: return kind;
+    }
+}
+
+// Brushes whose strength is a height in radii (up to kMaxHeightStrength); the others blend (0..1).
+bool movesHeight(BrushKind kind) {
+    return kind == BrushKind::Raise || kind == BrushKind::Lower || kind == BrushKind::Inflate || kind == BrushKind::Crease;
+}
+
+void chooseBrush(EditorApp& app, BrushKind kind, const char* status) {
+    app.tools.sculpt.kind = kind;
+    app.tools.tool = Tool::Sculpt;
+    app.ui.status = status;
+}
+
 }  // namespace
 
 std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, glm::vec2 cursor) {
@@ -45,20 +67,18 @@ std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, 
     const DisplacedPicker& picker = displacedPicker(app.picking, *app.doc, app.documentGeneration);
     const DisplacedPicker::Hit hit = picker.intersect(planned, displacementOf(*app.doc), view.rayThrough(pixel));
     if (hit.subface == kNoHit) return std::nullopt;
-    return SurfaceHit{hit.position, hit.normal, hit.limit};
+    return SurfaceHit{hit.position, hit.normal, hit.limit, hit.subface, hit.u, hit.v};
 }
 
 StrokeOptions sculptStrokeOptions(const EditorApp& app, bool ctrl, bool shift) {
     const SculptSettings& s = app.tools.sculpt;
     StrokeOptions options;
     options.brush.kind = s.kind;
-    if (ctrl && s.kind == BrushKind::Raise) options.brush.kind = BrushKind::Lower;
-    else if (ctrl && s.kind == BrushKind::Lower) options.brush.kind = BrushKind::Raise;
+    if (ctrl) options.brush.kind = invertedBrush(s.kind);
     if (shift) options.brush.kind = BrushKind::Smooth;
     options.brush.radius = s.radius * modelDiagonal(app);
     options.brush.strength = s.strength;
-    const bool blends = options.brush.kind != BrushKind::Raise && options.brush.kind != BrushKind::Lower;
-    if (blends) options.brush.strength = std::min(options.brush.strength, 1.0f);
+    if (!movesHeight(options.brush.kind)) options.brush.strength = std::min(options.brush.strength, 1.0f);
     options.brush.falloff = s.falloff;
     options.mirror = s.mirror;
     return options;
@@ -149,6 +169,38 @@ uint32_t defaultDisplacementResolution(uint32_t subfaces) {
     uint32_t resolution = 16;
     while (resolution > 1 && uint64_t(subfaces) * resolution * resolution > kSampleBudget) resolution /= 2;
     return resolution;
+}
+
+bool invertMaskTool(EditorApp& app) {
+    if (!canSculpt(app)) return false;
+    Result<EditReport> report = invertSculptMask(*app.doc, app.frame);
+    if (!report) {
+        showError(app, "Invert mask: " + report.error().message);
+        return false;
+    }
+    app.ui.status = "Inverted the mask (undo brings it back)";
+    return true;
+}
+
+bool clearMaskTool(EditorApp& app) {
+    if (!canSculpt(app)) return false;
+    const size_t entries = app.doc->history.size();
+    Result<EditReport> report = clearSculptMask(*app.doc, app.frame);
+    if (!report) {
+        showError(app, "Clear mask: " + report.error().message);
+        return false;
+    }
+    app.ui.status = app.doc->history.size() == entries ? "Nothing is masked" : "Cleared the mask (undo brings it back)";
+    return true;
+}
+
+void runBrushAction(EditorApp& app, std::string_view id) {
+    if (id == "brush.mask") chooseBrush(app, BrushKind::Mask, "Mask brush: painted samples keep their displacement (Ctrl: unmask)");
+    else if (id == "brush.inflate") chooseBrush(app, BrushKind::Inflate, "Inflate brush");
+    else if (id == "brush.crease") chooseBrush(app, BrushKind::Crease, "Crease brush");
+    else if (id == "brush.invert_mask") invertMaskTool(app);
+    else if (id == "brush.clear_mask") clearMaskTool(app);
+    else showError(app, "unknown action '" + std::string(id) + "'");
 }
 
 void scaleBrushRadius(EditorApp& app, float factor) {

@@ -1,13 +1,14 @@
-// The sculpt tool (B): a left drag over the limit surface paints displacement with the brush
-// of ToolSettings::sculpt (core/brush.h: raise, lower, smooth, flatten, erase; radius,
-// strength, falloff, mirror). Ctrl swaps raise and lower, Shift smooths, for the stroke they
-// start. One stroke is one undo entry; a right click or Esc during the stroke puts the samples
+// The sculpt tool (B): a left drag over the displaced surface paints with the brush of
+// ToolSettings::sculpt (core/brush.h: raise, lower, smooth, flatten, erase, inflate, crease,
+// mask, unmask; radius, strength, falloff, mirror). Ctrl swaps raise and lower, mask and
+// unmask, Shift smooths, for the stroke they start. One stroke is one undo entry; a right click or Esc during the stroke puts the samples
 // back. Strokes follow the displaced surface under the cursor, the one the user sees: the pick,
 // the dab centres and the brush circle are all on s + D N.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <string_view>
 
 #include <glm/glm.hpp>
 
@@ -32,6 +33,8 @@ struct SculptSettings {
 // there: where dabs act and the brush circle lies. `limit` is the undisplaced point s.
 struct SurfaceHit {
     glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, limit{0.0f};
+    uint32_t subface = 0;  // where: (sub-face, u, v) of PlannedCage::evaluate
+    float u = 0.0f, v = 0.0f;
 };
 std::optional<SurfaceHit> surfaceUnderCursor(EditorApp& app, uint32_t viewport, glm::vec2 cursor);
 
@@ -53,6 +56,12 @@ bool clearDisplacementTool(EditorApp& app);
 // the whole surface holds at most about 128k samples (sculpted all over, every sample is a grid
 // vertex: on lavapipe about 100 ms a frame at that size, docs/editor.md).
 uint32_t defaultDisplacementResolution(uint32_t subfaces);
+
+// The sculpt tool's actions ("brush." in actions.cpp): choose the mask, inflate or crease brush
+// (and the sculpt tool), invert or clear the mask (one undo entry each).
+void runBrushAction(EditorApp& app, std::string_view id);
+bool invertMaskTool(EditorApp& app);
+bool clearMaskTool(EditorApp& app);
 
 // Multiplies the brush radius (the [ and ] keys), within 0.1% .. 50% of the diagonal.
 void scaleBrushRadius(EditorApp& app, float factor);

@@ -423,11 +423,17 @@ void handleShortcuts(EditorApp& app) {
                 continue;
             }
         }
-        for (const ActionInfo& action : actions())
-            if ((matches(action.chord, press) || matches(action.alternate, press)) && scopeOf(action.id) != otherMode) {
-                runAction(app, action.id);
-                break;
-            }
+        // The sculpt tool's keys first while it is active; skipped otherwise.
+        const bool sculpting = app.mode == EditorMode::Edit && app.tools.tool == Tool::Sculpt;
+        const ActionInfo* chosen = nullptr;
+        for (const ActionInfo& action : actions()) {
+            const ActionScope scope = scopeOf(action.id);
+            if (!(matches(action.chord, press) || matches(action.alternate, press)) || scope == otherMode) continue;
+            if (scope == ActionScope::SculptTool && !sculpting) continue;
+            if (!chosen || scope == ActionScope::SculptTool) chosen = &action;
+            if (scope == ActionScope::SculptTool) break;
+        }
+        if (chosen) runAction(app, chosen->id);
     }
 }
 
