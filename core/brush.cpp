@@ -363,7 +363,7 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
     auto normal = [&](size_t k) -> const glm::vec3& { return samples_.indexedNormal(indexed_[k]); };
     forEach(4096, [&](size_t begin, size_t end) {
         for (size_t k = begin; k < end; ++k) {
-            displaced_[k] = samples_.indexedPosition(indexed_[k]) + heights[affected_[k]] * normal(k);
+            displaced_[k] = samples_.indexedPosition(indexed_[k]) + cells_.indexedValue(indexed_[k]) * normal(k);
             weights_[k] = weightAt(glm::length(displaced_[k] - centres[0]));
             weights_[count + k] = centreCount > 1 ? weightAt(glm::length(displaced_[k] - centres[1])) : 0.0f;
         }

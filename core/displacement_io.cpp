@@ -70,7 +70,7 @@ std::vector<float> readMask(const json& value, size_t sampleCount) {
                                          [](size_t i) { return "the mask of sample " + std::to_string(i); });
     for (size_t i = 0; i < mask.size(); ++i)
         if (!(mask[i] >= 0.0f && mask[i] <= 1.0f))
-            fail("displacement.mask", "value " + std::to_string(i) + " is " + std::to_string(mask[i]) +
+            fail("displacement.mask", "value " + std::to_string(i) + " is " + json(double(mask[i])).dump() +
                                           "; mask values must lie between 0 (not masked) and 1 (fully masked)");
     return mask;
 }

@@ -437,8 +437,21 @@ void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const 
             if (indexed) indexed->push_back(k);
         }
     };
+    // A cell whose whole box lies in the sphere is taken without testing its samples (most
+    // cells of a big dab): each coordinate of a point in the box is no farther from the centre's
+    // than the box's farther side, in float too (rounding is monotonic).
     auto visit = [&](size_t cell) {
-        if (squaredDistanceToBox(centre, cells.lo_[cell], cells.hi_[cell]) <= r2) visitSamples(cell);
+        const glm::vec3 &lo = cells.lo_[cell], &hi = cells.hi_[cell];
+        if (squaredDistanceToBox(centre, lo, hi) > r2) return;
+        const glm::vec3 farthest = glm::max(glm::abs(lo - centre), glm::abs(hi - centre));
+        if (glm::dot(farthest, farthest) > r2) {
+            visitSamples(cell);
+            return;
+        }
+        for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
+            out.push_back(cellSamples_[k]);
+            if (indexed) indexed->push_back(k);
+        }
     };
     // Near cells: a displaced position within the radius has its limit position within
     // radius + lift of the centre, and that within slack of where the index filed it.
@@ -469,7 +482,7 @@ void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const 
         }
     // Far cells: each box on its own, wherever the cell is filed.
     for (size_t slot = 0; slot < cells.farCells_.size(); ++slot)
-        if (squaredDistanceToBox(centre, cells.farLo_[slot], cells.farHi_[slot]) <= r2) visitSamples(cells.farCells_[slot]);
+        if (squaredDistanceToBox(centre, cells.farLo_[slot], cells.farHi_[slot]) <= r2) visit(cells.farCells_[slot]);
 }
 
 }  // namespace qp

@@ -92,6 +92,8 @@ public:
     void growIndexed(const SculptSamples& samples, std::span<const float> values, std::span<const uint32_t> indexed);
     // Built for the samples' present positions and index.
     bool current(const SculptSamples& samples) const;
+    // Its copy of D at place k of the index (queryDisplaced's `indexed`): read in sequence.
+    float indexedValue(uint32_t k) const { return values_[k]; }
 
 private:
     friend class SculptSamples;
