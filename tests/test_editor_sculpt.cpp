@@ -1,0 +1,99 @@
+// The editor document's sculpting mask (document.h): mask strokes touch the mask only, invert
+// and clear are one history entry each, and the displaced-surface picker of the pick cache
+// follows dabs by re-displacing only the sub-faces they reached.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "document.h"
+#include "pick_cache.h"
+#include "test_cages.h"
+
+using namespace qp;
+using namespace qp::editor;
+
+namespace {
+
+std::unique_ptr<Document> cubeDocument() {
+    Scene scene = sceneOfCage(test::makeSubdividedCube(2), "cage");
+    Result<std::unique_ptr<Document>> doc = createDocument(scene, "", PlanOptions{});
+    EXPECT_TRUE(doc.ok()) << doc.error().message;
+    return doc ? std::move(doc).value() : nullptr;
+}
+
+uint32_t maskedCount(const Document& doc) {
+    const std::vector<float>& mask = doc.scene.objects[0].displacement.mask;
+    return uint32_t(std::count_if(mask.begin(), mask.end(), [](float m) { return m > 0.0f; }));
+}
+
+}  // namespace
+
+TEST(DocumentMask, MaskStrokesInvertAndClearAreOneEntryEachAndLeaveDAlone) {
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    EXPECT_FALSE(invertSculptMask(*doc, 1).ok()) << "no displacement to hold a mask";
+    EXPECT_EQ(doc->history.size(), 0u);
+
+    const glm::vec3 centre = doc->planned->evaluate(0, 0.5f, 0.5f).position;
+    ASSERT_TRUE(beginStroke(*doc, 8, 1).ok());
+    StrokeOptions mask;
+    mask.brush = Brush{BrushKind::Mask, 0.3f, 1.0f, Falloff::Constant};
+    const uint64_t samples = doc->sampleRevision, masks = doc->maskRevision;
+    EXPECT_GT(strokeTo(*doc, mask, centre), 0u);
+    EXPECT_EQ(doc->sampleRevision, samples) << "a mask dab told the renderer D changed";
+    EXPECT_GT(doc->maskRevision, masks);
+    ASSERT_TRUE(endStroke(*doc, "Mask stroke", 2).ok());
+    ASSERT_EQ(doc->history.size(), 1u);
+    const uint32_t painted = maskedCount(*doc);
+    EXPECT_GT(painted, 0u);
+    const std::vector<float> zeros(doc->scene.objects[0].displacement.samples.size(), 0.0f);
+    EXPECT_EQ(doc->scene.objects[0].displacement.samples, zeros);
+
+    const uint32_t total = uint32_t(zeros.size());
+    Result<EditReport> inverted = invertSculptMask(*doc, 3);
+    ASSERT_TRUE(inverted.ok()) << inverted.error().message;
+    ASSERT_EQ(doc->history.size(), 2u);
+    EXPECT_EQ(doc->history.entry(1).name, "Invert mask");
+    EXPECT_EQ(maskedCount(*doc), total - painted);
+    ASSERT_TRUE(clearSculptMask(*doc, 4).ok());
+    ASSERT_EQ(doc->history.size(), 3u);
+    EXPECT_EQ(maskedCount(*doc), 0u);
+    ASSERT_TRUE(clearSculptMask(*doc, 5).ok());
+    EXPECT_EQ(doc->history.size(), 3u) << "clearing an empty mask made an entry";
+    ASSERT_TRUE(undoEdit(*doc, 6).ok());
+    EXPECT_EQ(maskedCount(*doc), total - painted);
+    ASSERT_TRUE(undoEdit(*doc, 7).ok());
+    EXPECT_EQ(maskedCount(*doc), painted);
+}
+
+TEST(DocumentMask, TheDisplacedPickerFollowsDabsAsARebuildWould) {
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    PickCache cache;
+    const glm::vec3 centre = doc->planned->evaluate(0, 0.4f, 0.5f).position;
+    ASSERT_TRUE(beginStroke(*doc, 8, 1).ok());
+    StrokeOptions raise;
+    raise.brush = Brush{BrushKind::Raise, 0.3f, 1.0f, Falloff::Smooth};
+    displacedPicker(cache, *doc, 1);  // built before the dabs
+    const uint32_t builds = cache.displacedBuilds;
+    for (int k = 0; k < 3; ++k) {
+        strokeDab(*doc, raise, centre + glm::vec3(0.05f * float(k)));
+        const DisplacedPicker& picker = displacedPicker(cache, *doc, 1);
+        EXPECT_GT(picker.lastUpdated().size(), 0u);
+        EXPECT_LT(picker.lastUpdated().size(), doc->planned->subfaceCount() / 2) << "a dab re-sampled most of the cube";
+    }
+    EXPECT_EQ(cache.displacedBuilds, builds) << "dabs rebuilt the picker";
+    ASSERT_TRUE(endStroke(*doc, "Raise stroke", 2).ok());
+    const DisplacedPicker& updated = displacedPicker(cache, *doc, 1);
+    const DisplacedPicker rebuilt(*doc->planned, displacementOf(*doc));
+    const glm::vec3 normal = glm::normalize(centre);
+    for (float offset : {-0.3f, -0.1f, 0.0f, 0.15f, 0.3f}) {
+        const Ray ray{centre + 5.0f * normal + glm::vec3(offset, 0.1f, 0.0f), -normal};
+        const DisplacedPicker::Hit a = updated.intersect(*doc->planned, displacementOf(*doc), ray);
+        const DisplacedPicker::Hit b = rebuilt.intersect(*doc->planned, displacementOf(*doc), ray);
+        ASSERT_NE(a.subface, kNoHit);
+        EXPECT_EQ(a.subface, b.subface);
+        EXPECT_EQ(a.distance, b.distance);
+        if (offset == 0.0f) EXPECT_GT(glm::length(a.position - a.limit), 0.01f) << "the pick is not on the raised surface";
+    }
+}
