@@ -496,14 +496,18 @@ void Automation::measureStep(EditorApp& app) {
         }
         if (m.mode == "sculpt" && app.doc->planned) {
             // A stroke with one dab every frame, at sample positions spread over the surface
-            // (the brush of the Sculpt panel); the whole run is one history entry.
+            // (on the displaced surface, where the editor's pick puts dabs; the brush of the
+            // Sculpt panel); the whole run is one history entry. The displaced picker follows
+            // each dab as it does under the cursor.
             Document& doc = *app.doc;
             if (!m.dragStarted) m.dragStarted = beginStroke(doc, app.tools.sculpt.resolution, app.frame).ok();
             if (m.dragStarted) {
                 const SculptSamples& samples = *doc.sculptSamples;
                 uint32_t sample = uint32_t((app.frame - m.firstFrame) * 2654435761ull % samples.sampleCount());
                 while (!samples.hasSite(sample)) sample = (sample + 1) % samples.sampleCount();
-                strokeDab(doc, sculptStrokeOptions(app, false, false), samples.position(sample));
+                const float d = displacementOf(doc).samples[sample];
+                strokeDab(doc, sculptStrokeOptions(app, false, false), samples.position(sample) + d * samples.normal(sample));
+                (void)displacedPicker(app.picking, doc, app.documentGeneration);
                 if (m.framesLeft == 0) (void)endStroke(doc, "Measured stroke", app.frame);
             }
         }

@@ -277,6 +277,9 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                         {"crease_lines", app.renderer.creaseLineCount / 2},
                         {"crease_line_width", std::min(kCreaseLineWidth, app.renderer.lines.maxLineWidth)}};
     state["renderer"] = {{"last_sync_ms", app.renderer.lastSyncMs}};
+    // The displaced-surface picker's last update (a dab's sub-faces, or a whole build) and builds.
+    state["picking"] = {{"displaced_ms", app.picking.lastDisplacedMs}, {"displaced_builds", app.picking.displacedBuilds},
+                        {"displaced_updated_subfaces", app.picking.displaced ? app.picking.displaced->lastUpdated().size() : 0}};
     json schemes = json::array();
     for (const auto& plugin : app.catalog.plugins) schemes.push_back(plugin->name);
     state["schemes"] = schemes;
