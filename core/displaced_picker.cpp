@@ -16,8 +16,14 @@ namespace qp {
 
 namespace {
 
+// Whether the displacement has this sub-face (a layout of another cage, met only if a caller
+// breaks the contract, reads as no displacement rather than out of bounds).
+bool covers(const Displacement& displacement, uint32_t subface) {
+    return !displacement.empty() && subface < displacement.layout.subfaces.size();
+}
+
 DisplacementValue displacementAt(const Displacement& displacement, uint32_t subface, float u, float v) {
-    if (displacement.empty()) return {};
+    if (!covers(displacement, subface)) return {};
     return evaluateDisplacement(displacement, subface, u, v);
 }
 
@@ -41,7 +47,7 @@ DisplacedPicker::DisplacedPicker(const PlannedCage& planned, const Displacement&
 }
 
 uint32_t DisplacedPicker::wantedResolution(const Displacement& displacement, uint32_t subface) const {
-    const uint32_t tile = displacement.empty() ? 1u : displacement.layout.subfaces[subface].resolution;
+    const uint32_t tile = covers(displacement, subface) ? displacement.layout.subfaces[subface].resolution : 1u;
     return std::clamp(tile, minResolution_, kMaxPickResolution);
 }
 
@@ -71,7 +77,7 @@ void DisplacedPicker::displace(const Displacement& displacement, uint32_t subfac
     box = Box{};
     if (g.n == 0) return;
     const uint32_t n = g.n;
-    if (displacement.empty()) {
+    if (!covers(displacement, subface)) {
         g.displaced = g.limit;
     } else {
         const SubfaceDisplacement d(displacement, subface);
