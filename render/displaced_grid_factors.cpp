@@ -23,7 +23,8 @@ bool tileIsZero(const Displacement& d, uint32_t subface) {
 
 }  // namespace
 
-GridFactors displacedGridFactors(const GpuPlanData& data, const Displacement& displacement, GridFactors base) {
+GridFactors displacedGridFactors(const GpuPlanData& data, const Displacement& displacement, GridFactors base,
+                                 const GridFactors* screen) {
     GridFactors f = std::move(base);
     for (uint32_t& pieces : f.segmentPieces) pieces = std::bit_ceil(std::max(pieces, 1u));
     for (uint32_t& n : f.subfaceFactor) n = std::bit_ceil(std::max(n, 1u));
@@ -31,10 +32,13 @@ GridFactors displacedGridFactors(const GpuPlanData& data, const Displacement& di
 
     // Segments first: their pieces bound the factors of every sub-face on them.
     std::vector<int8_t> zeroSegment(layout.segments.size(), -1);  // -1: not looked at yet
-    auto needed = [&](uint32_t segment) -> uint32_t {
+    // `drawnSegment`: the same segment in the renderer's numbering (for the screen's cap).
+    auto needed = [&](uint32_t segment, uint32_t drawnSegment) -> uint32_t {
         if (segment == kNoSegment) return 1;
         if (zeroSegment[segment] < 0) zeroSegment[segment] = segmentIsZero(displacement, layout.segments[segment]);
-        return zeroSegment[segment] ? 1 : layout.segments[segment].resolution;
+        if (zeroSegment[segment]) return 1;
+        const uint32_t resolution = layout.segments[segment].resolution;
+        return screen ? std::min(resolution, std::max(screen->segmentPieces[drawnSegment], 1u)) : resolution;
     };
     for (uint32_t d = 0; d < data.subfaces.size(); ++d) {
         const DisplacementSubface& tile = layout.subfaces[data.subfaces[d].subface];
@@ -42,11 +46,11 @@ GridFactors displacedGridFactors(const GpuPlanData& data, const Displacement& di
             const GpuEdgeRef& ref = data.boundaries[d].edges[e];
             const DisplacementEdge& edge = tile.edges[e];
             if (ref.flags & kEdgeRefSplit) {  // both halves alike, as the grid layout expects
-                const uint32_t pieces = std::max({needed(edge.segment), needed(edge.secondHalf),
+                const uint32_t pieces = std::max({needed(edge.segment, ref.segment), needed(edge.secondHalf, ref.secondHalf),
                                                   f.segmentPieces[ref.segment], f.segmentPieces[ref.secondHalf]});
                 f.segmentPieces[ref.segment] = f.segmentPieces[ref.secondHalf] = pieces;
             } else {
-                f.segmentPieces[ref.segment] = std::max(f.segmentPieces[ref.segment], needed(edge.segment));
+                f.segmentPieces[ref.segment] = std::max(f.segmentPieces[ref.segment], needed(edge.segment, ref.segment));
             }
         }
     }
@@ -61,7 +65,10 @@ GridFactors displacedGridFactors(const GpuPlanData& data, const Displacement& di
     for (uint32_t d = 0; d < data.subfaces.size(); ++d) {
         const uint32_t s = data.subfaces[d].subface;
         uint32_t& n = f.subfaceFactor[d];
-        if (!tileIsZero(displacement, s)) n = std::max(n, layout.subfaces[s].resolution);
+        if (!tileIsZero(displacement, s)) {
+            const uint32_t resolution = layout.subfaces[s].resolution;
+            n = std::max(n, screen ? std::min(resolution, std::max(screen->subfaceFactor[d], 1u)) : resolution);
+        }
         for (const GpuEdgeRef& ref : data.boundaries[d].edges)
             n = std::max(n, (ref.flags & kEdgeRefSplit) ? 2 * f.segmentPieces[ref.segment] : f.segmentPieces[ref.segment]);
     }

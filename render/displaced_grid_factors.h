@@ -20,6 +20,11 @@
 namespace qp {
 
 // `base` raised for `displacement` (which must belong to the cage `data` was made from).
-GridFactors displacedGridFactors(const GpuPlanData& data, const Displacement& displacement, GridFactors base);
+// `screen` (adaptive factors for a few pixels per segment, grid_layout.h) caps the raise: a tile
+// whose samples lie closer together on screen than that is drawn at the screen's pieces (a power
+// of two below its resolution), so detail smaller than a few pixels costs no triangles; samples
+// then fall between vertices (D is evaluated exactly at every vertex drawn).
+GridFactors displacedGridFactors(const GpuPlanData& data, const Displacement& displacement, GridFactors base,
+                                 const GridFactors* screen = nullptr);
 
 }  // namespace qp

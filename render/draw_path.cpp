@@ -34,7 +34,17 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
     if (path == DrawPath::Tessellated) return success();
     GridFactors factors = settings.uniformFactor ? uniformGridFactors(buffers.data, settings.uniformFactor)
                                                  : adaptiveGridFactors(buffers, view, settings);
-    if (buffers.displacement) factors = displacedGridFactors(buffers.data, *buffers.displacement, std::move(factors));
+    if (buffers.displacement && settings.displacementPixels > 0.0f) {
+        const AdaptiveView fine{view.viewProjection, view.pixelsPerUnit, settings.displacementPixels};
+        // Kept caps only for the same sub-face tables (a topology edit renumbers them).
+        const bool laidOut = buffers.displacementScreen.segmentPieces.size() == buffers.data.segments.size() &&
+                             buffers.displacementScreen.subfaceFactor.size() == buffers.data.subfaces.size();
+        buffers.displacementScreen = adaptiveGridFactors(buffers.data, buffers.pointPositionsHost, fine,
+                                                         laidOut ? &buffers.displacementScreen : nullptr);
+        factors = displacedGridFactors(buffers.data, *buffers.displacement, std::move(factors), &buffers.displacementScreen);
+    } else if (buffers.displacement) {
+        factors = displacedGridFactors(buffers.data, *buffers.displacement, std::move(factors));
+    }
     // The compute shader's pending sub-faces are not for the CPU path: it evaluates whole instead.
     if (path == DrawPath::CpuGrid && !buffers.pendingGridSubfaces.empty()) buffers.gridEvaluator = GridEvaluator::None;
     Result<bool> kept = relayoutGridKeepingSlots(ctx, pass, buffers, planned, factors);

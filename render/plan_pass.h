@@ -42,6 +42,9 @@ enum class ColorBy : uint32_t { Shading = 0, NodeKind = 1, PlanDepth = 2, Sharpn
 struct TessellationSettings {
     uint32_t uniformFactor = 8;     // 1..64; 0 selects adaptive
     float pixelsPerSegment = 8.0f;  // adaptive: target screen length of one segment
+    // Grid paths with a displacement: > 0 draws displaced tiles no finer than this many pixels per
+    // segment on screen (an editor's level of detail); 0 makes every non-zero sample a vertex.
+    float displacementPixels = 0.0f;
 };
 
 // GPU copies of one planned cage.
@@ -82,6 +85,7 @@ struct PlanBuffers {
     // Drawn sub-faces the compute shader evaluates at the next recordGrid (and their neighbours'
     // copies): a relayout kept the rest (grid_relayout.h).
     std::vector<uint32_t> pendingGridSubfaces;
+    GridFactors displacementScreen;  // the last screen caps of displaced tiles (kept while close enough)
 
     // Sculpted displacement (setPlanDisplacement): DisplacementLayout's subfaces and segments
     // and the samples; 16-byte placeholders (no sub-face record) when there is none.

@@ -313,7 +313,9 @@ std::vector<SchemeRequest> schemeRequests(EditorApp& app) {
         r.settings.tessFactor = v.factor;
         if (v.scheme == "plans") {
             const std::string path = resolvedPlansPath(app);
-            r.settings.options = {{"path", path}};
+            // Sculpted detail finer than this on screen costs no triangles (displaced_grid_factors.h);
+            // zooming in brings it back.
+            r.settings.options = {{"path", path}, {"displacement-pixels", "2"}};
             if (adaptive && path == "tess") {  // true per-edge adaptive factors on the GPU: no rebuild on zoom
                 r.settings.tessFactor = 8;
                 r.settings.adaptivePixels = std::max(app.tessellation.pixelsPerEdge, 1.0f);

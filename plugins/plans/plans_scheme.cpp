@@ -28,6 +28,7 @@
 // re-planned and re-owned sub-faces are evaluated (with a displacement set they rebuild).
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <iterator>
 
 #include <glm/geometric.hpp>
@@ -54,7 +55,8 @@ public:
     SupportReport support(const CageFeatures&, const SchemeSettings& settings) const override {
         SupportReport report;
         for (const auto& [key, value] : settings.options)
-            if (key != "path") report.approximations.push_back("plans ignores the unknown option '" + key + "'");
+            if (key != "path" && key != "displacement-pixels")
+                report.approximations.push_back("plans ignores the unknown option '" + key + "'");
         return report;
     }
 
@@ -66,6 +68,15 @@ public:
             std::optional<DrawPath> parsed = parseDrawPath(*path);
             if (!parsed) return Error{"plans: unknown --path '" + *path + "'; use auto, tess, grid or cpu"};
             requestedPath_ = *parsed;
+        }
+        displacementPixels_ = 0.0f;
+        if (const std::string* pixels = settings.option("displacement-pixels")) {
+            char* end = nullptr;
+            const float value = std::strtof(pixels->c_str(), &end);
+            if (pixels->empty() || *end != '\0' || !(value >= 0.0f && value <= 1000.0f))
+                return Error{"plans: --option displacement-pixels=" + *pixels + " is not a number of pixels from 0 to 1000 "
+                             "(0: every displacement sample a vertex)"};
+            displacementPixels_ = value;
         }
         return success();
     }
@@ -199,6 +210,7 @@ public:
         planView.shading = view.shading;
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
         if (settings_.adaptivePixels > 0.0f) tessellation = {0, settings_.adaptivePixels};
+        tessellation.displacementPixels = displacementPixels_;
         // Every stored sample a vertex: the grid paths raise the factors where the displacement
         // is not zero (displaced_grid_factors.h); the tessellator takes one uniform factor.
         if (displacement_ && path_ == DrawPath::Tessellated)
@@ -287,6 +299,7 @@ private:
 
     const PlannedCage* planned_ = nullptr;
     SchemeSettings settings_;
+    float displacementPixels_ = 0.0f;  // grid paths: displaced tiles no finer than this on screen (0: off)
     DrawPath requestedPath_ = DrawPath::Auto, path_ = DrawPath::Grid;
     const Displacement* displacement_ = nullptr;
     const VulkanContext* ctx_ = nullptr;
