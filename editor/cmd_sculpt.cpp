@@ -96,7 +96,7 @@ Result<std::vector<ScriptedStroke>> strokesFromArgs(const SculptArgs& args) {
     ScriptedStroke stroke;
     Brush& brush = stroke.options.brush;
     auto kind = brushKindFromName(args.brush);
-    if (!kind) return Error{"--brush: unknown brush \"" + args.brush + "\"; expected raise, lower, smooth, flatten or erase"};
+    if (!kind) return Error{"--brush: unknown brush \"" + args.brush + "\"; expected raise, lower, smooth, flatten, erase, inflate, crease, mask or unmask"};
     auto falloff = falloffFromName(args.falloff);
     if (!falloff) return Error{"--falloff: unknown falloff \"" + args.falloff + "\"; expected smooth, linear, constant or sphere"};
     auto mirror = mirrorAxisFromName(args.mirror);

@@ -12,7 +12,7 @@ void bindSceneDisplacement(SceneClass& scene) {
                 const std::string& falloff, const std::string& mirror, float spacing, uint32_t resolution) {
                  StrokeOptions options;
                  auto kind = brushKindFromName(brush);
-                 if (!kind) throw ScriptError("unknown brush \"" + brush + "\"; expected raise, lower, smooth, flatten or erase");
+                 if (!kind) throw ScriptError("unknown brush \"" + brush + "\"; expected raise, lower, smooth, flatten, erase, inflate, crease, mask or unmask");
                  auto fall = falloffFromName(falloff);
                  if (!fall) throw ScriptError("unknown falloff \"" + falloff + "\"; expected smooth, linear, constant or sphere");
                  auto axis = mirrorAxisFromName(mirror);
@@ -28,7 +28,7 @@ void bindSceneDisplacement(SceneClass& scene) {
              py::arg("mirror") = "none", py::arg("spacing") = 0.0f, py::arg("resolution") = 8,
              R"doc(One brush stroke along a world-space polyline (as `quadplan sculpt`): dabs every `spacing`
 (0: a quarter of the radius) change the displacement samples whose limit positions lie within the
-radius. brush: raise, lower, smooth, flatten or erase; strength: raise/lower height per dab in
+radius. brush: raise, lower, smooth, flatten, erase, inflate, crease, mask or unmask; strength: raise/lower/inflate/crease height per dab in
 radii, the others a blend in [0, 1]. A scene without displacement first gets a zero one at
 `resolution` per sub-face (its own history entry). One undo takes the stroke back.)doc")
         .def("set_displacement_resolution", [](Document& d, uint32_t r) { return unwrap(d.setDisplacementResolution(r)); },
