@@ -290,17 +290,14 @@ void SculptSamples::buildIndex() {
     cellOffsets_.push_back(uint32_t(keyed.size()));
 }
 
-void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out,
-                          std::vector<uint32_t>* indexed) const {
-    if (cellKeys_.empty() || !(radius >= 0.0f)) return;
-    const float r2 = radius * radius;
-    const float reach = radius + slack_;  // samples are filed where they were at the last build
+template <class Visit>
+void SculptSamples::forEachCellNear(const glm::vec3& centre, float reach, const Visit& visit) const {
     int64_t lo[3], hi[3];
     for (int axis = 0; axis < 3; ++axis) {
         // Clamp to the indexed range so a huge radius does not walk empty space.
-        float a = std::max(centre[axis] - reach, indexMin_[axis]);
-        float b = std::min(centre[axis] + reach, indexMax_[axis]);
-        if (a > b) return;
+        const float a = std::max(centre[axis] - reach, indexMin_[axis]);
+        const float b = std::min(centre[axis] + reach, indexMax_[axis]);
+        if (!(a <= b)) return;
         lo[axis] = int64_t(std::floor((a - indexMin_[axis]) / cellSize_)) + kCellBias;
         hi[axis] = int64_t(std::floor((b - indexMin_[axis]) / cellSize_)) + kCellBias;
     }
@@ -311,21 +308,27 @@ void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uin
     for (int64_t x = lo[0]; x <= hi[0]; ++x)
         for (int64_t y = lo[1]; y <= hi[1]; ++y) {
             // Cells along z with fixed (x, y) are consecutive keys: one search per column.
-            uint64_t first = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(lo[2]);
-            uint64_t last = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(hi[2]);
+            const uint64_t first = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(lo[2]);
+            const uint64_t last = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(hi[2]);
             ptrdiff_t step = 1;
             while (step < end - it && it[step] < first) step *= 2;
             it = std::lower_bound(it + step / 2, it + std::min(step, ptrdiff_t(end - it)), first);
-            for (; it != end && *it <= last; ++it) {
-                size_t cell = size_t(it - cellKeys_.begin());
-                for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
-                    const glm::vec3 d = cellPositions_[k] - centre;
-                    if (glm::dot(d, d) > r2) continue;
-                    out.push_back(cellSamples_[k]);
-                    if (indexed) indexed->push_back(k);
-                }
-            }
+            for (; it != end && *it <= last; ++it) visit(size_t(it - cellKeys_.begin()));
         }
+}
+
+void SculptSamples::query(const glm::vec3& centre, float radius, std::vector<uint32_t>& out,
+                          std::vector<uint32_t>* indexed) const {
+    if (cellKeys_.empty() || !(radius >= 0.0f)) return;
+    const float r2 = radius * radius;
+    forEachCellNear(centre, radius + slack_, [&](size_t cell) {  // samples are filed where they were at the last build
+        for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
+            const glm::vec3 d = cellPositions_[k] - centre;
+            if (glm::dot(d, d) > r2) continue;
+            out.push_back(cellSamples_[k]);
+            if (indexed) indexed->push_back(k);
+        }
+    });
 }
 
 // Displaced queries ---------------------------------------------------------------------------
@@ -455,31 +458,9 @@ void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const 
     };
     // Near cells: a displaced position within the radius has its limit position within
     // radius + lift of the centre, and that within slack of where the index filed it.
-    const float reach = radius + slack_ + cells.nearLift_;
-    int64_t lo[3], hi[3];
-    bool walk = true;
-    for (int axis = 0; axis < 3; ++axis) {
-        float a = std::max(centre[axis] - reach, indexMin_[axis]);
-        float b = std::min(centre[axis] + reach, indexMax_[axis]);
-        if (!(a <= b)) walk = false;
-        if (!walk) break;
-        lo[axis] = int64_t(std::floor((a - indexMin_[axis]) / cellSize_)) + kCellBias;
-        hi[axis] = int64_t(std::floor((b - indexMin_[axis]) / cellSize_)) + kCellBias;
-    }
-    auto it = cellKeys_.begin();
-    const auto end = cellKeys_.end();
-    for (int64_t x = lo[0]; walk && x <= hi[0]; ++x)
-        for (int64_t y = lo[1]; y <= hi[1]; ++y) {
-            uint64_t first = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(lo[2]);
-            uint64_t last = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(hi[2]);
-            ptrdiff_t step = 1;
-            while (step < end - it && it[step] < first) step *= 2;
-            it = std::lower_bound(it + step / 2, it + std::min(step, ptrdiff_t(end - it)), first);
-            for (; it != end && *it <= last; ++it) {
-                const size_t cell = size_t(it - cellKeys_.begin());
-                if (cells.farSlot_[cell] == UINT32_MAX) visit(cell);
-            }
-        }
+    forEachCellNear(centre, radius + slack_ + cells.nearLift_, [&](size_t cell) {
+        if (cells.farSlot_[cell] == UINT32_MAX) visit(cell);
+    });
     // Far cells: each box on its own, wherever the cell is filed.
     for (size_t slot = 0; slot < cells.farCells_.size(); ++slot)
         if (squaredDistanceToBox(centre, cells.farLo_[slot], cells.farHi_[slot]) <= r2) visit(cells.farCells_[slot]);

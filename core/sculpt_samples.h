@@ -153,6 +153,10 @@ private:
     void evaluateSites(const PlannedCage& planned, std::span<const uint32_t> samples);
     void buildIndex();
     uint64_t cellKey(const glm::vec3& p) const;
+    // Calls visit(cell) for every filed cell within `reach` of `centre` along each axis (nothing
+    // when that box misses the indexed range).
+    template <class Visit>
+    void forEachCellNear(const glm::vec3& centre, float reach, const Visit& visit) const;
 
     std::vector<SampleSite> sites_;
     std::vector<glm::vec3> positions_, normals_;

@@ -14,37 +14,16 @@
 #include "displacement.h"
 #include "planned_cage.h"
 #include "sculpt_samples.h"
+#include "sculpt_test_support.h"
 #include "test_cages.h"
 
 using namespace qp;
+using test::Sculpt;
 
 namespace {
 
 uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
 
-// A planned cage with a displacement and its samples cache.
-struct Sculpt {
-    PlanDatabase database;
-    std::optional<PlannedCage> planned;
-    Displacement displacement;
-    std::optional<SculptSamples> samples;
-
-    Sculpt(const Cage& cage, uint32_t resolution) {
-        auto p = PlannedCage::create(cage, database, PlanOptions{}, "test cage");
-        EXPECT_TRUE(p) << p.error().message;
-        planned.emplace(std::move(p).value());
-        displacement = makeDisplacement(planned->cage(), planned->topology(), resolution);
-        samples.emplace(SculptSamples::build(*planned, displacement.layout));
-    }
-
-    std::vector<uint32_t> sited() const {
-        std::vector<uint32_t> out;
-        for (uint32_t i = 0; i < samples->sampleCount(); ++i)
-            if (samples->hasSite(i)) out.push_back(i);
-        return out;
-    }
-    float distance(uint32_t sample, const glm::vec3& p) const { return glm::length(samples->position(sample) - p); }
-};
 
 // A cube of 2x2-split faces centred at the origin: symmetric across x = 0, valence-3 EVs at
 // the corners.

@@ -18,51 +18,17 @@
 #include "scene.h"
 #include "sculpt_samples.h"
 #include "sculpt_script.h"
+#include "sculpt_test_support.h"
 #include "test_cages.h"
 
 using namespace qp;
+using test::Sculpt;
 
 namespace {
 
 uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
 
-// A planned cage with a displacement and its samples cache.
-struct Sculpt {
-    PlanDatabase database;
-    std::optional<PlannedCage> planned;
-    Displacement displacement;
-    std::optional<SculptSamples> samples;
 
-    Sculpt(const Cage& cage, uint32_t resolution) {
-        auto p = PlannedCage::create(cage, database, PlanOptions{}, "test cage");
-        EXPECT_TRUE(p) << p.error().message;
-        planned.emplace(std::move(p).value());
-        displacement = makeDisplacement(planned->cage(), planned->topology(), resolution);
-        samples.emplace(SculptSamples::build(*planned, displacement.layout));
-    }
-
-    std::vector<uint32_t> sited() const {
-        std::vector<uint32_t> out;
-        for (uint32_t i = 0; i < samples->sampleCount(); ++i)
-            if (samples->hasSite(i)) out.push_back(i);
-        return out;
-    }
-    glm::vec3 displaced(uint32_t s) const { return samples->position(s) + displacement.samples[s] * samples->normal(s); }
-};
-
-// n x n unit quads in the plane z = 0: a flat limit surface inside (normal along z).
-Cage flatGrid(uint32_t n) {
-    Cage cage;
-    for (uint32_t y = 0; y <= n; ++y)
-        for (uint32_t x = 0; x <= n; ++x) cage.positions.push_back({float(x), float(y), 0.0f});
-    for (uint32_t y = 0; y < n; ++y)
-        for (uint32_t x = 0; x < n; ++x) {
-            uint32_t v = y * (n + 1) + x;
-            uint32_t quad[4] = {v, v + 1, v + n + 2, v + n + 1};
-            cage.addFace(quad, 4);
-        }
-    return cage;
-}
 
 constexpr BrushKind kHeightKinds[] = {BrushKind::Raise,   BrushKind::Lower,   BrushKind::Smooth, BrushKind::Flatten,
                                       BrushKind::Erase,   BrushKind::Inflate, BrushKind::Crease};
@@ -112,7 +78,7 @@ TEST(BrushMask, FullyMaskedSamplesKeepTheirBitsUnderEveryBrush) {
 }
 
 TEST(BrushMask, PartialMaskScalesTheChange) {
-    Sculpt s(flatGrid(4), 8);
+    Sculpt s(test::makeFlatGrid(4), 8);
     const uint32_t n = uint32_t(s.displacement.samples.size());
     s.displacement.mask.assign(n, 0.0f);
     std::vector<uint32_t> sited = s.sited();
@@ -132,7 +98,7 @@ TEST(BrushMask, PartialMaskScalesTheChange) {
 }
 
 TEST(BrushMask, MaskBrushesPaintOnlyTheMaskAndUndoExactly) {
-    Sculpt s(flatGrid(4), 8);
+    Sculpt s(test::makeFlatGrid(4), 8);
     roughen(s);
     const Displacement start = s.displacement;
     ASSERT_FALSE(start.hasMask());
@@ -181,7 +147,7 @@ TEST(BrushMask, MaskBrushesPaintOnlyTheMaskAndUndoExactly) {
 }
 
 TEST(BrushMask, InvertAndClearUndoAndRedoExactly) {
-    Sculpt s(flatGrid(3), 4);
+    Sculpt s(test::makeFlatGrid(3), 4);
     roughen(s);
     const Displacement start = s.displacement;
     PlannedCage& planned = *s.planned;
@@ -297,7 +263,7 @@ TEST(BrushMask, ResamplingCarriesTheMask) {
 }
 
 TEST(BrushInflate, EqualsRaiseOnFlatDisplacementAndSwellsASlope) {
-    Sculpt s(flatGrid(4), 16);
+    Sculpt s(test::makeFlatGrid(4), 16);
     const glm::vec3 centre(2.0f, 2.0f, 0.0f);
     StrokeOptions raise, inflate;
     raise.brush = {BrushKind::Raise, 1.0f, 0.05f, Falloff::Smooth};
@@ -335,7 +301,7 @@ TEST(BrushInflate, EqualsRaiseOnFlatDisplacementAndSwellsASlope) {
 }
 
 TEST(BrushCrease, CutsASharpVeeAlongTheStroke) {
-    Sculpt s(flatGrid(4), 16);
+    Sculpt s(test::makeFlatGrid(4), 16);
     const glm::vec3 path[] = {{0.8f, 2.0f, 0.0f}, {3.2f, 2.0f, 0.0f}};
     StrokeOptions crease, lower;
     crease.brush = {BrushKind::Crease, 0.6f, 0.05f, Falloff::Smooth};
@@ -450,7 +416,7 @@ TEST(SculptSamples, DisplacedQueriesFindSamplesOnATallBump) {
 TEST(SculptSamples, DabsFindTheSurfaceTheStrokeItselfRaised) {
     // One stroke raises a column tall (many dabs at one spot): each dab must find the samples
     // where the earlier dabs of the same stroke put them (the cells grow after every dab).
-    Sculpt s(flatGrid(4), 8);
+    Sculpt s(test::makeFlatGrid(4), 8);
     Sculptor sculptor(s.displacement, *s.samples);
     sculptor.beginStroke();
     const Brush brush{BrushKind::Raise, 0.5f, 0.5f, Falloff::Constant};
@@ -470,7 +436,7 @@ TEST(SculptSamples, DabsFindTheSurfaceTheStrokeItselfRaised) {
 }
 
 TEST(Brush, BadStrokesAreRefusedAndChangeNothing) {
-    Sculpt s(flatGrid(3), 4);
+    Sculpt s(test::makeFlatGrid(3), 4);
     roughen(s);
     const Displacement start = s.displacement;
     StrokeOptions options;

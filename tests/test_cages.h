@@ -7,12 +7,13 @@
 
 namespace qp::test {
 
-// n x n quads in the xy-plane, with a gentle bump so surfaces are not flat.
-inline Cage makeGrid(uint32_t n) {
+// n x n unit quads in the xy-plane, with a gentle bump of height `bump` so surfaces are not flat.
+inline Cage makeGrid(uint32_t n, float bump = 0.3f) {
     Cage cage;
     for (uint32_t y = 0; y <= n; ++y)
         for (uint32_t x = 0; x <= n; ++x)
-            cage.positions.push_back({float(x), float(y), 0.3f * std::sin(float(x) * 1.3f) * std::cos(float(y) * 0.7f)});
+            cage.positions.push_back(
+                {float(x), float(y), bump == 0.0f ? 0.0f : bump * std::sin(float(x) * 1.3f) * std::cos(float(y) * 0.7f)});
     for (uint32_t y = 0; y < n; ++y)
         for (uint32_t x = 0; x < n; ++x) {
             uint32_t v = y * (n + 1) + x;
@@ -21,6 +22,9 @@ inline Cage makeGrid(uint32_t n) {
         }
     return cage;
 }
+
+// n x n unit quads in the plane z = 0: a flat limit surface inside (normal along z).
+inline Cage makeFlatGrid(uint32_t n) { return makeGrid(n, 0.0f); }
 
 inline Cage makeCube() {
     Cage cage;

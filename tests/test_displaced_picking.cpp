@@ -10,6 +10,7 @@
 #include "brush.h"
 #include "displaced_picker.h"
 #include "sculpt_samples.h"
+#include "test_cages.h"
 
 namespace {
 
@@ -17,18 +18,7 @@ using namespace qp;
 
 // A flat 6 x 6 grid of unit quads in the xy-plane (diagonal 8.5): the bump's shape is all the
 // displacement's, so what a ray should hit is easy to reason about.
-Cage flatGrid(uint32_t n = 6) {
-    Cage cage;
-    for (uint32_t y = 0; y <= n; ++y)
-        for (uint32_t x = 0; x <= n; ++x) cage.positions.push_back({float(x), float(y), 0.0f});
-    for (uint32_t y = 0; y < n; ++y)
-        for (uint32_t x = 0; x < n; ++x) {
-            const uint32_t v = y * (n + 1) + x;
-            const uint32_t quad[4] = {v, v + 1, v + n + 2, v + n + 1};
-            cage.addFace(quad, 4);
-        }
-    return cage;
-}
+Cage flatGrid() { return test::makeFlatGrid(6); }
 
 constexpr glm::vec3 kCentre{3.0f, 3.0f, 0.0f};
 constexpr float kBumpRadius = 1.5f;
