@@ -82,37 +82,57 @@ std::span<const glm::vec3> PlannedCage::subfaceControlPoints(uint32_t subface) c
 }
 
 std::vector<uint32_t> PlannedCage::remapSubfaces(const std::vector<uint32_t>& oldFaceOf) {
-    std::vector<uint32_t> oldFirst = std::move(faceFirstSubface_);
-    std::vector<uint32_t> oldPlan = std::move(subfacePlan_), oldRotation = std::move(subfaceRotation_);
-    std::vector<std::vector<uint32_t>> oldRing = std::move(subfaceRing_);
-    std::vector<std::vector<glm::vec3>> oldPoints = std::move(subfaceControlPoints_);
-
+    const std::vector<uint32_t> oldFirst = std::move(faceFirstSubface_);
     faceFirstSubface_.assign(cage_.faceCount() + 1, 0);
     for (uint32_t f = 0; f < cage_.faceCount(); ++f)
         faceFirstSubface_[f + 1] = faceFirstSubface_[f] + qp::subfaceCount(cage_.faceSize(f));
     const uint32_t count = faceFirstSubface_.back();
-    subfacePlan_.assign(count, kNoPlan);
-    subfaceRotation_.assign(count, 0);
-    subfaceHole_.assign(count, 0);
-    for (uint32_t hole : cage_.holes)
-        std::fill(subfaceHole_.begin() + faceFirstSubface_[hole], subfaceHole_.begin() + faceFirstSubface_[hole + 1], 1);
-    subfaceRing_.assign(count, {});
-    subfaceControlPoints_.assign(count, {});
     std::vector<uint32_t> previousSubfaceOf(count, kNewElement);
     for (uint32_t f = 0; f < cage_.faceCount(); ++f) {
-        uint32_t old = oldFaceOf[f];
+        const uint32_t old = oldFaceOf[f];
         if (old == UINT32_MAX) continue;
         const uint32_t subfaces = faceFirstSubface_[f + 1] - faceFirstSubface_[f];
         if (subfaces != oldFirst[old + 1] - oldFirst[old]) continue;  // a changed face: re-planned anyway
-        for (uint32_t k = 0; k < subfaces; ++k) {
-            uint32_t from = oldFirst[old] + k, to = faceFirstSubface_[f] + k;
-            subfacePlan_[to] = oldPlan[from];
-            subfaceRotation_[to] = oldRotation[from];
-            subfaceRing_[to] = std::move(oldRing[from]);
-            subfaceControlPoints_[to] = std::move(oldPoints[from]);
-            previousSubfaceOf[to] = from;
-        }
+        for (uint32_t k = 0; k < subfaces; ++k) previousSubfaceOf[faceFirstSubface_[f] + k] = oldFirst[old] + k;
     }
+
+    // Kept sub-faces move in place (a one-face edit moves few or none, where moving every ring
+    // into new arrays cost as much as the rest of the edit): kept faces keep their order, so
+    // those moving down go first in ascending order, then those moving up in descending order,
+    // and no entry is overwritten before it has moved.
+    const uint32_t oldCount = uint32_t(subfacePlan_.size()), room = std::max(count, oldCount);
+    subfacePlan_.resize(room, kNoPlan);
+    subfaceRotation_.resize(room, 0);
+    subfaceRing_.resize(room);
+    subfaceControlPoints_.resize(room);
+    std::vector<char> filled(room, 0);
+    auto move = [&](uint32_t to) {
+        const uint32_t from = previousSubfaceOf[to];
+        filled[to] = 1;
+        if (from == to) return;
+        subfacePlan_[to] = subfacePlan_[from];
+        subfaceRotation_[to] = subfaceRotation_[from];
+        subfaceRing_[to] = std::move(subfaceRing_[from]);
+        subfaceControlPoints_[to] = std::move(subfaceControlPoints_[from]);
+    };
+    for (uint32_t to = 0; to < count; ++to)
+        if (previousSubfaceOf[to] != kNewElement && previousSubfaceOf[to] >= to) move(to);
+    for (uint32_t to = count; to-- > 0;)
+        if (previousSubfaceOf[to] != kNewElement && previousSubfaceOf[to] < to) move(to);
+    for (uint32_t to = 0; to < count; ++to) {  // nothing kept here: as a sub-face never planned
+        if (filled[to]) continue;
+        subfacePlan_[to] = kNoPlan;
+        subfaceRotation_[to] = 0;
+        subfaceRing_[to].clear();
+        subfaceControlPoints_[to].clear();
+    }
+    subfacePlan_.resize(count);
+    subfaceRotation_.resize(count);
+    subfaceRing_.resize(count);
+    subfaceControlPoints_.resize(count);
+    subfaceHole_.assign(count, 0);
+    for (uint32_t hole : cage_.holes)
+        std::fill(subfaceHole_.begin() + faceFirstSubface_[hole], subfaceHole_.begin() + faceFirstSubface_[hole + 1], 1);
     return previousSubfaceOf;
 }
 
@@ -412,7 +432,8 @@ Result<EditReport> PlannedCage::applyFinishedTopologyEdit(TopologyEdit edit) {
         if (old != kNewElement) newVertexOf[old] = v;
         renumbered |= old != v && old != kNewElement;
     }
-    renumbered |= next.vertexCount() < before.vertexCount();
+    // Vertices removed from the end only (the undo of an extrude) renumber nothing: the rings of
+    // faces that are not re-planned hold no removed vertex (its faces' vertices are dirty).
 
     // Dirty vertices (new numbering): every face at them may have a new configuration.
     std::vector<bool> dirty(next.vertexCount(), false);

@@ -4,6 +4,8 @@
 #include <numeric>
 #include <utility>
 
+#include <tbb/parallel_invoke.h>
+
 namespace qp {
 
 namespace {
@@ -76,20 +78,29 @@ Topology buildTopology(const Cage& cage) {
         }
     }
 
-    buildCsr(t.edgeCount(), [&](auto&& emit) {
-        for (uint32_t f = 0; f < cage.faceCount(); ++f)
-            for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i) emit(t.faceEdges[i], f);
-    }, t.edgeFaceOffsets, t.edgeFaces);
-    buildCsr(cage.vertexCount(), [&](auto&& emit) {
-        for (uint32_t f = 0; f < cage.faceCount(); ++f)
-            for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i) emit(cage.faceVertices[i], f);
-    }, t.vertexFaceOffsets, t.vertexFaces);
-    buildCsr(cage.vertexCount(), [&](auto&& emit) {
-        for (uint32_t e = 0; e < t.edgeCount(); ++e) {
-            emit(t.edgeVertices[2 * e], e);
-            emit(t.edgeVertices[2 * e + 1], e);
-        }
-    }, t.vertexEdgeOffsets, t.vertexEdges);
+    // The three adjacencies read only what is built above: one per core (a topology edit builds
+    // them on every edit, in the frame that shows it).
+    tbb::parallel_invoke(
+        [&] {
+            buildCsr(t.edgeCount(), [&](auto&& emit) {
+                for (uint32_t f = 0; f < cage.faceCount(); ++f)
+                    for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i) emit(t.faceEdges[i], f);
+            }, t.edgeFaceOffsets, t.edgeFaces);
+        },
+        [&] {
+            buildCsr(cage.vertexCount(), [&](auto&& emit) {
+                for (uint32_t f = 0; f < cage.faceCount(); ++f)
+                    for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i) emit(cage.faceVertices[i], f);
+            }, t.vertexFaceOffsets, t.vertexFaces);
+        },
+        [&] {
+            buildCsr(cage.vertexCount(), [&](auto&& emit) {
+                for (uint32_t e = 0; e < t.edgeCount(); ++e) {
+                    emit(t.edgeVertices[2 * e], e);
+                    emit(t.edgeVertices[2 * e + 1], e);
+                }
+            }, t.vertexEdgeOffsets, t.vertexEdges);
+        });
     return t;
 }
 

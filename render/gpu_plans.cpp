@@ -3,6 +3,8 @@
 #include <algorithm>
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace qp {
 
@@ -287,7 +289,10 @@ glm::vec4 boundaryPointPosition(const PlannedCage& planned, uint32_t id) {
 std::vector<glm::vec4> boundaryPointPositions(const PlannedCage& planned) {
     const uint32_t count = planned.cage().vertexCount() + planned.topology().edgeCount() + planned.cage().faceCount();
     std::vector<glm::vec4> points(count);
-    for (uint32_t id = 0; id < count; ++id) points[id] = boundaryPointPosition(planned, id);
+    // Every point on its own (a topology edit renumbers them all, in the frame that shows it).
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 4096), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t id = range.begin(); id != range.end(); ++id) points[id] = boundaryPointPosition(planned, id);
+    });
     return points;
 }
 

@@ -5,6 +5,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_group.h>
 
 #include "grid_relayout.h"
 
@@ -143,8 +144,13 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
         oldOf[d] = previous < oldDrawnOf.size() ? oldDrawnOf[previous] : UINT32_MAX;
     }
 
-    if (sameRings) renumberRingUsers(data, old.vertexSubfaceOffsets, old.vertexSubfaces, oldOf, uint32_t(old.subfaces.size()));
-    else buildRingUsers(data, planned.cage().vertexCount());
+    // The ring users on another core while control points, owners and the grid are settled
+    // below: they read the rings and ring offsets, which nothing up to the wait writes.
+    tbb::task_group ringUsers;
+    ringUsers.run([&] {
+        if (sameRings) renumberRingUsers(data, old.vertexSubfaceOffsets, old.vertexSubfaces, oldOf, uint32_t(old.subfaces.size()));
+        else buildRingUsers(data, planned.cage().vertexCount());
+    });
 
     // Control points: kept sub-faces keep their ranges (and cached values); new ones go at the end.
     std::vector<uint32_t>& capacity = buffers.controlPointCapacity;
@@ -197,6 +203,7 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
 
     // The grid: the same factors for what was there, the old vertices moved to their new slots.
     GridLayout& layout = buffers.gridLayout;
+    Status grid = success();
     if (!layout.subfaceOffset.empty() && layout.uniformRequest > 0 && buffers.displacement == nullptr) {
         // Uniform factors: what the next frame asks for is known; kept sub-faces must keep their
         // factor (their slots stay valid), and the pieces of edges split as before (an edge
@@ -214,7 +221,7 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
                     same &= factors.segmentPieces[b.edges[e].secondHalf] == layout.factors.segmentPieces[ob.edges[e].secondHalf];
             }
         }
-        if (Status s = same ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf) : dropGrid(buffers, update); !s) return s;
+        grid = same ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf) : dropGrid(buffers, update);
     } else if (!layout.subfaceOffset.empty()) {
         GridFactors factors;
         factors.segmentPieces.assign(data.segments.size(), 0);
@@ -240,9 +247,11 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
                 else known &= n % pieces == 0;
             }
         }
-        if (Status s = known ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf) : dropGrid(buffers, update); !s) return s;
+        grid = known ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf) : dropGrid(buffers, update);
     }
 
+    ringUsers.wait();
+    if (!grid) return grid;
     buffers.drawnOfSubface = std::move(drawnOf);
     const VkDeviceSize listBytes = (2 * VkDeviceSize(count) + 4) * sizeof(uint32_t);
     if (listBytes > buffers.updateList.size) {

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cstdio>
 
+#include <tbb/task_group.h>
+
 #include "face_config.h"
 #include "ground_grid.h"
 #include "scheme_host.h"
@@ -530,6 +532,15 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
 
     const auto start = Clock::now();
     VK_CHECK(vkQueueWaitIdle(ctx.queue));
+    // The cage's lines drawn anew (a topology edit renumbers every edge) on another core while
+    // the viewports update: they share nothing but the document, which neither changes.
+    const Topology& topology = doc.planned->topology();
+    CageLines& lines = r.cageLineCache;
+    const bool newLines = (newPositions || newHidden) &&
+                          (newDocument || planChange.topologyChanged || r.hiddenRevision != doc.hiddenRevision ||
+                           lines.lineOf.size() != topology.edgeCount() || r.positions.size() != cage.positions.size());
+    tbb::task_group lineWork;
+    if (newLines) lineWork.run([&] { rebuildCageLines(lines, cage, topology, shownEdges(doc)); });
     if (newPlans) r.featuresStale = true;
     for (SchemeView& view : closed) park(ctx, r, doc, view);
     if (newPlans && !newDocument)  // parked instances that can take the edit in place stay usable
@@ -587,15 +598,10 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
             }
         }
     }
+    lineWork.wait();
     if (newPositions || newHidden) {
-        // Moves and tag edits rewrite the lines they touched; anything else draws them anew.
-        const Topology& topology = doc.planned->topology();
-        CageLines& lines = r.cageLineCache;
-        const bool whole = newDocument || planChange.topologyChanged || r.hiddenRevision != doc.hiddenRevision ||
-                           lines.lineOf.size() != topology.edgeCount() || r.positions.size() != cage.positions.size();
-        if (whole) {
-            rebuildCageLines(lines, cage, topology, shownEdges(doc));
-        } else {
+        // Moves and tag edits rewrite the lines they touched; anything else draws them anew (above).
+        if (!newLines) {
             if (newPlans) retagCageLines(lines, cage, topology, planChange.replannedFaceList);
             moveCageLines(lines, cage, topology, moved);
         }
