@@ -21,10 +21,15 @@ void Box::add(const Box& b) {
 float rayEntersBox(const Box& box, const glm::vec3& origin, const glm::vec3& inverseDirection, float tMax) {
     float t0 = 0.0f, t1 = tMax;
     for (int a = 0; a < 3; ++a) {
+        // A ray parallel to the slab (an infinite inverse) is inside it or misses the box: the
+        // products below would be 0 * inf = NaN for an origin on the slab's plane.
+        if (std::isinf(inverseDirection[a])) {
+            if (origin[a] < box.min[a] || origin[a] > box.max[a]) return std::numeric_limits<float>::infinity();
+            continue;
+        }
         float near = (box.min[a] - origin[a]) * inverseDirection[a];
         float far = (box.max[a] - origin[a]) * inverseDirection[a];
         if (near > far) std::swap(near, far);
-        // NaN (0 * inf: the ray runs inside a slab's plane) keeps the current bounds.
         if (near > t0) t0 = near;
         if (far < t1) t1 = far;
         if (t0 > t1) return std::numeric_limits<float>::infinity();
@@ -40,11 +45,17 @@ bool rayHitsTriangle(const glm::vec3& origin, const glm::vec3& direction, const 
     if (std::fabs(det) < 1e-20f) return false;
     const float inv = 1.0f / det;
     const glm::vec3 s = origin - p0;
+    // A ray through the edge two triangles share must hit one of them: rounding can put it a
+    // hair outside both (a ray along a symmetry plane of the model does that every time), so the
+    // test lets barycentrics a hair past the edges count.
+    constexpr float kEdgeSlack = 1e-5f;
     b1 = glm::dot(s, p) * inv;
-    if (b1 < 0.0f || b1 > 1.0f) return false;
+    if (b1 < -kEdgeSlack || b1 > 1.0f + kEdgeSlack) return false;
     const glm::vec3 q = glm::cross(s, e1);
     b2 = glm::dot(direction, q) * inv;
-    if (b2 < 0.0f || b1 + b2 > 1.0f) return false;
+    if (b2 < -kEdgeSlack || b1 + b2 > 1.0f + kEdgeSlack) return false;
+    b1 = std::clamp(b1, 0.0f, 1.0f);
+    b2 = std::clamp(b2, 0.0f, 1.0f - b1);
     t = glm::dot(e2, q) * inv;
     return t >= 0.0f;
 }
