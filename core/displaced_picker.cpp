@@ -27,6 +27,12 @@ DisplacementValue displacementAt(const Displacement& displacement, uint32_t subf
     return evaluateDisplacement(displacement, subface, u, v);
 }
 
+std::vector<uint32_t> everySubface(const PlannedCage& planned) {
+    std::vector<uint32_t> all(planned.subfaceCount());
+    std::iota(all.begin(), all.end(), 0u);
+    return all;
+}
+
 }  // namespace
 
 DisplacedPoint displacedSurfacePoint(const PlannedCage& planned, const Displacement& displacement, uint32_t subface,
@@ -37,13 +43,15 @@ DisplacedPoint displacedSurfacePoint(const PlannedCage& planned, const Displacem
 }
 
 DisplacedPicker::DisplacedPicker(const PlannedCage& planned, const Displacement& displacement, uint32_t minResolution)
+    : DisplacedPicker(planned, displacement, everySubface(planned), minResolution) {}
+
+DisplacedPicker::DisplacedPicker(const PlannedCage& planned, const Displacement& displacement,
+                                 std::span<const uint32_t> subfaces, uint32_t minResolution)
     : minResolution_(std::clamp(minResolution, 1u, kMaxPickResolution)) {
     grids_.assign(planned.subfaceCount(), {});
     boxes_.assign(planned.subfaceCount(), Box{});
     if (!displacement.empty()) users_ = buildDisplacementUsers(displacement.layout);
-    std::vector<uint32_t> all(planned.subfaceCount());
-    std::iota(all.begin(), all.end(), 0u);
-    resample(planned, displacement, all, true);
+    resample(planned, displacement, subfaces, true);
 }
 
 uint32_t DisplacedPicker::wantedResolution(const Displacement& displacement, uint32_t subface) const {

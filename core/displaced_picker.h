@@ -40,6 +40,10 @@ public:
     DisplacedPicker() = default;
     // `displacement` may be empty (then f = s); its layout must belong to planned's cage.
     DisplacedPicker(const PlannedCage& planned, const Displacement& displacement, uint32_t minResolution = 8);
+    // Only these sub-faces (any order, each once) are sampled and hit: a local picker for work
+    // near an edit (displacement_transfer.h), which would not pay for sampling the whole cage.
+    DisplacedPicker(const PlannedCage& planned, const Displacement& displacement, std::span<const uint32_t> subfaces,
+                    uint32_t minResolution = 8);
 
     // The limit surface changed on these sub-faces (vertex moves, re-planned tags; same
     // numbering and layout): re-evaluates them whole.

@@ -34,7 +34,7 @@ radii, the others a blend in [0, 1]. A scene without displacement first gets a z
         .def("set_displacement_resolution", [](Document& d, uint32_t r) { return unwrap(d.setDisplacementResolution(r)); },
              py::arg("resolution"), "Resamples the displacement (or creates a zero one) at this power-of-two resolution per sub-face.")
         .def("clear_displacement", [](Document& d) { return unwrap(d.clearDisplacement()); },
-             "Removes the displacement (undoable); topology edits are possible again afterwards.")
+             "Removes the displacement (undoable).")
         .def_property_readonly("has_displacement", [](const Document& d) { return !d.displacement().empty(); },
                                "Whether the scene has sculpted displacement.")
         .def_property_readonly("displacement_samples", [](const Document& d) {

@@ -242,7 +242,7 @@ camera and tessellation settings, its sculpted displacement, and an undo history
 Every edit goes through the history and returns an EditReport; undo() and redo() re-plan only
 what the edit re-planned. An edit that fails raises quadplan.Error with the message the command
 line prints and changes nothing. Vertex and face indices are 0-based (messages count from 1).
-Topology edits are refused while the scene has displacement (clear_displacement() first).
+A topology edit on a sculpted object carries the displacement to the new faces in the same entry.
 An animated scene shows one frame at a time (set_frame); a move of an object with vertex keys keys
 it at that frame and a topology edit carries its keys (docs/python.md, "Animation").
 )doc");

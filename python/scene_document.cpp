@@ -453,18 +453,21 @@ Result<EditOutcome> SceneDocument::setCreaseMethod(CreaseMethod method) {
 
 // ---- topology ---------------------------------------------------------------------------
 
-Result<EditOutcome> SceneDocument::topologyEdit(const std::string& name, Result<TopologyEdit> edit) {
-    if (!active().displacement.empty())
-        return Error{name + ": the scene has sculpted displacement, whose samples follow the current faces and cannot "
-                            "be carried across a topology edit yet; clear the displacement first (an undoable edit)"};
+Result<EditOutcome> SceneDocument::topologyEdit(const std::string& name, Result<TopologyEdit> edit, FollowingMove move) {
     if (!edit) return edit.error();
     std::vector<uint32_t> resultVertices = edit->resultVertices, resultFaces = edit->resultFaces;
     std::vector<EdgeKey> resultEdges = edit->resultEdges;
+    const bool keyed = activeHasVertexKeys();
+    auto step = [&]() -> std::unique_ptr<CustomEdit> {
+        if (keyed) return makeAnimatedTopologyEdit(activeCage(), animatedState(active_), animationAccess(), *edit);
+        return makeTopologyStep(activeCage(), *edit);
+    };
     Result<EditOutcome> outcome =
-        finish(name, activeHasVertexKeys()
-                         ? history_.perform(activeCage(), name,
-                                            makeAnimatedTopologyEdit(activeCage(), animatedState(active_), animationAccess(), *edit))
-                         : history_.applyTopologyEdit(activeCage(), name, std::move(edit).value()));
+        !active().displacement.empty()
+            ? finish(name, history_.perform(activeCage(), name,
+                                            makeDisplacedTopologyEdit(step(), active().displacement, listener(), std::move(move))))
+        : keyed ? finish(name, history_.perform(activeCage(), name, step()))
+                : finish(name, history_.applyTopologyEdit(activeCage(), name, std::move(edit).value()));
     if (outcome) {
         outcome->resultVertices = std::move(resultVertices);
         outcome->resultFaces = std::move(resultFaces);
@@ -474,6 +477,13 @@ Result<EditOutcome> SceneDocument::topologyEdit(const std::string& name, Result<
 }
 
 Result<EditOutcome> SceneDocument::extrude(std::span<const uint32_t> faces, float distance) {
+    // With displacement: extruded in place (the sculpt projected from the old surface), then moved
+    // out, so the region takes its sculpt along.
+    if (!active().displacement.empty() && distance != 0.0f && !activeHasVertexKeys()) {
+        Result<SplitExtrude> split = splitExtrude(cage(), activeCage().topology(), faces, distance);
+        if (!split) return split.error();
+        return topologyEdit("Extrude", std::move(split->inPlace), std::move(split->move));
+    }
     return topologyEdit("Extrude", extrudeFaces(cage(), activeCage().topology(), faces, distance));
 }
 

@@ -19,9 +19,8 @@
 //   - every edit goes through EditHistory, so undo/redo re-plan only what the edit re-planned;
 //   - displacement strokes, resolution changes and clearing the displacement are history
 //     entries too (CustomEdit), so one undo stack covers everything;
-//   - a topology edit is refused while the scene has displacement: the samples follow the
-//     current faces and no transfer across topology edits exists yet (the message says to
-//     clear the displacement first, which is itself undoable);
+//   - a topology edit on an object with displacement carries it to the new cage in the same
+//     entry (core/displaced_topology_edit.h), so one undo brings both back;
 //   - on failure nothing changes and the error carries the core's message (what the command
 //     line prints); vertices and faces are 0-based here, 1-based in messages (as in OBJ).
 #pragma once
@@ -38,6 +37,7 @@
 
 #include "animation_edits.h"
 #include "brush.h"
+#include "displaced_topology_edit.h"
 #include "displacement_edit.h"
 #include "edit_history.h"
 #include "planned_cage.h"
@@ -171,7 +171,7 @@ private:
     Result<EditOutcome> finish(const std::string& name, Result<EditReport> report);
     // Undoes (or redoes) history entry `entry` on the cage it was made on.
     Result<EditOutcome> step(size_t entry, bool forward);
-    Result<EditOutcome> topologyEdit(const std::string& name, Result<TopologyEdit> edit);
+    Result<EditOutcome> topologyEdit(const std::string& name, Result<TopologyEdit> edit, FollowingMove move = {});
     Result<EditOutcome> replaceDisplacement(const std::string& name, Displacement next);
     Result<EditOutcome> transform(const std::string& name, std::span<const uint32_t> vertices, const glm::mat4& matrix);
     // Keeps the brushes' sample cache in step with the surface after an edit.

@@ -97,3 +97,51 @@ TEST(DocumentMask, TheDisplacedPickerFollowsDabsAsARebuildWould) {
         if (offset == 0.0f) EXPECT_GT(glm::length(a.position - a.limit), 0.01f) << "the pick is not on the raised surface";
     }
 }
+
+TEST(DocumentSculpt, TopologyEditsKeepTheSculptAndUndoBringsItBack) {
+    std::unique_ptr<Document> doc = cubeDocument();
+    ASSERT_TRUE(doc);
+    const glm::vec3 centre = doc->planned->evaluate(0, 0.5f, 0.5f).position;
+    ASSERT_TRUE(beginStroke(*doc, 8, 1).ok());
+    StrokeOptions raise;
+    raise.brush = Brush{BrushKind::Raise, 0.6f, 0.3f, Falloff::Smooth};
+    EXPECT_GT(strokeTo(*doc, raise, centre), 0u);
+    ASSERT_TRUE(endStroke(*doc, "Stroke", 2).ok());
+    StrokeOptions mask;
+    mask.brush = Brush{BrushKind::Mask, 0.3f, 1.0f, Falloff::Constant};
+    ASSERT_TRUE(beginStroke(*doc, 8, 3).ok());
+    EXPECT_GT(strokeTo(*doc, mask, centre), 0u);
+    ASSERT_TRUE(endStroke(*doc, "Mask stroke", 4).ok());
+    const Displacement sculpted = doc->scene.objects[0].displacement;
+    const float top = *std::max_element(sculpted.samples.begin(), sculpted.samples.end());
+    ASSERT_GT(top, 0.0f);
+    const size_t entries = doc->history.size();
+
+    // Extrude the sculpted face out: one entry; the displacement fits the new cage, its bump
+    // went along with the face and its mask with it.
+    const uint64_t revision = doc->displacementRevision;
+    Result<EditReport> extruded = applyEdit(*doc, ExtrudeFaces{{0}, 0.4f}, 5);
+    ASSERT_TRUE(extruded.ok()) << extruded.error().message;
+    EXPECT_EQ(doc->history.size(), entries + 1);
+    EXPECT_GT(doc->displacementRevision, revision) << "the renderer was not told of the new layout";
+    const Displacement& carried = doc->scene.objects[0].displacement;
+    EXPECT_EQ(carried.layout, buildDisplacementLayout(doc->planned->cage(), doc->planned->topology(), 8));
+    // The in-place extrude flattens the face's limit surface towards the cage (its sides have no
+    // length yet) and the projection keeps the displaced surface where it was, so D shrinks by
+    // that much; the bump itself goes along.
+    EXPECT_GT(evaluateDisplacement(carried, 0, 0.5f, 0.5f).value, 0.5f * evaluateDisplacement(sculpted, 0, 0.5f, 0.5f).value);
+    ASSERT_EQ(carried.mask.size(), carried.samples.size());
+    EXPECT_GT(*std::max_element(carried.mask.begin(), carried.mask.end()), 0.5f);
+
+    // Delete a face next to it, then undo both: the sculpt comes back bit for bit.
+    ASSERT_TRUE(applyEdit(*doc, DeleteFaces{{1}}, 6).ok());
+    EXPECT_EQ(doc->scene.objects[0].displacement.layout,
+              buildDisplacementLayout(doc->planned->cage(), doc->planned->topology(), 8));
+    ASSERT_TRUE(undoEdit(*doc, 7).ok());
+    ASSERT_TRUE(undoEdit(*doc, 8).ok());
+    EXPECT_EQ(doc->scene.objects[0].displacement, sculpted);
+    EXPECT_TRUE(doc->planned->differencesFromRebuild().empty());
+    ASSERT_TRUE(redoEdit(*doc, 9).ok());
+    EXPECT_EQ(doc->scene.objects[0].displacement.layout,
+              buildDisplacementLayout(doc->planned->cage(), doc->planned->topology(), 8));
+}

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "displaced_topology_edit.h"
 #include "displacement_edit.h"
 #include "document_animation.h"
 #include "file_io.h"
@@ -122,17 +123,32 @@ Result<TopologyEdit> operation(const Document& doc, const MakeFace& e) {
     return makeFace(doc.planned->cage(), doc.planned->topology(), e.vertices);
 }
 
+// With displacement the entry carries it to the new cage (displaced_topology_edit.h); an
+// extrude by a distance is made in place, the sculpt projected, and then moved out.
 template <class Op>
 Result<EditReport> performTopology(Document& doc, const Op& op, const std::string& name, TopologyEdit* applied) {
-    if (!activeObject(doc).displacement.empty())
-        return Error{"this scene carries sculpted displacement, which follows the cage's topology: topology edits "
-                     "would invalidate it (vertex moves, creases and holes are fine). Clear it first (Sculpt panel: "
-                     "Clear; undo brings it back)"};
     Result<TopologyEdit> edit = operation(doc, op);
     if (!edit) return edit.error();
     *applied = *edit;  // the result selection is read after the history takes the edit
-    if (hasVertexKeys(activeObject(doc))) return performAnimatedTopologyEdit(doc, name, *edit);
-    return doc.history.applyTopologyEdit(*doc.planned, name, std::move(edit).value());
+    const bool keyed = hasVertexKeys(activeObject(doc));
+    Displacement& displacement = activeObject(doc).displacement;
+    if (displacement.empty()) {
+        if (keyed) return performAnimatedTopologyEdit(doc, name, animatedTopologyStep(doc, *edit));
+        return doc.history.applyTopologyEdit(*doc.planned, name, std::move(edit).value());
+    }
+    FollowingMove move;
+    if constexpr (std::is_same_v<Op, ExtrudeFaces>) {
+        if (op.distance != 0.0f && !keyed) {
+            Result<SplitExtrude> split = splitExtrude(doc.planned->cage(), doc.planned->topology(), op.faces, op.distance);
+            if (!split) return split.error();
+            edit = std::move(split->inPlace);
+            move = std::move(split->move);
+        }
+    }
+    std::unique_ptr<CustomEdit> step = keyed ? animatedTopologyStep(doc, *edit) : makeTopologyStep(*doc.planned, *edit);
+    auto entry = makeDisplacedTopologyEdit(std::move(step), displacement, displacementListener(doc), std::move(move));
+    if (keyed) return performAnimatedTopologyEdit(doc, name, std::move(entry));
+    return doc.history.perform(*doc.planned, name, std::move(entry));
 }
 
 // After a topology edit: what the operation suggests, in the current mode when it has

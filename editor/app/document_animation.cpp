@@ -169,10 +169,12 @@ Result<EditReport> performKeyedMove(Document& doc, const std::string& name, std:
     return report;
 }
 
-Result<EditReport> performAnimatedTopologyEdit(Document& doc, const std::string& name, const TopologyEdit& edit) {
-    const uint32_t id = editedId(doc);
-    Result<EditReport> done =
-        doc.history.perform(*doc.planned, name, makeAnimatedTopologyEdit(*doc.planned, editedState(doc), accessOf(doc, id), edit));
+std::unique_ptr<CustomEdit> animatedTopologyStep(Document& doc, const TopologyEdit& edit) {
+    return makeAnimatedTopologyEdit(*doc.planned, editedState(doc), accessOf(doc, editedId(doc)), edit);
+}
+
+Result<EditReport> performAnimatedTopologyEdit(Document& doc, const std::string& name, std::unique_ptr<CustomEdit> step) {
+    Result<EditReport> done = doc.history.perform(*doc.planned, name, std::move(step));
     if (done) doc.animationNote = "keys carried to every frame (made at frame " + std::to_string(keyFrame(doc)) + ")";
     return done;
 }

@@ -46,8 +46,10 @@ Status showCurrentFrameOn(Document& document, uint32_t object, PlannedCage& plan
 // entry, so that one drag is one entry.
 Result<EditReport> performKeyedMove(Document& document, const std::string& name, std::span<const uint32_t> vertices,
                                     std::span<const glm::vec3> positions, bool continueDrag);
-// `edit` made from the cage as shown (doc.planned->cage()).
-Result<EditReport> performAnimatedTopologyEdit(Document& document, const std::string& name, const TopologyEdit& edit);
+// A topology edit's entry that carries the keys (`edit` made from the cage as shown,
+// doc.planned->cage()), and performing it, or an entry wrapping it (a displaced topology edit).
+std::unique_ptr<CustomEdit> animatedTopologyStep(Document& document, const TopologyEdit& edit);
+Result<EditReport> performAnimatedTopologyEdit(Document& document, const std::string& name, std::unique_ptr<CustomEdit> step);
 // Before any edit: pauses playback and moves a fractional frame to its rounding (keys sit on
 // whole frames, and the entry shows the current frame after it ran). Returns what it did, for the
 // status line ("" when nothing).

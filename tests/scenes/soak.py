@@ -63,10 +63,6 @@ class Soak:
         edges = self.scene.edges
         return tuple(int(v) for v in edges[self.rng.randrange(len(edges))])
 
-    def ensure_no_displacement(self):
-        if self.scene.has_displacement:
-            self.record("clear_displacement", self.scene.clear_displacement())
-
     def record(self, name, report):
         self.counts[name] = self.counts.get(name, 0) + 1
         return report
@@ -112,7 +108,7 @@ class Soak:
         return self.scene.set_holes([self.face()], True)
 
     def grow_topology(self):
-        self.ensure_no_displacement()
+        # With displacement the edit carries it to the new faces (issue 19 part 3).
         kind = self.rng.randrange(3)
         if kind == 0:
             return self.scene.extrude([self.face()], self.rng.uniform(-0.02, 0.05) * self.bbox)
@@ -129,7 +125,6 @@ class Soak:
         return self.scene.insert_edge_loop(a, b, self.rng.uniform(0.2, 0.8))
 
     def shrink_topology(self):
-        self.ensure_no_displacement()
         if self.rng.random() < 0.5:
             return self.scene.delete_faces([self.face()], remove_unused_vertices=True)
         # Merge the two ends of a short edge (collapses it).

@@ -239,8 +239,13 @@ def test_stroke_displaces_and_undoes(cube, renderer, view, golden):
     golden("stroke", cube.render_displaced(size=SIZE, camera=view, cage=False, renderer=renderer))
     # render() draws it through the scheme (compared with the undone stroke below).
     plans = cube.render("plans", size=SIZE, camera=view, cage=False, renderer=renderer)
-    with pytest.raises(qp.Error, match="displacement"):
-        cube.extrude([0], 0.5)
+    # A topology edit keeps the sculpt (projected onto the new faces) and undoes in one step.
+    faces_before = cube.face_count
+    cube.extrude([0], 0.5)
+    assert cube.face_count > faces_before and cube.has_displacement
+    assert cube.displacement_samples.max() > 0.5 * samples.max()
+    cube.undo()
+    assert np.array_equal(cube.displacement_samples, samples)
     # Two history entries: the zero displacement and the stroke.
     cube.undo()
     assert cube.has_displacement and cube.displacement_samples.max() == 0
@@ -253,7 +258,8 @@ def test_stroke_displaces_and_undoes(cube, renderer, view, golden):
     cube.redo(); cube.redo()
     assert np.array_equal(cube.displacement_samples, samples)
     cube.clear_displacement()
-    cube.extrude([0], 0.5)  # possible again
+    cube.extrude([0], 0.5)
+    assert not cube.has_displacement
 
 
 # ---- every scheme --------------------------------------------------------------------------

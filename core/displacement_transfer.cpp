@@ -1,0 +1,208 @@
+#include "displacement_transfer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include <tbb/parallel_for.h>
+
+#include "displaced_picker.h"
+#include "sculpt_samples.h"
+#include "topology_edits.h"
+
+namespace qp {
+
+namespace {
+
+// Every sample a sub-face's D reads, with its (u, v) on the sub-face: the grid points, and where
+// an edge is finer than the grid its segments' samples (and a split edge's midpoint).
+template <class F>
+void forEachSubfaceSample(const DisplacementLayout& layout, uint32_t subface, std::vector<uint32_t>& grid, const F& f) {
+    const DisplacementSubface& sf = layout.subfaces[subface];
+    const uint32_t R = sf.resolution, side = R + 1;
+    grid.resize(side * side);
+    gridSamples(layout, subface, grid.data());
+    for (uint32_t j = 0; j <= R; ++j)
+        for (uint32_t i = 0; i <= R; ++i) f(grid[j * side + i], float(i) / float(R), float(j) / float(R));
+    for (uint32_t e = 0; e < 4; ++e) {
+        const DisplacementEdge& edge = sf.edges[e];
+        if (!(edge.flags & kEdgeFiner)) continue;
+        const bool split = edge.flags & kEdgeSplit;
+        for (uint32_t half = 0; half < (split ? 2u : 1u); ++half) {
+            const DisplacementSegment& segment = layout.segments[half ? edge.secondHalf : edge.segment];
+            for (uint32_t k = 1; k < segment.resolution; ++k) {
+                const glm::vec2 uv = edgePoint(e, edgeParameter(edge, half, k, segment.resolution));
+                f(segment.offset + k - 1, uv.x, uv.y);
+            }
+        }
+        if (split) {
+            const glm::vec2 uv = edgePoint(e, 0.5f);
+            f(layout.segments[edge.segment].pointB, uv.x, uv.y);
+        }
+    }
+}
+
+// Whether each sub-face after the edit keeps its limit surface (and so its samples).
+std::vector<bool> keptSubfaces(const PlannedCage& after, const EditReport& report) {
+    std::vector<bool> kept(after.subfaceCount(), false);
+    for (uint32_t s = 0; s < after.subfaceCount(); ++s) kept[s] = report.previousSubfaceOf[s] != kNewElement;
+    for (uint32_t s : report.updatedSubfaceList) kept[s] = false;
+    return kept;
+}
+
+// Per sub-face after the edit: kept ones their old resolution, changed ones the finest kept
+// resolution at their corners, or the old displacement's finest.
+std::vector<uint32_t> transferResolutions(const DisplacementLayout& corners, const Displacement& old,
+                                          const std::vector<bool>& kept, const EditReport& report) {
+    uint32_t finest = 1;
+    for (const DisplacementSubface& sf : old.layout.subfaces) finest = std::max(finest, sf.resolution);
+    const uint32_t count = uint32_t(corners.subfaces.size());
+    std::vector<uint32_t> resolutions(count, 0), pointFinest(corners.pointCount, 0);
+    for (uint32_t s = 0; s < count; ++s) {
+        if (!kept[s]) continue;
+        resolutions[s] = old.layout.subfaces[report.previousSubfaceOf[s]].resolution;
+        for (uint32_t p : corners.subfaces[s].corners) pointFinest[p] = std::max(pointFinest[p], resolutions[s]);
+    }
+    for (uint32_t s = 0; s < count; ++s) {
+        if (kept[s]) continue;
+        uint32_t r = 0;
+        for (uint32_t p : corners.subfaces[s].corners) r = std::max(r, pointFinest[p]);
+        resolutions[s] = r ? r : finest;
+    }
+    return resolutions;
+}
+
+// The old sub-faces the changed ones may project onto: those whose surface the edit changed or
+// removed, and every sub-face of a face sharing a vertex with theirs.
+std::vector<uint32_t> oldNeighbourhood(const PlannedCage& before, const std::vector<bool>& kept, const EditReport& report) {
+    std::vector<bool> keptOld(before.subfaceCount(), false);
+    for (uint32_t s = 0; s < kept.size(); ++s)
+        if (kept[s]) keptOld[report.previousSubfaceOf[s]] = true;
+    const Cage& cage = before.cage();
+    const Topology& topology = before.topology();
+    std::vector<bool> nearFace(cage.faceCount(), false), atVertex(cage.vertexCount(), false);
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+        bool changed = false;
+        for (uint32_t s = before.firstSubface(f); s < before.firstSubface(f + 1); ++s) changed |= !keptOld[s];
+        if (!changed) continue;
+        for (uint32_t i = 0; i < cage.faceSize(f); ++i) atVertex[cage.faceBegin(f)[i]] = true;
+    }
+    for (uint32_t v = 0; v < cage.vertexCount(); ++v) {
+        if (!atVertex[v]) continue;
+        for (uint32_t k = topology.vertexFaceOffsets[v]; k < topology.vertexFaceOffsets[v + 1]; ++k)
+            nearFace[topology.vertexFaces[k]] = true;
+    }
+    std::vector<uint32_t> subfaces;
+    for (uint32_t f = 0; f < cage.faceCount(); ++f)
+        if (nearFace[f])
+            for (uint32_t s = before.firstSubface(f); s < before.firstSubface(f + 1); ++s) subfaces.push_back(s);
+    return subfaces;
+}
+
+// Half the mean cage edge length of the changed faces: how far an edit of this kind moves the
+// limit surface at most, roughly (an edge loop or a deleted neighbour changes it by a fraction of
+// the local edge length).
+float changedFaceScale(const PlannedCage& after, const std::vector<bool>& kept) {
+    const Cage& cage = after.cage();
+    double total = 0.0;
+    uint32_t edges = 0;
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+        bool changed = false;
+        for (uint32_t s = after.firstSubface(f); s < after.firstSubface(f + 1); ++s) changed |= !kept[s];
+        if (!changed) continue;
+        const uint32_t* vs = cage.faceBegin(f);
+        for (uint32_t i = 0, n = cage.faceSize(f); i < n; ++i, ++edges)
+            total += glm::length(cage.positions[vs[(i + 1) % n]] - cage.positions[vs[i]]);
+    }
+    return edges ? float(0.5 * total / edges) : 0.0f;
+}
+
+Displacement maskAsDisplacement(const Displacement& d) {
+    Displacement mask;
+    mask.layout = d.layout;
+    mask.samples = d.mask;
+    return mask;
+}
+
+struct Projection {
+    float value = 0.0f;
+    uint32_t subface = kNoHit;
+    float u = 0.0f, v = 0.0f;
+};
+
+// The nearest point of the old displaced surface on the line p + t N, |t| <= reach.
+std::optional<Projection> project(const DisplacedPicker& picker, const PlannedCage& before, const Displacement& old,
+                                  const glm::vec3& p, const glm::vec3& n, float reach) {
+    // Both rays start a hair behind p, so a surface through p itself is met by one of them.
+    const float hair = 1e-4f * reach;
+    std::optional<Projection> best;
+    for (float sign : {1.0f, -1.0f}) {
+        const Ray ray{p - sign * hair * n, sign * n};
+        const DisplacedPicker::Hit hit = picker.intersect(before, old, ray, reach + hair);
+        if (hit.subface == kNoHit) continue;
+        const float t = glm::dot(hit.position - p, n);
+        if (!std::isfinite(t) || std::abs(t) > reach) continue;
+        if (!best || std::abs(t) < std::abs(best->value)) best = Projection{t, hit.subface, hit.u, hit.v};
+    }
+    return best;
+}
+
+}  // namespace
+
+DisplacementTransfer transferDisplacement(const PlannedCage& before, const Displacement& old, const PlannedCage& after,
+                                          const EditReport& report) {
+    assert(!old.empty() && report.previousSubfaceOf.size() == after.subfaceCount());
+    DisplacementTransfer out;
+    const std::vector<bool> kept = keptSubfaces(after, report);
+    const DisplacementLayout corners = buildDisplacementLayout(after.cage(), after.topology(), 1);
+    Displacement& next = out.displacement;
+    next.layout = withResolutions(corners, transferResolutions(corners, old, kept, report));
+    next.samples.assign(next.layout.sampleCount, 0.0f);
+    const bool masked = old.hasMask();
+    const Displacement oldMask = masked ? maskAsDisplacement(old) : Displacement{};
+    if (masked) next.mask.assign(next.layout.sampleCount, 0.0f);
+
+    // Kept sub-faces: every sample they read takes the old D at its place, which at a stored
+    // sample's place is that sample's value exactly (evaluateDisplacement interpolates with
+    // weights 0 and 1 there).
+    std::vector<bool> assigned(next.layout.sampleCount, false);
+    std::vector<uint32_t> grid;
+    for (uint32_t s = 0; s < after.subfaceCount(); ++s) {
+        if (!kept[s]) continue;
+        ++out.keptSubfaces;
+        const uint32_t from = report.previousSubfaceOf[s];
+        forEachSubfaceSample(next.layout, s, grid, [&](uint32_t sample, float u, float v) {
+            next.samples[sample] = evaluateDisplacement(old, from, u, v).value;
+            if (masked) next.mask[sample] = evaluateDisplacement(oldMask, from, u, v).value;
+            assigned[sample] = true;
+        });
+    }
+    out.changedSubfaces = after.subfaceCount() - out.keptSubfaces;
+    if (out.changedSubfaces == 0) return out;
+
+    // Changed sub-faces: the rest, each at its owner's site, from the old displaced surface.
+    float largest = 0.0f;
+    for (float d : old.samples) largest = std::max(largest, std::abs(d));
+    out.reach = largest + changedFaceScale(after, kept);
+    const DisplacedPicker picker(before, old, oldNeighbourhood(before, kept, report));
+    const std::vector<SampleSite> sites = computeSampleSites(next.layout, after);
+    std::vector<uint32_t> open;
+    for (uint32_t i = 0; i < next.layout.sampleCount; ++i)
+        if (!assigned[i] && sites[i].subface != kNoSite) open.push_back(i);
+    std::vector<uint8_t> reached(open.size(), 0);
+    tbb::parallel_for(size_t(0), open.size(), [&](size_t k) {
+        const uint32_t i = open[k];
+        const SampleSite& site = sites[i];
+        const LimitSample limit = after.evaluate(site.subface, site.u, site.v);
+        const glm::vec3 normal = limitNormal(after, site.subface, site.u, site.v, limit);
+        const std::optional<Projection> hit = project(picker, before, old, limit.position, normal, out.reach);
+        if (!hit) return;
+        reached[k] = 1;
+        next.samples[i] = hit->value + 0.0f;
+        if (masked) next.mask[i] = std::clamp(evaluateDisplacement(oldMask, hit->subface, hit->u, hit->v).value, 0.0f, 1.0f);
+    });
+    for (uint8_t r : reached) r ? ++out.projectedSamples : ++out.unreachedSamples;
+    return out;
+}
+
+}  // namespace qp

@@ -1,0 +1,41 @@
+// Carrying sculpted displacement across a topology edit (issue 19 part 3; docs/displacement.md,
+// "Topology edits"). The samples follow the sub-faces, so an edit that adds, removes or rewires
+// faces needs a displacement for the new cage. What the user sculpted must survive it:
+//
+//   - KEPT sub-faces, those whose limit surface the edit leaves alone (they map to a sub-face
+//     before the edit and the edit report does not list them as updated), keep their resolution
+//     and every sample they read, bit for bit: their D is the same function as before.
+//   - CHANGED sub-faces (new, rewired, or with a changed 1-ring) take the OLD DISPLACED SURFACE
+//     by projection: at each new sample's limit point p with unit normal N, the nearest point of
+//     the old surface s + D N on the line p + t N (within reach: the largest |D| plus half the
+//     changed faces' mean edge length) gives D = t. So the displaced surface stays where it was,
+//     up to resampling at the new sample positions. A sample with no old surface in reach (a face
+//     filling a hole, the sides of an extrude) gets 0.
+//   - Resolutions: a changed sub-face takes the finest of the kept sub-faces at its corners (the
+//     displacement's finest where none is kept), so a uniform resolution stays uniform.
+// Samples on the border between kept and changed sub-faces belong to the kept side (they are
+// shared), so the new displacement is as seamless as the old. The mask is carried the same way.
+#pragma once
+
+#include <cstdint>
+
+#include "displacement.h"
+#include "planned_cage.h"
+
+namespace qp {
+
+struct DisplacementTransfer {
+    Displacement displacement;  // for `after`'s cage
+    uint32_t keptSubfaces = 0, changedSubfaces = 0;
+    uint32_t projectedSamples = 0;  // set from the old displaced surface
+    uint32_t unreachedSamples = 0;  // no old surface within reach: 0
+    float reach = 0.0f;
+};
+
+// `before` and `old`: the planned cage and its (non-empty) displacement before the edit;
+// `after`: the planned cage after it; `report`: the edit's report (topologyChanged, with
+// previousSubfaceOf and updatedSubfaceList in after's numbering).
+DisplacementTransfer transferDisplacement(const PlannedCage& before, const Displacement& old, const PlannedCage& after,
+                                          const EditReport& report);
+
+}  // namespace qp

@@ -1,0 +1,200 @@
+// Topology edits keep the sculpt (issue 19 part 3): displacement carried across edge loops,
+// deleted faces, filled holes and extrudes (core/displacement_transfer.h,
+// core/displaced_topology_edit.h).
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+
+#include "displaced_picker.h"
+#include "displaced_topology_edit.h"
+#include "sculpt_test_support.h"
+#include "test_cages.h"
+#include "topology_edits.h"
+
+namespace qp {
+namespace {
+
+// A bump raised at the cage's point nearest to `where` (tall: 15% of the diagonal).
+void raiseBump(test::Sculpt& s, const glm::vec3& where, float radius) {
+    uint32_t nearest = 0;
+    for (uint32_t i : s.sited())
+        if (s.distance(i, where) < s.distance(nearest, where) || !s.samples->hasSite(nearest)) nearest = i;
+    const glm::vec3 centre = s.samples->position(nearest);
+    StrokeOptions options;
+    options.brush = Brush{BrushKind::Raise, radius, 0.35f, Falloff::Smooth};
+    for (int k = 0; k < 3; ++k) applyStroke(s.displacement, *s.samples, options, std::span(&centre, 1));
+}
+
+float largestD(const Displacement& d) {
+    float m = 0.0f;
+    for (float x : d.samples) m = std::max(m, std::abs(x));
+    return m;
+}
+
+// One edit through the history as the editor and Python make it; returns the report.
+EditReport perform(EditHistory& history, test::Sculpt& s, const TopologyEdit& edit, FollowingMove move = {}) {
+    auto entry = makeDisplacedTopologyEdit(makeTopologyStep(*s.planned, edit), s.displacement, [](const DisplacementChange&) {},
+                                           std::move(move));
+    Result<EditReport> report = history.perform(*s.planned, "edit", std::move(entry));
+    EXPECT_TRUE(report) << report.error().message;
+    return report ? *report : EditReport{};
+}
+
+// Kept sub-faces: D the same bits everywhere on them (edges and corners included).
+void expectKeptBitForBit(const DisplacementTransfer& transfer, const Displacement& old, const EditReport& report,
+                         const PlannedCage& after) {
+    std::vector<bool> updated(after.subfaceCount(), false);
+    for (uint32_t s : report.updatedSubfaceList) updated[s] = true;
+    uint32_t kept = 0;
+    for (uint32_t s = 0; s < after.subfaceCount(); ++s) {
+        const uint32_t from = report.previousSubfaceOf[s];
+        if (from == kNewElement || updated[s]) continue;
+        ++kept;
+        for (uint32_t j = 0; j <= 16; ++j)
+            for (uint32_t i = 0; i <= 16; ++i) {
+                const float u = float(i) / 16.0f, v = float(j) / 16.0f;
+                const DisplacementValue a = evaluateDisplacement(transfer.displacement, s, u, v);
+                const DisplacementValue b = evaluateDisplacement(old, from, u, v);
+                ASSERT_EQ(std::bit_cast<uint32_t>(a.value), std::bit_cast<uint32_t>(b.value))
+                    << "sub-face " << s << " (was " << from << ") at " << u << ", " << v;
+            }
+    }
+    EXPECT_EQ(kept, transfer.keptSubfaces);
+    EXPECT_GT(kept, 0u);
+}
+
+// How far the new displaced surface of the changed sub-faces lies from the old displaced
+// surface, along the new normal (the old surface found by ray casts refined by Newton), at 9 x 9
+// points per sub-face that are not the samples themselves: the resampling error.
+float transferError(const PlannedCage& before, const Displacement& old, const PlannedCage& after,
+                    const Displacement& next, const EditReport& report) {
+    std::vector<bool> updated(after.subfaceCount(), false);
+    for (uint32_t s : report.updatedSubfaceList) updated[s] = true;
+    const DisplacedPicker picker(before, old);
+    float worst = 0.0f;
+    for (uint32_t s = 0; s < after.subfaceCount(); ++s) {
+        if ((report.previousSubfaceOf[s] != kNewElement && !updated[s]) || !after.hasSurface(s)) continue;
+        for (uint32_t j = 0; j < 9; ++j)
+            for (uint32_t i = 0; i < 9; ++i) {
+                const float u = (float(i) + 0.37f) / 9.0f, v = (float(j) + 0.61f) / 9.0f;
+                const DisplacedPoint f = displacedSurfacePoint(after, next, s, u, v);
+                const LimitSample limit = after.evaluate(s, u, v);
+                const glm::vec3 n = limitNormal(after, s, u, v, limit);
+                float nearest = kNoDistance;
+                for (float sign : {1.0f, -1.0f}) {
+                    const DisplacedPicker::Hit hit = picker.intersect(before, old, Ray{f.position, sign * n}, 1.0f);
+                    if (hit.subface != kNoHit) nearest = std::min(nearest, hit.distance);
+                }
+                worst = std::max(worst, nearest);
+            }
+    }
+    return worst;
+}
+
+TEST(DisplacementTransfer, AnEdgeLoopThroughABumpKeepsTheRestBitForBitAndTheBumpWhereItWas) {
+    const Cage cage = test::makeSubdividedCube(4);
+    test::Sculpt s(cage, 8);
+    raiseBump(s, {0.1f, 0.2f, 1.2f}, 0.45f);
+    const float height = largestD(s.displacement);
+    ASSERT_GT(height, 0.2f);
+    const Displacement old = s.displacement;
+    const PlannedCage before = *s.planned;
+
+    // An edge of the top face's grid near the bump: the loop runs around the cube through it.
+    uint32_t a = 0, b = 0;
+    for (uint32_t f = 0; f < cage.faceCount() && a == b; ++f) {
+        const glm::vec3 p = cage.positions[cage.faceBegin(f)[0]], q = cage.positions[cage.faceBegin(f)[1]];
+        if (p.z == 1.0f && q.z == 1.0f && std::abs(p.x - q.x) > 0.1f && p.y == 0.0f) a = cage.faceBegin(f)[0], b = cage.faceBegin(f)[1];
+    }
+    ASSERT_NE(a, b);
+    Result<TopologyEdit> loop = insertEdgeLoop(s.planned->cage(), s.planned->topology(), a, b, 0.5f);
+    ASSERT_TRUE(loop) << loop.error().message;
+    EditHistory history;
+    const EditReport report = perform(history, s, *loop);
+    ASSERT_TRUE(report.topologyChanged);
+    EXPECT_EQ(s.displacement.layout, buildDisplacementLayout(s.planned->cage(), s.planned->topology(), 8));
+
+    const DisplacementTransfer transfer = transferDisplacement(before, old, *s.planned, report);
+    EXPECT_EQ(transfer.displacement, s.displacement);  // the entry did exactly this
+    expectKeptBitForBit(transfer, old, report, *s.planned);
+    EXPECT_GT(transfer.projectedSamples, 0u);
+    EXPECT_EQ(transfer.unreachedSamples, 0u);  // a closed surface barely moved: all found
+    // The bump survives: its height within 3%, and the displaced surface within 2% of the
+    // bump's height of where it was (bilinear resampling at 8 samples per sub-face).
+    EXPECT_NEAR(largestD(s.displacement), height, 0.03f * height);
+    const float error = transferError(before, old, *s.planned, s.displacement, report);
+    std::printf("edge loop: bump %.3f, kept %u / changed %u sub-faces, worst distance %.5f (%.2f%% of the bump)\n", height,
+                transfer.keptSubfaces, transfer.changedSubfaces, error, 100.0f * error / height);
+    EXPECT_LT(error, 0.02f * height);
+
+    // Undo gives the sculpt back bit for bit; redo the same transfer again.
+    ASSERT_TRUE(history.undo(*s.planned));
+    EXPECT_EQ(s.displacement, old);
+    EXPECT_TRUE(s.planned->differencesFromRebuild().empty());
+    ASSERT_TRUE(history.redo(*s.planned));
+    EXPECT_EQ(s.displacement, transfer.displacement);
+}
+
+TEST(DisplacementTransfer, DeletingAndFillingFacesNextToASculptAcrossNonQuads) {
+    const Cage cage = test::makeMixedGrid();
+    test::Sculpt s(cage, 4);
+    raiseBump(s, {1.5f, 1.5f, 0.5f}, 0.8f);
+    const Displacement old = s.displacement;
+    const PlannedCage before = *s.planned;
+
+    // Delete a corner quad far from the bump: kept faces keep their bits, the changed ones near
+    // the new boundary are projected.
+    const uint32_t corner = 0;
+    std::vector<uint32_t> cornerVertices(s.planned->cage().faceBegin(corner), s.planned->cage().faceBegin(corner) + 4);
+    Result<TopologyEdit> removed = deleteFaces(s.planned->cage(), s.planned->topology(), std::span(&corner, 1), false);
+    ASSERT_TRUE(removed) << removed.error().message;
+    EditHistory history;
+    const EditReport deleted = perform(history, s, *removed);
+    const DisplacementTransfer transfer = transferDisplacement(before, old, *s.planned, deleted);
+    expectKeptBitForBit(transfer, old, deleted, *s.planned);
+    EXPECT_EQ(s.displacement, transfer.displacement);
+
+    // Filling the hole again: the new face has no old surface in reach of most of its samples
+    // (0 there), and undo brings both steps back exactly.
+    const Displacement afterDelete = s.displacement;
+    Result<TopologyEdit> filled = makeFace(s.planned->cage(), s.planned->topology(), cornerVertices);
+    ASSERT_TRUE(filled) << filled.error().message;
+    perform(history, s, *filled);
+    EXPECT_EQ(s.displacement.layout.sampleCount, buildDisplacementLayout(s.planned->cage(), s.planned->topology(), 4).sampleCount);
+    ASSERT_TRUE(history.undo(*s.planned));
+    EXPECT_EQ(s.displacement, afterDelete);
+    ASSERT_TRUE(history.undo(*s.planned));
+    EXPECT_EQ(s.displacement, old);
+}
+
+TEST(DisplacementTransfer, AnExtrudedRegionTakesItsSculptAlong) {
+    const Cage cage = test::makeSubdividedCube(3);
+    test::Sculpt s(cage, 8);
+    // The top face's centre quad carries the bump.
+    uint32_t top = 0;
+    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+        glm::vec3 c(0.0f);
+        for (uint32_t i = 0; i < 4; ++i) c += cage.positions[cage.faceBegin(f)[i]] / 4.0f;
+        if (std::abs(c.z - 1.0f) < 1e-5f && std::abs(c.x) < 1e-5f && std::abs(c.y) < 1e-5f) top = f;
+    }
+    raiseBump(s, {0.0f, 0.0f, 1.2f}, 0.3f);
+    const float height = evaluateDisplacement(s.displacement, s.planned->firstSubface(top), 0.5f, 0.5f).value;
+    ASSERT_GT(height, 0.1f);
+
+    Result<SplitExtrude> split = splitExtrude(s.planned->cage(), s.planned->topology(), std::span(&top, 1), 0.8f);
+    ASSERT_TRUE(split) << split.error().message;
+    EditHistory history;
+    perform(history, s, split->inPlace, split->move);
+    // The face keeps its index; at its centre the sculpt moved out with it (the in-place
+    // extrude changed the surface at the rim, hardly at the centre).
+    const uint32_t subface = s.planned->firstSubface(top);
+    EXPECT_NEAR(evaluateDisplacement(s.displacement, subface, 0.5f, 0.5f).value, height, 0.05f * height);
+    const LimitSample centre = s.planned->evaluate(subface, 0.5f, 0.5f);
+    EXPECT_GT(centre.position.z, 1.4f);  // moved out by the extrude
+    ASSERT_TRUE(history.undo(*s.planned));
+    EXPECT_TRUE(s.planned->differencesFromRebuild().empty());
+}
+
+}  // namespace
+}  // namespace qp
