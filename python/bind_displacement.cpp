@@ -35,6 +35,14 @@ radii, the others a blend in [0, 1]. A scene without displacement first gets a z
              py::arg("resolution"), "Resamples the displacement (or creates a zero one) at this power-of-two resolution per sub-face.")
         .def("clear_displacement", [](Document& d) { return unwrap(d.clearDisplacement()); },
              "Removes the displacement (undoable).")
+        .def("invert_mask", [](Document& d) { return unwrap(d.invertMask()); },
+             "Inverts the sculpting mask (m -> 1 - m; with no mask yet, masks everything). One undo entry.")
+        .def("clear_mask", [](Document& d) { return unwrap(d.clearMask()); },
+             "Clears the sculpting mask (one undo entry; none when nothing was masked).")
+        .def_property_readonly("displacement_mask", [](const Document& d) {
+                                   const auto& m = d.displacement().mask;
+                                   return py::array_t<float>(py::ssize_t(m.size()), m.data());
+                               }, "The sculpting mask, one value in [0, 1] per displacement sample (1: fully masked; a copy; empty when nothing was ever masked).")
         .def_property_readonly("has_displacement", [](const Document& d) { return !d.displacement().empty(); },
                                "Whether the scene has sculpted displacement.")
         .def_property_readonly("displacement_samples", [](const Document& d) {

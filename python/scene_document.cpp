@@ -527,6 +527,20 @@ Result<EditOutcome> SceneDocument::clearDisplacement() {
     return replaceDisplacement("Clear displacement", Displacement{});
 }
 
+Result<EditOutcome> SceneDocument::maskOperation(const std::string& name, Result<StrokeRecord> record) {
+    if (!record) return record.error();
+    const uint32_t changed = uint32_t(record->changes.size());
+    if (changed == 0) return EditOutcome{name};
+    auto edit = std::make_unique<DisplacementEdit>(active().displacement, std::move(record).value(), listener());
+    Result<EditOutcome> outcome = finish(name, history_.perform(activeCage(), name, std::move(edit)));
+    if (outcome) outcome->changedSamples = changed;
+    return outcome;
+}
+
+Result<EditOutcome> SceneDocument::invertMask() { return maskOperation("Invert mask", qp::invertMask(active().displacement)); }
+
+Result<EditOutcome> SceneDocument::clearMask() { return maskOperation("Clear mask", qp::clearMask(active().displacement)); }
+
 Result<EditOutcome> SceneDocument::stroke(const StrokeOptions& options, std::span<const glm::vec3> path,
                                             uint32_t newResolution) {
     if (Status valid = validateBrush(options.brush); !valid) return valid.error();

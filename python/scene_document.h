@@ -131,6 +131,10 @@ public:
     Result<EditOutcome> stroke(const StrokeOptions& options, std::span<const glm::vec3> path, uint32_t newResolution);
     Result<EditOutcome> setDisplacementResolution(uint32_t resolution);
     Result<EditOutcome> clearDisplacement();
+    // The sculpting mask as a whole: inverted (m -> 1 - m) or cleared, one entry each; clearing a
+    // mask that masks nothing makes no entry (changedSamples 0).
+    Result<EditOutcome> invertMask();
+    Result<EditOutcome> clearMask();
 
     Result<EditOutcome> undo();
     Result<EditOutcome> redo();
@@ -173,6 +177,7 @@ private:
     Result<EditOutcome> step(size_t entry, bool forward);
     Result<EditOutcome> topologyEdit(const std::string& name, Result<TopologyEdit> edit, FollowingMove move = {});
     Result<EditOutcome> replaceDisplacement(const std::string& name, Displacement next);
+    Result<EditOutcome> maskOperation(const std::string& name, Result<StrokeRecord> record);
     Result<EditOutcome> transform(const std::string& name, std::span<const uint32_t> vertices, const glm::mat4& matrix);
     // Keeps the brushes' sample cache in step with the surface after an edit.
     void afterEdit(const EditReport& report);

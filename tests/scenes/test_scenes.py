@@ -262,6 +262,28 @@ def test_stroke_displaces_and_undoes(cube, renderer, view, golden):
     assert not cube.has_displacement
 
 
+def test_mask_holds_samples_and_inverts_and_clears(cube):
+    cube.stroke([(0.0, 0.0, 1.0)], radius=0.5, strength=1.0, brush="mask", falloff="constant", resolution=8)
+    mask = cube.displacement_mask
+    assert mask.size == cube.displacement_samples.size and 0 < mask.max() <= 1
+    held = mask == 1
+    cube.stroke([(0.0, 0.0, 1.0)], radius=1.5, strength=0.3)
+    samples = cube.displacement_samples
+    assert samples[held].max() == 0 and samples[~held].max() > 0  # masked samples kept their zeros
+    report = cube.invert_mask()
+    assert report.changed_samples > 0
+    assert np.array_equal(cube.displacement_mask, 1 - mask)
+    cube.clear_mask()
+    assert cube.displacement_mask.max() == 0
+    assert cube.clear_mask().changed_samples == 0  # nothing to clear: no entry
+    position = cube.history_position
+    cube.undo()
+    assert np.array_equal(cube.displacement_mask, 1 - mask) and cube.history_position == position - 1
+    cube.clear_displacement()
+    with pytest.raises(qp.Error, match="displacement"):
+        cube.invert_mask()
+
+
 # ---- every scheme --------------------------------------------------------------------------
 
 def scheme_names():
