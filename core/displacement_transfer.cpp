@@ -124,25 +124,20 @@ Displacement maskAsDisplacement(const Displacement& d) {
     return mask;
 }
 
-struct Projection {
-    float value = 0.0f;
-    uint32_t subface = kNoHit;
-    float u = 0.0f, v = 0.0f;
-};
-
-// The nearest point of the old displaced surface on the line p + t N, |t| <= reach.
-std::optional<Projection> project(const DisplacedPicker& picker, const PlannedCage& before, const Displacement& old,
-                                  const glm::vec3& p, const glm::vec3& n, float reach) {
+// Where the line p + t N, |t| <= reach, meets the old limit surface nearest to p.
+std::optional<DisplacedPicker::Hit> project(const DisplacedPicker& picker, const PlannedCage& before, const glm::vec3& p,
+                                            const glm::vec3& n, float reach) {
     // Both rays start a hair behind p, so a surface through p itself is met by one of them.
     const float hair = 1e-4f * reach;
-    std::optional<Projection> best;
+    const Displacement none;
+    std::optional<DisplacedPicker::Hit> best;
+    float bestT = 0.0f;
     for (float sign : {1.0f, -1.0f}) {
-        const Ray ray{p - sign * hair * n, sign * n};
-        const DisplacedPicker::Hit hit = picker.intersect(before, old, ray, reach + hair);
+        const DisplacedPicker::Hit hit = picker.intersect(before, none, Ray{p - sign * hair * n, sign * n}, reach + hair);
         if (hit.subface == kNoHit) continue;
         const float t = glm::dot(hit.position - p, n);
         if (!std::isfinite(t) || std::abs(t) > reach) continue;
-        if (!best || std::abs(t) < std::abs(best->value)) best = Projection{t, hit.subface, hit.u, hit.v};
+        if (!best || std::abs(t) < std::abs(bestT)) best = hit, bestT = t;
     }
     return best;
 }
@@ -180,11 +175,10 @@ DisplacementTransfer transferDisplacement(const PlannedCage& before, const Displ
     out.changedSubfaces = after.subfaceCount() - out.keptSubfaces;
     if (out.changedSubfaces == 0) return out;
 
-    // Changed sub-faces: the rest, each at its owner's site, from the old displaced surface.
-    float largest = 0.0f;
-    for (float d : old.samples) largest = std::max(largest, std::abs(d));
-    out.reach = largest + changedFaceScale(after, kept);
-    const DisplacedPicker picker(before, old, oldNeighbourhood(before, kept, report));
+    // Changed sub-faces: the rest, each at its owner's site, from the old D where the site's
+    // normal line meets the old limit surface.
+    out.reach = changedFaceScale(after, kept);
+    const DisplacedPicker picker(before, Displacement{}, oldNeighbourhood(before, kept, report));
     const std::vector<SampleSite> sites = computeSampleSites(next.layout, after);
     std::vector<uint32_t> open;
     for (uint32_t i = 0; i < next.layout.sampleCount; ++i)
@@ -195,10 +189,10 @@ DisplacementTransfer transferDisplacement(const PlannedCage& before, const Displ
         const SampleSite& site = sites[i];
         const LimitSample limit = after.evaluate(site.subface, site.u, site.v);
         const glm::vec3 normal = limitNormal(after, site.subface, site.u, site.v, limit);
-        const std::optional<Projection> hit = project(picker, before, old, limit.position, normal, out.reach);
+        const std::optional<DisplacedPicker::Hit> hit = project(picker, before, limit.position, normal, out.reach);
         if (!hit) return;
         reached[k] = 1;
-        next.samples[i] = hit->value + 0.0f;
+        next.samples[i] = evaluateDisplacement(old, hit->subface, hit->u, hit->v).value + 0.0f;
         if (masked) next.mask[i] = std::clamp(evaluateDisplacement(oldMask, hit->subface, hit->u, hit->v).value, 0.0f, 1.0f);
     });
     for (uint8_t r : reached) r ? ++out.projectedSamples : ++out.unreachedSamples;

@@ -5,12 +5,14 @@
 //   - KEPT sub-faces, those whose limit surface the edit leaves alone (they map to a sub-face
 //     before the edit and the edit report does not list them as updated), keep their resolution
 //     and every sample they read, bit for bit: their D is the same function as before.
-//   - CHANGED sub-faces (new, rewired, or with a changed 1-ring) take the OLD DISPLACED SURFACE
-//     by projection: at each new sample's limit point p with unit normal N, the nearest point of
-//     the old surface s + D N on the line p + t N (within reach: the largest |D| plus half the
-//     changed faces' mean edge length) gives D = t. So the displaced surface stays where it was,
-//     up to resampling at the new sample positions. A sample with no old surface in reach (a face
-//     filling a hole, the sides of an extrude) gets 0.
+//   - CHANGED sub-faces (new, rewired, or with a changed 1-ring) take the old D by projection:
+//     at each new sample's limit point p with unit normal N, the nearest point where the line
+//     p + t N meets the old limit surface (within reach: half the changed faces' mean edge
+//     length, about the most an edit moves the limit surface) gives the place whose old D (and
+//     mask) the sample takes. So the sculpted relief stays where it was on the surface, riding on
+//     the limit surface the edit made (which is what the edit shows without sculpt too); where
+//     nothing was sculpted D stays exactly 0. A sample with no old surface in reach (a face
+//     filling a hole) gets 0.
 //   - Resolutions: a changed sub-face takes the finest of the kept sub-faces at its corners (the
 //     displacement's finest where none is kept), so a uniform resolution stays uniform.
 // Samples on the border between kept and changed sub-faces belong to the kept side (they are
@@ -27,7 +29,7 @@ namespace qp {
 struct DisplacementTransfer {
     Displacement displacement;  // for `after`'s cage
     uint32_t keptSubfaces = 0, changedSubfaces = 0;
-    uint32_t projectedSamples = 0;  // set from the old displaced surface
+    uint32_t projectedSamples = 0;  // set from the old D by projection
     uint32_t unreachedSamples = 0;  // no old surface within reach: 0
     float reach = 0.0f;
 };
