@@ -356,7 +356,7 @@ void benchEditor(const BenchCage& bench, const BenchArgs& args, Report& report) 
     }
     const std::string frames = std::to_string(args.repeats * kEditorFramesPerRepeat);
     auto out = [&](const char* name) { return (dir / name).string(); };  // the editor runs in our working directory
-    // The edits come before sculpting: topology edits are refused once there is displacement.
+    // The edits come before sculpting, so the edit rows time cages without displacement.
     std::ofstream(dir / "script.txt") << "wait-idle\nwait-frames 5\nmeasure-frames " << frames << " " << out("idle.json") << "\n"
                                       << "measure-frames " << frames << " " << out("orbit.json") << " orbit\nselect-vertex 10\n"
                                       << "measure-frames " << frames << " " << out("drag.json") << " drag\n"
