@@ -131,13 +131,14 @@ std::optional<DisplacedPicker::Hit> project(const DisplacedPicker& picker, const
     const float hair = 1e-4f * reach;
     const Displacement none;
     std::optional<DisplacedPicker::Hit> best;
-    float bestT = 0.0f;
+    float bestT = reach;
     for (float sign : {1.0f, -1.0f}) {
-        const DisplacedPicker::Hit hit = picker.intersect(before, none, Ray{p - sign * hair * n, sign * n}, reach + hair);
+        // The second ray need not look further than the first one's hit.
+        const DisplacedPicker::Hit hit = picker.intersect(before, none, Ray{p - sign * hair * n, sign * n}, bestT + hair);
         if (hit.subface == kNoHit) continue;
-        const float t = glm::dot(hit.position - p, n);
-        if (!std::isfinite(t) || std::abs(t) > reach) continue;
-        if (!best || std::abs(t) < std::abs(bestT)) best = hit, bestT = t;
+        const float t = std::abs(glm::dot(hit.position - p, n));
+        if (!std::isfinite(t) || t > bestT) continue;
+        best = hit, bestT = t;
     }
     return best;
 }
@@ -178,7 +179,10 @@ DisplacementTransfer transferDisplacement(const PlannedCage& before, const Displ
     // Changed sub-faces: the rest, each at its owner's site, from the old D where the site's
     // normal line meets the old limit surface.
     out.reach = changedFaceScale(after, kept);
-    const DisplacedPicker picker(before, Displacement{}, oldNeighbourhood(before, kept, report));
+    // A coarse sampling of the limit surface will do: Newton's refinement finds the surface
+    // itself, and the ray casts' triangle tests are most of the transfer's time.
+    constexpr uint32_t kPickResolution = 4;
+    const DisplacedPicker picker(before, Displacement{}, oldNeighbourhood(before, kept, report), kPickResolution);
     const std::vector<SampleSite> sites = computeSampleSites(next.layout, after);
     std::vector<uint32_t> open;
     for (uint32_t i = 0; i < next.layout.sampleCount; ++i)
