@@ -206,8 +206,7 @@ std::vector<SampleRange> uploadRanges(const StrokeRecord& record, uint32_t block
 
 Sculptor::Sculptor(Displacement& displacement, const SculptSamples& samples)
     : displacement_(displacement), samples_(samples), mirrorCentre_(samples.centre()) {
-    touchedInStroke_.assign(displacement.samples.size(), 0);
-    before_.assign(displacement.samples.size(), 0.0f);
+    firstValues_.assign(displacement.samples.size(), FirstValue{});
     dabStamp_.assign(displacement.samples.size(), 0);
 }
 
@@ -226,7 +225,8 @@ std::vector<uint32_t> Sculptor::changedSamples() const {
     const std::vector<float>& values = strokeValues();
     std::vector<uint32_t> out;
     for (uint32_t s : touched_)
-        if (values[s] != before_[s] || std::signbit(values[s]) != std::signbit(before_[s])) out.push_back(s);
+        if (const float before = firstValues_[s].value; values[s] != before || std::signbit(values[s]) != std::signbit(before))
+            out.push_back(s);
     std::sort(out.begin(), out.end());
     return out;
 }
@@ -236,7 +236,7 @@ StrokeRecord Sculptor::endStroke() {
     record.dabs = dabs_;
     record.mask = strokeMask_;
     const std::vector<float>& values = strokeValues();
-    for (uint32_t s : changedSamples()) record.changes.push_back({s, before_[s], values[s]});
+    for (uint32_t s : changedSamples()) record.changes.push_back({s, firstValues_[s].value, values[s]});
     touched_.clear();
     ++stroke_;
     return record;
@@ -262,7 +262,7 @@ void Sculptor::gatherDab(const glm::vec3* centres, uint32_t centreCount, float r
     }
 }
 
-void Sculptor::growDisplacedCells() { cells_.growIndexed(samples_, displacement_.samples, indexed_); }
+void Sculptor::growDisplacedCells() { cells_.growIndexed(samples_, indexed_, newValues_); }
 
 float Sculptor::sampleSpacing(uint32_t sample) const {
     float spacing = 0.0f;
@@ -348,8 +348,7 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
                           [&](const tbb::blocked_range<size_t>& r) { body(r.begin(), r.end()); });
     };
 
-    // D, and the array this stroke changes (D or the mask); the mask scales D's changes.
-    const std::vector<float>& heights = displacement_.samples;
+    // The array this stroke changes (D or the mask); the mask scales D's changes.
     std::vector<float>& values = strokeValues();
     const float* mask = !maskBrush && displacement_.mask.size() == sampleCount ? displacement_.mask.data() : nullptr;
 
@@ -363,7 +362,7 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
     auto normal = [&](size_t k) -> const glm::vec3& { return samples_.indexedNormal(indexed_[k]); };
     forEach(4096, [&](size_t begin, size_t end) {
         for (size_t k = begin; k < end; ++k) {
-            displaced_[k] = samples_.indexedPosition(indexed_[k]) + cells_.indexedValue(indexed_[k]) * normal(k);
+            displaced_[k] = cells_.indexedDisplaced(indexed_[k]);
             weights_[k] = weightAt(glm::length(displaced_[k] - centres[0]));
             weights_[count + k] = centreCount > 1 ? weightAt(glm::length(displaced_[k] - centres[1])) : 0.0f;
         }
@@ -490,9 +489,8 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
         for (size_t k = begin; k < end; ++k) {
             const uint32_t s = affected_[k];
             if (newValues_[k] == values[s] && std::signbit(newValues_[k]) == std::signbit(values[s])) continue;
-            if (touchedInStroke_[s] != stroke_) {
-                touchedInStroke_[s] = stroke_;
-                before_[s] = values[s];
+            if (FirstValue& firstValue = firstValues_[s]; firstValue.stroke != stroke_) {
+                firstValue = {stroke_, values[s]};
                 firstTouches_[begin + first++] = s;
             }
             values[s] = newValues_[k];

@@ -201,9 +201,13 @@ private:
     std::optional<glm::vec3> strokePoint_;  // dabTo's previous point in this stroke
     double untilNext_ = 0.0;                // and the distance from it to the next dab
 
-    // Per sample: the stroke serial when first touched, and the value before it.
-    std::vector<uint32_t> touchedInStroke_;
-    std::vector<float> before_;
+    // Per sample: the stroke serial when first touched, and the value before it (side by side:
+    // a dab's writes reach them in spatial order, one cache miss for both).
+    struct FirstValue {
+        uint32_t stroke = 0;
+        float value = 0.0f;
+    };
+    std::vector<FirstValue> firstValues_;
     std::vector<uint32_t> touched_;
     uint32_t stroke_ = 1;
 

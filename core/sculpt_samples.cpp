@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
+#include <numeric>
 
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
@@ -337,10 +338,14 @@ bool DisplacedCells::current(const SculptSamples& samples) const {
     return revision_ != 0 && revision_ == samples.revision() && lift_.size() == samples.cellKeys_.size();
 }
 
-void DisplacedCells::include(uint32_t cell, const glm::vec3& displaced, float lift) {
-    lo_[cell] = glm::min(lo_[cell], displaced);
-    hi_[cell] = glm::max(hi_[cell], displaced);
-    if (!(lift <= lift_[cell])) lift_[cell] = lift;  // NaN lifts too: such a cell is always tested
+void DisplacedCells::include(uint32_t cell, const glm::vec3& lo, const glm::vec3& hi, float lift, bool whole) {
+    if (whole) {  // every displaced position of the cell is in lo .. hi: the exact box
+        lo_[cell] = lo, hi_[cell] = hi, lift_[cell] = lift;
+    } else {
+        lo_[cell] = glm::min(lo_[cell], lo);
+        hi_[cell] = glm::max(hi_[cell], hi);
+        if (!(lift <= lift_[cell])) lift_[cell] = lift;  // NaN lifts too: such a cell is always tested
+    }
     uint32_t slot = farSlot_[cell];
     if (slot == UINT32_MAX) {
         if (lift_[cell] <= farLift_) {
@@ -365,13 +370,13 @@ void DisplacedCells::rebuild(const SculptSamples& samples, std::span<const float
     farCells_.clear(), farLo_.clear(), farHi_.clear();
     nearLift_ = 0.0f;
     revision_ = samples.revision();
-    values_.resize(samples.cellSamples_.size());
+    displaced_.resize(samples.cellSamples_.size());
     // Cells are independent: each one's box and lift in parallel, then the far list in order.
     tbb::parallel_for(tbb::blocked_range<size_t>(0, cells, 256), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t cell = range.begin(); cell != range.end(); ++cell)
             for (uint32_t k = samples.cellOffsets_[cell]; k < samples.cellOffsets_[cell + 1]; ++k) {
-                const float d = values_[k] = values[samples.cellSamples_[k]];
-                const glm::vec3 p = samples.cellPositions_[k] + d * samples.cellNormals_[k];
+                const float d = values[samples.cellSamples_[k]];
+                const glm::vec3 p = displaced_[k] = samples.cellPositions_[k] + d * samples.cellNormals_[k];
                 lo_[cell] = glm::min(lo_[cell], p);
                 hi_[cell] = glm::max(hi_[cell], p);
                 const float lift = std::abs(d);
@@ -398,32 +403,46 @@ void DisplacedCells::rebuild(const SculptSamples& samples, std::span<const float
     }
 }
 
-void DisplacedCells::grow(const SculptSamples& samples, std::span<const float> values, std::span<const uint32_t> changed) {
-    for (uint32_t sample : changed) {
-        const uint32_t k = samples.cellIndexOfSample_[sample];
-        if (k == UINT32_MAX) continue;  // no site: never queried
-        const float d = values_[k] = values[sample];
-        include(samples.cellOfIndexed_[k], samples.cellPositions_[k] + d * samples.cellNormals_[k], std::abs(d));
+void DisplacedCells::growIndexed(const SculptSamples& samples, std::span<const uint32_t> indexed,
+                                 std::span<const float> values) {
+    assert(indexed.size() == values.size());
+    // Chunks end where a cell does, so every run of one cell lies in one chunk and the runs are
+    // those of one pass over the list; include() then takes them in the list's order (the far
+    // list's order, and so the queries' output order, is that of a serial pass).
+    constexpr size_t kChunk = 8192;
+    const size_t count = indexed.size();
+    chunkStarts_.clear();
+    for (size_t begin = 0; begin < count;) {
+        chunkStarts_.push_back(begin);
+        size_t end = std::min(count, begin + kChunk);
+        while (end < count && samples.cellOfIndexed_[indexed[end]] == samples.cellOfIndexed_[indexed[end - 1]]) ++end;
+        begin = end;
     }
-}
-
-void DisplacedCells::growIndexed(const SculptSamples& samples, std::span<const float> values,
-                                 std::span<const uint32_t> indexed) {
-    size_t i = 0;
-    while (i < indexed.size()) {
-        const uint32_t cell = samples.cellOfIndexed_[indexed[i]];
-        glm::vec3 lo(INFINITY), hi(-INFINITY);
-        float lift = 0.0f;
-        for (; i < indexed.size() && samples.cellOfIndexed_[indexed[i]] == cell; ++i) {
-            const uint32_t k = indexed[i];
-            const float d = values_[k] = values[samples.cellSamples_[k]];
-            const glm::vec3 p = samples.cellPositions_[k] + d * samples.cellNormals_[k];
-            lo = glm::min(lo, p), hi = glm::max(hi, p);
-            if (!(std::abs(d) <= lift)) lift = std::abs(d);
+    chunkStarts_.push_back(count);
+    const size_t chunks = chunkStarts_.size() - 1;
+    if (runs_.size() < chunks) runs_.resize(chunks);
+    auto boundChunk = [&](size_t chunk) {
+        std::vector<Run>& runs = runs_[chunk];
+        runs.clear();
+        for (size_t i = chunkStarts_[chunk]; i < chunkStarts_[chunk + 1];) {
+            Run run{samples.cellOfIndexed_[indexed[i]], 0.0f, glm::vec3(INFINITY), glm::vec3(-INFINITY), false};
+            const size_t first = i;
+            for (; i < chunkStarts_[chunk + 1] && samples.cellOfIndexed_[indexed[i]] == run.cell; ++i) {
+                const uint32_t k = indexed[i];
+                const float d = values[i];
+                const glm::vec3 p = displaced_[k] = samples.cellPositions_[k] + d * samples.cellNormals_[k];
+                run.lo = glm::min(run.lo, p), run.hi = glm::max(run.hi, p);
+                if (!(std::abs(d) <= run.lift)) run.lift = std::abs(d);
+            }
+            // Entries are unique: a run as long as its cell holds all of the cell's samples.
+            run.whole = i - first == samples.cellOffsets_[run.cell + 1] - samples.cellOffsets_[run.cell];
+            runs.push_back(run);
         }
-        include(cell, lo, lift);
-        include(cell, hi, lift);
-    }
+    };
+    if (chunks > 1) tbb::parallel_for(size_t(0), chunks, boundChunk);
+    else if (chunks == 1) boundChunk(0);
+    for (size_t chunk = 0; chunk < chunks; ++chunk)
+        for (const Run& run : runs_[chunk]) include(run.cell, run.lo, run.hi, run.lift, run.whole);
 }
 
 void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const DisplacedCells& cells,
@@ -434,7 +453,7 @@ void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const 
     // Tests a cell's box, then each of its samples' displaced positions.
     auto visitSamples = [&](size_t cell) {
         for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
-            const glm::vec3 d = cellPositions_[k] + cells.values_[k] * cellNormals_[k] - centre;
+            const glm::vec3 d = cells.displaced_[k] - centre;
             if (glm::dot(d, d) > r2) continue;
             out.push_back(cellSamples_[k]);
             if (indexed) indexed->push_back(k);
@@ -451,9 +470,13 @@ void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const 
             visitSamples(cell);
             return;
         }
-        for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
-            out.push_back(cellSamples_[k]);
-            if (indexed) indexed->push_back(k);
+        // Whole cells: copied in bulk (most of a big dab's samples come this way).
+        const uint32_t first = cellOffsets_[cell], end = cellOffsets_[cell + 1];
+        out.insert(out.end(), cellSamples_.begin() + first, cellSamples_.begin() + end);
+        if (indexed) {
+            const size_t at = indexed->size();
+            indexed->resize(at + (end - first));
+            std::iota(indexed->begin() + std::ptrdiff_t(at), indexed->end(), first);
         }
     };
     // Near cells: a displaced position within the radius has its limit position within

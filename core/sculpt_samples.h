@@ -84,23 +84,27 @@ public:
 
     // From every sample's value (values.size() == samples.sampleCount()): O(samples).
     void rebuild(const SculptSamples& samples, std::span<const float> values);
-    // After these samples' values changed: their cells' bounds grow to hold them (they never
-    // shrink before the next rebuild: a bound, not the tightest one).
-    void grow(const SculptSamples& samples, std::span<const float> values, std::span<const uint32_t> changed);
-    // The same for samples given by their places in the index (queryDisplaced's `indexed`):
-    // no lookups, and consecutive entries of one cell (as queries return them) merged first.
-    void growIndexed(const SculptSamples& samples, std::span<const float> values, std::span<const uint32_t> indexed);
+    // After the samples at these places in the index (queryDisplaced's `indexed`, each once)
+    // took these values (values[i] is the new D of indexed[i]): their displaced positions are
+    // kept and their cells' bounds grow to hold them (a bound, not the tightest one), except
+    // that a cell whose every sample is in the list gets its exact box and lift (a long stroke
+    // would otherwise stretch the boxes it passes along N, and big dabs would test sample by
+    // sample cells they hold whole). Consecutive entries of one cell (as queries return them)
+    // are merged first; big lists are spread over the cores, with the same result.
+    void growIndexed(const SculptSamples& samples, std::span<const uint32_t> indexed, std::span<const float> values);
     // Built for the samples' present positions and index.
     bool current(const SculptSamples& samples) const;
-    // Its copy of D at place k of the index (queryDisplaced's `indexed`): read in sequence.
-    float indexedValue(uint32_t k) const { return values_[k]; }
+    // The displaced position (position + D normal, those bits) of place k of the index:
+    // queries and brushes read it in sequence instead of three scattered arrays.
+    const glm::vec3& indexedDisplaced(uint32_t k) const { return displaced_[k]; }
 
 private:
     friend class SculptSamples;
-    void include(uint32_t cell, const glm::vec3& displaced, float lift);
+    // The cell's bounds take in lo .. hi and `lift`, or with `whole` become them.
+    void include(uint32_t cell, const glm::vec3& lo, const glm::vec3& hi, float lift, bool whole);
 
-    std::vector<float> values_;       // D in the index's order (SculptSamples::cellSamples_)
-    std::vector<glm::vec3> lo_, hi_;  // per cell: the box around its displaced positions
+    std::vector<glm::vec3> displaced_;  // in the index's order (SculptSamples::cellSamples_)
+    std::vector<glm::vec3> lo_, hi_;    // per cell: the box around its displaced positions
     std::vector<float> lift_;         // per cell: the largest |D| of its samples
     std::vector<uint32_t> farSlot_;   // per cell: its place in farCells_, or UINT32_MAX (near)
     // Far cells and copies of their boxes, side by side: queries scan them in sequence.
@@ -109,6 +113,15 @@ private:
     float farLift_ = 0.0f;   // lifts above it make a far cell
     float nearLift_ = 0.0f;  // the largest lift of the other cells
     uint64_t revision_ = 0;  // SculptSamples::revision() when built; 0: never
+    // growIndexed's scratch: per chunk of the list, its cells' new bounds.
+    struct Run {
+        uint32_t cell;
+        float lift;
+        glm::vec3 lo, hi;
+        bool whole;  // the run holds every sample of the cell
+    };
+    std::vector<std::vector<Run>> runs_;
+    std::vector<size_t> chunkStarts_;
 };
 
 class SculptSamples {
@@ -133,8 +146,8 @@ public:
                std::vector<uint32_t>* indexed = nullptr) const;
     // Appends every sited sample whose DISPLACED position, position + D * normal(sample), lies
     // within `radius` of `centre` (unordered), with `indexed` as query's. D is the values `cells`
-    // holds (it keeps a copy in the index's order, read in sequence): cells must be current()
-    // and rebuilt or grown with every change of D since.
+    // was built and grown with (it keeps the displaced positions in the index's order, read in
+    // sequence): cells must be current() and rebuilt or grown with every change of D since.
     void queryDisplaced(const glm::vec3& centre, float radius, const DisplacedCells& cells, std::vector<uint32_t>& out,
                         std::vector<uint32_t>* indexed = nullptr) const;
     // Bumped whenever positions or the index change (build, refresh): DisplacedCells built

@@ -435,6 +435,48 @@ TEST(SculptSamples, DabsFindTheSurfaceTheStrokeItselfRaised) {
     EXPECT_GT(top, 5.0f);  // 30 dabs of a quarter unit each reached the column's top every time
 }
 
+TEST(SculptSamples, GrownDisplacedCellsAnswerAsRebuiltOnes) {
+    // Cells grown dab after dab (big lists spread over the cores, cells held whole given their
+    // exact boxes, partly reached ones widened) keep the displaced positions a rebuild computes,
+    // to the bit, and answer every query as a rebuild and a brute-force search do.
+    Sculpt s(test::makeSubdividedCube(4), 16);
+    const std::vector<uint32_t> sited = s.sited();
+    DisplacedCells grown;
+    grown.rebuild(*s.samples, s.displacement.samples);
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    size_t biggest = 0;
+    for (int dab = 0; dab < 24; ++dab) {
+        const glm::vec3 centre = s.displaced(sited[rng() % sited.size()]);
+        std::vector<uint32_t> found, indexed;
+        s.samples->queryDisplaced(centre, 0.3f + 2.2f * unit(rng), grown, found, &indexed);
+        std::vector<float> values(found.size());
+        for (size_t i = 0; i < found.size(); ++i)
+            values[i] = s.displacement.samples[found[i]] += (dab % 3 == 2 ? -0.2f : 0.3f) * unit(rng);
+        grown.growIndexed(*s.samples, indexed, values);
+        biggest = std::max(biggest, found.size());
+    }
+    ASSERT_GT(biggest, 8192u);  // some dabs took the parallel path (chunks of 8192)
+    DisplacedCells rebuilt;
+    rebuilt.rebuild(*s.samples, s.displacement.samples);
+    for (uint32_t k = 0; k < sited.size(); ++k)
+        ASSERT_EQ(std::bit_cast<glm::uvec3>(grown.indexedDisplaced(k)), std::bit_cast<glm::uvec3>(rebuilt.indexedDisplaced(k)))
+            << "index place " << k;
+    for (int query = 0; query < 40; ++query) {
+        const glm::vec3 centre = s.displaced(sited[rng() % sited.size()]) + glm::vec3(0.01f, -0.02f, 0.03f);
+        const float radius = 0.05f + 1.0f * unit(rng);
+        std::vector<uint32_t> a, b, brute;
+        s.samples->queryDisplaced(centre, radius, grown, a);
+        s.samples->queryDisplaced(centre, radius, rebuilt, b);
+        for (uint32_t i : sited)
+            if (const glm::vec3 d = s.displaced(i) - centre; glm::dot(d, d) <= radius * radius) brute.push_back(i);
+        std::sort(a.begin(), a.end());
+        std::sort(b.begin(), b.end());
+        ASSERT_EQ(a, brute) << "query " << query;
+        ASSERT_EQ(b, brute) << "query " << query;
+    }
+}
+
 TEST(Brush, BadStrokesAreRefusedAndChangeNothing) {
     Sculpt s(test::makeFlatGrid(3), 4);
     roughen(s);
