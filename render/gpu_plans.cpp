@@ -16,12 +16,22 @@ constexpr uint32_t kFirstHalf = 1 << 2, kSecondHalf = 2 << 2;  // GpuSegment::ow
 constexpr uint32_t kEdgeStart[4] = {0, 1, 3, 0};
 constexpr uint32_t kEdgeEnd[4] = {1, 2, 2, 3};
 
+// A sub-face edge's use of a segment, before segments are numbered: the slot naming it
+// (BoundaryBuilder::wholeEdge, halfEdge, spoke) and what its first user records as owner.
+struct SegmentUse {
+    uint32_t slot = UINT32_MAX, ownerEdge = 0, reversed = 0;
+};
+struct SubfaceUses {
+    SegmentUse segment[4], secondHalf[4];  // per edge; secondHalf for split edges only
+};
+
+// Boundaries are built in two steps so that the first runs on every core: each sub-face's
+// corners, flags, midpoints and segment slots (independent of the others), then, in drawing
+// order, segments numbered and points and segments owned by their first user.
 struct BoundaryBuilder {
     const PlannedCage& planned;
     const Cage& cage;
     const Topology& topology;
-    GpuPlanData& gpu;
-    std::vector<uint32_t> segmentIndex;  // slot (wholeEdge, halfEdge, spoke) -> segment, or UINT32_MAX
 
     uint32_t vertexPoint(uint32_t v) const { return v; }
     uint32_t midpoint(uint32_t edge) const { return cage.vertexCount() + edge; }
@@ -48,6 +58,7 @@ struct BoundaryBuilder {
     // Segments are found by what they are, in one flat array: a whole cage edge, the half of a
     // cage edge at one of its vertices, or the spoke from a cage edge's midpoint to the centre
     // of a non-quad face (named by the first corner of the face on that edge).
+    uint32_t slotCount() const { return 3 * topology.edgeCount() + uint32_t(cage.faceVertices.size()); }
     uint32_t wholeEdge(uint32_t edge) const { return 3 * edge; }
     uint32_t halfEdge(uint32_t edge, uint32_t vertex) const {
         return 3 * edge + (vertex == topology.edgeVertices[2 * edge] ? 1 : 2);
@@ -57,22 +68,11 @@ struct BoundaryBuilder {
         return 3 * topology.edgeCount() + cage.faceOffsets[face] + uint32_t(std::find(edges, edges + cage.faceSize(face), edge) - edges);
     }
 
-    // Segment a -> b (boundary point ids) in `slot` of segmentIndex, as seen from `drawn`'s
-    // edge `edge`; registers the first user as owner.
-    uint32_t segment(uint32_t slot, uint32_t a, uint32_t b, uint32_t drawn, uint32_t edge) {
-        uint32_t& index = segmentIndex[slot];
-        if (index == UINT32_MAX) {
-            index = uint32_t(gpu.segments.size());
-            gpu.segments.push_back(GpuSegment{drawn, edge, a > b ? 1u : 0u, 0});
-        }
-        return index;
-    }
+    // Segment a -> b (boundary point ids) in `slot`, as seen from edge `edge` of its sub-face.
+    static SegmentUse use(uint32_t slot, uint32_t a, uint32_t b, uint32_t edge) { return {slot, edge, a > b ? 1u : 0u}; }
 
-    void point(uint32_t id, uint32_t drawn, uint32_t corner) {
-        if (gpu.boundaryPoints[id].owner == UINT32_MAX) gpu.boundaryPoints[id] = GpuPoint{drawn, corner};
-    }
-
-    GpuSubfaceBoundary build(uint32_t drawn, uint32_t face, uint32_t k) {
+    // Step one: everything but the segment numbers (left in `uses`).
+    GpuSubfaceBoundary build(uint32_t face, uint32_t k, SubfaceUses& uses) const {
         const uint32_t n = cage.faceSize(face);
         const uint32_t* fv = cage.faceBegin(face);
         GpuSubfaceBoundary b{};
@@ -85,11 +85,11 @@ struct BoundaryBuilder {
                 GpuEdgeRef& ref = b.edges[e];
                 if (edgeIsSplit(cageEdge)) {
                     ref.midpoint = midpoint(cageEdge);
-                    ref.segment = segment(halfEdge(cageEdge, a), a, ref.midpoint, drawn, e | kFirstHalf);
-                    ref.secondHalf = segment(halfEdge(cageEdge, z), ref.midpoint, z, drawn, e | kSecondHalf);
+                    uses.segment[e] = use(halfEdge(cageEdge, a), a, ref.midpoint, e | kFirstHalf);
+                    uses.secondHalf[e] = use(halfEdge(cageEdge, z), ref.midpoint, z, e | kSecondHalf);
                     ref.flags = kEdgeRefSplit;
                 } else {
-                    ref.segment = segment(wholeEdge(cageEdge), a, z, drawn, e);
+                    uses.segment[e] = use(wholeEdge(cageEdge), a, z, e);
                     ref.flags = a > z ? kEdgeRefReversed : 0;
                 }
             }
@@ -105,7 +105,7 @@ struct BoundaryBuilder {
             const uint32_t slots[4] = {halfEdge(next, fv[k]), spoke(face, next), spoke(face, prev), halfEdge(prev, fv[k])};
             for (uint32_t e = 0; e < 4; ++e) {
                 uint32_t a = b.corners[kEdgeStart[e]], z = b.corners[kEdgeEnd[e]];
-                b.edges[e].segment = segment(slots[e], a, z, drawn, e);
+                uses.segment[e] = use(slots[e], a, z, e);
                 b.edges[e].flags = a > z ? kEdgeRefReversed : 0;
             }
             // Edges 0 and 3 are halves of cage edges: their factor comes from the whole edge.
@@ -114,10 +114,29 @@ struct BoundaryBuilder {
             b.edges[3].flags |= kEdgeRefHalf;
             b.edges[3].midpoint = b.corners[3];
         }
-        for (uint32_t c = 0; c < 4; ++c) point(b.corners[c], drawn, c);
         return b;
     }
 };
+
+// Step two, for one drawn sub-face in drawing order: its segments numbered (the first user of a
+// slot makes the segment and owns it) and its corners' points owned by their first user.
+void numberSegments(GpuPlanData& gpu, std::vector<uint32_t>& segmentIndex, uint32_t drawn, const SubfaceUses& uses) {
+    auto segment = [&](const SegmentUse& u) {
+        uint32_t& index = segmentIndex[u.slot];
+        if (index == UINT32_MAX) {
+            index = uint32_t(gpu.segments.size());
+            gpu.segments.push_back(GpuSegment{drawn, u.ownerEdge, u.reversed, 0});
+        }
+        return index;
+    };
+    GpuSubfaceBoundary& b = gpu.boundaries[drawn];
+    for (uint32_t e = 0; e < 4; ++e) {
+        b.edges[e].segment = segment(uses.segment[e]);
+        if (b.edges[e].flags & kEdgeRefSplit) b.edges[e].secondHalf = segment(uses.secondHalf[e]);
+    }
+    for (uint32_t c = 0; c < 4; ++c)
+        if (GpuPoint& p = gpu.boundaryPoints[b.corners[c]]; p.owner == UINT32_MAX) p = GpuPoint{drawn, c};
+}
 
 }  // namespace
 
@@ -157,7 +176,6 @@ GpuPlanData packPlans(const PlannedCage& planned) {
 void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     const PlanDatabase& database = planned.database();
     gpu.subfaces.clear();
-    gpu.rings.clear();
     gpu.controlPointCount = 0;
     gpu.segments.clear();
     const Cage& cage = planned.cage();
@@ -166,36 +184,47 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     // Sized once (a repack runs on every hole and topology edit; rings keep their capacity).
     faceAndCorner.reserve(planned.subfaceCount());
     gpu.subfaces.reserve(planned.subfaceCount());
+    uint32_t ringSize = 0;
     for (uint32_t face = 0; face < cage.faceCount(); ++face) {
         for (uint32_t s = planned.firstSubface(face); s < planned.firstSubface(face + 1); ++s) {
             if (!planned.hasPlannedSurface(s)) continue;
             GpuSubface g{};
             g.plan = planned.subfacePlan(s);
             g.rotation = planned.subfaceRotation(s);
-            g.ringOffset = uint32_t(gpu.rings.size());
+            g.ringOffset = ringSize;
             g.cpOffset = gpu.controlPointCount;
             g.subface = s;
-            auto ring = planned.subfaceRing(s);
-            gpu.rings.insert(gpu.rings.end(), ring.begin(), ring.end());
+            ringSize += uint32_t(planned.subfaceRing(s).size());
             gpu.controlPointCount += database.plan(g.plan).stencilCount();
             gpu.subfaces.push_back(g);
             faceAndCorner.push_back({face, s - planned.firstSubface(face)});
         }
     }
+    gpu.rings.resize(ringSize);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, gpu.subfaces.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t d = range.begin(); d != range.end(); ++d) {
+            const std::span<const uint32_t> ring = planned.subfaceRing(gpu.subfaces[d].subface);
+            std::copy(ring.begin(), ring.end(), gpu.rings.begin() + gpu.subfaces[d].ringOffset);
+        }
+    });
 
     // Non-quads first, so half segments are owned by the n-gon sub-face that has exactly that
     // edge; a quad owns half of its edge only when no such sub-face is in the tables (boundary
     // rule "none").
     gpu.boundaryPoints.assign(cage.vertexCount() + topology.edgeCount() + cage.faceCount(), GpuPoint{UINT32_MAX, 0});
-    gpu.boundaries.resize(gpu.subfaces.size());
-    BoundaryBuilder builder{planned, cage, topology, gpu, {}};
-    builder.segmentIndex.assign(3 * size_t(topology.edgeCount()) + cage.faceVertices.size(), UINT32_MAX);
+    const uint32_t count = uint32_t(gpu.subfaces.size());
+    gpu.boundaries.resize(count);
+    const BoundaryBuilder builder{planned, cage, topology};
+    std::vector<SubfaceUses> uses(count);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t d = range.begin(); d != range.end(); ++d)
+            gpu.boundaries[d] = builder.build(faceAndCorner[d].first, faceAndCorner[d].second, uses[d]);
+    });
+    std::vector<uint32_t> segmentIndex(builder.slotCount(), UINT32_MAX);  // slot -> segment, or UINT32_MAX
     gpu.segments.reserve(topology.edgeCount());  // one per edge on an all-quad cage; n-gons add spokes and halves
     for (bool quads : {false, true})
-        for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
-            auto [face, corner] = faceAndCorner[d];
-            if ((cage.faceSize(face) == 4) == quads) gpu.boundaries[d] = builder.build(d, face, corner);
-        }
+        for (uint32_t d = 0; d < count; ++d)
+            if ((cage.faceSize(faceAndCorner[d].first) == 4) == quads) numberSegments(gpu, segmentIndex, d, uses[d]);
 }
 
 void buildRingUsers(GpuPlanData& gpu, uint32_t vertexCount) {

@@ -5,6 +5,7 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
+#include <memory>
 
 #include <glm/geometric.hpp>
 #include <tbb/blocked_range.h>
@@ -151,10 +152,13 @@ GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::ve
     return f;
 }
 
-GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors) {
-    GridLayout layout;
+GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLayout recycled) {
+    GridLayout layout = std::move(recycled);
+    layout.maxFactor = 0;
+    layout.uniformRequest = 0;
     const uint32_t count = uint32_t(data.subfaces.size());
-    layout.subfaceOffset.resize(count + 1, 0);
+    layout.subfaceOffset.resize(count + 1);
+    layout.subfaceOffset[0] = 0;
     std::vector<uint32_t>& indexOffset = layout.indexOffset;
     indexOffset.assign(count + 1, 0);
     for (uint32_t d = 0; d < count; ++d) {
@@ -169,7 +173,8 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors) {
 
     // Per sub-face, the other sub-faces it copies from: its corners' and edges' owners.
     constexpr uint32_t kMaxOwners = 16;
-    std::vector<std::array<uint32_t, kMaxOwners>> owners(count);
+    // Only the first ownerCount[d] of each are read: left uninitialised (1.3 MB at 20k sub-faces).
+    const auto owners = std::make_unique_for_overwrite<std::array<uint32_t, kMaxOwners>[]>(count);
     std::vector<uint32_t> ownerCount(count, 0);
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 64), [&](const tbb::blocked_range<uint32_t>& range) {
         for (uint32_t d = range.begin(); d != range.end(); ++d) {

@@ -83,7 +83,9 @@ struct GridLayout {
     uint32_t slotCount() const { return subfaceOffset.empty() ? 0 : subfaceOffset.back(); }
 };
 
-GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors);
+// `recycled`: a layout no longer needed whose arrays are reused (every entry is written again),
+// so a relayout after each edit neither allocates nor clears the grid's tables.
+GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLayout recycled = {});
 
 // Drawn sub-faces whose slots mean something else under `after` than under `before`: their
 // factor or the pieces of one of their edges changed (sorted).

@@ -8,9 +8,15 @@ namespace qp {
 
 Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors,
                  const std::vector<uint32_t>& oldOf) {
-    const GridLayout oldLayout = std::move(buffers.gridLayout);
+    GridLayout oldLayout = std::move(buffers.gridLayout);
     const std::vector<uint32_t>& oldOffset = oldLayout.subfaceOffset;
-    GridLayout layout = buildGridLayout(buffers.data, std::move(factors));
+    // Only the old offsets are read below: the new layout takes the old tables' memory.
+    GridLayout spare;
+    spare.source = std::move(oldLayout.source);
+    spare.slotSubface = std::move(oldLayout.slotSubface);
+    spare.indices = std::move(oldLayout.indices);
+    spare.dependents = std::move(oldLayout.dependents);
+    GridLayout layout = buildGridLayout(buffers.data, std::move(factors), std::move(spare));
     layout.uniformRequest = oldLayout.uniformRequest;
     // The vertices move inside the grid buffer when the new layout fits it, else through a copy.
     const bool inPlace = VkDeviceSize(layout.slotCount()) * sizeof(GridVertex) <= buffers.grid.size;

@@ -600,6 +600,73 @@ TEST(GridLayout, SourcesAndDependentsAgreeWithTheCopies) {
     }
 }
 
+// A layout built in the arrays of another (relayouts recycle the old tables) equals one built
+// from nothing, whether the other was larger or smaller.
+TEST(GridLayout, RecycledTablesGiveTheSameLayout) {
+    PlanDatabase db;
+    PlannedCage planned = planCage(featureCage(), db);
+    const GpuPlanData data = packPlans(planned);
+    for (auto [factor, other] : {std::pair{4u, 9u}, std::pair{9u, 2u}, std::pair{3u, 3u}}) {
+        const GridLayout fresh = buildGridLayout(data, uniformGridFactors(data, factor));
+        GridLayout recycled = buildGridLayout(data, uniformGridFactors(data, other));
+        recycled.uniformRequest = other;
+        const GridLayout reused = buildGridLayout(data, uniformGridFactors(data, factor), std::move(recycled));
+        SCOPED_TRACE("factor " + std::to_string(factor) + " in the tables of " + std::to_string(other));
+        EXPECT_EQ(reused.factors, fresh.factors);
+        EXPECT_EQ(reused.subfaceOffset, fresh.subfaceOffset);
+        EXPECT_EQ(reused.source, fresh.source);
+        EXPECT_EQ(reused.slotSubface, fresh.slotSubface);
+        EXPECT_EQ(reused.indices, fresh.indices);
+        EXPECT_EQ(reused.indexOffset, fresh.indexOffset);
+        EXPECT_EQ(reused.dependentOffsets, fresh.dependentOffsets);
+        EXPECT_EQ(reused.dependents, fresh.dependents);
+        EXPECT_EQ(reused.maxFactor, fresh.maxFactor);
+        EXPECT_EQ(reused.uniformRequest, fresh.uniformRequest);
+    }
+}
+
+// Ownership as gpu_plans.h defines it, checked against the tables packSubfaces builds on all
+// cores: segments are numbered in the order of their first use (non-quad sub-faces first, then
+// quads, each in drawing order, edges 0-3, a split edge's first half before its second) and
+// owned by that first user; a boundary point is owned by the first sub-face with it as a corner.
+TEST(GpuPlans, SegmentsAndPointsBelongToTheirFirstUser) {
+    PlanDatabase db;
+    for (const Cage& cage : {featureCage(), test::makeSubdividedCube()}) {
+        PlannedCage planned = planCage(cage, db);
+        const GpuPlanData data = packPlans(planned);
+        auto isQuad = [&](uint32_t d) {
+            const uint32_t subface = data.subfaces[d].subface;
+            uint32_t face = 0;
+            while (planned.firstSubface(face + 1) <= subface) ++face;
+            return planned.cage().faceSize(face) == 4;
+        };
+        std::vector<uint32_t> seenSegments;
+        std::set<uint32_t> seenPoints;
+        for (bool quads : {false, true})
+            for (uint32_t d = 0; d < data.subfaces.size(); ++d) {
+                if (isQuad(d) != quads) continue;
+                const GpuSubfaceBoundary& b = data.boundaries[d];
+                auto use = [&](uint32_t segment, uint32_t edge) {
+                    if (std::find(seenSegments.begin(), seenSegments.end(), segment) != seenSegments.end()) return;
+                    EXPECT_EQ(segment, seenSegments.size()) << "segments are numbered by first use";
+                    seenSegments.push_back(segment);
+                    EXPECT_EQ(data.segments[segment].owner, d);
+                    EXPECT_EQ(data.segments[segment].ownerEdge & 3, edge);
+                };
+                for (uint32_t e = 0; e < 4; ++e) {
+                    use(b.edges[e].segment, e);
+                    if (b.edges[e].flags & kEdgeRefSplit) use(b.edges[e].secondHalf, e);
+                }
+                for (uint32_t c = 0; c < 4; ++c)
+                    if (seenPoints.insert(b.corners[c]).second) {
+                        EXPECT_EQ(data.boundaryPoints[b.corners[c]].owner, d);
+                        EXPECT_EQ(data.boundaryPoints[b.corners[c]].ownerCorner, c);
+                    }
+            }
+        EXPECT_EQ(seenSegments.size(), data.segments.size());
+    }
+}
+
 // Pixels, not just vertices: from inside a closed surface every pixel must show the surface.
 // A crack between sub-faces (a T-junction, an unsnapped edge, a wrong owner) would show the
 // pure red background. Adaptive factors from an off-centre eye, so neighbours differ.
