@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 
@@ -193,6 +194,28 @@ std::vector<SampleRange> uploadRanges(std::span<const uint32_t> samples, uint32_
             else
                 ranges.push_back({first, block});
         }
+    if (!ranges.empty()) ranges.back().count = std::min(ranges.back().first + ranges.back().count, end) - ranges.back().first;
+    return ranges;
+}
+
+std::vector<SampleRange> uploadRanges(const SampleBits& samples, uint32_t block) {
+    assert(block > 0 && 64 % block == 0);
+    const uint64_t group = block == 64 ? ~uint64_t(0) : (uint64_t(1) << block) - 1;
+    std::vector<SampleRange> ranges;
+    uint32_t end = 0;  // past the last sample in the set, as the list version clamps
+    for (uint32_t word = 0; word < samples.words.size(); ++word) {
+        const uint64_t bits = samples.words[word];
+        if (!bits) continue;
+        end = word * 64 + 64 - uint32_t(std::countl_zero(bits));
+        for (uint32_t g = 0; g < 64 / block; ++g) {
+            if (!(bits >> (g * block) & group)) continue;
+            const uint32_t first = word * 64 + g * block;
+            if (!ranges.empty() && ranges.back().first + ranges.back().count == first)
+                ranges.back().count += block;
+            else
+                ranges.push_back({first, block});
+        }
+    }
     if (!ranges.empty()) ranges.back().count = std::min(ranges.back().first + ranges.back().count, end) - ranges.back().first;
     return ranges;
 }

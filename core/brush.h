@@ -54,6 +54,7 @@
 #include <glm/vec3.hpp>
 
 #include "displacement.h"
+#include "displacement_users.h"
 #include "result.h"
 #include "sculpt_samples.h"
 
@@ -140,6 +141,8 @@ struct SampleRange {
 };
 std::vector<SampleRange> uploadRanges(const StrokeRecord& record, uint32_t block = 16);
 std::vector<SampleRange> uploadRanges(std::span<const uint32_t> samples, uint32_t block = 16);
+// The same for a set of samples (`block` divides 64): no pass over a list.
+std::vector<SampleRange> uploadRanges(const SampleBits& samples, uint32_t block = 16);
 
 // Applies dabs and remembers, per sample, its value before the first one. One Sculptor serves
 // one stroke at a time; the samples cache must be built for the displacement's layout.

@@ -49,8 +49,12 @@ DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout) {
     return users;
 }
 
-std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, const DisplacementUsers& users,
-                                             std::span<const uint32_t> samples) {
+namespace {
+
+// Sub-faces reading the samples `forEachSample` visits.
+template <class ForEachSample>
+std::vector<uint32_t> subfacesReading(const DisplacementLayout& layout, const DisplacementUsers& users,
+                                      const ForEachSample& forEachSample) {
     // A bitmap of sub-faces: sorted and unique for free.
     std::vector<uint64_t> reading((layout.subfaces.size() + 63) / 64, 0);
     auto mark = [&](uint32_t subface) { reading[subface / 64] |= uint64_t(1) << (subface % 64); };
@@ -58,15 +62,35 @@ std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, c
         for (uint32_t k = offsets[key]; k < offsets[key + 1]; ++k) mark(values[k]);
     };
     const uint32_t segmentBegin = layout.segmentSampleBegin(), tileBegin = layout.tileSampleBegin();
-    for (uint32_t sample : samples) {
+    forEachSample([&](uint32_t sample) {
         if (sample < segmentBegin) markAll(users.pointOffsets, users.pointSubfaces, sample);
         else if (sample < tileBegin) markAll(users.segmentOffsets, users.segmentSubfaces, users.holder[sample - segmentBegin]);
         else if (sample < layout.sampleCount) mark(users.holder[sample - segmentBegin]);
-    }
+    });
     std::vector<uint32_t> out;
     for (uint32_t word = 0; word < reading.size(); ++word)
         for (uint64_t bits = reading[word]; bits; bits &= bits - 1) out.push_back(word * 64 + uint32_t(std::countr_zero(bits)));
     return out;
+}
+
+}  // namespace
+
+std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, const DisplacementUsers& users,
+                                             std::span<const uint32_t> samples) {
+    return subfacesReading(layout, users, [&](const auto& visit) {
+        for (uint32_t sample : samples) visit(sample);
+    });
+}
+
+std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, const DisplacementUsers& users,
+                                             const SampleBits& samples) {
+    // In sample order: the holder table is read in sequence.
+    return subfacesReading(layout, users, [&](const auto& visit) { samples.forEach(visit); });
+}
+
+void SampleBits::assign(uint32_t sampleCount, std::span<const uint32_t> samples) {
+    words.assign((size_t(sampleCount) + 63) / 64, 0);
+    for (uint32_t s : samples) words[s >> 6] |= uint64_t(1) << (s & 63);
 }
 
 }  // namespace qp

@@ -372,12 +372,12 @@ namespace {
 // sample (evaluateDisplacement): one of its four corners, or, in the row of cells along an
 // edge finer than the grid, a sample of that edge's segments. `samples`: its gridSamples.
 // Returns whether any cell is.
-bool markChangedCells(const DisplacementLayout& layout, uint32_t subface, const uint32_t* samples, SampleMarks changed,
+bool markChangedCells(const DisplacementLayout& layout, uint32_t subface, const uint32_t* samples, const SampleBits& changed,
                       bool* cells) {
     const DisplacementSubface& sf = layout.subfaces[subface];
     const uint32_t R = sf.resolution, side = R + 1;
     bool point[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
-    for (uint32_t k = 0; k < side * side; ++k) point[k] = changed.marked(samples[k]);
+    for (uint32_t k = 0; k < side * side; ++k) point[k] = changed.contains(samples[k]);
     bool anyCell = false;
     for (uint32_t j = 0; j < R; ++j)
         for (uint32_t i = 0; i < R; ++i) {
@@ -392,7 +392,7 @@ bool markChangedCells(const DisplacementLayout& layout, uint32_t subface, const 
         for (uint32_t segment : {edge.segment, edge.secondHalf}) {
             if (segment == kNoSegment) continue;
             const DisplacementSegment& s = layout.segments[segment];
-            for (uint32_t k = 0; k <= s.resolution && !any; ++k) any = changed.marked(segmentSample(s, k));
+            for (uint32_t k = 0; k <= s.resolution && !any; ++k) any = changed.contains(segmentSample(s, k));
         }
         if (!any) continue;
         for (uint32_t k = 0; k < R; ++k) {
@@ -408,7 +408,7 @@ bool markChangedCells(const DisplacementLayout& layout, uint32_t subface, const 
 }  // namespace
 
 uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
-                             std::span<const uint32_t> copy, const Displacement& displacement, SampleMarks changed,
+                             std::span<const uint32_t> copy, const Displacement& displacement, const SampleBits& changed,
                              const GridFrames& frames, GridVertex* grid) {
     std::atomic<uint32_t> displaced{0};
     forEachSubface(evaluate.data(), evaluate.size(), [&](uint32_t drawn) {

@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include "displacement.h"
+#include "displacement_users.h"
 #include "grid_layout.h"
 #include "planned_cage.h"
 
@@ -67,21 +68,13 @@ void evaluateGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, cons
 void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data, const GridLayout& layout,
                             GridVertex* grid, const Displacement* displacement = nullptr, GridFrames* frames = nullptr);
 
-// Samples a brush dab changed: sample s is marked when stamps[s] == serial (a stamp array
-// reused between dabs, with a new serial each time, needs no clearing).
-struct SampleMarks {
-    const uint32_t* stamps;
-    uint32_t serial;
-    bool marked(uint32_t sample) const { return stamps[sample] == serial; }
-};
-
 // After only the displacement's samples changed (those in `changed`): phase 1 from the kept
 // frames (no surface evaluation) for the slots of the drawn sub-faces in `evaluate` whose D
 // reads a changed sample (evaluateDisplacement: the four grid samples around the slot, and
 // the samples of an edge finer than the grid in the row of cells along it), then phase 2 for
 // `copy`. The same bits as evaluateGridOnCpu. Returns the number of slots displaced.
 uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
-                             std::span<const uint32_t> copy, const Displacement& displacement, SampleMarks changed,
+                             std::span<const uint32_t> copy, const Displacement& displacement, const SampleBits& changed,
                              const GridFrames& frames, GridVertex* grid);
 
 }  // namespace qp

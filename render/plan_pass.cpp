@@ -635,29 +635,25 @@ DisplacementUpdate recordDisplacementChange(VkCommandBuffer cmd, const PlanPass&
     DisplacementUpdate update;
     if (!buffers.displacement) return update;
     const std::vector<float>& values = buffers.displacement->samples;
-    for (const SampleRange& range : uploadRanges(samples)) {
+    // One bit per sample, marked once and read in sample order by everything below (a big
+    // dab's list is in spatial order: scattered over the samples).
+    SampleBits& changed = buffers.changedSamples;
+    changed.assign(uint32_t(values.size()), samples);
+    for (const SampleRange& range : uploadRanges(changed)) {
         uploadBuffer(buffers.displacementSamples, values.data() + range.first, range.count * sizeof(float),
                      size_t(range.first) * sizeof(float));
         update.uploadedSamples += range.count;
     }
     if (buffers.gridEvaluator == GridEvaluator::None) return update;  // evaluated whole when drawn
     std::vector<uint32_t> touched;
-    for (uint32_t s : subfacesReadingSamples(buffers.displacement->layout, buffers.displacementUsers, samples))
+    for (uint32_t s : subfacesReadingSamples(buffers.displacement->layout, buffers.displacementUsers, changed))
         if (buffers.drawnOfSubface[s] != UINT32_MAX) touched.push_back(buffers.drawnOfSubface[s]);
     std::sort(touched.begin(), touched.end());
     if (buffers.gridEvaluator == GridEvaluator::Cpu) {
         // The surface did not move: re-displace the kept frames where D changed, no evaluation.
         const std::vector<uint32_t> copying = withDependents(buffers.gridLayout, touched);
-        std::vector<uint32_t>& stamps = buffers.changedStamps;
-        if (stamps.size() != values.size()) stamps.assign(values.size(), 0);
-        if (++buffers.changedSerial == 0) {  // wrapped: old stamps could match again
-            std::fill(stamps.begin(), stamps.end(), 0);
-            buffers.changedSerial = 1;
-        }
-        for (uint32_t s : samples) stamps[s] = buffers.changedSerial;
         update.displacedSlots = redisplaceGridOnCpu(buffers.data, buffers.gridLayout, touched, copying, *buffers.displacement,
-                                                    SampleMarks{stamps.data(), buffers.changedSerial},
-                                                    buffers.gridFrames, static_cast<GridVertex*>(buffers.grid.data));
+                                                    changed, buffers.gridFrames, static_cast<GridVertex*>(buffers.grid.data));
         update.evaluatedSubfaces = uint32_t(touched.size());
         update.copiedSubfaces = uint32_t(copying.size());
         return update;

@@ -95,8 +95,7 @@ struct PlanBuffers {
     DisplacementUsers displacementUsers;         // which sub-faces read each sample
     std::vector<uint32_t> drawnOfSubface;        // PlannedCage sub-face -> drawn index (or UINT32_MAX)
     std::vector<uint32_t> holeDrawn;             // drawn sub-faces that are holes (sorted): never drawn
-    std::vector<uint32_t> changedStamps;         // CPU grid: samples of the last dab (SampleMarks)
-    uint32_t changedSerial = 0;
+    SampleBits changedSamples;                   // the samples of the last dab (reused)
 };
 
 Result<PlanBuffers> uploadPlans(const VulkanContext& context, const PlannedCage& planned);

@@ -433,6 +433,21 @@ TEST(Brush, ValidationAndUploadRanges) {
     EXPECT_EQ(ranges[1].first, 96u);
     EXPECT_EQ(ranges[1].count, 5u);  // clipped after the last sample
     EXPECT_TRUE(uploadRanges(std::vector<uint32_t>{}, 16).empty());
+    // The set version gives the list version's ranges (repeats and any order in the list).
+    std::mt19937 rng(5);
+    for (uint32_t block : {16u, 4u, 64u})
+        for (int trial = 0; trial < 20; ++trial) {
+            std::vector<uint32_t> list(rng() % 300);
+            for (uint32_t& sample : list) sample = rng() % 1000;
+            SampleBits set;
+            set.assign(1000, list);
+            const std::vector<SampleRange> a = uploadRanges(list, block), b = uploadRanges(set, block);
+            ASSERT_EQ(a.size(), b.size()) << block;
+            for (size_t r = 0; r < a.size(); ++r) {
+                EXPECT_EQ(a[r].first, b[r].first);
+                EXPECT_EQ(a[r].count, b[r].count);
+            }
+        }
     EXPECT_EQ(brushKindFromName("flatten"), BrushKind::Flatten);
     EXPECT_EQ(brushKindFromName("inflate"), BrushKind::Inflate);
     EXPECT_FALSE(brushKindFromName("pinch"));

@@ -477,7 +477,11 @@ TEST(DisplacedMesh, RedisplacingTheReadersOfChangedSamplesEqualsARebuild) {
         for (uint32_t k = 3; k < d.samples.size(); k += 7) changed.push_back(k), d.samples[k] += 0.005f * diagonal;
         std::vector<uint32_t> gridOf(p.cage->subfaceCount(), UINT32_MAX), grids;
         for (uint32_t g = 0; g < mesh->gridSubface.size(); ++g) gridOf[mesh->gridSubface[g]] = g;
-        for (uint32_t s : subfacesReadingSamples(d.layout, buildDisplacementUsers(d.layout), changed))
+        const DisplacementUsers users = buildDisplacementUsers(d.layout);
+        SampleBits changedSet;
+        changedSet.assign(d.layout.sampleCount, changed);
+        EXPECT_EQ(subfacesReadingSamples(d.layout, users, changedSet), subfacesReadingSamples(d.layout, users, changed));
+        for (uint32_t s : subfacesReadingSamples(d.layout, users, changed))
             if (gridOf[s] != UINT32_MAX) grids.push_back(gridOf[s]);
         EXPECT_GT(grids.size(), 0u);
         redisplaceGrids(*mesh, d, grids);
