@@ -46,8 +46,18 @@ E readName(const json& value, const std::string& field, std::optional<E> (*fromN
     return *e;
 }
 
+ScriptedStroke readWholeMaskStep(const json& value, const std::string& field) {
+    if (value.size() != 1) fail(field, "a \"mask\" step has no other fields");
+    const std::string step = readString(value["mask"], field + ".mask");
+    if (step != "invert" && step != "clear") fail(field + ".mask", "unknown value \"" + step + "\"; expected \"invert\" or \"clear\"");
+    ScriptedStroke out;
+    out.wholeMask = step == "invert" ? WholeMaskStep::Invert : WholeMaskStep::Clear;
+    return out;
+}
+
 ScriptedStroke readStroke(const json& value, const std::string& field) {
     if (!value.is_object()) fail(field, "expected an object, got " + describe(value));
+    if (value.contains("mask")) return readWholeMaskStep(value, field);
     static const std::set<std::string> known = {"brush", "radius", "strength", "falloff", "mirror", "spacing", "path"};
     for (const auto& [key, v] : value.items())
         if (!known.count(key)) fail(field + "." + key, "unknown field (a typo?)");

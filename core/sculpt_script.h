@@ -7,7 +7,9 @@
 // with brush ("raise", "lower", "smooth", "flatten", "erase", "inflate", "crease", "mask",
 // "unmask"; brush.h), radius, strength and path required; falloff (default "smooth"), mirror
 // ("none", "x", "y", "z"; default "none") and spacing (default 0: a quarter of the radius)
-// optional. Strokes run in order, each on the result of the one before.
+// optional. An entry {"mask": "invert"} or {"mask": "clear"} is a step on the whole sculpting
+// mask instead of a stroke (brush.h: invertMask, clearMask). Steps run in order, each on the
+// result of the one before.
 #pragma once
 
 #include <string>
@@ -21,9 +23,12 @@
 
 namespace qp {
 
+enum class WholeMaskStep { None, Invert, Clear };
+
 struct ScriptedStroke {
     StrokeOptions options;
     std::vector<glm::vec3> path;
+    WholeMaskStep wholeMask = WholeMaskStep::None;  // not None: this entry is that step, not a stroke
 };
 
 // Errors name the point ("point 2 ...").

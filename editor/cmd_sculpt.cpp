@@ -34,6 +34,7 @@ struct SculptArgs {
     uint32_t resolution = 0;  // 0: keep the scene's (8 when it has none)
     std::string png;          // also render the displaced mesh here
     bool validate = false;
+    bool invertMask = false, clearMask = false;  // steps on the whole mask before any stroke
 };
 
 // A preview until the renderer displaces its own surfaces: the CPU displaced mesh
@@ -92,7 +93,14 @@ Result<std::vector<ScriptedStroke>> strokesFromArgs(const SculptArgs& args) {
         if (!text) return text.error();
         return parseStrokeFile(*text, args.strokesFile);
     }
-    if (args.path.empty()) return Error{"nothing to sculpt: give --path \"x,y,z;...\" (with --radius and --strength) or --strokes FILE.json"};
+    std::vector<ScriptedStroke> steps;
+    if (args.invertMask) steps.push_back({{}, {}, WholeMaskStep::Invert});
+    if (args.clearMask) steps.push_back({{}, {}, WholeMaskStep::Clear});
+    if (args.path.empty()) {
+        if (!steps.empty()) return steps;
+        return Error{"nothing to sculpt: give --path \"x,y,z;...\" (with --radius and --strength), --strokes FILE.json, "
+                     "--invert-mask or --clear-mask"};
+    }
     ScriptedStroke stroke;
     Brush& brush = stroke.options.brush;
     auto kind = brushKindFromName(args.brush);
@@ -110,7 +118,8 @@ Result<std::vector<ScriptedStroke>> strokesFromArgs(const SculptArgs& args) {
     if (!path) return Error{"--path: " + path.error().message};
     stroke.path = std::move(path).value();
     if (Status fits = checkStrokeLength(stroke); !fits) return Error{"--path: " + fits.error().message};
-    return std::vector<ScriptedStroke>{std::move(stroke)};
+    steps.push_back(std::move(stroke));
+    return steps;
 }
 
 // The object --object names (it must have a cage of its own), or the first that has one.
@@ -169,6 +178,12 @@ int runSculpt(const SculptArgs& args) {
     uint32_t dabs = 0;
     std::vector<uint32_t> changed;
     for (const ScriptedStroke& stroke : *strokes) {
+        if (stroke.wholeMask != WholeMaskStep::None) {
+            Result<StrokeRecord> record =
+                stroke.wholeMask == WholeMaskStep::Invert ? invertMask(displacement) : clearMask(displacement);
+            if (!record) return failWith(record.error().message);
+            continue;
+        }
         sculptor.beginStroke();
         sculptor.dabsAlong(stroke.options, stroke.path);
         StrokeRecord record = sculptor.endStroke();
@@ -181,9 +196,14 @@ int runSculpt(const SculptArgs& args) {
     for (SceneObject& o : scene->objects) o.cagePath.clear();  // written inline: one self-contained file
     if (Status saved = saveScene(*scene, args.out, CageStorage::Inline); !saved) return failWith(saved.error().message);
     auto [lo, hi] = std::minmax_element(displacement.samples.begin(), displacement.samples.end());
-    std::fprintf(stderr, "sculpt: %zu stroke%s, %u dabs, %zu of %zu samples changed; displacement in [%g, %g]; wrote %s\n",
-                 strokes->size(), strokes->size() == 1 ? "" : "s", dabs, changed.size(), displacement.samples.size(),
-                 double(*lo), double(*hi), args.out.c_str());
+    const size_t maskSteps = size_t(std::count_if(strokes->begin(), strokes->end(),
+                                                   [](const ScriptedStroke& s) { return s.wholeMask != WholeMaskStep::None; }));
+    const size_t brushStrokes = strokes->size() - maskSteps;
+    const size_t masked = size_t(std::count_if(displacement.mask.begin(), displacement.mask.end(), [](float m) { return m > 0.0f; }));
+    const std::string steps = maskSteps ? " and " + std::to_string(maskSteps) + (maskSteps == 1 ? " mask step" : " mask steps") : "";
+    std::fprintf(stderr, "sculpt: %zu stroke%s%s, %u dabs, %zu of %zu samples changed, %zu masked; displacement in [%g, %g]; wrote %s\n",
+                 brushStrokes, brushStrokes == 1 ? "" : "s", steps.c_str(), dabs, changed.size(), displacement.samples.size(),
+                 masked, double(*lo), double(*hi), args.out.c_str());
     if (!args.png.empty())
         if (Status rendered = renderPreview(*planned, displacement, args.png, args.validate); !rendered)
             return failWith("preview not rendered: " + rendered.error().message);
@@ -205,7 +225,10 @@ void registerSculpt(CLI::App& app, int& exitCode) {
     cmd->add_option("--strokes", args->strokesFile,
                     "JSON stroke list instead of --path: {\"strokes\": [{\"brush\", \"radius\", \"strength\", "
                     "\"falloff\", \"mirror\", \"spacing\", \"path\": [[x,y,z],...]}]} (core/sculpt_script.h)");
-    cmd->add_option("--brush", args->brush, "raise, lower, smooth, flatten or erase (default raise)");
+    cmd->add_option("--brush", args->brush,
+                    "raise, lower, smooth, flatten, erase, inflate, crease, mask or unmask (default raise)");
+    cmd->add_flag("--invert-mask", args->invertMask, "Invert the sculpting mask first (with no mask yet: mask everything)");
+    cmd->add_flag("--clear-mask", args->clearMask, "Clear the sculpting mask first (after --invert-mask)");
     cmd->add_option("--radius", args->radius, "Brush radius in world units");
     cmd->add_option("--strength", args->strength,
                     "raise/lower: height per dab in radii; smooth/flatten/erase: blend per dab in [0, 1]");

@@ -82,6 +82,43 @@ TEST(CliSculpt, StrokeFileContinuesASculptedScene) {
     for (const std::string& f : {first, second, viaPath, strokes}) fs::remove(f);
 }
 
+// Mask strokes and whole-mask steps in a stroke file run in order: a mask painted, inverted, a
+// raise stroke over everything changes only what the inverted mask leaves free; --clear-mask
+// alone clears it.
+TEST(CliSculpt, MaskStepsRunInOrderAndHoldTheirSamples) {
+    const std::string masked = temp("masked.json"), cleared = temp("cleared.json"), strokes = temp("mask-strokes.json");
+    std::ofstream(strokes) << R"({"strokes": [
+        {"brush": "mask", "radius": 0.5, "strength": 1, "falloff": "constant", "path": [[0, 1.2, 0]]},
+        {"mask": "invert"},
+        {"brush": "raise", "radius": 3, "strength": 0.05, "path": [[0, 1.2, 0]]}]})";
+    CommandRun run = runQuadplan("sculpt " + kScene + " --strokes " + strokes + " --out " + masked);
+    ASSERT_EQ(run.status, 0) << run.out;
+    EXPECT_NE(run.out.find("sculpt: 2 strokes and 1 mask step"), std::string::npos) << run.out;
+    qp::Result<qp::Scene> scene = qp::loadScene(masked);
+    ASSERT_TRUE(scene) << scene.error().message;
+    const qp::Displacement& d = scene->objects[0].displacement;
+    ASSERT_EQ(d.mask.size(), d.samples.size());
+    uint32_t free = 0, held = 0;
+    for (size_t i = 0; i < d.samples.size(); ++i) {
+        if (d.mask[i] == 1.0f) {
+            EXPECT_EQ(d.samples[i], 0.0f) << "masked sample " << i << " changed";
+            ++held;
+        }
+        if (d.mask[i] == 0.0f && d.samples[i] > 0.0f) ++free;
+    }
+    EXPECT_GT(held, 0u);
+    EXPECT_GT(free, 0u);
+
+    run = runQuadplan("sculpt " + masked + " --clear-mask --out " + cleared);
+    ASSERT_EQ(run.status, 0) << run.out;
+    qp::Result<qp::Scene> after = qp::loadScene(cleared);
+    ASSERT_TRUE(after) << after.error().message;
+    EXPECT_EQ(after->objects[0].displacement.samples, d.samples);
+    EXPECT_FALSE(after->objects[0].displacement.hasMask() &&
+                 *std::max_element(after->objects[0].displacement.mask.begin(), after->objects[0].displacement.mask.end()) > 0.0f);
+    for (const std::string& f : {masked, cleared, strokes}) fs::remove(f);
+}
+
 TEST(CliSculpt, BadInputIsRefusedWithAMessage) {
     const std::string out = temp("bad.json");
     struct Case {
@@ -89,6 +126,8 @@ TEST(CliSculpt, BadInputIsRefusedWithAMessage) {
     };
     const std::string strokes = temp("bad-strokes.json");
     std::ofstream(strokes) << R"({"strokes": [{"brush": "raise", "radius": -1, "strength": 0.1, "path": [[0, 0, 0]]}]})";
+    const std::string badStep = temp("bad-step.json");
+    std::ofstream(badStep) << R"({"strokes": [{"mask": "flip"}]})";
     const Case cases[] = {
         {"--radius 0.5 --strength 0.1 --path \"0,1\"", "--path: point 1 (\"0,1\") needs three numbers separated by commas"},
         {"--brush pinch --radius 0.5 --strength 0.1 --path \"0,1,0\"", "--brush: unknown brush \"pinch\""},
@@ -96,6 +135,7 @@ TEST(CliSculpt, BadInputIsRefusedWithAMessage) {
         {"--radius 0.5 --strength 0.1 --path \"0,1,0\" --resolution 12", "--resolution must be a power of two"},
         {"--radius 0.5 --strength 0.1", "nothing to sculpt"},
         {"--strokes " + strokes, "strokes[0]: brush radius must be a positive number, got -1"},
+        {"--strokes " + badStep, "strokes[0].mask: unknown value \"flip\"; expected \"invert\" or \"clear\""},
     };
     for (const Case& c : cases) {
         CommandRun run = runQuadplan("sculpt " + kScene + " " + c.args + " --out " + out);
@@ -104,6 +144,7 @@ TEST(CliSculpt, BadInputIsRefusedWithAMessage) {
         EXPECT_FALSE(fs::exists(out)) << c.args;
     }
     fs::remove(strokes);
+    fs::remove(badStep);
 }
 
 // The --png preview shows the displacement: a raised stroke changes the picture, only near it.
