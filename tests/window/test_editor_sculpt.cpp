@@ -157,3 +157,32 @@ TEST_F(EditorSculpt, PickLandsOnTheDisplacedSurfaceSeenEdgeOn) {
                            brush["hover_normal"][2].get<float>());
     EXPECT_GT(glm::dot(expected.normal, normal), 0.9999f) << "the brush circle's plane is not the displaced surface's";
 }
+
+// A topology edit after sculpting is not refused: the extrude is one entry that keeps the
+// displacement (fitted to the new cage), and undo brings the sculpted file's displacement back.
+TEST_F(EditorSculpt, TopologyEditsKeepTheSculptAndUndoBringsItBack) {
+    const int cx = 360, cy = 380;
+    // Each state saved in a folder of its own: Save As writes the cage file beside the scene.
+    for (const char* folder : {"sculpted", "edited", "undone"}) fs::create_directories(dir / folder);
+    EditorProcess editor;
+    start(editor, "wait-idle\nwait-frames 3\nset-tool sculpt\nbrush raise 0.1 0.3 smooth\n" + stroke(cx - 60, cx + 60, cy) +
+                      "save-as " + (dir / "sculpted" / "scene.json").string() + "\nwait-frames 2\ndump-state t0.json\n"
+                      "set-tool select\nselect face 0\nextrude 0.2\nwait-frames 3\ndump-state t1.json\n"
+                      "loop 2 4 0.5\nwait-frames 3\ndump-state t2.json\nsave-as " + (dir / "edited" / "scene.json").string() + "\nwait-frames 2\n"
+                      "undo\nundo\nwait-frames 3\nsave-as " + (dir / "undone" / "scene.json").string() + "\nwait-frames 2\nquit\n");
+    const json t0 = waitForState(editor, "t0.json"), t1 = waitForState(editor, "t1.json"), t2 = waitForState(editor, "t2.json");
+    expectCleanExit(editor);
+    ASSERT_TRUE(t0["displacement"].is_object());
+    ASSERT_GT(t0["displacement"]["nonzero"].get<uint32_t>(), 0u) << "the stroke raised nothing";
+    EXPECT_GT(t1["faces"].get<uint32_t>(), t0["faces"].get<uint32_t>()) << "the extrude was refused: " << t1["status"];
+    EXPECT_EQ(historySize(t1), historySize(t0) + 1);
+    EXPECT_GT(t1["displacement"]["revision"].get<uint32_t>(), t0["displacement"]["revision"].get<uint32_t>());
+    EXPECT_GE(t1["displacement"]["nonzero"].get<uint32_t>(), t0["displacement"]["nonzero"].get<uint32_t>() / 2);
+    EXPECT_GT(t2["faces"].get<uint32_t>(), t1["faces"].get<uint32_t>()) << "the edge loop was refused: " << t2["status"];
+
+    // The saved scene's displacement fits its cage (the scene loads), and two undos give back the
+    // sculpted displacement bit for bit.
+    const Displacement edited = savedDisplacement("edited/scene.json");
+    EXPECT_FALSE(edited.empty());
+    EXPECT_EQ(savedDisplacement("undone/scene.json"), savedDisplacement("sculpted/scene.json"));
+}
