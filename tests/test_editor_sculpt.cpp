@@ -71,31 +71,51 @@ TEST(DocumentMask, TheDisplacedPickerFollowsDabsAsARebuildWould) {
     ASSERT_TRUE(doc);
     PickCache cache;
     const glm::vec3 centre = doc->planned->evaluate(0, 0.4f, 0.5f).position;
-    ASSERT_TRUE(beginStroke(*doc, 8, 1).ok());
+    const glm::vec3 normal = glm::normalize(centre);
+    // The picker answers as one built from the document now would.
+    auto expectRebuilt = [&](const char* when) {
+        const DisplacedPicker& updated = displacedPicker(cache, *doc, 1);
+        const DisplacedPicker rebuilt(*doc->planned, displacementOf(*doc));
+        for (float offset : {-0.3f, -0.1f, 0.0f, 0.15f, 0.3f}) {
+            const Ray ray{centre + 5.0f * normal + glm::vec3(offset, 0.1f, 0.0f), -normal};
+            const DisplacedPicker::Hit a = updated.intersect(*doc->planned, displacementOf(*doc), ray);
+            const DisplacedPicker::Hit b = rebuilt.intersect(*doc->planned, displacementOf(*doc), ray);
+            ASSERT_NE(a.subface, kNoHit) << when;
+            EXPECT_EQ(a.subface, b.subface) << when;
+            EXPECT_EQ(a.distance, b.distance) << when;
+        }
+    };
     StrokeOptions raise;
     raise.brush = Brush{BrushKind::Raise, 0.3f, 1.0f, Falloff::Smooth};
+    // A first stroke makes the displacement (a new layout: the picker is built for it), the
+    // second changes it in place.
+    ASSERT_TRUE(beginStroke(*doc, 8, 1).ok());
+    strokeDab(*doc, raise, centre - glm::vec3(0.1f));
+    ASSERT_TRUE(endStroke(*doc, "First stroke", 1).ok());
+    ASSERT_TRUE(beginStroke(*doc, 8, 1).ok());
     displacedPicker(cache, *doc, 1);  // built before the dabs
     const uint32_t builds = cache.displacedBuilds;
-    for (int k = 0; k < 3; ++k) {
+    for (int k = 0; k < 4; ++k) {
         strokeDab(*doc, raise, centre + glm::vec3(0.05f * float(k)));
+        // The renderer takes the samples before the picker sees them (odd dabs) or after.
+        if (k % 2 == 1) takeUnsyncedSamples(*doc);
         const DisplacedPicker& picker = displacedPicker(cache, *doc, 1);
         EXPECT_GT(picker.lastUpdated().size(), 0u);
         EXPECT_LT(picker.lastUpdated().size(), doc->planned->subfaceCount() / 2) << "a dab re-sampled most of the cube";
+        if (k % 2 == 0) takeUnsyncedSamples(*doc);
     }
-    EXPECT_EQ(cache.displacedBuilds, builds) << "dabs rebuilt the picker";
     ASSERT_TRUE(endStroke(*doc, "Raise stroke", 2).ok());
-    const DisplacedPicker& updated = displacedPicker(cache, *doc, 1);
-    const DisplacedPicker rebuilt(*doc->planned, displacementOf(*doc));
-    const glm::vec3 normal = glm::normalize(centre);
-    for (float offset : {-0.3f, -0.1f, 0.0f, 0.15f, 0.3f}) {
-        const Ray ray{centre + 5.0f * normal + glm::vec3(offset, 0.1f, 0.0f), -normal};
-        const DisplacedPicker::Hit a = updated.intersect(*doc->planned, displacementOf(*doc), ray);
-        const DisplacedPicker::Hit b = rebuilt.intersect(*doc->planned, displacementOf(*doc), ray);
-        ASSERT_NE(a.subface, kNoHit);
-        EXPECT_EQ(a.subface, b.subface);
-        EXPECT_EQ(a.distance, b.distance);
-        if (offset == 0.0f) EXPECT_GT(glm::length(a.position - a.limit), 0.01f) << "the pick is not on the raised surface";
-    }
+    expectRebuilt("after the stroke");
+    const DisplacedPicker::Hit top = displacedPicker(cache, *doc, 1).intersect(*doc->planned, displacementOf(*doc),
+                                                                                Ray{centre + 5.0f * normal, -normal});
+    EXPECT_GT(glm::length(top.position - top.limit), 0.01f) << "the pick is not on the raised surface";
+    // Undo and redo list the stroke's samples as dabs do.
+    ASSERT_TRUE(undoEdit(*doc, 3).ok());
+    takeUnsyncedSamples(*doc);
+    expectRebuilt("after undo");
+    ASSERT_TRUE(redoEdit(*doc, 4).ok());
+    expectRebuilt("after redo");
+    EXPECT_EQ(cache.displacedBuilds, builds) << "dabs, undo or redo rebuilt the picker";
 }
 
 TEST(DocumentSculpt, TopologyEditsKeepTheSculptAndUndoBringsItBack) {

@@ -143,6 +143,14 @@ struct Document {
     // sampleRevision alone (D did not change; renderers ignore the mask).
     uint64_t maskRevision = 0;
     std::vector<uint32_t> unsyncedSamples;
+    // A second reader of the same list, the displaced picker (editor/app/pick_cache.h), reads
+    // it as a stream: entry k of everything ever listed is takenSamples[k - takenBefore] while
+    // k is among those takeUnsyncedSamples handed over (kept here as listed), then
+    // unsyncedSamples. What was handed over is dropped, but for the latest batch, once it
+    // outgrows the samples: a reader that far behind starts afresh. A new layout (which clears
+    // unsyncedSamples) makes readers start afresh too.
+    std::vector<uint32_t> takenSamples;
+    uint64_t takenBefore = 0;
     // What tag and topology edits (and their undo and redo) re-planned since the renderer last
     // took it (takeUnsyncedPlanChange): the sub-faces a scheme may update in place.
     EditReport unsyncedPlanChange;

@@ -178,6 +178,11 @@ const SculptSamples& sculptSamplesOf(Document& doc) {
 
 std::vector<uint32_t> takeUnsyncedSamples(Document& doc) {
     std::vector<uint32_t> samples = std::exchange(doc.unsyncedSamples, {});
+    if (doc.takenSamples.size() + samples.size() > displacementOf(doc).samples.size()) {
+        doc.takenBefore += doc.takenSamples.size();
+        doc.takenSamples.clear();
+    }
+    doc.takenSamples.insert(doc.takenSamples.end(), samples.begin(), samples.end());
     std::sort(samples.begin(), samples.end());
     samples.erase(std::unique(samples.begin(), samples.end()), samples.end());
     return samples;

@@ -1,7 +1,6 @@
 #include "pick_cache.h"
 
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <numeric>
 
@@ -86,11 +85,20 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
 
 namespace {
 
-// The samples that differ from the copy the picker was displaced with.
-std::vector<uint32_t> changedSamples(const std::vector<float>& before, const std::vector<float>& now) {
+// The end of the document's stream of changed samples (Document::takenSamples).
+uint64_t sampleStreamEnd(const Document& doc) {
+    return doc.takenBefore + doc.takenSamples.size() + doc.unsyncedSamples.size();
+}
+
+// The samples listed in the stream from `from` on (repeats allowed); `from` must not lie
+// before what the document still keeps.
+std::vector<uint32_t> sampleStreamFrom(const Document& doc, uint64_t from) {
+    const size_t taken = size_t(from - doc.takenBefore);
     std::vector<uint32_t> out;
-    for (uint32_t k = 0; k < now.size(); ++k)
-        if (std::bit_cast<uint32_t>(before[k]) != std::bit_cast<uint32_t>(now[k])) out.push_back(k);
+    if (taken < doc.takenSamples.size()) out.assign(doc.takenSamples.begin() + std::ptrdiff_t(taken), doc.takenSamples.end());
+    const size_t unsynced = taken > doc.takenSamples.size() ? taken - doc.takenSamples.size() : 0;
+    if (unsynced < doc.unsyncedSamples.size())
+        out.insert(out.end(), doc.unsyncedSamples.begin() + std::ptrdiff_t(unsynced), doc.unsyncedSamples.end());
     return out;
 }
 
@@ -106,9 +114,10 @@ const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64
     const Displacement& displacement = displacementOf(doc);
     const std::vector<glm::vec3>& positions = doc.planned->cage().positions;
     const auto start = std::chrono::steady_clock::now();
-    // A new layout (new, resampled, cleared displacement) or a lost picker: sample everything.
+    // A new layout (new, resampled, cleared displacement), a lost picker, or changes the
+    // document no longer lists (the picker fell far behind): sample everything.
     const bool rebuild = !c.displaced || c.displacedLayout != doc.displacementRevision ||
-                         c.displacedSamples.size() != displacement.samples.size();
+                         c.displacedSampleStream < doc.takenBefore || c.displacedSampleStream > sampleStreamEnd(doc);
     if (rebuild) {
         c.displaced.emplace(*doc.planned, displacement);
         ++c.displacedBuilds;
@@ -125,12 +134,12 @@ const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64
             if (!stale.empty()) c.displaced->updateSubfaces(*doc.planned, displacement, stale);
         }
         if (painted) {
-            const std::vector<uint32_t> samples = changedSamples(c.displacedSamples, displacement.samples);
+            const std::vector<uint32_t> samples = sampleStreamFrom(doc, c.displacedSampleStream);
             if (!samples.empty()) c.displaced->updateSamples(*doc.planned, displacement, samples);
         }
     }
-    c.displacedPositions = positions;
-    c.displacedSamples = displacement.samples;
+    if (c.displacedRevision != doc.positionRevision) c.displacedPositions = positions;
+    c.displacedSampleStream = sampleStreamEnd(doc);
     c.displacedRevision = doc.positionRevision;
     c.displacedLayout = doc.displacementRevision;
     c.displacedSampleRevision = doc.sampleRevision;

@@ -4,8 +4,9 @@
 // vertex are re-sampled, after tag edits only the sub-faces whose plan or rotation changed, found
 // by comparing them with what it was sampled from; rebuilt after a topology change); and the
 // displaced-surface picker the sculpt tool uses (core/displaced_picker.h), kept the same way and
-// also after the samples changed: a dab re-displaces only the sub-faces reading the samples
-// that differ from the copy it was sampled from (a 128k-sample compare: ~0.1 ms).
+// also after the samples changed: a dab re-displaces only the sub-faces reading the samples the
+// document listed since (Document::takenSamples and unsyncedSamples, read as a stream), so a
+// painted frame costs what the dab reached, not a pass over every sample.
 #pragma once
 
 #include <cstdint>
@@ -29,11 +30,11 @@ struct PickCache {
     std::vector<uint32_t> replanned;        // sub-faces re-planned since `limit` was sampled
     VertexSubfaceIndex index;               // vertex -> sub-faces seeing it
     // The displaced picker and what it was sampled from (positions, the displacement's layout
-    // revision and samples), as for `limit`.
+    // revision, and how far into the document's stream of changed samples it has read).
     std::optional<DisplacedPicker> displaced;
     uint64_t displacedRevision = ~0ull, displacedLayout = ~0ull, displacedSampleRevision = ~0ull;
+    uint64_t displacedSampleStream = 0;
     std::vector<glm::vec3> displacedPositions;
-    std::vector<float> displacedSamples;
     std::vector<uint32_t> displacedReplanned;
     double lastDisplacedMs = 0.0;
     uint32_t displacedBuilds = 0;           // times the displaced picker was built whole
