@@ -13,6 +13,7 @@
 #include "automation.h"
 #include "cage_pick.h"
 #include "document.h"
+#include "file_io.h"
 #include "frame_stats.h"
 #include "gizmo.h"
 #include "pick_cache.h"
@@ -639,6 +640,37 @@ TEST(Document, SavesSceneOrCageAtomicallyAndClearsTheMarker) {
     Result<Scene> cage = loadSceneOrCage((dir / "cube.obj").string());
     ASSERT_TRUE(cage.ok()) << cage.error().message;
     EXPECT_EQ(cage->objects[0].cage.faceCount(), doc->planned->cage().faceCount());
+}
+
+// Save As writes the cage under the new scene's name: the scene that was opened, and the OBJ it
+// names, are left as they were (a topology edit saved over its OBJ would break it).
+TEST(Document, SaveAsLeavesTheOpenedScenesFilesAlone) {
+    const fs::path dir = scratchDir("save-as");
+    for (const char* name : {"default.json", "default.obj"}) fs::copy_file(fs::path(QUADPLAN_SCENES_DIR) / name, dir / name);
+    Result<Scene> opened = loadSceneOrCage((dir / "default.json").string());
+    ASSERT_TRUE(opened.ok()) << opened.error().message;
+    Result<std::unique_ptr<Document>> created = createDocument(*opened, (dir / "default.json").string(), PlanOptions{});
+    ASSERT_TRUE(created.ok()) << created.error().message;
+    Document& doc = **created;
+    const std::string objBefore = readFile((dir / "default.obj").string()).value();
+    const uint32_t facesBefore = doc.planned->cage().faceCount();
+    ASSERT_TRUE(applyEdit(doc, ExtrudeFaces{{0}, 0.2f}, 1).ok());
+
+    ASSERT_TRUE(saveDocument(doc, (dir / "edited.json").string()).ok());
+    EXPECT_EQ(readFile((dir / "default.obj").string()).value(), objBefore) << "Save As overwrote the opened scene's cage";
+    Result<Scene> original = loadSceneOrCage((dir / "default.json").string()), edited = loadSceneOrCage((dir / "edited.json").string());
+    ASSERT_TRUE(original.ok() && edited.ok());
+    EXPECT_EQ(original->objects[0].cage.faceCount(), facesBefore);
+    EXPECT_EQ(edited->objects[0].cage.faceCount(), facesBefore + 4);
+    EXPECT_TRUE(fs::exists(dir / "edited.obj"));
+
+    // Saving again to the same scene writes the same files.
+    ASSERT_TRUE(applyEdit(doc, ExtrudeFaces{{0}, 0.2f}, 2).ok());
+    ASSERT_TRUE(saveDocument(doc, (dir / "edited.json").string()).ok());
+    Result<Scene> again = loadSceneOrCage((dir / "edited.json").string());
+    ASSERT_TRUE(again.ok()) << again.error().message;
+    EXPECT_EQ(again->objects[0].cage.faceCount(), facesBefore + 8);
+    EXPECT_EQ(readFile((dir / "default.obj").string()).value(), objBefore);
 }
 
 // --- recovery -----------------------------------------------------------------------------
