@@ -124,6 +124,12 @@ Status saveScene(const Scene& scene, const std::string& path, CageStorage storag
 // name>.obj".
 std::string savedCagePath(const Scene& scene, const std::string& scenePath, uint32_t index);
 
+// Before saving to `path` a scene that was read from `readFrom` (empty: from nowhere): when they
+// are different files, every referenced cage is renamed after the new scene (savedCagePath's
+// "NAME.obj"), so that the files the scene was read from, its JSON and the OBJs it names, stay
+// as they were instead of having their cages overwritten. Returns whether it renamed any.
+bool nameCagesAfterNewScene(Scene& scene, const std::string& readFrom, const std::string& path);
+
 // Loads a scene (.json) or a bare cage (.obj, wrapped in a scene of one object named after the
 // file) by extension.
 Result<Scene> loadSceneOrCage(const std::string& path, std::vector<std::string>* warnings = nullptr);

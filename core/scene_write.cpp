@@ -279,6 +279,20 @@ std::string savedCagePath(const Scene& scene, const std::string& scenePath, uint
     return objectCageFile(scenePath, o.name, scene.objects.size() == 1);
 }
 
+bool nameCagesAfterNewScene(Scene& scene, const std::string& readFrom, const std::string& path) {
+    std::error_code error;
+    if (!readFrom.empty() && fs::weakly_canonical(readFrom, error) == fs::weakly_canonical(path, error) && !error) return false;
+    bool renamed = false;
+    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
+        SceneObject& o = scene.objects[i];
+        if (o.isInstance() || o.cagePath.empty()) continue;
+        o.cagePath.clear();
+        o.cagePath = savedCagePath(scene, path, i);
+        renamed = true;
+    }
+    return renamed;
+}
+
 // The scene with its OBJ sequences named relative to `folder`, where the scene file resolves them.
 Scene withSequencesRelativeTo(const Scene& scene, const fs::path& folder) {
     Scene out = scene;

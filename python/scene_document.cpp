@@ -88,7 +88,10 @@ Scene SceneDocument::currentScene() const {
 Status SceneDocument::save(const std::string& path, CageStorage storage, std::vector<std::string>* lost) {
     const std::string ext = lowercaseExtension(path);
     if (ext == ".json") {
-        return saveScene(currentScene(), path, storage);
+        // A save under another name leaves the files the scene was read from alone.
+        Scene scene = currentScene();
+        nameCagesAfterNewScene(scene, source_, path);
+        return saveScene(scene, path, storage);
     }
     if (ext == ".obj" || isMeshCageExtension(ext)) return saveMeshCage(cage(), path, lost);
     return Error{"cannot save as '" + path + "': the name must end in .json (the scene) or .obj, .om, .ply, .off or .stl (the cage)"};

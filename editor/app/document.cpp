@@ -639,27 +639,6 @@ Scene sceneToSave(const Document& doc) {
     return scene;
 }
 
-namespace {
-
-bool sameFile(const std::string& a, const std::string& b) {
-    std::error_code error;
-    return std::filesystem::weakly_canonical(a, error) == std::filesystem::weakly_canonical(b, error) && !error;
-}
-
-// Save As: the referenced cages are written under the new scene's name ("NAME.obj" beside
-// "NAME.json"), so the files the scene was read from (its JSON and the OBJ it names) stay as
-// they were instead of having their cage overwritten under the other scene's feet.
-void nameCagesAfter(Scene& scene, const std::string& path) {
-    for (uint32_t i = 0; i < scene.objects.size(); ++i) {
-        SceneObject& o = scene.objects[i];
-        if (o.isInstance() || o.cagePath.empty()) continue;
-        o.cagePath.clear();
-        o.cagePath = savedCagePath(scene, path, i);
-    }
-}
-
-}  // namespace
-
 Status saveDocument(Document& doc, const std::string& path) {
     if (!doc.planned) return Error{"nothing to save"};
     const std::string ext = lowercaseExtension(path);
@@ -667,11 +646,11 @@ Status saveDocument(Document& doc, const std::string& path) {
     if (ext == ".obj" || ext == ".om") {
         saved = saveMeshCage(doc.planned->cage(), path);
     } else if (ext == ".json") {
+        // Save As leaves the files the open scene was read from alone (its cages go to NAME.obj).
         Scene scene = sceneToSave(doc);
-        const bool saveAs = doc.path.empty() || !sameFile(doc.path, path);
-        if (saveAs) nameCagesAfter(scene, path);
+        const bool renamed = nameCagesAfterNewScene(scene, doc.path, path);
         saved = saveScene(scene, path, CageStorage::AsLoaded);
-        if (saved && saveAs)  // later saves write where this one did
+        if (saved && renamed)  // later saves write where this one did
             for (uint32_t i = 0; i < scene.objects.size(); ++i) doc.scene.objects[i].cagePath = scene.objects[i].cagePath;
     } else {
         return Error{"cannot save as '" + path + "': the name must end in .json (scene), or .obj or .om (the cage only)"};

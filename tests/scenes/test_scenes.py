@@ -523,6 +523,21 @@ def test_object_edits_replan_nothing_and_undo_across_objects(cube):
     assert_matches_rebuild(cube)
 
 
+def test_saving_under_another_name_leaves_the_loaded_files_alone(tmp_path):
+    import shutil
+    for name in ("default.json", "default.obj"):
+        shutil.copy(SCENES / name, tmp_path / name)
+    original_obj = (tmp_path / "default.obj").read_bytes()
+    scene = qp.load(str(tmp_path / "default.json"))
+    faces = scene.face_count
+    scene.extrude([0], 0.2)
+    scene.save(str(tmp_path / "edited.json"))
+    assert (tmp_path / "default.obj").read_bytes() == original_obj
+    assert qp.load(str(tmp_path / "default.json")).face_count == faces
+    assert qp.load(str(tmp_path / "edited.json")).face_count == faces + 4
+    assert (tmp_path / "edited.obj").exists()
+
+
 def test_objects_round_trip_and_bad_requests(cube, tmp_path):
     cube.add_object(str(SCENES / "default.obj"), translation=(0, 3, 0))
     cube.instance("default", name="copy", rotation_degrees=(0, 0, 30))
