@@ -16,18 +16,10 @@ constexpr uint32_t kFirstHalf = 1 << 2, kSecondHalf = 2 << 2;  // GpuSegment::ow
 constexpr uint32_t kEdgeStart[4] = {0, 1, 3, 0};
 constexpr uint32_t kEdgeEnd[4] = {1, 2, 2, 3};
 
-// A sub-face edge's use of a segment, before segments are numbered: the slot naming it
-// (BoundaryBuilder::wholeEdge, halfEdge, spoke) and what its first user records as owner.
-struct SegmentUse {
-    uint32_t slot = UINT32_MAX, ownerEdge = 0, reversed = 0;
-};
-struct SubfaceUses {
-    SegmentUse segment[4], secondHalf[4];  // per edge; secondHalf for split edges only
-};
-
 // Boundaries are built in two steps so that the first runs on every core: each sub-face's
-// corners, flags, midpoints and segment slots (independent of the others), then, in drawing
-// order, segments numbered and points and segments owned by their first user.
+// corners, flags, midpoints and segment slots (independent of the others; the slots wait in
+// the segment fields), then, in drawing order, segments numbered and points and segments owned
+// by their first user.
 struct BoundaryBuilder {
     const PlannedCage& planned;
     const Cage& cage;
@@ -68,11 +60,8 @@ struct BoundaryBuilder {
         return 3 * topology.edgeCount() + cage.faceOffsets[face] + uint32_t(std::find(edges, edges + cage.faceSize(face), edge) - edges);
     }
 
-    // Segment a -> b (boundary point ids) in `slot`, as seen from edge `edge` of its sub-face.
-    static SegmentUse use(uint32_t slot, uint32_t a, uint32_t b, uint32_t edge) { return {slot, edge, a > b ? 1u : 0u}; }
-
-    // Step one: everything but the segment numbers (left in `uses`).
-    GpuSubfaceBoundary build(uint32_t face, uint32_t k, SubfaceUses& uses) const {
+    // Step one: everything but the segment numbers (their slots stand in for them).
+    GpuSubfaceBoundary build(uint32_t face, uint32_t k) const {
         const uint32_t n = cage.faceSize(face);
         const uint32_t* fv = cage.faceBegin(face);
         GpuSubfaceBoundary b{};
@@ -85,11 +74,11 @@ struct BoundaryBuilder {
                 GpuEdgeRef& ref = b.edges[e];
                 if (edgeIsSplit(cageEdge)) {
                     ref.midpoint = midpoint(cageEdge);
-                    uses.segment[e] = use(halfEdge(cageEdge, a), a, ref.midpoint, e | kFirstHalf);
-                    uses.secondHalf[e] = use(halfEdge(cageEdge, z), ref.midpoint, z, e | kSecondHalf);
+                    ref.segment = halfEdge(cageEdge, a);
+                    ref.secondHalf = halfEdge(cageEdge, z);
                     ref.flags = kEdgeRefSplit;
                 } else {
-                    uses.segment[e] = use(wholeEdge(cageEdge), a, z, e);
+                    ref.segment = wholeEdge(cageEdge);
                     ref.flags = a > z ? kEdgeRefReversed : 0;
                 }
             }
@@ -105,7 +94,7 @@ struct BoundaryBuilder {
             const uint32_t slots[4] = {halfEdge(next, fv[k]), spoke(face, next), spoke(face, prev), halfEdge(prev, fv[k])};
             for (uint32_t e = 0; e < 4; ++e) {
                 uint32_t a = b.corners[kEdgeStart[e]], z = b.corners[kEdgeEnd[e]];
-                uses.segment[e] = use(slots[e], a, z, e);
+                b.edges[e].segment = slots[e];
                 b.edges[e].flags = a > z ? kEdgeRefReversed : 0;
             }
             // Edges 0 and 3 are halves of cage edges: their factor comes from the whole edge.
@@ -120,19 +109,26 @@ struct BoundaryBuilder {
 
 // Step two, for one drawn sub-face in drawing order: its segments numbered (the first user of a
 // slot makes the segment and owns it) and its corners' points owned by their first user.
-void numberSegments(GpuPlanData& gpu, std::vector<uint32_t>& segmentIndex, uint32_t drawn, const SubfaceUses& uses) {
-    auto segment = [&](const SegmentUse& u) {
-        uint32_t& index = segmentIndex[u.slot];
+void numberSegments(GpuPlanData& gpu, std::vector<uint32_t>& segmentIndex, uint32_t drawn) {
+    auto segment = [&](uint32_t slot, uint32_t ownerEdge, uint32_t reversed) {
+        uint32_t& index = segmentIndex[slot];
         if (index == UINT32_MAX) {
             index = uint32_t(gpu.segments.size());
-            gpu.segments.push_back(GpuSegment{drawn, u.ownerEdge, u.reversed, 0});
+            gpu.segments.push_back(GpuSegment{drawn, ownerEdge, reversed, 0});
         }
         return index;
     };
     GpuSubfaceBoundary& b = gpu.boundaries[drawn];
     for (uint32_t e = 0; e < 4; ++e) {
-        b.edges[e].segment = segment(uses.segment[e]);
-        if (b.edges[e].flags & kEdgeRefSplit) b.edges[e].secondHalf = segment(uses.secondHalf[e]);
+        GpuEdgeRef& ref = b.edges[e];
+        if (ref.flags & kEdgeRefSplit) {
+            // Each half runs from the lower point id to the higher: vertex -> midpoint forwards,
+            // midpoint -> vertex backwards (midpoint ids are above every vertex id).
+            ref.segment = segment(ref.segment, e | kFirstHalf, 0);
+            ref.secondHalf = segment(ref.secondHalf, e | kSecondHalf, 1);
+        } else {
+            ref.segment = segment(ref.segment, e, ref.flags & kEdgeRefReversed);
+        }
     }
     for (uint32_t c = 0; c < 4; ++c)
         if (GpuPoint& p = gpu.boundaryPoints[b.corners[c]]; p.owner == UINT32_MAX) p = GpuPoint{drawn, c};
@@ -215,16 +211,15 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     const uint32_t count = uint32_t(gpu.subfaces.size());
     gpu.boundaries.resize(count);
     const BoundaryBuilder builder{planned, cage, topology};
-    std::vector<SubfaceUses> uses(count);
     tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const tbb::blocked_range<uint32_t>& range) {
         for (uint32_t d = range.begin(); d != range.end(); ++d)
-            gpu.boundaries[d] = builder.build(faceAndCorner[d].first, faceAndCorner[d].second, uses[d]);
+            gpu.boundaries[d] = builder.build(faceAndCorner[d].first, faceAndCorner[d].second);
     });
     std::vector<uint32_t> segmentIndex(builder.slotCount(), UINT32_MAX);  // slot -> segment, or UINT32_MAX
     gpu.segments.reserve(topology.edgeCount());  // one per edge on an all-quad cage; n-gons add spokes and halves
     for (bool quads : {false, true})
         for (uint32_t d = 0; d < count; ++d)
-            if ((cage.faceSize(faceAndCorner[d].first) == 4) == quads) numberSegments(gpu, segmentIndex, d, uses[d]);
+            if ((cage.faceSize(faceAndCorner[d].first) == 4) == quads) numberSegments(gpu, segmentIndex, d);
 }
 
 void buildRingUsers(GpuPlanData& gpu, uint32_t vertexCount) {

@@ -1,6 +1,7 @@
 #include "plan_update.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cstring>
 
 #include <tbb/blocked_range.h>
@@ -175,12 +176,27 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     std::vector<uint32_t>& refresh = update.refresh;
     for (uint32_t s : changed)
         if (drawnOf[s] != UINT32_MAX) refresh.push_back(drawnOf[s]);
-    // Which kept sub-faces' owners changed: compared on every core, collected in order below.
+    // Which kept sub-faces' owners changed, collected in order below. An owner is the first user
+    // of a segment or point, and only faces on that edge or at that vertex use it: a topology edit
+    // re-plans every face at a vertex of a face it made, changed or removed (PlannedCage), so
+    // only re-planned sub-faces, all in `changed`, can see a new owner. Elsewhere (a sub-face
+    // that lost its surface re-plans nothing around it) every kept sub-face is compared.
     std::vector<char> ownersChanged(count, 0);
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const tbb::blocked_range<uint32_t>& range) {
-        for (uint32_t d = range.begin(); d != range.end(); ++d)
-            ownersChanged[d] = oldOf[d] != UINT32_MAX && !(ownersOf(data, d, previousOf) == ownersOf(old, oldOf[d]));
-    });
+    if (!previousOf.empty()) {
+        for (uint32_t s : changed)
+            if (const uint32_t d = drawnOf[s]; d != UINT32_MAX && oldOf[d] != UINT32_MAX)
+                ownersChanged[d] = !(ownersOf(data, d, previousOf) == ownersOf(old, oldOf[d]));
+#ifndef NDEBUG
+        for (uint32_t d = 0; d < count; ++d)
+            assert((oldOf[d] == UINT32_MAX || ownersChanged[d] || ownersOf(data, d, previousOf) == ownersOf(old, oldOf[d])) &&
+                   "a sub-face that was not re-planned sees a new owner");
+#endif
+    } else {
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 1024), [&](const tbb::blocked_range<uint32_t>& range) {
+            for (uint32_t d = range.begin(); d != range.end(); ++d)
+                ownersChanged[d] = oldOf[d] != UINT32_MAX && !(ownersOf(data, d) == ownersOf(old, oldOf[d]));
+        });
+    }
     bool sameStructure = true;  // every kept sub-face's edges split as before
     for (uint32_t d = 0; d < count; ++d) {
         if (oldOf[d] == UINT32_MAX) {

@@ -60,7 +60,8 @@ struct PlanTableUpdate {
 // `subfaces`: PlannedCage sub-faces (any order, repeats allowed) whose plan, rotation or
 // control points the edit changed (EditReport::updatedSubfaceList and the sub-faces of
 // replannedFaceList). `previousSubfaceOf`: after a topology edit, EditReport::previousSubfaceOf
-// (empty for tag edits). Writes the host-visible buffers directly: the device must be done with
+// (empty for tag edits); then only `subfaces` are looked at for new owners of their edges and
+// corners, so they must hold every re-planned sub-face. Writes the host-visible buffers directly: the device must be done with
 // them. Fails only when a buffer cannot grow (out of memory): then upload the cage again.
 Result<PlanTableUpdate> updatePlanTables(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers,
                                          const PlannedCage& planned, std::span<const uint32_t> subfaces,
