@@ -129,7 +129,7 @@ Status validateCage(const Cage& cage, const std::string& source) {
             if (fv[i] >= cage.vertexCount())
                 return Error{faceName(source, f) + " refers to vertex " + std::to_string(fv[i] + 1) +
                              " but the cage has " + std::to_string(cage.vertexCount()) + " vertices"};
-            uint32_t a = fv[i], b = fv[(i + 1) % n];
+            uint32_t a = fv[i], b = fv[i + 1 < n ? i + 1 : 0];  // no division: this runs on every edit
             if (a == b)
                 return Error{faceName(source, f) + " repeats vertex " + std::to_string(a + 1) +
                              " consecutively (zero-length edge)"};
@@ -145,7 +145,7 @@ Status validateCage(const Cage& cage, const std::string& source) {
             if (c.v0 < cage.vertexCount()) creaseStart[c.v0] = 1;
         for (uint32_t f = 0; f < cage.faceCount(); ++f)
             for (uint32_t i = 0, n = cage.faceSize(f); i < n; ++i) {
-                const uint32_t a = cage.faceBegin(f)[i], b = cage.faceBegin(f)[(i + 1) % n];
+                const uint32_t a = cage.faceBegin(f)[i], b = cage.faceBegin(f)[i + 1 < n ? i + 1 : 0];
                 if (creaseStart[std::min(a, b)]) creaseEdges.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
             }
         std::sort(creaseEdges.begin(), creaseEdges.end());

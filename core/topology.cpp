@@ -50,7 +50,7 @@ Topology buildTopology(const Cage& cage) {
         for (uint32_t f = 0; f < cage.faceCount(); ++f) {
             const uint32_t base = cage.faceOffsets[f], n = cage.faceSize(f);
             for (uint32_t i = 0; i < n; ++i) {
-                const uint32_t a = cage.faceVertices[base + i], b = cage.faceVertices[base + (i + 1) % n];
+                const uint32_t a = cage.faceVertices[base + i], b = cage.faceVertices[base + (i + 1 < n ? i + 1 : 0)];
                 visit(std::min(a, b), std::max(a, b), base + i);
             }
         }
@@ -68,7 +68,12 @@ Topology buildTopology(const Cage& cage) {
     t.edgeVertices.reserve(faceVertexCount);  // two per edge: exact for a closed cage
     for (uint32_t v = 0; v < cage.vertexCount(); ++v) {
         const auto first = slots.begin() + bucketOffsets[v], last = slots.begin() + bucketOffsets[v + 1];
-        std::sort(first, last);
+        // A bucket holds a vertex's few face corners: sorted by insertion, where std::sort's set-up
+        // cost more than the sorting (this runs on every topology edit).
+        if (last - first > 16) std::sort(first, last);
+        else
+            for (auto it = first + (first != last); it < last; ++it)
+                for (auto at = it; at != first && *at < *(at - 1); --at) std::iter_swap(at, at - 1);
         for (auto it = first; it != last; ++it) {
             if (it == first || it->first != (it - 1)->first) {
                 t.edgeVertices.push_back(v);

@@ -2,7 +2,12 @@
 
 #include <opensubdiv/far/topologyLevel.h>
 
+#include <algorithm>
+#include <cmath>
+#include <set>
+
 #include "cage.h"
+#include "generated_cage.h"
 #include "osd_refiner.h"
 #include "test_cages.h"
 #include "topology.h"
@@ -129,4 +134,59 @@ TEST(OsdRefiner, CarriesTagsIntoOpenSubdiv) {
     EXPECT_FLOAT_EQ(level.GetVertexSharpness(6), 4.0f);
     EXPECT_TRUE(level.IsFaceHole(1));
     EXPECT_EQ((*refiner)->GetSchemeOptions().GetCreasingMethod(), OpenSubdiv::Sdc::Options::CREASE_CHAIKIN);
+}
+
+// Edges as topology.h numbers them, from first principles: the distinct (smaller, larger) vertex
+// pairs of the faces' edges in order, each face edge naming its pair, the adjacency lists in
+// face and edge order. A fan with more corners at its centre than buildTopology sorts by
+// insertion takes its other sorting path.
+TEST(Topology, EdgesAreTheSortedDistinctPairsOfTheFaces) {
+    qp::Cage fan;
+    const uint32_t spokes = 24;
+    fan.positions.push_back({0.0f, 0.0f, 0.0f});
+    for (uint32_t k = 0; k < spokes; ++k) fan.positions.push_back({std::cos(0.26f * float(k)), std::sin(0.26f * float(k)), 0.0f});
+    for (uint32_t k = 0; k < spokes; ++k) {
+        const uint32_t face[3] = {0, 1 + k, 1 + (k + 1) % spokes};
+        fan.addFace(face, 3);
+    }
+    for (const qp::Cage& cage : {fan, qp::makeBenchmarkCage(600, 3), makeGrid(4)}) {
+        ASSERT_TRUE(qp::validateCage(cage, "cage").ok());
+        const qp::Topology t = qp::buildTopology(cage);
+        std::set<std::pair<uint32_t, uint32_t>> pairs;
+        for (uint32_t f = 0; f < cage.faceCount(); ++f)
+            for (uint32_t i = 0, n = cage.faceSize(f); i < n; ++i) {
+                const uint32_t a = cage.faceBegin(f)[i], b = cage.faceBegin(f)[(i + 1) % n];
+                pairs.insert({std::min(a, b), std::max(a, b)});
+            }
+        ASSERT_EQ(t.edgeCount(), pairs.size());
+        uint32_t e = 0;
+        for (auto [a, b] : pairs) {
+            EXPECT_EQ(t.edgeVertices[2 * e], a);
+            EXPECT_EQ(t.edgeVertices[2 * e + 1], b);
+            ++e;
+        }
+        std::vector<std::vector<uint32_t>> edgeFaces(t.edgeCount()), vertexFaces(cage.vertexCount()), vertexEdges(cage.vertexCount());
+        for (uint32_t f = 0; f < cage.faceCount(); ++f)
+            for (uint32_t i = 0, n = cage.faceSize(f); i < n; ++i) {
+                const uint32_t a = cage.faceBegin(f)[i], b = cage.faceBegin(f)[(i + 1) % n];
+                const uint32_t edge = t.faceEdges[cage.faceOffsets[f] + i];
+                EXPECT_EQ(edge, t.findEdge(a, b));
+                edgeFaces[edge].push_back(f);
+                vertexFaces[a].push_back(f);
+            }
+        for (uint32_t k = 0; k < t.edgeCount(); ++k) {
+            vertexEdges[t.edgeVertices[2 * k]].push_back(k);
+            vertexEdges[t.edgeVertices[2 * k + 1]].push_back(k);
+            EXPECT_EQ(std::vector<uint32_t>(t.edgeFaces.begin() + t.edgeFaceOffsets[k], t.edgeFaces.begin() + t.edgeFaceOffsets[k + 1]),
+                      edgeFaces[k]);
+        }
+        for (uint32_t v = 0; v < cage.vertexCount(); ++v) {
+            EXPECT_EQ(std::vector<uint32_t>(t.vertexFaces.begin() + t.vertexFaceOffsets[v],
+                                            t.vertexFaces.begin() + t.vertexFaceOffsets[v + 1]),
+                      vertexFaces[v]);
+            EXPECT_EQ(std::vector<uint32_t>(t.vertexEdges.begin() + t.vertexEdgeOffsets[v],
+                                            t.vertexEdges.begin() + t.vertexEdgeOffsets[v + 1]),
+                      vertexEdges[v]);
+        }
+    }
 }
