@@ -19,8 +19,6 @@ namespace {
 constexpr float kSamplesPerCellSide = 4.0f;
 constexpr int kCellBits = 21;
 constexpr int64_t kCellBias = int64_t(1) << (kCellBits - 1);
-// Displaced queries walking at least this many columns of cells run in slabs on every core.
-constexpr uint32_t kParallelColumns = 4096, kSlabs = 8;
 
 // Revisions are unique across every SculptSamples, so cells built for one cache (or one that
 // stood at the same address before) are never taken as current for another.
@@ -294,8 +292,7 @@ void SculptSamples::buildIndex() {
 }
 
 template <class Visit>
-void SculptSamples::forEachCellNear(const glm::vec3& centre, float reach, const Visit& visit, uint32_t part,
-                                    uint32_t parts) const {
+void SculptSamples::forEachCellNear(const glm::vec3& centre, float reach, const Visit& visit) const {
     int64_t lo[3], hi[3];
     for (int axis = 0; axis < 3; ++axis) {
         // Clamp to the indexed range so a huge radius does not walk empty space.
@@ -309,8 +306,7 @@ void SculptSamples::forEachCellNear(const glm::vec3& centre, float reach, const 
     // gallops, so a big sphere costs about one step per column, not a search of every cell.
     auto it = cellKeys_.begin();
     const auto end = cellKeys_.end();
-    const int64_t columns = hi[0] - lo[0] + 1;
-    for (int64_t x = lo[0] + columns * part / parts; x < lo[0] + columns * (part + 1) / parts; ++x)
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
         for (int64_t y = lo[1]; y <= hi[1]; ++y) {
             // Cells along z with fixed (x, y) are consecutive keys: one search per column.
             const uint64_t first = (uint64_t(x) << kCellBits | uint64_t(y)) << kCellBits | uint64_t(lo[2]);
@@ -455,7 +451,7 @@ void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const 
     assert(cells.current(*this) && "DisplacedCells built for other samples or an older index");
     const float r2 = radius * radius;
     // Tests a cell's box, then each of its samples' displaced positions.
-    auto visitSamples = [&](size_t cell, std::vector<uint32_t>& out, std::vector<uint32_t>* indexed) {
+    auto visitSamples = [&](size_t cell) {
         for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
             const glm::vec3 d = cells.displaced_[k] - centre;
             if (glm::dot(d, d) > r2) continue;
@@ -466,12 +462,12 @@ void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const 
     // A cell whose whole box lies in the sphere is taken without testing its samples (most
     // cells of a big dab): each coordinate of a point in the box is no farther from the centre's
     // than the box's farther side, in float too (rounding is monotonic).
-    auto visit = [&](size_t cell, std::vector<uint32_t>& out, std::vector<uint32_t>* indexed) {
+    auto visit = [&](size_t cell) {
         const glm::vec3 &lo = cells.lo_[cell], &hi = cells.hi_[cell];
         if (squaredDistanceToBox(centre, lo, hi) > r2) return;
         const glm::vec3 farthest = glm::max(glm::abs(lo - centre), glm::abs(hi - centre));
         if (glm::dot(farthest, farthest) > r2) {
-            visitSamples(cell, out, indexed);
+            visitSamples(cell);
             return;
         }
         // Whole cells: copied in bulk (most of a big dab's samples come this way).
@@ -485,27 +481,12 @@ void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const 
     };
     // Near cells: a displaced position within the radius has its limit position within
     // radius + lift of the centre, and that within slack of where the index filed it.
-    const float reach = radius + slack_ + cells.nearLift_;
-    auto visitNear = [&](std::vector<uint32_t>& out, std::vector<uint32_t>* indexed, uint32_t part, uint32_t parts) {
-        forEachCellNear(
-            centre, reach, [&](size_t cell) { if (cells.farSlot_[cell] == UINT32_MAX) visit(cell, out, indexed); }, part, parts);
-    };
-    // A walk over many columns (a big dab) is cut into slabs along x walked on every core, and
-    // their finds appended in slab order: the order of one walk.
-    const glm::vec3 span = glm::min(glm::vec3(2.0f * reach), indexMax_ - indexMin_) / cellSize_ + 1.0f;
-    if (span.x * span.y < float(kParallelColumns)) {
-        visitNear(out, indexed, 0, 1);
-    } else {
-        std::vector<uint32_t> outs[kSlabs], indexes[kSlabs];
-        tbb::parallel_for(0u, kSlabs, [&](uint32_t slab) { visitNear(outs[slab], indexed ? &indexes[slab] : nullptr, slab, kSlabs); });
-        for (uint32_t slab = 0; slab < kSlabs; ++slab) {
-            out.insert(out.end(), outs[slab].begin(), outs[slab].end());
-            if (indexed) indexed->insert(indexed->end(), indexes[slab].begin(), indexes[slab].end());
-        }
-    }
+    forEachCellNear(centre, radius + slack_ + cells.nearLift_, [&](size_t cell) {
+        if (cells.farSlot_[cell] == UINT32_MAX) visit(cell);
+    });
     // Far cells: each box on its own, wherever the cell is filed.
     for (size_t slot = 0; slot < cells.farCells_.size(); ++slot)
-        if (squaredDistanceToBox(centre, cells.farLo_[slot], cells.farHi_[slot]) <= r2) visit(cells.farCells_[slot], out, indexed);
+        if (squaredDistanceToBox(centre, cells.farLo_[slot], cells.farHi_[slot]) <= r2) visit(cells.farCells_[slot]);
 }
 
 }  // namespace qp

@@ -167,10 +167,9 @@ private:
     void buildIndex();
     uint64_t cellKey(const glm::vec3& p) const;
     // Calls visit(cell) for every filed cell within `reach` of `centre` along each axis (nothing
-    // when that box misses the indexed range), in key order; with `parts`, only the cells of
-    // slab `part` of that many along x (the slabs in order walk what one walk does).
+    // when that box misses the indexed range).
     template <class Visit>
-    void forEachCellNear(const glm::vec3& centre, float reach, const Visit& visit, uint32_t part = 0, uint32_t parts = 1) const;
+    void forEachCellNear(const glm::vec3& centre, float reach, const Visit& visit) const;
 
     std::vector<SampleSite> sites_;
     std::vector<glm::vec3> positions_, normals_;
