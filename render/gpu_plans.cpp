@@ -183,7 +183,10 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     uint32_t ringSize = 0;
     for (uint32_t face = 0; face < cage.faceCount(); ++face) {
         for (uint32_t s = planned.firstSubface(face); s < planned.firstSubface(face + 1); ++s) {
-            if (!planned.hasPlannedSurface(s)) continue;
+            // planned.hasPlannedSurface(s), with the plan looked up once for its stencils too.
+            if (planned.subfacePlan(s) == kNoPlan) continue;
+            const Plan& plan = database.plan(planned.subfacePlan(s));
+            if (!plan.hasSurface()) continue;
             GpuSubface g{};
             g.plan = planned.subfacePlan(s);
             g.rotation = planned.subfaceRotation(s);
@@ -191,7 +194,7 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
             g.cpOffset = gpu.controlPointCount;
             g.subface = s;
             ringSize += uint32_t(planned.subfaceRing(s).size());
-            gpu.controlPointCount += database.plan(g.plan).stencilCount();
+            gpu.controlPointCount += plan.stencilCount();
             gpu.subfaces.push_back(g);
             faceAndCorner.push_back({face, s - planned.firstSubface(face)});
         }

@@ -158,8 +158,11 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     capacity.assign(count, 0);
     uint32_t end = old.controlPointCount;
     for (uint32_t d = 0; d < count; ++d) {
-        const uint32_t stencils = database.plan(data.subfaces[d].plan).stencilCount();
-        if (oldOf[d] != UINT32_MAX && oldCapacity[oldOf[d]] >= stencils) {
+        // A kept sub-face with its old plan fits its range (a range holds at least its plan's
+        // stencils): the plan is looked up only for the others.
+        const bool samePlan = oldOf[d] != UINT32_MAX && old.subfaces[oldOf[d]].plan == data.subfaces[d].plan;
+        const uint32_t stencils = samePlan ? 0 : database.plan(data.subfaces[d].plan).stencilCount();
+        if (oldOf[d] != UINT32_MAX && (samePlan || oldCapacity[oldOf[d]] >= stencils)) {
             data.subfaces[d].cpOffset = old.subfaces[oldOf[d]].cpOffset;
             capacity[d] = oldCapacity[oldOf[d]];
         } else {
