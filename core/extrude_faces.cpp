@@ -84,13 +84,20 @@ Result<TopologyEdit> extrudeFaces(const Cage& cage, const Topology& topology, st
                             "extrude from (move them instead)"};
     auto moved = [&](uint32_t v) { return copyOf[v] != kNewElement ? copyOf[v] : v; };
 
-    std::vector<uint32_t> vertices;
-    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
-        vertices.assign(cage.faceBegin(f), cage.faceBegin(f) + cage.faceSize(f));
-        if (selected[f])
-            for (uint32_t& v : vertices) v = moved(v);
-        appendFace(edit, vertices, faceUVs(cage, f), f);
-    }
+    // Every face keeps its index and corners (copied whole, not face by face: this runs in the
+    // frame of every extrude); the selected faces take the copies.
+    size_t sides = 0;  // at most one side quad per corner of the region
+    for (uint32_t f : region) sides += cage.faceSize(f);
+    edit.cage.faceVertices.reserve(cage.faceVertices.size() + 4 * sides);
+    edit.cage.faceVertices.assign(cage.faceVertices.begin(), cage.faceVertices.end());
+    edit.cage.faceOffsets.reserve(cage.faceOffsets.size() + sides);
+    edit.cage.faceOffsets.assign(cage.faceOffsets.begin(), cage.faceOffsets.end());
+    edit.cage.faceUVIndices.assign(cage.faceUVIndices.begin(), cage.faceUVIndices.end());
+    edit.oldFaceOf.resize(cage.faceCount());
+    std::iota(edit.oldFaceOf.begin(), edit.oldFaceOf.end(), 0u);
+    for (uint32_t f : region)
+        for (uint32_t i = cage.faceOffsets[f]; i < cage.faceOffsets[f + 1]; ++i)
+            edit.cage.faceVertices[i] = moved(cage.faceVertices[i]);
     for (uint32_t f : region) {
         const uint32_t n = cage.faceSize(f);
         const uint32_t* fv = cage.faceBegin(f);
