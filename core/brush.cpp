@@ -178,26 +178,6 @@ Result<StrokeRecord> clearMask(Displacement& displacement) {
     return rewriteMask(displacement, [](float) { return 0.0f; });
 }
 
-std::vector<SampleRange> uploadRanges(std::span<const uint32_t> samples, uint32_t block) {
-    // A bitmap of blocks (a few KiB even for millions of samples) instead of a sort.
-    uint32_t end = 0;
-    for (uint32_t s : samples) end = std::max(end, s + 1);
-    const uint32_t blocks = (end + block - 1) / block;
-    std::vector<uint64_t> marked((blocks + 63) / 64, 0);
-    for (uint32_t s : samples) marked[s / block / 64] |= uint64_t(1) << (s / block % 64);
-    std::vector<SampleRange> ranges;
-    for (uint32_t word = 0; word < marked.size(); ++word)
-        for (uint64_t bits = marked[word]; bits; bits &= bits - 1) {
-            uint32_t first = (word * 64 + uint32_t(std::countr_zero(bits))) * block;
-            if (!ranges.empty() && ranges.back().first + ranges.back().count == first)
-                ranges.back().count += block;
-            else
-                ranges.push_back({first, block});
-        }
-    if (!ranges.empty()) ranges.back().count = std::min(ranges.back().first + ranges.back().count, end) - ranges.back().first;
-    return ranges;
-}
-
 std::vector<SampleRange> uploadRanges(const SampleBits& samples, uint32_t block) {
     assert(block > 0 && 64 % block == 0);
     const uint64_t group = block == 64 ? ~uint64_t(0) : (uint64_t(1) << block) - 1;
@@ -218,13 +198,6 @@ std::vector<SampleRange> uploadRanges(const SampleBits& samples, uint32_t block)
     }
     if (!ranges.empty()) ranges.back().count = std::min(ranges.back().first + ranges.back().count, end) - ranges.back().first;
     return ranges;
-}
-
-std::vector<SampleRange> uploadRanges(const StrokeRecord& record, uint32_t block) {
-    std::vector<uint32_t> samples;
-    samples.reserve(record.changes.size());
-    for (const SampleChange& c : record.changes) samples.push_back(c.sample);
-    return uploadRanges(samples, block);
 }
 
 Sculptor::Sculptor(Displacement& displacement, const SculptSamples& samples)

@@ -134,14 +134,12 @@ void redoStroke(Displacement& displacement, const StrokeRecord& record);
 Result<StrokeRecord> invertMask(Displacement& displacement);
 Result<StrokeRecord> clearMask(Displacement& displacement);
 
-// The copy regions a GPU copy of the samples needs after these changes (in any order): the
-// blocks of `block` samples that hold one, consecutive blocks merged, sorted.
+// The copy regions a GPU copy of the samples needs after these changes: the blocks of `block`
+// samples (`block` divides 64) that hold one, consecutive blocks merged, sorted, the last one
+// clipped after the last changed sample.
 struct SampleRange {
     uint32_t first, count;
 };
-std::vector<SampleRange> uploadRanges(const StrokeRecord& record, uint32_t block = 16);
-std::vector<SampleRange> uploadRanges(std::span<const uint32_t> samples, uint32_t block = 16);
-// The same for a set of samples (`block` divides 64): no pass over a list.
 std::vector<SampleRange> uploadRanges(const SampleBits& samples, uint32_t block = 16);
 
 // Applies dabs and remembers, per sample, its value before the first one. One Sculptor serves

@@ -425,15 +425,18 @@ TEST(Brush, ValidationAndUploadRanges) {
     EXPECT_FALSE(validateBrush({BrushKind::Smooth, 1.0f, 1.5f, Falloff::Smooth}));
     EXPECT_FALSE(validateBrush({BrushKind::Raise, 1.0f, NAN, Falloff::Smooth}));
     EXPECT_TRUE(validateBrush({BrushKind::Raise, 1.0f, 3.0f, Falloff::Smooth}));
-    std::vector<uint32_t> samples = {31, 3, 100, 4, 5, 30, 17};
+    SampleBits samples;
+    samples.assign(200, std::vector<uint32_t>{31, 3, 100, 4, 5, 30, 17});
     std::vector<SampleRange> ranges = uploadRanges(samples, 16);  // blocks [0, 16) [16, 32) [96, 112)
     ASSERT_EQ(ranges.size(), 2u);
     EXPECT_EQ(ranges[0].first, 0u);
     EXPECT_EQ(ranges[0].count, 32u);
     EXPECT_EQ(ranges[1].first, 96u);
     EXPECT_EQ(ranges[1].count, 5u);  // clipped after the last sample
-    EXPECT_TRUE(uploadRanges(std::vector<uint32_t>{}, 16).empty());
-    // The set version gives the list version's ranges (repeats and any order in the list).
+    samples.assign(200, std::vector<uint32_t>{});
+    EXPECT_TRUE(uploadRanges(samples, 16).empty());
+    // Random sets (from lists with repeats, in any order) against the definition: every block
+    // holding a sample, runs merged, the last clipped.
     std::mt19937 rng(5);
     for (uint32_t block : {16u, 4u, 64u})
         for (int trial = 0; trial < 20; ++trial) {
@@ -441,11 +444,21 @@ TEST(Brush, ValidationAndUploadRanges) {
             for (uint32_t& sample : list) sample = rng() % 1000;
             SampleBits set;
             set.assign(1000, list);
-            const std::vector<SampleRange> a = uploadRanges(list, block), b = uploadRanges(set, block);
-            ASSERT_EQ(a.size(), b.size()) << block;
-            for (size_t r = 0; r < a.size(); ++r) {
-                EXPECT_EQ(a[r].first, b[r].first);
-                EXPECT_EQ(a[r].count, b[r].count);
+            std::vector<SampleRange> expected;
+            uint32_t end = 0;
+            for (uint32_t first = 0; first < 1000; first += block) {
+                bool held = false;
+                for (uint32_t sample : list) held |= sample / block == first / block, end = std::max(end, sample + 1);
+                if (!held) continue;
+                if (!expected.empty() && expected.back().first + expected.back().count == first) expected.back().count += block;
+                else expected.push_back({first, block});
+            }
+            if (!expected.empty()) expected.back().count = end - expected.back().first;
+            const std::vector<SampleRange> got = uploadRanges(set, block);
+            ASSERT_EQ(got.size(), expected.size()) << block;
+            for (size_t r = 0; r < got.size(); ++r) {
+                EXPECT_EQ(got[r].first, expected[r].first);
+                EXPECT_EQ(got[r].count, expected[r].count);
             }
         }
     EXPECT_EQ(brushKindFromName("flatten"), BrushKind::Flatten);
