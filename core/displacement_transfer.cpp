@@ -4,6 +4,8 @@
 #include <cmath>
 #include <optional>
 
+#include <glm/mat3x3.hpp>
+#include <glm/matrix.hpp>
 #include <tbb/parallel_for.h>
 
 #include "displaced_picker.h"
@@ -143,6 +145,35 @@ std::optional<DisplacedPicker::Hit> project(const DisplacedPicker& picker, const
     return best;
 }
 
+struct OldPlace {
+    uint32_t subface;
+    float u, v;
+};
+
+// Newton's method on one old sub-face for s(u, v) = p + t n, from `start`: the place, when it
+// converges inside the sub-face with |t| <= reach. Neighbouring samples meet the old surface at
+// neighbouring places, so a sample starts where the one before it landed and needs no ray cast.
+std::optional<OldPlace> newtonOnSubface(const PlannedCage& before, const OldPlace& start, const glm::vec3& p,
+                                        const glm::vec3& n, float reach) {
+    constexpr int kIterations = 8;
+    constexpr float kInside = 1e-4f;
+    glm::vec3 x(start.u, start.v, 0.0f);
+    for (int k = 0; k < kIterations; ++k) {
+        const LimitSample s = before.evaluate(start.subface, x.x, x.y);
+        const glm::vec3 f = s.position - p - x.z * n;
+        const float scale = glm::length(s.du) + glm::length(s.dv);
+        if (glm::length(f) <= 1e-6f * scale) {
+            if (std::abs(x.z) > reach) return std::nullopt;
+            return OldPlace{start.subface, std::clamp(x.x, 0.0f, 1.0f), std::clamp(x.y, 0.0f, 1.0f)};
+        }
+        const glm::mat3 jacobian(s.du, s.dv, -n);
+        if (std::abs(glm::determinant(jacobian)) <= 1e-12f * scale * scale) return std::nullopt;
+        x -= glm::inverse(jacobian) * f;
+        if (!(x.x >= -kInside && x.x <= 1.0f + kInside && x.y >= -kInside && x.y <= 1.0f + kInside)) return std::nullopt;
+    }
+    return std::nullopt;
+}
+
 }  // namespace
 
 DisplacementTransfer transferDisplacement(const PlannedCage& before, const Displacement& old, const PlannedCage& after,
@@ -184,20 +215,35 @@ DisplacementTransfer transferDisplacement(const PlannedCage& before, const Displ
     constexpr uint32_t kPickResolution = 4;
     const DisplacedPicker picker(before, Displacement{}, oldNeighbourhood(before, kept, report), kPickResolution);
     const std::vector<SampleSite> sites = computeSampleSites(next.layout, after);
-    std::vector<uint32_t> open;
+    // The samples to project, by the new sub-face their site is on, in sample order.
+    std::vector<uint32_t> open, groupOffsets(after.subfaceCount() + 1, 0);
     for (uint32_t i = 0; i < next.layout.sampleCount; ++i)
-        if (!assigned[i] && sites[i].subface != kNoSite) open.push_back(i);
+        if (!assigned[i] && sites[i].subface != kNoSite) ++groupOffsets[sites[i].subface + 1];
+    for (uint32_t g = 0; g < after.subfaceCount(); ++g) groupOffsets[g + 1] += groupOffsets[g];
+    open.resize(groupOffsets.back());
+    std::vector<uint32_t> fill(groupOffsets.begin(), groupOffsets.end() - 1);
+    for (uint32_t i = 0; i < next.layout.sampleCount; ++i)
+        if (!assigned[i] && sites[i].subface != kNoSite) open[fill[sites[i].subface]++] = i;
     std::vector<uint8_t> reached(open.size(), 0);
-    tbb::parallel_for(size_t(0), open.size(), [&](size_t k) {
-        const uint32_t i = open[k];
-        const SampleSite& site = sites[i];
-        const LimitSample limit = after.evaluate(site.subface, site.u, site.v);
-        const glm::vec3 normal = limitNormal(after, site.subface, site.u, site.v, limit);
-        const std::optional<DisplacedPicker::Hit> hit = project(picker, before, limit.position, normal, out.reach);
-        if (!hit) return;
-        reached[k] = 1;
-        next.samples[i] = evaluateDisplacement(old, hit->subface, hit->u, hit->v).value + 0.0f;
-        if (masked) next.mask[i] = std::clamp(evaluateDisplacement(oldMask, hit->subface, hit->u, hit->v).value, 0.0f, 1.0f);
+    tbb::parallel_for(uint32_t(0), after.subfaceCount(), [&](uint32_t group) {
+        std::optional<OldPlace> previous;
+        for (uint32_t k = groupOffsets[group]; k < groupOffsets[group + 1]; ++k) {
+            const uint32_t i = open[k];
+            const SampleSite& site = sites[i];
+            const LimitSample limit = after.evaluate(site.subface, site.u, site.v);
+            const glm::vec3 normal = limitNormal(after, site.subface, site.u, site.v, limit);
+            std::optional<OldPlace> place =
+                previous ? newtonOnSubface(before, *previous, limit.position, normal, out.reach) : std::nullopt;
+            if (!place)
+                if (const std::optional<DisplacedPicker::Hit> hit = project(picker, before, limit.position, normal, out.reach))
+                    place = OldPlace{hit->subface, hit->u, hit->v};
+            if (!place) continue;
+            previous = place;
+            reached[k] = 1;
+            next.samples[i] = evaluateDisplacement(old, place->subface, place->u, place->v).value + 0.0f;
+            if (masked)
+                next.mask[i] = std::clamp(evaluateDisplacement(oldMask, place->subface, place->u, place->v).value, 0.0f, 1.0f);
+        }
     });
     for (uint8_t r : reached) r ? ++out.projectedSamples : ++out.unreachedSamples;
     return out;
