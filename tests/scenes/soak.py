@@ -7,7 +7,7 @@ rebuild from scratch at the end.
 
 Edits are drawn at random (fixed seed, so a failure replays): vertex moves and transforms,
 edge creases, corners, holes, extrusions, face splits, face deletions, vertex merges, edge
-loops, displacement strokes (and clearing them, which topology edits need first), undo and
+loops, displacement strokes (carried across topology edits) and clearing them, undo and
 redo. Topology edits are excursions: now and then (5% of the steps) the history jumps back to
 before the oldest one still applied, so the cage keeps its size and character, and tags are
 cleared about as often as set; what memory holds after warm-up is then the same kind of cage. The history gets a 32 MiB budget; warm-up ends when it is 90% full (and
@@ -20,8 +20,10 @@ a leak), while a leak raises the whole last third. Exit status 1 on any failure,
 """
 import argparse
 import json
+import os
 import random
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -246,6 +248,15 @@ def main():
     differences = scene.differences_from_rebuild()
     if differences:
         failures.append(f"{len(differences)} sub-faces differ from a rebuild, e.g. {differences[:3]}")
+    # The displacement carried through every topology edit still fits the cage: the scene saves,
+    # and loads back (which checks the layout against the cage) with the same samples.
+    if scene.has_displacement:
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "soaked.json")
+            scene.save(path, inline_cage=True)
+            again = qp.load(path)
+            if not np.array_equal(again.displacement_samples, scene.displacement_samples):
+                failures.append("the displacement saved after the soak loads back different")
 
     figures = {
         "edits": args.edits, "seed": args.seed, "start_faces": soak.start_faces, "end_faces": scene.face_count,
