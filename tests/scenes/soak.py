@@ -267,7 +267,8 @@ def main():
         "resident_end_mib": round(samples[-1][1] / 2**20, 2), "growth_percent": round(100 * growth, 2),
         "history_entries": len(scene.history), "history_mib": round(scene.history_bytes / 2**20, 2),
         "database_plans": scene.plan_stats()["database_plans"], "plans_in_use": scene.plan_stats()["unique_plans"],
-        "creases": len(scene.creases), "corners": len(scene.corners), "holes": len(scene.holes), "counts": soak.counts,
+        "creases": len(scene.creases), "corners": len(scene.corners), "holes": len(scene.holes),
+        "displaced_at_end": scene.has_displacement, "counts": soak.counts,
         "refused": {k: v for k, v in soak.refused.items() if k != "examples"},
         "refused_examples": soak.refused.get("examples", {}), "rebuild_differences": len(differences),
         # edit, RSS MiB, history MiB, faces, plans held, plans in use
