@@ -1,6 +1,7 @@
 #include "displacement_transfer.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <optional>
 

@@ -153,6 +153,13 @@ TEST(DocumentSculpt, TopologyEditsKeepTheSculptAndUndoBringsItBack) {
     ASSERT_EQ(carried.mask.size(), carried.samples.size());
     EXPECT_GT(*std::max_element(carried.mask.begin(), carried.mask.end()), 0.5f);
 
+    // Not while a stroke is in progress: its record belongs to the layout the edit replaces.
+    ASSERT_TRUE(beginStroke(*doc, 8, 6).ok());
+    Result<EditReport> during = applyEdit(*doc, DeleteFaces{{1}}, 6);
+    ASSERT_FALSE(during.ok());
+    EXPECT_NE(during.error().message.find("finish the stroke"), std::string::npos) << during.error().message;
+    cancelStroke(*doc);
+
     // Delete a face next to it, then undo both: the sculpt comes back bit for bit.
     ASSERT_TRUE(applyEdit(*doc, DeleteFaces{{1}}, 6).ok());
     EXPECT_EQ(doc->scene.objects[0].displacement.layout,

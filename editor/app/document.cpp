@@ -127,6 +127,9 @@ Result<TopologyEdit> operation(const Document& doc, const MakeFace& e) {
 // extrude by a distance is made in place, the sculpt projected, and then moved out.
 template <class Op>
 Result<EditReport> performTopology(Document& doc, const Op& op, const std::string& name, TopologyEdit* applied) {
+    // A stroke's record and samples cache belong to the displacement's layout, which the edit
+    // replaces.
+    if (strokeActive(doc)) return Error{"finish the stroke first"};
     Result<TopologyEdit> edit = operation(doc, op);
     if (!edit) return edit.error();
     *applied = *edit;  // the result selection is read after the history takes the edit
