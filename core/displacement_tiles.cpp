@@ -328,6 +328,74 @@ DisplacementValue evaluateTile(const TileLayout& layout, std::span<const float> 
     return out;
 }
 
+namespace {
+
+// Padded (i, j) of the strip along tile edge e: row 0 is the tile's own cell next to the edge,
+// row 1 the overlap across it; `along` in the edge's own direction, -1 .. n.
+std::pair<int, int> stripCell(uint32_t e, uint32_t n, int along, int row) {
+    const int inner = row == 0 ? 0 : -1, outer = row == 0 ? int(n) - 1 : int(n);
+    switch (e) {
+    case 0: return {along, inner};
+    case 1: return {outer, along};
+    case 2: return {along, outer};
+    default: return {inner, along};
+    }
+}
+
+float snapped(float t) {
+    constexpr float kGrid = 16384.0f;  // 2^14: every parameter i / n, n <= 64, lies on it
+    return std::round(std::clamp(t, 0.0f, 1.0f) * kGrid) / kGrid;
+}
+
+}  // namespace
+
+float evaluateTileValue(const TileLayout& layout, const DisplacementLayout& adjacency, std::span<const float> coefficients,
+                        uint32_t subface, float u, float v) {
+    u = std::clamp(u, 0.0f, 1.0f);
+    v = std::clamp(v, 0.0f, 1.0f);
+    const bool onEdge = u == 0.0f || u == 1.0f || v == 0.0f || v == 1.0f;
+    if (!onEdge) return evaluateTile(layout, coefficients, subface, u, v).value;
+    const DisplacementTile& tile = layout.tiles[subface];
+    const uint32_t n = tile.cells;
+    auto at = [&](int i, int j) { return coefficients[layout.index(subface, i, j)]; };
+    // Which edge, and the parameter along it in its own direction.
+    const uint32_t e = v == 0.0f ? 0 : u == 1.0f ? 1 : v == 1.0f ? 2 : 3;
+    const float t = e == 0 || e == 2 ? u : v;
+    const DisplacementEdge& edge = adjacency.subfaces[subface].edges[e];
+    const bool split = edge.flags & kEdgeSplit;
+    // The segment the point is on: cells along it and the map from its canonical cell index to
+    // the edge's own. Canonical directions run from the lower point id: a split edge's halves
+    // from its corners (vertices come before midpoints), a whole edge as its flag says.
+    const bool secondHalf = split && t > 0.5f;
+    const uint32_t cells = split ? n / 2 : n;
+    const bool reversed = split ? secondHalf : bool(edge.flags & kEdgeReversed);
+    const float local = split ? (secondHalf ? 2.0f * (1.0f - t) : 2.0f * t) : t;
+    const float canonical = snapped(reversed && !split ? 1.0f - local : local);
+    const float x = canonical * float(cells);
+    auto ownAlong = [&](int k) { return secondHalf ? int(n) - 1 - k : (reversed ? int(cells) - 1 - k : k); };
+    if (x == std::floor(x)) {  // a knot crossing: the four cells meeting there, added sorted
+        const int k = int(x);
+        float four[4];
+        for (int r = 0; r < 2; ++r)
+            for (int side = 0; side < 2; ++side) {
+                const auto [i, j] = stripCell(e, n, ownAlong(k - 1 + side), r);
+                four[2 * r + side] = at(i, j);
+            }
+        std::sort(four, four + 4);
+        return 0.25f * ((four[0] + four[1]) + (four[2] + four[3]));
+    }
+    const int k = int(x);
+    const SpanWeights w = spanWeights(x - float(k));
+    float value = 0.0f;
+    for (int b = 0; b < 3; ++b) {
+        const int along = ownAlong(k - 1 + b);
+        const auto [i0, j0] = stripCell(e, n, along, 0);
+        const auto [i1, j1] = stripCell(e, n, along, 1);
+        value += w.w[b] * (0.5f * (at(i0, j0) + at(i1, j1)));
+    }
+    return value;
+}
+
 void propagateCopies(const TileLayout& layout, std::span<float> coefficients, std::span<const uint32_t> homes) {
     for (uint32_t x : homes) {
         const uint32_t h = layout.home[x];

@@ -100,6 +100,15 @@ TileLayout buildTileLayout(const DisplacementLayout& adjacency, uint32_t resolut
 DisplacementValue evaluateTile(const TileLayout& layout, std::span<const float> coefficients, uint32_t subface, float u,
                                float v);
 
+// D(u, v) for a displaced POSITION: inside the tile evaluateTile's value; on a tile edge the same
+// bits from every tile that has the point. Along an edge the three pair sums (own cell + overlap,
+// the same two numbers on both sides) are added in the edge segment's canonical direction at
+// the canonical parameter snapped to 2^-14; at a knot crossing on the edge (a corner, a split
+// edge's midpoint, a cell boundary) the four cells meeting there are added sorted.
+// `adjacency` is the layout the tiles were built from.
+float evaluateTileValue(const TileLayout& layout, const DisplacementLayout& adjacency, std::span<const float> coefficients,
+                        uint32_t subface, float u, float v);
+
 // Copies every home in `homes` (any order, repeats allowed) to its copies.
 void propagateCopies(const TileLayout& layout, std::span<float> coefficients, std::span<const uint32_t> homes);
 // The same for every home.

@@ -2,6 +2,7 @@
 // corners, copies that follow their homes, and fitting that reproduces bi-quadratics.
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <random>
 
@@ -191,4 +192,62 @@ TEST(DisplacementTiles, FittingReproducesABiquadraticInsideAndAHomeSitsInItsCell
         EXPECT_GE(site.v, 0.0f);
         EXPECT_LE(site.v, 1.0f);
     }
+}
+
+// Positions need the same bits from every tile that has the point: along every segment (whole
+// edges and the halves of split ones) at canonical parameters on and between knots, and at
+// every corner point from every tile around it.
+TEST(DisplacementTiles, SharedEdgesAndCornersGiveTheSameBitsFromEverySide) {
+    for (const auto& [name, cage] : testCages())
+        for (uint32_t resolution : {2u, 4u, 8u}) {
+            const Tiled t = randomTiles(cage, resolution, 11);
+            // Segment -> the tile edges on it, with how a canonical parameter s maps to theirs.
+            struct Side {
+                uint32_t tile, edge;
+                int half;  // -1: a whole edge; 0, 1: the half of a split edge
+            };
+            std::vector<std::vector<Side>> sides(t.adjacency.segments.size());
+            for (uint32_t tile = 0; tile < t.adjacency.subfaces.size(); ++tile)
+                for (uint32_t e = 0; e < 4; ++e) {
+                    const DisplacementEdge& edge = t.adjacency.subfaces[tile].edges[e];
+                    if (edge.flags & kEdgeSplit) {
+                        sides[edge.segment].push_back({tile, e, 0});
+                        sides[edge.secondHalf].push_back({tile, e, 1});
+                    } else {
+                        sides[edge.segment].push_back({tile, e, -1});
+                    }
+                }
+            uint32_t compared = 0;
+            for (uint32_t segment = 0; segment < sides.size(); ++segment) {
+                if (sides[segment].size() < 2) continue;
+                for (uint32_t q = 0; q <= 64; ++q) {
+                    const float s = float(q) / 64.0f;  // canonical: from the segment's lower point
+                    std::vector<uint32_t> bits;
+                    for (const Side& side : sides[segment]) {
+                        const DisplacementEdge& edge = t.adjacency.subfaces[side.tile].edges[side.edge];
+                        const float along = side.half < 0 ? (edge.flags & kEdgeReversed ? 1.0f - s : s)
+                                                          : (side.half == 0 ? 0.5f * s : 1.0f - 0.5f * s);
+                        const glm::vec2 uv = edgePoint(side.edge, along);
+                        bits.push_back(std::bit_cast<uint32_t>(
+                            evaluateTileValue(t.tiles, t.adjacency, t.coefficients, side.tile, uv.x, uv.y)));
+                    }
+                    for (uint32_t b : bits) ASSERT_EQ(b, bits[0]) << name << " R " << resolution << " segment " << segment << " s " << s;
+                    ++compared;
+                }
+            }
+            EXPECT_GT(compared, 0u) << name;
+            // Corner points from every tile around them.
+            std::vector<std::vector<uint32_t>> cornerBits(t.adjacency.pointCount);
+            for (uint32_t tile = 0; tile < t.adjacency.subfaces.size(); ++tile)
+                for (uint32_t k = 0; k < 4; ++k)
+                    cornerBits[t.adjacency.subfaces[tile].corners[k]].push_back(std::bit_cast<uint32_t>(
+                        evaluateTileValue(t.tiles, t.adjacency, t.coefficients, tile, kCornerU[k], kCornerV[k])));
+            for (uint32_t p = 0; p < cornerBits.size(); ++p)
+                for (uint32_t b : cornerBits[p]) ASSERT_EQ(b, cornerBits[p][0]) << name << " R " << resolution << " point " << p;
+            // On an edge between knots the value is the B-spline's, up to rounding, at parameters
+            // on the 2^-14 grid the canonical parameter is snapped to.
+            const float u = 0.3125f;
+            const DisplacementValue spline = evaluateTile(t.tiles, t.coefficients, 0, u, 0.0f);
+            EXPECT_NEAR(evaluateTileValue(t.tiles, t.adjacency, t.coefficients, 0, u, 0.0f), spline.value, 1e-5f) << name;
+        }
 }
