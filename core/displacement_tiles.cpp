@@ -408,14 +408,31 @@ void propagateAllCopies(const TileLayout& layout, std::span<float> coefficients)
         if (layout.home[x] != x) coefficients[x] = coefficients[layout.home[x]];
 }
 
+uint32_t tileOfCoefficient(const TileLayout& layout, uint32_t coefficient) {
+    const auto after = std::upper_bound(layout.tiles.begin(), layout.tiles.end(), coefficient,
+                                        [](uint32_t x, const DisplacementTile& t) { return x < t.offset; });
+    return uint32_t(after - layout.tiles.begin()) - 1;
+}
+
+std::vector<uint32_t> tilesReadingHomes(const TileLayout& layout, std::span<const uint32_t> homes) {
+    std::vector<uint32_t> tiles;
+    for (uint32_t x : homes) {
+        const uint32_t h = layout.home[x];
+        tiles.push_back(tileOfCoefficient(layout, h));
+        for (uint32_t k = layout.copyOffsets[h]; k < layout.copyOffsets[h + 1]; ++k)
+            tiles.push_back(tileOfCoefficient(layout, layout.copies[k]));
+    }
+    std::sort(tiles.begin(), tiles.end());
+    tiles.erase(std::unique(tiles.begin(), tiles.end()), tiles.end());
+    return tiles;
+}
+
 CoefficientSite homeSite(const TileLayout& layout, uint32_t home) {
     if (layout.sharedCorner[home] != kNoTileCorner) {
         const uint32_t tile = uint32_t(layout.sharedCorner[home] >> 2), k = uint32_t(layout.sharedCorner[home] & 3);
         return {tile, kCornerU[k], kCornerV[k]};
     }
-    const auto after = std::upper_bound(layout.tiles.begin(), layout.tiles.end(), home,
-                                        [](uint32_t x, const DisplacementTile& t) { return x < t.offset; });
-    const uint32_t tile = uint32_t(after - layout.tiles.begin()) - 1;
+    const uint32_t tile = tileOfCoefficient(layout, home);
     const uint32_t n = layout.tiles[tile].cells, local = home - layout.tiles[tile].offset;
     const int i = int(local % (n + 2)) - 1, j = int(local / (n + 2)) - 1;
     return {tile, (float(i) + 0.5f) / float(n), (float(j) + 0.5f) / float(n)};

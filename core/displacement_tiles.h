@@ -114,6 +114,12 @@ void propagateCopies(const TileLayout& layout, std::span<float> coefficients, st
 // The same for every home.
 void propagateAllCopies(const TileLayout& layout, std::span<float> coefficients);
 
+// The tile a coefficient (home or copy) belongs to.
+uint32_t tileOfCoefficient(const TileLayout& layout, uint32_t coefficient);
+// The tiles whose D reads one of `homes` (any order, repeats allowed): each home's own tile and
+// every tile holding a copy of it, sorted, each once. What a renderer re-evaluates after a dab.
+std::vector<uint32_t> tilesReadingHomes(const TileLayout& layout, std::span<const uint32_t> homes);
+
 // Where a home lies on its tile: its cell centre, or for a shared corner home the corner.
 struct CoefficientSite {
     uint32_t subface;

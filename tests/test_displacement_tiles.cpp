@@ -251,3 +251,25 @@ TEST(DisplacementTiles, SharedEdgesAndCornersGiveTheSameBitsFromEverySide) {
             EXPECT_NEAR(evaluateTileValue(t.tiles, t.adjacency, t.coefficients, 0, u, 0.0f), spline.value, 1e-5f) << name;
         }
 }
+
+// The tiles a home's change reaches are exactly those whose D changes: change one home, compare
+// every tile's values before and after.
+TEST(DisplacementTiles, TilesReadingAHomeAreTheTilesItChanges) {
+    for (const auto& [name, cage] : testCages()) {
+        Tiled t = randomTiles(cage, 4, 3);
+        for (uint32_t x = 0; x < t.tiles.coefficientCount(); x += 37) {
+            const uint32_t home = t.tiles.home[x];
+            std::vector<float> changed = t.coefficients;
+            changed[home] += 1.0f;
+            propagateCopies(t.tiles, changed, std::span(&home, 1));
+            std::vector<uint32_t> expected;
+            for (uint32_t tile = 0; tile < t.tiles.tiles.size(); ++tile) {
+                const DisplacementTile& d = t.tiles.tiles[tile];
+                const uint32_t size = (d.cells + 2) * (d.cells + 2);
+                if (!std::equal(changed.begin() + d.offset, changed.begin() + d.offset + size, t.coefficients.begin() + d.offset))
+                    expected.push_back(tile);
+            }
+            EXPECT_EQ(tilesReadingHomes(t.tiles, std::span(&home, 1)), expected) << name << " coefficient " << x;
+        }
+    }
+}
