@@ -459,4 +459,8 @@ std::vector<float> fitTiles(const TileLayout& layout, const std::function<float(
     return coefficients;
 }
 
+std::vector<float> fitSampleGrids(const TileLayout& layout, const Displacement& grids) {
+    return fitTiles(layout, [&](uint32_t subface, float u, float v) { return evaluateDisplacement(grids, subface, u, v).value; });
+}
+
 }  // namespace qp

@@ -133,4 +133,8 @@ CoefficientSite homeSite(const TileLayout& layout, uint32_t home);
 // corner homes f at the vertex. Copies are filled.
 std::vector<float> fitTiles(const TileLayout& layout, const std::function<float(uint32_t, float, float)>& f);
 
+// The tiles' coefficients for a displacement of today's sample grids (file version 1): fitTiles
+// of its D. Copies are filled.
+std::vector<float> fitSampleGrids(const TileLayout& layout, const Displacement& grids);
+
 }  // namespace qp
