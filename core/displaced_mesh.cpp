@@ -53,8 +53,8 @@ Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displ
     if (anyNgon && factor % 2)
         return Error{"mesh factor must be even on a cage with non-quad faces (their sub-faces get half), got " +
                      std::to_string(factor)};
-    if (!displacement.empty() && displacement.layout.subfaces.size() != planned.subfaceCount())
-        return Error{"the displacement has " + std::to_string(displacement.layout.subfaces.size()) +
+    if (!displacement.empty() && displacement.layout.tiles.size() != planned.subfaceCount())
+        return Error{"the displacement has " + std::to_string(displacement.layout.tiles.size()) +
                      " sub-faces but the cage has " + std::to_string(planned.subfaceCount())};
 
     DisplacedMesh mesh;
@@ -74,9 +74,9 @@ Result<DisplacedMesh> buildDisplacedMesh(const PlannedCage& planned, const Displ
     mesh.frames.resize(vertices);
 
     // Without displacement the layout still names the shared boundaries and their owners.
-    const DisplacementLayout fallback =
-        displacement.empty() ? buildDisplacementLayout(cage, planned.topology(), 1) : DisplacementLayout{};
-    const DisplacementLayout& layout = displacement.empty() ? fallback : displacement.layout;
+    const SampleGridLayout fallback =
+        displacement.empty() ? buildSampleGridLayout(cage, planned.topology(), 1) : SampleGridLayout{};
+    const SampleGridLayout& layout = displacement.empty() ? fallback : displacement.layout.adjacency;
     const BoundaryOwners owners = computeBoundaryOwners(layout, planned);
     tbb::parallel_for(size_t(0), mesh.gridSubface.size(), [&](size_t g) {
         const uint32_t s = mesh.gridSubface[g], n = mesh.gridFactor[g];

@@ -19,7 +19,7 @@ namespace {
 // Whether the displacement has this sub-face (a layout of another cage, met only if a caller
 // breaks the contract, reads as no displacement rather than out of bounds).
 bool covers(const Displacement& displacement, uint32_t subface) {
-    return !displacement.empty() && subface < displacement.layout.subfaces.size();
+    return !displacement.empty() && subface < displacement.layout.tiles.size();
 }
 
 DisplacementValue displacementAt(const Displacement& displacement, uint32_t subface, float u, float v) {
@@ -55,7 +55,7 @@ DisplacedPicker::DisplacedPicker(const PlannedCage& planned, const Displacement&
 }
 
 uint32_t DisplacedPicker::wantedResolution(const Displacement& displacement, uint32_t subface) const {
-    const uint32_t tile = covers(displacement, subface) ? displacement.layout.subfaces[subface].resolution : 1u;
+    const uint32_t tile = covers(displacement, subface) ? displacement.layout.tiles[subface].cells : 1u;
     return std::clamp(tile, minResolution_, kMaxPickResolution);
 }
 
@@ -118,7 +118,7 @@ void DisplacedPicker::updateSubfaces(const PlannedCage& planned, const Displacem
 
 void DisplacedPicker::updateSamples(const PlannedCage& planned, const Displacement& displacement,
                                     std::span<const uint32_t> samples) {
-    if (displacement.empty() || users_.holder.empty()) {  // no layout to map samples through
+    if (displacement.empty() || users_.offsets.empty()) {  // no layout to map samples through
         lastUpdated_.clear();
         return;
     }

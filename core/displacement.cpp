@@ -5,96 +5,109 @@
 #include <cmath>
 #include <cstring>
 
-#include <glm/geometric.hpp>
-
-#include "face_config.h"
-
 namespace qp {
 
 namespace {
 
-// 2^14: edge parameters are snapped to multiples of its inverse (see evaluateDisplacement).
-constexpr float kEdgeSnap = 16384.0f;
-
-uint32_t midpointId(const DisplacementLayout& l, uint32_t edge) { return l.vertexCount + edge; }
-uint32_t centreId(const DisplacementLayout& l, uint32_t face) { return l.vertexCount + l.edgeCount + face; }
-
-// The segment resolution a sub-face edge asks for.
-uint32_t segmentNeed(uint32_t resolution, const DisplacementEdge& edge) {
-    return edge.flags & kEdgeSplit ? std::max(resolution / 2, 1u) : resolution;
+// Quadratic uniform B-spline weights of the span at fraction f, and their derivatives.
+struct SpanWeights {
+    float w[3], d[3];
+};
+inline SpanWeights spanWeights(float f) {
+    const float g = 1.0f - f;
+    return {{0.5f * g * g, 0.5f + f * g, 0.5f * f * f}, {-g, 1.0f - 2.0f * f, f}};
 }
 
-void assignResolutionsAndOffsets(DisplacementLayout& layout) {
-    for (DisplacementSegment& s : layout.segments) s.resolution = 1;
-    for (const DisplacementSubface& sf : layout.subfaces)
-        for (const DisplacementEdge& e : sf.edges) {
-            uint32_t need = segmentNeed(sf.resolution, e);
-            layout.segments[e.segment].resolution = std::max(layout.segments[e.segment].resolution, need);
-            if (e.secondHalf != kNoSegment)
-                layout.segments[e.secondHalf].resolution = std::max(layout.segments[e.secondHalf].resolution, need);
-        }
-    uint32_t offset = layout.pointCount;
-    for (DisplacementSegment& s : layout.segments) {
-        s.offset = offset;
-        offset += s.resolution - 1;
+// The tile's B-spline at (u, v) in [0, 1]^2 from its padded block, read through at(i, j) with
+// -1 <= i, j <= n.
+template <class At>
+DisplacementValue splineAt(uint32_t n, float u, float v, const At& at) {
+    const float x = u * float(n), y = v * float(n);
+    const int i = int(std::min(uint32_t(x), n - 1)), j = int(std::min(uint32_t(y), n - 1));
+    const SpanWeights wu = spanWeights(x - float(i)), wv = spanWeights(y - float(j));
+    // Span (i, j) reads cells i-1..i+1 x j-1..j+1.
+    DisplacementValue out;
+    for (int b = 0; b < 3; ++b) {
+        const float c0 = at(i - 1, j - 1 + b), c1 = at(i, j - 1 + b), c2 = at(i + 1, j - 1 + b);
+        const float along = wu.w[0] * c0 + wu.w[1] * c1 + wu.w[2] * c2;
+        const float slope = wu.d[0] * c0 + wu.d[1] * c1 + wu.d[2] * c2;
+        out.value += wv.w[b] * along;
+        out.du += wv.w[b] * slope;
+        out.dv += wv.d[b] * along;
     }
-    for (DisplacementSubface& sf : layout.subfaces) {
-        sf.interiorOffset = offset;
-        offset += (sf.resolution - 1) * (sf.resolution - 1);
-        for (DisplacementEdge& e : sf.edges) {
-            e.flags &= ~kEdgeFiner;
-            bool finer = e.flags & kEdgeSplit
-                             ? sf.resolution == 1 || layout.segments[e.segment].resolution * 2 > sf.resolution ||
-                                   layout.segments[e.secondHalf].resolution * 2 > sf.resolution
-                             : layout.segments[e.segment].resolution > sf.resolution;
-            if (finer) e.flags |= kEdgeFiner;
-        }
-    }
-    layout.sampleCount = offset;
+    out.du *= float(n);
+    out.dv *= float(n);
+    return out;
 }
 
-float lerp(float a, float b, float f) { return displacementLerp(a, b, f); }
-
-// Value and d/dt of a segment at canonical t. On a sample (f = 0 or 1) the value is that
-// sample's bits, so a corner reached through any of its segments reads the same bits.
-DisplacementValue segmentValue(const DisplacementLayout& layout, const std::vector<float>& samples, uint32_t segment,
-                               float t) {
-    const DisplacementSegment& s = layout.segments[segment];
-    float x = std::clamp(t, 0.0f, 1.0f) * float(s.resolution);
-    uint32_t k = std::min(uint32_t(x), s.resolution - 1);
-    float f = x - float(k);
-    float a = samples[segmentSample(s, k)], b = samples[segmentSample(s, k + 1)];
-    float value = f == 0.0f ? a : f == 1.0f ? b : lerp(a, b, f);
-    return {value, float(s.resolution) * (b - a), 0.0f};
+// Padded (i, j) of the strip along tile edge e: row 0 is the tile's own cell next to the edge,
+// row 1 the overlap across it; `along` in the edge's own direction, -1 .. n.
+std::pair<int, int> stripCell(uint32_t e, uint32_t n, int along, int row) {
+    const int inner = row == 0 ? 0 : -1, outer = row == 0 ? int(n) - 1 : int(n);
+    switch (e) {
+    case 0: return {along, inner};
+    case 1: return {outer, along};
+    case 2: return {along, outer};
+    default: return {inner, along};
+    }
 }
 
-// Edge function of a sub-face edge at its own parameter t, and dE/dt. With `snap`, the
-// canonical parameter is snapped so both sides of the edge compute the same bits.
-DisplacementValue edgeValue(const DisplacementLayout& layout, const std::vector<float>& samples,
-                            const DisplacementEdge& edge, float t, bool snap) {
-    auto snapped = [snap](float tc) { return snap ? std::round(tc * kEdgeSnap) / kEdgeSnap : tc; };
-    if (!(edge.flags & kEdgeSplit)) {
-        bool reversed = edge.flags & kEdgeReversed;
-        DisplacementValue v = segmentValue(layout, samples, edge.segment, snapped(reversed ? 1.0f - t : t));
-        if (reversed) v.du = -v.du;
-        return v;
+float snapped(float t) {
+    constexpr float kGrid = 16384.0f;  // 2^14: every parameter i / n, n <= 64, lies on it
+    return std::round(std::clamp(t, 0.0f, 1.0f) * kGrid) / kGrid;
+}
+
+// D's value on edge e of a tile at its own parameter t, the same bits from both sides (see the
+// header): pair sums in the segment's canonical direction, sorted four-sample means at knots.
+template <class At>
+float edgeValue(const DisplacementTile& tile, uint32_t e, float t, const At& at) {
+    const uint32_t n = tile.cells, flags = tile.edgeFlags >> (4 * e) & 0xF;
+    const bool split = flags & kEdgeSplit;
+    // Canonical directions run from the lower point id: a split edge's halves from its corners
+    // (vertices come before midpoints), a whole edge as its flag says.
+    const bool secondHalf = split && t > 0.5f;
+    const uint32_t cells = split ? n / 2 : n;
+    const bool reversed = split ? secondHalf : bool(flags & kEdgeReversed);
+    const float local = split ? (secondHalf ? 2.0f * (1.0f - t) : 2.0f * t) : t;
+    const float canonical = snapped(reversed && !split ? 1.0f - local : local);
+    const float x = canonical * float(cells);
+    auto ownAlong = [&](int k) { return secondHalf ? int(n) - 1 - k : (reversed ? int(cells) - 1 - k : k); };
+    if (x == std::floor(x)) {  // a knot crossing: the four samples meeting there, added sorted
+        const int k = int(x);
+        float four[4];
+        for (int r = 0; r < 2; ++r)
+            for (int side = 0; side < 2; ++side) {
+                const auto [i, j] = stripCell(e, n, ownAlong(k - 1 + side), r);
+                four[2 * r + side] = at(i, j);
+            }
+        std::sort(four, four + 4);
+        return 0.25f * ((four[0] + four[1]) + (four[2] + four[3]));
     }
-    // Both halves run from a cage vertex to the midpoint (vertex ids are below midpoint ids).
-    if (t <= 0.5f) {
-        DisplacementValue v = segmentValue(layout, samples, edge.segment, snapped(2.0f * t));
-        v.du *= 2.0f;
-        return v;
+    const int k = int(x);
+    const SpanWeights w = spanWeights(x - float(k));
+    float value = 0.0f;
+    for (int b = 0; b < 3; ++b) {
+        const int along = ownAlong(k - 1 + b);
+        const auto [i0, j0] = stripCell(e, n, along, 0);
+        const auto [i1, j1] = stripCell(e, n, along, 1);
+        value += w.w[b] * (0.5f * (at(i0, j0) + at(i1, j1)));
     }
-    DisplacementValue v = segmentValue(layout, samples, edge.secondHalf, snapped(2.0f * (1.0f - t)));
-    v.du *= -2.0f;
-    return v;
+    return value;
+}
+
+template <class At>
+DisplacementValue evaluateTile(const DisplacementTile& tile, float u, float v, const At& at) {
+    u = std::clamp(u, 0.0f, 1.0f);
+    v = std::clamp(v, 0.0f, 1.0f);
+    DisplacementValue out = splineAt(tile.cells, u, v, at);
+    if (v == 0.0f) out.value = edgeValue(tile, 0, u, at);
+    else if (u == 1.0f) out.value = edgeValue(tile, 1, v, at);
+    else if (v == 1.0f) out.value = edgeValue(tile, 2, u, at);
+    else if (u == 0.0f) out.value = edgeValue(tile, 3, v, at);
+    return out;
 }
 
 }  // namespace
-
-uint32_t DisplacementLayout::tileSampleBegin() const {
-    return subfaces.empty() ? sampleCount : subfaces.front().interiorOffset;
-}
 
 bool DisplacementLayout::operator==(const DisplacementLayout& o) const {
     auto bytesEqual = [](const auto& a, const auto& b) {
@@ -102,262 +115,8 @@ bool DisplacementLayout::operator==(const DisplacementLayout& o) const {
                    return std::memcmp(&x, &y, sizeof x) == 0;
                });
     };
-    return vertexCount == o.vertexCount && edgeCount == o.edgeCount && faceCount == o.faceCount &&
-           pointCount == o.pointCount && sampleCount == o.sampleCount && bytesEqual(subfaces, o.subfaces) &&
-           bytesEqual(segments, o.segments);
-}
-
-DisplacementLayout buildDisplacementLayout(const Cage& cage, const Topology& topology, uint32_t resolution) {
-    assert(isPowerOfTwo(resolution) && resolution <= kMaxDisplacementResolution);
-    DisplacementLayout layout;
-    layout.vertexCount = cage.vertexCount();
-    layout.edgeCount = topology.edgeCount();
-    layout.faceCount = cage.faceCount();
-    layout.pointCount = layout.vertexCount + layout.edgeCount + layout.faceCount;
-
-    // Cage edges: one segment, or two halves (the half at edgeVertices[0] first).
-    std::vector<uint32_t> edgeSegment(topology.edgeCount());
-    std::vector<bool> split(topology.edgeCount(), false);
-    for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
-        for (uint32_t k = topology.edgeFaceOffsets[e]; k < topology.edgeFaceOffsets[e + 1]; ++k)
-            if (cage.faceSize(topology.edgeFaces[k]) != 4) split[e] = true;
-        uint32_t a = topology.edgeVertices[2 * e], b = topology.edgeVertices[2 * e + 1];
-        edgeSegment[e] = uint32_t(layout.segments.size());
-        if (split[e]) {
-            layout.segments.push_back({a, midpointId(layout, e), 1, 0});
-            layout.segments.push_back({b, midpointId(layout, e), 1, 0});
-        } else {
-            layout.segments.push_back({a, b, 1, 0});
-        }
-    }
-    // The half of split edge e that ends at cage vertex v.
-    auto halfAt = [&](uint32_t e, uint32_t v) { return edgeSegment[e] + (topology.edgeVertices[2 * e] == v ? 0 : 1); };
-
-    for (uint32_t f = 0; f < cage.faceCount(); ++f) {
-        const uint32_t n = cage.faceSize(f);
-        const uint32_t* fv = cage.faceBegin(f);
-        const uint32_t* fe = topology.faceEdges.data() + cage.faceOffsets[f];
-        if (n == 4) {
-            DisplacementSubface sf{};
-            sf.resolution = resolution;
-            for (uint32_t c = 0; c < 4; ++c) sf.corners[c] = fv[c];
-            for (uint32_t e = 0; e < 4; ++e) {
-                uint32_t a = fv[kEdgeStart[e]], z = fv[kEdgeEnd[e]];
-                // Cage edge e of the face runs fv[e] -> fv[e+1]: the same edge as sub-face edge
-                // e (edges 2 and 3 run against the winding).
-                uint32_t cageEdge = fe[e];
-                DisplacementEdge& edge = sf.edges[e];
-                if (split[cageEdge]) {
-                    edge = {halfAt(cageEdge, a), halfAt(cageEdge, z), kEdgeSplit, 0};
-                } else {
-                    edge = {edgeSegment[cageEdge], kNoSegment, a > z ? kEdgeReversed : 0u, 0};
-                }
-            }
-            layout.subfaces.push_back(sf);
-            continue;
-        }
-        const uint32_t spokes = uint32_t(layout.segments.size());  // spoke i: midpoint of cage edge i -> centre
-        for (uint32_t i = 0; i < n; ++i) layout.segments.push_back({midpointId(layout, fe[i]), centreId(layout, f), 1, 0});
-        for (uint32_t k = 0; k < n; ++k) {
-            const uint32_t next = fe[k], prev = fe[(k + n - 1) % n];
-            DisplacementSubface sf{};
-            sf.resolution = resolution;
-            sf.corners[0] = fv[k];
-            sf.corners[1] = midpointId(layout, next);
-            sf.corners[2] = centreId(layout, f);
-            sf.corners[3] = midpointId(layout, prev);
-            // Every n-gon sub-face edge runs from its lower point id to its higher one.
-            sf.edges[0] = {halfAt(next, fv[k]), kNoSegment, 0, 0};
-            sf.edges[1] = {spokes + k, kNoSegment, 0, 0};
-            sf.edges[2] = {spokes + (k + n - 1) % n, kNoSegment, 0, 0};
-            sf.edges[3] = {halfAt(prev, fv[k]), kNoSegment, 0, 0};
-            layout.subfaces.push_back(sf);
-        }
-    }
-    assignResolutionsAndOffsets(layout);
-    return layout;
-}
-
-DisplacementLayout withResolutions(const DisplacementLayout& layout, std::span<const uint32_t> resolutions) {
-    assert(resolutions.size() == layout.subfaces.size());
-    DisplacementLayout out = layout;
-    for (size_t s = 0; s < resolutions.size(); ++s) {
-        assert(isPowerOfTwo(resolutions[s]) && resolutions[s] <= kMaxDisplacementResolution);
-        out.subfaces[s].resolution = resolutions[s];
-    }
-    assignResolutionsAndOffsets(out);
-    return out;
-}
-
-Displacement makeDisplacement(const Cage& cage, const Topology& topology, uint32_t resolution) {
-    Displacement d;
-    d.layout = buildDisplacementLayout(cage, topology, resolution);
-    d.samples.assign(d.layout.sampleCount, 0.0f);
-    return d;
-}
-
-EdgeSite edgeSite(const DisplacementSubface& subface, uint32_t edge, uint32_t i, uint32_t n) {
-    const DisplacementEdge& e = subface.edges[edge];
-    if (!(e.flags & kEdgeSplit)) return {e.segment, e.flags & kEdgeReversed ? n - i : i, n};
-    assert(n % 2 == 0);
-    if (2 * i <= n) return {e.segment, i, n / 2};
-    return {e.secondHalf, n - i, n / 2};
-}
-
-float edgeParameter(const DisplacementEdge& edge, uint32_t half, uint32_t k, uint32_t m) {
-    if (edge.flags & kEdgeSplit) return half ? float(2 * m - k) / float(2 * m) : float(k) / float(2 * m);
-    return float(edge.flags & kEdgeReversed ? m - k : k) / float(m);
-}
-
-glm::vec2 edgePoint(uint32_t edge, float t) {
-    switch (edge) {
-    case 0: return {t, 0.0f};
-    case 1: return {1.0f, t};
-    case 2: return {t, 1.0f};
-    default: return {0.0f, t};
-    }
-}
-
-namespace {
-
-// gridSample of point `along` (0 < along < R) of sub-face edge `edge`: R intervals on the
-// sub-face edge; its segment has as many or more (a power of two times).
-uint32_t edgeGridSample(const DisplacementLayout& layout, const DisplacementSubface& sf, uint32_t edge, uint32_t along) {
-    const DisplacementEdge& e = sf.edges[edge];
-    const uint32_t R = sf.resolution;
-    uint32_t segment = e.segment, k = along, intervals = R;  // edgeSite, inline
-    if (!(e.flags & kEdgeSplit)) {
-        if (e.flags & kEdgeReversed) k = R - along;
-    } else {
-        intervals = R / 2;
-        if (2 * along > R) segment = e.secondHalf, k = R - along;
-    }
-    const DisplacementSegment& seg = layout.segments[segment];
-    return segmentSample(seg, k * (seg.resolution / intervals));
-}
-
-}  // namespace
-
-uint32_t gridSample(const DisplacementLayout& layout, uint32_t subface, uint32_t i, uint32_t j) {
-    const DisplacementSubface& sf = layout.subfaces[subface];
-    const uint32_t R = sf.resolution;
-    if (i > 0 && i < R && j > 0 && j < R) return sf.interiorOffset + (j - 1) * (R - 1) + (i - 1);
-    // On an edge: the edge's own index and direction (edges 0, 2 along u; 1, 3 along v).
-    uint32_t edge = j == 0 ? 0 : i == R ? 1 : j == R ? 2 : 3;
-    uint32_t along = edge == 0 || edge == 2 ? i : j;
-    if (along == 0) return sf.corners[kEdgeStart[edge]];
-    if (along == R) return sf.corners[kEdgeEnd[edge]];
-    return edgeGridSample(layout, sf, edge, along);
-}
-
-void gridSamples(const DisplacementLayout& layout, uint32_t subface, uint32_t* out) {
-    const DisplacementSubface& sf = layout.subfaces[subface];
-    const uint32_t R = sf.resolution, side = R + 1;
-    for (uint32_t j = 1; j < R; ++j)
-        for (uint32_t i = 1; i < R; ++i) out[j * side + i] = sf.interiorOffset + (j - 1) * (R - 1) + (i - 1);
-    // Corners 0..3 at (0,0) (R,0) (R,R) (0,R); edges 0 and 2 along rows 0 and R, 1 and 3 along
-    // columns R and 0.
-    out[0] = sf.corners[0], out[R] = sf.corners[1], out[R * side + R] = sf.corners[2], out[R * side] = sf.corners[3];
-    for (uint32_t k = 1; k < R; ++k) {
-        out[k] = edgeGridSample(layout, sf, 0, k);
-        out[k * side + R] = edgeGridSample(layout, sf, 1, k);
-        out[R * side + k] = edgeGridSample(layout, sf, 2, k);
-        out[k * side] = edgeGridSample(layout, sf, 3, k);
-    }
-}
-
-DisplacementValue evaluateSegment(const Displacement& d, uint32_t segment, float t) {
-    return segmentValue(d.layout, d.samples, segment, t);
-}
-
-namespace {
-
-// evaluateDisplacement's formula; `G(i, j)` gives grid point (i, j)'s value. Both callers
-// run these same operations, so they get the same bits.
-template <class Grid>
-DisplacementValue evaluateOnGrid(const DisplacementLayout& layout, const std::vector<float>& samples,
-                                 const DisplacementSubface& sf, float u, float v, const Grid& G) {
-    u = std::clamp(u, 0.0f, 1.0f);
-    v = std::clamp(v, 0.0f, 1.0f);
-    const uint32_t R = sf.resolution;
-    const float Rf = float(R);
-    const DisplacementCell cell = displacementCell(R, u, v);
-    const uint32_t i = cell.i, j = cell.j;
-    const float fx = cell.fx, fy = cell.fy;
-    const float g00 = G(i, j), g10 = G(i + 1, j), g01 = G(i, j + 1), g11 = G(i + 1, j + 1);
-
-    DisplacementValue out = bilinearDisplacement(g00, g10, g01, g11, cell, Rf);
-
-    // Boundary strips of edges finer than the grid: (E - L) fading over one cell.
-    auto finer = [&](uint32_t e) { return (sf.edges[e].flags & kEdgeFiner) != 0; };
-    if (j == 0 && finer(0)) {
-        DisplacementValue E = edgeValue(layout, samples, sf.edges[0], u, false);
-        float delta = E.value - lerp(g00, g10, fx), w = 1.0f - fy;
-        out.value += w * delta;
-        out.du += w * (E.du - Rf * (g10 - g00));
-        out.dv -= Rf * delta;
-    }
-    if (j == R - 1 && finer(2)) {
-        DisplacementValue E = edgeValue(layout, samples, sf.edges[2], u, false);
-        float delta = E.value - lerp(g01, g11, fx), w = fy;
-        out.value += w * delta;
-        out.du += w * (E.du - Rf * (g11 - g01));
-        out.dv += Rf * delta;
-    }
-    if (i == 0 && finer(3)) {
-        DisplacementValue E = edgeValue(layout, samples, sf.edges[3], v, false);
-        float delta = E.value - lerp(g00, g01, fy), w = 1.0f - fx;
-        out.value += w * delta;
-        out.dv += w * (E.du - Rf * (g01 - g00));
-        out.du -= Rf * delta;
-    }
-    if (i == R - 1 && finer(1)) {
-        DisplacementValue E = edgeValue(layout, samples, sf.edges[1], v, false);
-        float delta = E.value - lerp(g10, g11, fy), w = fx;
-        out.value += w * delta;
-        out.dv += w * (E.du - Rf * (g11 - g10));
-        out.du += Rf * delta;
-    }
-
-    // On an edge the value comes from the shared edge samples alone.
-    if (v == 0.0f) out.value = edgeValue(layout, samples, sf.edges[0], u, true).value;
-    else if (u == 1.0f) out.value = edgeValue(layout, samples, sf.edges[1], v, true).value;
-    else if (v == 1.0f) out.value = edgeValue(layout, samples, sf.edges[2], u, true).value;
-    else if (u == 0.0f) out.value = edgeValue(layout, samples, sf.edges[3], v, true).value;
-    return out;
-}
-
-}  // namespace
-
-DisplacementValue evaluateDisplacement(const Displacement& d, uint32_t subface, float u, float v) {
-    return evaluateOnGrid(d.layout, d.samples, d.layout.subfaces[subface], u, v,
-                          [&](uint32_t i, uint32_t j) { return d.samples[gridSample(d.layout, subface, i, j)]; });
-}
-
-SubfaceDisplacement::SubfaceDisplacement(const Displacement& d, uint32_t subface, const uint32_t* samples)
-    : displacement_(d), subface_(d.layout.subfaces[subface]), resolution_(subface_.resolution), finer_(0) {
-    for (uint32_t e = 0; e < 4; ++e)
-        if (subface_.edges[e].flags & kEdgeFiner) finer_ |= 1u << e;
-    const uint32_t count = (resolution_ + 1) * (resolution_ + 1);
-    uint32_t gathered[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
-    if (!samples) {
-        gridSamples(d.layout, subface, gathered);
-        samples = gathered;
-    }
-    for (uint32_t k = 0; k < count; ++k) grid_[k] = d.samples[samples[k]];
-}
-
-DisplacementValue SubfaceDisplacement::evaluateNearEdges(float u, float v) const {
-    const uint32_t side = resolution_ + 1;
-    return evaluateOnGrid(displacement_.layout, displacement_.samples, subface_, u, v,
-                          [&](uint32_t i, uint32_t j) { return grid_[j * side + i]; });
-}
-
-std::vector<uint32_t> subfaceResolutions(const DisplacementLayout& layout) {
-    std::vector<uint32_t> out;
-    out.reserve(layout.subfaces.size());
-    for (const DisplacementSubface& sf : layout.subfaces) out.push_back(sf.resolution);
-    return out;
+    return resolution == o.resolution && sampleCount == o.sampleCount && adjacency == o.adjacency &&
+           bytesEqual(tiles, o.tiles) && padded == o.padded && bytesEqual(homes, o.homes);
 }
 
 bool Displacement::operator==(const Displacement& o) const {
@@ -368,73 +127,92 @@ bool Displacement::operator==(const Displacement& o) const {
     return std::all_of(other.begin(), other.end(), [](float m) { return m == 0.0f; });
 }
 
-namespace {
-
-// resampleDisplacement of the samples alone (the mask is resampled by the same code, as the
-// samples of a second displacement on the same layout).
-Displacement resampleSamples(const Displacement& old, std::span<const uint32_t> resolutions) {
-    Displacement out;
-    out.layout = withResolutions(old.layout, resolutions);
-    out.samples.assign(out.layout.sampleCount, 0.0f);
-    std::copy(old.samples.begin(), old.samples.begin() + old.layout.pointCount, out.samples.begin());
-    for (uint32_t s = 0; s < out.layout.segments.size(); ++s) {
-        const DisplacementSegment& from = old.layout.segments[s];
-        const DisplacementSegment& to = out.layout.segments[s];
-        if (from.resolution == to.resolution) {
-            std::copy_n(old.samples.begin() + from.offset, to.resolution - 1, out.samples.begin() + to.offset);
-            continue;
-        }
-        for (uint32_t k = 1; k < to.resolution; ++k)
-            out.samples[to.offset + k - 1] = evaluateSegment(old, s, float(k) / float(to.resolution)).value;
-    }
-    for (uint32_t s = 0; s < out.layout.subfaces.size(); ++s) {
-        const DisplacementSubface& from = old.layout.subfaces[s];
-        const DisplacementSubface& to = out.layout.subfaces[s];
-        const uint32_t R = to.resolution;
-        if (from.resolution == R) {
-            std::copy_n(old.samples.begin() + from.interiorOffset, (R - 1) * (R - 1), out.samples.begin() + to.interiorOffset);
-            continue;
-        }
-        for (uint32_t j = 1; j < R; ++j)
-            for (uint32_t i = 1; i < R; ++i)
-                out.samples[to.interiorOffset + (j - 1) * (R - 1) + (i - 1)] =
-                    evaluateDisplacement(old, s, float(i) / float(R), float(j) / float(R)).value + 0.0f;
-    }
-    return out;
+Displacement makeDisplacement(const Cage& cage, const Topology& topology, uint32_t resolution) {
+    Displacement d;
+    d.layout = buildDisplacementLayout(cage, topology, resolution);
+    d.samples.assign(d.layout.sampleCount, 0.0f);
+    return d;
 }
 
-}  // namespace
+DisplacementValue evaluateDisplacement(const Displacement& d, uint32_t subface, float u, float v) {
+    const DisplacementLayout& layout = d.layout;
+    return evaluateTile(layout.tiles[subface], u, v,
+                        [&](int i, int j) { return d.samples[layout.sampleAt(subface, i, j)]; });
+}
 
-Displacement resampleDisplacement(const Displacement& old, std::span<const uint32_t> resolutions) {
-    Displacement out = resampleSamples(old, resolutions);
-    if (old.mask.size() == old.samples.size() && !old.mask.empty()) {
-        Displacement mask;
-        mask.layout = old.layout;
+SubfaceDisplacement::SubfaceDisplacement(const Displacement& d, uint32_t subface)
+    : displacement_(d), subface_(subface), cells_(d.layout.tiles[subface].cells) {
+    const uint32_t count = (cells_ + 2) * (cells_ + 2);
+    const uint32_t* padded = d.layout.padded.data() + d.layout.tiles[subface].offset;
+    for (uint32_t k = 0; k < count; ++k) block_[k] = d.samples[padded[k]];
+}
+
+DisplacementValue SubfaceDisplacement::evaluate(float u, float v) const {
+    const uint32_t side = cells_ + 2;
+    return evaluateTile(displacement_.layout.tiles[subface_], u, v,
+                        [&](int i, int j) { return block_[uint32_t(j + 1) * side + uint32_t(i + 1)]; });
+}
+
+DisplacementValue SubfaceDisplacement::inside(float u, float v) const {
+    const uint32_t side = cells_ + 2;
+    return splineAt(cells_, u, v, [&](int i, int j) { return block_[uint32_t(j + 1) * side + uint32_t(i + 1)]; });
+}
+
+SampleSite sampleSite(const DisplacementLayout& layout, uint32_t sample) {
+    const SampleHome& home = layout.homes[sample];
+    if (home.corner >= 0) return {home.tile, kCornerU[home.corner], kCornerV[home.corner]};
+    const float n = float(layout.tiles[home.tile].cells);
+    return {home.tile, (float(home.i) + 0.5f) / n, (float(home.j) + 0.5f) / n};
+}
+
+std::vector<float> fitSamples(const DisplacementLayout& layout, const std::function<float(uint32_t, float, float)>& f) {
+    std::vector<float> samples(layout.sampleCount, 0.0f);
+    constexpr float kWeights[3] = {-0.5f, 2.0f, -0.5f};
+    for (uint32_t s = 0; s < layout.sampleCount; ++s) {
+        const SampleSite site = sampleSite(layout, s);
+        if (layout.homes[s].corner >= 0) {
+            samples[s] = f(site.subface, site.u, site.v);
+            continue;
+        }
+        const float h = 0.5f / float(layout.tiles[site.subface].cells);
+        double sum = 0.0;
+        for (int b = 0; b < 3; ++b)
+            for (int a = 0; a < 3; ++a)
+                sum += double(kWeights[a] * kWeights[b]) * f(site.subface, site.u + float(a - 1) * h, site.v + float(b - 1) * h);
+        samples[s] = float(sum);
+    }
+    return samples;
+}
+
+Displacement resampleDisplacement(const Displacement& old, uint32_t resolution) {
+    if (resolution == old.layout.resolution) return old;
+    Displacement out;
+    out.layout = withResolution(old.layout, resolution);
+    out.samples = fitSamples(out.layout, [&](uint32_t s, float u, float v) { return evaluateDisplacement(old, s, u, v).value; });
+    if (old.hasMask()) {
+        Displacement mask = old;
         mask.samples = old.mask;
-        out.mask = std::move(resampleSamples(mask, resolutions).samples);
-        // Interpolation stays within the old values' range; the clamp only guards rounding.
+        out.mask = fitSamples(out.layout, [&](uint32_t s, float u, float v) { return evaluateDisplacement(mask, s, u, v).value; });
         for (float& m : out.mask) m = std::clamp(m, 0.0f, 1.0f) + 0.0f;
     }
     return out;
 }
 
-uint32_t requiredEdgeFactor(const DisplacementLayout& layout, uint32_t subface, uint32_t edge) {
-    const DisplacementEdge& e = layout.subfaces[subface].edges[edge];
-    if (e.flags & kEdgeSplit)
-        return 2 * std::max(layout.segments[e.segment].resolution, layout.segments[e.secondHalf].resolution);
-    const DisplacementSegment& s = layout.segments[e.segment];
-    const bool half = s.pointA < layout.vertexCount && s.pointB >= layout.vertexCount;  // vertex -> midpoint
-    if (!half) return s.resolution;
-    // Half of a split cage edge (n-gon sub-face edges 0 and 3): the other half is the segment
-    // beside it. Both halves take one factor, half the quad side's, as the renderer does.
-    const uint32_t other = e.segment > 0 && layout.segments[e.segment - 1].pointB == s.pointB ? e.segment - 1 : e.segment + 1;
-    return std::max(s.resolution, layout.segments[other].resolution);
+Displacement fitSampleGrids(const DisplacementLayout& layout, const SampleGrids& grids) {
+    Displacement out;
+    out.layout = layout;
+    out.samples = fitSamples(layout, [&](uint32_t s, float u, float v) { return evaluateSampleGrids(grids, s, u, v).value; });
+    if (grids.hasMask()) {
+        SampleGrids mask = grids;
+        mask.samples = grids.mask;
+        out.mask = fitSamples(layout, [&](uint32_t s, float u, float v) { return evaluateSampleGrids(mask, s, u, v).value; });
+        for (float& m : out.mask) m = std::clamp(m, 0.0f, 1.0f) + 0.0f;
+    }
+    return out;
 }
 
 uint32_t requiredTessellationFactor(const DisplacementLayout& layout, uint32_t subface) {
-    uint32_t factor = layout.subfaces[subface].resolution;
-    for (uint32_t e = 0; e < 4; ++e) factor = std::max(factor, requiredEdgeFactor(layout, subface, e));
-    return factor;
+    return layout.tiles[subface].cells;
 }
 
 }  // namespace qp

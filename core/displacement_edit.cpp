@@ -32,8 +32,10 @@ Result<EditReport> DisplacementEdit::apply(bool forward) {
 }
 
 size_t displacementBytes(const Displacement& d) {
-    return (d.samples.capacity() + d.mask.capacity()) * sizeof(float) + d.layout.subfaces.capacity() * sizeof(DisplacementSubface) +
-           d.layout.segments.capacity() * sizeof(DisplacementSegment);
+    return (d.samples.capacity() + d.mask.capacity()) * sizeof(float) + d.layout.tiles.capacity() * sizeof(DisplacementTile) +
+           d.layout.padded.capacity() * sizeof(uint32_t) + d.layout.homes.capacity() * sizeof(SampleHome) +
+           d.layout.adjacency.subfaces.capacity() * sizeof(DisplacementSubface) +
+           d.layout.adjacency.segments.capacity() * sizeof(DisplacementSegment);
 }
 
 Status checkDisplacementResolution(uint32_t resolution) {

@@ -58,7 +58,7 @@ void warnUnknown(const json& object, const std::set<std::string>& known, const s
         if (!known.count(key)) warnings->push_back(source + ": " + path + "." + key + ": unknown field, ignored");
 }
 
-std::string pointName(const DisplacementLayout& layout, size_t id) {
+std::string pointName(const SampleGridLayout& layout, size_t id) {
     if (id < layout.vertexCount) return "cage vertex " + std::to_string(id);
     if (id < layout.vertexCount + layout.edgeCount) return "midpoint of cage edge " + std::to_string(id - layout.vertexCount);
     return "centre of face " + std::to_string(id - layout.vertexCount - layout.edgeCount);
@@ -76,7 +76,7 @@ std::vector<float> readMask(const json& value, size_t sampleCount) {
 }
 
 // `at` prefixes the field paths of warnings (errors get it where they are caught).
-Displacement readVersion1(const json& value, const Cage& cage, const std::string& source,
+SampleGrids readVersion1(const json& value, const Cage& cage, const std::string& source,
                           std::vector<std::string>* warnings, const std::string& at) {
     warnUnknown(value, {"version", "encoding", "subfaces", "points", "segments", "mask"}, at + "displacement", source,
                 warnings);
@@ -90,7 +90,7 @@ Displacement readVersion1(const json& value, const Cage& cage, const std::string
         for (const char* key : {"points", "segments", "mask"})
             if (value.contains(key))
                 fail(std::string("displacement.") + key, "not allowed when \"subfaces\" is empty (no displacement)");
-        return Displacement{};
+        return SampleGrids{};
     }
 
     uint32_t subfaceTotal = 0;
@@ -114,10 +114,10 @@ Displacement readVersion1(const json& value, const Cage& cage, const std::string
         resolutions[s] = uint32_t(resolution);
     }
 
-    Displacement d;
-    d.layout = withResolutions(buildDisplacementLayout(cage, buildTopology(cage), 1), resolutions);
+    SampleGrids d;
+    d.layout = withResolutions(buildSampleGridLayout(cage, buildTopology(cage), 1), resolutions);
     d.samples.assign(d.layout.sampleCount, 0.0f);
-    const DisplacementLayout& layout = d.layout;
+    const SampleGridLayout& layout = d.layout;
 
     auto points = value.find("points");
     if (points == value.end()) fail("displacement.points", "required field is missing");
@@ -152,6 +152,53 @@ Displacement readVersion1(const json& value, const Cage& cage, const std::string
         });
         std::copy(values.begin(), values.end(), d.samples.begin() + layout.subfaces[s].interiorOffset);
     }
+    if (auto mask = value.find("mask"); mask != value.end()) d.mask = readMask(*mask, layout.sampleCount);
+    return d;
+}
+
+
+// The tiles' R that keeps a version 1 displacement's detail: its finest sub-face's resolution in
+// quad cells (an n-gon sub-face spans half a quad side: resolution r there needs R = 2r), at most
+// kMaxDisplacementResolution.
+uint32_t resolutionForGrids(const SampleGrids& grids, const Cage& cage) {
+    uint32_t resolution = minimumDisplacementResolution(cage);
+    const uint32_t centres = grids.layout.vertexCount + grids.layout.edgeCount;
+    for (const DisplacementSubface& sf : grids.layout.subfaces)
+        resolution = std::max(resolution, sf.corners[2] >= centres ? 2 * sf.resolution : sf.resolution);
+    return std::min(resolution, kMaxDisplacementResolution);
+}
+
+Displacement readVersion2(const json& value, const Cage& cage, const std::string& source,
+                          std::vector<std::string>* warnings, const std::string& at) {
+    warnUnknown(value, {"version", "encoding", "resolution", "samples", "mask"}, at + "displacement", source, warnings);
+    if (auto it = value.find("encoding"); it != value.end() && (!it->is_string() || it->get<std::string>() != kEncoding))
+        fail("displacement.encoding", "expected \"" + std::string(kEncoding) + "\", got " + it->dump());
+    auto r = value.find("resolution");
+    if (r == value.end()) fail("displacement.resolution", "required field is missing");
+    const int64_t resolution = readInteger(*r, "displacement.resolution");
+    if (resolution == 0) {
+        for (const char* key : {"samples", "mask"})
+            if (value.contains(key))
+                fail(std::string("displacement.") + key, "not allowed when \"resolution\" is 0 (no displacement)");
+        return Displacement{};
+    }
+    const uint32_t minimum = minimumDisplacementResolution(cage);
+    if (resolution < 1 || resolution > kMaxDisplacementResolution || !isPowerOfTwo(uint32_t(resolution)))
+        fail("displacement.resolution", "resolution " + std::to_string(resolution) + " is not a power of two between 1 and " +
+                                            std::to_string(kMaxDisplacementResolution) + " (or 0 for none)");
+    if (uint32_t(resolution) < minimum)
+        fail("displacement.resolution", "resolution " + std::to_string(resolution) + " is below " + std::to_string(minimum) +
+                                            ", the least a cage with non-quad faces allows (their sub-faces get half)");
+    Displacement d;
+    d.layout = buildDisplacementLayout(cage, buildTopology(cage), uint32_t(resolution));
+    auto samples = value.find("samples");
+    if (samples == value.end()) fail("displacement.samples", "required field is missing");
+    const DisplacementLayout& layout = d.layout;
+    d.samples = readFloats(*samples, "displacement.samples", layout.sampleCount, [&](size_t i) {
+        const SampleHome& home = layout.homes[i];
+        return "sample " + std::to_string(i) + ", cell (" + std::to_string(home.i) + ", " + std::to_string(home.j) +
+               ") of sub-face " + std::to_string(home.tile);
+    });
     if (auto mask = value.find("mask"); mask != value.end()) d.mask = readMask(*mask, layout.sampleCount);
     return d;
 }
@@ -232,7 +279,15 @@ Result<Displacement> readDisplacementJson(const json& value, const Cage& cage, c
                                                faces->dump().substr(0, 60));
             return Displacement{};
         }
-        return readVersion1(value, cage, source, warnings, at);
+        if (v == 2) return readVersion2(value, cage, source, warnings, at);
+        const SampleGrids grids = readVersion1(value, cage, source, warnings, at);
+        if (grids.empty()) return Displacement{};
+        const uint32_t resolution = resolutionForGrids(grids, cage);
+        if (warnings)
+            warnings->push_back(source + ": " + at + "displacement: version 1 (bilinear sample grids) converted to smooth "
+                                "tiles of resolution " + std::to_string(resolution) + " fitted to it; saving writes version " +
+                                std::to_string(kDisplacementVersion));
+        return fitSampleGrids(buildDisplacementLayout(cage, buildTopology(cage), resolution), grids);
     } catch (const FieldError& e) {
         return Error{at + e.field + ": " + e.message};
     }
@@ -242,26 +297,18 @@ bool displacementFitsCage(const Displacement& d, const Cage& cage) {
     if (d.empty()) return true;
     uint32_t subfaces = 0;
     for (uint32_t f = 0; f < cage.faceCount(); ++f) subfaces += subfaceCount(cage.faceSize(f));
-    if (d.layout.subfaces.size() != subfaces || d.samples.size() != d.layout.sampleCount) return false;
-    DisplacementLayout expected = buildDisplacementLayout(cage, buildTopology(cage), 1);
-    return d.layout == withResolutions(expected, subfaceResolutions(d.layout));
+    if (d.layout.tiles.size() != subfaces || d.samples.size() != d.layout.sampleCount) return false;
+    if (d.layout.resolution < minimumDisplacementResolution(cage)) return false;
+    return d.layout == buildDisplacementLayout(cage, buildTopology(cage), d.layout.resolution);
 }
 
 nlohmann::ordered_json displacementJson(const Displacement& d) {
     nlohmann::ordered_json out;
     out["version"] = kDisplacementVersion;
     out["encoding"] = kEncoding;
-    out["subfaces"] = nlohmann::ordered_json::array();
+    out["resolution"] = d.empty() ? 0u : d.layout.resolution;
     if (d.empty()) return out;
-    const DisplacementLayout& layout = d.layout;
-    for (const DisplacementSubface& sf : layout.subfaces) {
-        const size_t count = size_t(sf.resolution - 1) * (sf.resolution - 1);
-        out["subfaces"].push_back(
-            {{"resolution", sf.resolution}, {"interior", encodeFloats(d.samples.data() + sf.interiorOffset, count)}});
-    }
-    out["points"] = encodeFloats(d.samples.data(), layout.pointCount);
-    out["segments"] = encodeFloats(d.samples.data() + layout.segmentSampleBegin(),
-                                   layout.tileSampleBegin() - layout.segmentSampleBegin());
+    out["samples"] = encodeFloats(d.samples.data(), d.samples.size());
     // A mask of zeros masks nothing: it is left out, as an empty one is.
     if (d.mask.size() == d.samples.size() && std::any_of(d.mask.begin(), d.mask.end(), [](float m) { return m != 0.0f; }))
         out["mask"] = encodeFloats(d.mask.data(), d.mask.size());

@@ -1,16 +1,23 @@
 // The scene file's "displacement" object (docs/scene-format.md): reading, with every error
 // naming its JSON field, and writing.
 //
-// Version 1 stores the samples as base64 of their raw little-endian float32 bytes, so a saved
-// displacement loads back bit for bit (docs/displacement.md says why not decimal numbers):
+// Version 2 stores the tiles' samples (displacement.h) as base64 of their raw little-endian
+// float32 bytes, so a saved displacement loads back bit for bit (docs/displacement.md says why
+// not decimal numbers):
+//   {"version": 2, "encoding": "base64-float32-le", "resolution": R,
+//    "samples": "<layout.sampleCount floats in sample order>",
+//    "mask": "<as many floats, each in [0, 1]>"}          optional: absent masks nothing
+// The samples' order follows from the cage and R alone (buildDisplacementLayout). "resolution" 0
+// means no displacement (and then no "samples" or "mask"). A mask of zeros is written as none.
+//
+// Version 1 stored bilinear sample grids (sample_grids.h):
 //   {"version": 1, "encoding": "base64-float32-le",
 //    "subfaces": [{"resolution": R, "interior": "<(R-1)^2 floats>"}, ...],   one per sub-face
-//    "points": "<V + E + F floats>", "segments": "<every segment's interior floats>"}
-// An empty "subfaces" means no displacement (and then no "points", "segments" or "mask").
-// Optional (added within version 1: older readers warn that it is unknown and drop it):
-//   "mask": "<layout.sampleCount floats in sample order, each in [0, 1]>"   the sculpting mask;
-// absent means nothing masked (a mask of zeros is written as no mask).
-// Version 0 was a placeholder ({"version": 0, "faces": []}); it migrates to no displacement.
+//    "points": "<V + E + F floats>", "segments": "<every segment's interior floats>", "mask": ...}
+// It is read, checked as strictly as ever, and CONVERTED: the tiles (at R = the finest sub-face's
+// resolution, counted in quad cells) are fitted to the grids' D and mask, with a warning; the
+// next save writes version 2. Version 0 was a placeholder ({"version": 0, "faces": []}); it
+// migrates to no displacement.
 #pragma once
 
 #include <string>
@@ -24,7 +31,7 @@
 
 namespace qp {
 
-constexpr int kDisplacementVersion = 1;
+constexpr int kDisplacementVersion = 2;
 
 // `value` is the "displacement" object of a scene whose cage is `cage` (validated). Errors read
 // "<field>: <what is wrong>" with field a JSON path such as displacement.subfaces[3].interior,

@@ -17,62 +17,12 @@ namespace qp {
 
 namespace {
 
-// Every sample a sub-face's D reads, with its (u, v) on the sub-face: the grid points, and where
-// an edge is finer than the grid its segments' samples (and a split edge's midpoint).
-template <class F>
-void forEachSubfaceSample(const DisplacementLayout& layout, uint32_t subface, std::vector<uint32_t>& grid, const F& f) {
-    const DisplacementSubface& sf = layout.subfaces[subface];
-    const uint32_t R = sf.resolution, side = R + 1;
-    grid.resize(side * side);
-    gridSamples(layout, subface, grid.data());
-    for (uint32_t j = 0; j <= R; ++j)
-        for (uint32_t i = 0; i <= R; ++i) f(grid[j * side + i], float(i) / float(R), float(j) / float(R));
-    for (uint32_t e = 0; e < 4; ++e) {
-        const DisplacementEdge& edge = sf.edges[e];
-        if (!(edge.flags & kEdgeFiner)) continue;
-        const bool split = edge.flags & kEdgeSplit;
-        for (uint32_t half = 0; half < (split ? 2u : 1u); ++half) {
-            const DisplacementSegment& segment = layout.segments[half ? edge.secondHalf : edge.segment];
-            for (uint32_t k = 1; k < segment.resolution; ++k) {
-                const glm::vec2 uv = edgePoint(e, edgeParameter(edge, half, k, segment.resolution));
-                f(segment.offset + k - 1, uv.x, uv.y);
-            }
-        }
-        if (split) {
-            const glm::vec2 uv = edgePoint(e, 0.5f);
-            f(layout.segments[edge.segment].pointB, uv.x, uv.y);
-        }
-    }
-}
-
 // Whether each sub-face after the edit keeps its limit surface (and so its samples).
 std::vector<bool> keptSubfaces(const PlannedCage& after, const EditReport& report) {
     std::vector<bool> kept(after.subfaceCount(), false);
     for (uint32_t s = 0; s < after.subfaceCount(); ++s) kept[s] = report.previousSubfaceOf[s] != kNewElement;
     for (uint32_t s : report.updatedSubfaceList) kept[s] = false;
     return kept;
-}
-
-// Per sub-face after the edit: kept ones their old resolution, changed ones the finest kept
-// resolution at their corners, or the old displacement's finest.
-std::vector<uint32_t> transferResolutions(const DisplacementLayout& corners, const Displacement& old,
-                                          const std::vector<bool>& kept, const EditReport& report) {
-    uint32_t finest = 1;
-    for (const DisplacementSubface& sf : old.layout.subfaces) finest = std::max(finest, sf.resolution);
-    const uint32_t count = uint32_t(corners.subfaces.size());
-    std::vector<uint32_t> resolutions(count, 0), pointFinest(corners.pointCount, 0);
-    for (uint32_t s = 0; s < count; ++s) {
-        if (!kept[s]) continue;
-        resolutions[s] = old.layout.subfaces[report.previousSubfaceOf[s]].resolution;
-        for (uint32_t p : corners.subfaces[s].corners) pointFinest[p] = std::max(pointFinest[p], resolutions[s]);
-    }
-    for (uint32_t s = 0; s < count; ++s) {
-        if (kept[s]) continue;
-        uint32_t r = 0;
-        for (uint32_t p : corners.subfaces[s].corners) r = std::max(r, pointFinest[p]);
-        resolutions[s] = r ? r : finest;
-    }
-    return resolutions;
 }
 
 // The old sub-faces the changed ones may project onto: those whose surface the edit changed or
@@ -182,71 +132,98 @@ DisplacementTransfer transferDisplacement(const PlannedCage& before, const Displ
     assert(!old.empty() && report.previousSubfaceOf.size() == after.subfaceCount());
     DisplacementTransfer out;
     const std::vector<bool> kept = keptSubfaces(after, report);
-    const DisplacementLayout corners = buildDisplacementLayout(after.cage(), after.topology(), 1);
     Displacement& next = out.displacement;
-    next.layout = withResolutions(corners, transferResolutions(corners, old, kept, report));
-    next.samples.assign(next.layout.sampleCount, 0.0f);
+    next.layout = buildDisplacementLayout(after.cage(), after.topology(), old.layout.resolution);
+    const DisplacementLayout& layout = next.layout;
+    next.samples.assign(layout.sampleCount, 0.0f);
     const bool masked = old.hasMask();
     const Displacement oldMask = masked ? maskAsDisplacement(old) : Displacement{};
-    if (masked) next.mask.assign(next.layout.sampleCount, 0.0f);
+    if (masked) next.mask.assign(layout.sampleCount, 0.0f);
 
-    // Kept sub-faces: every sample they read takes the old D at its place, which at a stored
-    // sample's place is that sample's value exactly (evaluateDisplacement interpolates with
-    // weights 0 and 1 there).
-    std::vector<bool> assigned(next.layout.sampleCount, false);
-    std::vector<uint32_t> grid;
+    // Kept sub-faces: their own cells take the old tile's samples, bit for bit (same cells: the
+    // sub-face and R are the same). A shared corner sample is the same old sample from every
+    // kept tile around it.
+    std::vector<bool> assigned(layout.sampleCount, false);
     for (uint32_t s = 0; s < after.subfaceCount(); ++s) {
         if (!kept[s]) continue;
         ++out.keptSubfaces;
         const uint32_t from = report.previousSubfaceOf[s];
-        forEachSubfaceSample(next.layout, s, grid, [&](uint32_t sample, float u, float v) {
-            next.samples[sample] = evaluateDisplacement(old, from, u, v).value;
-            if (masked) next.mask[sample] = evaluateDisplacement(oldMask, from, u, v).value;
-            assigned[sample] = true;
-        });
+        const int n = int(layout.tiles[s].cells);
+        if (old.layout.tiles[from].cells != uint32_t(n)) continue;  // not met: a kept sub-face keeps its kind
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const uint32_t sample = layout.sampleAt(s, i, j), previous = old.layout.sampleAt(from, i, j);
+                next.samples[sample] = old.samples[previous];
+                if (masked) next.mask[sample] = old.mask[previous];
+                assigned[sample] = true;
+            }
     }
     out.changedSubfaces = after.subfaceCount() - out.keptSubfaces;
     if (out.changedSubfaces == 0) return out;
 
-    // Changed sub-faces: the rest, each at its owner's site, from the old D where the site's
-    // normal line meets the old limit surface.
+    // Changed sub-faces: the samples living there are fitted (fitSamples' quasi-interpolant) to
+    // the old D at the places where the normal lines of the new limit surface meet the old one,
+    // on a grid of half cells per changed tile (each cell's centre, edge midpoints and corners).
     out.reach = changedFaceScale(after, kept);
     // A coarse sampling of the limit surface will do: Newton's refinement finds the surface
     // itself, and the ray casts' triangle tests are most of the transfer's time.
     constexpr uint32_t kPickResolution = 4;
     const DisplacedPicker picker(before, Displacement{}, oldNeighbourhood(before, kept, report), kPickResolution);
-    const std::vector<SampleSite> sites = computeSampleSites(next.layout, after);
-    // The samples to project, by the new sub-face their site is on, in sample order.
-    std::vector<uint32_t> open, groupOffsets(after.subfaceCount() + 1, 0);
-    for (uint32_t i = 0; i < next.layout.sampleCount; ++i)
-        if (!assigned[i] && sites[i].subface != kNoSite) ++groupOffsets[sites[i].subface + 1];
-    for (uint32_t g = 0; g < after.subfaceCount(); ++g) groupOffsets[g + 1] += groupOffsets[g];
-    open.resize(groupOffsets.back());
-    std::vector<uint32_t> fill(groupOffsets.begin(), groupOffsets.end() - 1);
-    for (uint32_t i = 0; i < next.layout.sampleCount; ++i)
-        if (!assigned[i] && sites[i].subface != kNoSite) open[fill[sites[i].subface]++] = i;
-    std::vector<uint8_t> reached(open.size(), 0);
-    tbb::parallel_for(uint32_t(0), after.subfaceCount(), [&](uint32_t group) {
+    std::vector<uint32_t> changed;
+    for (uint32_t s = 0; s < after.subfaceCount(); ++s)
+        if (!kept[s] && after.hasSurface(s)) changed.push_back(s);
+    std::vector<uint32_t> reachedCounts(changed.size(), 0), unreachedCounts(changed.size(), 0);
+    tbb::parallel_for(size_t(0), changed.size(), [&](size_t c) {
+        const uint32_t t = changed[c];
+        const uint32_t n = layout.tiles[t].cells, side = 2 * n + 1;
+        std::vector<std::optional<OldPlace>> places(size_t(side) * side);
         std::optional<OldPlace> previous;
-        for (uint32_t k = groupOffsets[group]; k < groupOffsets[group + 1]; ++k) {
-            const uint32_t i = open[k];
-            const SampleSite& site = sites[i];
-            const LimitSample limit = after.evaluate(site.subface, site.u, site.v);
-            const glm::vec3 normal = limitNormal(after, site.subface, site.u, site.v, limit);
-            std::optional<OldPlace> place =
-                previous ? newtonOnSubface(before, *previous, limit.position, normal, out.reach) : std::nullopt;
-            if (!place)
-                if (const std::optional<DisplacedPicker::Hit> hit = project(picker, before, limit.position, normal, out.reach))
-                    place = OldPlace{hit->subface, hit->u, hit->v};
-            if (!place) continue;
-            previous = place;
-            reached[k] = 1;
-            next.samples[i] = evaluateDisplacement(old, place->subface, place->u, place->v).value + 0.0f;
-            if (masked)
-                next.mask[i] = std::clamp(evaluateDisplacement(oldMask, place->subface, place->u, place->v).value, 0.0f, 1.0f);
-        }
+        for (uint32_t b = 0; b < side; ++b)
+            for (uint32_t a = 0; a < side; ++a) {
+                const float u = float(a) / float(2 * n), v = float(b) / float(2 * n);
+                const LimitSample limit = after.evaluate(t, u, v);
+                const glm::vec3 normal = limitNormal(after, t, u, v, limit);
+                std::optional<OldPlace> place =
+                    previous ? newtonOnSubface(before, *previous, limit.position, normal, out.reach) : std::nullopt;
+                if (!place)
+                    if (const std::optional<DisplacedPicker::Hit> hit = project(picker, before, limit.position, normal, out.reach))
+                        place = OldPlace{hit->subface, hit->u, hit->v};
+                if (place) previous = place;
+                places[b * side + a] = place;
+            }
+        auto valueAt = [&](const Displacement& d, uint32_t a, uint32_t b) {
+            const std::optional<OldPlace>& place = places[b * side + a];
+            return place ? evaluateDisplacement(d, place->subface, place->u, place->v).value : 0.0f;
+        };
+        constexpr float kWeights[3] = {-0.5f, 2.0f, -0.5f};
+        auto fit = [&](const Displacement& d, const SampleHome& home) {
+            if (home.corner >= 0) return valueAt(d, kCornerU[home.corner] * 2 * n, kCornerV[home.corner] * 2 * n);
+            const uint32_t ca = 2 * uint32_t(home.i) + 1, cb = 2 * uint32_t(home.j) + 1;
+            float sum = 0.0f;
+            for (int y = 0; y < 3; ++y)
+                for (int x = 0; x < 3; ++x) sum += kWeights[x] * kWeights[y] * valueAt(d, ca + x - 1, cb + y - 1);
+            return sum;
+        };
+        for (uint32_t j = 0; j < n; ++j)
+            for (uint32_t i = 0; i < n; ++i) {
+                const uint32_t sample = layout.sampleAt(t, int(i), int(j));
+                const SampleHome& home = layout.homes[sample];
+                // Each sample once: from the tile it lives in, at its own cell or shared corner.
+                if (assigned[sample] || home.tile != t) continue;
+                if (home.corner < 0 && (home.i != int(i) || home.j != int(j))) continue;
+                const bool corner = home.corner >= 0;
+                const bool reached = corner ? places[size_t(kCornerV[home.corner] * 2 * n) * side +
+                                                     size_t(kCornerU[home.corner] * 2 * n)].has_value()
+                                            : places[size_t(2 * j + 1) * side + 2 * i + 1].has_value();
+                ++(reached ? reachedCounts[c] : unreachedCounts[c]);
+                next.samples[sample] = fit(old, home) + 0.0f;
+                if (masked) next.mask[sample] = std::clamp(fit(oldMask, home), 0.0f, 1.0f) + 0.0f;
+            }
     });
-    for (uint8_t r : reached) r ? ++out.projectedSamples : ++out.unreachedSamples;
+    for (size_t c = 0; c < changed.size(); ++c) {
+        out.projectedSamples += reachedCounts[c];
+        out.unreachedSamples += unreachedCounts[c];
+    }
     return out;
 }
 

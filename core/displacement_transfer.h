@@ -1,22 +1,21 @@
 // Carrying sculpted displacement across a topology edit (issue 19 part 3; docs/displacement.md,
 // "Topology edits"). The samples follow the sub-faces, so an edit that adds, removes or rewires
-// faces needs a displacement for the new cage. What the user sculpted must survive it:
+// faces needs a displacement for the new cage (same R). What the user sculpted must survive it:
 //
 //   - KEPT sub-faces, those whose limit surface the edit leaves alone (they map to a sub-face
-//     before the edit and the edit report does not list them as updated), keep their resolution
-//     and every sample they read, bit for bit: their D is the same function as before.
+//     before the edit and the edit report does not list them as updated), keep the samples of
+//     their own cells bit for bit. Their D is the same function as before except within a cell
+//     of an edge to a changed neighbour, whose overlap samples are the neighbour's.
 //   - CHANGED sub-faces (new, rewired, or with a changed 1-ring) take the old D by projection:
-//     at each new sample's limit point p with unit normal N, the nearest point where the line
-//     p + t N meets the old limit surface (within reach: half the changed faces' mean edge
-//     length, about the most an edit moves the limit surface) gives the place whose old D (and
-//     mask) the sample takes. So the sculpted relief stays where it was on the surface, riding on
-//     the limit surface the edit made (which is what the edit shows without sculpt too); where
-//     nothing was sculpted D stays exactly 0. A sample with no old surface in reach (a face
-//     filling a hole) gets 0.
-//   - Resolutions: a changed sub-face takes the finest of the kept sub-faces at its corners (the
-//     displacement's finest where none is kept), so a uniform resolution stays uniform.
-// Samples on the border between kept and changed sub-faces belong to the kept side (they are
-// shared), so the new displacement is as seamless as the old. The mask is carried the same way.
+//     at each point of a half-cell grid over the tile, the limit point p with unit normal N,
+//     the nearest point where the line p + t N meets the old limit surface (within reach: half
+//     the changed faces' mean edge length, about the most an edit moves the limit surface) gives
+//     the place whose old D (and mask) the point takes; the tile's samples are fitted to those
+//     values (fitSamples' quasi-interpolant). So the sculpted relief stays where it was on the
+//     surface, riding on the limit surface the edit made (which is what the edit shows without
+//     sculpt too); where nothing was sculpted D stays exactly 0. A point with no old surface in
+//     reach (a face filling a hole) counts 0.
+// The mask is carried the same way.
 #pragma once
 
 #include <cstdint>

@@ -5,47 +5,25 @@
 
 namespace qp {
 
-namespace {
-
-// CSR from (key, value) pairs, values per key sorted and unique.
-void buildCsr(uint32_t keys, std::vector<std::pair<uint32_t, uint32_t>>& pairs, std::vector<uint32_t>& offsets,
-              std::vector<uint32_t>& values) {
+DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout) {
+    // (sample, tile) for every padded coefficient, made unique.
+    std::vector<uint64_t> pairs;
+    pairs.reserve(layout.padded.size());
+    for (uint32_t t = 0; t < layout.tiles.size(); ++t) {
+        const DisplacementTile& tile = layout.tiles[t];
+        const uint32_t count = (tile.cells + 2) * (tile.cells + 2);
+        for (uint32_t k = 0; k < count; ++k) pairs.push_back(uint64_t(layout.padded[tile.offset + k]) << 32 | t);
+    }
     std::sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    offsets.assign(keys + 1, 0);
-    for (const auto& [key, value] : pairs) ++offsets[key + 1];
-    for (uint32_t k = 0; k < keys; ++k) offsets[k + 1] += offsets[k];
-    values.resize(pairs.size());
-    for (size_t i = 0; i < pairs.size(); ++i) values[i] = pairs[i].second;
-}
-
-}  // namespace
-
-DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout) {
-    std::vector<std::pair<uint32_t, uint32_t>> points, segments;
-    for (uint32_t s = 0; s < layout.subfaces.size(); ++s) {
-        const DisplacementSubface& sf = layout.subfaces[s];
-        for (uint32_t c = 0; c < 4; ++c) points.push_back({sf.corners[c], s});
-        for (const DisplacementEdge& e : sf.edges)
-            for (uint32_t segment : {e.segment, e.secondHalf}) {
-                if (segment == kNoSegment) continue;
-                segments.push_back({segment, s});
-                points.push_back({layout.segments[segment].pointA, s});
-                points.push_back({layout.segments[segment].pointB, s});
-            }
-    }
     DisplacementUsers users;
-    buildCsr(layout.pointCount, points, users.pointOffsets, users.pointSubfaces);
-    buildCsr(uint32_t(layout.segments.size()), segments, users.segmentOffsets, users.segmentSubfaces);
-    users.holder.resize(layout.sampleCount - layout.pointCount);
-    for (uint32_t g = 0; g < layout.segments.size(); ++g) {
-        const DisplacementSegment& s = layout.segments[g];
-        std::fill_n(users.holder.begin() + (s.offset - layout.pointCount), s.resolution - 1, g);
+    users.offsets.assign(size_t(layout.sampleCount) + 1, 0);
+    users.subfaces.reserve(pairs.size());
+    for (uint64_t p : pairs) {
+        ++users.offsets[(p >> 32) + 1];
+        users.subfaces.push_back(uint32_t(p));
     }
-    for (uint32_t f = 0; f < layout.subfaces.size(); ++f) {
-        const DisplacementSubface& sf = layout.subfaces[f];
-        std::fill_n(users.holder.begin() + (sf.interiorOffset - layout.pointCount), (sf.resolution - 1) * (sf.resolution - 1), f);
-    }
+    for (size_t s = 0; s < layout.sampleCount; ++s) users.offsets[s + 1] += users.offsets[s];
     return users;
 }
 
@@ -56,16 +34,11 @@ template <class ForEachSample>
 std::vector<uint32_t> subfacesReading(const DisplacementLayout& layout, const DisplacementUsers& users,
                                       const ForEachSample& forEachSample) {
     // A bitmap of sub-faces: sorted and unique for free.
-    std::vector<uint64_t> reading((layout.subfaces.size() + 63) / 64, 0);
-    auto mark = [&](uint32_t subface) { reading[subface / 64] |= uint64_t(1) << (subface % 64); };
-    auto markAll = [&](const std::vector<uint32_t>& offsets, const std::vector<uint32_t>& values, uint32_t key) {
-        for (uint32_t k = offsets[key]; k < offsets[key + 1]; ++k) mark(values[k]);
-    };
-    const uint32_t segmentBegin = layout.segmentSampleBegin(), tileBegin = layout.tileSampleBegin();
+    std::vector<uint64_t> reading((layout.tiles.size() + 63) / 64, 0);
     forEachSample([&](uint32_t sample) {
-        if (sample < segmentBegin) markAll(users.pointOffsets, users.pointSubfaces, sample);
-        else if (sample < tileBegin) markAll(users.segmentOffsets, users.segmentSubfaces, users.holder[sample - segmentBegin]);
-        else if (sample < layout.sampleCount) mark(users.holder[sample - segmentBegin]);
+        if (sample >= layout.sampleCount) return;
+        for (uint32_t k = users.offsets[sample]; k < users.offsets[sample + 1]; ++k)
+            reading[users.subfaces[k] / 64] |= uint64_t(1) << (users.subfaces[k] % 64);
     });
     std::vector<uint32_t> out;
     for (uint32_t word = 0; word < reading.size(); ++word)
@@ -84,7 +57,7 @@ std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, c
 
 std::vector<uint32_t> subfacesReadingSamples(const DisplacementLayout& layout, const DisplacementUsers& users,
                                              const SampleBits& samples) {
-    // In sample order: the holder table is read in sequence.
+    // In sample order: the CSR is read in sequence.
     return subfacesReading(layout, users, [&](const auto& visit) { samples.forEach(visit); });
 }
 

@@ -1,11 +1,9 @@
 // Which sub-faces read a displacement sample: what a renderer re-evaluates after a brush dab
 // changed samples in place (docs/displacement.md, "How a renderer integrates it").
 //
-// A sub-face's D (evaluateDisplacement) reads its tile, its corner points and every sample of
-// the segments on its edges (all of them where an edge is finer than its grid), including the
-// end points of those segments (the midpoint of a split quad edge is such a point without being
-// a corner). Tile samples have one reader; segment samples the sub-faces on both sides; points
-// every sub-face around them.
+// A sub-face's D reads its padded block: its own cells and the overlap around them. A sample is
+// read by the tile it lives in and by every tile that shows it in its overlap (the neighbours
+// across the edges next to it, and at a corner the tiles around that corner).
 #pragma once
 
 #include <bit>
@@ -18,10 +16,7 @@
 namespace qp {
 
 struct DisplacementUsers {
-    std::vector<uint32_t> pointOffsets, pointSubfaces;      // CSR: point -> sub-faces
-    std::vector<uint32_t> segmentOffsets, segmentSubfaces;  // CSR: segment -> sub-faces
-    // Per sample past the points: its segment, or for a tile sample its sub-face.
-    std::vector<uint32_t> holder;
+    std::vector<uint32_t> offsets, subfaces;  // CSR: sample -> the sub-faces reading it, ascending
 };
 DisplacementUsers buildDisplacementUsers(const DisplacementLayout& layout);
 

@@ -33,7 +33,7 @@ inline float squaredDistanceToBox(const glm::vec3& p, const glm::vec3& lo, const
 
 }  // namespace
 
-BoundaryOwners computeBoundaryOwners(const DisplacementLayout& layout, const PlannedCage& planned) {
+BoundaryOwners computeBoundaryOwners(const SampleGridLayout& layout, const PlannedCage& planned) {
     BoundaryOwners owners;
     owners.points.assign(layout.pointCount, PointOwner{});
     owners.segments.assign(layout.segments.size(), SegmentOwner{});
@@ -53,32 +53,22 @@ BoundaryOwners computeBoundaryOwners(const DisplacementLayout& layout, const Pla
     return owners;
 }
 
-glm::vec2 SegmentOwner::uv(const DisplacementLayout& layout, uint32_t k, uint32_t m) const {
+glm::vec2 SegmentOwner::uv(const SampleGridLayout& layout, uint32_t k, uint32_t m) const {
     return edgePoint(edge, edgeParameter(layout.subfaces[subface].edges[edge], half, k, m));
 }
 
 std::vector<SampleSite> computeSampleSites(const DisplacementLayout& layout, const PlannedCage& planned) {
     std::vector<SampleSite> sites(layout.sampleCount);
-    BoundaryOwners owners = computeBoundaryOwners(layout, planned);
-    for (uint32_t p = 0; p < layout.pointCount; ++p)
-        if (const PointOwner& o = owners.points[p]; o.subface != kNoSite)
-            sites[p] = {o.subface, kCornerU[o.corner], kCornerV[o.corner]};
-    for (uint32_t seg = 0; seg < layout.segments.size(); ++seg) {
-        const SegmentOwner& o = owners.segments[seg];
-        if (o.subface == kNoSite) continue;
-        const DisplacementSegment& segment = layout.segments[seg];
-        for (uint32_t k = 1; k < segment.resolution; ++k) {
-            glm::vec2 uv = o.uv(layout, k, segment.resolution);
-            sites[segment.offset + k - 1] = {o.subface, uv.x, uv.y};
+    for (uint32_t s = 0; s < layout.sampleCount; ++s)
+        if (layout.homes[s].corner < 0 && planned.hasSurface(layout.homes[s].tile)) sites[s] = sampleSite(layout, s);
+    // Shared corner samples: the first tile around the corner with a surface.
+    for (uint32_t t = 0; t < layout.tiles.size(); ++t) {
+        if (!planned.hasSurface(t)) continue;
+        const int last = int(layout.tiles[t].cells) - 1;
+        for (uint32_t k = 0; k < 4; ++k) {
+            const uint32_t s = layout.sampleAt(t, kCornerU[k] == 0.0f ? 0 : last, kCornerV[k] == 0.0f ? 0 : last);
+            if (layout.homes[s].corner >= 0 && sites[s].subface == kNoSite) sites[s] = {t, kCornerU[k], kCornerV[k]};
         }
-    }
-    for (uint32_t s = 0; s < layout.subfaces.size(); ++s) {
-        if (!planned.hasSurface(s)) continue;
-        const DisplacementSubface& sf = layout.subfaces[s];
-        const uint32_t R = sf.resolution;
-        for (uint32_t j = 1; j < R; ++j)
-            for (uint32_t i = 1; i < R; ++i)
-                sites[sf.interiorOffset + (j - 1) * (R - 1) + (i - 1)] = {s, float(i) / float(R), float(j) / float(R)};
     }
     return sites;
 }
@@ -128,7 +118,7 @@ SculptSamples SculptSamples::build(const PlannedCage& planned, const Displacemen
     out.positions_.assign(count, glm::vec3(0.0f));
     out.normals_.assign(count, glm::vec3(0.0f));
 
-    const uint32_t subfaces = uint32_t(layout.subfaces.size());
+    const uint32_t subfaces = uint32_t(layout.tiles.size());
     out.subfaceSampleOffsets_.assign(subfaces + 1, 0);
     for (const SampleSite& site : out.sites_)
         if (site.subface != kNoSite) ++out.subfaceSampleOffsets_[site.subface + 1];
@@ -143,35 +133,20 @@ SculptSamples SculptSamples::build(const PlannedCage& planned, const Displacemen
         }
     out.evaluateSites(planned, sited);
 
-    // The sample graph, from sub-faces with a surface only.
+    // The sample graph: neighbouring cells of the padded blocks of tiles with a surface.
     std::vector<uint64_t> pairs;
-    size_t links = 0;
-    for (const DisplacementSubface& sf : layout.subfaces) links += 2 * size_t(sf.resolution) * (sf.resolution + 1);
-    pairs.reserve(links + 2 * (layout.tileSampleBegin() - layout.segmentSampleBegin() + layout.segments.size()));
+    pairs.reserve(2 * size_t(layout.padded.size()));
     auto link = [&](uint32_t a, uint32_t b) {
         if (a != b) pairs.push_back(uint64_t(std::min(a, b)) << 32 | std::max(a, b));
     };
     for (uint32_t s = 0; s < subfaces; ++s) {
         if (!planned.hasSurface(s)) continue;
-        const DisplacementSubface& sf = layout.subfaces[s];
-        const uint32_t R = sf.resolution;
-        auto finer = [&](uint32_t e) { return (sf.edges[e].flags & kEdgeFiner) != 0; };
-        for (uint32_t j = 0; j <= R; ++j)
-            for (uint32_t i = 0; i < R; ++i)
-                if (!((j == 0 && finer(0)) || (j == R && finer(2))))
-                    link(gridSample(layout, s, i, j), gridSample(layout, s, i + 1, j));
-        for (uint32_t i = 0; i <= R; ++i)
-            for (uint32_t j = 0; j < R; ++j)
-                if (!((i == 0 && finer(3)) || (i == R && finer(1))))
-                    link(gridSample(layout, s, i, j), gridSample(layout, s, i, j + 1));
-        for (const DisplacementEdge& edge : sf.edges) {
-            if (!(edge.flags & kEdgeFiner)) continue;
-            for (uint32_t seg : {edge.segment, edge.secondHalf}) {
-                if (seg == kNoSegment) continue;
-                const DisplacementSegment& segment = layout.segments[seg];
-                for (uint32_t k = 0; k < segment.resolution; ++k) link(segmentSample(segment, k), segmentSample(segment, k + 1));
+        const int n = int(layout.tiles[s].cells);
+        for (int j = 0; j < n; ++j)
+            for (int i = -1; i < n; ++i) {
+                link(layout.sampleAt(s, i, j), layout.sampleAt(s, i + 1, j));
+                link(layout.sampleAt(s, j, i), layout.sampleAt(s, j, i + 1));
             }
-        }
     }
     tbb::parallel_sort(pairs.begin(), pairs.end());
     pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());

@@ -1,11 +1,13 @@
 // SculptSamples: where every displacement sample lies on the limit surface, for brushes.
 //
-// Each sample has a site (sub-face, u, v): a tile sample on its own sub-face, a point or
-// segment sample on its owner, the lowest-numbered sub-face with a surface that uses it (a
-// sample that no such sub-face uses — inside a hole, say — has no site and is never brushed).
+// Each sample has a site (sub-face, u, v): the centre of its home cell, or for a sample shared
+// around an irregular corner that corner on the lowest-numbered tile around it with a surface (a
+// sample whose tile has no surface — inside a hole — has no site and is never brushed). The
+// brushes treat a sample's value as D at its site: a tile reproduces linear functions exactly,
+// and a coefficient differs from D at its site by the curvature of the coefficients around it.
 // The cache holds each site's limit position and unit normal, a uniform-grid spatial index
-// over the positions for sphere queries, and the sample graph (grid neighbours within each
-// sub-face plus consecutive samples along each segment, shared across faces) for smoothing.
+// over the positions for sphere queries, and the sample graph (the four neighbours of each cell
+// in its padded block, which crosses edges into the neighbours) for smoothing.
 //
 // After moving cage vertices, refresh() re-evaluates the samples sited on the sub-faces whose
 // limit changed (subfacesAffectedByVertices); the index is rebuilt only once samples have
@@ -36,13 +38,6 @@
 
 namespace qp {
 
-constexpr uint32_t kNoSite = UINT32_MAX;
-
-struct SampleSite {
-    uint32_t subface = kNoSite;
-    float u = 0.0f, v = 0.0f;
-};
-
 // Who evaluates each boundary point and segment: the lowest-numbered sub-face with a surface
 // that has it (kNoSite when none). Positions on shared boundaries are evaluated by the owner
 // only, so every face sharing them gets the same bits (as the renderer does).
@@ -55,13 +50,13 @@ struct SegmentOwner {
     uint32_t edge = 0;
     uint32_t half = 0;  // 1: the owner's edge is split and this is its second half
     // (u, v) on the owner of canonical point k of m intervals on the segment.
-    glm::vec2 uv(const DisplacementLayout& layout, uint32_t k, uint32_t m) const;
+    glm::vec2 uv(const SampleGridLayout& layout, uint32_t k, uint32_t m) const;
 };
 struct BoundaryOwners {
     std::vector<PointOwner> points;      // by point id
     std::vector<SegmentOwner> segments;  // by segment
 };
-BoundaryOwners computeBoundaryOwners(const DisplacementLayout& layout, const PlannedCage& planned);
+BoundaryOwners computeBoundaryOwners(const SampleGridLayout& layout, const PlannedCage& planned);
 
 // Sites of every sample of `layout` (which must belong to planned's cage).
 std::vector<SampleSite> computeSampleSites(const DisplacementLayout& layout, const PlannedCage& planned);
