@@ -171,7 +171,7 @@ int runSculpt(const SculptArgs& args) {
     if (displacement.empty())
         displacement = makeDisplacement(object.cage, planned->topology(), args.resolution ? args.resolution : kDefaultResolution);
     else if (args.resolution)
-        displacement = resampleDisplacement(displacement, std::vector<uint32_t>(displacement.layout.subfaces.size(), args.resolution));
+        displacement = resampleDisplacement(displacement, args.resolution);
 
     SculptSamples samples = SculptSamples::build(*planned, displacement.layout);
     Sculptor sculptor(displacement, samples);
@@ -236,7 +236,7 @@ void registerSculpt(CLI::App& app, int& exitCode) {
     cmd->add_option("--mirror", args->mirror, "Mirror across the x, y or z plane through the model centre (default none)");
     cmd->add_option("--spacing", args->spacing, "Distance between dabs along the path (default: a quarter of the radius)");
     cmd->add_option("--resolution", args->resolution,
-                    "Resample every sub-face to this power-of-two resolution first (default: keep; 8 for a new displacement)");
+                    "Resample the displacement to this power-of-two resolution first: cells along a quad side (default: keep; 8 for a new displacement)");
     cmd->add_option("--png", args->png, "Also render the displaced surface to this PNG (CPU mesh, lit, 768x768)");
     cmd->add_flag("--validate", args->validate, "With --png: Vulkan validation layers on; any message fails");
     addPlanDatabaseOption(cmd, args->planDb);

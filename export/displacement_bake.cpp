@@ -189,8 +189,8 @@ Result<BakedMaps> bakeDisplacement(const PlannedCage& planned, const Displacemen
         return Error{"the map size must be 16 to 16384 texels, got " + std::to_string(options.size)};
     if (options.uv == UvMode::None) return Error{"baking needs UVs: linear or smooth"};
     if (displacement.empty()) return Error{source + ": there is no sculpted displacement to bake"};
-    if (displacement.layout.subfaces.size() != planned.subfaceCount() ||
-        displacement.layout.vertexCount != planned.cage().vertexCount())
+    if (displacement.layout.tiles.size() != planned.subfaceCount() ||
+        displacement.layout.adjacency.vertexCount != planned.cage().vertexCount())
         return Error{source + ": the displacement does not belong to this cage"};
     Result<CageUvs> uvs = CageUvs::create(planned, options.uv, source);
     if (!uvs) return Error{"cannot bake: " + uvs.error().message};

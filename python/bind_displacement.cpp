@@ -30,9 +30,9 @@ void bindSceneDisplacement(SceneClass& scene) {
 (0: a quarter of the radius) change the displacement samples whose limit positions lie within the
 radius. brush: raise, lower, smooth, flatten, erase, inflate, crease, mask or unmask; strength: raise/lower/inflate/crease height per dab in
 radii, the others a blend in [0, 1]. A scene without displacement first gets a zero one at
-`resolution` per sub-face (its own history entry). One undo takes the stroke back.)doc")
+`resolution` cells per quad side (its own history entry). One undo takes the stroke back.)doc")
         .def("set_displacement_resolution", [](Document& d, uint32_t r) { return unwrap(d.setDisplacementResolution(r)); },
-             py::arg("resolution"), "Resamples the displacement (or creates a zero one) at this power-of-two resolution per sub-face.")
+             py::arg("resolution"), "Resamples the displacement (or creates a zero one) at this power-of-two resolution R (cells along a quad side; at least 2 on cages with non-quads).")
         .def("clear_displacement", [](Document& d) { return unwrap(d.clearDisplacement()); },
              "Removes the displacement (undoable).")
         .def("invert_mask", [](Document& d) { return unwrap(d.invertMask()); },
@@ -48,9 +48,9 @@ radii, the others a blend in [0, 1]. A scene without displacement first gets a z
         .def_property_readonly("displacement_samples", [](const Document& d) {
                                    const auto& s = d.displacement().samples;
                                    return py::array_t<float>(py::ssize_t(s.size()), s.data());
-                               }, "Every displacement sample (a copy; empty without displacement): docs/displacement.md.")
-        .def_property_readonly("displacement_resolutions", [](const Document& d) { return subfaceResolutions(d.displacement().layout); },
-                               "Resolution of each sub-face's displacement grid.")
+                               }, "Every displacement sample: the tiles' B-spline coefficients, each stored once (a copy; empty without displacement): docs/displacement.md.")
+        .def_property_readonly("displacement_resolution", [](const Document& d) { return d.displacement().resolution(); },
+                               "R, the displacement tiles' cells along a quad's side (an n-gon's sub-faces have R / 2); 0 without displacement.")
         .def("evaluate_displacement",
              [](const Document& d, const py::object& subfaces, const py::object& u, const py::object& v) {
                  if (d.displacement().empty()) throw ScriptError("the scene has no displacement");

@@ -521,8 +521,7 @@ Result<EditOutcome> SceneDocument::setDisplacementResolution(uint32_t resolution
     if (Status ok = checkDisplacementResolution(resolution); !ok) return ok.error();
     if (active().displacement.empty())
         return replaceDisplacement("New displacement", makeDisplacement(cage(), activeCage().topology(), resolution));
-    const std::vector<uint32_t> resolutions(active().displacement.layout.subfaces.size(), resolution);
-    return replaceDisplacement("Displacement resolution", resampleDisplacement(active().displacement, resolutions));
+    return replaceDisplacement("Displacement resolution", resampleDisplacement(active().displacement, resolution));
 }
 
 Result<EditOutcome> SceneDocument::clearDisplacement() {

@@ -127,9 +127,8 @@ Result<EditReport> setDisplacementResolution(Document& doc, uint32_t resolution,
     if (d.empty())
         return replaceDisplacement(doc, "New displacement",
                                    makeDisplacement(doc.planned->cage(), doc.planned->topology(), resolution), frame);
-    const std::vector<uint32_t> resolutions(d.layout.subfaces.size(), resolution);
     return replaceDisplacement(doc, "Displacement resolution " + std::to_string(resolution),
-                               resampleDisplacement(d, resolutions), frame);
+                               resampleDisplacement(d, resolution), frame);
 }
 
 Result<EditReport> clearDisplacement(Document& doc, uint64_t frame) {

@@ -81,9 +81,7 @@ void sculptSection(EditorApp& app) {
     if (d.empty()) {
         ImGui::TextDisabled("No displacement yet: the first stroke makes one.");
     } else {
-        uint32_t lo = UINT32_MAX, hi = 0;
-        for (const DisplacementSubface& t : d.layout.subfaces) lo = std::min(lo, t.resolution), hi = std::max(hi, t.resolution);
-        ImGui::Text("%zu samples, tiles %u..%u", d.samples.size(), lo, hi);
+        ImGui::Text("%zu samples, %u cells per quad side", d.samples.size(), d.resolution());
     }
     if (!app.renderer.views.empty() && app.renderer.views[0].updatedSamples > 0)
         ImGui::Text("Last update: %u samples, %.2f ms", app.renderer.views[0].updatedSamples, app.renderer.views[0].displacementMs);
