@@ -172,8 +172,8 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
         // A partial update lists its sub-faces twice at most (phase 1, then phase 2).
         {b.updateList, createFilled(ctx, std::vector<uint32_t>(2 * d.subfaces.size() + 4), VK_BUFFER_USAGE_TRANSFER_DST_BIT)},
         // No displacement until setPlanDisplacement: placeholders smaller than one record.
-        {b.displacementSubfaces, createFilled(ctx, std::vector<uint32_t>{})},
-        {b.displacementSegments, createFilled(ctx, std::vector<uint32_t>{})},
+        {b.displacementTiles, createFilled(ctx, std::vector<uint32_t>{})},
+        {b.displacementPadded, createFilled(ctx, std::vector<uint32_t>{})},
         {b.displacementSamples, createFilled(ctx, std::vector<uint32_t>{})},
     };
     b.drawnOfSubface.assign(planned.subfaceCount(), UINT32_MAX);
@@ -205,7 +205,7 @@ void destroyPlanBuffers(const VulkanContext& ctx, PlanBuffers& b) {
     for (Buffer* buffer : {&b.planHeaders, &b.nodes, &b.points, &b.weights, &b.subfaces, &b.rings, &b.positions,
                            &b.controlPoints, &b.boundaries, &b.segments, &b.boundaryPoints, &b.pointPositions, &b.capture,
                            &b.subfaceGrid, &b.grid, &b.gridSource, &b.slotSubface, &b.gridIndices, &b.updateList,
-                           &b.displacementSubfaces, &b.displacementSegments, &b.displacementSamples})
+                           &b.displacementTiles, &b.displacementPadded, &b.displacementSamples})
         destroyBuffer(ctx, *buffer);
     b = PlanBuffers{};
 }
@@ -245,7 +245,7 @@ void bindPlanBuffers(const VulkanContext& ctx, PlanPass& pass, const PlanBuffers
                                           &b.rings,       &b.positions,  &b.controlPoints, &b.grid,       &b.boundaries,
                                           &b.segments,    &b.boundaryPoints, &b.subfaceGrid, &b.pointPositions,
                                           &b.capture,     &b.updateList, &b.gridSource,   &b.slotSubface,
-                                          &b.displacementSubfaces, &b.displacementSegments, &b.displacementSamples};
+                                          &b.displacementTiles, &b.displacementPadded, &b.displacementSamples};
     VkDescriptorBufferInfo infos[kPlanBindingCount];
     VkWriteDescriptorSet writes[kPlanBindingCount];
     for (uint32_t i = 0; i < kPlanBindingCount; ++i) {
@@ -604,24 +604,24 @@ MoveUpdate recordSubfaceRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanB
 Status setPlanDisplacement(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
                            const Displacement* displacement) {
     if (displacement && displacement->empty()) displacement = nullptr;
-    if (displacement && displacement->layout.subfaces.size() != buffers.drawnOfSubface.size() &&
+    if (displacement && displacement->layout.tiles.size() != buffers.drawnOfSubface.size() &&
         !buffers.drawnOfSubface.empty())
-        return Error{"the displacement does not match the cage (" + std::to_string(displacement->layout.subfaces.size()) +
+        return Error{"the displacement does not match the cage (" + std::to_string(displacement->layout.tiles.size()) +
                      " sub-faces, the cage has " + std::to_string(buffers.drawnOfSubface.size()) + ")"};
     const std::vector<uint32_t> none;
-    Result<Buffer> subfaces = displacement ? createFilled(ctx, displacement->layout.subfaces) : createFilled(ctx, none);
-    Result<Buffer> segments = displacement ? createFilled(ctx, displacement->layout.segments) : createFilled(ctx, none);
+    Result<Buffer> tiles = displacement ? createFilled(ctx, displacement->layout.tiles) : createFilled(ctx, none);
+    Result<Buffer> padded = displacement ? createFilled(ctx, displacement->layout.padded) : createFilled(ctx, none);
     Result<Buffer> samples = displacement ? createFilled(ctx, displacement->samples) : createFilled(ctx, none);
-    if (!subfaces || !segments || !samples) {
-        for (Result<Buffer>* r : {&subfaces, &segments, &samples})
+    if (!tiles || !padded || !samples) {
+        for (Result<Buffer>* r : {&tiles, &padded, &samples})
             if (*r) destroyBuffer(ctx, **r);
-        return !subfaces ? subfaces.error() : !segments ? segments.error() : samples.error();
+        return !tiles ? tiles.error() : !padded ? padded.error() : samples.error();
     }
-    destroyBuffer(ctx, buffers.displacementSubfaces);
-    destroyBuffer(ctx, buffers.displacementSegments);
+    destroyBuffer(ctx, buffers.displacementTiles);
+    destroyBuffer(ctx, buffers.displacementPadded);
     destroyBuffer(ctx, buffers.displacementSamples);
-    buffers.displacementSubfaces = *subfaces;
-    buffers.displacementSegments = *segments;
+    buffers.displacementTiles = *tiles;
+    buffers.displacementPadded = *padded;
     buffers.displacementSamples = *samples;
     buffers.displacement = displacement;
     buffers.displacementUsers = displacement ? buildDisplacementUsers(displacement->layout) : DisplacementUsers{};

@@ -87,9 +87,10 @@ struct PlanBuffers {
     std::vector<uint32_t> pendingGridSubfaces;
     GridFactors displacementScreen;  // the last screen caps of displaced tiles (kept while close enough)
 
-    // Sculpted displacement (setPlanDisplacement): DisplacementLayout's subfaces and segments
-    // and the samples; 16-byte placeholders (no sub-face record) when there is none.
-    Buffer displacementSubfaces, displacementSegments, displacementSamples;
+    // Sculpted displacement (setPlanDisplacement): DisplacementLayout's tiles and padded blocks
+    // and the samples; 16-byte placeholders (shorter than any padded block: the shaders'
+    // hasDisplacement) when there is none.
+    Buffer displacementTiles, displacementPadded, displacementSamples;
     const Displacement* displacement = nullptr;  // what the buffers hold; null: none
     GridFrames gridFrames;                       // CPU grid with displacement: frames of evaluated slots
     DisplacementUsers displacementUsers;         // which sub-faces read each sample

@@ -97,7 +97,7 @@ public:
 
     Status setDisplacement(const Displacement* displacement) override {
         displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
-        if (displacement_ && displacement_->layout.subfaces.size() != planned_->subfaceCount())
+        if (displacement_ && displacement_->layout.tiles.size() != planned_->subfaceCount())
             return Error{"plans: the displacement does not match the cage's sub-faces"};
         return haveBuffers_ ? setPlanDisplacement(*ctx_, pass_, buffers_, displacement_) : success();
     }
@@ -272,7 +272,7 @@ public:
                                     &buffers_.boundaries, &buffers_.segments, &buffers_.boundaryPoints,
                                     &buffers_.pointPositions, &buffers_.subfaceGrid, &buffers_.grid,
                                     &buffers_.gridSource, &buffers_.slotSubface, &buffers_.gridIndices,
-                                    &buffers_.displacementSubfaces, &buffers_.displacementSegments,
+                                    &buffers_.displacementTiles, &buffers_.displacementPadded,
                                     &buffers_.displacementSamples})
                 stats.gpuBytes += b->size;
         }

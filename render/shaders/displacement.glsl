@@ -1,32 +1,25 @@
 // Sculpted displacement on the GPU: the GLSL twin of core/displacement.cpp's
 // evaluateDisplacement and displacePoint (docs/displacement.md; keep them in step). The three
-// buffers are DisplacementLayout's subfaces and segments and Displacement::samples; a cage
-// without displacement binds 16-byte placeholders, which hold no sub-face record.
+// buffers are DisplacementLayout's tiles and padded blocks and Displacement::samples: per
+// sub-face a bi-quadratic uniform B-spline over n x n cells whose (n + 2)^2 coefficients are
+// padded[offset ..] (sample indices, row-major, i fastest) into the samples. A cage without
+// displacement binds 16-byte placeholders: a padded block has at least 9 entries (36 bytes),
+// so a placeholder holds none.
 // Include after plan_eval.glsl.
 #extension GL_EXT_control_flow_attributes : require
 
-struct DispEdge {
-    uint segment;
-    uint secondHalf;
-    uint flags;  // 1 reversed, 2 split at a midpoint, 4 finer than the sub-face's grid
+struct DispTile {
+    uint cells;      // n cells per side
+    uint offset;     // dispPadded[offset + (j + 1)(n + 2) + (i + 1)]: coefficient (i, j)'s sample
+    uint edgeFlags;  // bits 4e..4e+3: edge e's flags (1 reversed, 2 split at a midpoint)
     uint unused;
 };
-struct DispSubface {
-    uint resolution;
-    uint interiorOffset;
-    uint unused0, unused1;
-    uint corners[4];
-    DispEdge edges[4];
-};
-struct DispSegment {
-    uint pointA, pointB, resolution, offset;
-};
 
-layout(std430, set = 0, binding = 18) readonly buffer DispSubfaces { DispSubface dispSubfaces[]; };
-layout(std430, set = 0, binding = 19) readonly buffer DispSegments { DispSegment dispSegments[]; };
+layout(std430, set = 0, binding = 18) readonly buffer DispTiles { DispTile dispTiles[]; };
+layout(std430, set = 0, binding = 19) readonly buffer DispPadded { uint dispPadded[]; };
 layout(std430, set = 0, binding = 20) readonly buffer DispSamples { float dispSamples[]; };
 
-const uint DISP_REVERSED = 1u, DISP_SPLIT = 2u, DISP_FINER = 4u;
+const uint DISP_REVERSED = 1u, DISP_SPLIT = 2u;
 const float DISP_SNAP = 16384.0;  // edge parameters snap to multiples of 2^-14
 
 // The pipelines drawn without displacement compile their stages with QP_UNDISPLACED
@@ -35,120 +28,117 @@ const float DISP_SNAP = 16384.0;  // edge parameters snap to multiples of 2^-14
 #ifdef QP_UNDISPLACED
 bool hasDisplacement() { return false; }
 #else
-bool hasDisplacement() { return dispSubfaces.length() > 0; }
+bool hasDisplacement() { return dispPadded.length() > 4; }
 #endif
 
-uint dispSegmentSample(DispSegment s, uint k) {
-    return k == 0u ? s.pointA : (k == s.resolution ? s.pointB : s.offset + k - 1u);
+// Coefficient (i, j), -1 <= i, j <= n, of a tile.
+float dispCoefficient(DispTile tile, int i, int j) {
+    return dispSamples[dispPadded[tile.offset + uint(j + 1) * (tile.cells + 2u) + uint(i + 1)]];
 }
 
-// Value and d/dt of a segment at canonical t; on a sample, the sample's bits.
-vec2 dispSegmentValue(uint segment, float t) {
-    DispSegment s = dispSegments[segment];
-    float x = clamp(t, 0.0, 1.0) * float(s.resolution);
-    uint k = min(uint(x), s.resolution - 1u);
-    float f = x - float(k);
-    float a = dispSamples[dispSegmentSample(s, k)], b = dispSamples[dispSegmentSample(s, k + 1u)];
-    precise float value = f == 0.0 ? a : (f == 1.0 ? b : (1.0 - f) * a + f * b);
-    return vec2(value, float(s.resolution) * (b - a));
+// Padded (i, j) of the strip along tile edge e (core stripCell): row 0 is the tile's own cell
+// next to the edge, row 1 the overlap across it; `along` in the edge's own direction.
+ivec2 dispStripCell(uint e, int n, int along, int row) {
+    int inner = row == 0 ? 0 : -1, outer = row == 0 ? n - 1 : n;
+    if (e == 0u) return ivec2(along, inner);
+    if (e == 1u) return ivec2(outer, along);
+    if (e == 2u) return ivec2(along, outer);
+    return ivec2(inner, along);
 }
 
-float dispSnap(float t, bool snap) { return snap ? round(t * DISP_SNAP) / DISP_SNAP : t; }
+// std::round for t in [0, 1] (half away from zero, whatever the device's round() does with
+// halves), then back to the 2^-14 grid: core's snapped().
+float dispSnap(float t) {
+    precise float x = clamp(t, 0.0, 1.0) * DISP_SNAP;
+    precise float r = floor(x);
+    if (x - r >= 0.5) r += 1.0;
+    return r / DISP_SNAP;
+}
 
-// Edge function of a sub-face edge at its own parameter t: (value, dE/dt).
-vec2 dispEdgeValue(DispEdge e, float t, bool snap) {
-    if ((e.flags & DISP_SPLIT) == 0u) {
-        bool reversed = (e.flags & DISP_REVERSED) != 0u;
-        precise float tc = reversed ? 1.0 - t : t;
-        vec2 v = dispSegmentValue(e.segment, dispSnap(tc, snap));
-        return reversed ? vec2(v.x, -v.y) : v;
+// D on tile edge e at its own parameter t (core evaluateDisplacement on an edge): the same bits
+// from both tiles that have the point. Pair sums (own + overlap) weighted in the edge segment's
+// canonical direction at the snapped canonical parameter; at a knot crossing the mean of the
+// four coefficients meeting there, added sorted. `precise` keeps the device from fusing
+// multiply-adds: core's build does not (no FMA in its flags), so both sides and the CPU agree.
+float dispEdgeValue(DispTile tile, uint e, float t) {
+    int n = int(tile.cells);
+    uint flags = (tile.edgeFlags >> (4u * e)) & 15u;
+    bool split = (flags & DISP_SPLIT) != 0u;
+    bool secondHalf = split && t > 0.5;
+    int cells = split ? n / 2 : n;
+    bool reversed = split ? secondHalf : (flags & DISP_REVERSED) != 0u;
+    precise float local = split ? (secondHalf ? 2.0 * (1.0 - t) : 2.0 * t) : t;
+    precise float canonicalT = reversed && !split ? 1.0 - local : local;
+    precise float x = dispSnap(canonicalT) * float(cells);
+    precise float fk = floor(x);
+    int k = int(fk);
+    // Canonical cell index -> the edge's own (core's ownAlong).
+    int flip = secondHalf ? n - 1 : (reversed ? cells - 1 : -1);
+    if (x == fk) {
+        float four[4];
+        [[unroll]] for (int r = 0; r < 2; ++r)
+            [[unroll]] for (int side = 0; side < 2; ++side) {
+                int c = k - 1 + side;
+                ivec2 ij = dispStripCell(e, n, flip < 0 ? c : flip - c, r);
+                four[2 * r + side] = dispCoefficient(tile, ij.x, ij.y);
+            }
+        // Sorted ascending as std::sort sorts (the sign of a zero cannot change the sum).
+        float a = min(four[0], four[1]), b = max(four[0], four[1]);
+        float c = min(four[2], four[3]), d = max(four[2], four[3]);
+        float lo = min(a, c), hi = max(b, d);
+        float m0 = max(a, c), m1 = min(b, d);
+        float mid0 = min(m0, m1), mid1 = max(m0, m1);
+        precise float mean = 0.25 * ((lo + mid0) + (mid1 + hi));
+        return mean;
     }
-    if (t <= 0.5) {
-        precise float tc = 2.0 * t;
-        vec2 v = dispSegmentValue(e.segment, dispSnap(tc, snap));
-        return vec2(v.x, 2.0 * v.y);
+    precise float f = x - fk;
+    precise float g = 1.0 - f;
+    precise float w0 = 0.5 * g * g;
+    precise float w1 = 0.5 + f * g;
+    precise float w2 = 0.5 * f * f;
+    float pair[3];
+    [[unroll]] for (int b = 0; b < 3; ++b) {
+        int c = k - 1 + b;
+        int along = flip < 0 ? c : flip - c;
+        ivec2 own = dispStripCell(e, n, along, 0), over = dispStripCell(e, n, along, 1);
+        pair[b] = dispCoefficient(tile, own.x, own.y) + dispCoefficient(tile, over.x, over.y);
     }
-    precise float tc = 2.0 * (1.0 - t);
-    vec2 v = dispSegmentValue(e.secondHalf, dispSnap(tc, snap));
-    return vec2(v.x, -2.0 * v.y);
+    precise float value = 0.0;
+    value += w0 * (0.5 * pair[0]);
+    value += w1 * (0.5 * pair[1]);
+    value += w2 * (0.5 * pair[2]);
+    return value;
 }
 
-// Sample index of grid point (i, j) of a sub-face (core gridSample).
-uint dispGridSample(uint subface, uint i, uint j) {
-    DispSubface sf = dispSubfaces[subface];
-    uint R = sf.resolution;
-    if (i > 0u && i < R && j > 0u && j < R) return sf.interiorOffset + (j - 1u) * (R - 1u) + (i - 1u);
-    uint edge = j == 0u ? 0u : (i == R ? 1u : (j == R ? 2u : 3u));
-    uint along = edge == 0u || edge == 2u ? i : j;
-    const uint edgeStart[4] = uint[4](0u, 1u, 3u, 0u), edgeEnd[4] = uint[4](1u, 2u, 2u, 3u);
-    if (along == 0u) return sf.corners[edgeStart[edge]];
-    if (along == R) return sf.corners[edgeEnd[edge]];
-    DispEdge e = sf.edges[edge];
-    uint segment = e.segment, k = along, intervals = R;  // edgeSite
-    if ((e.flags & DISP_SPLIT) == 0u) {
-        if ((e.flags & DISP_REVERSED) != 0u) k = R - along;
-    } else {
-        intervals = R / 2u;
-        if (2u * along > R) {
-            segment = e.secondHalf;
-            k = R - along;
-        }
-    }
-    DispSegment s = dispSegments[segment];
-    return dispSegmentSample(s, k * (s.resolution / intervals));
-}
-
-// D(u, v) of a sub-face and its derivatives: (D, dD/du, dD/dv).
+// D(u, v) of a sub-face and its derivatives: (D, dD/du, dD/dv) (core evaluateDisplacement).
+// Inside, the tile's span: the 3 x 3 coefficients around the point with the quadratic B-spline
+// weights {g^2 / 2, 1/2 + f g, f^2 / 2} and their derivatives {-g, 1 - 2f, f}.
 vec3 evaluateDisplacement(uint subface, vec2 uv) {
-    DispSubface sf = dispSubfaces[subface];
+    DispTile tile = dispTiles[subface];
     float u = clamp(uv.x, 0.0, 1.0), v = clamp(uv.y, 0.0, 1.0);
-    uint R = sf.resolution;
-    float Rf = float(R);
-    float x = u * Rf, y = v * Rf;
-    uint i = min(uint(x), R - 1u), j = min(uint(y), R - 1u);
-    float fx = x - float(i), fy = y - float(j);
-    float g00 = dispSamples[dispGridSample(subface, i, j)], g10 = dispSamples[dispGridSample(subface, i + 1u, j)];
-    float g01 = dispSamples[dispGridSample(subface, i, j + 1u)], g11 = dispSamples[dispGridSample(subface, i + 1u, j + 1u)];
-    float value = mix(mix(g00, g10, fx), mix(g01, g11, fx), fy);
-    float du = Rf * mix(g10 - g00, g11 - g01, fy);
-    float dv = Rf * mix(g01 - g00, g11 - g10, fx);
-
-    // Boundary strips of edges finer than the grid: (E - L) fading over one cell.
-    if (j == 0u && (sf.edges[0].flags & DISP_FINER) != 0u) {
-        vec2 E = dispEdgeValue(sf.edges[0], u, false);
-        float delta = E.x - mix(g00, g10, fx), w = 1.0 - fy;
-        value += w * delta;
-        du += w * (E.y - Rf * (g10 - g00));
-        dv -= Rf * delta;
+    uint n = tile.cells;
+    float nf = float(n);
+    float x = u * nf, y = v * nf;
+    uint i = min(uint(x), n - 1u), j = min(uint(y), n - 1u);
+    float fu = x - float(i), gu = 1.0 - fu, fv = y - float(j), gv = 1.0 - fv;
+    vec3 wu = vec3(0.5 * gu * gu, 0.5 + fu * gu, 0.5 * fu * fu), du = vec3(-gu, 1.0 - 2.0 * fu, fu);
+    vec3 wv = vec3(0.5 * gv * gv, 0.5 + fv * gv, 0.5 * fv * fv), dv = vec3(-gv, 1.0 - 2.0 * fv, fv);
+    // Span (i, j) reads cells i-1..i+1 x j-1..j+1: padded columns i..i+2, rows j..j+2.
+    uint base = tile.offset + j * (n + 2u) + i;
+    vec3 d = vec3(0.0);
+    [[unroll]] for (uint b = 0u; b < 3u; ++b) {
+        uint row = base + b * (n + 2u);
+        vec3 c = vec3(dispSamples[dispPadded[row]], dispSamples[dispPadded[row + 1u]], dispSamples[dispPadded[row + 2u]]);
+        float along = dot(wu, c), slope = dot(du, c);
+        d += vec3(wv[b] * along, wv[b] * slope, dv[b] * along);
     }
-    if (j == R - 1u && (sf.edges[2].flags & DISP_FINER) != 0u) {
-        vec2 E = dispEdgeValue(sf.edges[2], u, false);
-        float delta = E.x - mix(g01, g11, fx), w = fy;
-        value += w * delta;
-        du += w * (E.y - Rf * (g11 - g01));
-        dv += Rf * delta;
-    }
-    if (i == 0u && (sf.edges[3].flags & DISP_FINER) != 0u) {
-        vec2 E = dispEdgeValue(sf.edges[3], v, false);
-        float delta = E.x - mix(g00, g01, fy), w = 1.0 - fx;
-        value += w * delta;
-        dv += w * (E.y - Rf * (g01 - g00));
-        du -= Rf * delta;
-    }
-    if (i == R - 1u && (sf.edges[1].flags & DISP_FINER) != 0u) {
-        vec2 E = dispEdgeValue(sf.edges[1], v, false);
-        float delta = E.x - mix(g10, g11, fy), w = fx;
-        value += w * delta;
-        dv += w * (E.y - Rf * (g11 - g10));
-        du += Rf * delta;
-    }
-
-    // On an edge the value comes from the shared edge samples alone.
-    if (v == 0.0) value = dispEdgeValue(sf.edges[0], u, true).x;
-    else if (u == 1.0) value = dispEdgeValue(sf.edges[1], v, true).x;
-    else if (v == 1.0) value = dispEdgeValue(sf.edges[2], u, true).x;
-    else if (u == 0.0) value = dispEdgeValue(sf.edges[3], v, true).x;
-    return vec3(value, du, dv);
+    d.yz *= nf;
+    // On an edge the value has the bits both tiles there compute.
+    if (v == 0.0) d.x = dispEdgeValue(tile, 0u, u);
+    else if (u == 1.0) d.x = dispEdgeValue(tile, 1u, v);
+    else if (v == 1.0) d.x = dispEdgeValue(tile, 2u, u);
+    else if (u == 0.0) d.x = dispEdgeValue(tile, 3u, v);
+    return d;
 }
 
 // The limit sample of drawn sub-face `drawn` at uv and the unit normal to shade and displace
