@@ -5,6 +5,7 @@
 #include <cassert>
 #include <cmath>
 #include <cstring>
+#include <optional>
 
 #include <glm/geometric.hpp>
 #if defined(__SSE2__)
@@ -77,10 +78,10 @@ struct Output {
 // ---- displacing slots from their frames ------------------------------------------------
 // s + D N along the frame's unit normal (unitNormalOf) with displacePoint's shading normal,
 // four consecutive slots of a row at once: their frame components are consecutive
-// (GridFrames), so with SSE each operation runs on four lanes, and so does D's bilinear
-// interpolant. Each lane performs the IEEE operations of displacePoint, unitNormalOf and
-// bilinearDisplacement in their order (no fused multiply-add: the build does not enable FMA),
-// so the bits are those of the scalar functions, which builds without SSE use.
+// (GridFrames), so with SSE each operation runs on four lanes, and so does D inside the
+// sub-face (insideFour). Each lane performs the IEEE operations of displacePoint and
+// unitNormalOf in their order (no fused multiply-add: the build does not enable FMA), so the
+// bits are those of the scalar functions, which builds without SSE use.
 constexpr uint32_t kLanes = 4;
 static_assert(sizeof(GridVertex) == 6 * sizeof(float));
 
@@ -151,75 +152,132 @@ void displaceFour(const float* frame, uint32_t stride, const float* value, const
 #endif
 }
 
-// bilinearDisplacement at four points of one cell row (row j of the grid, at fy): lane k in
-// cell column i[k] at fx[k].
-void bilinearFour(const float* grid, uint32_t R, uint32_t j, float fy, const uint32_t* i, const float* fx, float* value,
-                  float* du, float* dv) {
-    const float* row0 = grid + j * (R + 1);
-    const float* row1 = row0 + R + 1;
+// ---- D at the grid's slots -------------------------------------------------------------
+// A tile's bi-quadratic B-spline (core evaluateDisplacement; keep in step) is a tensor
+// product: each padded row r of the block, combined along u at a grid column x, gives the
+// `along` (and `slope`, its u derivative) that every grid row in a span reading r uses. So
+// they are computed once per (row, column) and a slot combines three of them along v, four
+// consecutive slots of a row at once (their columns are consecutive). The operations and their
+// order are the evaluator's (no fused multiply-add: the build does not enable FMA), so inside
+// the sub-face the values are SubfaceDisplacement::inside's bit for bit; on its border the
+// evaluator itself gives them (the edge rule that makes both sides agree).
+
+// The span of a tile of `cells` cells at t in [0, 1] and its quadratic B-spline weights
+// {g^2 / 2, 1/2 + f g, f^2 / 2} with their derivatives {-g, 1 - 2f, f}.
+void spanAt(float t, uint32_t cells, uint32_t& span, float* w, float* d) {
+    const float x = t * float(cells);
+    span = std::min(uint32_t(x), cells - 1);
+    const float f = x - float(span), g = 1.0f - f;
+    w[0] = 0.5f * g * g;
+    w[1] = 0.5f + f * g;
+    w[2] = 0.5f * f * f;
+    d[0] = -g;
+    d[1] = 1.0f - 2.0f * f;
+    d[2] = f;
+}
+
+constexpr uint32_t kRow = kMaxGridFactor + kLanes;  // a grid row padded to whole lanes
+constexpr uint32_t kMaxWidth = kMaxDisplacementResolution + 2;
+
+// D at four consecutive slots of a grid row: `along` and `slope` point at the rows j, j + 1,
+// j + 2 of the block combined at those columns; wv, dv the row's weights.
+void insideFour(const float* const* along, const float* const* slope, const float* wv, const float* dv, float cells,
+                float* value, float* du, float* dvOut) {
 #if defined(__SSE2__)
-    const __m128 g00 = _mm_setr_ps(row0[i[0]], row0[i[1]], row0[i[2]], row0[i[3]]);
-    const __m128 g10 = _mm_setr_ps(row0[i[0] + 1], row0[i[1] + 1], row0[i[2] + 1], row0[i[3] + 1]);
-    const __m128 g01 = _mm_setr_ps(row1[i[0]], row1[i[1]], row1[i[2]], row1[i[3]]);
-    const __m128 g11 = _mm_setr_ps(row1[i[0] + 1], row1[i[1] + 1], row1[i[2] + 1], row1[i[3] + 1]);
-    const __m128 one = _mm_set1_ps(1.0f), x = _mm_loadu_ps(fx), y = _mm_set1_ps(fy), r = _mm_set1_ps(float(R));
-    auto lerp = [&](__m128 a, __m128 b, __m128 f) {  // displacementLerp: (1 - f) a + f b
-        return _mm_add_ps(_mm_mul_ps(_mm_sub_ps(one, f), a), _mm_mul_ps(f, b));
-    };
-    _mm_storeu_ps(value, lerp(lerp(g00, g10, x), lerp(g01, g11, x), y));
-    _mm_storeu_ps(du, _mm_mul_ps(r, lerp(_mm_sub_ps(g10, g00), _mm_sub_ps(g11, g01), y)));
-    _mm_storeu_ps(dv, _mm_mul_ps(r, lerp(_mm_sub_ps(g01, g00), _mm_sub_ps(g11, g10), x)));
+    __m128 v = _mm_setzero_ps(), u = _mm_setzero_ps(), d = _mm_setzero_ps();
+    for (int b = 0; b < 3; ++b) {
+        const __m128 a = _mm_loadu_ps(along[b]), s = _mm_loadu_ps(slope[b]);
+        const __m128 w = _mm_set1_ps(wv[b]), dw = _mm_set1_ps(dv[b]);
+        v = _mm_add_ps(v, _mm_mul_ps(w, a));
+        u = _mm_add_ps(u, _mm_mul_ps(w, s));
+        d = _mm_add_ps(d, _mm_mul_ps(dw, a));
+    }
+    const __m128 n = _mm_set1_ps(cells);
+    _mm_storeu_ps(value, v);
+    _mm_storeu_ps(du, _mm_mul_ps(u, n));
+    _mm_storeu_ps(dvOut, _mm_mul_ps(d, n));
 #else
     for (uint32_t k = 0; k < kLanes; ++k) {
-        const DisplacementValue d =
-            bilinearDisplacement(row0[i[k]], row0[i[k] + 1], row1[i[k]], row1[i[k] + 1], {i[k], j, fx[k], fy}, float(R));
-        value[k] = d.value, du[k] = d.du, dv[k] = d.dv;
+        float v = 0.0f, u = 0.0f, d = 0.0f;
+        for (int b = 0; b < 3; ++b) {
+            v += wv[b] * along[b][k];
+            u += wv[b] * slope[b][k];
+            d += dv[b] * along[b][k];
+        }
+        value[k] = v, du[k] = u * cells, dvOut[k] = d * cells;
     }
 #endif
 }
 
 // Displaces the evaluated slots of drawn sub-face `drawn` from its frames (its GridFrames
-// block): all of them, or with `cells` (R x R flags of its displacement grid) those in a
-// flagged cell, the cell evaluateDisplacement reads at the slot. `samples`: its gridSamples
-// if at hand. Returns how many.
+// block): all of them, or with `spans` (cells x cells flags of its tile) those in a flagged
+// span, the span whose 3 x 3 coefficients evaluateDisplacement reads at the slot (on the
+// border too: the edge rule reads the own row and the overlap within them). Returns how many.
 uint32_t displaceSlots(const GpuPlanData& data, const GridLayout& layout, uint32_t drawn, const Displacement& displacement,
-                       const bool* cells, const uint32_t* samples, const float* frames, GridVertex* grid) {
+                       const bool* spans, const float* frames, GridVertex* grid) {
     const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
     const uint32_t first = layout.subfaceOffset[drawn], side = n + 1, stride = side * side;
-    const SubfaceDisplacement D(displacement, subface, samples);
-    const uint32_t R = D.resolution();
-    // Per column (and row) k: (u, v) as slotParameter computes them, where in the displacement
-    // grid evaluateDisplacement finds them (displacementCell splits into u and v), and whether
-    // D is the bilinear interpolant there. Padded to whole lanes (cell 0, not bilinear).
-    constexpr uint32_t kRow = kMaxGridFactor + kLanes;
-    float at[kRow] = {}, fraction[kRow] = {};
-    uint32_t cell[kRow] = {};
-    bool bilinear[kRow] = {}, take[kRow] = {};
+    const DisplacementTile& tile = displacement.layout.tiles[subface];
+    const uint32_t cells = tile.cells, width = cells + 2;
+    // The border's slots go through the evaluator, gathered when first needed.
+    std::optional<SubfaceDisplacement> border;
+    // Per column (and row) k: (u, v) as slotParameter computes them, the span and its weights.
+    float at[kRow] = {}, w[3][kRow] = {}, dw[3][kRow] = {};
+    uint32_t span[kRow] = {};
+    bool take[kRow] = {};
     for (uint32_t k = 0; k <= n; ++k) {
         at[k] = float(k) / float(n);
-        const DisplacementCell c = displacementCell(R, at[k], at[k]);
-        cell[k] = c.i, fraction[k] = c.fx;
-        bilinear[k] = D.isBilinearAlongU(c.i, at[k]);
+        float wk[3], dk[3];
+        spanAt(at[k], cells, span[k], wk, dk);
+        for (int b = 0; b < 3; ++b) w[b][k] = wk[b], dw[b][k] = dk[b];
     }
+    // The block's rows combined along u at every column, when a grid row first reads them.
+    float along[kMaxWidth][kRow], slope[kMaxWidth][kRow];
+    bool ready[kMaxWidth] = {};
+    const uint32_t* padded = displacement.layout.padded.data() + tile.offset;
+    const float* samples = displacement.samples.data();
+    auto prepare = [&](uint32_t r) {
+        if (ready[r]) return;
+        ready[r] = true;
+        float c[kMaxWidth];
+        for (uint32_t i = 0; i < width; ++i) c[i] = samples[padded[r * width + i]];
+        for (uint32_t x = 0; x <= n; ++x) {
+            const float* s = c + span[x];
+            along[r][x] = w[0][x] * s[0] + w[1][x] * s[1] + w[2][x] * s[2];
+            slope[r][x] = dw[0][x] * s[0] + dw[1][x] * s[1] + dw[2][x] * s[2];
+        }
+        for (uint32_t x = n + 1; x < n + kLanes; ++x) along[r][x] = slope[r][x] = 0.0f;
+    };
     alignas(16) float value[kRow] = {}, du[kRow] = {}, dv[kRow] = {};
     uint32_t count = 0;
     for (uint32_t y = 0; y <= n; ++y) {
-        const bool* cellRow = cells ? cells + cell[y] * R : nullptr;
+        const bool* spanRow = spans ? spans + span[y] * cells : nullptr;
         const uint32_t row = first + y * side;
         uint32_t taken = 0;
         for (uint32_t x = 0; x <= n; ++x) {
-            take[x] = layout.source[row + x] == row + x && (!cellRow || cellRow[cell[x]]);
+            take[x] = layout.source[row + x] == row + x && (!spanRow || spanRow[span[x]]);
             taken += take[x];
         }
         if (taken == 0) continue;
         count += taken;
-        const bool rowBilinear = D.isBilinearAlongV(cell[y], at[y]);
+        const bool borderRow = y == 0 || y == n;
+        const uint32_t j = span[y];
+        const float* alongRows[3] = {along[j], along[j + 1], along[j + 2]};
+        const float* slopeRows[3] = {slope[j], slope[j + 1], slope[j + 2]};
+        if (!borderRow)
+            for (uint32_t r = j; r < j + 3; ++r) prepare(r);
+        const float wv[3] = {w[0][y], w[1][y], w[2][y]}, dvw[3] = {dw[0][y], dw[1][y], dw[2][y]};
         for (uint32_t x0 = 0; x0 <= n; x0 += kLanes) {
             if (!(take[x0] || take[x0 + 1] || take[x0 + 2] || take[x0 + 3])) continue;
-            if (rowBilinear) bilinearFour(D.grid(), R, cell[y], fraction[y], cell + x0, fraction + x0, value + x0, du + x0, dv + x0);
+            if (!borderRow) {
+                const float* a[3] = {alongRows[0] + x0, alongRows[1] + x0, alongRows[2] + x0};
+                const float* s[3] = {slopeRows[0] + x0, slopeRows[1] + x0, slopeRows[2] + x0};
+                insideFour(a, s, wv, dvw, float(cells), value + x0, du + x0, dv + x0);
+            }
             for (uint32_t x = x0; x < x0 + kLanes; ++x) {
-                if (!take[x] || (rowBilinear && bilinear[x])) continue;
-                const DisplacementValue d = D.evaluate(at[x], at[y]);
+                if (!take[x] || !(borderRow || x == 0 || x == n)) continue;
+                if (!border) border.emplace(displacement, subface);
+                const DisplacementValue d = border->evaluate(at[x], at[y]);
                 value[x] = d.value, du[x] = d.du, dv[x] = d.dv;
             }
             displaceFour(frames + y * side + x0, stride, value + x0, du + x0, dv + x0, take + x0, grid + row + x0);
@@ -227,7 +285,6 @@ uint32_t displaceSlots(const GpuPlanData& data, const GridLayout& layout, uint32
     }
     return count;
 }
-
 bool isSingleBicubic(const Plan& plan) {
     return plan.nodes.size() == 1 && (plan.nodes[0].kind == NodeKind::Regular || plan.nodes[0].kind == NodeKind::Crease);
 }
@@ -328,7 +385,7 @@ void evaluatePhase(const PlannedCage& planned, const GpuPlanData& data, const Gr
             }
         }
         if (out.displacement)
-            displaceSlots(data, layout, drawn, *out.displacement, nullptr, nullptr, out.frames->block(layout, drawn), out.grid);
+            displaceSlots(data, layout, drawn, *out.displacement, nullptr, out.frames->block(layout, drawn), out.grid);
     });
 }
 
@@ -368,41 +425,33 @@ void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data,
 
 namespace {
 
-// Cells (i, j), 0 <= i, j < R, of a sub-face's displacement grid whose D reads a changed
-// sample (evaluateDisplacement): one of its four corners, or, in the row of cells along an
-// edge finer than the grid, a sample of that edge's segments. `samples`: its gridSamples.
-// Returns whether any cell is.
-bool markChangedCells(const DisplacementLayout& layout, uint32_t subface, const uint32_t* samples, const SampleBits& changed,
-                      bool* cells) {
-    const DisplacementSubface& sf = layout.subfaces[subface];
-    const uint32_t R = sf.resolution, side = R + 1;
-    bool point[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
-    for (uint32_t k = 0; k < side * side; ++k) point[k] = changed.contains(samples[k]);
-    bool anyCell = false;
-    for (uint32_t j = 0; j < R; ++j)
-        for (uint32_t i = 0; i < R; ++i) {
-            cells[j * R + i] = point[j * side + i] || point[j * side + i + 1] || point[(j + 1) * side + i] ||
-                               point[(j + 1) * side + i + 1];
-            anyCell = anyCell || cells[j * R + i];
-        }
-    for (uint32_t e = 0; e < 4; ++e) {
-        const DisplacementEdge& edge = sf.edges[e];
-        if (!(edge.flags & kEdgeFiner)) continue;
-        bool any = false;
-        for (uint32_t segment : {edge.segment, edge.secondHalf}) {
-            if (segment == kNoSegment) continue;
-            const DisplacementSegment& s = layout.segments[segment];
-            for (uint32_t k = 0; k <= s.resolution && !any; ++k) any = changed.contains(segmentSample(s, k));
-        }
-        if (!any) continue;
-        for (uint32_t k = 0; k < R; ++k) {
-            const uint32_t i = e == 0 || e == 2 ? k : e == 1 ? R - 1 : 0;
-            const uint32_t j = e == 1 || e == 3 ? k : e == 2 ? R - 1 : 0;
-            cells[j * R + i] = true;
-        }
-        anyCell = true;
+// Spans (i, j), 0 <= i, j < cells, of a tile whose D reads a changed sample: one of the 3 x 3
+// coefficients around the span (padded columns i..i+2, rows j..j+2). Returns whether any is.
+bool markChangedSpans(const DisplacementLayout& layout, uint32_t subface, const SampleBits& changed, bool* spans) {
+    const DisplacementTile& tile = layout.tiles[subface];
+    const uint32_t cells = tile.cells, width = cells + 2;
+    bool coefficient[kMaxWidth * kMaxWidth];
+    bool anyCoefficient = false;
+    for (uint32_t k = 0; k < width * width; ++k) {
+        coefficient[k] = changed.contains(layout.padded[tile.offset + k]);
+        anyCoefficient = anyCoefficient || coefficient[k];
     }
-    return anyCell;
+    if (!anyCoefficient) return false;
+    // Along u first (three padded columns), then along v (three padded rows).
+    bool acrossU[kMaxWidth * kMaxDisplacementResolution];
+    for (uint32_t r = 0; r < width; ++r)
+        for (uint32_t i = 0; i < cells; ++i) {
+            const bool* c = coefficient + r * width + i;
+            acrossU[r * cells + i] = c[0] || c[1] || c[2];
+        }
+    bool any = false;
+    for (uint32_t j = 0; j < cells; ++j)
+        for (uint32_t i = 0; i < cells; ++i) {
+            const bool* c = acrossU + j * cells + i;
+            spans[j * cells + i] = c[0] || c[cells] || c[2 * cells];
+            any = any || spans[j * cells + i];
+        }
+    return any;
 }
 
 }  // namespace
@@ -412,12 +461,10 @@ uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, 
                              const GridFrames& frames, GridVertex* grid) {
     std::atomic<uint32_t> displaced{0};
     forEachSubface(evaluate.data(), evaluate.size(), [&](uint32_t drawn) {
-        bool cells[kMaxDisplacementResolution * kMaxDisplacementResolution];
+        bool spans[kMaxDisplacementResolution * kMaxDisplacementResolution];
         const uint32_t subface = data.subfaces[drawn].subface;
-        uint32_t samples[(kMaxDisplacementResolution + 1) * (kMaxDisplacementResolution + 1)];
-        gridSamples(displacement.layout, subface, samples);
-        if (!markChangedCells(displacement.layout, subface, samples, changed, cells)) return;
-        displaced += displaceSlots(data, layout, drawn, displacement, cells, samples, frames.block(layout, drawn), grid);
+        if (!markChangedSpans(displacement.layout, subface, changed, spans)) return;
+        displaced += displaceSlots(data, layout, drawn, displacement, spans, frames.block(layout, drawn), grid);
     });
     copyPhase(layout, copy.data(), copy.size(), grid);
     return displaced;

@@ -70,9 +70,8 @@ void evaluateWholeGridOnCpu(const PlannedCage& planned, const GpuPlanData& data,
 
 // After only the displacement's samples changed (those in `changed`): phase 1 from the kept
 // frames (no surface evaluation) for the slots of the drawn sub-faces in `evaluate` whose D
-// reads a changed sample (evaluateDisplacement: the four grid samples around the slot, and
-// the samples of an edge finer than the grid in the row of cells along it), then phase 2 for
-// `copy`. The same bits as evaluateGridOnCpu. Returns the number of slots displaced.
+// reads a changed sample (evaluateDisplacement: the 3 x 3 coefficients of the tile's span at
+// the slot), then phase 2 for `copy`. The same bits as evaluateGridOnCpu. Returns the number of slots displaced.
 uint32_t redisplaceGridOnCpu(const GpuPlanData& data, const GridLayout& layout, std::span<const uint32_t> evaluate,
                              std::span<const uint32_t> copy, const Displacement& displacement, const SampleBits& changed,
                              const GridFrames& frames, GridVertex* grid);
