@@ -44,7 +44,7 @@ TEST(SculptSamples, QueryFindsExactlyTheSamplesInTheSphere) {
     std::mt19937 rng(4);
     std::vector<uint32_t> sited = s.sited();
     for (int k = 0; k < 20; ++k) {
-        glm::vec3 centre = s.samples->position(sited[rng() % sited.size()]) + glm::vec3(0.1f, -0.05f, 0.02f);
+        glm::vec3 centre = s.samples->position(sited[rng() % sited.size()]) + glm::vec3(0.05f, -0.03f, 0.02f);
         float radius = 0.1f + 0.2f * float(k % 5);
         std::vector<uint32_t> found;
         s.samples->query(centre, radius, found);
@@ -62,9 +62,7 @@ TEST(SculptSamples, EverySampleOfAClosedCageHasASiteOnTheSurface) {
     std::vector<SampleSite> sites = computeSampleSites(s.displacement.layout, *s.planned);
     const DisplacementLayout& layout = s.displacement.layout;
     for (uint32_t i = 0; i < layout.sampleCount; ++i) {
-        // Point ids of edge midpoints and face centres are unused on an all-quad cage.
-        bool usedPoint = i >= layout.pointCount || i < layout.vertexCount;
-        EXPECT_EQ(sites[i].subface != kNoSite, usedPoint) << i;
+        EXPECT_NE(sites[i].subface, kNoSite) << i;
         if (sites[i].subface == kNoSite) continue;
         glm::vec3 p = s.planned->evaluate(sites[i].subface, sites[i].u, sites[i].v).position;
         EXPECT_EQ(p, s.samples->position(i));
@@ -143,12 +141,18 @@ TEST(Brush, DabOnACreaseChangesBothSidesAlike) {
     cage.setEdgeSharpness(1, 2, 2.5f);
     Sculpt s(cage, 8);
     const DisplacementLayout& layout = s.displacement.layout;
+    const SampleGridLayout& adjacency = layout.adjacency;
     uint32_t creaseSegment = UINT32_MAX;
-    for (uint32_t k = 0; k < layout.segments.size(); ++k)
-        if (std::minmax(layout.segments[k].pointA, layout.segments[k].pointB) == std::minmax(1u, 2u)) creaseSegment = k;
+    for (uint32_t k = 0; k < adjacency.segments.size(); ++k)
+        if (std::minmax(adjacency.segments[k].pointA, adjacency.segments[k].pointB) == std::minmax(1u, 2u)) creaseSegment = k;
     ASSERT_NE(creaseSegment, UINT32_MAX);
-    const uint32_t middle = segmentSample(layout.segments[creaseSegment], 4);
-    const glm::vec3 centre = s.samples->position(middle);
+    glm::vec3 centre(0.0f);
+    for (uint32_t f = 0; f < 6; ++f)
+        for (uint32_t e = 0; e < 4; ++e)
+            if (adjacency.subfaces[f].edges[e].segment == creaseSegment) {
+                const glm::vec2 uv = edgePoint(e, 0.5f);
+                centre = s.planned->evaluate(f, uv.x, uv.y).position;
+            }
     Brush brush{BrushKind::Raise, 0.5f, 0.2f, Falloff::Linear};
     applyStroke(s.displacement, *s.samples, StrokeOptions{brush}, std::span(&centre, 1));
     // Samples of both faces at the crease, at the same distance, get the same value; the
@@ -168,8 +172,8 @@ TEST(Brush, DabOnACreaseChangesBothSidesAlike) {
         for (uint32_t b = a + 1; b < 6; ++b)
             for (uint32_t ea = 0; ea < 4; ++ea)
                 for (uint32_t eb = 0; eb < 4; ++eb)
-                    if (layout.subfaces[a].edges[ea].segment == creaseSegment && layout.subfaces[b].edges[eb].segment == creaseSegment) {
-                        bool opposite = (layout.subfaces[a].edges[ea].flags ^ layout.subfaces[b].edges[eb].flags) & kEdgeReversed;
+                    if (adjacency.subfaces[a].edges[ea].segment == creaseSegment && adjacency.subfaces[b].edges[eb].segment == creaseSegment) {
+                        bool opposite = (adjacency.subfaces[a].edges[ea].flags ^ adjacency.subfaces[b].edges[eb].flags) & kEdgeReversed;
                         for (float t : {0.1f, 0.3f, 0.5f, 0.77f}) {
                             glm::vec2 pa = edgePoint(ea, t), pb = edgePoint(eb, opposite ? 1.0f - t : t);
                             EXPECT_EQ(bits(evaluateDisplacement(s.displacement, a, pa.x, pa.y).value),

@@ -11,6 +11,8 @@
 #include <unistd.h>
 
 #include "displacement_io.h"
+#include "sample_grids.h"
+#include "topology.h"
 #include "scene.h"
 #include "test_cages.h"
 
@@ -20,20 +22,47 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The mixed grid (quads, a triangle, a pentagon) with random resolutions and values that a
-// decimal round trip could get wrong: -0, subnormals, the extremes, non-terminating decimals.
+// The mixed grid (quads, a triangle, a pentagon) with values that a decimal round trip could get
+// wrong: -0, subnormals, the extremes, non-terminating decimals.
 Scene sculptedScene(uint32_t seed) {
     Scene scene = sceneOfCage(test::makeMixedGrid(), "cage");
-    Displacement d = makeDisplacement(scene.objects[0].cage, buildTopology(scene.objects[0].cage), 1);
+    Displacement d = makeDisplacement(scene.objects[0].cage, buildTopology(scene.objects[0].cage), 4);
     std::mt19937 rng(seed);
-    std::vector<uint32_t> resolutions(d.layout.subfaces.size());
-    for (uint32_t& r : resolutions) r = 1u << (rng() % 5);
-    d = resampleDisplacement(d, resolutions);
     std::uniform_real_distribution<float> value(-0.3f, 0.3f);
     for (float& s : d.samples) s = value(rng);
     const float special[] = {-0.0f, 1e-40f, -FLT_TRUE_MIN, FLT_MAX, -FLT_MAX, FLT_MIN, 0.1f, 1.0f / 3.0f};
     for (size_t i = 0; i < std::size(special); ++i) d.samples[(i * 7919) % d.samples.size()] = special[i];
     scene.objects[0].displacement = std::move(d);
+    return scene;
+}
+
+// Random sample grids of version 1 (random resolutions per sub-face) for the mixed grid.
+SampleGrids version1Grids(uint32_t seed) {
+    const Cage cage = test::makeMixedGrid();
+    SampleGrids d = makeSampleGrids(cage, buildTopology(cage), 1);
+    std::mt19937 rng(seed);
+    std::vector<uint32_t> resolutions(d.layout.subfaces.size());
+    for (uint32_t& r : resolutions) r = 1u << (rng() % 5);
+    d.layout = withResolutions(d.layout, resolutions);
+    std::uniform_real_distribution<float> value(-0.3f, 0.3f);
+    d.samples.resize(d.layout.sampleCount);
+    for (float& s : d.samples) s = value(rng);
+    return d;
+}
+
+// A scene written by a version 1 writer (the format as it was).
+json version1Scene(const SampleGrids& d) {
+    json scene = json::parse(formatScene(sceneOfCage(test::makeMixedGrid(), "cage"), CageStorage::Inline));
+    json out = {{"version", 1}, {"encoding", "base64-float32-le"}, {"subfaces", json::array()}};
+    const SampleGridLayout& layout = d.layout;
+    for (const DisplacementSubface& sf : layout.subfaces)
+        out["subfaces"].push_back({{"resolution", sf.resolution},
+                                   {"interior", encodeFloats(d.samples.data() + sf.interiorOffset,
+                                                             size_t(sf.resolution - 1) * (sf.resolution - 1))}});
+    out["points"] = encodeFloats(d.samples.data(), layout.pointCount);
+    out["segments"] = encodeFloats(d.samples.data() + layout.segmentSampleBegin(), layout.tileSampleBegin() - layout.segmentSampleBegin());
+    if (!d.mask.empty()) out["mask"] = encodeFloats(d.mask.data(), d.mask.size());
+    scene["objects"][0]["displacement"] = out;
     return scene;
 }
 
@@ -83,10 +112,10 @@ TEST(DisplacementFile, SceneRoundTripIsBitIdentical) {
     fs::remove(path);
 }
 
-TEST(DisplacementFile, EmptyDisplacementWritesVersion1WithoutData) {
+TEST(DisplacementFile, EmptyDisplacementWritesVersion2WithoutData) {
     Scene scene = sceneOfCage(test::makeCube(), "cage");
     json written = sceneJson(scene)["objects"][0]["displacement"];
-    EXPECT_EQ(written, json::parse(R"({"version": 1, "encoding": "base64-float32-le", "subfaces": []})"));
+    EXPECT_EQ(written, json::parse(R"({"version": 2, "encoding": "base64-float32-le", "resolution": 0})"));
     Result<Scene> back = parseScene(formatScene(scene, CageStorage::Inline), "scene.json", ".");
     ASSERT_TRUE(back) << back.error().message;
     EXPECT_TRUE(back->objects[0].displacement.empty());
@@ -97,7 +126,7 @@ TEST(DisplacementFile, Version0PlaceholderMigratesToNoDisplacement) {
     Result<Scene> scene = loadScene(std::string(QUADPLAN_SCENES_DIR) + "/default.json");
     ASSERT_TRUE(scene) << scene.error().message;
     EXPECT_TRUE(scene->objects[0].displacement.empty());
-    EXPECT_EQ(sceneJson(*scene)["objects"][0]["displacement"]["version"], 1);
+    EXPECT_EQ(sceneJson(*scene)["objects"][0]["displacement"]["version"], 2);
 
     json placeholder = sceneJson(sculptedScene(1));
     placeholder["objects"][0]["displacement"] = {{"version", 0}, {"faces", json::array()}};
@@ -107,8 +136,8 @@ TEST(DisplacementFile, Version0PlaceholderMigratesToNoDisplacement) {
                                     "placeholder; expected [], got [{\"face\":1}]");
 }
 
-TEST(DisplacementFile, MalformedDataNamesTheField) {
-    const json good = sceneJson(sculptedScene(2));
+TEST(DisplacementFile, MalformedVersion1DataNamesTheField) {
+    const json good = version1Scene(version1Grids(2));
     ASSERT_EQ(errorOf(good), "");
     auto edited = [&](auto change) {
         json scene = good;
@@ -176,12 +205,69 @@ TEST(DisplacementFile, MalformedDataNamesTheField) {
 TEST(DisplacementFile, UnknownFieldsAreWarnings) {
     json scene = sceneJson(sculptedScene(4));
     scene["objects"][0]["displacement"]["brush"] = "raise";
-    scene["objects"][0]["displacement"]["subfaces"][1]["mips"] = 3;
     std::vector<std::string> warnings;
     Result<Scene> loaded = parseScene(scene.dump(), "scene.json", ".", &warnings);
     ASSERT_TRUE(loaded) << loaded.error().message;
-    EXPECT_EQ(warnings, (std::vector<std::string>{"scene.json: objects[0].displacement.brush: unknown field, ignored",
-                                                  "scene.json: objects[0].displacement.subfaces[1].mips: unknown field, ignored"}));
+    EXPECT_EQ(warnings, (std::vector<std::string>{"scene.json: objects[0].displacement.brush: unknown field, ignored"}));
+    json old = version1Scene(version1Grids(4));
+    old["objects"][0]["displacement"]["subfaces"][1]["mips"] = 3;
+    warnings.clear();
+    ASSERT_TRUE(parseScene(old.dump(), "scene.json", ".", &warnings));
+    ASSERT_EQ(warnings.size(), 2u);
+    EXPECT_EQ(warnings[0], "scene.json: objects[0].displacement.subfaces[1].mips: unknown field, ignored");
+    EXPECT_NE(warnings[1].find("version 1 (bilinear sample grids) converted"), std::string::npos) << warnings[1];
+}
+
+TEST(DisplacementFile, MalformedVersion2DataNamesTheField) {
+    const json good = sceneJson(sculptedScene(2));
+    ASSERT_EQ(errorOf(good), "");
+    auto edited = [&](auto change) {
+        json scene = good;
+        change(scene["objects"][0]["displacement"]);
+        return errorOf(scene);
+    };
+    const std::string at = "scene.json: objects[0].displacement.";
+    EXPECT_EQ(edited([&](json& d) { d["resolution"] = 3; }),
+              at + "resolution: resolution 3 is not a power of two between 1 and 64 (or 0 for none)");
+    EXPECT_EQ(edited([&](json& d) { d["resolution"] = 128; }),
+              at + "resolution: resolution 128 is not a power of two between 1 and 64 (or 0 for none)");
+    EXPECT_EQ(edited([&](json& d) { d["resolution"] = 1; }),
+              at + "resolution: resolution 1 is below 2, the least a cage with non-quad faces allows (their sub-faces get half)");
+    EXPECT_EQ(edited([&](json& d) { d["resolution"] = "4"; }), at + "resolution: expected an integer, got a string");
+    EXPECT_EQ(edited([&](json& d) { d.erase("resolution"); }), at + "resolution: required field is missing");
+    EXPECT_EQ(edited([&](json& d) { d.erase("samples"); }), at + "samples: required field is missing");
+    EXPECT_EQ(edited([&](json& d) { d["resolution"] = 0; }), at + "samples: not allowed when \"resolution\" is 0 (no displacement)");
+    EXPECT_NE(edited([&](json& d) { d["resolution"] = 8; }).find(at + "samples: has "), std::string::npos);
+    EXPECT_EQ(edited([&](json& d) {
+                  Result<std::vector<float>> samples = decodeFloats(d["samples"]);
+                  (*samples)[5] = NAN;
+                  d["samples"] = base64Of(*samples);
+              }).find(at + "samples: value 5 (sample 5, cell ("), 0u);
+    EXPECT_NE(edited([&](json& d) { d["samples"] = "not base64!"; }).find(at + "samples: is not base64"), std::string::npos);
+    EXPECT_EQ(edited([&](json& d) { d["mask"] = base64Of({0.5f}); }).find(at + "mask: has 1 values"), 0u);
+}
+
+// A version 1 scene loads converted: tiles fitted to its grids, close to their D, and saves as
+// version 2.
+TEST(DisplacementFile, Version1ScenesAreConvertedByFitting) {
+    SampleGrids grids = version1Grids(9);
+    // A constant relief: it is in every spline space, so the conversion must keep it exactly.
+    grids.samples.assign(grids.samples.size(), 0.1f);
+    grids.mask.assign(grids.samples.size(), 1.0f);
+    uint32_t finest = 0;  // in quad cells: an n-gon sub-face spans half a quad side
+    for (uint32_t s = 0; s < grids.layout.subfaces.size(); ++s)
+        finest = std::max(finest, grids.layout.subfaces[s].resolution * (s >= 15 ? 2u : 1u));
+    std::vector<std::string> warnings;
+    Result<Scene> loaded = parseScene(version1Scene(grids).dump(), "scene.json", ".", &warnings);
+    ASSERT_TRUE(loaded) << loaded.error().message;
+    const Displacement& d = loaded->objects[0].displacement;
+    ASSERT_FALSE(d.empty());
+    EXPECT_EQ(d.resolution(), std::min(finest, kMaxDisplacementResolution));
+    for (uint32_t s = 0; s < d.layout.tiles.size(); ++s)
+        for (float u : {0.0f, 0.3f, 1.0f}) EXPECT_NEAR(evaluateDisplacement(d, s, u, 0.5f).value, 0.1f, 1e-6f);
+    for (float m : d.mask) EXPECT_FLOAT_EQ(m, 1.0f);
+    EXPECT_EQ(sceneJson(*loaded)["objects"][0]["displacement"]["version"], 2);
+    ASSERT_EQ(warnings.size(), 1u);
 }
 
 TEST(DisplacementFile, SaveRefusesADisplacementOfAnotherTopology) {

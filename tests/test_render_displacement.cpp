@@ -40,17 +40,11 @@ namespace {
 
 constexpr uint32_t kImageSize = 256;
 
-// Random power-of-two resolutions up to `maxResolution`, random values in +-amplitude.
-Displacement randomDisplacement(const PlannedCage& planned, uint32_t maxResolution, float amplitude, uint32_t seed) {
+// Tiles of `resolution` with random values in +-amplitude.
+Displacement randomDisplacement(const PlannedCage& planned, uint32_t resolution, float amplitude, uint32_t seed) {
     std::mt19937 rng(seed);
-    Displacement d;
-    DisplacementLayout base = buildDisplacementLayout(planned.cage(), planned.topology(), 1);
-    std::vector<uint32_t> resolutions(base.subfaces.size());
-    const uint32_t levels = uint32_t(std::log2(maxResolution)) + 1;
-    for (uint32_t& r : resolutions) r = 1u << (rng() % levels);
-    d.layout = withResolutions(base, resolutions);
+    Displacement d = makeDisplacement(planned.cage(), planned.topology(), resolution);
     std::uniform_real_distribution<float> value(-amplitude, amplitude);
-    d.samples.resize(d.layout.sampleCount);
     for (float& s : d.samples) s = value(rng);
     return d;
 }
@@ -87,7 +81,7 @@ DisplacedPoint referencePoint(const PlannedCage& planned, const Displacement& d,
 // Where a boundary vertex of a sub-face lies, whichever sub-face names it: a point id, or a
 // reduced fraction along a segment of the displacement layout (its canonical direction).
 using Location = std::tuple<int, uint32_t, uint32_t, uint32_t>;
-Location boundaryLocation(const DisplacementLayout& layout, uint32_t subface, uint32_t edge, uint32_t i, uint32_t n) {
+Location boundaryLocation(const SampleGridLayout& layout, uint32_t subface, uint32_t edge, uint32_t i, uint32_t n) {
     const DisplacementSubface& sf = layout.subfaces[subface];
     if (i == 0) return {0, sf.corners[kEdgeStart[edge]], 0, 0};
     if (i == n) return {0, sf.corners[kEdgeEnd[edge]], 0, 0};
@@ -103,7 +97,7 @@ Location boundaryLocation(const DisplacementLayout& layout, uint32_t subface, ui
 // vertex at the same location: positions bit for bit (shading normals may differ: D is only
 // C0 across edges). Returns how many coincided.
 template <class Vertex>
-uint32_t expectWatertight(const DisplacementLayout& layout, const std::vector<uint32_t>& gridSubface,
+uint32_t expectWatertight(const SampleGridLayout& layout, const std::vector<uint32_t>& gridSubface,
                           const std::vector<uint32_t>& gridFactor, const std::vector<uint32_t>& gridOffset,
                           const Vertex* vertices, const std::string& what) {
     std::map<Location, const Vertex*> seen;
@@ -233,7 +227,7 @@ void checkDisplacedGrid(const PlannedCage& planned, const Displacement& d, const
     EXPECT_LE(worstPosition, 1e-5) << what;
     EXPECT_LE(worstNormal, 1e-4) << what << " (1 - cos of the worst normal angle)";
     EXPECT_GT(largestOffset, 1e-3) << what << ": nothing was displaced";
-    expectWatertight(d.layout, gridSubface, gridFactor, layout.subfaceOffset, grid.data(), what);
+    expectWatertight(d.layout.adjacency, gridSubface, gridFactor, layout.subfaceOffset, grid.data(), what);
 }
 
 }  // namespace
@@ -280,8 +274,8 @@ TEST_F(DisplacementRender, GridFactorsRiseOnlyWhereTheDisplacementIsNotZero) {
         for (uint32_t drawn = 0; drawn < buffers.data.subfaces.size(); ++drawn) {
             const uint32_t s = buffers.data.subfaces[drawn].subface;
             bool zero = true;
-            for (uint32_t j = 0; j <= 16; ++j)
-                for (uint32_t i = 0; i <= 16; ++i) zero &= d.samples[gridSample(d.layout, s, i, j)] == 0.0f;
+            const DisplacementTile& tile = d.layout.tiles[s];
+            for (uint32_t k = 0; k < (tile.cells + 2) * (tile.cells + 2); ++k) zero &= d.samples[d.layout.padded[tile.offset + k]] == 0.0f;
             const uint32_t n = raised.subfaceFactor[drawn];
             EXPECT_TRUE(std::has_single_bit(n)) << name << ": sub-face " << s << " factor " << n;
             if (!zero) {
@@ -342,7 +336,7 @@ TEST_F(DisplacementRender, TessellatedPathDrawsTheDisplacedSurfaceWatertight) {
             }
             // A boundary vertex is its owner's, one of the sub-faces that share it: the best
             // of their references (checkDisplacedGrid says why).
-            const Location location = boundaryLocation(d.layout, s, edge, r.edgeIndex, n);
+            const Location location = boundaryLocation(d.layout.adjacency, s, edge, r.edgeIndex, n);
             auto [best, fresh] = boundaryError.emplace(location, error);
             best->second = std::min(best->second, error);
             auto [it, inserted] = seen.emplace(location, &r);
@@ -553,7 +547,7 @@ TEST_F(DisplacementRender, ExtraordinaryCornersAreDisplacedAlongTheLimitNormal) 
                 const uint32_t s = buffers.data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
                 for (uint32_t c = 0; c < 4; ++c) {
                     // Owned corners at cage vertices of valence other than 4, off boundaries and creases.
-                    const uint32_t vertex = d.layout.subfaces[s].corners[c];
+                    const uint32_t vertex = d.layout.adjacency.subfaces[s].corners[c];
                     if (vertex >= planned.cage().vertexCount()) continue;
                     const uint32_t valence = topology.vertexEdgeCount(vertex);
                     bool sharp = planned.cage().vertexSharpness(vertex) > 0.0f;
@@ -637,7 +631,7 @@ TEST(DisplacementSchemes, CpuMeshSchemesAreDisplacedAndWatertight) {
             }
             EXPECT_LE(worst, 1e-5) << what;
             EXPECT_GT(largest, 1e-3) << what;
-            expectWatertight(d.layout, gridSubface, gridFactor, gridOffset, vertices.data(), what);
+            expectWatertight(d.layout.adjacency, gridSubface, gridFactor, gridOffset, vertices.data(), what);
         }
     }
 }

@@ -383,11 +383,14 @@ TEST_F(DisplacedSchemes, ADabUpdatesThePictureExactlyAsAFullUpdate) {
         Result<PreparedScheme> prepared = prepareScheme(catalog(), name, *planned, features, settings, gpu, "cube", &bumps);
         ASSERT_TRUE(prepared.ok()) << prepared.error().message;
         const Picture before = draw(prepared->instance);
-        // A dab's worth of change: a run of tile samples and a shared point.
+        // A dab's worth of change: a run of samples and a shared corner sample.
         std::vector<uint32_t> changed;
-        const uint32_t first = bumps.layout.tileSampleBegin() + 40;
-        for (uint32_t k = first; k < first + 60; ++k) changed.push_back(k);
-        changed.push_back(5);
+        for (uint32_t k = 40; k < 100; ++k) changed.push_back(k);
+        for (uint32_t k = 0; k < bumps.layout.sampleCount; ++k)
+            if (bumps.layout.homes[k].corner >= 0) {
+                changed.push_back(k);
+                break;
+            }
         const std::vector<float> saved = bumps.samples;
         for (uint32_t k : changed) bumps.samples[k] += 0.05f * computeBounds(planned->cage()).diagonal();
         ASSERT_TRUE(prepared->instance.displacementChanged(changed).ok());
