@@ -228,9 +228,9 @@ TEST(SceneErrors, FutureVersion) {
 
 TEST(SceneErrors, FutureDisplacementVersion) {
     json scene = validScene();
-    scene["displacement"]["version"] = 2;
-    EXPECT_EQ(errorOf(scene), "scene.json: displacement.version: displacement version 2 is not supported (this "
-                              "build reads versions up to 1); the scene was written by a newer Quadplan");
+    scene["displacement"]["version"] = 3;
+    EXPECT_EQ(errorOf(scene), "scene.json: displacement.version: displacement version 3 is not supported (this "
+                              "build reads versions up to 2); the scene was written by a newer Quadplan");
 }
 
 TEST(SceneErrors, MissingRequiredFields) {

@@ -383,9 +383,10 @@ TEST_F(DisplacedSchemes, ADabUpdatesThePictureExactlyAsAFullUpdate) {
         Result<PreparedScheme> prepared = prepareScheme(catalog(), name, *planned, features, settings, gpu, "cube", &bumps);
         ASSERT_TRUE(prepared.ok()) << prepared.error().message;
         const Picture before = draw(prepared->instance);
-        // A dab's worth of change: a run of samples and a shared corner sample.
+        // A dab's worth of change (60 samples, spread so that the view sees some) and a shared
+        // corner sample.
         std::vector<uint32_t> changed;
-        for (uint32_t k = 40; k < 100; ++k) changed.push_back(k);
+        for (uint32_t k = 40; k < 40 + 60 * 7 && k < bumps.layout.sampleCount; k += 7) changed.push_back(k);
         for (uint32_t k = 0; k < bumps.layout.sampleCount; ++k)
             if (bumps.layout.homes[k].corner >= 0) {
                 changed.push_back(k);
