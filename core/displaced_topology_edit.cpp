@@ -1,5 +1,7 @@
 #include "displaced_topology_edit.h"
 
+#include <cassert>
+
 #include "cage_delta.h"
 
 namespace qp {
@@ -23,6 +25,32 @@ private:
     TopologyDelta delta_;
 };
 
+// A displacement as a history entry keeps it: its samples, mask and R. The layout is a function of
+// the cage's topology and R, rebuilt when the entry is applied (a layout is several times the
+// samples' size: two of them per topology edit would fill the history's budget).
+class StoredDisplacement {
+public:
+    StoredDisplacement() = default;
+    explicit StoredDisplacement(const Displacement& d)
+        : resolution_(d.empty() ? 0 : d.layout.resolution), samples_(d.samples), mask_(d.mask) {}
+
+    // For the cage `planned` holds now (the one this displacement was made for).
+    Displacement restore(const PlannedCage& planned) const {
+        Displacement d;
+        if (resolution_ == 0) return d;
+        d.layout = buildDisplacementLayout(planned.cage(), planned.topology(), resolution_);
+        assert(d.layout.sampleCount == samples_.size());
+        d.samples = samples_;
+        d.mask = mask_;
+        return d;
+    }
+    size_t bytes() const { return (samples_.capacity() + mask_.capacity()) * sizeof(float); }
+
+private:
+    uint32_t resolution_ = 0;
+    std::vector<float> samples_, mask_;
+};
+
 class DisplacedTopologyEdit final : public CustomEdit {
 public:
     DisplacedTopologyEdit(std::unique_ptr<CustomEdit> step, Displacement& target, DisplacementListener listener,
@@ -35,10 +63,10 @@ public:
         Result<EditReport> report = step_->redo(planned);
         if (!report) return report;
         if (!after_) {
-            before_ = target_;
-            after_ = transferDisplacement(*before, before_, planned, *report).displacement;
+            before_ = StoredDisplacement(target_);
+            after_ = StoredDisplacement(transferDisplacement(*before, target_, planned, *report).displacement);
         }
-        target_ = *after_;
+        target_ = after_->restore(planned);
         if (!move_.vertices.empty()) {
             if (inPlace_.empty())
                 for (uint32_t v : move_.vertices) inPlace_.push_back(planned.cage().positions[v]);
@@ -60,13 +88,13 @@ public:
         Result<EditReport> report = step_->undo(planned);
         if (!report) return report;
         accumulateReport(total, *report);
-        target_ = before_;
+        target_ = before_.restore(planned);
         listener_(DisplacementChange{true, {}});
         return total;
     }
 
     size_t bytes() const override {
-        return sizeof(*this) + step_->bytes() + displacementBytes(before_) + (after_ ? displacementBytes(*after_) : 0) +
+        return sizeof(*this) + step_->bytes() + before_.bytes() + (after_ ? after_->bytes() : 0) +
                move_.vertices.size() * (sizeof(uint32_t) + 2 * sizeof(glm::vec3));
     }
 
@@ -74,7 +102,7 @@ private:
     // A failed move after the topology step: the step is taken back, so nothing changed.
     Result<EditReport> undoStep(PlannedCage& planned, Error error) {
         if (Result<EditReport> back = step_->undo(planned); !back) return back.error();
-        target_ = before_;
+        target_ = before_.restore(planned);
         return error;
     }
 
@@ -83,8 +111,8 @@ private:
     DisplacementListener listener_;
     FollowingMove move_;
     std::vector<glm::vec3> inPlace_;  // the moved vertices' positions before the move
-    Displacement before_;
-    std::optional<Displacement> after_;
+    StoredDisplacement before_;
+    std::optional<StoredDisplacement> after_;
 };
 
 }  // namespace

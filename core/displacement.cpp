@@ -185,9 +185,9 @@ std::vector<float> fitSamples(const DisplacementLayout& layout, const std::funct
 }
 
 Displacement resampleDisplacement(const Displacement& old, uint32_t resolution) {
-    if (resolution == old.layout.resolution) return old;
     Displacement out;
     out.layout = withResolution(old.layout, resolution);
+    if (out.layout.resolution == old.layout.resolution) return old;
     out.samples = fitSamples(out.layout, [&](uint32_t s, float u, float v) { return evaluateDisplacement(old, s, u, v).value; });
     if (old.hasMask()) {
         Displacement mask = old;

@@ -17,7 +17,9 @@
 // Spacing. Quads have n = R cells per side; an n-gon's sub-faces (half of each cage edge) have
 // R / 2, so cells have the same size on both sides of every edge, split cage edges included: the
 // B-spline across an edge is one uniform spline and C1 by construction. R is one power of two per
-// object (at least 2 on cages with non-quads): C1 needs equal cells on both sides of every edge.
+// object (C1 needs equal cells on both sides of every edge), and every tile has at least 2 cells
+// per side (R >= 2, and R >= 4 on cages with non-quads): with one cell, a tile's single sample
+// would be the corner cell of all four corners and join every irregular corner's shared sample.
 //
 // Corners. A tile corner is REGULAR where the cells around it form a regular grid: four tile
 // corners (valence 4), two tile corners on the straight edge of a third tile (the midpoint of a
@@ -99,7 +101,7 @@ struct Displacement {
     bool operator==(const Displacement&) const;
 };
 
-// The smallest R a cage allows: 2 with non-quads (their sub-faces have R / 2 cells), else 1.
+// The smallest R a cage allows: 4 with non-quads (their sub-faces have R / 2 cells), else 2.
 uint32_t minimumDisplacementResolution(const Cage& cage);
 
 // Tiles for a cage (that passed validateCage) at R = max(resolution, the cage's minimum), a
@@ -109,7 +111,7 @@ DisplacementLayout buildDisplacementLayout(const Cage& cage, const Topology& top
 // All samples zero.
 Displacement makeDisplacement(const Cage& cage, const Topology& topology, uint32_t resolution);
 
-// The same cage's tiles at another R (a rebuild from layout.adjacency).
+// The same cage's tiles at another R (at least the cage's minimum; a rebuild from layout.adjacency).
 DisplacementLayout withResolution(const DisplacementLayout& layout, uint32_t resolution);
 
 // D(u, v) on a sub-face, (u, v) in [0, 1]^2 (clamped), with its derivatives in (u, v). On an edge
@@ -150,7 +152,7 @@ SampleSite sampleSite(const DisplacementLayout& layout, uint32_t sample);
 std::vector<float> fitSamples(const DisplacementLayout& layout, const std::function<float(uint32_t, float, float)>& f);
 
 // Copy at another R that keeps the shape (fitSamples of the old D; the mask likewise, clamped to
-// [0, 1]; an empty mask stays empty). The same R returns a copy.
+// [0, 1]; an empty mask stays empty). R is raised to the cage's minimum; the same R returns a copy.
 Displacement resampleDisplacement(const Displacement& displacement, uint32_t resolution);
 
 // The displacement of a file of version 1 (sample grids), fitted on a layout of the same cage.

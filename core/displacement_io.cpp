@@ -188,7 +188,9 @@ Displacement readVersion2(const json& value, const Cage& cage, const std::string
                                             std::to_string(kMaxDisplacementResolution) + " (or 0 for none)");
     if (uint32_t(resolution) < minimum)
         fail("displacement.resolution", "resolution " + std::to_string(resolution) + " is below " + std::to_string(minimum) +
-                                            ", the least a cage with non-quad faces allows (their sub-faces get half)");
+                                            std::string(minimum == 4 ? ", the least a cage with non-quad faces allows (their sub-faces get half, and tiles need "
+                                                                        "2 cells per side)"
+                                                                      : ", the least a displacement allows (tiles need 2 cells per side)"));
     Displacement d;
     d.layout = buildDisplacementLayout(cage, buildTopology(cage), uint32_t(resolution));
     auto samples = value.find("samples");

@@ -237,8 +237,8 @@ std::optional<TileEdgeCell> TileAdjacency::across(uint32_t tile, uint32_t e, int
 
 uint32_t minimumTileResolution(const SampleGridLayout& adjacency) {
     for (const DisplacementSubface& s : adjacency.subfaces)
-        if (s.corners[2] >= adjacency.vertexCount + adjacency.edgeCount) return 2;  // an n-gon's centre
-    return 1;
+        if (s.corners[2] >= adjacency.vertexCount + adjacency.edgeCount) return 4;  // an n-gon's centre
+    return 2;
 }
 
 DisplacementLayout buildTiles(const SampleGridLayout& adjacency, uint32_t resolution) {
@@ -322,8 +322,8 @@ DisplacementLayout buildTiles(const SampleGridLayout& adjacency, uint32_t resolu
 
 uint32_t minimumDisplacementResolution(const Cage& cage) {
     for (uint32_t f = 0; f < cage.faceCount(); ++f)
-        if (cage.faceSize(f) != 4) return 2;
-    return 1;
+        if (cage.faceSize(f) != 4) return 4;
+    return 2;
 }
 
 DisplacementLayout buildDisplacementLayout(const Cage& cage, const Topology& topology, uint32_t resolution) {
@@ -333,7 +333,7 @@ DisplacementLayout buildDisplacementLayout(const Cage& cage, const Topology& top
 }
 
 DisplacementLayout withResolution(const DisplacementLayout& layout, uint32_t resolution) {
-    return buildTiles(layout.adjacency, resolution);
+    return buildTiles(layout.adjacency, std::max(resolution, minimumTileResolution(layout.adjacency)));
 }
 
 }  // namespace qp

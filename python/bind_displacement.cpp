@@ -32,7 +32,7 @@ radius. brush: raise, lower, smooth, flatten, erase, inflate, crease, mask or un
 radii, the others a blend in [0, 1]. A scene without displacement first gets a zero one at
 `resolution` cells per quad side (its own history entry). One undo takes the stroke back.)doc")
         .def("set_displacement_resolution", [](Document& d, uint32_t r) { return unwrap(d.setDisplacementResolution(r)); },
-             py::arg("resolution"), "Resamples the displacement (or creates a zero one) at this power-of-two resolution R (cells along a quad side; at least 2 on cages with non-quads).")
+             py::arg("resolution"), "Resamples the displacement (or creates a zero one) at this power-of-two resolution R (cells along a quad side; raised to 2, or 4 on cages with non-quads).")
         .def("clear_displacement", [](Document& d) { return unwrap(d.clearDisplacement()); },
              "Removes the displacement (undoable).")
         .def("invert_mask", [](Document& d) { return unwrap(d.invertMask()); },

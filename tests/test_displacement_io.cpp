@@ -231,8 +231,9 @@ TEST(DisplacementFile, MalformedVersion2DataNamesTheField) {
               at + "resolution: resolution 3 is not a power of two between 1 and 64 (or 0 for none)");
     EXPECT_EQ(edited([&](json& d) { d["resolution"] = 128; }),
               at + "resolution: resolution 128 is not a power of two between 1 and 64 (or 0 for none)");
-    EXPECT_EQ(edited([&](json& d) { d["resolution"] = 1; }),
-              at + "resolution: resolution 1 is below 2, the least a cage with non-quad faces allows (their sub-faces get half)");
+    EXPECT_EQ(edited([&](json& d) { d["resolution"] = 2; }),
+              at + "resolution: resolution 2 is below 4, the least a cage with non-quad faces allows (their sub-faces get half, "
+                   "and tiles need 2 cells per side)");
     EXPECT_EQ(edited([&](json& d) { d["resolution"] = "4"; }), at + "resolution: expected an integer, got a string");
     EXPECT_EQ(edited([&](json& d) { d.erase("resolution"); }), at + "resolution: required field is missing");
     EXPECT_EQ(edited([&](json& d) { d.erase("samples"); }), at + "samples: required field is missing");
