@@ -70,6 +70,19 @@ float changedFaceScale(const PlannedCage& after, const std::vector<bool>& kept) 
     return edges ? float(0.5 * total / edges) : 0.0f;
 }
 
+// Whether any sample (or mask value) these sub-faces' tiles read is not zero.
+bool readsNonZero(const Displacement& d, const std::vector<uint32_t>& subfaces) {
+    for (uint32_t s : subfaces) {
+        const DisplacementTile& tile = d.layout.tiles[s];
+        const uint32_t count = (tile.cells + 2) * (tile.cells + 2);
+        for (uint32_t k = 0; k < count; ++k) {
+            const uint32_t sample = d.layout.padded[tile.offset + k];
+            if (d.samples[sample] != 0.0f || (d.hasMask() && d.mask[sample] != 0.0f)) return true;
+        }
+    }
+    return false;
+}
+
 Displacement maskAsDisplacement(const Displacement& d) {
     Displacement mask;
     mask.layout = d.layout;
@@ -165,10 +178,14 @@ DisplacementTransfer transferDisplacement(const PlannedCage& before, const Displ
     // the old D at the places where the normal lines of the new limit surface meet the old one,
     // on a grid of half cells per changed tile (each cell's centre, edge midpoints and corners).
     out.reach = changedFaceScale(after, kept);
+    // Projections land on the old sub-faces around the edit only: where D and the mask are zero
+    // on all of them (an edit away from the sculpt), every changed sample is zero, as made.
+    const std::vector<uint32_t> neighbourhood = oldNeighbourhood(before, kept, report);
+    if (!readsNonZero(old, neighbourhood)) return out;
     // A coarse sampling of the limit surface will do: Newton's refinement finds the surface
     // itself, and the ray casts' triangle tests are most of the transfer's time.
     constexpr uint32_t kPickResolution = 4;
-    const DisplacedPicker picker(before, Displacement{}, oldNeighbourhood(before, kept, report), kPickResolution);
+    const DisplacedPicker picker(before, Displacement{}, neighbourhood, kPickResolution);
     std::vector<uint32_t> changed;
     for (uint32_t s = 0; s < after.subfaceCount(); ++s)
         if (!kept[s] && after.hasSurface(s)) changed.push_back(s);
