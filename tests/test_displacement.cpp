@@ -13,6 +13,7 @@
 
 #include "displaced_mesh.h"
 #include "displacement.h"
+#include "displacement_test_support.h"
 #include "displacement_users.h"
 #include "generated_cage.h"
 #include "planned_cage.h"
@@ -20,6 +21,8 @@
 #include "test_cages.h"
 
 using namespace qp;
+using test::SegmentSide;
+using test::segmentSides;
 
 namespace {
 
@@ -52,32 +55,6 @@ std::vector<std::pair<std::string, Cage>> testCages() {
             {"benchmark cage", makeBenchmarkCage(120, 3)}};
 }
 
-// The tile edges on each segment (whole edges, and the halves of split ones), and the parameter
-// along the tile edge of canonical parameter s on the segment.
-struct Side {
-    uint32_t tile, edge;
-    int half;  // -1: a whole edge; 0, 1: the half of a split edge
-    float along(const DisplacementLayout& layout, float s) const {
-        const DisplacementEdge& e = layout.adjacency.subfaces[tile].edges[edge];
-        if (half < 0) return e.flags & kEdgeReversed ? 1.0f - s : s;
-        return half == 0 ? 0.5f * s : 1.0f - 0.5f * s;
-    }
-};
-std::vector<std::vector<Side>> segmentSides(const DisplacementLayout& layout) {
-    std::vector<std::vector<Side>> sides(layout.adjacency.segments.size());
-    for (uint32_t tile = 0; tile < layout.tiles.size(); ++tile)
-        for (uint32_t e = 0; e < 4; ++e) {
-            const DisplacementEdge& edge = layout.adjacency.subfaces[tile].edges[e];
-            if (edge.flags & kEdgeSplit) {
-                sides[edge.segment].push_back({tile, e, 0});
-                sides[edge.secondHalf].push_back({tile, e, 1});
-            } else {
-                sides[edge.segment].push_back({tile, e, -1});
-            }
-        }
-    return sides;
-}
-
 // D's derivative into the tile across edge e, per cell.
 float inward(const DisplacementValue& d, uint32_t e, uint32_t cells) {
     const float perCell = 1.0f / float(cells);
@@ -97,10 +74,10 @@ TEST(DisplacementTiles, ValueAndCrossDerivativeAreContinuousAcrossEverySharedEdg
             const Displacement d = randomDisplacement(cage, resolution, 7 + resolution);
             uint32_t checked = 0;
             float worstValue = 0.0f, worstSlope = 0.0f;
-            for (const std::vector<Side>& sides : segmentSides(d.layout)) {
+            for (const std::vector<SegmentSide>& sides : segmentSides(d.layout)) {
                 if (sides.size() != 2) continue;  // boundaries and non-manifold edges
-                const Side& a = sides[0];
-                const Side& b = sides[1];
+                const SegmentSide& a = sides[0];
+                const SegmentSide& b = sides[1];
                 for (uint32_t q = 1; q < 40; ++q) {
                     const float s = float(q) / 40.0f;
                     const glm::vec2 pa = edgePoint(a.edge, a.along(d.layout, s)), pb = edgePoint(b.edge, b.along(d.layout, s));
@@ -156,12 +133,12 @@ TEST(DisplacementTiles, SharedEdgesAndCornersGiveTheSameBitsFromEverySide) {
         for (uint32_t resolution : {2u, 4u, 8u}) {
             const Displacement d = randomDisplacement(cage, resolution, 11);
             uint32_t compared = 0;
-            for (const std::vector<Side>& sides : segmentSides(d.layout)) {
+            for (const std::vector<SegmentSide>& sides : segmentSides(d.layout)) {
                 if (sides.size() < 2) continue;
                 for (uint32_t q = 0; q <= 64; ++q) {
                     const float s = float(q) / 64.0f;
                     std::vector<uint32_t> seen;
-                    for (const Side& side : sides) {
+                    for (const SegmentSide& side : sides) {
                         const glm::vec2 uv = edgePoint(side.edge, side.along(d.layout, s));
                         seen.push_back(bits(evaluateDisplacement(d, side.tile, uv.x, uv.y).value));
                     }

@@ -10,6 +10,7 @@
 #include <glm/trigonometric.hpp>
 
 #include "brush.h"
+#include "displacement_test_support.h"
 #include "obj_io.h"
 #include "sculpt_test_support.h"
 #include "test_cages.h"
@@ -42,36 +43,17 @@ constexpr float kCreaseDegrees = 1.0f;
 // Both sides of every manifold sub-face edge with a surface, at parameters strictly inside the
 // edge: the displaced normals, and for reference the limit surface's own normals.
 EdgeAgreement compareAcrossEdges(const PlannedCage& planned, const Displacement& d) {
-    const SampleGridLayout& adjacency = d.layout.adjacency;
-    struct Side {
-        uint32_t tile, edge;
-        int half;
-    };
-    std::vector<std::vector<Side>> sides(adjacency.segments.size());
-    for (uint32_t t = 0; t < adjacency.subfaces.size(); ++t) {
-        if (!planned.hasSurface(t)) continue;
-        for (uint32_t e = 0; e < 4; ++e) {
-            const DisplacementEdge& edge = adjacency.subfaces[t].edges[e];
-            if (edge.flags & kEdgeSplit) {
-                sides[edge.segment].push_back({t, e, 0});
-                sides[edge.secondHalf].push_back({t, e, 1});
-            } else {
-                sides[edge.segment].push_back({t, e, -1});
-            }
-        }
-    }
+    const std::vector<std::vector<test::SegmentSide>> sides =
+        test::segmentSides(d.layout, [&](uint32_t t) { return planned.hasSurface(t); });
     EdgeAgreement out;
-    for (const std::vector<Side>& pair : sides) {
+    for (const std::vector<test::SegmentSide>& pair : sides) {
         if (pair.size() != 2) continue;
         for (float s : {0.1f, 0.3f, 0.5f, 0.7f, 0.9f}) {
             DisplacedPoint at[2];
             glm::vec3 limit[2];
             for (int k = 0; k < 2; ++k) {
-                const Side& side = pair[k];
-                const DisplacementEdge& edge = adjacency.subfaces[side.tile].edges[side.edge];
-                const float along = side.half < 0 ? (edge.flags & kEdgeReversed ? 1.0f - s : s)
-                                                  : (side.half == 0 ? 0.5f * s : 1.0f - 0.5f * s);
-                const glm::vec2 uv = edgePoint(side.edge, along);
+                const test::SegmentSide& side = pair[k];
+                const glm::vec2 uv = edgePoint(side.edge, side.along(d.layout, s));
                 at[k] = displacedAt(planned, d, side.tile, uv.x, uv.y);
                 const LimitSample l = planned.evaluate(side.tile, uv.x, uv.y);
                 limit[k] = limitNormal(planned, side.tile, uv.x, uv.y, l);
