@@ -212,8 +212,8 @@ bool DisplacedPicker::newton(const PlannedCage& planned, const Displacement& dis
         const glm::mat3 jacobian(p.s.du + p.d.du * p.normal, p.s.dv + p.d.dv * p.normal, -ray.direction);
         if (!(std::fabs(glm::determinant(jacobian)) > 1e-20f)) return false;
         const glm::vec3 step = glm::inverse(jacobian) * (-p.residual);
-        // D is bilinear per cell: its derivatives jump at cell lines, where full steps can cycle
-        // between two cells. Halving the step until the residual shrinks keeps it converging.
+        // Steps from far off can overshoot where D curves (its second derivatives jump at cell
+        // lines). Halving the step until the residual shrinks keeps it converging.
         float lambda = 1.0f;
         NewtonPoint next;
         for (int halving = 0; halving < 8; ++halving, lambda *= 0.5f) {

@@ -2,9 +2,8 @@
 // sees and brushes; docs/displacement.md), where LimitPicker (picking.h) picks s alone.
 //
 // Each sub-face with a surface is sampled on an (n + 1)^2 grid, n = its displacement tile's
-// resolution R (at least `minResolution`, at most kMaxPickResolution), so that every sculpted
-// sample of the tile is a grid point and the sampled triangles follow the detail the user
-// painted; the BVH holds the sub-faces' boxes of the displaced grid points. A ray hit on the
+// cells (at least `minResolution`, at most kMaxPickResolution), so that every knot of the tile
+// is a grid point and the sampled triangles follow the detail the user painted; the BVH holds the sub-faces' boxes of the displaced grid points. A ray hit on the
 // sampled triangles is refined by Newton's method on f(u, v) = origin + t direction with
 // f_u ~ s_u + D_u N (Blinn's approximation, as the renderers' normals: the Jacobian errs by
 // the factor 1 + D kappa, which slows the iteration where the surface is curved but does not
