@@ -1,13 +1,29 @@
-// What the displacement tests share: the tile edges on each boundary segment, so that a test can
-// visit both sides of every shared edge at the same point.
+// What the displacement tests share: a planned cage with its database, and the tile edges on
+// each boundary segment, so that a test can visit both sides of every shared edge at the same
+// point.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include <gtest/gtest.h>
+
 #include "displacement.h"
+#include "planned_cage.h"
 
 namespace qp::test {
+
+// A cage planned with default options (the test fails when it cannot be).
+struct Planned {
+    PlanDatabase database;
+    std::optional<PlannedCage> cage;
+    explicit Planned(const Cage& c) {
+        auto planned = PlannedCage::create(c, database, PlanOptions{}, "test cage");
+        EXPECT_TRUE(planned) << planned.error().message;
+        if (planned) cage.emplace(std::move(planned).value());
+    }
+};
 
 // A tile edge on a segment: a whole sub-face edge, or one half of a split one.
 struct SegmentSide {

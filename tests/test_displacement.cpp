@@ -21,20 +21,11 @@
 #include "test_cages.h"
 
 using namespace qp;
+using test::Planned;
 using test::SegmentSide;
 using test::segmentSides;
 
 namespace {
-
-struct Planned {
-    PlanDatabase database;
-    std::optional<PlannedCage> cage;
-    explicit Planned(const Cage& c) {
-        auto planned = PlannedCage::create(c, database, PlanOptions{}, "test cage");
-        EXPECT_TRUE(planned) << planned.error().message;
-        cage.emplace(std::move(planned).value());
-    }
-};
 
 uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
 

@@ -9,24 +9,16 @@
 #include <glm/geometric.hpp>
 
 #include "face_config.h"
+#include "displacement_test_support.h"
 #include "generated_cage.h"
 #include "planned_cage.h"
 #include "sample_grids.h"
 #include "test_cages.h"
 
 using namespace qp;
+using test::Planned;
 
 namespace {
-
-struct Planned {
-    PlanDatabase database;
-    std::optional<PlannedCage> cage;
-    explicit Planned(const Cage& c) {
-        auto planned = PlannedCage::create(c, database, PlanOptions{}, "test cage");
-        EXPECT_TRUE(planned) << planned.error().message;
-        cage.emplace(std::move(planned).value());
-    }
-};
 
 uint32_t bits(float x) { return std::bit_cast<uint32_t>(x); }
 
