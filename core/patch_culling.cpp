@@ -162,25 +162,33 @@ bool backFacing(const NormalCone& cone, const CullBox& box, const glm::vec4& eye
     return angleBetweenUnit(cone.axis, toEye / distance) > kHalfPi + cone.halfAngle + spread + kAngleMargin;
 }
 
-bool tangentPlaneBackFacing(const BicubicPoints& bezier, const glm::vec4& eye) {
+TangentPlanes tangentPlanesOf(const BicubicPoints& bezier) {
     const std::array<glm::dvec3, 36> n = normalPatch(bezier);
-    const glm::dvec3 e(eye);
-    const double w = eye.w;
-    // g = N . (E - w B) = sum B5_a B5_b B3_c B3_d n(a, b) . q(c, d), q = E - w P(c, d).
-    double g[81] = {}, scale[81] = {};
+    // g = N . (E - w B) = sum B5_a B5_b B3_c B3_d n(a, b) . (E - w P(c, d)): per coefficient
+    // a = sum of weighted n(a, b), b = sum of weighted n(a, b) . P(c, d).
+    std::array<glm::dvec4, 81> sums{};
     for (int b = 0; b < 6; ++b)
         for (int a = 0; a < 6; ++a)
             for (int d = 0; d < 4; ++d)
                 for (int c = 0; c < 4; ++c) {
-                    const glm::dvec3 q = e - w * glm::dvec3(bezier[4 * d + c]);
                     const double weight = productWeight(5, a, 3, c) * productWeight(5, b, 3, d);
-                    const double term = weight * glm::dot(n[6 * b + a], q);
-                    g[9 * (b + d) + (a + c)] += term;
-                    scale[9 * (b + d) + (a + c)] += std::abs(term);
+                    const glm::dvec3 nw = weight * n[6 * b + a];
+                    sums[9 * (b + d) + (a + c)] += glm::dvec4(nw, glm::dot(nw, glm::dvec3(bezier[4 * d + c])));
                 }
-    // Negative beyond the rounding of the sums: float inputs, double sums of at most 36 terms.
-    for (int k = 0; k < 81; ++k)
-        if (!(g[k] < -1e-9 * scale[k]) || scale[k] == 0.0) return false;
+    TangentPlanes planes;
+    for (int k = 0; k < 81; ++k) planes[k] = glm::vec4(sums[k]);
+    return planes;
+}
+
+bool tangentPlanesBackFacing(const TangentPlanes& planes, const glm::vec4& eye) {
+    const glm::vec3 e(eye);
+    for (const glm::vec4& p : planes) {
+        const glm::vec3 a(p);
+        const float g = glm::dot(a, e) - p.w * eye.w;
+        // The coefficients are float: negative by more than their rounding could move them.
+        const float rounding = 1e-5f * (glm::length(a) * glm::length(e) + std::abs(p.w * eye.w));
+        if (!(g < -rounding)) return false;
+    }
     return true;
 }
 

@@ -66,7 +66,14 @@ NormalCone tangentCone(const BicubicPoints& bezier);  // tcone
 NormalCone normalPatchCone(const BicubicPoints& bezier);  // ncone
 // Every point of `box`, with any normal in `cone`, faces away from `eye` (strictly).
 bool backFacing(const NormalCone& cone, const CullBox& box, const glm::vec4& eye);
-// pplane: every point of the patch faces away from `eye`.
-bool tangentPlaneBackFacing(const BicubicPoints& bezier, const glm::vec4& eye);
+// pplane: the 81 Bernstein coefficients (a, b) of g = a . E - b w for a homogeneous eye (E, w)
+// (bidegree (8, 8)); the patch faces away from the eye everywhere when every coefficient is
+// negative, beyond the rounding of float coefficients.
+using TangentPlanes = std::array<glm::vec4, 81>;
+TangentPlanes tangentPlanesOf(const BicubicPoints& bezier);
+bool tangentPlanesBackFacing(const TangentPlanes& planes, const glm::vec4& eye);
+inline bool tangentPlaneBackFacing(const BicubicPoints& bezier, const glm::vec4& eye) {
+    return tangentPlanesBackFacing(tangentPlanesOf(bezier), eye);
+}
 
 }  // namespace qp
