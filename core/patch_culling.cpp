@@ -112,18 +112,11 @@ NormalCone coneOfVectors(std::span<const glm::vec3> vectors) {
     return coneOfUnit(units);
 }
 
-NormalCone tangentCone(const BicubicPoints& p) {
-    std::array<glm::vec3, 12> alongU, alongV;
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 3; ++c) {
-            alongU[3 * r + c] = p[4 * r + c + 1] - p[4 * r + c];
-            alongV[3 * r + c] = p[4 * (c + 1) + r] - p[4 * c + r];
-        }
-    const NormalCone u = coneOfVectors(alongU), v = coneOfVectors(alongV);
+NormalCone normalConeOfTangents(const NormalCone& u, const NormalCone& v) {
     NormalCone cone;
     if (!u.bounded || !v.bounded) return cone;
-    // Sederberg and Meyers: with tangent cones of half-angles a, b whose axes make the angle t,
-    // and a + b < min(t, pi - t), every u x v lies within g of the axes' cross product, where
+    // With tangent cones of half-angles a, b whose axes make the angle t, and a + b < min(t,
+    // pi - t), every u x v lies within g of the axes' cross product, where
     // sin g = sqrt(sin^2 a + 2 sin a sin b cos t + sin^2 b) / sin t.
     const float t = angleBetweenUnit(u.axis, v.axis);
     const float a = u.halfAngle, b = v.halfAngle;
@@ -135,6 +128,16 @@ NormalCone tangentCone(const BicubicPoints& p) {
     cone.halfAngle = std::asin(sine) + kAngleMargin;
     cone.bounded = cone.halfAngle < kHalfPi;
     return cone;
+}
+
+NormalCone tangentCone(const BicubicPoints& p) {
+    std::array<glm::vec3, 12> alongU, alongV;
+    for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 3; ++c) {
+            alongU[3 * r + c] = p[4 * r + c + 1] - p[4 * r + c];
+            alongV[3 * r + c] = p[4 * (c + 1) + r] - p[4 * c + r];
+        }
+    return normalConeOfTangents(coneOfVectors(alongU), coneOfVectors(alongV));
 }
 
 NormalCone normalPatchCone(const BicubicPoints& bezier) {

@@ -61,6 +61,10 @@ struct NormalCone {
 // combination gains no direction from them).
 NormalCone coneOfVectors(std::span<const glm::vec3> vectors);
 
+// Sederberg and Meyers: the cone holding every u x v for u in `alongU` and v in `alongV`
+// (unbounded when the tangent cones come too close to parallel).
+NormalCone normalConeOfTangents(const NormalCone& alongU, const NormalCone& alongV);
+
 // The back-patch tests on a Bézier patch (positions in the same space as the eye).
 NormalCone tangentCone(const BicubicPoints& bezier);  // tcone
 NormalCone normalPatchCone(const BicubicPoints& bezier);  // ncone

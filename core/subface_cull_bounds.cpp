@@ -59,6 +59,7 @@ struct LeafBounds {
     CullBox box{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
     std::vector<NormalCone> tcones, ncones;
     std::vector<TangentPlanes> planes;
+    std::vector<SubfaceCullBounds::GregoryLeaf> gregories;  // boxes relative to the origin
     bool coneless = false;  // a leaf without a cone: no back-patch test for the sub-face
 };
 
@@ -77,8 +78,78 @@ void addPatch(LeafBounds& out, const BicubicPoints& bspline, bool reversed) {
     out.planes.push_back(planes);
 }
 
+// A Gregory patch (20 points in patch_basis.h's order, `reversed` as addPatch): the box of its
+// points (the surface is a convex blend of them) and a cone bounding its true normals. With its
+// interior points F_k(u, v), blends of Fp_k and Fm_k, B_u = D_u + e_u:
+//   D_u, the Bézier net's u-derivative with the interior points held, 3 sum B2_i(u) B3_j(v) times
+//       the net's u-differences, each interior point anywhere on [Fm_k, Fp_k] (so a positive
+//       combination of the differences taken with either end): within the cone (a, alpha) of
+//       those, and D_u . a >= m = 3 min(difference . a) (the weights sum to 1);
+//   e_u = sum_k (d/du of the blend weight) B(interior point k) (Fp_k - Fm_k), each factor at most
+//       4/3 in size (gregoryWeights: e.g. corner 0, v / (u + v)^2 * 9 u (1 - u)^2 v (1 - v)^2 <=
+//       9 u (1 - u)^2 <= 4/3), so |e_u| <= E = 4/3 sum_k |Fp_k - Fm_k|.
+// B_u then lies within alpha + asin(E / m) of a (when E < m); B_v likewise; Sederberg and
+// Meyers' rule gives the normal cone. The patch has no polynomial normal patch: its ncone is
+// that cone, and pplane tests the leaf with it.
+NormalCone gregoryTangentCone(std::span<const glm::vec3> differences, float perturbation) {
+    NormalCone cone = coneOfVectors(differences);
+    if (!cone.bounded) return cone;
+    float least = INFINITY;
+    for (const glm::vec3& d : differences) least = std::min(least, 3.0f * glm::dot(d, cone.axis));
+    if (!(perturbation < least)) return NormalCone{};
+    cone.halfAngle += std::asin(perturbation / least);
+    cone.bounded = cone.halfAngle < 0.5f * 3.14159265f;
+    return cone;
+}
+
+}  // namespace
+
+NormalCone gregoryNormalCone(const std::array<glm::vec3, 20>& g) {
+    // The Bézier net, each interior point as its two ends: net(i, j) -> {a, b}.
+    std::array<std::array<glm::vec3, 2>, 16> net;
+    auto set = [&](int i, int j, const glm::vec3& a, const glm::vec3& b) { net[4 * j + i] = {a, b}; };
+    // Corner k's P, Ep, Em and interior point in the net (patch_basis.h).
+    const int corner[4][4][2] = {{{0, 0}, {1, 0}, {0, 1}, {1, 1}}, {{3, 0}, {3, 1}, {2, 0}, {2, 1}},
+                                 {{3, 3}, {2, 3}, {3, 2}, {2, 2}}, {{0, 3}, {0, 2}, {1, 3}, {1, 2}}};
+    float spread = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        for (int q = 0; q < 3; ++q) set(corner[k][q][0], corner[k][q][1], g[5 * k + q], g[5 * k + q]);
+        set(corner[k][3][0], corner[k][3][1], g[5 * k + 3], g[5 * k + 4]);
+        spread += glm::length(g[5 * k + 3] - g[5 * k + 4]);
+    }
+    std::vector<glm::vec3> alongU, alongV;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 3; ++i)
+            for (const glm::vec3& a : net[4 * j + i + 1])
+                for (const glm::vec3& b : net[4 * j + i]) alongU.push_back(a - b);
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 3; ++j)
+            for (const glm::vec3& a : net[4 * (j + 1) + i])
+                for (const glm::vec3& b : net[4 * j + i]) alongV.push_back(a - b);
+    const float perturbation = 4.0f / 3.0f * spread;
+    return normalConeOfTangents(gregoryTangentCone(alongU, perturbation), gregoryTangentCone(alongV, perturbation));
+}
+
+namespace {
+
+void addGregory(LeafBounds& out, const std::array<glm::vec3, 20>& g, bool reversed) {
+    CullBox box{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
+    for (const glm::vec3& p : g) grow(box, CullBox{p, p});
+    grow(out.box, box);
+    NormalCone cone = gregoryNormalCone(g);
+    if (reversed) cone.axis = -cone.axis;
+    out.tcones.push_back(cone);
+    out.ncones.push_back(cone);
+    out.gregories.push_back({cone, box});
+}
+
 void addLeaf(LeafBounds& out, const Plan& plan, const PlanNode& node, const glm::vec3* control) {
     const uint32_t* points = &plan.points[node.first];
+    auto gather20 = [&](const uint32_t* from) {
+        std::array<glm::vec3, 20> g;
+        for (uint32_t k = 0; k < 20; ++k) g[k] = control[from[k]];
+        return g;
+    };
     auto gather16 = [&](auto index) {
         BicubicPoints p;
         for (uint32_t k = 0; k < 16; ++k) p[k] = control[index(k)];
@@ -116,14 +187,12 @@ void addLeaf(LeafBounds& out, const Plan& plan, const PlanNode& node, const glm:
                              return points[kTerminalPointsPerLevel * level + gy * 5 + gx - 1];
                          }),
                          mirrorU != mirrorV);
-        const uint32_t* gregory = points + kTerminalPointsPerLevel * node.levels;
-        for (uint32_t k = 0; k < kGregoryPoints; ++k) grow(out.box, CullBox{control[gregory[k]], control[gregory[k]]});
-        out.coneless = true;
+        // The Gregory patch at the bottom, in the same mirrored frame as the windows.
+        addGregory(out, gather20(points + kTerminalPointsPerLevel * node.levels), false);  // evaluated un-mirrored (plan_eval.cpp)
         break;
     }
     case NodeKind::Extraordinary:
-        for (uint32_t k = 0; k < kGregoryPoints; ++k) grow(out.box, CullBox{control[points[k]], control[points[k]]});
-        out.coneless = true;
+        addGregory(out, gather20(points), false);
         break;
     case NodeKind::Internal: break;
     }
@@ -139,8 +208,10 @@ SubfaceCullBounds buildSubfaceCullBounds(const PlannedCage& planned) {
     out.ncones.assign(count, NormalCone{});
     out.origins.assign(count, glm::vec3(0.0f));
     out.planeOffsets.assign(count + 1, 0);
+    out.gregoryOffsets.assign(count + 1, 0);
     for (uint32_t s = 0; s < count; ++s) {
         out.planeOffsets[s + 1] = out.planeOffsets[s];
+        out.gregoryOffsets[s + 1] = out.gregoryOffsets[s];
         if (!planned.hasSurface(s)) continue;
         const Plan& plan = planned.database().plan(planned.subfacePlan(s));
         const std::span<const glm::vec3> control = planned.subfaceControlPoints(s);
@@ -155,13 +226,21 @@ SubfaceCullBounds buildSubfaceCullBounds(const PlannedCage& planned) {
         out.ncones[s] = unionOf(leaves.ncones);
         out.planes.insert(out.planes.end(), leaves.planes.begin(), leaves.planes.end());
         out.planeOffsets[s + 1] = uint32_t(out.planes.size());
+        for (SubfaceCullBounds::GregoryLeaf leaf : leaves.gregories) {
+            leaf.box = CullBox{leaf.box.lo + origin, leaf.box.hi + origin};
+            out.gregories.push_back(leaf);
+        }
+        out.gregoryOffsets[s + 1] = uint32_t(out.gregories.size());
     }
     return out;
 }
 
 bool subfaceTangentPlanesBackFacing(const SubfaceCullBounds& bounds, uint32_t subface, const glm::vec4& eye) {
     const uint32_t first = bounds.planeOffsets[subface], last = bounds.planeOffsets[subface + 1];
-    if (first == last) return false;
+    const uint32_t firstGregory = bounds.gregoryOffsets[subface], lastGregory = bounds.gregoryOffsets[subface + 1];
+    if (first == last && firstGregory == lastGregory) return false;
+    for (uint32_t k = firstGregory; k < lastGregory; ++k)
+        if (!backFacing(bounds.gregories[k].cone, bounds.gregories[k].box, eye)) return false;
     // The planes are relative to the sub-face's origin: move the eye there (a direction stays).
     const glm::vec4 relative(glm::vec3(eye) - eye.w * bounds.origins[subface], eye.w);
     for (uint32_t k = first; k < last; ++k)

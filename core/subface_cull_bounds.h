@@ -10,11 +10,13 @@
 //                  0 <= c <= 1/2, d the second differences across the crease (patch_basis.h):
 //                  the box grows by [0, 1/2] of d's box; no cone.
 //   Terminal       per level its three regular windows (as Regular, mirrored windows with their
-//                  orientation), and the Gregory patch at the bottom: box only.
-//   Extraordinary  Gregory: the box of its 20 points (the patch is a convex blend of them); no
-//                  cone (its normal bound needs a proof of its own, docs/culling-plan.md).
-// A sub-face with a leaf that has no cone cannot be back-patch culled: its cones are unbounded
-// and `tangentPlanes` is empty for it.
+//                  orientation), and the Gregory patch at the bottom (as Extraordinary).
+//   Extraordinary  Gregory: the box of its 20 points (the patch is a convex blend of them) and a
+//                  cone bounding its true normals (subface_cull_bounds.cpp, addGregory); it has
+//                  no polynomial normal patch, so its ncone is that cone and pplane tests the
+//                  leaf with it.
+// A sub-face with a semi-sharp crease leaf cannot be back-patch culled: its cones are unbounded
+// and it has no leaf tests.
 #pragma once
 
 #include <array>
@@ -27,18 +29,29 @@
 
 namespace qp {
 
+// A cone holding every true normal (the blend weights' derivatives included) of a Gregory patch
+// (20 points in patch_basis.h's order); unbounded when its tangents spread too far.
+NormalCone gregoryNormalCone(const std::array<glm::vec3, 20>& points);
+
 struct SubfaceCullBounds {
     std::vector<CullBox> boxes;             // per sub-face, world coordinates
     std::vector<NormalCone> tcones, ncones;  // per sub-face
     std::vector<glm::vec3> origins;         // per sub-face: what its tangent planes are relative to
-    std::vector<uint32_t> planeOffsets;     // CSR: sub-face -> its leaves' tangent planes
+    std::vector<uint32_t> planeOffsets;     // CSR: sub-face -> its Bézier leaves' tangent planes
     std::vector<TangentPlanes> planes;      // relative to the sub-face's origin
+    struct GregoryLeaf {
+        NormalCone cone;
+        CullBox box;  // world coordinates
+    };
+    std::vector<uint32_t> gregoryOffsets;   // CSR: sub-face -> its Gregory leaves
+    std::vector<GregoryLeaf> gregories;
 };
 
 // For every sub-face with a surface (the others get an empty box and unbounded cones).
 SubfaceCullBounds buildSubfaceCullBounds(const PlannedCage& planned);
 
-// pplane for a sub-face: every leaf back-facing (false when it has none bounded).
+// pplane for a sub-face: every Bézier leaf back-facing by its tangent planes and every Gregory
+// leaf by its cone (false when it has no leaf tests).
 bool subfaceTangentPlanesBackFacing(const SubfaceCullBounds& bounds, uint32_t subface, const glm::vec4& eye);
 
 }  // namespace qp
