@@ -16,6 +16,7 @@ void registerCheckLimit(CLI::App& app, int& exitCode);
 
 // `quadplan plan-stats CAGE [--depth D] [--json]`
 void registerPlanStats(CLI::App& app, int& exitCode);
+void registerCullStats(CLI::App& app, int& exitCode);
 
 // `quadplan bench SUITE [--repeats R] [--out DIR] ...`: benchmarks against OpenSubdiv
 void registerBench(CLI::App& app, int& exitCode);

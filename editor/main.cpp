@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     qp::cli::registerInfo(app, exitCode);
     qp::cli::registerCheckLimit(app, exitCode);
     qp::cli::registerPlanStats(app, exitCode);
+    qp::cli::registerCullStats(app, exitCode);
     qp::cli::registerRender(app, exitCode);
     qp::cli::registerAnimate(app, exitCode);
     qp::cli::registerBench(app, exitCode);
