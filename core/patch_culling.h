@@ -42,7 +42,7 @@ struct CullBox {
 CullBox boxOf(std::span<const glm::vec3> points);
 
 // Clipping planes of a view-projection matrix (Vulkan clip space: depth 0 .. 1), each a vec4
-// (n, d) with n . p + d >= 0 inside.
+// (n, d) with n . p + d >= 0 inside: left, right, bottom, top, near, far.
 struct CullFrustum {
     std::array<glm::vec4, 6> planes;
 };

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "plan_database.h"
+#include "topology.h"
 
 namespace qp {
 
@@ -181,7 +182,7 @@ void addLeaf(LeafBounds& out, const Plan& plan, const PlanNode& node, const glm:
     case NodeKind::Terminal: {
         const bool mirrorU = node.edge == 1 || node.edge == 2, mirrorV = node.edge == 2 || node.edge == 3;
         for (uint32_t level = 0; level < node.levels; ++level)
-            for (const auto [qx, qy] : {std::pair{1u, 0u}, std::pair{0u, 1u}, std::pair{1u, 1u}})
+            for (const auto& [qx, qy] : {std::pair{1u, 0u}, std::pair{0u, 1u}, std::pair{1u, 1u}})
                 addPatch(out, gather16([&](uint32_t k) {
                              const uint32_t gx = qx + k % 4, gy = qy + k / 4;
                              return points[kTerminalPointsPerLevel * level + gy * 5 + gx - 1];
@@ -246,6 +247,79 @@ bool subfaceTangentPlanesBackFacing(const SubfaceCullBounds& bounds, uint32_t su
     for (uint32_t k = first; k < last; ++k)
         if (!tangentPlanesBackFacing(bounds.planes[k], relative)) return false;
     return true;
+}
+
+std::optional<CullMethod> parseCullMethod(std::string_view name) {
+    for (CullMethod m : {CullMethod::None, CullMethod::Frustum, CullMethod::TCone, CullMethod::NCone, CullMethod::PPlane})
+        if (name == cullMethodName(m)) return m;
+    return std::nullopt;
+}
+
+const char* cullMethodName(CullMethod method) {
+    switch (method) {
+    case CullMethod::None: return "none";
+    case CullMethod::Frustum: return "frustum";
+    case CullMethod::TCone: return "tcone";
+    case CullMethod::NCone: return "ncone";
+    case CullMethod::PPlane: return "pplane";
+    }
+    return "?";
+}
+
+glm::vec4 homogeneousEye(const glm::mat4& m, const glm::vec3& eyePoint) {
+    const glm::vec4 lastRow(m[0][3], m[1][3], m[2][3], m[3][3]);
+    if (lastRow.x != 0.0f || lastRow.y != 0.0f || lastRow.z != 0.0f) return glm::vec4(eyePoint, 1.0f);
+    // Orthographic: depth grows away from the viewer along row 2.
+    return glm::vec4(-glm::normalize(glm::vec3(m[0][2], m[1][2], m[2][2])), 0.0f);
+}
+
+bool closedSurface(const PlannedCage& planned) {
+    const Topology& topology = planned.topology();
+    for (uint32_t e = 0; e < topology.edgeCount(); ++e)
+        if (topology.edgeFaceCount(e) != 2) return false;
+    for (uint32_t f = 0; f < planned.cage().faceCount(); ++f)
+        if (planned.cage().isHole(f)) return false;
+    return true;
+}
+
+std::vector<uint32_t> culledSubfaces(const PlannedCage& planned, const SubfaceCullBounds& bounds, CullMethod method,
+                                     const glm::mat4& viewProjection, const glm::vec4& eye, bool backPatch,
+                                     std::span<const float> margins) {
+    std::vector<uint32_t> culled;
+    if (method == CullMethod::None) return culled;
+    const CullFrustum frustum = frustumOf(viewProjection);
+    // Back-patch tests need the eye outside the surface (outside the box of every sub-face),
+    // and the near plane clear of it: where the near plane cuts the surface open, its back
+    // side shows through the cut.
+    if (backPatch) {
+        CullBox all{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
+        for (uint32_t s = 0; s < planned.subfaceCount(); ++s)
+            if (planned.hasSurface(s)) grow(all, bounds.boxes[s]);
+        if (eye.w != 0.0f) {
+            const glm::vec3 e = glm::vec3(eye) / eye.w;
+            backPatch = glm::any(glm::lessThan(e, all.lo)) || glm::any(glm::greaterThan(e, all.hi));
+        }
+        const glm::vec4& nearPlane = frustum.planes[4];
+        for (int corner = 0; corner < 8 && backPatch; ++corner) {
+            const glm::vec3 p(corner & 1 ? all.hi.x : all.lo.x, corner & 2 ? all.hi.y : all.lo.y, corner & 4 ? all.hi.z : all.lo.z);
+            backPatch = glm::dot(glm::vec3(nearPlane), p) + nearPlane.w > 0.0f;
+        }
+    }
+    for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+        if (!planned.hasSurface(s)) continue;
+        CullBox box = bounds.boxes[s];
+        if (!margins.empty()) box.lo -= glm::vec3(margins[s]), box.hi += glm::vec3(margins[s]);
+        bool out = outsideFrustum(frustum, box);
+        // Each back-patch method also takes the cheaper ones' answers (all are conservative), so
+        // what tcone culls ncone culls too, and pplane both.
+        if (!out && backPatch && margins.empty() && method >= CullMethod::TCone) {
+            out = backFacing(bounds.tcones[s], box, eye);
+            if (!out && method >= CullMethod::NCone) out = backFacing(bounds.ncones[s], box, eye);
+            if (!out && method == CullMethod::PPlane) out = subfaceTangentPlanesBackFacing(bounds, s, eye);
+        }
+        if (out) culled.push_back(s);
+    }
+    return culled;
 }
 
 }  // namespace qp

@@ -21,7 +21,9 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "patch_culling.h"
@@ -53,5 +55,28 @@ SubfaceCullBounds buildSubfaceCullBounds(const PlannedCage& planned);
 // pplane for a sub-face: every Bézier leaf back-facing by its tangent planes and every Gregory
 // leaf by its cone (false when it has no leaf tests).
 bool subfaceTangentPlanesBackFacing(const SubfaceCullBounds& bounds, uint32_t subface, const glm::vec4& eye);
+
+enum class CullMethod : uint32_t { None, Frustum, TCone, NCone, PPlane };
+std::optional<CullMethod> parseCullMethod(std::string_view name);  // none, frustum, tcone, ncone, pplane
+const char* cullMethodName(CullMethod method);
+
+// The homogeneous eye of a view: (eye, 1) for a perspective view-projection, the direction
+// towards the viewer (w = 0) for an orthographic one (its last row is (0, 0, 0, 1)).
+glm::vec4 homogeneousEye(const glm::mat4& viewProjection, const glm::vec3& eyePoint);
+
+// Whether back-patch tests may cull for this cage: every pipeline draws back sides, so a
+// back-facing patch is hidden only on a closed surface (every edge between two faces, no hole)
+// seen from outside it (the eye outside the box of all sub-faces).
+bool closedSurface(const PlannedCage& planned);
+
+// The sub-faces (sorted) `method` culls for a view: outside the frustum, or (tcone; ncone with
+// tcone; pplane with both; only where `backPatch`, the eye is outside every sub-face's box and the near plane
+// cuts none of them: a near plane through the surface shows its back side) facing away.
+// `margins` (per sub-face; empty: none) widen each box in every direction first (a
+// displacement's largest |D|); with margins only the frustum test applies (back-patch tests
+// cannot bound a displaced surface's normals).
+std::vector<uint32_t> culledSubfaces(const PlannedCage& planned, const SubfaceCullBounds& bounds, CullMethod method,
+                                     const glm::mat4& viewProjection, const glm::vec4& eye, bool backPatch,
+                                     std::span<const float> margins = {});
 
 }  // namespace qp

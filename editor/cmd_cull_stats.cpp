@@ -13,7 +13,6 @@
 #include "planned_cage.h"
 #include "scene.h"
 #include "subface_cull_bounds.h"
-#include "topology.h"
 
 namespace qp::cli {
 
@@ -36,16 +35,6 @@ std::vector<glm::vec3> viewDirections(uint32_t count) {
     return out;
 }
 
-// Back sides are drawn (every pipeline culls no triangles): back-patch culling hides nothing only
-// on a closed cage, seen from outside.
-bool closedCage(const Cage& cage, const Topology& topology) {
-    for (uint32_t e = 0; e < topology.edgeCount(); ++e)
-        if (topology.edgeFaceCount(e) != 2) return false;
-    for (uint32_t f = 0; f < cage.faceCount(); ++f)
-        if (cage.isHole(f)) return false;
-    return true;
-}
-
 int runCullStats(const CullStatsArgs& args) {
     std::vector<std::string> warnings;
     Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
@@ -65,8 +54,8 @@ int runCullStats(const CullStatsArgs& args) {
         return 1;
     }
     const SubfaceCullBounds bounds = buildSubfaceCullBounds(*planned);
-    const bool closed = closedCage(planned->cage(), planned->topology());
-    CullBox all{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
+    const bool closed = closedSurface(*planned);
+    CullBox all{glm::vec3(INFINITY), glm::vec3(-INFINITY)};  // what each view frames
     uint32_t patches = 0;
     for (uint32_t s = 0; s < planned->subfaceCount(); ++s)
         if (planned->hasSurface(s)) {
@@ -81,19 +70,11 @@ int runCullStats(const CullStatsArgs& args) {
         const float distance = glm::length(camera.eye - camera.target);
         camera.eye = camera.target + distance * direction;
         camera.up = std::abs(direction.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-        const CullFrustum frustum = frustumOf(viewProjection(camera));
-        const glm::vec4 eye(camera.eye, 1.0f);
-        const bool eyeOutside = glm::any(glm::lessThan(camera.eye, all.lo)) || glm::any(glm::greaterThan(camera.eye, all.hi));
-        const bool backPatch = closed && eyeOutside;
+        const glm::vec4 eye = homogeneousEye(viewProjection(camera), camera.eye);
         uint32_t culled[4] = {};
-        for (uint32_t s = 0; s < planned->subfaceCount(); ++s) {
-            if (!planned->hasSurface(s)) continue;
-            const bool outside = outsideFrustum(frustum, bounds.boxes[s]);
-            culled[0] += outside;
-            culled[1] += outside || (backPatch && backFacing(bounds.tcones[s], bounds.boxes[s], eye));
-            culled[2] += outside || (backPatch && backFacing(bounds.ncones[s], bounds.boxes[s], eye));
-            culled[3] += outside || (backPatch && subfaceTangentPlanesBackFacing(bounds, s, eye));
-        }
+        const CullMethod methods[4] = {CullMethod::Frustum, CullMethod::TCone, CullMethod::NCone, CullMethod::PPlane};
+        for (int m = 0; m < 4; ++m)
+            culled[m] = uint32_t(culledSubfaces(*planned, bounds, methods[m], viewProjection(camera), eye, closed).size());
         for (int m = 0; m < 4; ++m) fractions[m].push_back(patches ? double(culled[m]) / patches : 0.0);
     }
     nlohmann::ordered_json methods;

@@ -72,13 +72,17 @@ TEST(SubfaceCullBounds, BoxesAndConesHoldTheSampledSurface) {
                         << c.name << " sub-face " << s;
                     const glm::vec3 n = glm::cross(l.du, l.dv);
                     if (glm::length(n) == 0.0f) continue;
-                    if (bounds.tcones[s].bounded) ASSERT_LE(angleBetween(n, bounds.tcones[s].axis), bounds.tcones[s].halfAngle) << c.name << " " << s;
-                    if (bounds.ncones[s].bounded) ASSERT_LE(angleBetween(n, bounds.ncones[s].axis), bounds.ncones[s].halfAngle) << c.name << " " << s;
+                    for (const NormalCone* cone : {&bounds.tcones[s], &bounds.ncones[s]}) {
+                        if (!cone->bounded) continue;
+                        ASSERT_LE(angleBetween(n, cone->axis), cone->halfAngle) << c.name << " " << s;
+                    }
                 }
         }
         // Every sub-face has a cone but those with semi-sharp crease leaves (the benchmark cage
         // has semi-sharp creases).
-        if (c.name != "benchmark cage") EXPECT_EQ(withCones, planned->subfaceCount()) << c.name << ": every sub-face has a cone";
+        if (c.name != "benchmark cage") {
+            EXPECT_EQ(withCones, planned->subfaceCount()) << c.name << ": every sub-face has a cone";
+        }
         RecordProperty(c.name, std::to_string(withCones) + " of " + std::to_string(planned->subfaceCount()) + " with cones");
     }
 }

@@ -6,7 +6,10 @@
 // accept (creases of any sharpness, corners, boundaries, holes, non-quads, non-manifold).
 //
 // Options: path=auto|tess|grid|cpu, the renderer's paths (render/draw_path.h: auto is cpu on a
-// CPU device, tess on a GPU). The grid paths keep their evaluated grid between frames, so a
+// CPU device, tess on a GPU); cull=none|frustum|tcone|ncone|pplane, culling per sub-face and
+// frame (core/subface_cull_bounds.h: conservative; back-patch tests only on closed cages seen
+// from outside, and only the frustum with a displacement; culled sub-faces are drawn as hidden
+// ones are not, on every path). The grid paths keep their evaluated grid between frames, so a
 // frame whose camera moved but whose cage did not only draws, and after updateMoved (the
 // editor's drags) the next frame re-evaluates only the sub-faces whose 1-ring holds a moved
 // vertex (recordMovedVertices).
@@ -30,6 +33,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
+#include <optional>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
@@ -40,6 +44,7 @@
 #include "vk_commands.h"
 #include "scheme_api.h"
 #include "scheme_support.h"
+#include "subface_cull_bounds.h"
 
 namespace qp {
 namespace {
@@ -55,7 +60,7 @@ public:
     SupportReport support(const CageFeatures&, const SchemeSettings& settings) const override {
         SupportReport report;
         for (const auto& [key, value] : settings.options)
-            if (key != "path" && key != "displacement-pixels")
+            if (key != "path" && key != "displacement-pixels" && key != "cull")
                 report.approximations.push_back("plans ignores the unknown option '" + key + "'");
         return report;
     }
@@ -69,6 +74,13 @@ public:
             if (!parsed) return Error{"plans: unknown --path '" + *path + "'; use auto, tess, grid or cpu"};
             requestedPath_ = *parsed;
         }
+        cull_ = CullMethod::None;
+        if (const std::string* cull = settings.option("cull")) {
+            const std::optional<CullMethod> method = parseCullMethod(*cull);
+            if (!method) return Error{"plans: unknown --option cull=" + *cull + "; use none, frustum, tcone, ncone or pplane"};
+            cull_ = *method;
+        }
+        cullBounds_.reset();
         displacementPixels_ = 0.0f;
         if (const std::string* pixels = settings.option("displacement-pixels")) {
             char* end = nullptr;
@@ -96,6 +108,7 @@ public:
     }
 
     Status setDisplacement(const Displacement* displacement) override {
+        cullBounds_.reset();
         displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
         if (displacement_ && displacement_->layout.tiles.size() != planned_->subfaceCount())
             return Error{"plans: the displacement does not match the cage's sub-faces"};
@@ -103,6 +116,7 @@ public:
     }
 
     Status displacementChanged(std::span<const uint32_t> samples) override {
+        cullBounds_.reset();  // the margins follow |D|
         if (!haveBuffers_ || !displacement_) return success();
         // Device work (the GPU grid path) goes through one short submission; the CPU grid and
         // the tessellated path need none.
@@ -115,6 +129,7 @@ public:
     }
 
     Result<PlanUpdate> updatePlans(const PlanChange& change) override {
+        cullBounds_.reset();
         if (!haveBuffers_ || (change.topologyChanged && change.previousSubfaceOf.empty())) return PlanUpdate::Rebuild;
         std::span<const uint32_t> changed = change.subfaces;
         std::vector<uint32_t> withPending;
@@ -163,6 +178,7 @@ public:
     bool hidesSubfaces() const override { return true; }
 
     Status update() override {
+        cullBounds_.reset();
         pendingMoves_.clear();
         pendingRefresh_.clear();
         if (haveBuffers_) updatePositions(buffers_, *planned_);  // drops the cached grid
@@ -172,6 +188,7 @@ public:
     // Only these vertices moved: the next record() refreshes just the sub-faces around them,
     // recording the device part into its command buffer (evaluate() reads planned_ directly).
     Status updateMoved(std::span<const uint32_t> vertices) override {
+        cullBounds_.reset();
         if (!haveBuffers_) return success();
         // The partial refresh re-evaluates the undisplaced surface only; with a displacement the
         // whole grid is evaluated again.
@@ -206,6 +223,13 @@ public:
         std::set_union(hiddenDrawn_.begin(), hiddenDrawn_.end(), buffers_.holeDrawn.begin(), buffers_.holeDrawn.end(),
                        std::back_inserter(hiddenOrHole));
         hiddenDrawn_ = std::move(hiddenOrHole);
+        culledDrawn_ = cullForView(view);
+        if (!culledDrawn_.empty()) {
+            std::vector<uint32_t> hiddenOrCulled;
+            std::set_union(hiddenDrawn_.begin(), hiddenDrawn_.end(), culledDrawn_.begin(), culledDrawn_.end(),
+                           std::back_inserter(hiddenOrCulled));
+            hiddenDrawn_ = std::move(hiddenOrCulled);
+        }
         planView.hiddenDrawn = hiddenDrawn_;
         planView.shading = view.shading;
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
@@ -290,6 +314,33 @@ public:
     }
 
 private:
+    // The drawn sub-faces culled for this view (sorted); the bounds are built when first needed
+    // after a change of the cage or the displacement.
+    std::vector<uint32_t> cullForView(const DrawView& view) {
+        if (cull_ == CullMethod::None) return {};
+        if (!cullBounds_) {
+            cullBounds_ = buildSubfaceCullBounds(*planned_);
+            closed_ = closedSurface(*planned_);
+            margins_.clear();
+            if (displacement_) {  // every box grows by its tile's largest |D|
+                margins_.assign(planned_->subfaceCount(), 0.0f);
+                const DisplacementLayout& layout = displacement_->layout;
+                for (uint32_t s = 0; s < layout.tiles.size(); ++s) {
+                    const DisplacementTile& tile = layout.tiles[s];
+                    for (uint32_t k = 0; k < (tile.cells + 2) * (tile.cells + 2); ++k)
+                        margins_[s] = std::max(margins_[s], std::abs(displacement_->samples[layout.padded[tile.offset + k]]));
+                }
+            }
+        }
+        const glm::vec4 eye = homogeneousEye(view.viewProjection, view.eye);
+        std::vector<uint32_t> drawn;
+        for (uint32_t s : culledSubfaces(*planned_, *cullBounds_, cull_, view.viewProjection, eye, closed_, margins_))
+            if (s < buffers_.drawnOfSubface.size() && buffers_.drawnOfSubface[s] != UINT32_MAX)
+                drawn.push_back(buffers_.drawnOfSubface[s]);
+        std::sort(drawn.begin(), drawn.end());
+        return drawn;
+    }
+
     static ColorBy colorBy(const std::string& name) {
         if (name == "node-kind") return ColorBy::NodeKind;
         if (name == "depth") return ColorBy::PlanDepth;
@@ -308,7 +359,12 @@ private:
     bool haveBuffers_ = false;
     std::vector<uint32_t> pendingMoves_;    // sorted: vertices moved since the last frame (updateMoved)
     std::vector<uint32_t> pendingRefresh_;  // sorted drawn sub-faces re-planned since the last frame
-    std::vector<uint32_t> hiddenDrawn_;     // this draw's DrawView::hiddenSubfaces as drawn indices
+    std::vector<uint32_t> hiddenDrawn_;     // this draw's DrawView::hiddenSubfaces as drawn indices (and culled ones)
+    std::vector<uint32_t> culledDrawn_;     // this draw's culled sub-faces as drawn indices
+    CullMethod cull_ = CullMethod::None;
+    std::optional<SubfaceCullBounds> cullBounds_;  // built when first needed after a change
+    bool closed_ = false;                   // back-patch tests apply (closedSurface)
+    std::vector<float> margins_;            // per sub-face: its tile's largest |D| (displaced)
 };
 
 }  // namespace
