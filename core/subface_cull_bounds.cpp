@@ -181,15 +181,20 @@ void addLeaf(LeafBounds& out, const Plan& plan, const PlanNode& node, const glm:
     }
     case NodeKind::Terminal: {
         const bool mirrorU = node.edge == 1 || node.edge == 2, mirrorV = node.edge == 2 || node.edge == 3;
+        // Per level the three regular windows of the 5 x 5 grid, quadrants (1, 0), (0, 1), (1, 1).
+        constexpr uint32_t kQuadrants[3][2] = {{1, 0}, {0, 1}, {1, 1}};
         for (uint32_t level = 0; level < node.levels; ++level)
-            for (const auto& [qx, qy] : {std::pair{1u, 0u}, std::pair{0u, 1u}, std::pair{1u, 1u}})
+            for (const auto& quadrant : kQuadrants) {
+                const uint32_t qx = quadrant[0], qy = quadrant[1];
                 addPatch(out, gather16([&](uint32_t k) {
                              const uint32_t gx = qx + k % 4, gy = qy + k / 4;
                              return points[kTerminalPointsPerLevel * level + gy * 5 + gx - 1];
                          }),
                          mirrorU != mirrorV);
-        // The Gregory patch at the bottom, in the same mirrored frame as the windows.
-        addGregory(out, gather20(points + kTerminalPointsPerLevel * node.levels), false);  // evaluated un-mirrored (plan_eval.cpp)
+            }
+        // The Gregory patch at the bottom, evaluated in the node's own frame (plan_eval.cpp
+        // un-mirrors its parameters): not reversed.
+        addGregory(out, gather20(points + kTerminalPointsPerLevel * node.levels), false);
         break;
     }
     case NodeKind::Extraordinary:
