@@ -171,7 +171,9 @@ TEST(PatchCulling, FrustumCullsOnlyBoxesWhollyOutside) {
                 const glm::vec4 clip = projection * view * glm::vec4(bezierPoint(p, i / 20.0f, j / 20.0f), 1.0f);
                 anyInside = std::abs(clip.x) <= clip.w && std::abs(clip.y) <= clip.w && clip.z >= 0.0f && clip.z <= clip.w;
             }
-        if (anyInside) ASSERT_FALSE(culled) << k;
+        if (anyInside) {
+            ASSERT_FALSE(culled) << k;
+        }
         outside += culled;
     }
     EXPECT_GT(outside, 200u);
