@@ -5,14 +5,27 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "displacement.h"
+#include "generated_cage.h"
 #include "planned_cage.h"
+#include "test_cages.h"
 
 namespace qp::test {
+
+// The test cages: a boundary, valence-3 EVs, non-quads with EVs, and a closed cage with
+// triangles, valence-5 EVs, creases and corners.
+inline std::vector<std::pair<std::string, Cage>> testCages() {
+    return {{"grid", makeGrid(3)},
+            {"subdivided cube", makeSubdividedCube(2)},
+            {"mixed grid", makeMixedGrid()},
+            {"benchmark cage", makeBenchmarkCage(120, 3)}};
+}
 
 // A cage planned with default options (the test fails when it cannot be).
 struct Planned {

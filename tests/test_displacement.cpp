@@ -22,6 +22,7 @@
 
 using namespace qp;
 using test::Planned;
+using test::testCages;
 using test::SegmentSide;
 using test::segmentSides;
 
@@ -35,15 +36,6 @@ Displacement randomDisplacement(const Cage& cage, uint32_t resolution, uint32_t 
     std::uniform_real_distribution<float> value(-scale, scale);
     for (float& s : d.samples) s = value(rng);
     return d;
-}
-
-// A boundary, valence-3 EVs, non-quads with EVs, and a closed cage with triangles, valence-5
-// EVs, creases and corners.
-std::vector<std::pair<std::string, Cage>> testCages() {
-    return {{"grid", test::makeGrid(3)},
-            {"subdivided cube", test::makeSubdividedCube(2)},
-            {"mixed grid", test::makeMixedGrid()},
-            {"benchmark cage", makeBenchmarkCage(120, 3)}};
 }
 
 // D's derivative into the tile across edge e, per cell.

@@ -17,6 +17,7 @@
 
 using namespace qp;
 using test::Planned;
+using test::testCages;
 
 namespace {
 
@@ -34,15 +35,6 @@ SampleGrids randomDisplacement(const PlannedCage& planned, uint32_t maxResolutio
     std::uniform_real_distribution<float> value(-1.0f, 1.0f);
     for (float& s : d.samples) s = value(rng);
     return d;
-}
-
-// The test cages: a boundary, valence-3 EVs, non-quads with EVs, and a closed cage with
-// triangles, valence-5 EVs, creases and corners.
-std::vector<std::pair<std::string, Cage>> testCages() {
-    return {{"grid", test::makeGrid(3)},
-            {"subdivided cube", test::makeSubdividedCube(2)},
-            {"mixed grid", test::makeMixedGrid()},
-            {"benchmark cage", makeBenchmarkCage(120, 3)}};
 }
 
 struct EdgePoint {
