@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "camera.h"
+#include "closed_surface.h"
 #include "commands.h"
 #include "planned_cage.h"
 #include "scene.h"
@@ -53,8 +54,8 @@ int runCullStats(const CullStatsArgs& args) {
         std::fprintf(stderr, "error: %s\n", planned.error().message.c_str());
         return 1;
     }
-    const SubfaceCullBounds bounds = buildSubfaceCullBounds(*planned);
-    const bool closed = closedSurface(*planned);
+    const PatchCullSet bounds = buildSubfaceCullBounds(*planned);
+    const bool closed = closedOutwardSurface(planned->cage(), planned->topology());
     CullBox all{glm::vec3(INFINITY), glm::vec3(-INFINITY)};  // what each view frames
     uint32_t patches = 0;
     for (uint32_t s = 0; s < planned->subfaceCount(); ++s)
@@ -74,7 +75,7 @@ int runCullStats(const CullStatsArgs& args) {
         uint32_t culled[4] = {};
         const CullMethod methods[4] = {CullMethod::Frustum, CullMethod::TCone, CullMethod::NCone, CullMethod::PPlane};
         for (int m = 0; m < 4; ++m)
-            culled[m] = uint32_t(culledSubfaces(*planned, bounds, methods[m], viewProjection(camera), eye, closed).size());
+            culled[m] = uint32_t(cullPatches(bounds, methods[m], viewProjection(camera), eye, closed).size());
         for (int m = 0; m < 4; ++m) fractions[m].push_back(patches ? double(culled[m]) / patches : 0.0);
     }
     nlohmann::ordered_json methods;

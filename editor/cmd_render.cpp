@@ -28,6 +28,7 @@ struct RenderArgs {
     std::vector<std::string> options;
     std::string pluginDir;
     uint32_t depth = 6;
+    std::string cull = "none";
 };
 
 int fail(const std::string& message) {
@@ -68,7 +69,8 @@ int runRender(const RenderArgs& args) {
     HeadlessScene& h = **created;
     int status = h.problem.empty() ? 0 : fail(h.problem);
     if (status == 0) {
-        const DrawView view = headlessView(*camera, height, args.colorBy, args.wire || scene.tessellation.showWireframe);
+        DrawView view = headlessView(*camera, height, args.colorBy, args.wire || scene.tessellation.showWireframe);
+        view.cull = *parseCullMethod(args.cull);
         const RenderTarget target = renderTarget(*h.target);
         Result<DrawStats> drawStats = DrawStats{};
         Status drawn = submitAndWait(h.ctx, [&](VkCommandBuffer cmd) {
@@ -90,6 +92,12 @@ int runRender(const RenderArgs& args) {
             std::fprintf(stderr, "wrote %s (%ux%u, scheme %s on %s, %s%llu patches, %s)\n", args.out.c_str(), width,
                          height, args.scheme.c_str(), h.ctx.deviceName.c_str(), objects.c_str(),
                          (unsigned long long)drawStats->patches, triangles.c_str());
+            if (view.cull != CullMethod::None)
+                std::fprintf(stderr, "culled (%s): %llu of %llu patches outside the frustum, %llu facing away, %llu tested by "
+                                     "the frustum only; %.2f ms on the CPU\n",
+                             cullMethodName(view.cull), (unsigned long long)drawStats->cull.frustum,
+                             (unsigned long long)drawStats->cull.tested, (unsigned long long)drawStats->cull.backFacing,
+                             (unsigned long long)drawStats->cull.frustumOnly, drawStats->cullMilliseconds);
         }
     }
     return destroyHeadlessScene(h, args.validate, status);
@@ -117,6 +125,9 @@ void registerRender(CLI::App& app, int& exitCode) {
     cmd->add_option("--option", args->options, "Scheme option KEY=VALUE (repeatable), e.g. level=4 for uniform");
     cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
     cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, kMaxPlanDepth));
+    cmd->add_option("--cull", args->cull, "Skip patches that cannot show a pixel (docs/culling.md): none (default), frustum, "
+                                          "or a back-patch test with it: tcone, ncone, pplane")
+        ->check(CLI::IsMember({"none", "frustum", "tcone", "ncone", "pplane"}));
     cmd->add_flag("--validate", args->validate, "Enable Vulkan validation; any message makes the command fail");
     cmd->callback([args, &exitCode] { exitCode = runRender(*args); });
 }

@@ -92,6 +92,11 @@ Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const 
             total.triangles += drawn->triangles;
             trianglesKnown = trianglesKnown && (drawn->triangles > 0 || drawn->patches == 0);
             total.drawnBy = drawn->drawnBy;
+            total.cull.tested += drawn->cull.tested;
+            total.cull.frustum += drawn->cull.frustum;
+            total.cull.backFacing += drawn->cull.backFacing;
+            total.cull.frustumOnly += drawn->cull.frustumOnly;
+            total.cullMilliseconds += drawn->cullMilliseconds;
         }
     }
     if (!trianglesKnown) total.triangles = 0;  // the tessellator chose some counts at draw time

@@ -51,6 +51,7 @@
 
 #include "cage.h"
 #include "displacement.h"
+#include "patch_cull_set.h"  // CullMethod, CullCounts
 #include "plan_evaluator.h"  // SampleRequest
 #include "planned_cage.h"
 #include "render_target.h"
@@ -60,7 +61,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 8;
+inline constexpr uint32_t kSchemeApiVersion = 9;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -160,6 +161,11 @@ struct DrawView {
     // Sub-faces the editor hides (its hidden faces' sub-faces; sorted, each once): not drawn.
     // Empty: draw everything. The span is valid during record() only.
     std::span<const uint32_t> hiddenSubfaces;
+    // Patches that cannot show a pixel in this view are skipped (docs/culling.md): outside the
+    // frustum, and with a back-patch method (each with the frustum test) facing away on a
+    // closed, outward surface seen from outside. Conservative: the picture is the unculled one,
+    // pixel for pixel. A scheme that does not cull draws everything and leaves DrawStats::cull zero.
+    CullMethod cull = CullMethod::None;
 };
 
 // What the last record() submitted.
@@ -184,6 +190,10 @@ struct DrawStats {
     uint64_t patches = 0;    // primitives through the tessellator, or patches drawn as grids
     uint64_t triangles = 0;  // 0 when unknown (screen-adaptive tessellation)
     DrawnBy drawnBy = DrawnBy::Unknown;
+    // DrawView::cull: what the tests culled (patches and triangles above leave the culled ones
+    // out) and the CPU time they took this frame (bounds built after an update included).
+    CullCounts cull;
+    double cullMilliseconds = 0.0;
     // What the draw submitted: patch primitives through the tessellator, else triangles.
     uint64_t primitives() const { return drawnBy == DrawnBy::Tessellator ? patches : triangles; }
 };

@@ -1,6 +1,7 @@
 #include "scheme_support.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
@@ -67,6 +68,16 @@ void evaluateParallel(const Scheme& scheme, std::span<const SampleRequest> reque
         const size_t begin = c * kChunk, count = std::min(kChunk, requests.size() - begin);
         scheme.evaluate(requests.subspan(begin, count), out.subspan(begin, count));
     });
+}
+
+std::vector<uint32_t> cullForView(const PatchCullSet& set, bool closed, std::span<const float> margins,
+                                  const DrawView& view, DrawStats& stats) {
+    if (view.cull == CullMethod::None) return {};
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<uint32_t> culled = cullPatches(set, view.cull, view.viewProjection,
+                                               homogeneousEye(view.viewProjection, view.eye), closed, margins, &stats.cull);
+    stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return culled;
 }
 
 std::vector<MeshVertex> meshVertices(std::span<const SurfacePoint> points) {

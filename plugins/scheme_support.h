@@ -50,6 +50,13 @@ void evaluateParallel(const Scheme& scheme, std::span<const SampleRequest> reque
 
 std::vector<MeshVertex> meshVertices(std::span<const SurfacePoint> points);
 
+// ---- Culling (DrawView::cull) ----------------------------------------------------------------
+
+// The entries of `set` culled for `view` (sorted), their counts and the time taken into `stats`.
+// `closed`: closedOutwardSurface of the cage (back-patch tests apply); `margins` as cullPatches.
+std::vector<uint32_t> cullForView(const PatchCullSet& set, bool closed, std::span<const float> margins,
+                                  const DrawView& view, DrawStats& stats);
+
 // ---- Displacement (Scheme::setDisplacement) --------------------------------------------------
 
 // The grid factor for drawing `displacement` when `requested` was asked for: at least

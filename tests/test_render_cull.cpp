@@ -1,8 +1,10 @@
-// Culling in the plans scheme (`--option cull=...`, core/subface_cull_bounds.h): on every path
-// and from views around and inside the model, a culled frame draws exactly the pixels of the
-// unculled one while drawing fewer sub-faces; on an open cage the back-patch tests stay off.
+// Culling (DrawView::cull, docs/culling.md): for every scheme that culls, on every path and from
+// views around and inside the model, a culled frame draws exactly the pixels of the unculled one
+// while drawing fewer patches; on an open cage, or one turned inside out, the back-patch tests
+// stay off.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "camera.h"
@@ -29,8 +31,19 @@ struct Frame {
     uint64_t patches = 0;
 };
 
-// One frame of `plans` with these options through `camera`.
-Frame drawFrame(const VulkanContext& ctx, const PlannedCage& planned, const std::string& path, const std::string& cull,
+// A scheme with its options (e.g. plans with path=grid).
+struct Variant {
+    std::string scheme;
+    std::vector<std::pair<std::string, std::string>> options;
+    std::string name() const {
+        std::string out = scheme;
+        for (const auto& [key, value] : options) out += " " + key + "=" + value;
+        return out;
+    }
+};
+
+// One frame of `variant` through `camera`, culled by `cull`.
+Frame drawFrame(const VulkanContext& ctx, const PlannedCage& planned, const Variant& variant, CullMethod cull,
                 const RenderCamera& camera) {
     constexpr uint32_t kSize = 160;
     Frame frame;
@@ -39,9 +52,9 @@ Frame drawFrame(const VulkanContext& ctx, const PlannedCage& planned, const std:
     if (!target) return frame;
     SchemeSettings settings;
     settings.tessFactor = 8;
-    settings.options = {{"path", path}, {"cull", cull}};
+    settings.options = variant.options;
     const GpuContext gpu{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
-    Result<PreparedScheme> prepared = prepareScheme(catalog(), "plans", planned, analyzeCage(planned.cage(), planned.topology()),
+    Result<PreparedScheme> prepared = prepareScheme(catalog(), variant.scheme, planned, analyzeCage(planned.cage(), planned.topology()),
                                                     settings, gpu, "test cage");
     EXPECT_TRUE(prepared.ok()) << (prepared ? "" : prepared.error().message);
     if (prepared) {
@@ -49,6 +62,7 @@ Frame drawFrame(const VulkanContext& ctx, const PlannedCage& planned, const std:
         view.viewProjection = viewProjection(camera);
         view.eye = camera.eye;
         view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kSize);
+        view.cull = cull;
         Result<DrawStats> drawn = DrawStats{};
         EXPECT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { drawn = prepared->instance.record(cmd, renderTarget(*target), view); }).ok());
         if (drawn) frame.patches = drawn->patches;
@@ -82,7 +96,8 @@ std::vector<RenderCamera> views(const Cage& cage) {
     return out;
 }
 
-void expectSamePixelsFewerPatches(const Cage& cage, const std::string& name, bool closed) {
+// `closed`: the cage is closed and outward (back-patch tests apply), else only the frustum culls.
+void expectSamePixelsFewerPatches(const Cage& cage, const std::string& name, bool closed, const std::vector<Variant>& variants) {
     Result<VulkanContext> context = test::createTestContext();
     ASSERT_TRUE(context.ok()) << context.error().message;
     PlanDatabase database;
@@ -90,20 +105,21 @@ void expectSamePixelsFewerPatches(const Cage& cage, const std::string& name, boo
     ASSERT_TRUE(planned.ok());
     uint64_t drawn[5] = {}, views_ = 0;
     const std::vector<RenderCamera> cameras = views(cage);
-    for (const std::string path : {"cpu", "grid", "tess"})
+    for (const Variant& variant : variants)
         for (size_t v = 0; v < cameras.size(); ++v) {
             const RenderCamera& camera = cameras[v];
-            const Frame plain = drawFrame(*context, *planned, path, "none", camera);
+            const Frame plain = drawFrame(*context, *planned, variant, CullMethod::None, camera);
             ++views_;
             drawn[0] += plain.patches;
             int k = 1;
-            for (const char* method : {"frustum", "tcone", "ncone", "pplane"}) {
-                const Frame culled = drawFrame(*context, *planned, path, method, camera);
+            for (CullMethod method : {CullMethod::Frustum, CullMethod::TCone, CullMethod::NCone, CullMethod::PPlane}) {
+                const Frame culled = drawFrame(*context, *planned, variant, method, camera);
                 size_t differing = 0;
                 for (size_t i = 0; i < plain.pixels.size() && i < culled.pixels.size(); i += 4)
                     differing += plain.pixels[i] != culled.pixels[i] || plain.pixels[i + 1] != culled.pixels[i + 1] ||
                                  plain.pixels[i + 2] != culled.pixels[i + 2];
-                ASSERT_EQ(culled.pixels, plain.pixels) << name << ", path " << path << ", view " << v << ", " << method
+                ASSERT_EQ(culled.pixels, plain.pixels) << name << ", " << variant.name() << ", view " << v << ", "
+                                                       << cullMethodName(method)
                                                        << ": a culled frame differs in " << differing << " pixels";
                 EXPECT_LE(culled.patches, plain.patches);
                 drawn[k++] += culled.patches;
@@ -113,23 +129,38 @@ void expectSamePixelsFewerPatches(const Cage& cage, const std::string& name, boo
     EXPECT_LE(drawn[3], drawn[2]);
     EXPECT_LE(drawn[4], drawn[3]);
     if (closed) EXPECT_LT(drawn[4], drawn[0] * 9 / 10) << name << ": pplane culls";
-    else EXPECT_EQ(drawn[4], drawn[1]) << name << ": back sides are drawn on an open cage; only the frustum culls";
+    else EXPECT_EQ(drawn[4], drawn[1]) << name << ": back sides show on an open or inside-out cage; only the frustum culls";
     ::testing::Test::RecordProperty(name, std::to_string(drawn[0]) + " " + std::to_string(drawn[1]) + " " + std::to_string(drawn[2]) + " " +
-                             std::to_string(drawn[3]) + " " + std::to_string(drawn[4]) + " sub-faces drawn over " +
+                             std::to_string(drawn[3]) + " " + std::to_string(drawn[4]) + " patches drawn over " +
                              std::to_string(views_) + " frames (none, frustum, tcone, ncone, pplane)");
     EXPECT_EQ(test::describeMessages(*context), "");
     destroyContext(*context);
 }
 
+const std::vector<Variant> kPlanPaths = {{"plans", {{"path", "cpu"}}}, {"plans", {{"path", "grid"}}}, {"plans", {{"path", "tess"}}}};
+
+// The torus with every face's winding reversed: closed, but its normals point inward.
+Cage insideOutTorus() {
+    Cage cage = test::makeTorus();
+    for (uint32_t f = 0; f < cage.faceCount(); ++f)
+        std::reverse(cage.faceVertices.begin() + cage.faceOffsets[f], cage.faceVertices.begin() + cage.faceOffsets[f + 1]);
+    return cage;
+}
+
 }  // namespace
 
 TEST(PlanCulling, ClosedTorusDrawsTheSamePixelsWithFewerSubfaces) {
-    expectSamePixelsFewerPatches(test::makeTorus(), "torus", true);
+    expectSamePixelsFewerPatches(test::makeTorus(), "torus", true, kPlanPaths);
 }
 
 TEST(PlanCulling, ClosedCubeWithExtraordinaryVerticesDrawsTheSamePixels) {
-    expectSamePixelsFewerPatches(test::makeSubdividedCube(3), "subdivided cube", true);
+    expectSamePixelsFewerPatches(test::makeSubdividedCube(3), "subdivided cube", true, kPlanPaths);
 }
 
-TEST(PlanCulling, OpenGridCullsOnlyByTheFrustum) { expectSamePixelsFewerPatches(test::makeGrid(4), "grid", false); }
+TEST(PlanCulling, OpenGridCullsOnlyByTheFrustum) {
+    expectSamePixelsFewerPatches(test::makeGrid(4), "grid", false, kPlanPaths);
+}
 
+TEST(PlanCulling, InsideOutTorusCullsOnlyByTheFrustum) {
+    expectSamePixelsFewerPatches(insideOutTorus(), "inside-out torus", false, kPlanPaths);
+}

@@ -57,7 +57,7 @@ TEST(SubfaceCullBounds, BoxesAndConesHoldTheSampledSurface) {
         PlanDatabase database;
         Result<PlannedCage> planned = PlannedCage::create(c.cage, database, PlanOptions{}, c.name);
         ASSERT_TRUE(planned) << planned.error().message;
-        const SubfaceCullBounds bounds = buildSubfaceCullBounds(*planned);
+        const PatchCullSet bounds = buildSubfaceCullBounds(*planned);
         uint32_t withCones = 0;
         const float tolerance = 1e-5f * computeBounds(c.cage).diagonal();
         for (uint32_t s = 0; s < planned->subfaceCount(); ++s) {
@@ -97,7 +97,7 @@ TEST(SubfaceCullBounds, BackPatchTestsNeverCullASubfaceFacingTheEye) {
         PlanDatabase database;
         Result<PlannedCage> planned = PlannedCage::create(c.cage, database, PlanOptions{}, c.name);
         ASSERT_TRUE(planned) << planned.error().message;
-        const SubfaceCullBounds bounds = buildSubfaceCullBounds(*planned);
+        const PatchCullSet bounds = buildSubfaceCullBounds(*planned);
         const float diagonal = computeBounds(c.cage).diagonal();
         uint32_t away = 0, culled[3] = {};
         for (int view = 0; view < 12; ++view) {
@@ -121,7 +121,7 @@ TEST(SubfaceCullBounds, BackPatchTestsNeverCullASubfaceFacingTheEye) {
                     }
                 const bool t = backFacing(bounds.tcones[s], bounds.boxes[s], eye);
                 const bool n = backFacing(bounds.ncones[s], bounds.boxes[s], eye);
-                const bool p = subfaceTangentPlanesBackFacing(bounds, s, eye);
+                const bool p = tangentPlanesBackFacing(bounds, s, eye);
                 if (facing) {
                     ASSERT_FALSE(t || n || p) << c.name << " sub-face " << s << " view " << view << ": " << t << n << p;
                     continue;

@@ -6,10 +6,10 @@
 // accept (creases of any sharpness, corners, boundaries, holes, non-quads, non-manifold).
 //
 // Options: path=auto|tess|grid|cpu, the renderer's paths (render/draw_path.h: auto is cpu on a
-// CPU device, tess on a GPU); cull=none|frustum|tcone|ncone|pplane, culling per sub-face and
-// frame (core/subface_cull_bounds.h: conservative; back-patch tests only on closed cages seen
-// from outside, and only the frustum with a displacement; culled sub-faces are drawn as hidden
-// ones are not, on every path). The grid paths keep their evaluated grid between frames, so a
+// CPU device, tess on a GPU). Culling (DrawView::cull) is per sub-face and frame
+// (core/subface_cull_bounds.h: conservative; back-patch tests only on closed, outward cages seen
+// from outside, and only the frustum with a displacement; culled sub-faces are left out as
+// hidden ones are, on every path). The grid paths keep their evaluated grid between frames, so a
 // frame whose camera moved but whose cage did not only draws, and after updateMoved (the
 // editor's drags) the next frame re-evaluates only the sub-faces whose 1-ring holds a moved
 // vertex (recordMovedVertices).
@@ -30,6 +30,7 @@
 // renumbering: kept sub-faces keep their control points and grid vertices, and only new,
 // re-planned and re-owned sub-faces are evaluated (with a displacement set they rebuild).
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <iterator>
@@ -43,6 +44,7 @@
 #include "plan_update.h"
 #include "vk_commands.h"
 #include "scheme_api.h"
+#include "closed_surface.h"
 #include "scheme_support.h"
 #include "subface_cull_bounds.h"
 
@@ -60,7 +62,7 @@ public:
     SupportReport support(const CageFeatures&, const SchemeSettings& settings) const override {
         SupportReport report;
         for (const auto& [key, value] : settings.options)
-            if (key != "path" && key != "displacement-pixels" && key != "cull")
+            if (key != "path" && key != "displacement-pixels")
                 report.approximations.push_back("plans ignores the unknown option '" + key + "'");
         return report;
     }
@@ -73,12 +75,6 @@ public:
             std::optional<DrawPath> parsed = parseDrawPath(*path);
             if (!parsed) return Error{"plans: unknown --path '" + *path + "'; use auto, tess, grid or cpu"};
             requestedPath_ = *parsed;
-        }
-        cull_ = CullMethod::None;
-        if (const std::string* cull = settings.option("cull")) {
-            const std::optional<CullMethod> method = parseCullMethod(*cull);
-            if (!method) return Error{"plans: unknown --option cull=" + *cull + "; use none, frustum, tcone, ncone or pplane"};
-            cull_ = *method;
         }
         cullBounds_.reset();
         displacementPixels_ = 0.0f;
@@ -223,7 +219,8 @@ public:
         std::set_union(hiddenDrawn_.begin(), hiddenDrawn_.end(), buffers_.holeDrawn.begin(), buffers_.holeDrawn.end(),
                        std::back_inserter(hiddenOrHole));
         hiddenDrawn_ = std::move(hiddenOrHole);
-        culledDrawn_ = cullForView(view);
+        DrawStats stats;
+        culledDrawn_ = culledDrawnSubfaces(view, stats);
         if (!culledDrawn_.empty()) {
             std::vector<uint32_t> hiddenOrCulled;
             std::set_union(hiddenDrawn_.begin(), hiddenDrawn_.end(), culledDrawn_.begin(), culledDrawn_.end(),
@@ -262,7 +259,6 @@ public:
             return DrawStats{};
         }
         recordPlanFrame(cmd, pass_, buffers_, path_, target, planView, tessellation);
-        DrawStats stats;
         stats.patches = buffers_.data.subfaces.size() - hiddenDrawn_.size();
         stats.drawnBy = path_ == DrawPath::Tessellated ? DrawnBy::Tessellator
                         : path_ == DrawPath::Grid      ? DrawnBy::GpuGrid
@@ -315,12 +311,13 @@ public:
 
 private:
     // The drawn sub-faces culled for this view (sorted); the bounds are built when first needed
-    // after a change of the cage or the displacement.
-    std::vector<uint32_t> cullForView(const DrawView& view) {
-        if (cull_ == CullMethod::None) return {};
+    // after a change of the cage or the displacement (their time counts in this frame's).
+    std::vector<uint32_t> culledDrawnSubfaces(const DrawView& view, DrawStats& stats) {
+        if (view.cull == CullMethod::None) return {};
         if (!cullBounds_) {
+            const auto start = std::chrono::steady_clock::now();
             cullBounds_ = buildSubfaceCullBounds(*planned_);
-            closed_ = closedSurface(*planned_);
+            closed_ = closedOutwardSurface(planned_->cage(), planned_->topology());
             margins_.clear();
             if (displacement_) {  // every box grows by its tile's largest |D|
                 margins_.assign(planned_->subfaceCount(), 0.0f);
@@ -331,10 +328,10 @@ private:
                         margins_[s] = std::max(margins_[s], std::abs(displacement_->samples[layout.padded[tile.offset + k]]));
                 }
             }
+            stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         }
-        const glm::vec4 eye = homogeneousEye(view.viewProjection, view.eye);
         std::vector<uint32_t> drawn;
-        for (uint32_t s : culledSubfaces(*planned_, *cullBounds_, cull_, view.viewProjection, eye, closed_, margins_))
+        for (uint32_t s : cullForView(*cullBounds_, closed_, margins_, view, stats))
             if (s < buffers_.drawnOfSubface.size() && buffers_.drawnOfSubface[s] != UINT32_MAX)
                 drawn.push_back(buffers_.drawnOfSubface[s]);
         std::sort(drawn.begin(), drawn.end());
@@ -361,9 +358,8 @@ private:
     std::vector<uint32_t> pendingRefresh_;  // sorted drawn sub-faces re-planned since the last frame
     std::vector<uint32_t> hiddenDrawn_;     // this draw's DrawView::hiddenSubfaces as drawn indices (and culled ones)
     std::vector<uint32_t> culledDrawn_;     // this draw's culled sub-faces as drawn indices
-    CullMethod cull_ = CullMethod::None;
-    std::optional<SubfaceCullBounds> cullBounds_;  // built when first needed after a change
-    bool closed_ = false;                   // back-patch tests apply (closedSurface)
+    std::optional<PatchCullSet> cullBounds_;  // built when first needed after a change
+    bool closed_ = false;                   // back-patch tests apply (closedOutwardSurface)
     std::vector<float> margins_;            // per sub-face: its tile's largest |D| (displaced)
 };
 
