@@ -166,6 +166,10 @@ struct DrawView {
     // closed, outward surface seen from outside. Conservative: the picture is the unculled one,
     // pixel for pixel. A scheme that does not cull draws everything and leaves DrawStats::cull zero.
     CullMethod cull = CullMethod::None;
+    // When set, record() writes here the sub-faces it culled whole this frame (sorted; a
+    // sub-face drawn as several patches counts when all of them were culled): `quadplan
+    // cull-stats` checks them against an ID buffer of the unculled frame.
+    std::vector<uint32_t>* culledSubfacesOut = nullptr;
 };
 
 // What the last record() submitted.

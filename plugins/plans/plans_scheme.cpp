@@ -313,6 +313,7 @@ private:
     // The drawn sub-faces culled for this view (sorted); the bounds are built when first needed
     // after a change of the cage or the displacement (their time counts in this frame's).
     std::vector<uint32_t> culledDrawnSubfaces(const DrawView& view, DrawStats& stats) {
+        if (view.culledSubfacesOut) view.culledSubfacesOut->clear();
         if (view.cull == CullMethod::None) return {};
         if (!cullBounds_) {
             const auto start = std::chrono::steady_clock::now();
@@ -331,9 +332,11 @@ private:
             stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         }
         std::vector<uint32_t> drawn;
-        for (uint32_t s : cullForView(*cullBounds_, closed_, margins_, view, stats))
+        const std::vector<uint32_t> culled = cullForView(*cullBounds_, closed_, margins_, view, stats);
+        for (uint32_t s : culled)
             if (s < buffers_.drawnOfSubface.size() && buffers_.drawnOfSubface[s] != UINT32_MAX)
                 drawn.push_back(buffers_.drawnOfSubface[s]);
+        if (view.culledSubfacesOut) *view.culledSubfacesOut = culled;
         std::sort(drawn.begin(), drawn.end());
         return drawn;
     }
