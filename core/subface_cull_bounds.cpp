@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
 
 #include "plan_database.h"
 #include "topology.h"
@@ -11,21 +13,6 @@
 namespace qp {
 
 namespace {
-
-// The 16 points of a regular leaf with the phantoms beyond its boundary edges made explicit:
-// 2 p1 - p2 across the edge (bits as PlanNode::boundaryMask), corners phantoms of phantoms.
-BicubicPoints withPhantoms(BicubicPoints p, uint32_t mask) {
-    auto at = [&](int column, int row) -> glm::vec3& { return p[4 * row + column]; };
-    for (int c = 0; c < 4; ++c) {
-        if (mask & 1) at(c, 0) = 2.0f * at(c, 1) - at(c, 2);
-        if (mask & 4) at(c, 3) = 2.0f * at(c, 2) - at(c, 1);
-    }
-    for (int r = 0; r < 4; ++r) {
-        if (mask & 8) at(0, r) = 2.0f * at(1, r) - at(2, r);
-        if (mask & 2) at(3, r) = 2.0f * at(2, r) - at(1, r);
-    }
-    return p;
-}
 
 // The crease edge of a Crease leaf as a boundary bit (the phantom rows are those of an
 // infinitely sharp crease).
@@ -50,21 +37,10 @@ void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, const
         break;
     case NodeKind::Crease: {
         const BicubicPoints real = gather16([&](uint32_t k) { return points[k]; });
-        const BicubicPoints sharp = withPhantoms(real, node.boundaryMask | creaseBit(node.edge));
-        if (node.sharpness >= kInfiniteSharpness) {
-            addBezierLeaf(out, bsplineToBezier(sharp), false);
-            break;
-        }
-        // Semi-sharp: sharp surface + c d, c in [0, 1/2], d = real - sharp beyond the crease.
-        CullBox box = boxOf(bsplineToBezier(sharp));
-        CullBox d{glm::vec3(0.0f), glm::vec3(0.0f)};
-        for (uint32_t k = 0; k < 16; ++k) {
-            const glm::vec3 difference = 0.5f * (withPhantoms(real, node.boundaryMask)[k] - sharp[k]);
-            d.lo = glm::min(d.lo, difference), d.hi = glm::max(d.hi, difference);
-        }
-        box.lo += glm::min(d.lo, glm::vec3(0.0f));
-        box.hi += glm::max(d.hi, glm::vec3(0.0f));
-        addConelessBox(out, box);
+        if (node.sharpness >= kInfiniteSharpness)
+            addBezierLeaf(out, bsplineToBezier(withPhantoms(real, node.boundaryMask | creaseBit(node.edge))), false);
+        else
+            addSemiSharpCreaseLeaf(out, real, node.boundaryMask, creaseBit(node.edge));
         break;
     }
     case NodeKind::Terminal: {
@@ -92,23 +68,46 @@ void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, const
     }
 }
 
-}  // namespace
 
-PatchCullSet buildSubfaceCullBounds(const PlannedCage& planned) {
-    PatchCullSet out;
-    for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
-        if (!planned.hasSurface(s)) {
-            appendAbsentPatch(out);
-            continue;
-        }
+// The leaves of `subfaces`, gathered on all cores (a leaf's tangent planes cost some microseconds).
+std::vector<PatchCullLeaves> gatherLeaves(const PlannedCage& planned, std::span<const uint32_t> subfaces, CullMethod detail) {
+    std::vector<PatchCullLeaves> out(subfaces.size());
+    tbb::parallel_for(size_t(0), subfaces.size(), [&](size_t k) {
+        const uint32_t s = subfaces[k];
+        out[k].detail = detail;
+        if (!planned.hasSurface(s)) return;
         const Plan& plan = planned.database().plan(planned.subfacePlan(s));
         const std::span<const glm::vec3> control = planned.subfaceControlPoints(s);
-        PatchCullLeaves leaves;
         for (const PlanNode& node : plan.nodes)
-            if (node.kind != NodeKind::Internal) addLeaf(leaves, plan, node, control.data());
-        appendPatch(out, leaves, planned.subfaceOrigin(s));
+            if (node.kind != NodeKind::Internal) addLeaf(out[k], plan, node, control.data());
+    });
+    return out;
+}
+
+std::vector<glm::vec3> originsOf(const PlannedCage& planned, std::span<const uint32_t> subfaces) {
+    std::vector<glm::vec3> out;
+    out.reserve(subfaces.size());
+    for (uint32_t s : subfaces) out.push_back(planned.hasSurface(s) ? planned.subfaceOrigin(s) : glm::vec3(0.0f));
+    return out;
+}
+
+}  // namespace
+
+PatchCullSet buildSubfaceCullBounds(const PlannedCage& planned, CullMethod detail) {
+    std::vector<uint32_t> all(planned.subfaceCount());
+    std::iota(all.begin(), all.end(), 0u);
+    const std::vector<PatchCullLeaves> leaves = gatherLeaves(planned, all, detail);
+    PatchCullSet out;
+    for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+        if (planned.hasSurface(s)) appendPatch(out, leaves[s], planned.subfaceOrigin(s));
+        else appendAbsentPatch(out);
     }
     return out;
+}
+
+void updateSubfaceCullBounds(PatchCullSet& set, const PlannedCage& planned, std::span<const uint32_t> subfaces,
+                             CullMethod detail) {
+    replacePatches(set, subfaces, gatherLeaves(planned, subfaces, detail), originsOf(planned, subfaces));
 }
 
 }  // namespace qp

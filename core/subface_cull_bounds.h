@@ -24,7 +24,11 @@
 
 namespace qp {
 
-// One entry per sub-face (those without a surface are absent entries).
-PatchCullSet buildSubfaceCullBounds(const PlannedCage& planned);
+// One entry per sub-face (those without a surface are absent entries), with what methods up to
+// `detail` read (PatchCullLeaves::detail).
+PatchCullSet buildSubfaceCullBounds(const PlannedCage& planned, CullMethod detail = CullMethod::PPlane);
+// Rebuilds the entries of `subfaces` (sorted, unique) after their control points or plans changed.
+void updateSubfaceCullBounds(PatchCullSet& set, const PlannedCage& planned, std::span<const uint32_t> subfaces,
+                             CullMethod detail = CullMethod::PPlane);
 
 }  // namespace qp

@@ -92,10 +92,7 @@ Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const 
             total.triangles += drawn->triangles;
             trianglesKnown = trianglesKnown && (drawn->triangles > 0 || drawn->patches == 0);
             total.drawnBy = drawn->drawnBy;
-            total.cull.tested += drawn->cull.tested;
-            total.cull.frustum += drawn->cull.frustum;
-            total.cull.backFacing += drawn->cull.backFacing;
-            total.cull.frustumOnly += drawn->cull.frustumOnly;
+            total.cull += drawn->cull;
             total.cullMilliseconds += drawn->cullMilliseconds;
         }
     }

@@ -339,7 +339,7 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         else setViewportCount(app, count);
         return true;
     }
-    if (n == "set-scheme" || n == "set-color-by" || n == "set-link" || n == "heatmap") {
+    if (n == "set-scheme" || n == "set-color-by" || n == "set-cull" || n == "set-link" || n == "heatmap") {
         const uint32_t i = integer(0);
         if (i >= app.viewports.size()) {
             fail(c, "there is no viewport " + a[0] + " (" + std::to_string(app.viewports.size()) + " shown, from 0)");
@@ -360,6 +360,10 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
             } else {
                 app.viewports[i].colorBy = mode;
             }
+        }
+        if (n == "set-cull") {
+            if (const std::optional<CullMethod> method = parseCullMethod(a[1])) app.viewports[i].cull = *method;
+            else fail(c, "unknown culling method '" + a[1] + "'; use none, frustum, tcone, ncone or pplane");
         }
         if (n == "heatmap") app.viewports[i].heatMap = a[1] == "on";
         if (n == "set-link") {

@@ -69,6 +69,7 @@ const std::vector<CommandSpec> kCommands = {
     {"set-viewports", {Arg::Int}, {}},
     {"set-scheme", {Arg::Int, Arg::Word}, {}},
     {"set-color-by", {Arg::Int, Arg::Word}, {}},
+    {"set-cull", {Arg::Int, Arg::Word}, {}},
     {"set-link", {Arg::Int, Arg::Word}, {}},
     {"heatmap", {Arg::Int, Arg::Word}, {}},
     {"set-tessellation", {Arg::Word, Arg::Float}, {}},

@@ -195,6 +195,7 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
         const ViewCamera& camera = cameraOf(app, uint32_t(i));
         json entry = {{"scheme", v.scheme},
                       {"color_by", v.colorBy},
+                      {"cull", cullMethodName(v.cull)},
                       {"linked", v.linked},
                       {"factor", v.factor},
                       {"rect", {v.rect.offset.x / scale, v.rect.offset.y / scale, v.rect.extent.width / scale,
@@ -205,8 +206,13 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
         entry["axis_triad"] = {{"screen", {{triad.screen[0].x, triad.screen[0].y}, {triad.screen[1].x, triad.screen[1].y},
                                            {triad.screen[2].x, triad.screen[2].y}}},
                                {"toward_viewer", triad.towardViewer}};
-        if (i < app.stats.viewportCounts.size())
-            entry["triangles"] = app.stats.viewportCounts[i].triangles, entry["patches"] = app.stats.viewportCounts[i].patches;
+        if (i < app.stats.viewportCounts.size()) {
+            const ViewportCounts& counts = app.stats.viewportCounts[i];
+            entry["triangles"] = counts.triangles, entry["patches"] = counts.patches;
+            entry["culled"] = {{"tested", counts.cull.tested}, {"frustum", counts.cull.frustum},
+                               {"back_facing", counts.cull.backFacing}, {"frustum_only", counts.cull.frustumOnly},
+                               {"cull_ms", counts.cullMilliseconds}};
+        }
         if (i < app.renderer.views.size()) {
             const SchemeView& view = app.renderer.views[i];
             entry["drawn"] = view.instance.has_value();

@@ -344,6 +344,7 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
         appendKey(key, d.viewProjection);
         appendKey(key, d.pixelsPerUnit);
         key += d.colorBy;
+        appendKey(key, d.cull);  // the same picture, but the culling statistics change
         if (i < app.renderer.views.size()) {
             appendKey(key, app.renderer.views[i].drawRevision);
             appendKey(key, app.renderer.views[i].instance.has_value());
@@ -427,6 +428,7 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
         d.eye = glm::vec3(glm::inverse(transform.matrix()) * glm::vec4(d.worldEye, 1.0f));
         d.pixelsPerUnit = d.worldPixelsPerUnit * maxScale(transform);
         d.colorBy = v.colorBy;
+        d.cull = v.cull;
         draws.push_back(d);
     }
     // Draw the viewports only when something they show changed; otherwise copy the last ones.
@@ -448,6 +450,7 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
 
     FrameSample sample;
     sample.sceneDrawn = drawScene;
+    sample.culled = std::any_of(draws.begin(), draws.end(), [](const ViewportDraw& d) { return d.cull != CullMethod::None; });
     sample.cpuMs = cpuMs + msSince(recordStart);
     sample.intervalMs = app.frame == 0 ? 0.0 : std::chrono::duration<double, std::milli>(frameStart - app.lastFrameStart).count();
     app.lastFrameStart = frameStart;

@@ -62,6 +62,7 @@ int runEditorApp(const LaunchOptions& options);
 struct ViewportState {
     std::string scheme = "plans";
     std::string colorBy = "shading";
+    CullMethod cull = CullMethod::None;  // patches skipped in this view (docs/culling.md)
     bool heatMap = false;  // the scheme's error against the exact limit instead of its shading
     bool linked = true;
     ViewCamera camera;  // used when not linked

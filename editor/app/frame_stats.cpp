@@ -18,8 +18,12 @@ Summary summarize(const FrameStats& stats, FrameField field, size_t last, FrameF
     const size_t count = last == 0 ? stats.samples.size() : std::min(last, stats.samples.size());
     for (size_t i = stats.samples.size() - count; i < stats.samples.size(); ++i) {
         const FrameSample& s = stats.samples[i];
-        if ((filter == FrameFilter::SceneDrawn && !s.sceneDrawn) || (filter == FrameFilter::SceneCopied && s.sceneDrawn))
-            continue;
+        const bool passes = filter == FrameFilter::All                  ? true
+                            : filter == FrameFilter::SceneDrawn         ? s.sceneDrawn
+                            : filter == FrameFilter::SceneCopied        ? !s.sceneDrawn
+                            : filter == FrameFilter::SceneDrawnCulled   ? s.sceneDrawn && s.culled
+                                                                        : s.sceneDrawn && !s.culled;
+        if (!passes) continue;
         const double v = field == FrameField::Cpu ? s.cpuMs : field == FrameField::Gpu ? s.gpuMs : s.intervalMs;
         if (v >= 0.0) values.push_back(v);
     }

@@ -16,6 +16,7 @@ struct FrameSample {
     double gpuMs = -1.0;      // device time of the frame's commands; < 0 while unknown
     double intervalMs = 0.0;  // since the previous frame started (includes waiting for input)
     bool sceneDrawn = false;  // the 3D viewports were drawn (not copied from the scene cache)
+    bool culled = false;      // some viewport culled (DrawView::cull)
 };
 
 struct FrameStats {
@@ -34,7 +35,9 @@ struct Summary {
     size_t count = 0;
 };
 enum class FrameField { Cpu, Gpu, Interval };
-enum class FrameFilter { All, SceneDrawn, SceneCopied };
+// SceneDrawnCulled / SceneDrawnUnculled: drawn frames with some viewport culling, or none (what
+// culling saves: the two medians side by side).
+enum class FrameFilter { All, SceneDrawn, SceneCopied, SceneDrawnCulled, SceneDrawnUnculled };
 // Over the newest `last` samples (all when 0) that pass `filter`; GPU samples still unknown are
 // skipped.
 Summary summarize(const FrameStats& stats, FrameField field, size_t last = 0, FrameFilter filter = FrameFilter::All);

@@ -231,6 +231,19 @@ void viewportBars(EditorApp& app) {
         recordWidget(app, colorCombo.c_str());
         tooltip(app, colorCombo.c_str(), "Colour by: the modes this scheme offers (plans on its GPU paths: node kind, plan depth, sharpness)");
         ImGui::SameLine();
+        ImGui::SetNextItemWidth(80.0f);
+        const std::string cullCombo = "##cull" + id;
+        if (ImGui::BeginCombo(cullCombo.c_str(), v.cull == CullMethod::None ? "no cull" : cullMethodName(v.cull))) {
+            for (CullMethod m : {CullMethod::None, CullMethod::Frustum, CullMethod::TCone, CullMethod::NCone, CullMethod::PPlane})
+                if (ImGui::Selectable(m == CullMethod::None ? "no cull" : cullMethodName(m), v.cull == m)) v.cull = m;
+            ImGui::EndCombo();
+        }
+        recordWidget(app, cullCombo.c_str());
+        tooltip(app, cullCombo.c_str(),
+                "Culling: skip patches that cannot show a pixel (the picture stays the same). frustum: outside the view; "
+                "tcone, ncone, pplane: also those facing away on a closed surface, each test tighter and costlier "
+                "(docs/culling.md). The Stats panel shows what was culled.");
+        ImGui::SameLine();
         checkbox(app, ("Error##heat" + id).c_str(), &v.heatMap,
                  "Heat map: this scheme's distance from the exact limit surface, relative to the cage's size (Shift+H)");
         // Narrow viewports get the bar on two lines, so it never covers its neighbour.

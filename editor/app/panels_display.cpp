@@ -114,11 +114,35 @@ void statsSection(EditorApp& app) {
         const ViewportCounts counts = i < app.stats.viewportCounts.size() ? app.stats.viewportCounts[i] : ViewportCounts{};
         ImGui::Text("View %zu %s: %llu triangles, %llu patches", i + 1, app.viewports[i].scheme.c_str(),
                     (unsigned long long)counts.triangles, (unsigned long long)counts.patches);
+        if (app.viewports[i].cull != CullMethod::None) {
+            const CullCounts& c = counts.cull;
+            ImGui::Text("  culled %llu of %llu: %llu off view, %llu facing away",
+                        (unsigned long long)(c.frustum + c.backFacing), (unsigned long long)c.tested,
+                        (unsigned long long)c.frustum, (unsigned long long)c.backFacing);
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("%s: %llu patches could only be tested against the view (open or inside-out cage, eye inside,\n"
+                                  "near plane through the surface, displaced or semi-sharp). Tests took %.2f ms on the CPU.",
+                                  cullMethodName(app.viewports[i].cull), (unsigned long long)c.frustumOnly, counts.cullMilliseconds);
+        }
         if (view && view->instance)
             ImGui::TextDisabled("  setup %.0f ms, update %.1f ms%s", view->setupMs, view->updateMs,
                                 view->heat.valid ? (", heat map " + std::to_string(int(view->heat.lastMs)) + " ms").c_str() : "");
         if (view && !view->planUpdateNote.empty())
             ImGui::TextDisabled("  last edit: %s, %.1f ms", view->planUpdateNote.c_str(), view->planUpdateMs);
+    }
+    // What culling saves, measured: the frames drawn with and without it, side by side.
+    const Summary culled = summarize(app.stats, FrameField::Gpu, 0, FrameFilter::SceneDrawnCulled);
+    const Summary unculled = summarize(app.stats, FrameField::Gpu, 0, FrameFilter::SceneDrawnUnculled);
+    if (culled.count > 0 && unculled.count > 0) {
+        ImGui::Text("GPU %.1f ms culled, %.1f ms not", culled.median, unculled.median);
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("Medians of the GPU time of frames that drew the viewports, with some viewport culling (%zu frames)\n"
+                              "and with none (%zu), over the last %zu frames: orbit with culling on and off to compare like with like.",
+                              culled.count, unculled.count, FrameStats::kKept);
+    } else if (culled.count + unculled.count > 0) {
+        ImGui::PushTextWrapPos(0.0f);
+        ImGui::TextDisabled("What culling saves: orbit with culling on, then off, to measure it");
+        ImGui::PopTextWrapPos();
     }
     ImGui::TextDisabled("%s", app.ctx.deviceName.c_str());
 }

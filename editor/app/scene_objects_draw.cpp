@@ -124,7 +124,7 @@ void syncOtherObjects(const VulkanContext& ctx, SceneRenderer& r, const PluginCa
 }
 
 void recordOtherObjects(VkCommandBuffer cmd, SceneRenderer& r, uint32_t i, const RenderTarget& area,
-                        const ViewportDraw& viewport, DrawView view) {
+                        const ViewportDraw& viewport, DrawView view, ViewportCounts& counts) {
     view.viewProjection = viewport.worldViewProjection;
     view.eye = viewport.worldEye;
     view.pixelsPerUnit = viewport.worldPixelsPerUnit;
@@ -137,11 +137,12 @@ void recordOtherObjects(VkCommandBuffer cmd, SceneRenderer& r, uint32_t i, const
         DrawView drawn = objectView(view, object.transform);
         if (object.cage == kActiveCage) {
             drawn.sameFrame = true;  // the active object's draw laid the surface out
-            (void)r.views[i].instance->record(cmd, area, drawn);
+            if (Result<DrawStats> stats = r.views[i].instance->record(cmd, area, drawn)) addCullStats(counts, *stats);
         } else if (others && object.cage < others->cages.size()) {
             drawn.sameFrame = laidOut[object.cage];
             laidOut[object.cage] = true;
-            (void)others->cages[object.cage].instance.record(cmd, area, drawn);
+            if (Result<DrawStats> stats = others->cages[object.cage].instance.record(cmd, area, drawn))
+                addCullStats(counts, *stats);
         }
     }
 }

@@ -648,6 +648,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
         const RenderTarget area = subArea(target, v.rect);
         r.recordedSurface[slot][i] = false;
         r.recordedPatches[slot][i] = 0;
+        r.recordedCull[slot][i] = ViewportCounts{};
         if (!view.instance) {
             beginRendering(cmd, area, true, options.background);
             vkCmdEndRendering(cmd);
@@ -668,13 +669,17 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
             drawView.wireframe = options.wireframe;
             drawView.shading = options.shading;
             drawView.hiddenSubfaces = r.hiddenSubfaces;
+            drawView.cull = v.cull;
             drawView.colorBy = std::find(view.colorModes.begin(), view.colorModes.end(), v.colorBy) != view.colorModes.end()
                                    ? v.colorBy
                                    : view.colorModes.front();
             barrierBeforeEvaluation(cmd);
             Result<DrawStats> drawn = view.instance->record(cmd, area, drawView);
-            if (drawn) r.recordedPatches[slot][i] = drawn->patches;
-            recordOtherObjects(cmd, r, i, area, v, drawView);
+            if (drawn) {
+                r.recordedPatches[slot][i] = drawn->patches;
+                addCullStats(r.recordedCull[slot][i], *drawn);
+            }
+            recordOtherObjects(cmd, r, i, area, v, drawView, r.recordedCull[slot][i]);
         }
         if (pool) vkCmdEndQuery(cmd, pool, i);
         r.recordedSurface[slot][i] = pool != VK_NULL_HANDLE;
@@ -691,6 +696,11 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
     }
 }
 
+void addCullStats(ViewportCounts& counts, const DrawStats& drawn) {
+    counts.cull += drawn.cull;
+    counts.cullMilliseconds += drawn.cullMilliseconds;
+}
+
 std::vector<ViewportCounts> readViewportCounts(const VulkanContext& ctx, const SceneRenderer& r, uint32_t slot) {
     std::vector<ViewportCounts> counts;
     if (!r.statistics[slot]) return counts;
@@ -703,6 +713,8 @@ std::vector<ViewportCounts> readViewportCounts(const VulkanContext& ctx, const S
                                   VK_QUERY_RESULT_64_BIT) == VK_SUCCESS) {
             c.triangles = values[1] / passes;
             c.patches = r.recordedPatches[slot][i];
+            c.cull = r.recordedCull[slot][i].cull;
+            c.cullMilliseconds = r.recordedCull[slot][i].cullMilliseconds;
         }
         counts.push_back(c);
     }

@@ -109,6 +109,7 @@ struct ViewportDraw {
     glm::vec3 worldEye{0.0f};
     float worldPixelsPerUnit = 1.0f;
     std::string colorBy = "shading";
+    CullMethod cull = CullMethod::None;
 };
 
 // The objects a viewport draws besides the active one (scene_objects_draw.cpp): the active
@@ -151,7 +152,12 @@ inline constexpr float kCageLineWidth = 2.0f, kCreaseLineWidth = 5.0f, kGridLine
 // for the surface), and what the scheme said it submitted.
 struct ViewportCounts {
     uint64_t triangles = 0, patches = 0;
+    CullCounts cull;              // every object the viewport drew (DrawStats::cull)
+    double cullMilliseconds = 0.0;
 };
+
+// Adds a draw's culling (DrawStats::cull, cullMilliseconds) to a viewport's.
+void addCullStats(ViewportCounts& counts, const DrawStats& drawn);
 
 struct SceneRenderer {
     GpuContext gpu;
@@ -181,6 +187,7 @@ struct SceneRenderer {
     bool recordedWire[kFramesInFlight] = {};
     bool recordedSurface[kFramesInFlight][kMaxViewports] = {};
     uint64_t recordedPatches[kFramesInFlight][kMaxViewports] = {};
+    ViewportCounts recordedCull[kFramesInFlight][kMaxViewports] = {};  // its cull and cullMilliseconds
 };
 
 Result<SceneRenderer> createSceneRenderer(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat);
@@ -206,10 +213,10 @@ Status syncScene(const VulkanContext& context, SceneRenderer& renderer, const Pl
 void syncOtherObjects(const VulkanContext& context, SceneRenderer& renderer, const PluginCatalog& catalog,
                       const Document& document, uint64_t generation, std::span<const SchemeRequest> requests);
 void releaseOtherObjects(const VulkanContext& context, SceneRenderer& renderer);
-// Records viewport `i`'s other objects into `area` over what is there: through the schemes,
-// or their heat maps (heat-map mode).
+// Records viewport `i`'s other objects into `area` over what is there: through the schemes
+// (their culling added to `counts`), or their heat maps (heat-map mode).
 void recordOtherObjects(VkCommandBuffer cmd, SceneRenderer& renderer, uint32_t i, const RenderTarget& area,
-                        const ViewportDraw& viewport, DrawView view);
+                        const ViewportDraw& viewport, DrawView view, ViewportCounts& counts);
 void recordOtherHeatMaps(VkCommandBuffer cmd, SceneRenderer& renderer, uint32_t i, const RenderTarget& area,
                          const ViewportDraw& viewport, const DisplayOptions& options);
 

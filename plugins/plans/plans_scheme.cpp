@@ -105,6 +105,7 @@ public:
 
     Status setDisplacement(const Displacement* displacement) override {
         cullBounds_.reset();
+        cullMargins_.clear();
         displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
         if (displacement_ && displacement_->layout.tiles.size() != planned_->subfaceCount())
             return Error{"plans: the displacement does not match the cage's sub-faces"};
@@ -112,7 +113,7 @@ public:
     }
 
     Status displacementChanged(std::span<const uint32_t> samples) override {
-        cullBounds_.reset();  // the margins follow |D|
+        cullMargins_.clear();  // they follow |D|
         if (!haveBuffers_ || !displacement_) return success();
         // Device work (the GPU grid path) goes through one short submission; the CPU grid and
         // the tessellated path need none.
@@ -125,7 +126,8 @@ public:
     }
 
     Result<PlanUpdate> updatePlans(const PlanChange& change) override {
-        cullBounds_.reset();
+        if (change.topologyChanged) cullBounds_.reset();
+        else staleCullBounds(change.subfaces);
         if (!haveBuffers_ || (change.topologyChanged && change.previousSubfaceOf.empty())) return PlanUpdate::Rebuild;
         std::span<const uint32_t> changed = change.subfaces;
         std::vector<uint32_t> withPending;
@@ -184,8 +186,13 @@ public:
     // Only these vertices moved: the next record() refreshes just the sub-faces around them,
     // recording the device part into its command buffer (evaluate() reads planned_ directly).
     Status updateMoved(std::span<const uint32_t> vertices) override {
-        cullBounds_.reset();
         if (!haveBuffers_) return success();
+        if (cullBounds_) {
+            std::vector<uint32_t> around;
+            for (uint32_t d : subfacesAround(buffers_.data, vertices)) around.push_back(buffers_.data.subfaces[d].subface);
+            std::sort(around.begin(), around.end());
+            staleCullBounds(around);
+        }
         // The partial refresh re-evaluates the undisplaced surface only; with a displacement the
         // whole grid is evaluated again.
         if (displacement_) return update();
@@ -312,33 +319,53 @@ public:
 private:
     // The drawn sub-faces culled for this view (sorted); the bounds are built when first needed
     // after a change of the cage or the displacement (their time counts in this frame's).
+    // after a change of the cage, or brought up to date for the sub-faces a move or a tag edit
+    // changed (their time counts in this frame's).
     std::vector<uint32_t> culledDrawnSubfaces(const DrawView& view, DrawStats& stats) {
         if (view.culledSubfacesOut) view.culledSubfacesOut->clear();
         if (view.cull == CullMethod::None) return {};
+        const auto start = std::chrono::steady_clock::now();
+        // A displaced surface is tested against the frustum only: boxes are all it needs.
+        const CullMethod detail = displacement_ ? CullMethod::Frustum : view.cull;
+        if (cullBounds_ && cullDetail_ < detail) cullBounds_.reset();
         if (!cullBounds_) {
-            const auto start = std::chrono::steady_clock::now();
-            cullBounds_ = buildSubfaceCullBounds(*planned_);
+            cullBounds_ = buildSubfaceCullBounds(*planned_, detail);
+            cullDetail_ = detail;
+            cullStale_.clear();
             closed_ = closedOutwardSurface(planned_->cage(), planned_->topology());
-            margins_.clear();
-            if (displacement_) {  // every box grows by its tile's largest |D|
-                margins_.assign(planned_->subfaceCount(), 0.0f);
-                const DisplacementLayout& layout = displacement_->layout;
-                for (uint32_t s = 0; s < layout.tiles.size(); ++s) {
-                    const DisplacementTile& tile = layout.tiles[s];
-                    for (uint32_t k = 0; k < (tile.cells + 2) * (tile.cells + 2); ++k)
-                        margins_[s] = std::max(margins_[s], std::abs(displacement_->samples[layout.padded[tile.offset + k]]));
-                }
-            }
-            stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+            cullMargins_.clear();
+        } else if (!cullStale_.empty()) {
+            updateSubfaceCullBounds(*cullBounds_, *planned_, cullStale_, cullDetail_);
+            cullStale_.clear();
+            // Moves can turn a piece inside out, and holes open the surface.
+            closed_ = closedOutwardSurface(planned_->cage(), planned_->topology());
         }
+        if (displacement_ && cullMargins_.empty()) {  // every box grows by its tile's largest |D|
+            cullMargins_.assign(planned_->subfaceCount(), 0.0f);
+            const DisplacementLayout& layout = displacement_->layout;
+            for (uint32_t s = 0; s < layout.tiles.size(); ++s) {
+                const DisplacementTile& tile = layout.tiles[s];
+                for (uint32_t k = 0; k < (tile.cells + 2) * (tile.cells + 2); ++k)
+                    cullMargins_[s] = std::max(cullMargins_[s], std::abs(displacement_->samples[layout.padded[tile.offset + k]]));
+            }
+        }
+        stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         std::vector<uint32_t> drawn;
-        const std::vector<uint32_t> culled = cullForView(*cullBounds_, closed_, margins_, view, stats);
+        const std::vector<uint32_t> culled = cullForView(*cullBounds_, closed_, cullMargins_, view, stats);
         for (uint32_t s : culled)
             if (s < buffers_.drawnOfSubface.size() && buffers_.drawnOfSubface[s] != UINT32_MAX)
                 drawn.push_back(buffers_.drawnOfSubface[s]);
         if (view.culledSubfacesOut) *view.culledSubfacesOut = culled;
         std::sort(drawn.begin(), drawn.end());
         return drawn;
+    }
+
+    // Sub-faces (sorted) whose bounds the next culled frame rebuilds.
+    void staleCullBounds(std::span<const uint32_t> subfaces) {
+        if (!cullBounds_) return;
+        std::vector<uint32_t> merged;
+        std::set_union(cullStale_.begin(), cullStale_.end(), subfaces.begin(), subfaces.end(), std::back_inserter(merged));
+        cullStale_ = std::move(merged);
     }
 
     static ColorBy colorBy(const std::string& name) {
@@ -362,8 +389,10 @@ private:
     std::vector<uint32_t> hiddenDrawn_;     // this draw's DrawView::hiddenSubfaces as drawn indices (and culled ones)
     std::vector<uint32_t> culledDrawn_;     // this draw's culled sub-faces as drawn indices
     std::optional<PatchCullSet> cullBounds_;  // built when first needed after a change
+    CullMethod cullDetail_ = CullMethod::None;  // what cullBounds_ serves (PatchCullLeaves::detail)
+    std::vector<uint32_t> cullStale_;       // sorted sub-faces whose bounds changed since
     bool closed_ = false;                   // back-patch tests apply (closedOutwardSurface)
-    std::vector<float> margins_;            // per sub-face: its tile's largest |D| (displaced)
+    std::vector<float> cullMargins_;        // per sub-face: its tile's largest |D| (displaced; empty: to compute)
 };
 
 }  // namespace
