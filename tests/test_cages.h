@@ -2,10 +2,31 @@
 #pragma once
 
 #include <cmath>
+#include <numbers>
 
 #include "cage.h"
 
 namespace qp::test {
+
+// A closed torus of columns x rows quads, every vertex valence 4 (a regular cage without
+// boundary), slightly wavy so no patch is planar.
+inline Cage makeTorus(uint32_t columns = 12, uint32_t rows = 6, double major = 2.0, double minor = 0.7) {
+    Cage cage;
+    for (uint32_t j = 0; j < rows; ++j)
+        for (uint32_t i = 0; i < columns; ++i) {
+            double a = 2.0 * std::numbers::pi * i / columns, b = 2.0 * std::numbers::pi * j / rows;
+            double r = minor * (1.0 + 0.15 * std::sin(3.0 * a + b));
+            cage.positions.push_back(glm::vec3(float((major + r * std::cos(b)) * std::cos(a)),
+                                               float((major + r * std::cos(b)) * std::sin(a)), float(r * std::sin(b))));
+        }
+    for (uint32_t j = 0; j < rows; ++j)
+        for (uint32_t i = 0; i < columns; ++i) {
+            uint32_t i1 = (i + 1) % columns, j1 = (j + 1) % rows;
+            uint32_t quad[4] = {j * columns + i, j * columns + i1, j1 * columns + i1, j1 * columns + i};
+            cage.addFace(quad, 4);
+        }
+    return cage;
+}
 
 // n x n unit quads in the xy-plane, with a gentle bump of height `bump` so surfaces are not flat.
 inline Cage makeGrid(uint32_t n, float bump = 0.3f) {

@@ -238,8 +238,10 @@ void viewportBars(EditorApp& app) {
                 if (ImGui::Selectable(m == CullMethod::None ? "no cull" : cullMethodName(m), v.cull == m)) v.cull = m;
             ImGui::EndCombo();
         }
-        recordWidget(app, cullCombo.c_str());
-        tooltip(app, cullCombo.c_str(),
+        // Recorded under a name tests can find (the combo itself shows only the method).
+        const std::string cullName = "Culling " + std::to_string(i + 1);
+        recordWidget(app, cullName.c_str());
+        tooltip(app, cullName.c_str(),
                 "Culling: skip patches that cannot show a pixel (the picture stays the same). frustum: outside the view; "
                 "tcone, ncone, pplane: also those facing away on a closed surface, each test tighter and costlier "
                 "(docs/culling.md). The Stats panel shows what was culled.");

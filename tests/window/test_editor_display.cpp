@@ -7,6 +7,8 @@
 //   EditorDisplay.ShadingGridCreasesAndPanels: at 1280x800 every side-panel tab fits on screen,
 //     matcap differs from studio, the heat map keeps the form shaded, the grid draws, creases
 //     are wide, and shading survives save and reopen.
+//   EditorDisplay.CullingKeepsThePictureAndCounts (issue 20): a viewport's culling combo culls
+//     patches facing away on a closed torus without changing a pixel, and Stats counts them.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -18,6 +20,8 @@
 #include "editor_process.h"
 #include "render_test_support.h"
 #include "scene.h"
+#include "obj_io.h"
+#include "test_cages.h"
 
 
 using namespace qp;
@@ -240,6 +244,37 @@ TEST_F(EditorDisplay, ShadingGridCreasesAndPanels) {
     EXPECT_GT(shadedColorLevels(heatMap, x0, y0, x1, y1), 60u) << "the heat map is flat colour";
 }
 
+TEST_F(EditorDisplay, CullingKeepsThePictureAndCounts) {
+    writeText(dir / "torus.obj", formatObj(makeTorus()));
+    EditorProcess editor;
+    start(editor,
+          "wait-idle\nwait-frames 3\nscreenshot plain.png\ndump-state plain.json\n"
+          "set-cull 0 pplane\nwait-frames 4\nscreenshot culled.png\ndump-state culled.json\n"
+          "set-cull 0 frustum\nwait-frames 4\ndump-state frustum.json\nset-cull 0 sideways\nquit\n",
+          (dir / "torus.obj").string(), "1100x700");
+    json plain = state(editor, "plain.json"), culled = state(editor, "culled.json"), frustum = state(editor, "frustum.json");
+    // The bad method is refused with a message; the script stops there.
+    EXPECT_NE(editor.wait(kRunSeconds), 0);
+    EXPECT_NE(editor.output().find("unknown culling method 'sideways'"), std::string::npos) << editor.output();
+    ASSERT_TRUE(plain.is_object() && culled.is_object() && frustum.is_object());
+    EXPECT_TRUE(culled["widgets"].contains("Culling 1")) << "no culling combo in the viewport bar";
+    EXPECT_EQ(culled["viewports"][0]["cull"], "pplane");
+    const json& counts = culled["viewports"][0]["culled"];
+    EXPECT_EQ(counts["tested"], 72);
+    EXPECT_GT(counts["back_facing"].get<int>(), 5) << counts;
+    EXPECT_EQ(culled["viewports"][0]["patches"].get<int>(), 72 - counts["back_facing"].get<int>() - counts["frustum"].get<int>());
+    EXPECT_EQ(plain["viewports"][0]["culled"]["tested"], 0);
+    EXPECT_EQ(frustum["viewports"][0]["culled"]["back_facing"], 0) << "the frustum test culls nothing facing away";
+    const Image a = loadImage(dir / "plain.png"), b = loadImage(dir / "culled.png");
+    ASSERT_GT(a.width, 0);
+    const std::array<float, 4> r = rectOf(culled["viewports"][0]["rect"]);
+    // Exactly, below the viewport bar (whose combo shows the method).
+    size_t changed = 0;
+    for (int y = int(r[1]) + 40; y < std::min(int(r[1] + r[3]), a.height); ++y)
+        for (int x = int(r[0]); x < std::min(int(r[0] + r[2]), a.width); ++x)
+            changed += !std::equal(a.at(x, y), a.at(x, y) + 3, b.at(x, y));
+    EXPECT_EQ(changed, 0u) << "culling changed the picture";
+}
 
 // A scene of three objects: the tower, an instance of it moved along x, and a second tower of its
 // own on the other side. The editor draws all three (the instance follows an edit of the tower as
