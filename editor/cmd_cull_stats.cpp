@@ -1,19 +1,21 @@
-// quadplan cull-stats (issue 20, first part): per culling method the share of a planned cage's
-// sub-faces culled over views on a sphere around it. Frame times with and without culling and
-// the ID-buffer check of the promise (no culled patch draws a pixel) come with the renderer's
-// culling (docs/culling-plan.md).
-#include <cmath>
+// quadplan cull-stats (issue 20): culling measured by drawing. From views on a sphere around a
+// cage or scene, the scheme draws every frame unculled and with each method (DrawView::cull);
+// per method the share of patches culled, the frame time against the unculled frame, and the
+// two promises checked: no culled sub-face owns a pixel of the unculled ID buffer
+// (visible_culled) and the culled picture is the unculled one (differing_pixels). A promise
+// broken is an error: exit status 3.
+#include <algorithm>
 #include <cstdio>
+#include <numeric>
 
-#include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
 
-#include "camera.h"
 #include "closed_surface.h"
 #include "commands.h"
-#include "planned_cage.h"
-#include "scene.h"
-#include "subface_cull_bounds.h"
+#include "cull_stats_views.h"
+#include "generated_cage.h"
+#include "plan_db_option.h"
+#include "render_setup.h"
 
 namespace qp::cli {
 
@@ -21,94 +23,224 @@ namespace {
 
 struct CullStatsArgs {
     std::string path;
-    uint32_t views = 26;
-    bool json = false;
+    uint32_t generatedFaces = 0, seed = 1;
+    uint32_t views = 26, tess = 8, depth = 6, repeats = 3;
+    std::string size = "800x600", scheme = "plans", drawPath, pluginDir, planDb;
+    std::vector<std::string> options;
+    bool json = false, validate = false;
 };
 
-// Evenly spread directions (a Fibonacci sphere).
-std::vector<glm::vec3> viewDirections(uint32_t count) {
-    std::vector<glm::vec3> out;
-    const float golden = 3.14159265f * (3.0f - std::sqrt(5.0f));
-    for (uint32_t k = 0; k < count; ++k) {
-        const float y = 1.0f - 2.0f * (float(k) + 0.5f) / float(count), r = std::sqrt(std::max(0.0f, 1.0f - y * y));
-        out.push_back({r * std::cos(golden * float(k)), y, r * std::sin(golden * float(k))});
+int fail(const std::string& message) {
+    std::fprintf(stderr, "error: %s\n", message.c_str());
+    return 1;
+}
+
+// The file, or the generated benchmark cage (core/generated_cage.h), planned.
+Result<PlannedFile> loadInput(const CullStatsArgs& args, PlanDatabase& database) {
+    const PlanOptions options{args.depth, true};
+    if (args.generatedFaces == 0) return loadAndPlan(args.path, database, options);
+    Scene scene = sceneOfCage(makeBenchmarkCage(args.generatedFaces, args.seed), "generated");
+    Result<PlannedScene> planned = PlannedScene::create(scene, database, options, "the generated cage");
+    if (!planned) return planned.error();
+    return PlannedFile{std::move(scene), std::move(planned).value()};
+}
+
+std::string inputName(const CullStatsArgs& args) {
+    if (args.generatedFaces == 0) return args.path;
+    return "generated (" + std::to_string(args.generatedFaces) + " faces, seed " + std::to_string(args.seed) + ")";
+}
+
+double mean(const std::vector<double>& values) {
+    return values.empty() ? 0.0 : std::accumulate(values.begin(), values.end(), 0.0) / double(values.size());
+}
+
+// One method over every view.
+struct MethodSummary {
+    std::vector<double> fractions, frameMs, gpuMs, triangles, cullMs;
+    CullCounts counts;
+    uint64_t differingPixels = 0, culledSubfaces = 0, visibleCulled = 0;
+
+    void add(const MethodInView& m) {
+        const CullCounts& c = m.draw.cull;
+        fractions.push_back(c.tested ? double(c.frustum + c.backFacing) / double(c.tested) : 0.0);
+        frameMs.push_back(m.frameMs);
+        gpuMs.push_back(m.gpuMs);
+        triangles.push_back(double(m.draw.triangles));
+        cullMs.push_back(m.draw.cullMilliseconds);
+        counts.tested += c.tested, counts.frustum += c.frustum, counts.backFacing += c.backFacing;
+        counts.frustumOnly += c.frustumOnly;
+        differingPixels += m.differingPixels;
+        culledSubfaces += m.culledSubfaces;
+        visibleCulled += m.visibleCulled;
     }
-    return out;
+};
+
+// Every view's measurements, and what the report says about the setting.
+struct Measured {
+    std::vector<MethodSummary> summaries = std::vector<MethodSummary>(1 + kMeasuredCullMethods.size());  // [0]: unculled
+    std::vector<double> visibleSubfaces;  // per view
+    std::string device, drawnBy = "?";
+    bool closed = true;
+    size_t objects = 0;
+};
+
+int report(const CullStatsArgs& args, const Measured& measured) {
+    const std::vector<MethodSummary>& summaries = measured.summaries;
+    const MethodSummary& none = summaries[0];
+    uint64_t patches = 0, differing = 0, visible = 0, reported = 0, culledPatches = 0;
+    for (size_t m = 1; m < summaries.size(); ++m) {
+        patches = std::max<uint64_t>(patches, summaries[m].counts.tested / std::max<uint64_t>(1, args.views));
+        differing += summaries[m].differingPixels;
+        visible += summaries[m].visibleCulled;
+        reported += summaries[m].culledSubfaces;
+        culledPatches += summaries[m].counts.frustum + summaries[m].counts.backFacing;
+    }
+    // A scheme that culls patches but never reports a culled sub-face does not fill
+    // DrawView::culledSubfacesOut: its visible_culled cannot be checked (null, not 0).
+    const bool checked = culledPatches == 0 || reported > 0;
+    nlohmann::ordered_json methods;
+    for (size_t m = 1; m < summaries.size(); ++m) {
+        const MethodSummary& s = summaries[m];
+        const auto [lo, hi] = std::minmax_element(s.fractions.begin(), s.fractions.end());
+        methods[cullMethodName(kMeasuredCullMethods[m - 1])] = {
+            {"culled_fraction", {{"mean", mean(s.fractions)}, {"min", *lo}, {"max", *hi}}},
+            {"frame_ratio", mean(none.frameMs) > 0 ? mean(s.frameMs) / mean(none.frameMs) : 0.0},
+            {"gpu_ratio", mean(none.gpuMs) > 0 ? mean(s.gpuMs) / mean(none.gpuMs) : 0.0},
+            {"frame_ms", mean(s.frameMs)},
+            {"gpu_ms", mean(s.gpuMs)},
+            {"triangles", mean(s.triangles)},
+            {"cull_ms", mean(s.cullMs)},
+            {"tested", s.counts.tested},
+            {"frustum", s.counts.frustum},
+            {"back_facing", s.counts.backFacing},
+            {"frustum_only", s.counts.frustumOnly},
+            {"culled_subfaces", s.culledSubfaces},
+            {"visible_culled", checked ? nlohmann::ordered_json(s.visibleCulled) : nlohmann::ordered_json(nullptr)},
+            {"differing_pixels", s.differingPixels}};
+    }
+    const char* timing = "frame_ms: wall time of record + submit + wait, median of the timed frames of a view, mean over "
+                         "views; gpu_ms: timestamps around the recorded commands, likewise; ratios: culled / unculled";
+    if (args.json) {
+        nlohmann::ordered_json out = {
+            {"file", inputName(args)}, {"scheme", args.scheme}, {"path", measured.drawnBy}, {"tess", args.tess},
+            {"size", args.size}, {"device", measured.device}, {"views", args.views}, {"repeats", args.repeats},
+            {"objects", measured.objects}, {"closed", measured.closed}, {"patches", patches},
+            {"visible_subfaces", mean(measured.visibleSubfaces)},
+            {"visible_culled", checked ? nlohmann::ordered_json(visible) : nlohmann::ordered_json(nullptr)},
+            {"differing_pixels", differing}, {"timing", timing},
+            {"unculled", {{"frame_ms", mean(none.frameMs)}, {"gpu_ms", mean(none.gpuMs)}, {"triangles", mean(none.triangles)}}},
+            {"methods", methods}};
+        std::printf("%s\n", out.dump(1).c_str());
+    } else {
+        std::printf("%s: scheme %s (%s path), tess %u, %s, %u views, %llu patches, on %s%s\n", inputName(args).c_str(),
+                    args.scheme.c_str(), measured.drawnBy.c_str(), args.tess, args.size.c_str(), args.views,
+                    (unsigned long long)patches, measured.device.c_str(),
+                    measured.closed ? "" : " (not a closed outward surface: back-patch tests off, back sides show)");
+        std::printf("| method | culled mean | min | max | triangles | frame ms | ratio | gpu ms | ratio | cull ms |\n");
+        std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        std::printf("| none | | | | %.0f | %.2f | 1 | %.2f | 1 | |\n", mean(none.triangles), mean(none.frameMs), mean(none.gpuMs));
+        for (size_t m = 1; m < summaries.size(); ++m) {
+            const nlohmann::ordered_json& j = methods[cullMethodName(kMeasuredCullMethods[m - 1])];
+            const auto& f = j["culled_fraction"];
+            std::printf("| %s | %.1f%% | %.1f%% | %.1f%% | %.0f | %.2f | %.2f | %.2f | %.2f | %.2f |\n",
+                        cullMethodName(kMeasuredCullMethods[m - 1]), 100.0 * f["mean"].get<double>(),
+                        100.0 * f["min"].get<double>(), 100.0 * f["max"].get<double>(), j["triangles"].get<double>(),
+                        j["frame_ms"].get<double>(), j["frame_ratio"].get<double>(), j["gpu_ms"].get<double>(),
+                        j["gpu_ratio"].get<double>(), j["cull_ms"].get<double>());
+        }
+        std::printf("(%s)\n", timing);
+        if (checked)
+            std::printf("visible_culled: %llu (culled sub-faces owning a pixel of their object's unculled ID buffer, in "
+                        "which %.1f sub-faces a view own pixels)\n",
+                        (unsigned long long)visible, mean(measured.visibleSubfaces));
+        else
+            std::printf("visible_culled: not checked (the scheme culls patches but reports no culled sub-face)\n");
+        std::printf("differing_pixels: %llu (culled frames against unculled ones)\n", (unsigned long long)differing);
+    }
+    if (visible > 0 || differing > 0) {
+        std::fprintf(stderr, "error: culling showed in the picture: %llu visible sub-faces culled, %llu pixels differ\n",
+                     (unsigned long long)visible, (unsigned long long)differing);
+        return 3;
+    }
+    return 0;
 }
 
 int runCullStats(const CullStatsArgs& args) {
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (!scene) {
-        std::fprintf(stderr, "error: %s\n", scene.error().message.c_str());
-        return 1;
-    }
-    if (scene->objects.empty()) {
-        std::fprintf(stderr, "error: %s has no object\n", args.path.c_str());
-        return 1;
-    }
+    if (args.path.empty() == (args.generatedFaces == 0)) return fail("give either a cage or scene file, or --generated-faces N");
+    uint32_t width = 0, height = 0;
+    if (!parseSize(args.size, width, height))
+        return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.size + "'");
+    Result<SchemeSettings> parsedSettings = schemeSettingsOf(args.depth, args.drawPath, args.options);
+    if (!parsedSettings) return fail(parsedSettings.error().message);
+    SchemeSettings settings = *parsedSettings;
+    settings.tessFactor = args.tess;
+    Result<PluginCatalog> catalog = loadCatalogWith(args.pluginDir, args.scheme);
+    if (!catalog) return fail(catalog.error().message);
+
     PlanDatabase database;
-    Result<PlannedCage> planned = PlannedCage::create(scene->objects[0].cage, database, PlanOptions{}, args.path);
-    if (!planned) {
-        std::fprintf(stderr, "error: %s\n", planned.error().message.c_str());
-        return 1;
-    }
-    const PatchCullSet bounds = buildSubfaceCullBounds(*planned);
-    const bool closed = closedOutwardSurface(planned->cage(), planned->topology());
-    CullBox all{glm::vec3(INFINITY), glm::vec3(-INFINITY)};  // what each view frames
-    uint32_t patches = 0;
-    for (uint32_t s = 0; s < planned->subfaceCount(); ++s)
-        if (planned->hasSurface(s)) {
-            ++patches;
-            all.lo = glm::min(all.lo, bounds.boxes[s].lo), all.hi = glm::max(all.hi, bounds.boxes[s].hi);
+    loadPlanDatabase(database, args.planDb);
+    Result<PlannedFile> file = loadInput(args, database);
+    if (!file) return fail(file.error().message);
+    savePlanDatabase(database, args.planDb);
+    const Scene& scene = file->scene;
+    const PlannedScene& planned = file->planned;
+    Measured measured;
+    measured.objects = scene.objects.size();
+    for (const PlannedCage& cage : planned.cages)
+        measured.closed = measured.closed && closedOutwardSurface(cage.cage(), cage.topology());
+
+    HeadlessSceneRequest request{&*catalog, args.scheme, settings, inputName(args), width, height, "shading", args.validate};
+    Result<std::unique_ptr<HeadlessScene>> created = createHeadlessScene(request, scene, planned);
+    if (!created) return fail(created.error().message);
+    HeadlessScene& h = **created;
+    if (!h.problem.empty()) return destroyHeadlessScene(h, args.validate, fail(h.problem));
+    Result<CullStatsRig> rig = createCullStatsRig(h, scene, planned, args.tess);
+    if (!rig) return destroyHeadlessScene(h, args.validate, fail(rig.error().message));
+
+    measured.device = h.ctx.deviceName;
+    int status = 0;
+    for (const RenderCamera& camera : sphereCameras(sceneBounds(scene, planned), args.views, float(width) / float(height))) {
+        Result<ViewMeasurement> view = measureView(h, *rig, scene, planned, headlessView(camera, height, "shading", false),
+                                                   args.repeats);
+        if (!view) {
+            status = fail("drawing " + inputName(args) + " failed: " + view.error().message);
+            break;
         }
-    const char* names[4] = {"frustum", "tcone", "ncone", "pplane"};
-    std::vector<double> fractions[4];
-    for (const glm::vec3& direction : viewDirections(args.views)) {
-        // Framing the whole model from this direction (render/camera.h's rule, turned).
-        RenderCamera camera = frameBounds(all.lo, all.hi, 1.0f);
-        const float distance = glm::length(camera.eye - camera.target);
-        camera.eye = camera.target + distance * direction;
-        camera.up = std::abs(direction.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
-        const glm::vec4 eye = homogeneousEye(viewProjection(camera), camera.eye);
-        uint32_t culled[4] = {};
-        const CullMethod methods[4] = {CullMethod::Frustum, CullMethod::TCone, CullMethod::NCone, CullMethod::PPlane};
-        for (int m = 0; m < 4; ++m)
-            culled[m] = uint32_t(cullPatches(bounds, methods[m], viewProjection(camera), eye, closed).size());
-        for (int m = 0; m < 4; ++m) fractions[m].push_back(patches ? double(culled[m]) / patches : 0.0);
+        for (size_t m = 0; m < measured.summaries.size(); ++m) measured.summaries[m].add(view->methods[m]);
+        measured.visibleSubfaces.push_back(double(view->visibleSubfaces));
+        measured.drawnBy = drawnByName(view->methods[0].draw.drawnBy);
     }
-    nlohmann::ordered_json methods;
-    for (int m = 0; m < 4; ++m) {
-        double sum = 0.0, lo = 1.0, hi = 0.0;
-        for (double f : fractions[m]) sum += f, lo = std::min(lo, f), hi = std::max(hi, f);
-        methods[names[m]] = {{"culled_fraction", {{"mean", sum / double(fractions[m].size())}, {"min", lo}, {"max", hi}}}};
-    }
-    if (args.json) {
-        nlohmann::ordered_json out = {{"cage", args.path}, {"views", args.views}, {"patches", patches},
-                                      {"closed", closed}, {"methods", methods}};
-        std::printf("%s\n", out.dump(1).c_str());
-        return 0;
-    }
-    std::printf("%s: %u sub-faces, %u views%s\n", args.path.c_str(), patches, args.views,
-                closed ? "" : " (open cage: back-patch tests off, back sides are drawn)");
-    for (int m = 0; m < 4; ++m)
-        std::printf("  %-8s culled %5.1f%% (min %5.1f%%, max %5.1f%%)\n", names[m],
-                    100.0 * methods[names[m]]["culled_fraction"]["mean"].get<double>(),
-                    100.0 * methods[names[m]]["culled_fraction"]["min"].get<double>(),
-                    100.0 * methods[names[m]]["culled_fraction"]["max"].get<double>());
-    return 0;
+    if (status == 0) status = report(args, measured);
+    destroyCullStatsRig(h.ctx, *rig);
+    return destroyHeadlessScene(h, args.validate, status);
 }
 
 }  // namespace
 
 void registerCullStats(CLI::App& app, int& exitCode) {
-    auto* cmd = app.add_subcommand("cull-stats", "Share of a cage's sub-faces each culling method culls, over views around it "
-                                                 "(frame times and the ID-buffer check are not in yet)");
+    auto* cmd = app.add_subcommand(
+        "cull-stats", "Culling measured by drawing: per method the share of patches culled over views around the model, the "
+                      "frame time against the unculled frame, and the check that nothing visible was culled (exit 3 if it was)");
     auto args = std::make_shared<CullStatsArgs>();
-    cmd->add_option("file", args->path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json; its first object)")->required();
-    cmd->add_option("--views", args->views, "Views on a sphere around the model, each framing it")->check(CLI::Range(1u, 10000u));
+    cmd->add_option("file", args->path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json: its visible objects)");
+    cmd->add_option("--generated-faces", args->generatedFaces,
+                    "Instead of a file: the generated closed benchmark cage (core/generated_cage.h) of about this many faces")
+        ->check(CLI::Range(1u, 10000000u));
+    cmd->add_option("--seed", args->seed, "Seed of the generated cage (default 1)");
+    cmd->add_option("--views", args->views, "Views on a sphere around the model, each framing it (default 26)")
+        ->check(CLI::Range(1u, 10000u));
+    cmd->add_option("--size", args->size, "Image size, WIDTHxHEIGHT (default 800x600)");
+    cmd->add_option("--scheme", args->scheme, "Patching scheme (default plans; `quadplan schemes` lists them)");
+    cmd->add_option("--tess", args->tess, "Uniform tessellation factor (default 8)")->check(CLI::Range(1u, 64u));
+    cmd->add_option("--repeats", args->repeats, "Timed frames per view and method, after one warm-up (default 3)")
+        ->check(CLI::Range(1u, 1000u));
+    cmd->add_option("--path", args->drawPath, "The scheme's draw path, as for render (the option path=...)");
+    cmd->add_option("--option", args->options, "Scheme option KEY=VALUE (repeatable)");
+    cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, kMaxPlanDepth));
+    cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
+    addPlanDatabaseOption(cmd, args->planDb);
     cmd->add_flag("--json", args->json, "Print one JSON object");
+    cmd->add_flag("--validate", args->validate, "Enable Vulkan validation; any message makes the command fail");
     cmd->callback([args, &exitCode] { exitCode = runCullStats(*args); });
 }
 

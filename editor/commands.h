@@ -16,6 +16,9 @@ void registerCheckLimit(CLI::App& app, int& exitCode);
 
 // `quadplan plan-stats CAGE [--depth D] [--json]`
 void registerPlanStats(CLI::App& app, int& exitCode);
+
+// `quadplan cull-stats CAGE_OR_SCENE [--views N] [--scheme NAME] [--tess F] [--json]`: culling
+// measured by drawing, with the check that nothing visible was culled
 void registerCullStats(CLI::App& app, int& exitCode);
 
 // `quadplan bench SUITE [--repeats R] [--out DIR] ...`: benchmarks against OpenSubdiv

@@ -1,0 +1,183 @@
+#include "cull_stats_views.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "offscreen_target.h"
+#include "scheme_support.h"
+#include "vk_commands.h"
+
+namespace qp::cli {
+
+namespace {
+
+// The ID mesh of one cage: the scheme's own surface on the grid it draws (buildSubfaceGrid at its
+// factor; displacedSchemeMesh's grids for a displaced object), each vertex numbered by its
+// sub-face. Neither builder shares a vertex between sub-faces, so every triangle has one number.
+Result<std::vector<IdVertex>> idVertices(const SchemeInstance& scheme, const PlannedCage& cage, const Displacement& displacement,
+                                         uint32_t factor, std::vector<uint32_t>& indices) {
+    std::vector<IdVertex> vertices;
+    if (!displacement.empty()) {
+        Result<DisplacedMesh> mesh =
+            displacedSchemeMesh(scheme.scheme(), cage, displacement, displacedGridFactor(cage, displacement, factor));
+        if (!mesh) return mesh.error();
+        vertices.resize(mesh->positions.size());
+        for (size_t g = 0; g < mesh->gridSubface.size(); ++g) {
+            const uint32_t side = mesh->gridFactor[g] + 1;
+            for (uint32_t k = 0; k < side * side; ++k)
+                vertices[mesh->gridOffset[g] + k] = {mesh->positions[mesh->gridOffset[g] + k], mesh->gridSubface[g]};
+        }
+        indices = std::move(mesh->indices);
+        return vertices;
+    }
+    const SubfaceGrid grid = buildSubfaceGrid(cage, factor);
+    std::vector<SurfacePoint> points(grid.samples.size());
+    if (Status evaluated = scheme.evaluate(grid.samples, points); !evaluated) return evaluated.error();
+    vertices.resize(points.size());
+    for (size_t i = 0; i < points.size(); ++i) vertices[i] = {points[i].position, grid.samples[i].subface};
+    indices = grid.indices;
+    return vertices;
+}
+
+// Pixels whose RGBA differ.
+uint64_t differingPixels(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    if (a.size() != b.size()) return std::max(a.size(), b.size()) / 4;
+    uint64_t count = 0;
+    for (size_t i = 0; i < a.size(); i += 4)
+        count += a[i] != b[i] || a[i + 1] != b[i + 1] || a[i + 2] != b[i + 2] || a[i + 3] != b[i + 3];
+    return count;
+}
+
+// Per sub-face of `cage`, whether it owns a pixel of `object`'s ID buffer from `view`.
+Result<std::vector<bool>> subfacesWithPixels(HeadlessScene& h, const CullStatsRig& rig, uint32_t cage, const DrawView& object,
+                                             uint32_t subfaceCount) {
+    std::vector<bool> owns(subfaceCount, false);
+    if (rig.meshes[cage].indexCount == 0) return owns;
+    const RenderTarget target = renderTarget(*h.target);
+    if (Status drawn = submitAndWait(h.ctx, [&](VkCommandBuffer cmd) {
+            recordIdPass(cmd, rig.pass, target, object.viewProjection, true, rig.meshes[cage]);
+        });
+        !drawn)
+        return drawn.error();
+    Result<std::vector<uint8_t>> pixels = readPixels(h.ctx, *h.target);
+    if (!pixels) return pixels.error();
+    for (size_t i = 0; i < pixels->size(); i += 4)
+        if (const uint32_t id = decodeId(pixels->data() + i); id < subfaceCount) owns[id] = true;
+    return owns;
+}
+
+// Each object drawn alone with each method, the sub-faces it reports culled checked against the
+// object's ID buffer (objects without a cage of their own use their source's).
+Status checkCulledSubfaces(HeadlessScene& h, CullStatsRig& rig, const Scene& scene, const PlannedScene& planned,
+                           const DrawView& view, ViewMeasurement& out) {
+    const RenderTarget target = renderTarget(*h.target);
+    for (uint32_t o = 0; o < scene.objects.size(); ++o) {
+        if (!scene.objects[o].visible) continue;
+        const uint32_t cage = planned.cageOfObject[o];
+        DrawView object = objectView(view, scene.objects[o].transform);
+        Result<std::vector<bool>> owns = subfacesWithPixels(h, rig, cage, object, planned.cages[cage].subfaceCount());
+        if (!owns) return owns.error();
+        out.visibleSubfaces += uint64_t(std::count(owns->begin(), owns->end(), true));
+        for (size_t m = 0; m < kMeasuredCullMethods.size(); ++m) {
+            std::vector<uint32_t> culled;
+            object.cull = kMeasuredCullMethods[m];
+            object.culledSubfacesOut = &culled;
+            Result<DrawStats> drawn = DrawStats{};
+            if (Status submitted = submitAndWait(h.ctx, [&](VkCommandBuffer cmd) {
+                    drawn = h.schemes->cages[cage].instance.record(cmd, target, object);
+                });
+                !submitted)
+                return submitted;
+            if (!drawn) return drawn.error();
+            MethodInView& result = out.methods[1 + m];
+            result.culledSubfaces += culled.size();
+            for (uint32_t s : culled) result.visibleCulled += s < owns->size() && (*owns)[s];
+        }
+    }
+    return success();
+}
+
+}  // namespace
+
+std::vector<RenderCamera> sphereCameras(const Bounds& bounds, uint32_t count, float aspect) {
+    std::vector<RenderCamera> cameras;
+    const float golden = 3.14159265f * (3.0f - std::sqrt(5.0f));
+    for (uint32_t k = 0; k < count; ++k) {
+        const float y = 1.0f - 2.0f * (float(k) + 0.5f) / float(count), r = std::sqrt(std::max(0.0f, 1.0f - y * y));
+        const glm::vec3 direction{r * std::cos(golden * float(k)), y, r * std::sin(golden * float(k))};
+        RenderCamera camera = frameBounds(bounds.min, bounds.max, aspect);
+        camera.eye = camera.target + glm::length(camera.eye - camera.target) * direction;
+        // lookAt needs an up vector that is not along the view direction (the poles).
+        camera.up = std::abs(direction.y) > 0.99f ? glm::vec3(0, 0, 1) : glm::vec3(0, 1, 0);
+        cameras.push_back(camera);
+    }
+    return cameras;
+}
+
+Result<CullStatsRig> createCullStatsRig(HeadlessScene& h, const Scene& scene, const PlannedScene& planned, uint32_t tessFactor) {
+    CullStatsRig rig;
+    Result<IdPass> pass = createIdPass(h.ctx, h.gpu.cache, h.gpu.colorFormat, h.gpu.depthFormat);
+    if (!pass) return Error{"cannot set up the ID buffer: " + pass.error().message};
+    rig.pass = *pass;
+    Result<GpuTimer> timer = createGpuTimer(h.ctx);
+    if (!timer) return Error{"cannot time frames on this device: " + timer.error().message};
+    rig.timer = *timer;
+    for (uint32_t c = 0; c < planned.cages.size(); ++c) {
+        const PlannedCage& cage = planned.cages[c];
+        if (cage.subfaceCount() > kMaxId + 1) {
+            destroyCullStatsRig(h.ctx, rig);
+            return Error{"the cage has " + std::to_string(cage.subfaceCount()) + " sub-faces; an ID buffer holds at most " +
+                         std::to_string(kMaxId + 1)};
+        }
+        std::vector<uint32_t> indices;
+        Result<std::vector<IdVertex>> vertices = idVertices(h.schemes->cages[c].instance, cage,
+                                                            scene.objects[planned.objectOfCage[c]].displacement, tessFactor, indices);
+        Result<IdMesh> mesh = !vertices              ? Result<IdMesh>(vertices.error())
+                              : vertices->empty()    ? Result<IdMesh>(IdMesh{})
+                                                     : uploadIdMesh(h.ctx, *vertices, indices);
+        if (!mesh) {
+            destroyCullStatsRig(h.ctx, rig);
+            return Error{"cannot build the ID buffer's mesh: " + mesh.error().message};
+        }
+        rig.meshes.push_back(*mesh);
+    }
+    return rig;
+}
+
+void destroyCullStatsRig(const VulkanContext& ctx, CullStatsRig& rig) {
+    for (IdMesh& mesh : rig.meshes)
+        if (mesh.indexCount) destroyIdMesh(ctx, mesh);
+    rig.meshes.clear();
+    if (rig.timer.pool) destroyGpuTimer(ctx, rig.timer);
+    destroyIdPass(ctx, rig.pass);
+}
+
+Result<ViewMeasurement> measureView(HeadlessScene& h, CullStatsRig& rig, const Scene& scene, const PlannedScene& planned,
+                                    const DrawView& view, uint32_t repeats) {
+    ViewMeasurement out;
+    const RenderTarget target = renderTarget(*h.target);
+    std::vector<uint8_t> unculled;
+    for (size_t m = 0; m < out.methods.size(); ++m) {
+        DrawView culled = view;
+        culled.cull = m == 0 ? CullMethod::None : kMeasuredCullMethods[m - 1];
+        Result<SchemeFrameTimes> times = timeFrames(
+            h.ctx, [] { return success(); },
+            [&](VkCommandBuffer cmd) { return recordScene(cmd, *h.schemes, scene, planned, target, culled); }, rig.timer,
+            repeats);
+        if (!times) return times.error();
+        Result<std::vector<uint8_t>> pixels = readPixels(h.ctx, *h.target);
+        if (!pixels) return pixels.error();
+        MethodInView& result = out.methods[m];
+        result.draw = times->draw;
+        result.frameMs = times->frameMs;
+        result.gpuMs = times->drawMs;
+        if (m == 0) unculled = std::move(*pixels);
+        else result.differingPixels = differingPixels(unculled, *pixels);
+    }
+    if (Status checked = checkCulledSubfaces(h, rig, scene, planned, view, out); !checked) return checked.error();
+    return out;
+}
+
+}  // namespace qp::cli
