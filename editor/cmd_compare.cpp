@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "cull_report.h"
 #include "gpu_timer.h"
 #include "image_overlay.h"
 #include "mesh_pass.h"
@@ -46,6 +47,7 @@ struct CompareArgs {
     uint32_t referenceDepth = 10;
     std::string camera, pluginDir;
     std::vector<std::string> options;  // SCHEME:KEY=VALUE
+    std::string cull = "none";         // DrawView::cull for every scheme
     bool json = false, validate = false;
 };
 
@@ -188,7 +190,7 @@ std::string referenceLine(const ExactReference& reference) {
     return line;
 }
 
-void printTable(const std::vector<SchemeResult>& results, const ExactReference& reference) {
+void printTable(const std::vector<SchemeResult>& results, const ExactReference& reference, CullMethod cull) {
     std::printf("%s\n", referenceLine(reference).c_str());
     std::printf("| scheme | max rel error | rms rel error | max normal (deg) | patches | triangles | frame ms | draw ms | setup ms |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|\n");
@@ -201,6 +203,15 @@ void printTable(const std::vector<SchemeResult>& results, const ExactReference& 
     }
     for (const SchemeResult& r : results)
         if (!r.drawn) std::printf("not drawn: %s: %s\n", r.name.c_str(), r.reason.c_str());
+    // The table's patches and triangles leave the culled ones out; what was culled, per scheme.
+    if (cull != CullMethod::None)
+        for (const SchemeResult& r : results)
+            if (r.drawn)
+                std::printf("culled (%s): %s: %llu of %llu patches outside the frustum, %llu facing away, %llu tested by "
+                            "the frustum only; %.2f ms on the CPU\n",
+                            cullMethodName(cull), r.name.c_str(), (unsigned long long)r.draw.cull.frustum,
+                            (unsigned long long)r.draw.cull.tested, (unsigned long long)r.draw.cull.backFacing,
+                            (unsigned long long)r.draw.cull.frustumOnly, r.draw.cullMilliseconds);
 }
 
 void printJson(const std::vector<SchemeResult>& results, const std::string& image, const std::string& cage,
@@ -228,6 +239,7 @@ void printJson(const std::vector<SchemeResult>& results, const std::string& imag
                            {"setup_ms", r.setupMs},
                            {"control_points", r.stats.controlPoints},
                            {"samples", r.error.samples},
+                           {"cull", cullJson(*parseCullMethod(args.cull), r.draw)},
                            {"approximations", r.approximations}});
     }
     nlohmann::json bound = reference.errorBound() > 0.0 ? nlohmann::json(reference.errorBound()) : nlohmann::json(nullptr);
@@ -368,6 +380,7 @@ int runCompare(const CompareArgs& args) {
         view.eye = camera->eye;
         view.background = kBackground;
         view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(*camera), tileHeight);
+        view.cull = *parseCullMethod(args.cull);
         for (uint32_t i = 0; i < names.size(); ++i) {
             SchemeResult r;
             r.name = names[i];
@@ -459,7 +472,7 @@ int runCompare(const CompareArgs& args) {
     const size_t drawn = size_t(std::count_if(results.begin(), results.end(), [](const SchemeResult& r) { return r.drawn; }));
     if (status == 0) {
         if (args.json) printJson(results, args.out, args.path, args, reference);
-        else printTable(results, reference);
+        else printTable(results, reference, *parseCullMethod(args.cull));
         std::fprintf(stderr, "wrote %s (%ux%u, %zu of %zu schemes drawn, %zu error samples each)\n", args.out.c_str(),
                      layout.width(), layout.height(), drawn, names.size(), reference.samples.size());
         if (drawn == 0) status = 1;
@@ -492,6 +505,9 @@ void registerCompare(CLI::App& app, int& exitCode) {
     cmd->add_option("--camera", args->camera, "EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed)");
     cmd->add_option("--option", args->options, "Scheme option SCHEME:KEY=VALUE (repeatable), e.g. uniform:level=4");
     cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
+    cmd->add_option("--cull", args->cull, "Every scheme skips patches that cannot show a pixel (docs/culling.md): none "
+                                          "(default), frustum, or a back-patch test with it: tcone, ncone, pplane")
+        ->check(CLI::IsMember({"none", "frustum", "tcone", "ncone", "pplane"}));
     cmd->add_flag("--json", args->json, "Print the results as JSON");
     cmd->add_flag("--validate", args->validate, "Enable Vulkan validation; any message makes the command fail");
     cmd->callback([args, &exitCode] { exitCode = runCompare(*args); });

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cstdio>
 
+#include <nlohmann/json.hpp>
+
 #include "commands.h"
+#include "cull_report.h"
 #include "headless_scene.h"
 #include "plan_pass.h"
 #include "planned_scene.h"
@@ -21,7 +24,7 @@ struct RenderArgs {
     std::string size = "800x600";
     uint32_t tess = 0;
     float adaptive = 0.0f;
-    bool wire = false, noCage = false, validate = false;
+    bool wire = false, noCage = false, validate = false, json = false;
     std::string colorBy = "shading";
     std::string camera;
     std::string drawPath;
@@ -82,7 +85,16 @@ int runRender(const RenderArgs& args) {
         Status written = pixels ? writePng(args.out, width, height, *pixels) : Status(pixels.error());
         if (!written)
             status = fail("rendering " + args.path + " failed: " + written.error().message);
-        else {
+        else if (args.json) {
+            const nlohmann::json out = {
+                {"out", args.out}, {"width", width}, {"height", height}, {"scheme", args.scheme},
+                {"device", h.ctx.deviceName}, {"objects", scene.objects.size()}, {"cages", planned.cages.size()},
+                {"path", drawnByName(drawStats->drawnBy)}, {"patches", drawStats->patches},
+                // 0 from the scheme means the tessellator chose the count at draw time: unknown.
+                {"triangles", drawStats->triangles > 0 ? nlohmann::json(drawStats->triangles) : nlohmann::json(nullptr)},
+                {"cull", cullJson(view.cull, *drawStats)}};
+            std::printf("%s\n", out.dump(1).c_str());
+        } else {
             const std::string triangles = drawStats->triangles > 0
                                               ? std::to_string(drawStats->triangles) + " triangles"
                                               : "triangle count set by the tessellator at draw time";
@@ -128,6 +140,8 @@ void registerRender(CLI::App& app, int& exitCode) {
     cmd->add_option("--cull", args->cull, "Skip patches that cannot show a pixel (docs/culling.md): none (default), frustum, "
                                           "or a back-patch test with it: tcone, ncone, pplane")
         ->check(CLI::IsMember({"none", "frustum", "tcone", "ncone", "pplane"}));
+    cmd->add_flag("--json", args->json, "Print what was drawn as one JSON object on stdout (patches, triangles, culling) "
+                                         "instead of the summary on stderr");
     cmd->add_flag("--validate", args->validate, "Enable Vulkan validation; any message makes the command fail");
     cmd->callback([args, &exitCode] { exitCode = runRender(*args); });
 }
