@@ -80,7 +80,7 @@ struct Measured {
     std::vector<MethodSummary> summaries = std::vector<MethodSummary>(1 + kMeasuredCullMethods.size());  // [0]: unculled
     std::vector<double> visibleSubfaces;  // per view
     std::string device, drawnBy = "?";
-    bool closed = true;
+    bool closed = true;  // every cage a closed outward surface (closed_surface.h)
     size_t objects = 0;
 };
 
@@ -135,7 +135,7 @@ int report(const CullStatsArgs& args, const Measured& measured) {
         std::printf("%s: scheme %s (%s path), tess %u, %s, %u views, %llu patches, on %s%s\n", inputName(args).c_str(),
                     args.scheme.c_str(), measured.drawnBy.c_str(), args.tess, args.size.c_str(), args.views,
                     (unsigned long long)patches, measured.device.c_str(),
-                    measured.closed ? "" : " (not a closed outward surface: back-patch tests off, back sides show)");
+                    measured.closed ? "" : " (not every cage is a closed outward surface: back-patch tests off there, back sides show)");
         std::printf("| method | culled mean | min | max | triangles | frame ms | ratio | gpu ms | ratio | cull ms |\n");
         std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         std::printf("| none | | | | %.0f | %.2f | 1 | %.2f | 1 | |\n", mean(none.triangles), mean(none.frameMs), mean(none.gpuMs));
