@@ -75,6 +75,13 @@ py::array_t<uint8_t> finishImage(RendererHandle& handle, const RenderedImage& im
     handle.lastStats = py::dict();
     handle.lastStats["patches"] = image.draw.patches;
     handle.lastStats["triangles"] = image.draw.triangles;
+    py::dict culled;
+    culled["tested"] = image.draw.cull.tested;
+    culled["frustum"] = image.draw.cull.frustum;
+    culled["back_facing"] = image.draw.cull.backFacing;
+    culled["frustum_only"] = image.draw.cull.frustumOnly;
+    culled["cull_ms"] = image.draw.cullMilliseconds;
+    handle.lastStats["culled"] = culled;
     handle.lastStats["approximations"] = image.approximations;
     if (!out.is_none()) check(writePng(py::str(out), image.width, image.height, image.rgba));
     return imageArray(image);
@@ -175,7 +182,7 @@ installed with this module).
              },
              py::arg("scene"), "What each scheme approximates or refuses on the scene's cage (`quadplan schemes CAGE`).")
         .def_property_readonly("last_stats", [](RendererHandle& h) { return h.lastStats; },
-                               "The last render's patches, triangles and the scheme's approximations.")
+                               "The last render's patches, triangles, culled patches (tested, frustum, back_facing, frustum_only, cull_ms) and the scheme's approximations.")
         .def("__repr__", [](RendererHandle& h) {
             return h.renderer ? "<quadplan.Renderer on " + h.renderer->deviceName() + ">" : std::string("<quadplan.Renderer (closed)>");
         });
@@ -185,9 +192,13 @@ installed with this module).
         .def("render",
              [](const SceneDocument& d, const std::string& scheme, const py::object& size, std::optional<Camera> camera,
                 const py::object& tess, const py::object& adaptive, bool wireframe, const py::object& cage,
-                const std::string& colorBy, const py::object& options, const py::object& out, const py::object& renderer) {
+                const std::string& colorBy, const py::object& options, const std::string& cull, const py::object& out,
+                const py::object& renderer) {
                  RendererHandle& handle = rendererOf(renderer);
-                 const RenderRequest request = requestFrom(scheme, size, camera, tess, adaptive, wireframe, cage, colorBy, options);
+                 RenderRequest request = requestFrom(scheme, size, camera, tess, adaptive, wireframe, cage, colorBy, options);
+                 const std::optional<CullMethod> method = parseCullMethod(cull);
+                 if (!method) throw ScriptError("unknown cull '" + cull + "'; use none, frustum, tcone, ncone or pplane");
+                 request.cull = *method;
                  Result<RenderedImage> image = [&] {
                      py::gil_scoped_release release;
                      return handle.get().render(d, request);
@@ -197,7 +208,7 @@ installed with this module).
              py::arg("scheme") = "plans", py::arg("size") = py::make_tuple(800, 600), py::arg("camera") = py::none(),
              py::arg("tess") = py::none(), py::arg("adaptive") = py::none(), py::arg("wireframe") = false,
              py::arg("cage") = py::none(), py::arg("color_by") = "shading", py::arg("options") = py::none(),
-             py::arg("out") = py::none(), py::arg("renderer") = py::none(),
+             py::arg("cull") = "none", py::arg("out") = py::none(), py::arg("renderer") = py::none(),
              R"doc(Draws the limit surface through a scheme plugin (with the scene's sculpted displacement, each scheme
 along its own normal), as `quadplan render` does, and returns the picture
 as a (height, width, 4) uint8 array (sRGB, rows top to bottom); out="file.png" also writes it.
@@ -206,7 +217,9 @@ scheme: a loaded plugin ("plans", "osd-fas", "uniform", ...); camera: a quadplan
 the scene's, else framed on the cage); tess: uniform factor 1..64, or adaptive: pixels per segment
 (default: the scene's tessellation settings); wireframe: the tessellation's edges; cage: draw the
 cage (default: the scene's setting); color_by: "shading" or a scheme's own mode (plans: node-kind,
-depth, sharpness); options: the scheme's key/value options (e.g. {"level": 4} for uniform).)doc")
+depth, sharpness); options: the scheme's key/value options (e.g. {"level": 4} for uniform); cull:
+"none", "frustum", "tcone", "ncone" or "pplane", patches skipped that cannot show a pixel (the picture is
+the same; Renderer.last_stats["culled"] says what was culled).)doc")
         .def("render_displaced",
              [](const SceneDocument& d, const py::object& size, std::optional<Camera> camera, const py::object& tess,
                 bool wireframe, const py::object& cage, const py::object& out, const py::object& renderer) {

@@ -202,6 +202,7 @@ Result<RenderedImage> HeadlessRenderer::render(const SceneDocument& document, co
     view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(*camera), request.height);
     view.colorBy = request.colorBy;
     view.wireframe = request.wireframe;
+    view.cull = request.cull;
     Result<DrawStats> drawStats = DrawStats{};
     Status drawn = submitAndWait(context_, [&](VkCommandBuffer cmd) {
         drawStats = recordScene(cmd, *prepared, scene, cages, renderTarget(*target), view);

@@ -45,6 +45,7 @@ struct RenderRequest {
     std::optional<bool> showCage;  // absent: the scene's setting
     std::string colorBy = "shading";
     SchemeOptions options;
+    CullMethod cull = CullMethod::None;  // DrawView::cull (render only)
 };
 
 struct RenderedImage {

@@ -317,6 +317,36 @@ def test_compare_numbers_rank_the_schemes(creased_box, renderer):
         assert s["triangles"] > 0 and s["frame_ms"] > 0
 
 
+def torus(columns=12, rows=6, major=2.0, minor=0.7):
+    """A closed torus of quads (every vertex regular)."""
+    positions, faces = [], []
+    for j in range(rows):
+        for i in range(columns):
+            a, b = 2 * math.pi * i / columns, 2 * math.pi * j / rows
+            positions.append(((major + minor * math.cos(b)) * math.cos(a), (major + minor * math.cos(b)) * math.sin(a),
+                              minor * math.sin(b)))
+    for j in range(rows):
+        for i in range(columns):
+            i1, j1 = (i + 1) % columns, (j + 1) % rows
+            faces.append((j * columns + i, j * columns + i1, j1 * columns + i1, j1 * columns + i))
+    return qp.Scene(qp.Cage(positions, faces))
+
+
+def test_culling_keeps_the_picture_and_says_what_it_culled(renderer):
+    """Culling (docs/culling.md) skips patches that cannot show a pixel: the same picture."""
+    ring = torus()
+    camera = qp.Camera(eye=(2.0, -5.0, 6.0), target=(0, 0, 0), fov=40)
+    plain = ring.render("plans", size=SIZE, camera=camera, tess=8, renderer=renderer)
+    assert renderer.last_stats["culled"]["tested"] == 0
+    culled = ring.render("plans", size=SIZE, camera=camera, tess=8, cull="pplane", renderer=renderer)
+    stats = renderer.last_stats["culled"]
+    assert np.array_equal(plain, culled)
+    assert stats["tested"] == 72 and stats["back_facing"] > 5, stats
+    assert renderer.last_stats["patches"] == 72 - stats["back_facing"] - stats["frustum"]
+    with pytest.raises(qp.Error, match="unknown cull 'sideways'"):
+        ring.render("plans", size=SIZE, camera=camera, cull="sideways", renderer=renderer)
+
+
 def test_error_heat_map(creased_box, renderer, view, golden):
     image, numbers = creased_box.render_error("uniform", size=SIZE, camera=view, tess=4, samples=8, renderer=renderer)
     assert numbers["max_rel_error"] > 1e-4
