@@ -54,13 +54,23 @@ double mean(const std::vector<double>& values) {
     return values.empty() ? 0.0 : std::accumulate(values.begin(), values.end(), 0.0) / double(values.size());
 }
 
+// Where a promise broke: the view (its index and eye) and what showed, so it can be reproduced
+// (`render --camera EYE,TARGET`).
+struct Broken {
+    uint32_t view = 0;
+    glm::vec3 eye{0.0f}, target{0.0f};
+    VisibleCulled subface;  // pixels 0: no culled sub-face showed in this view
+    uint64_t differingPixels = 0;
+};
+
 // One method over every view.
 struct MethodSummary {
     std::vector<double> fractions, frameMs, gpuMs, triangles, cullMs;
     CullCounts counts;
     uint64_t differingPixels = 0, culledSubfaces = 0, visibleCulled = 0;
+    std::vector<Broken> broken;
 
-    void add(const MethodInView& m) {
+    void add(const MethodInView& m, uint32_t view, const RenderCamera& camera) {
         const CullCounts& c = m.draw.cull;
         fractions.push_back(c.tested ? double(c.frustum + c.backFacing) / double(c.tested) : 0.0);
         frameMs.push_back(m.frameMs);
@@ -71,7 +81,9 @@ struct MethodSummary {
         counts.frustumOnly += c.frustumOnly;
         differingPixels += m.differingPixels;
         culledSubfaces += m.culledSubfaces;
-        visibleCulled += m.visibleCulled;
+        visibleCulled += m.visibleCulledSubfaces.size();
+        for (const VisibleCulled& v : m.visibleCulledSubfaces) broken.push_back({view, camera.eye, camera.target, v, 0});
+        if (m.differingPixels > 0) broken.push_back({view, camera.eye, camera.target, {}, m.differingPixels});
     }
 };
 
@@ -81,8 +93,44 @@ struct Measured {
     std::vector<double> visibleSubfaces;  // per view
     std::string device, drawnBy = "?";
     bool closed = true;  // every cage a closed outward surface (closed_surface.h)
-    size_t objects = 0;
+    std::vector<std::string> objectNames;
 };
+
+std::string cameraText(const Broken& b) {
+    char text[160];
+    std::snprintf(text, sizeof text, "%g,%g,%g,%g,%g,%g", b.eye.x, b.eye.y, b.eye.z, b.target.x, b.target.y, b.target.z);
+    return text;
+}
+
+nlohmann::ordered_json brokenJson(const std::vector<Broken>& broken, const Measured& measured) {
+    nlohmann::ordered_json out = nlohmann::ordered_json::array();
+    for (const Broken& b : broken) {
+        nlohmann::ordered_json entry = {{"view", b.view}, {"camera", cameraText(b)}};
+        if (b.subface.pixels > 0) {
+            entry["object"] = measured.objectNames[b.subface.object];
+            entry["subface"] = b.subface.subface;
+            entry["pixels"] = b.subface.pixels;
+        } else {
+            entry["differing_pixels"] = b.differingPixels;
+        }
+        out.push_back(entry);
+    }
+    return out;
+}
+
+// Each broken promise on stderr, with the camera that shows it.
+void printBroken(CullMethod method, const std::vector<Broken>& broken, const Measured& measured) {
+    for (const Broken& b : broken) {
+        if (b.subface.pixels > 0)
+            std::fprintf(stderr, "error: %s culled sub-face %u of object \"%s\" in view %u (--camera %s), which owns %u pixels "
+                                 "of the unculled ID buffer\n",
+                         cullMethodName(method), b.subface.subface, measured.objectNames[b.subface.object].c_str(), b.view,
+                         cameraText(b).c_str(), b.subface.pixels);
+        else
+            std::fprintf(stderr, "error: %s: view %u (--camera %s) differs from the unculled frame in %llu pixels\n",
+                         cullMethodName(method), b.view, cameraText(b).c_str(), (unsigned long long)b.differingPixels);
+    }
+}
 
 int report(const CullStatsArgs& args, const Measured& measured) {
     const std::vector<MethodSummary>& summaries = measured.summaries;
@@ -116,7 +164,9 @@ int report(const CullStatsArgs& args, const Measured& measured) {
             {"frustum_only", s.counts.frustumOnly},
             {"culled_subfaces", s.culledSubfaces},
             {"visible_culled", checked ? nlohmann::ordered_json(s.visibleCulled) : nlohmann::ordered_json(nullptr)},
-            {"differing_pixels", s.differingPixels}};
+            {"differing_pixels", s.differingPixels},
+            {"broken", brokenJson(s.broken, measured)}};
+        printBroken(kMeasuredCullMethods[m - 1], s.broken, measured);
     }
     const char* timing = "frame_ms: wall time of record + submit + wait, median of the timed frames of a view, mean over "
                          "views; gpu_ms: timestamps around the recorded commands, likewise; ratios: culled / unculled";
@@ -124,7 +174,7 @@ int report(const CullStatsArgs& args, const Measured& measured) {
         nlohmann::ordered_json out = {
             {"file", inputName(args)}, {"scheme", args.scheme}, {"path", measured.drawnBy}, {"tess", args.tess},
             {"size", args.size}, {"device", measured.device}, {"views", args.views}, {"repeats", args.repeats},
-            {"objects", measured.objects}, {"closed", measured.closed}, {"patches", patches},
+            {"objects", measured.objectNames.size()}, {"closed", measured.closed}, {"patches", patches},
             {"visible_subfaces", mean(measured.visibleSubfaces)},
             {"visible_culled", checked ? nlohmann::ordered_json(visible) : nlohmann::ordered_json(nullptr)},
             {"differing_pixels", differing}, {"timing", timing},
@@ -185,7 +235,7 @@ int runCullStats(const CullStatsArgs& args) {
     const Scene& scene = file->scene;
     const PlannedScene& planned = file->planned;
     Measured measured;
-    measured.objects = scene.objects.size();
+    for (const SceneObject& object : scene.objects) measured.objectNames.push_back(object.name);
     for (const PlannedCage& cage : planned.cages)
         measured.closed = measured.closed && closedOutwardSurface(cage.cage(), cage.topology());
 
@@ -199,14 +249,15 @@ int runCullStats(const CullStatsArgs& args) {
 
     measured.device = h.ctx.deviceName;
     int status = 0;
-    for (const RenderCamera& camera : sphereCameras(sceneBounds(scene, planned), args.views, float(width) / float(height))) {
-        Result<ViewMeasurement> view = measureView(h, *rig, scene, planned, headlessView(camera, height, "shading", false),
+    const std::vector<RenderCamera> cameras = sphereCameras(sceneBounds(scene, planned), args.views, float(width) / float(height));
+    for (uint32_t v = 0; v < cameras.size(); ++v) {
+        Result<ViewMeasurement> view = measureView(h, *rig, scene, planned, headlessView(cameras[v], height, "shading", false),
                                                    args.repeats);
         if (!view) {
             status = fail("drawing " + inputName(args) + " failed: " + view.error().message);
             break;
         }
-        for (size_t m = 0; m < measured.summaries.size(); ++m) measured.summaries[m].add(view->methods[m]);
+        for (size_t m = 0; m < measured.summaries.size(); ++m) measured.summaries[m].add(view->methods[m], v, cameras[v]);
         measured.visibleSubfaces.push_back(double(view->visibleSubfaces));
         measured.drawnBy = drawnByName(view->methods[0].draw.drawnBy);
     }

@@ -50,10 +50,10 @@ uint64_t differingPixels(const std::vector<uint8_t>& a, const std::vector<uint8_
     return count;
 }
 
-// Per sub-face of `cage`, whether it owns a pixel of `object`'s ID buffer from `view`.
-Result<std::vector<bool>> subfacesWithPixels(HeadlessScene& h, const CullStatsRig& rig, uint32_t cage, const DrawView& object,
-                                             uint32_t subfaceCount) {
-    std::vector<bool> owns(subfaceCount, false);
+// Per sub-face of `cage`, the pixels it owns in `object`'s ID buffer.
+Result<std::vector<uint32_t>> pixelsPerSubface(HeadlessScene& h, const CullStatsRig& rig, uint32_t cage, const DrawView& object,
+                                               uint32_t subfaceCount) {
+    std::vector<uint32_t> owns(subfaceCount, 0);
     if (rig.meshes[cage].indexCount == 0) return owns;
     const RenderTarget target = renderTarget(*h.target);
     if (Status drawn = submitAndWait(h.ctx, [&](VkCommandBuffer cmd) {
@@ -64,7 +64,7 @@ Result<std::vector<bool>> subfacesWithPixels(HeadlessScene& h, const CullStatsRi
     Result<std::vector<uint8_t>> pixels = readPixels(h.ctx, *h.target);
     if (!pixels) return pixels.error();
     for (size_t i = 0; i < pixels->size(); i += 4)
-        if (const uint32_t id = decodeId(pixels->data() + i); id < subfaceCount) owns[id] = true;
+        if (const uint32_t id = decodeId(pixels->data() + i); id < subfaceCount) ++owns[id];
     return owns;
 }
 
@@ -77,9 +77,9 @@ Status checkCulledSubfaces(HeadlessScene& h, CullStatsRig& rig, const Scene& sce
         if (!scene.objects[o].visible) continue;
         const uint32_t cage = planned.cageOfObject[o];
         DrawView object = objectView(view, scene.objects[o].transform);
-        Result<std::vector<bool>> owns = subfacesWithPixels(h, rig, cage, object, planned.cages[cage].subfaceCount());
+        Result<std::vector<uint32_t>> owns = pixelsPerSubface(h, rig, cage, object, planned.cages[cage].subfaceCount());
         if (!owns) return owns.error();
-        out.visibleSubfaces += uint64_t(std::count(owns->begin(), owns->end(), true));
+        out.visibleSubfaces += uint64_t(owns->size() - size_t(std::count(owns->begin(), owns->end(), 0u)));
         for (size_t m = 0; m < kMeasuredCullMethods.size(); ++m) {
             std::vector<uint32_t> culled;
             object.cull = kMeasuredCullMethods[m];
@@ -93,7 +93,8 @@ Status checkCulledSubfaces(HeadlessScene& h, CullStatsRig& rig, const Scene& sce
             if (!drawn) return drawn.error();
             MethodInView& result = out.methods[1 + m];
             result.culledSubfaces += culled.size();
-            for (uint32_t s : culled) result.visibleCulled += s < owns->size() && (*owns)[s];
+            for (uint32_t s : culled)
+                if (s < owns->size() && (*owns)[s] > 0) result.visibleCulledSubfaces.push_back({o, s, (*owns)[s]});
         }
     }
     return success();

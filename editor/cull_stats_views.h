@@ -35,13 +35,18 @@ Result<CullStatsRig> createCullStatsRig(HeadlessScene& headless, const Scene& sc
                                         uint32_t tessFactor);
 void destroyCullStatsRig(const VulkanContext& context, CullStatsRig& rig);
 
+// A culled sub-face that owns pixels of its object's ID buffer: a broken promise, named so it can be found.
+struct VisibleCulled {
+    uint32_t object = 0, subface = 0;
+    uint32_t pixels = 0;  // it owns in the ID buffer
+};
 struct MethodInView {
     DrawStats draw;                  // the last timed frame's (patches, triangles, cull counts)
     double frameMs = 0.0;            // median wall time of record + submit + wait
     double gpuMs = 0.0;              // median time between timestamps around the recorded commands
     uint64_t differingPixels = 0;    // against the unculled frame
     uint64_t culledSubfaces = 0;     // the sub-faces the scheme reported culled whole (all objects)
-    uint64_t visibleCulled = 0;      // of those, the ones owning a pixel of their object's ID buffer
+    std::vector<VisibleCulled> visibleCulledSubfaces;  // of those, the ones owning a pixel of their object's ID buffer
 };
 struct ViewMeasurement {
     std::array<MethodInView, 1 + kMeasuredCullMethods.size()> methods;  // [0]: unculled
