@@ -110,14 +110,18 @@ NormalCone gregoryNormalCone(const std::array<glm::vec3, 20>& g) {
 
 void addBezierLeaf(PatchCullLeaves& out, const BicubicPoints& bezier, bool reversed) {
     grow(out.box, boxOf(bezier));
-    NormalCone t = tangentCone(bezier), n = normalPatchCone(bezier);
-    TangentPlanes planes = tangentPlanesOf(bezier);
-    if (reversed) {
-        t.axis = -t.axis, n.axis = -n.axis;
-        for (glm::vec4& p : planes) p = -p;
-    }
+    if (out.detail < CullMethod::TCone) return;
+    NormalCone t = tangentCone(bezier);
+    if (reversed) t.axis = -t.axis;
     out.tcones.push_back(t);
+    if (out.detail < CullMethod::NCone) return;
+    NormalCone n = normalPatchCone(bezier);
+    if (reversed) n.axis = -n.axis;
     out.ncones.push_back(n);
+    if (out.detail < CullMethod::PPlane) return;
+    TangentPlanes planes = tangentPlanesOf(bezier);
+    if (reversed)
+        for (glm::vec4& p : planes) p = -p;
     out.planes.push_back(planes);
 }
 
@@ -125,16 +129,68 @@ void addGregoryLeaf(PatchCullLeaves& out, const std::array<glm::vec3, 20>& g, bo
     CullBox box{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
     for (const glm::vec3& p : g) grow(box, CullBox{p, p});
     grow(out.box, box);
+    if (out.detail < CullMethod::TCone) return;
     NormalCone cone = gregoryNormalCone(g);
     if (reversed) cone.axis = -cone.axis;
     out.tcones.push_back(cone);
-    out.ncones.push_back(cone);
-    out.gregories.push_back({cone, box});
+    if (out.detail >= CullMethod::NCone) out.ncones.push_back(cone);
+    if (out.detail >= CullMethod::PPlane) out.gregories.push_back({cone, box});
 }
 
 void addConelessBox(PatchCullLeaves& out, const CullBox& box) {
     grow(out.box, box);
     out.coneless = true;
+}
+
+void addCubicTriangleLeaf(PatchCullLeaves& out, const CubicTrianglePoints& points) {
+    grow(out.box, boxOf(points));
+    if (out.detail < CullMethod::TCone) return;
+    const NormalCone cone = cubicTriangleNormalCone(points);
+    out.tcones.push_back(cone);
+    if (out.detail >= CullMethod::NCone) out.ncones.push_back(cone);
+}
+
+void addFlatTriangle(PatchCullLeaves& out, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+    grow(out.box, boxOf(std::array<glm::vec3, 3>{a, b, c}));
+    if (out.detail < CullMethod::TCone) return;
+    // In double: a thin triangle's normal is a difference of nearly equal products.
+    const glm::dvec3 normal = glm::cross(glm::dvec3(b) - glm::dvec3(a), glm::dvec3(c) - glm::dvec3(a));
+    const double length = glm::length(normal);
+    if (!(length > 0.0)) {
+        out.coneless = true;
+        return;
+    }
+    out.tcones.push_back(NormalCone{glm::vec3(normal / length), 0.0f, true});
+    if (out.detail >= CullMethod::NCone) out.ncones.push_back(out.tcones.back());
+    if (out.detail >= CullMethod::PPlane) out.flats.push_back(glm::vec4(glm::vec3(normal), float(glm::dot(normal, glm::dvec3(a)))));
+}
+
+BicubicPoints withPhantoms(BicubicPoints p, uint32_t mask) {
+    auto at = [&](int column, int row) -> glm::vec3& { return p[4 * row + column]; };
+    for (int c = 0; c < 4; ++c) {
+        if (mask & 1) at(c, 0) = 2.0f * at(c, 1) - at(c, 2);
+        if (mask & 4) at(c, 3) = 2.0f * at(c, 2) - at(c, 1);
+    }
+    for (int r = 0; r < 4; ++r) {
+        if (mask & 8) at(0, r) = 2.0f * at(1, r) - at(2, r);
+        if (mask & 2) at(3, r) = 2.0f * at(2, r) - at(1, r);
+    }
+    return p;
+}
+
+void addSemiSharpCreaseLeaf(PatchCullLeaves& out, const BicubicPoints& real, uint32_t boundaryMask, uint32_t creaseBit) {
+    // Sharp surface + c d, c in [0, 1/2], d = real - sharp beyond the crease (zero elsewhere).
+    const BicubicPoints sharp = withPhantoms(real, boundaryMask | creaseBit);
+    const BicubicPoints smooth = withPhantoms(real, boundaryMask);
+    CullBox box = boxOf(bsplineToBezier(sharp));
+    CullBox d{glm::vec3(0.0f), glm::vec3(0.0f)};
+    for (uint32_t k = 0; k < 16; ++k) {
+        const glm::vec3 difference = 0.5f * (smooth[k] - sharp[k]);
+        d.lo = glm::min(d.lo, difference), d.hi = glm::max(d.hi, difference);
+    }
+    box.lo += d.lo;
+    box.hi += d.hi;
+    addConelessBox(out, box);
 }
 
 CullBox PatchCullSet::bounds() const {
@@ -151,6 +207,7 @@ void appendAbsentPatch(PatchCullSet& set) {
     set.origins.push_back(glm::vec3(0.0f));
     set.planeOffsets.push_back(uint32_t(set.planes.size()));
     set.gregoryOffsets.push_back(uint32_t(set.gregories.size()));
+    set.flatOffsets.push_back(uint32_t(set.flats.size()));
 }
 
 void appendPatch(PatchCullSet& set, const PatchCullLeaves& leaves, const glm::vec3& origin) {
@@ -169,16 +226,50 @@ void appendPatch(PatchCullSet& set, const PatchCullLeaves& leaves, const glm::ve
         set.gregories.push_back(leaf);
     }
     set.gregoryOffsets[entry + 1] = uint32_t(set.gregories.size());
+    set.flats.insert(set.flats.end(), leaves.flats.begin(), leaves.flats.end());
+    set.flatOffsets[entry + 1] = uint32_t(set.flats.size());
+}
+
+void replacePatches(PatchCullSet& set, std::span<const uint32_t> entries, std::span<const PatchCullLeaves> leaves,
+                    std::span<const glm::vec3> origins) {
+    PatchCullSet out;
+    out.boxes.reserve(set.size()), out.tcones.reserve(set.size()), out.ncones.reserve(set.size());
+    out.origins.reserve(set.size()), out.planeOffsets.reserve(set.size() + 1), out.gregoryOffsets.reserve(set.size() + 1);
+    out.planes.reserve(set.planes.size()), out.gregories.reserve(set.gregories.size());
+    size_t next = 0;
+    for (uint32_t e = 0; e < set.size(); ++e) {
+        if (next < entries.size() && entries[next] == e) {
+            appendPatch(out, leaves[next], origins[next]);
+            ++next;
+            continue;
+        }
+        out.boxes.push_back(set.boxes[e]);
+        out.tcones.push_back(set.tcones[e]);
+        out.ncones.push_back(set.ncones[e]);
+        out.origins.push_back(set.origins[e]);
+        out.planes.insert(out.planes.end(), set.planes.begin() + set.planeOffsets[e], set.planes.begin() + set.planeOffsets[e + 1]);
+        out.planeOffsets.push_back(uint32_t(out.planes.size()));
+        out.gregories.insert(out.gregories.end(), set.gregories.begin() + set.gregoryOffsets[e],
+                             set.gregories.begin() + set.gregoryOffsets[e + 1]);
+        out.gregoryOffsets.push_back(uint32_t(out.gregories.size()));
+        out.flats.insert(out.flats.end(), set.flats.begin() + set.flatOffsets[e], set.flats.begin() + set.flatOffsets[e + 1]);
+        out.flatOffsets.push_back(uint32_t(out.flats.size()));
+    }
+    set = std::move(out);
 }
 
 bool tangentPlanesBackFacing(const PatchCullSet& set, uint32_t entry, const glm::vec4& eye) {
     const uint32_t first = set.planeOffsets[entry], last = set.planeOffsets[entry + 1];
     const uint32_t firstGregory = set.gregoryOffsets[entry], lastGregory = set.gregoryOffsets[entry + 1];
-    if (first == last && firstGregory == lastGregory) return false;
+    const uint32_t firstFlat = set.flatOffsets[entry], lastFlat = set.flatOffsets[entry + 1];
+    if (first == last && firstGregory == lastGregory && firstFlat == lastFlat) return false;
     for (uint32_t k = firstGregory; k < lastGregory; ++k)
         if (!backFacing(set.gregories[k].cone, set.gregories[k].box, eye)) return false;
     // The planes are relative to the entry's origin: move the eye there (a direction stays).
     const glm::vec4 relative(glm::vec3(eye) - eye.w * set.origins[entry], eye.w);
+    // A flat triangle's plane is a one-coefficient tangent-plane function.
+    if (!tangentPlanesBackFacing(std::span<const glm::vec4>(set.flats).subspan(firstFlat, lastFlat - firstFlat), relative))
+        return false;
     for (uint32_t k = first; k < last; ++k)
         if (!tangentPlanesBackFacing(set.planes[k], relative)) return false;
     return true;
@@ -225,7 +316,8 @@ std::vector<uint32_t> cullPatches(const PatchCullSet& set, CullMethod method, co
         if (method < CullMethod::TCone) continue;
         // Entries without any back-patch test (coneless ones have no cone and no leaf tests).
         const bool testable = set.tcones[s].bounded || set.ncones[s].bounded ||
-                              set.planeOffsets[s] != set.planeOffsets[s + 1] || set.gregoryOffsets[s] != set.gregoryOffsets[s + 1];
+                              set.planeOffsets[s] != set.planeOffsets[s + 1] || set.gregoryOffsets[s] != set.gregoryOffsets[s + 1] ||
+                              set.flatOffsets[s] != set.flatOffsets[s + 1];
         if (!backPatch || !testable) {
             ++count.frustumOnly;
             continue;

@@ -38,12 +38,16 @@ struct GregoryCullLeaf {
 };
 
 // The leaves of one entry as they are gathered, relative to the entry's origin (the tangent
-// planes' coefficients stay small next to the distances they are compared with).
+// planes' coefficients stay small next to the distances they are compared with). `detail`: the
+// costliest method the entry will serve; cheaper details skip what only costlier methods read
+// (Frustum: boxes only; TCone: and tcones; NCone: and ncones; PPlane: and tangent planes).
 struct PatchCullLeaves {
+    CullMethod detail = CullMethod::PPlane;
     CullBox box{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
     std::vector<NormalCone> tcones, ncones;
     std::vector<TangentPlanes> planes;
     std::vector<GregoryCullLeaf> gregories;
+    std::vector<glm::vec4> flats;  // flat triangles' planes (n, n . corner): g = n . E - (n . corner) w
     bool coneless = false;  // a leaf without a cone: no back-patch test for the entry
 };
 // A Bézier patch; `reversed`: its (u, v) frame is mirrored, so its normals flip.
@@ -52,6 +56,25 @@ void addBezierLeaf(PatchCullLeaves& leaves, const BicubicPoints& bezier, bool re
 void addGregoryLeaf(PatchCullLeaves& leaves, const std::array<glm::vec3, 20>& points, bool reversed);
 // A part known only by a box holding it (its normals unbounded).
 void addConelessBox(PatchCullLeaves& leaves, const CullBox& box);
+// A cubic triangular Bézier patch (patch_culling.h): the box of its points (it lies in their
+// hull) and cubicTriangleNormalCone as its tcone and ncone; it has no tangent planes, so pplane
+// takes the cones' answer for it.
+void addCubicTriangleLeaf(PatchCullLeaves& leaves, const CubicTrianglePoints& points);
+// A flat triangle (corners counter-clockwise): its box, its normal as a cone and its plane, which
+// pplane tests exactly (a flat piece faces away from the eye exactly when its plane does). A
+// degenerate one (no normal) makes the entry coneless: rasterised, it may still cover a pixel.
+void addFlatTriangle(PatchCullLeaves& leaves, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c);
+
+// The 16 points of a bicubic B-spline patch with the phantoms beyond its boundary edges made
+// explicit: 2 p1 - p2 across the edge (bits as patch_basis.h's boundary mask: 1 v=0, 2 u=1,
+// 4 v=1, 8 u=0), a corner the phantom of phantoms.
+BicubicPoints withPhantoms(BicubicPoints bspline, uint32_t boundaryMask);
+// A B-spline patch (16 points, patch_basis.h's order) with a semi-sharp crease along the edge
+// `creaseBit` (a boundary-mask bit; boundaryMask: its other boundary edges). The surface is the
+// infinitely sharp one plus c d, c in [0, 1/2], d the second differences across the crease
+// (patch_basis.h), so the box of the sharp patch grown by [0, 1/2] of d's box holds it; no cone.
+void addSemiSharpCreaseLeaf(PatchCullLeaves& leaves, const BicubicPoints& bspline, uint32_t boundaryMask,
+                            uint32_t creaseBit);
 
 struct PatchCullSet {
     std::vector<CullBox> boxes;              // per entry (lo > hi: no surface, never tested)
@@ -61,6 +84,8 @@ struct PatchCullSet {
     std::vector<TangentPlanes> planes;
     std::vector<uint32_t> gregoryOffsets{0};  // CSR: entry -> its Gregory leaves
     std::vector<GregoryCullLeaf> gregories;
+    std::vector<uint32_t> flatOffsets{0};  // CSR: entry -> its flat triangles' planes (relative to its origin)
+    std::vector<glm::vec4> flats;
 
     uint32_t size() const { return uint32_t(boxes.size()); }
     // The union of the entries' boxes (inverted when none has a surface).
@@ -69,9 +94,13 @@ struct PatchCullSet {
 // Appends an entry from its leaves (relative to `origin`), or one without a surface.
 void appendPatch(PatchCullSet& set, const PatchCullLeaves& leaves, const glm::vec3& origin);
 void appendAbsentPatch(PatchCullSet& set);
+// Replaces entries `entries` (sorted, unique) by new leaves (parallel to them; an empty box makes
+// an absent entry), in one pass over the set.
+void replacePatches(PatchCullSet& set, std::span<const uint32_t> entries, std::span<const PatchCullLeaves> leaves,
+                    std::span<const glm::vec3> origins);
 
-// pplane for an entry: every Bézier leaf back-facing by its tangent planes and every Gregory
-// leaf by its cone (false when it has no leaf tests).
+// pplane for an entry: every Bézier leaf back-facing by its tangent planes, every Gregory leaf
+// by its cone and every flat triangle by its plane (false when it has no leaf tests).
 bool tangentPlanesBackFacing(const PatchCullSet& set, uint32_t entry, const glm::vec4& eye);
 
 // What one view's culling did.
@@ -81,6 +110,10 @@ struct CullCounts {
     uint64_t backFacing = 0;   // culled: inside it, facing away (tcone, ncone or pplane)
     uint64_t frustumOnly = 0;  // a back-patch method was asked for but only the frustum could
                                // test the entry (coneless, displaced, or the view rules them out)
+    CullCounts& operator+=(const CullCounts& other) {
+        tested += other.tested, frustum += other.frustum, backFacing += other.backFacing, frustumOnly += other.frustumOnly;
+        return *this;
+    }
 };
 
 // The entries (sorted) `method` culls for a view: outside the frustum, or (tcone; ncone with

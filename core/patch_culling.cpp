@@ -117,12 +117,15 @@ NormalCone normalConeOfTangents(const NormalCone& u, const NormalCone& v) {
     if (!u.bounded || !v.bounded) return cone;
     // With tangent cones of half-angles a, b whose axes make the angle t, and a + b < min(t,
     // pi - t), every u x v lies within g of the axes' cross product, where
-    // sin g = sqrt(sin^2 a + 2 sin a sin b cos t + sin^2 b) / sin t.
+    // sin g = sqrt(sin^2 a + 2 sin a sin b |cos t| + sin^2 b) / sin t.
+    // |cos t|: u x v = -(u x -v), so the bound cannot change from t to pi - t; with the signed
+    // cosine an obtuse t (a skewed frame, e.g. a PN triangle's edges, tangents at a valence-3
+    // vertex) gave cones narrower than the normals they had to hold.
     const float t = angleBetweenUnit(u.axis, v.axis);
     const float a = u.halfAngle, b = v.halfAngle;
     if (!(a + b < std::min(t, std::numbers::pi_v<float> - t))) return cone;
     const float sa = std::sin(a), sb = std::sin(b);
-    const float sine = std::sqrt(std::max(0.0f, sa * sa + 2.0f * sa * sb * std::cos(t) + sb * sb)) / std::sin(t);
+    const float sine = std::sqrt(sa * sa + 2.0f * sa * sb * std::abs(std::cos(t)) + sb * sb) / std::sin(t);
     if (!(sine < 1.0f)) return cone;
     cone.axis = glm::normalize(glm::cross(u.axis, v.axis));
     cone.halfAngle = std::asin(sine) + kAngleMargin;
@@ -138,6 +141,20 @@ NormalCone tangentCone(const BicubicPoints& p) {
             alongV[3 * r + c] = p[4 * (c + 1) + r] - p[4 * c + r];
         }
     return normalConeOfTangents(coneOfVectors(alongU), coneOfVectors(alongV));
+}
+
+NormalCone cubicTriangleNormalCone(const CubicTrianglePoints& p) {
+    // b_ijk (k = 3 - i - j) in CubicTrianglePoints' order, by [i][j].
+    constexpr int kIndex[4][4] = {{2, 6, 5, 1}, {7, 9, 4, -1}, {8, 3, -1, -1}, {0, -1, -1, -1}};
+    auto at = [&](int i, int j) { return p[size_t(kIndex[i][j])]; };
+    std::array<glm::vec3, 6> towards2, towards3;
+    size_t n = 0;
+    for (int i = 0; i <= 2; ++i)
+        for (int j = 0; i + j <= 2; ++j, ++n) {
+            towards2[n] = at(i, j + 1) - at(i + 1, j);  // b_{i,j+1,k} - b_{i+1,j,k}, i + j + k = 2
+            towards3[n] = at(i, j) - at(i + 1, j);      // b_{i,j,k+1} - b_{i+1,j,k}
+        }
+    return normalConeOfTangents(coneOfVectors(towards2), coneOfVectors(towards3));
 }
 
 NormalCone normalPatchCone(const BicubicPoints& bezier) {
@@ -183,7 +200,7 @@ TangentPlanes tangentPlanesOf(const BicubicPoints& bezier) {
     return planes;
 }
 
-bool tangentPlanesBackFacing(const TangentPlanes& planes, const glm::vec4& eye) {
+bool tangentPlanesBackFacing(std::span<const glm::vec4> planes, const glm::vec4& eye) {
     const glm::vec3 e(eye);
     for (const glm::vec4& p : planes) {
         const glm::vec3 a(p);

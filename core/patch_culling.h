@@ -65,6 +65,16 @@ NormalCone coneOfVectors(std::span<const glm::vec3> vectors);
 // (unbounded when the tangent cones come too close to parallel).
 NormalCone normalConeOfTangents(const NormalCone& alongU, const NormalCone& alongV);
 
+// A cubic triangular Bézier patch (PN-triangles' geometry), 10 points in the order b300 b030
+// b003 b210 b120 b021 b012 b102 b201 b111, b_ijk weighing corners 1, 2, 3 as 1^i 2^j 3^k.
+using CubicTrianglePoints = std::array<glm::vec3, 10>;
+// A cone holding every normal B_2 x B_3 of the patch (B_2, B_3: the derivatives towards corners
+// 2 and 3; counter-clockwise corners give the usual orientation). Each derivative is 3 times a
+// combination, with the non-negative quadratic Bernstein weights, of the six differences of
+// neighbouring points in its direction (b_{i,j+1,k} - b_{i+1,j,k} for B_2), so it lies in their
+// cone, and Sederberg and Meyers' rule (normalConeOfTangents) gives the normals' cone.
+NormalCone cubicTriangleNormalCone(const CubicTrianglePoints& points);
+
 // The back-patch tests on a Bézier patch (positions in the same space as the eye).
 NormalCone tangentCone(const BicubicPoints& bezier);  // tcone
 NormalCone normalPatchCone(const BicubicPoints& bezier);  // ncone
@@ -75,7 +85,8 @@ bool backFacing(const NormalCone& cone, const CullBox& box, const glm::vec4& eye
 // negative, beyond the rounding of float coefficients.
 using TangentPlanes = std::array<glm::vec4, 81>;
 TangentPlanes tangentPlanesOf(const BicubicPoints& bezier);
-bool tangentPlanesBackFacing(const TangentPlanes& planes, const glm::vec4& eye);
+// (Any number of coefficients: a flat piece's plane is the one coefficient of its g.)
+bool tangentPlanesBackFacing(std::span<const glm::vec4> planes, const glm::vec4& eye);
 inline bool tangentPlaneBackFacing(const BicubicPoints& bezier, const glm::vec4& eye) {
     return tangentPlanesBackFacing(tangentPlanesOf(bezier), eye);
 }

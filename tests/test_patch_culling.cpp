@@ -10,6 +10,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "patch_basis.h"
+#include "patch_cull_set.h"
 #include "patch_culling.h"
 
 using namespace qp;
@@ -79,6 +80,40 @@ float widestNormalFrom(const BicubicPoints& p, const glm::vec3& axis) {
             widest = std::max(widest, std::atan2(glm::length(glm::cross(n, axis)), glm::dot(n, axis)));
         }
     return widest;
+}
+
+// A cubic Bézier triangle as PN-triangles make them (CubicTrianglePoints' order): a random
+// triangle whose edge and centre points bulge along its normal by random amounts and are
+// jittered, from nearly flat to strongly curved, placed and turned at random.
+CubicTrianglePoints randomTriangle(std::mt19937& rng) {
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    const glm::vec3 corners[3] = {{0, 0, 0}, {1.0f + 0.3f * unit(rng), 0.2f * unit(rng), 0}, {0.3f * unit(rng), 1.0f + 0.3f * unit(rng), 0}};
+    const float bulge = 0.6f * unit(rng), jitter = 0.1f * std::abs(unit(rng));
+    const glm::mat4 turn = glm::rotate(glm::mat4(1.0f), 3.14159f * unit(rng), glm::normalize(glm::vec3(unit(rng), unit(rng), unit(rng)) + 0.01f));
+    const glm::vec3 shift(3.0f * unit(rng), 3.0f * unit(rng), 3.0f * unit(rng));
+    // b_ijk in CubicTrianglePoints' order.
+    const int ijk[10][3] = {{3, 0, 0}, {0, 3, 0}, {0, 0, 3}, {2, 1, 0}, {1, 2, 0}, {0, 2, 1}, {0, 1, 2}, {1, 0, 2}, {2, 0, 1}, {1, 1, 1}};
+    CubicTrianglePoints p;
+    for (int n = 0; n < 10; ++n) {
+        const glm::vec3 b = glm::vec3(ijk[n][0], ijk[n][1], ijk[n][2]) / 3.0f;
+        glm::vec3 local = b.x * corners[0] + b.y * corners[1] + b.z * corners[2];
+        const bool corner = ijk[n][0] == 3 || ijk[n][1] == 3 || ijk[n][2] == 3;
+        if (!corner) local += glm::vec3(jitter * unit(rng), jitter * unit(rng), bulge * (1.0f + 0.5f * unit(rng)));
+        p[size_t(n)] = glm::vec3(turn * glm::vec4(local, 1.0f)) + shift;
+    }
+    return p;
+}
+
+// The point at barycentrics (x, y, z) and the normal B_y x B_z (derivatives towards corners 2 and 3).
+glm::vec3 trianglePoint(const CubicTrianglePoints& c, float x, float y, float z, glm::vec3* normal) {
+    const glm::vec3 position = x * x * x * c[0] + y * y * y * c[1] + z * z * z * c[2] + 3 * x * x * y * c[3] + 3 * x * y * y * c[4] +
+                               3 * y * y * z * c[5] + 3 * y * z * z * c[6] + 3 * x * z * z * c[7] + 3 * x * x * z * c[8] +
+                               6 * x * y * z * c[9];
+    const glm::vec3 dx = 3 * x * x * c[0] + 6 * x * y * c[3] + 3 * y * y * c[4] + 3 * z * z * c[7] + 6 * x * z * c[8] + 6 * y * z * c[9];
+    const glm::vec3 dy = 3 * y * y * c[1] + 3 * x * x * c[3] + 6 * x * y * c[4] + 6 * y * z * c[5] + 3 * z * z * c[6] + 6 * x * z * c[9];
+    const glm::vec3 dz = 3 * z * z * c[2] + 3 * y * y * c[5] + 6 * y * z * c[6] + 6 * x * z * c[7] + 3 * x * x * c[8] + 6 * x * y * c[9];
+    *normal = glm::cross(dy - dx, dz - dx);
+    return position;
 }
 
 }  // namespace
@@ -177,4 +212,100 @@ TEST(PatchCulling, FrustumCullsOnlyBoxesWhollyOutside) {
         outside += culled;
     }
     EXPECT_GT(outside, 200u);
+}
+
+// PN triangles (pn's culling): the cone of cubicTriangleNormalCone holds every normal of densely
+// sampled random cubic triangles, and with it no triangle that shows a front-facing sample is
+// culled from perspective or orthographic eyes.
+TEST(PatchCulling, CubicTriangleConeHoldsEveryNormal) {
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    constexpr int kSteps = 40;
+    uint32_t bounded = 0, backFacingTriangles = 0, culled = 0;
+    for (int t = 0; t < 1500; ++t) {
+        const CubicTrianglePoints p = randomTriangle(rng);
+        const NormalCone cone = cubicTriangleNormalCone(p);
+        bounded += cone.bounded;
+        const glm::vec3 direction = glm::normalize(glm::vec3(unit(rng), unit(rng), unit(rng)));
+        const glm::vec4 eye = t % 5 == 0 ? glm::vec4(direction, 0.0f) : glm::vec4(direction * (2.0f + 8.0f * std::abs(unit(rng))), 1.0f);
+        bool front = false;
+        for (int j = 0; j <= kSteps; ++j)
+            for (int i = 0; i + j <= kSteps; ++i) {
+                const float y = float(i) / kSteps, z = float(j) / kSteps;
+                glm::vec3 normal;
+                const glm::vec3 at = trianglePoint(p, 1.0f - y - z, y, z, &normal);
+                if (cone.bounded && glm::length(normal) > 0.0f) {
+                    ASSERT_LE(std::atan2(glm::length(glm::cross(normal, cone.axis)), glm::dot(normal, cone.axis)), cone.halfAngle)
+                        << "triangle " << t;
+                }
+                front |= glm::dot(normal, glm::vec3(eye) - eye.w * at) > 0.0f;
+            }
+        const bool away = backFacing(cone, boxOf(p), eye);
+        if (front) {
+            ASSERT_FALSE(away) << "culled a front-facing triangle " << t;
+            continue;
+        }
+        ++backFacingTriangles;
+        culled += away;
+    }
+    EXPECT_GT(bounded, 500u);
+    EXPECT_GT(culled, backFacingTriangles / 10);
+    RecordProperty("bounded", std::to_string(bounded));
+    RecordProperty("back_facing_culled", std::to_string(backFacingTriangles) + " " + std::to_string(culled));
+}
+
+// uniform's leaves: a flat triangle's plane decides exactly (up to float rounding) whether it
+// faces away, relative to an entry's origin.
+TEST(PatchCulling, FlatTrianglePlanesDecideExactly) {
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    uint32_t away = 0;
+    for (int t = 0; t < 2000; ++t) {
+        const glm::vec3 origin(10.0f * unit(rng), 10.0f * unit(rng), 10.0f * unit(rng));
+        const glm::vec3 a(unit(rng), unit(rng), unit(rng)), b(unit(rng), unit(rng), unit(rng)), c(unit(rng), unit(rng), unit(rng));
+        PatchCullLeaves leaves;
+        addFlatTriangle(leaves, a, b, c);
+        PatchCullSet set;
+        appendPatch(set, leaves, origin);
+        const glm::vec3 direction = glm::normalize(glm::vec3(unit(rng), unit(rng), unit(rng)));
+        const glm::vec4 eye = t % 4 == 0 ? glm::vec4(direction, 0.0f) : glm::vec4(origin + 5.0f * direction, 1.0f);
+        const glm::dvec3 normal = glm::cross(glm::dvec3(b - a), glm::dvec3(c - a));
+        const double facing = glm::dot(normal, glm::dvec3(glm::vec3(eye)) - double(eye.w) * (glm::dvec3(origin) + glm::dvec3(a)));
+        const bool culled = tangentPlanesBackFacing(set, 0, eye);
+        if (facing >= 0.0) {
+            ASSERT_FALSE(culled) << t;
+        } else if (facing < -1e-3 * glm::length(normal)) {
+            EXPECT_TRUE(culled) << t;  // clearly away: the exact test culls it
+        }
+        away += culled;
+    }
+    EXPECT_GT(away, 700u);
+}
+
+// Sederberg and Meyers' rule for any angle between the tangent cones' axes: u x v for u, v on
+// the cones' rims (where the normals spread most) stays within the cone, acute or obtuse (an
+// obtuse frame once got a cone too narrow: the signed cosine in the bound).
+TEST(PatchCulling, NormalConeOfTangentsHoldsAcuteAndObtuseFrames) {
+    std::mt19937 rng(19);
+    std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+    auto rim = [](const glm::vec3& axis, float angle, float turn) {
+        const glm::vec3 p = glm::normalize(glm::cross(axis, glm::vec3(0.3f, 0.5f, 0.8f))), q = glm::cross(axis, p);
+        return std::cos(angle) * axis + std::sin(angle) * (std::cos(turn) * p + std::sin(turn) * q);
+    };
+    uint32_t obtuse = 0;
+    for (int k = 0; k < 400; ++k) {
+        const float t = 0.3f + 2.5f * unit(rng);
+        const NormalCone u{glm::vec3(1, 0, 0), 0.5f * unit(rng), true};
+        const NormalCone v{glm::vec3(std::cos(t), std::sin(t), 0.0f), 0.5f * unit(rng), true};
+        const NormalCone n = normalConeOfTangents(u, v);
+        if (!n.bounded) continue;
+        obtuse += t > 0.5f * 3.14159f;
+        for (int i = 0; i < 32; ++i)
+            for (int j = 0; j < 32; ++j) {
+                const glm::vec3 normal = glm::cross(rim(u.axis, u.halfAngle, 0.19635f * float(i)), rim(v.axis, v.halfAngle, 0.19635f * float(j)));
+                ASSERT_LE(std::atan2(glm::length(glm::cross(normal, n.axis)), glm::dot(normal, n.axis)), n.halfAngle)
+                    << "axes " << t << " apart, half-angles " << u.halfAngle << ", " << v.halfAngle;
+            }
+    }
+    EXPECT_GT(obtuse, 50u);
 }
