@@ -35,6 +35,8 @@ constexpr VkShaderStageFlags kBindingStages = kStages | VK_SHADER_STAGE_COMPUTE_
 constexpr uint32_t kCaptureHeaderBytes = 16;
 constexpr uint32_t kPrepareGroupSize = 64;  // local_size_x of a prepare stage
 constexpr float kWireDepthPull = 2e-4f;  // as MeshPass's overlay
+constexpr VkBufferUsageFlags kPatchListUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+constexpr VkDeviceSize kUpdateBufferBytes = 65536;  // vkCmdUpdateBuffer's most per call
 
 Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cache, const TessPatchPass& pass,
                                   const VkShaderModule modules[4], bool wireframe) {
@@ -98,24 +100,27 @@ Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cach
 }
 
 void bindBuffers(const VulkanContext& ctx, const TessPatchPass& pass) {
-    VkDescriptorBufferInfo infos[2] = {{pass.patchData.buffer, 0, VK_WHOLE_SIZE}, {pass.capture.buffer, 0, VK_WHOLE_SIZE}};
-    VkWriteDescriptorSet writes[2];
-    for (uint32_t i = 0; i < 2; ++i)
+    VkDescriptorBufferInfo infos[3] = {{pass.patchData.buffer, 0, VK_WHOLE_SIZE},
+                                       {pass.capture.buffer, 0, VK_WHOLE_SIZE},
+                                       {pass.patchList.buffer, 0, VK_WHOLE_SIZE}};
+    VkWriteDescriptorSet writes[3];
+    for (uint32_t i = 0; i < 3; ++i)
         writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, pass.set, i, 0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
                      nullptr, &infos[i], nullptr};
-    vkUpdateDescriptorSets(ctx.device, 2, writes, 0, nullptr);
+    vkUpdateDescriptorSets(ctx.device, 3, writes, 0, nullptr);
 }
 
 // The layouts and pipelines of one scheme's shaders: made once per device, formats and shaders
 // (render/shared_pipelines.h).
 Status initPipelines(const VulkanContext& ctx, VkPipelineCache cache, TessPatchPass& pass, const TessPatchShaders& shaders) {
     if (!ctx.features.tessellationShader) return Error{"the device (" + ctx.deviceName + ") has no tessellation shaders"};
-    VkDescriptorSetLayoutBinding bindings[2] = {
+    VkDescriptorSetLayoutBinding bindings[3] = {
         {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kBindingStages, nullptr},
         {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kBindingStages, nullptr},
+        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
     };
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    setInfo.bindingCount = 2;
+    setInfo.bindingCount = 3;
     setInfo.pBindings = bindings;
     VK_CHECK(vkCreateDescriptorSetLayout(ctx.device, &setInfo, nullptr, &pass.setLayout));
     VkPushConstantRange range{kStages, 0, sizeof(TessPush)};
@@ -159,7 +164,7 @@ void destroyPipelines(const VulkanContext& ctx, TessPatchPass& pass) {
 
 // The pass's own descriptor set and buffers.
 Status initInstance(const VulkanContext& ctx, TessPatchPass& pass) {
-    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2};
+    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
     poolInfo.poolSizeCount = 1;
@@ -180,6 +185,9 @@ Status initInstance(const VulkanContext& ctx, TessPatchPass& pass) {
     if (!capture) return capture.error();
     pass.capture = *capture;
     std::memset(pass.capture.data, 0, kCaptureHeaderBytes);
+    Result<Buffer> list = createBuffer(ctx, 16, kPatchListUsage);
+    if (!list) return list.error();
+    pass.patchList = *list;
     bindBuffers(ctx, pass);
     return success();
 }
@@ -237,6 +245,7 @@ void destroyTessPatchPass(const VulkanContext& ctx, TessPatchPass& pass) {
     if (pass.pool) vkDestroyDescriptorPool(ctx.device, pass.pool, nullptr);
     if (pass.patchData.buffer) destroyBuffer(ctx, pass.patchData);
     if (pass.capture.buffer) destroyBuffer(ctx, pass.capture);
+    if (pass.patchList.buffer) destroyBuffer(ctx, pass.patchList);
     pass = TessPatchPass{};
 }
 
@@ -249,6 +258,22 @@ Status uploadTessPatches(const VulkanContext& ctx, TessPatchPass& pass, const vo
         bindBuffers(ctx, pass);
     }
     if (bytes) uploadBuffer(pass.patchData, data, bytes);
+    // The patch list: the identity, and as much room again for a draw's own list.
+    const VkDeviceSize listBytes = 2 * VkDeviceSize(patchCount) * sizeof(uint32_t);
+    bool writeIdentity = patchCount != pass.patchCount;
+    if (listBytes > pass.patchList.size) {
+        Result<Buffer> grown = createBuffer(ctx, listBytes, kPatchListUsage);
+        if (!grown) return grown.error();
+        destroyBuffer(ctx, pass.patchList);
+        pass.patchList = *grown;
+        bindBuffers(ctx, pass);
+        writeIdentity = true;
+    }
+    if (writeIdentity && patchCount) {
+        std::vector<uint32_t> identity(patchCount);
+        for (uint32_t p = 0; p < patchCount; ++p) identity[p] = p;
+        uploadBuffer(pass.patchList, identity.data(), identity.size() * sizeof(uint32_t));
+    }
     pass.patchCount = patchCount;
     return success();
 }
@@ -272,8 +297,30 @@ void recordTessPrepare(VkCommandBuffer cmd, const TessPatchPass& pass, uint32_t 
 }
 
 void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const RenderTarget& target, const DrawView& view,
-                       const TessPatchSettings& settings) {
+                       const TessPatchSettings& settings, std::span<const uint32_t> culled) {
     const bool capture = settings.capture && pass.captureCapacity > 0;
+    // The patches drawn: slots [listFirst, listFirst + listCount) of the patch list.
+    uint32_t listFirst = 0, listCount = pass.patchCount;
+    if (!culled.empty()) {
+        std::vector<uint32_t> kept;
+        kept.reserve(pass.patchCount);
+        size_t next = 0;
+        for (uint32_t p = 0; p < pass.patchCount; ++p) {
+            while (next < culled.size() && culled[next] < p) ++next;
+            if (next == culled.size() || culled[next] != p) kept.push_back(p);
+        }
+        listFirst = pass.patchCount;
+        listCount = uint32_t(kept.size());
+        // An earlier draw of this command buffer may still read the slots (DrawView::sameFrame).
+        barrier(cmd, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        const VkDeviceSize bytes = VkDeviceSize(listCount) * sizeof(uint32_t);
+        for (VkDeviceSize done = 0; done < bytes; done += kUpdateBufferBytes)
+            vkCmdUpdateBuffer(cmd, pass.patchList.buffer, VkDeviceSize(listFirst) * sizeof(uint32_t) + done,
+                              std::min(kUpdateBufferBytes, bytes - done), reinterpret_cast<const char*>(kept.data()) + done);
+        barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    }
     if (capture) {
         vkCmdFillBuffer(cmd, pass.capture.buffer, 0, 4, 0);
         barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
@@ -286,7 +333,7 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
                                                              : std::min(settings.uniformFactor, 64u);
     const uint32_t perDraw = patchesPerDraw(maxFactor);
     for (VkPipeline pipeline : {pass.solid, view.wireframe ? pass.wire : VkPipeline(VK_NULL_HANDLE)}) {
-        if (!pipeline || pass.patchCount == 0) continue;
+        if (!pipeline || listCount == 0) continue;
         const bool wire = pipeline == pass.wire;
         TessPush push{};
         push.viewProj = view.viewProjection;
@@ -301,7 +348,7 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.layout, 0, 1, &pass.set, 0, nullptr);
         vkCmdPushConstants(cmd, pass.layout, kStages, 0, sizeof(push), &push);
-        for (uint32_t first = 0; first < pass.patchCount; first += perDraw) {
+        for (uint32_t first = 0; first < listCount; first += perDraw) {
             // Captured draws append to one buffer: order them (barriers may not sit inside a
             // rendering instance at these stages).
             if (push.capture && first > 0) {
@@ -315,7 +362,7 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
                 vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.layout, 0, 1, &pass.set, 0, nullptr);
                 vkCmdPushConstants(cmd, pass.layout, kStages, 0, sizeof(push), &push);
             }
-            vkCmdDraw(cmd, std::min(perDraw, pass.patchCount - first), 1, first, 0);
+            vkCmdDraw(cmd, std::min(perDraw, listCount - first), 1, listFirst + first, 0);
         }
     }
     vkCmdEndRendering(cmd);

@@ -14,6 +14,11 @@
 // osd-fas applies Far's stencils): recordTessPrepare dispatches it over the same descriptor set,
 // with a barrier before the tessellation stages read what it wrote.
 //
+// Culling: the vertex stage reads each primitive's patch from a list (binding 2): the identity
+// 0 .. patchCount - 1, or, when a draw leaves out culled patches, the others written into the
+// list by the command buffer itself (vkCmdUpdateBuffer), so the objects of one frame that share
+// the pass (DrawView::sameFrame) each draw their own list and no host write races a recorded draw.
+//
 // Capture: with `capture` set, the evaluation stage appends every vertex it evaluates
 // (patch, domain coordinate, position, normal) to a storage buffer at binding 1, so tests can
 // check the GPU evaluation against the scheme's CPU evaluation.
@@ -50,6 +55,7 @@ struct TessPatchPass {
     VkFormat colorFormat = VK_FORMAT_UNDEFINED, depthFormat = VK_FORMAT_UNDEFINED;
     Buffer patchData;              // binding 0: the scheme's patches
     uint32_t patchCount = 0;
+    Buffer patchList;              // binding 2: the identity list (patchCount), then room for a draw's own
     Buffer capture;                // binding 1: header (count, capacity) + TessCaptureRecord[]
     uint32_t captureCapacity = 0;
 };
@@ -80,9 +86,10 @@ struct TessPatchSettings {
     uint32_t largestLevel = 0;      // the most segments an edge gets (splits draws); 0: the factor
 };
 
-// Clears target.area and draws every patch (then the wireframe when view.wireframe).
+// Clears target.area and draws every patch but `culled` (sorted, unique; then the wireframe
+// when view.wireframe). Record outside of rendering.
 void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const RenderTarget& target, const DrawView& view,
-                       const TessPatchSettings& settings);
+                       const TessPatchSettings& settings, std::span<const uint32_t> culled = {});
 
 // Mirrors CaptureRecord in tess_patch.glsl. (u, v, w): gl_TessCoord (w = 0 on quads).
 struct TessCaptureRecord {
