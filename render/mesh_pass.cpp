@@ -215,7 +215,8 @@ void recordMeshPass(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarge
         const VkDeviceSize offsets[2] = {0, 0};
         vkCmdBindVertexBuffers(cmd, 0, colorStream ? 2 : 1, buffers, offsets);
         vkCmdBindIndexBuffer(cmd, d.mesh->indices.buffer, 0, VK_INDEX_TYPE_UINT32);
-        vkCmdDrawIndexed(cmd, d.mesh->indexCount, 1, 0, 0, 0);
+        if (d.ranges.empty()) vkCmdDrawIndexed(cmd, d.mesh->indexCount, 1, 0, 0, 0);
+        for (const IndexRange& range : d.ranges) vkCmdDrawIndexed(cmd, range.count, 1, range.first, 0, 0);
     };
     // Plain meshes first, then meshes with a colour stream (one pipeline switch at most).
     for (bool colored : {false, true}) {

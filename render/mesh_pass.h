@@ -63,12 +63,19 @@ struct MeshView {
     bool clear = true;               // false: draw over what target.area holds (later objects of a scene)
 };
 
+// Part of a mesh's index buffer: `count` indices from `first`.
+struct IndexRange {
+    uint32_t first = 0, count = 0;
+};
+
 struct MeshDraw {
     const GpuMesh* mesh = nullptr;
     glm::vec3 color{0.8f};  // linear base colour; ignored for meshes with a colour stream
     bool lit = true;        // false: flat colour, exactly
     bool wireframe = false;
     glm::vec3 wireColor{0.02f};
+    // The parts of the index buffer drawn (e.g. all but the culled patches'); empty: all of it.
+    std::span<const IndexRange> ranges = {};
 };
 
 // Records one pass: clears the target's area, draws every mesh (solid, then the wireframe
