@@ -1,11 +1,19 @@
 #include "grid_drawing.h"
 
+#include <algorithm>
 #include <vector>
+
+#include "scheme_culling.h"
 
 namespace qp {
 
 void prepareGridDrawing(GridDrawing& drawing, const PlannedCage& planned, uint32_t factor) {
     drawing.grid = buildSubfaceGrid(planned, factor);
+    drawing.gridFirstIndex.assign(1, 0);
+    for (uint32_t subface : drawing.grid.subfaces) {  // 6 n^2 indices each
+        const uint32_t n = subfaceGridFactor(planned, subface, factor);
+        drawing.gridFirstIndex.push_back(drawing.gridFirstIndex.back() + 6 * n * n);
+    }
     drawing.planned = &planned;
     drawing.factor = factor;
 }
@@ -44,12 +52,22 @@ Status gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> s
 }
 
 DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, const RenderTarget& target,
-                            const DrawView& view, uint64_t patches) {
+                            const DrawView& view, DrawStats stats, std::span<const uint32_t> culledSubfaces) {
     const GpuMesh& mesh = drawing.displacement ? drawing.displaced.gpu : drawing.mesh;
-    MeshDraw draw{&mesh, glm::vec3(0.8f), true, view.wireframe};
-    recordMeshPass(cmd, drawing.pass, target, MeshView{view.viewProjection, view.eye, view.background, view.shading, view.clear},
-                   mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-    return DrawStats{patches, mesh.indexCount / 3, DrawnBy::CpuMesh};
+    std::vector<IndexRange> parts;
+    if (!culledSubfaces.empty() && drawing.displacement) {
+        parts = displacedKeptRanges(drawing.displaced, culledSubfaces);
+    } else if (!culledSubfaces.empty()) {
+        std::vector<uint32_t> culledGrids;  // positions in grid.subfaces (both ascending)
+        const std::vector<uint32_t>& gridded = drawing.grid.subfaces;
+        for (uint32_t s : culledSubfaces) {
+            const auto at = std::lower_bound(gridded.begin(), gridded.end(), s);
+            if (at != gridded.end() && *at == s) culledGrids.push_back(uint32_t(at - gridded.begin()));
+        }
+        parts = keptIndexRanges(drawing.gridFirstIndex, culledGrids);
+    }
+    recordMeshParts(cmd, drawing.pass, target, view, mesh, culledSubfaces.empty() ? nullptr : &parts, stats);
+    return stats;
 }
 
 uint64_t gridDrawingBytes(const GridDrawing& drawing) {

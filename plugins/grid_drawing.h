@@ -7,6 +7,9 @@
 // displaced along its own normal, watertight, on a grid of at least displacedGridFactor
 // (displaced_drawing.h), and gridDisplacementChanged re-displaces only what a dab reached.
 // Schemes with a tessellated path draw through this grid while displaced.
+//
+// Culling: record() leaves out the sub-faces the scheme culled (scheme_culling.h,
+// cullSubfacesForView), drawing the index ranges of the others.
 #pragma once
 
 #include <cstdint>
@@ -20,6 +23,7 @@ namespace qp {
 
 struct GridDrawing {
     SubfaceGrid grid;
+    std::vector<uint32_t> gridFirstIndex;  // per sub-face of `grid`, its first index; the total last
     const PlannedCage* planned = nullptr;
     uint32_t factor = 1;                          // requested segments per quad sub-face edge
     const Displacement* displacement = nullptr;  // non-empty, or none
@@ -40,10 +44,10 @@ Status setGridDisplacement(GridDrawing& drawing, const Displacement* displacemen
 Status updateGridDrawing(GridDrawing& drawing, const Scheme& scheme);
 // Scheme::displacementChanged: brings the displaced mesh up to date around these samples.
 Status gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> samples);
-// Clears target.area and draws; `patches` is what the scheme reports as drawn, the triangles
-// are the uploaded mesh's.
+// Clears target.area and draws every sub-face but `culledSubfaces` (sorted). `stats` is what the
+// scheme filled in (the patches it drew, its culling); the triangles are those drawn.
 DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, const RenderTarget& target,
-                            const DrawView& view, uint64_t patches);
+                            const DrawView& view, DrawStats stats, std::span<const uint32_t> culledSubfaces = {});
 uint64_t gridDrawingBytes(const GridDrawing& drawing);
 void destroyGridDrawing(GridDrawing& drawing);
 

@@ -8,15 +8,23 @@
 //       static constexpr const char* kName;              // the scheme's name, e.g. "acc1"
 //       static constexpr const char* kTessControl, *kTessEvaluation;  // its shaders (module files)
 //       static std::span<const FeatureRule> rules();     // what it does with each cage feature
-//       using Data = ...;                                // .controlPoints, .stats, .source.steps
+//       using Data = ...;                                // .controlPoints, .stats, .source
 //       static Result<Data> build(const Cage& cage);
 //       static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v);
+//       // Culling (scheme_culling.h): patch p's geometry as culling leaves relative to `origin`.
+//       static void addCullLeaves(const Data& data, uint32_t p, const glm::vec3& origin, PatchCullLeaves& leaves);
 //   };
+//
+// Culling (DrawView::cull): per patch on the tessellated path (its geometry patch's bounds), per
+// sub-face on the grid (the leaves of the patches covering it); the bounds are built on the CPU
+// when a frame first needs them after update(). Back-patch tests only on a closed, outward cage.
 #pragma once
 
+#include "closed_surface.h"
 #include "grid_drawing.h"
 #include "module_shader_code.h"
 #include "scheme_api.h"
+#include "scheme_culling.h"
 #include "tess_patch_pass.h"
 
 namespace qp {
@@ -38,6 +46,8 @@ public:
         path_ = *path;
         if (Status built = rebuild(); !built) return built;
         prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
+        culling_ = PatchCulling{quadPatchCover(data_.source, data_.stats.patches),
+                                closedOutwardSurface(planned.cage(), planned.topology())};
         return success();
     }
 
@@ -56,6 +66,7 @@ public:
     }
 
     Status update() override {
+        culling_.bounds.reset();
         if (Status built = rebuild(); !built) return built;
         if (onGrid()) return updateGridDrawing(grid_, *this);
         if (!havePass_) return success();
@@ -64,17 +75,31 @@ public:
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        if (onGrid()) return recordGridDrawing(cmd, grid_, target, view, data_.stats.patches);
+        DrawStats stats;
+        const PatchBounds bounds = patchBounds();
+        if (onGrid()) {
+            const std::vector<uint32_t> culled = cullSubfacesForView(culling_, bounds, grid_.displacement, view, stats);
+            return recordGridDrawing(cmd, grid_, target, view, stats, culled);
+        }
+        const std::vector<uint32_t> culled = cullPatchesForView(culling_, bounds, view, stats);
         const uint32_t factor = patchFactor();
-        recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false});
-        return DrawStats{data_.stats.patches, factor ? data_.stats.patches * tessTriangles(factor, false) : 0,
-                         DrawnBy::Tessellator};
+        recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false}, culled);
+        stats.patches = data_.stats.patches - culled.size();
+        stats.triangles = factor ? stats.patches * tessTriangles(factor, false) : 0;
+        stats.drawnBy = DrawnBy::Tessellator;
+        return stats;
     }
 
     // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the
     // CPU grid whichever path was chosen; evaluate() stays undisplaced.
-    Status setDisplacement(const Displacement* displacement) override { return setGridDisplacement(grid_, displacement); }
-    Status displacementChanged(std::span<const uint32_t> samples) override { return gridDisplacementChanged(grid_, samples); }
+    Status setDisplacement(const Displacement* displacement) override {
+        culling_.bounds.reset();
+        return setGridDisplacement(grid_, displacement);
+    }
+    Status displacementChanged(std::span<const uint32_t> samples) override {
+        culling_.bounds.reset();  // the margins follow |D|
+        return gridDisplacementChanged(grid_, samples);
+    }
 
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
         for (size_t i = 0; i < requests.size(); ++i)
@@ -104,6 +129,14 @@ private:
         return success();
     }
 
+    PatchBounds patchBounds() const {
+        return PatchBounds{data_.stats.patches,
+                           [this](uint32_t p) { return data_.controlPoints[size_t(p) * Traits::Data::kControlPointsPerPatch]; },
+                           [this](uint32_t p, const glm::vec3& origin, PatchCullLeaves& leaves) {
+                               Traits::addCullLeaves(data_, p, origin, leaves);
+                           }};
+    }
+
     // Segments per patch edge: a patch of a refined cage covers half a sub-face edge.
     uint32_t patchFactor() const {
         if (settings_.adaptivePixels > 0.0f) return 0;
@@ -118,6 +151,7 @@ private:
     TessPatchPass pass_;
     bool havePass_ = false;
     GridDrawing grid_;
+    PatchCulling culling_;
 };
 
 }  // namespace qp

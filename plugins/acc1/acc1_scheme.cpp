@@ -3,6 +3,8 @@
 // product is the shading normal, 40 control points.
 //
 // Drawn through the tessellator (acc1.tesc, acc1.tese) or on the CPU grid: tess_patch_scheme.h.
+// Culling bounds a patch by its bicubic Bézier geometry patch, the surface drawn (box, tcone,
+// ncone, pplane); the tangent patches only shade.
 #include "acc1.h"
 #include "tess_patch_scheme.h"
 
@@ -32,6 +34,12 @@ struct Acc1Traits {
     static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v) {
         const Acc1Sample s = evaluateAcc1(data, subface, u, v);
         return SurfacePoint{s.position, s.normal, s.du, s.dv, s.valid};
+    }
+    static void addCullLeaves(const Data& data, uint32_t patch, const glm::vec3& origin, PatchCullLeaves& leaves) {
+        BicubicPoints geometry;  // b(i, j) at 4 j + i: BicubicPoints' order
+        for (uint32_t k = 0; k < Acc1Patches::kGeometryPoints; ++k)
+            geometry[k] = data.controlPoints[size_t(patch) * Acc1Patches::kControlPointsPerPatch + k] - origin;
+        addBezierLeaf(leaves, geometry, false);
     }
 };
 

@@ -2,6 +2,8 @@
 // Gregory patch of 20 control points per quad of the (once refined, for non-quad cages) cage.
 //
 // Drawn through the tessellator (acc2.tesc, acc2.tese) or on the CPU grid: tess_patch_scheme.h.
+// Culling bounds a patch as a Gregory leaf (patch_cull_set.h: the box of its 20 points and a
+// cone bounding its true normals; its points are already in patch_basis.h's order).
 #include "acc2.h"
 #include "tess_patch_scheme.h"
 
@@ -31,6 +33,12 @@ struct Acc2Traits {
     static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v) {
         const Acc2Sample s = evaluateAcc2(data, subface, u, v);
         return SurfacePoint{s.position, s.normal, s.du, s.dv, s.valid};
+    }
+    static void addCullLeaves(const Data& data, uint32_t patch, const glm::vec3& origin, PatchCullLeaves& leaves) {
+        std::array<glm::vec3, 20> gregory;
+        for (uint32_t k = 0; k < Acc2Patches::kControlPointsPerPatch; ++k)
+            gregory[k] = data.controlPoints[size_t(patch) * Acc2Patches::kControlPointsPerPatch + k] - origin;
+        addGregoryLeaf(leaves, gregory, false);
     }
 };
 

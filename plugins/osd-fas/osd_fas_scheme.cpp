@@ -12,8 +12,24 @@
 // Displacement: the patches' surface (evaluateFas) on a grid of at least the tessellation
 // factor and the tiles' required factor, displaced along its own normal and made watertight
 // through a DisplacedDrawing (displaced_drawing.h: a dab re-displaces only what it reached).
+//
+// Culling (DrawView::cull) is per Far patch on both paths while undisplaced (the tessellator
+// draws the kept patches, the CPU path their index ranges), per sub-face on the displaced mesh
+// (frustum only, boxes grown by the tile's largest |D|). The bounds come from the patches'
+// control points on the CPU (Far's stencils applied there, also on the tess path, when a frame
+// first needs them after an update): a B-spline patch, its phantoms beyond boundary or
+// infinitely sharp edges made explicit, as its Bézier patch (box, tcone, ncone, pplane); a
+// single-crease patch as the infinitely sharp patch plus up to half its second differences
+// across the crease (a box, no cone, as the plans' semi-sharp leaves); a Gregory-basis end cap
+// as a Gregory leaf (patch_cull_set.h). Back-patch tests only on a closed, outward cage.
+#include <array>
+#include <chrono>
+#include <cmath>
 #include <mutex>
 
+#include <glm/vec3.hpp>
+
+#include "closed_surface.h"
 #include "displaced_drawing.h"
 #include "draw_path.h"
 #include "mesh_pass.h"
@@ -21,6 +37,7 @@
 #include "osd_fas_gpu.h"
 #include "osd_fas_patches.h"
 #include "scheme_api.h"
+#include "scheme_culling.h"
 #include "scheme_support.h"
 #include "tess_patch_pass.h"
 
@@ -35,6 +52,35 @@ Result<FasPath> fasPathOption(const SchemeSettings& settings) {
     if (*path == "tess") return FasPath::Tessellated;
     if (*path == "cpu") return FasPath::Cpu;
     return Error{"osd-fas: unknown path '" + *path + "'; use auto, tess (patches through the tessellator) or cpu"};
+}
+
+// Far patch `patch` as culling leaves relative to `origin` (the points in double, relative first).
+void addFarPatchLeaves(const FasPatches& patches, uint32_t patch, const glm::vec3& origin, PatchCullLeaves& leaves) {
+    using namespace OpenSubdiv;
+    const Far::PatchTable& table = *patches.table;
+    const Far::PatchTable::PatchHandle& handle = patches.layout[patch].handle;
+    const Far::ConstIndexArray cvs = table.GetPatchVertices(handle);
+    auto point = [&](int k) { return glm::vec3(patches.points[size_t(cvs[k])] - glm::dvec3(origin)); };
+    switch (table.GetPatchArrayDescriptor(handle.arrayIndex).GetType()) {
+    case Far::PatchDescriptor::REGULAR: {
+        BicubicPoints bspline;  // Far's REGULAR order is patch_basis.h's
+        for (int k = 0; k < 16; ++k) bspline[size_t(k)] = point(k);
+        const uint32_t boundary = uint32_t(table.GetPatchParam(handle).GetBoundary());
+        // A single-crease patch marks its crease edge as its boundary (osd_fas_patches.cpp).
+        const float sharpness = table.GetSingleCreasePatchSharpnessValue(handle);
+        if (sharpness > 0.0f && sharpness < 10.0f) addSemiSharpCreaseLeaf(leaves, bspline, 0, boundary);
+        else addBezierLeaf(leaves, bsplineToBezier(withPhantoms(bspline, boundary)), false);
+        break;
+    }
+    case Far::PatchDescriptor::GREGORY_BASIS: {
+        std::array<glm::vec3, 20> gregory;  // GREGORY_BASIS order is patch_basis.h's
+        for (int k = 0; k < 20; ++k) gregory[size_t(k)] = point(k);
+        addGregoryLeaf(leaves, gregory, false);
+        break;
+    }
+    default:  // buildFasPatches asks for the two above only; another kind is never culled
+        addConelessBox(leaves, CullBox{glm::vec3(-INFINITY), glm::vec3(INFINITY)});
+    }
 }
 
 class OsdFasScheme final : public Scheme {
@@ -65,6 +111,14 @@ public:
             buildFasPatches(planned.cage(), settings.planDepth, requestedPath_ == FasPath::Tessellated ? 1u : factor_);
         if (!patches) return patches.error();
         patches_ = std::move(*patches);
+        std::vector<std::pair<uint32_t, uint32_t>> pairs;  // a Far patch lies in its ptex face, our sub-face
+        patchFirstIndex_.assign(1, 0);
+        for (uint32_t p = 0; p < patches_.layout.size(); ++p) {
+            pairs.push_back({uint32_t(patches_.table->GetPatchParam(patches_.layout[p].handle).GetFaceId()), p});
+            patchFirstIndex_.push_back(patches_.layout[p].firstIndex + patches_.layout[p].indexCount);
+        }
+        culling_ = PatchCulling{patchCover(planned.subfaceCount(), uint32_t(patches_.layout.size()), std::move(pairs)),
+                                closedOutwardSurface(planned.cage(), planned.topology())};
         return success();
     }
 
@@ -90,11 +144,18 @@ public:
             return uploaded;
         gpuData_.words = {};  // on the device now
         // What record() reports at a uniform factor: the levels depend on the patches only.
-        if (settings_.adaptivePixels <= 0.0f) uniformTriangles_ = fasUniformTriangles(patches_, std::min(settings_.tessFactor, 64u));
+        patchTriangles_.clear();
+        if (settings_.adaptivePixels <= 0.0f)
+            for (const FasPatchLayout& p : patches_.layout) {
+                float outer[4];
+                fasUniformLevels(patches_.table->GetPatchParam(p.handle), std::min(settings_.tessFactor, 64u), outer);
+                patchTriangles_.push_back(quadTessTriangles(outer));
+            }
         return success();
     }
 
     Status update() override {
+        culling_.bounds.reset();
         if (haveTess_ && !displacement_) {
             cpuPointsStale_ = true;
             destroyDisplacedDrawing(displaced_);
@@ -111,13 +172,9 @@ public:
             if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
             mesh_ = GpuMesh{};
             const uint32_t factor = displacedGridFactor(*planned_, *displacement_, factor_);
-            if (Status built = buildDisplacedDrawing(displaced_, *ctx_, *this, *planned_, *displacement_, factor); !built)
-                return built;
-            triangles_ = displaced_.gpu.indexCount / 3;
-            return success();
+            return buildDisplacedDrawing(displaced_, *ctx_, *this, *planned_, *displacement_, factor);
         }
         destroyDisplacedDrawing(displaced_);
-        triangles_ = patches_.indices.size() / 3;
         std::vector<glm::vec3> positions, normals;
         tessellateFas(patches_, positions, normals);
         if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
@@ -131,27 +188,48 @@ public:
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        if (haveTess_ && !displacement_) {
+        DrawStats stats;
+        const uint32_t patchCount = uint32_t(patches_.layout.size());
+        if (view.cull != CullMethod::None && !culling_.bounds) refreshCpuPoints(stats);
+        const PatchBounds bounds{patchCount, [this](uint32_t p) { return patchAnchor(p); },
+                                 [this](uint32_t p, const glm::vec3& origin, PatchCullLeaves& leaves) {
+                                     addFarPatchLeaves(patches_, p, origin, leaves);
+                                 }};
+        if (displacement_) {
+            const std::vector<uint32_t> culled = cullSubfacesForView(culling_, bounds, displacement_, view, stats);
+            const std::vector<IndexRange> parts = displacedKeptRanges(displaced_, culled);
+            recordMeshParts(cmd, pass_, target, view, displaced_.gpu, culled.empty() ? nullptr : &parts, stats);
+            return stats;
+        }
+        const std::vector<uint32_t> culled = cullPatchesForView(culling_, bounds, view, stats);
+        stats.patches = patchCount - culled.size();
+        if (haveTess_) {
             if (stencilsPending_) recordTessPrepare(cmd, tess_, gpuData_.header.pointCount);
             stencilsPending_ = false;
             const bool adaptive = settings_.adaptivePixels > 0.0f;
             const uint32_t factor = adaptive ? 0u : std::min(settings_.tessFactor, 64u);
             // A transition edge at factor F may get 2 ceil(F / 2) segments.
-            recordTessPatches(cmd, tess_, target, view, {factor, settings_.adaptivePixels, capture_, adaptive ? 64u : factor + 1});
-            return DrawStats{patches_.layout.size(), adaptive ? 0 : uniformTriangles_, DrawnBy::Tessellator};
+            recordTessPatches(cmd, tess_, target, view, {factor, settings_.adaptivePixels, capture_, adaptive ? 64u : factor + 1},
+                              culled);
+            for (uint64_t triangles : patchTriangles_) stats.triangles += triangles;
+            for (uint32_t p : culled)
+                if (p < patchTriangles_.size()) stats.triangles -= patchTriangles_[p];
+            stats.drawnBy = DrawnBy::Tessellator;
+            return stats;
         }
-        MeshDraw draw{displacement_ ? &displaced_.gpu : &mesh_, glm::vec3(0.8f), true, view.wireframe};
-        recordMeshPass(cmd, pass_, target, MeshView{view.viewProjection, view.eye, view.background, view.shading, view.clear},
-                       draw.mesh->indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-        return DrawStats{patches_.layout.size(), triangles_, DrawnBy::CpuMesh};
+        const std::vector<IndexRange> parts = keptIndexRanges(patchFirstIndex_, culled);
+        recordMeshParts(cmd, pass_, target, view, mesh_, culled.empty() ? nullptr : &parts, stats);
+        return stats;
     }
 
     Status setDisplacement(const Displacement* displacement) override {
+        culling_.bounds.reset();
         displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
         return success();
     }
 
     Status displacementChanged(std::span<const uint32_t> samples) override {
+        culling_.bounds.reset();  // the margins follow |D|
         return updateDisplacedDrawing(displaced_, samples);
     }
 
@@ -192,6 +270,22 @@ public:
     }
 
 private:
+    // The CPU's points for the culling bounds: on the tess path only the device has them after
+    // update(); their time counts as the frame's culling.
+    void refreshCpuPoints(DrawStats& stats) const {
+        const auto start = std::chrono::steady_clock::now();
+        std::lock_guard<std::mutex> lock(cpuPointsMutex_);
+        if (!cpuPointsStale_) return;
+        updateFasPoints(patches_, planned_->cage().positions);
+        cpuPointsStale_ = false;
+        stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    }
+
+    glm::vec3 patchAnchor(uint32_t patch) const {
+        const OpenSubdiv::Far::ConstIndexArray cvs = patches_.table->GetPatchVertices(patches_.layout[patch].handle);
+        return glm::vec3(patches_.points[size_t(cvs[0])]);
+    }
+
     const PlannedCage* planned_ = nullptr;
     SchemeSettings settings_;
     FasPath requestedPath_ = FasPath::Auto;
@@ -200,8 +294,9 @@ private:
     mutable std::mutex cpuPointsMutex_;
     mutable bool cpuPointsStale_ = true;
     uint32_t factor_ = 8;
-    uint64_t triangles_ = 0;          // path=cpu: the mesh's
-    uint64_t uniformTriangles_ = 0;   // path=tess at a uniform factor
+    std::vector<uint64_t> patchTriangles_;   // path=tess at a uniform factor: per patch
+    std::vector<uint32_t> patchFirstIndex_;  // path=cpu: per patch its first index in the mesh; the total last
+    PatchCulling culling_;
     const Displacement* displacement_ = nullptr;
     const VulkanContext* ctx_ = nullptr;
     MeshPass pass_;

@@ -6,10 +6,20 @@
 // Drawing: path=tess (default) draws one triangle patch per PN triangle through the
 // tessellator (16 points in a storage buffer, pn.tese); path=cpu evaluates them on a sub-face
 // grid on all cores and draws the triangles (grid_drawing.h). update() rebuilds the patches.
+//
+// Culling (DrawView::cull): per PN triangle on the tessellated path, per sub-face on the grid
+// (the triangles covering it). A PN triangle is bounded by the box of its 10 points (a Bézier
+// triangle lies in their hull) and by cubicTriangleNormalCone (patch_culling.h): its normals
+// B_2 x B_3 are cross products of two derivatives, each a non-negative combination of the
+// control points' differences in its direction, so Sederberg and Meyers' rule bounds them (the
+// geometry's own normals decide what shows; PN's normal patch only shades). That cone serves
+// tcone, ncone and pplane alike. Back-patch tests only on a closed, outward cage.
+#include "closed_surface.h"
 #include "grid_drawing.h"
 #include "module_shader_code.h"
 #include "pn.h"
 #include "scheme_api.h"
+#include "scheme_culling.h"
 #include "tess_patch_pass.h"
 
 namespace qp {
@@ -41,6 +51,23 @@ std::vector<glm::vec4> packTriangles(const PnPatches& patches) {
     return points;
 }
 
+// Which sub-faces each triangle covers: a quad's one sub-face both its triangles, a triangle's
+// three sub-faces its one triangle, an n-gon's sub-face k its fan triangles k and k - 1 (pn.h).
+PatchCover pnCover(const PnPatches& patches) {
+    std::vector<std::pair<uint32_t, uint32_t>> pairs;
+    for (uint32_t f = 0; f + 1 < patches.faceFirstTriangle.size(); ++f) {
+        const uint32_t t0 = patches.faceFirstTriangle[f], triangles = patches.faceFirstTriangle[f + 1] - t0;
+        const uint32_t n = patches.faceSize[f], s0 = patches.faceFirstSubface[f];
+        if (triangles == 0) continue;  // a hole
+        for (uint32_t k = 0; k < patches.faceFirstSubface[f + 1] - s0; ++k) {
+            if (n == 3) pairs.push_back({s0 + k, t0});
+            if (n == 4) pairs.insert(pairs.end(), {{s0, t0}, {s0, t0 + 1}});
+            if (n > 4) pairs.insert(pairs.end(), {{s0 + k, t0 + k}, {s0 + k, t0 + (k + n - 1) % n}});
+        }
+    }
+    return patchCover(patches.faceFirstSubface.back(), patches.stats.triangles, std::move(pairs));
+}
+
 class PnScheme final : public Scheme {
 public:
     SupportReport support(const CageFeatures& features, const SchemeSettings& settings) const override {
@@ -62,6 +89,7 @@ public:
         path_ = *path;
         if (Status built = rebuild(); !built) return built;
         prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
+        culling_ = PatchCulling{pnCover(patches_), closedOutwardSurface(planned.cage(), planned.topology())};
         return success();
     }
 
@@ -80,6 +108,7 @@ public:
     }
 
     Status update() override {
+        culling_.bounds.reset();
         if (Status built = rebuild(); !built) return built;
         if (onGrid()) return updateGridDrawing(grid_, *this);
         if (!havePass_) return success();
@@ -88,19 +117,33 @@ public:
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        if (onGrid()) return recordGridDrawing(cmd, grid_, target, view, patches_.stats.triangles);
+        DrawStats stats;
+        const PatchBounds bounds = triangleBounds();
+        if (onGrid()) {
+            const std::vector<uint32_t> culled = cullSubfacesForView(culling_, bounds, grid_.displacement, view, stats);
+            return recordGridDrawing(cmd, grid_, target, view, stats, culled);
+        }
+        const std::vector<uint32_t> culled = cullPatchesForView(culling_, bounds, view, stats);
         // A PN triangle's edges are cage edges (or spokes of a fan), each one quad sub-face edge
         // long or two n-gon sub-face edges: the full factor.
         const uint32_t factor = settings_.adaptivePixels > 0.0f ? 0u : settings_.tessFactor;
-        recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false});
-        return DrawStats{patches_.stats.triangles, factor ? patches_.stats.triangles * tessTriangles(factor, true) : 0,
-                         DrawnBy::Tessellator};
+        recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false}, culled);
+        stats.patches = patches_.stats.triangles - culled.size();
+        stats.triangles = factor ? stats.patches * tessTriangles(factor, true) : 0;
+        stats.drawnBy = DrawnBy::Tessellator;
+        return stats;
     }
 
     // Sculpted displacement: this scheme's own surface moved along its own normal, drawn on the
     // CPU grid (grid_drawing.h) whichever path was chosen; evaluate() stays undisplaced.
-    Status setDisplacement(const Displacement* displacement) override { return setGridDisplacement(grid_, displacement); }
-    Status displacementChanged(std::span<const uint32_t> samples) override { return gridDisplacementChanged(grid_, samples); }
+    Status setDisplacement(const Displacement* displacement) override {
+        culling_.bounds.reset();
+        return setGridDisplacement(grid_, displacement);
+    }
+    Status displacementChanged(std::span<const uint32_t> samples) override {
+        culling_.bounds.reset();  // the margins follow |D|
+        return gridDisplacementChanged(grid_, samples);
+    }
 
     // du, dv are PN's shading frame: the cubic geometry's derivatives projected onto the plane
     // of the normal patch's normal (as acc1 returns its tangent patches). The geometry is only
@@ -131,6 +174,19 @@ public:
 private:
     bool onGrid() const { return path_ == PatchPath::Cpu || grid_.displacement; }
 
+    // The geometry of each PN triangle as a culling leaf.
+    PatchBounds triangleBounds() const {
+        const glm::vec3* positions = patches_.positions.data();
+        return PatchBounds{patches_.stats.triangles,
+                           [positions](uint32_t t) { return positions[size_t(t) * PnPatches::kPositionPoints]; },
+                           [positions](uint32_t t, const glm::vec3& origin, PatchCullLeaves& leaves) {
+                               CubicTrianglePoints points;  // pn.h's order is CubicTrianglePoints'
+                               for (uint32_t k = 0; k < PnPatches::kPositionPoints; ++k)
+                                   points[k] = positions[size_t(t) * PnPatches::kPositionPoints + k] - origin;
+                               addCubicTriangleLeaf(leaves, points);
+                           }};
+    }
+
     Status rebuild() {
         Result<PnPatches> patches = buildPn(planned_->cage(), "pn");
         if (!patches) return patches.error();
@@ -146,6 +202,7 @@ private:
     TessPatchPass pass_;
     bool havePass_ = false;
     GridDrawing grid_;
+    PatchCulling culling_;
 };
 
 }  // namespace

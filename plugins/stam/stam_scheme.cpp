@@ -58,7 +58,9 @@ public:
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        return recordGridDrawing(cmd, grid_, target, view, patches_.stats.patches);
+        DrawStats stats;  // no culling (DrawView::cull): everything is drawn, the culling counts stay zero
+        stats.patches = patches_.stats.patches;
+        return recordGridDrawing(cmd, grid_, target, view, stats);
     }
 
     // Sculpted displacement: Stam's surface moved along its own normal (grid_drawing.h);

@@ -13,13 +13,23 @@
 // Displacement: the refined surface (sampleRefined, its own normals) on a grid of at least
 // 2^L and at least the tiles' required factor, displaced and made watertight through
 // a DisplacedDrawing (displaced_drawing.h: a dab re-displaces only what it reached).
+//
+// Culling (DrawView::cull) is per base face: its entry is the drawn triangles of its refined
+// quads, each a flat leaf (patch_cull_set.h): the box of their points; for tcone and ncone the
+// cone of their normals (the exact set of the face's normals: the surface drawn is these flat
+// triangles); for pplane every triangle's own plane, so a face is culled exactly when every one
+// of its triangles faces away. The indices are ordered by face, and a frame draws the ranges of
+// the faces kept. Displaced: per sub-face grid, frustum only, each box grown by its tile's
+// largest |D|. Back-patch tests only on a closed, outward cage.
 #include <algorithm>
 #include <cmath>
 #include <string>
 
+#include "closed_surface.h"
 #include "displaced_drawing.h"
 #include "mesh_pass.h"
 #include "scheme_api.h"
+#include "scheme_culling.h"
 #include "scheme_support.h"
 #include "uniform_refinement.h"
 
@@ -56,6 +66,11 @@ public:
         refinement_ = std::move(*refinement);
         level_ = level;
         fillIndices();
+        std::vector<std::pair<uint32_t, uint32_t>> pairs;  // each sub-face is covered by its face
+        for (uint32_t f = 0; f < planned.cage().faceCount(); ++f)
+            for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) pairs.push_back({s, f});
+        culling_ = PatchCulling{patchCover(planned.subfaceCount(), planned.cage().faceCount(), std::move(pairs)),
+                                closedOutwardSurface(planned.cage(), planned.topology())};
         return success();
     }
 
@@ -65,6 +80,7 @@ public:
         if (change.topologyChanged) return PlanUpdate::Rebuild;
         if (Status s = updateUniformTags(refinement_, *planned_, change.subfaces); !s) return s.error();
         fillIndices();
+        culling_.closed = closedOutwardSurface(planned_->cage(), planned_->topology());  // holes may have changed
         if (Status s = update(); !s) return s.error();
         return PlanUpdate::Updated;
     }
@@ -79,20 +95,17 @@ public:
     }
 
     Status update() override {
+        culling_.bounds.reset();
         applyUniformRefinement(refinement_, planned_->cage().positions, buffer_);
         const uint32_t first = refinement_.levelOffset[refinement_.levels];
         finest_ = std::span<const glm::vec3>(buffer_).subspan(first, refinement_.finestVertexCount());
         normals_ = refinedNormals(refinement_, finest_);
         if (!ctx_) return success();
         if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
-        triangles_ = indices_.size() / 3;
         if (indices_.empty()) return success();
         if (displacement_) {
             const uint32_t factor = displacedGridFactor(*planned_, *displacement_, 1u << level_);
-            if (Status built = buildDisplacedDrawing(displaced_, *ctx_, *this, *planned_, *displacement_, factor); !built)
-                return built;
-            triangles_ = displaced_.gpu.indexCount / 3;
-            return success();
+            return buildDisplacedDrawing(displaced_, *ctx_, *this, *planned_, *displacement_, factor);
         }
         destroyDisplacedDrawing(displaced_);
         std::vector<MeshVertex> vertices(finest_.size());
@@ -104,20 +117,30 @@ public:
     }
 
     DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
-        const MeshView meshView{view.viewProjection, view.eye, view.background, view.shading, view.clear};
-        const GpuMesh& mesh = displacement_ ? displaced_.gpu : mesh_;
-        MeshDraw draw{&mesh, glm::vec3(0.8f), true, view.wireframe};
-        recordMeshPass(cmd, pass_, target, meshView,
-                       mesh.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
-        return DrawStats{0, triangles_, DrawnBy::CpuMesh};
+        DrawStats stats;
+        const PatchBounds bounds = faceBounds();
+        std::vector<IndexRange> parts;
+        if (displacement_) {
+            const std::vector<uint32_t> culled = cullSubfacesForView(culling_, bounds, displacement_, view, stats);
+            parts = displacedKeptRanges(displaced_, culled);
+            recordMeshParts(cmd, pass_, target, view, displaced_.gpu, culled.empty() ? nullptr : &parts, stats);
+        } else {
+            const std::vector<uint32_t> culled = cullPatchesForView(culling_, bounds, view, stats);
+            parts = keptIndexRanges(faceFirstIndex_, culled);
+            recordMeshParts(cmd, pass_, target, view, mesh_, culled.empty() ? nullptr : &parts, stats);
+        }
+        stats.patches = 0;  // uniform draws no patches, only triangles
+        return stats;
     }
 
     Status setDisplacement(const Displacement* displacement) override {
+        culling_.bounds.reset();
         displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
         return success();
     }
 
     Status displacementChanged(std::span<const uint32_t> samples) override {
+        culling_.bounds.reset();  // the margins follow |D|
         return updateDisplacedDrawing(displaced_, samples);
     }
 
@@ -144,13 +167,44 @@ public:
     }
 
 private:
+    // Two triangles per drawn quad, the quads ordered by sub-face (so by face: Far refines in that
+    // order already, the sort only makes sure), and where each face's indices begin.
     void fillIndices() {
+        faceQuads_ = refinement_.drawnQuads;
+        const std::vector<RefinedQuad>& quads = refinement_.quads;
+        std::stable_sort(faceQuads_.begin(), faceQuads_.end(),
+                         [&quads](uint32_t a, uint32_t b) { return quads[a].subface < quads[b].subface; });
+        const uint32_t faces = planned_->cage().faceCount();
+        faceFirstQuad_.assign(faces + 1, 0);
+        for (uint32_t i : faceQuads_) ++faceFirstQuad_[faceOfSubface(*planned_, quads[i].subface) + 1];
+        for (uint32_t f = 0; f < faces; ++f) faceFirstQuad_[f + 1] += faceFirstQuad_[f];
+        faceFirstIndex_.resize(faces + 1);
+        for (uint32_t f = 0; f <= faces; ++f) faceFirstIndex_[f] = 6 * faceFirstQuad_[f];
         indices_.clear();
-        indices_.reserve(6 * refinement_.drawnQuads.size());
-        for (uint32_t i : refinement_.drawnQuads) {
-            const uint32_t* v = refinement_.quads[i].vertices;
+        indices_.reserve(6 * faceQuads_.size());
+        for (uint32_t i : faceQuads_) {
+            const uint32_t* v = quads[i].vertices;
             indices_.insert(indices_.end(), {v[0], v[1], v[2], v[0], v[2], v[3]});
         }
+    }
+
+    // Each face's drawn triangles as flat culling leaves.
+    PatchBounds faceBounds() const {
+        return PatchBounds{planned_->cage().faceCount(),
+                           [this](uint32_t f) {
+                               return faceFirstQuad_[f] == faceFirstQuad_[f + 1]
+                                          ? glm::vec3(0.0f)
+                                          : finest_[refinement_.quads[faceQuads_[faceFirstQuad_[f]]].vertices[0]];
+                           },
+                           [this](uint32_t f, const glm::vec3& origin, PatchCullLeaves& leaves) {
+                               for (uint32_t k = faceFirstQuad_[f]; k < faceFirstQuad_[f + 1]; ++k) {
+                                   const uint32_t* v = refinement_.quads[faceQuads_[k]].vertices;
+                                   const glm::vec3 p0 = finest_[v[0]] - origin, p1 = finest_[v[1]] - origin,
+                                                   p2 = finest_[v[2]] - origin, p3 = finest_[v[3]] - origin;
+                                   addFlatTriangle(leaves, p0, p1, p2);
+                                   addFlatTriangle(leaves, p0, p2, p3);
+                               }
+                           }};
     }
 
     static uint32_t parseLevel(const std::string& text) {
@@ -163,7 +217,10 @@ private:
     UniformRefinement refinement_;
     uint32_t level_ = 1;
     std::vector<uint32_t> indices_;
-    uint64_t triangles_ = 0;
+    std::vector<uint32_t> faceQuads_;       // the drawn quads in index order (by face)
+    std::vector<uint32_t> faceFirstQuad_;   // per face: its quads in faceQuads_ (faces + 1)
+    std::vector<uint32_t> faceFirstIndex_;  // per face: its first index (faces + 1)
+    PatchCulling culling_;
     const Displacement* displacement_ = nullptr;
     std::vector<glm::vec3> buffer_, normals_;
     std::span<const glm::vec3> finest_;
