@@ -26,7 +26,20 @@ constexpr double kBinomial[9][9] = {
     {1, 7, 21, 35, 35, 21, 7, 1}, {1, 8, 28, 56, 70, 56, 28, 8, 1}};
 
 // The weight of B^m_i B^n_k in B^(m+n)_(i+k).
-double productWeight(int m, int i, int n, int k) { return kBinomial[m][i] * kBinomial[n][k] / kBinomial[m + n][i + k]; }
+constexpr double productWeight(int m, int i, int n, int k) {
+    return kBinomial[m][i] * kBinomial[n][k] / kBinomial[m + n][i + k];
+}
+
+// productWeight(5, a, 3, c), what every tangent-plane coefficient sums with (a table: the loops
+// below run for thousands of leaves when a view is first culled).
+struct QuinticCubicWeights {
+    double w[6][4];
+    constexpr QuinticCubicWeights() : w{} {
+        for (int a = 0; a < 6; ++a)
+            for (int c = 0; c < 4; ++c) w[a][c] = productWeight(5, a, 3, c);
+    }
+};
+constexpr QuinticCubicWeights kQuinticCubic;
 
 // The Bernstein control vectors n(a, b), a along u, of the normal patch B_u x B_v (bidegree
 // (5, 5)), in double.
@@ -187,14 +200,17 @@ TangentPlanes tangentPlanesOf(const BicubicPoints& bezier) {
     // g = N . (E - w B) = sum B5_a B5_b B3_c B3_d n(a, b) . (E - w P(c, d)): per coefficient
     // a = sum of weighted n(a, b), b = sum of weighted n(a, b) . P(c, d).
     std::array<glm::dvec4, 81> sums{};
+    std::array<glm::dvec3, 16> points;
+    for (int k = 0; k < 16; ++k) points[k] = glm::dvec3(bezier[k]);
     for (int b = 0; b < 6; ++b)
-        for (int a = 0; a < 6; ++a)
+        for (int a = 0; a < 6; ++a) {
+            const glm::dvec3& normal = n[6 * b + a];
             for (int d = 0; d < 4; ++d)
                 for (int c = 0; c < 4; ++c) {
-                    const double weight = productWeight(5, a, 3, c) * productWeight(5, b, 3, d);
-                    const glm::dvec3 nw = weight * n[6 * b + a];
-                    sums[9 * (b + d) + (a + c)] += glm::dvec4(nw, glm::dot(nw, glm::dvec3(bezier[4 * d + c])));
+                    const double weight = kQuinticCubic.w[a][c] * kQuinticCubic.w[b][d];
+                    sums[9 * (b + d) + (a + c)] += weight * glm::dvec4(normal, glm::dot(normal, points[4 * d + c]));
                 }
+        }
     TangentPlanes planes;
     for (int k = 0; k < 81; ++k) planes[k] = glm::vec4(sums[k]);
     return planes;
