@@ -26,7 +26,66 @@ void ensureBounds(PatchCulling& culling, bool perSubface, const PatchBounds& pat
     stats.cullMilliseconds += millisecondsSince(start);
 }
 
+// Seams (scheme_culling.h): of `culled` (sorted), the entries outside the frustum and the
+// back-facing ones none of whose neighbours is drawn; the others are drawn after all.
+std::vector<uint32_t> keepBesideDrawn(std::vector<uint32_t> culled, const CullAdjacency& neighbours, const PatchCullSet& set,
+                                      const DrawView& view, DrawStats& stats) {
+    if (neighbours.items.empty() || stats.cull.backFacing == 0) return culled;
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<char> isCulled(set.size(), 0);
+    for (uint32_t e : culled) isCulled[e] = 1;
+    const CullFrustum frustum = frustumOf(view.viewProjection);
+    std::vector<uint32_t> kept;
+    for (uint32_t e : culled) {
+        bool cull = outsideFrustum(frustum, set.boxes[e]);
+        if (!cull) {
+            cull = true;
+            for (uint32_t k = neighbours.first[e]; k < neighbours.first[e + 1] && cull; ++k) cull = isCulled[neighbours.items[k]];
+            if (!cull) --stats.cull.backFacing;
+        }
+        if (cull) kept.push_back(e);
+    }
+    stats.cullMilliseconds += millisecondsSince(start);
+    return kept;
+}
+
 }  // namespace
+
+CullAdjacency adjacencyOfGroups(uint32_t entries, const std::vector<std::vector<uint32_t>>& groups) {
+    std::vector<std::vector<uint32_t>> around(entries);
+    for (const std::vector<uint32_t>& group : groups)
+        for (uint32_t a : group)
+            for (uint32_t b : group)
+                if (a != b) around[a].push_back(b);
+    CullAdjacency adjacency;
+    for (std::vector<uint32_t>& list : around) {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+        adjacency.items.insert(adjacency.items.end(), list.begin(), list.end());
+        adjacency.first.push_back(uint32_t(adjacency.items.size()));
+    }
+    return adjacency;
+}
+
+std::vector<std::vector<uint32_t>> facesAroundVertices(const PlannedCage& planned) {
+    const Topology& topology = planned.topology();
+    std::vector<std::vector<uint32_t>> groups(planned.cage().vertexCount());
+    for (uint32_t v = 0; v < groups.size(); ++v)
+        groups[v].assign(topology.vertexFaces.begin() + topology.vertexFaceOffsets[v],
+                         topology.vertexFaces.begin() + topology.vertexFaceOffsets[v + 1]);
+    return groups;
+}
+
+CullAdjacency subfaceAdjacency(const PlannedCage& planned) {
+    std::vector<std::vector<uint32_t>> groups = facesAroundVertices(planned);
+    for (std::vector<uint32_t>& group : groups) {
+        std::vector<uint32_t> subfaces;
+        for (uint32_t face : group)
+            for (uint32_t s = planned.firstSubface(face); s < planned.firstSubface(face + 1); ++s) subfaces.push_back(s);
+        group = std::move(subfaces);
+    }
+    return adjacencyOfGroups(planned.subfaceCount(), groups);
+}
 
 PatchCover patchCover(uint32_t subfaceCount, uint32_t patchCount, std::vector<std::pair<uint32_t, uint32_t>> pairs) {
     std::sort(pairs.begin(), pairs.end());
@@ -53,6 +112,15 @@ PatchCover quadPatchCover(const QuadPatchSource& source, uint32_t patchCount) {
                 if (source.facePatch[at.face] != kNoPatch) pairs.push_back({s, source.facePatch[at.face]});
             }
     return patchCover(source.originalSubfaces, patchCount, std::move(pairs));
+}
+
+CullAdjacency quadPatchAdjacency(const QuadPatchSource& source, uint32_t patchCount) {
+    const Topology& topology = source.topology;
+    std::vector<std::vector<uint32_t>> groups(source.quads.vertexCount());
+    for (uint32_t v = 0; v < groups.size(); ++v)
+        for (uint32_t k = topology.vertexFaceOffsets[v]; k < topology.vertexFaceOffsets[v + 1]; ++k)
+            if (source.facePatch[topology.vertexFaces[k]] != kNoPatch) groups[v].push_back(source.facePatch[topology.vertexFaces[k]]);
+    return adjacencyOfGroups(patchCount, groups);
 }
 
 PatchCullSet patchCullSet(const PatchBounds& patches) {
@@ -120,7 +188,8 @@ std::vector<uint32_t> cullPatchesForView(PatchCulling& culling, const PatchBound
     if (view.culledSubfacesOut) view.culledSubfacesOut->clear();
     if (view.cull == CullMethod::None) return {};
     ensureBounds(culling, false, patches, nullptr, stats);
-    std::vector<uint32_t> culled = cullForView(*culling.bounds, culling.closed, {}, view, stats);
+    const std::vector<uint32_t> culled =
+        keepBesideDrawn(cullForView(*culling.bounds, culling.closed, {}, view, stats), culling.patchNeighbours, *culling.bounds, view, stats);
     if (view.culledSubfacesOut) *view.culledSubfacesOut = whollyCulledSubfaces(culling.cover, culled);
     return culled;
 }
@@ -131,7 +200,9 @@ std::vector<uint32_t> cullSubfacesForView(PatchCulling& culling, const PatchBoun
     stats.patches = patches.count;
     if (view.cull == CullMethod::None) return {};
     ensureBounds(culling, true, patches, displacement, stats);
-    std::vector<uint32_t> culled = cullForView(*culling.bounds, culling.closed, culling.margins, view, stats);
+    // Displaced, only the frustum culls (no back-facing entries for the seams to keep).
+    const std::vector<uint32_t> culled = keepBesideDrawn(cullForView(*culling.bounds, culling.closed, culling.margins, view, stats),
+                                                        culling.subfaceNeighbours, *culling.bounds, view, stats);
     if (view.culledSubfacesOut) *view.culledSubfacesOut = culled;
     stats.patches -= patchesWhollyCulled(culling.cover, culled);
     return culled;

@@ -5,8 +5,20 @@
 // covers (PatchCover). Drawn one primitive per patch (the tessellator), a patch is culled by its
 // own entry; drawn as triangles over sub-face grids (the CPU grid, a displaced mesh), a sub-face
 // is culled by one entry made of the leaves of every patch that covers part of it (its grid's
-// triangles join points of those patches, so they lie in the union of their boxes, and their
-// normals are those of the patches up to the chord error docs/culling.md discusses).
+// triangles join points of those patches, so they lie in the union of their boxes).
+//
+// Outlines: the tests judge the limit surface (or, for uniform, each flat triangle), the
+// rasteriser draws triangles. Where a culled back-facing patch meets a drawn one, the unculled
+// frame could still show one of its pixels at the outline: through the sliver a non-watertight
+// seam leaves (each patch or sub-face evaluated on its own, the two sides of an edge differ in
+// the last bits and snap to different sub-pixel points: osd-fas on catmark_cubes_infsharp, 1 to
+// 3 pixels in 16 views), where a patch that ncone or pplane judged away by a hair had a triangle
+// in front (osd-fas on the same cubes), and where a back-facing triangle won the depth test along
+// the edge it shares with a front-facing one at a fold (uniform, watertight, on
+// catmark_toroidal_tet; acc2 on catmark_righthanded showed a back patch through a crack of the
+// front one beside it). So a back-facing entry is culled only when none of its neighbours (the
+// entries sharing a point with it, PatchCulling's) is drawn: the culled back lies a patch away
+// from every outline. On coarse cages this keeps most of the back drawn.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +35,18 @@
 
 namespace qp {
 
+// Which entries touch which (share a point), both ways: entry e's are items[first[e] .. first[e + 1]).
+struct CullAdjacency {
+    std::vector<uint32_t> first{0};
+    std::vector<uint32_t> items;
+};
+// Entries that share a point are neighbours (`groups[k]`: the entries at point k).
+CullAdjacency adjacencyOfGroups(uint32_t entries, const std::vector<std::vector<uint32_t>>& groups);
+// Per cage vertex the faces around it (groups for adjacencyOfGroups when entries are faces).
+std::vector<std::vector<uint32_t>> facesAroundVertices(const PlannedCage& planned);
+// Sub-faces of faces that share a vertex.
+CullAdjacency subfaceAdjacency(const PlannedCage& planned);
+
 // Which sub-faces each patch covers part of, both ways.
 struct PatchCover {
     std::vector<uint32_t> first{0};  // per sub-face: its patches are patches[first[s] .. first[s + 1])
@@ -35,6 +59,8 @@ PatchCover patchCover(uint32_t subfaceCount, uint32_t patchCount, std::vector<st
 // original cage covers the quads its 4 x 4 cell centres land on (locateOnQuads: 1 quad, or 4
 // once a quad was refined; never more than 16 after two steps).
 PatchCover quadPatchCover(const QuadPatchSource& source, uint32_t patchCount);
+// Their patches' neighbours: the patches of quads that share a vertex.
+CullAdjacency quadPatchAdjacency(const QuadPatchSource& source, uint32_t patchCount);
 
 // A scheme's patches as culling leaves: `anchor(p)`, a point near patch p, becomes the origin of
 // the entries it starts; `addLeaves(p, origin, leaves)` adds its leaves relative to `origin`.
@@ -62,6 +88,8 @@ std::vector<float> displacementMargins(const Displacement& displacement);
 struct PatchCulling {
     PatchCover cover;
     bool closed = false;  // closedOutwardSurface of the cage
+    // Outlines (above): per patch, per sub-face, its neighbours.
+    CullAdjacency patchNeighbours, subfaceNeighbours;
     std::optional<PatchCullSet> bounds;
     bool perSubface = false;     // what `bounds` holds entries of
     std::vector<float> margins;  // per sub-face entry, when displaced

@@ -47,7 +47,8 @@ public:
         if (Status built = rebuild(); !built) return built;
         prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
         culling_ = PatchCulling{quadPatchCover(data_.source, data_.stats.patches),
-                                closedOutwardSurface(planned.cage(), planned.topology())};
+                                closedOutwardSurface(planned.cage(), planned.topology()),
+                                quadPatchAdjacency(data_.source, data_.stats.patches), subfaceAdjacency(planned)};
         return success();
     }
 

@@ -39,6 +39,9 @@ struct Frame {
 struct Variant {
     std::string scheme;
     std::vector<std::pair<std::string, std::string>> options;
+    // On a closed cage the back-patch tests cull (on a coarse cage a scheme may cull nothing facing
+    // away: only what lies a patch away from everything drawn goes, scheme_culling.h).
+    bool backCulls = true;
     std::string name() const {
         std::string out = scheme;
         for (const auto& [key, value] : options) out += " " + key + "=" + value;
@@ -173,9 +176,9 @@ void expectSamePixelsFewerPatches(const Cage& cage, const std::string& name, boo
         if (d) {
             EXPECT_LT(drawn[1], drawn[0]) << name << ", " << variant.name() << ": the frustum culls the close-up's hidden part";
         }
-        if (closed) {
+        if (closed && variant.backCulls) {
             EXPECT_LT(drawn[4], drawn[0] * 9 / 10) << name << ", " << variant.name() << ": pplane culls";
-        } else {
+        } else if (!closed) {
             EXPECT_EQ(drawn[4], drawn[1]) << name << ", " << variant.name()
                                           << ": back sides show on an open, inside-out or displaced cage; only the frustum culls";
         }
@@ -195,6 +198,13 @@ const std::vector<Variant> kPatchSchemes = {
     {"acc1", {{"path", "tess"}}}, {"acc1", {{"path", "cpu"}}}, {"acc2", {{"path", "tess"}}}, {"acc2", {{"path", "cpu"}}},
     {"pn", {{"path", "tess"}}},   {"pn", {{"path", "cpu"}}},   {"osd-fas", {{"path", "tess"}}}, {"osd-fas", {{"path", "cpu"}}},
     {"uniform", {}}};
+// The same on the 3 x 3 subdivided cube, where acc2 and pn find nothing a patch away from the outline.
+const std::vector<Variant> kPatchSchemesOnTheCube = {
+    {"acc1", {{"path", "tess"}}},      {"acc1", {{"path", "cpu"}}},      {"acc2", {{"path", "tess"}}, false},
+    {"acc2", {{"path", "cpu"}}, false}, {"pn", {{"path", "tess"}}, false}, {"pn", {{"path", "cpu"}}, false},
+    {"osd-fas", {{"path", "tess"}}},   {"osd-fas", {{"path", "cpu"}}},   {"uniform", {}}};
+// A torus fine enough that some of its back lies a patch away from every outline.
+Cage fineTorus() { return test::makeTorus(36, 18); }
 
 // The torus with every face's winding reversed: closed, but its normals point inward.
 Cage insideOutTorus() {
@@ -223,11 +233,11 @@ TEST(PlanCulling, InsideOutTorusCullsOnlyByTheFrustum) {
 }
 
 TEST(SchemeCulling, ClosedTorusDrawsTheSamePixelsWithFewerPatches) {
-    expectSamePixelsFewerPatches(test::makeTorus(), "torus", true, kPatchSchemes);
+    expectSamePixelsFewerPatches(fineTorus(), "torus 36 x 18", true, kPatchSchemes);
 }
 
 TEST(SchemeCulling, ClosedCubeWithExtraordinaryVerticesDrawsTheSamePixels) {
-    expectSamePixelsFewerPatches(test::makeSubdividedCube(3), "subdivided cube", true, kPatchSchemes);
+    expectSamePixelsFewerPatches(test::makeSubdividedCube(3), "subdivided cube", true, kPatchSchemesOnTheCube);
 }
 
 TEST(SchemeCulling, OpenGridCullsOnlyByTheFrustum) {
@@ -269,7 +279,7 @@ TEST(SchemeCulling, ObjectsOfOneFrameEachDrawTheirOwnCulledPatches) {
     Result<VulkanContext> context = test::createTestContext();
     ASSERT_TRUE(context.ok()) << context.error().message;
     PlanDatabase database;
-    Result<PlannedCage> planned = PlannedCage::create(test::makeTorus(), database, PlanOptions{}, "torus");
+    Result<PlannedCage> planned = PlannedCage::create(fineTorus(), database, PlanOptions{}, "torus");
     ASSERT_TRUE(planned.ok());
     const std::vector<RenderCamera> all = views(planned->cage());
     const RenderCamera cameras[2] = {all[0], all[3]};  // opposite sides: different patches culled

@@ -112,13 +112,23 @@ public:
         if (!patches) return patches.error();
         patches_ = std::move(*patches);
         std::vector<std::pair<uint32_t, uint32_t>> pairs;  // a Far patch lies in its ptex face, our sub-face
+        std::vector<std::vector<uint32_t>> atPoint;        // per refined vertex: the patches with it on an edge
         patchFirstIndex_.assign(1, 0);
         for (uint32_t p = 0; p < patches_.layout.size(); ++p) {
             pairs.push_back({uint32_t(patches_.table->GetPatchParam(patches_.layout[p].handle).GetFaceId()), p});
             patchFirstIndex_.push_back(patches_.layout[p].firstIndex + patches_.layout[p].indexCount);
+            for (const auto& edge : patches_.layout[p].edgePoints)
+                for (uint32_t point : edge)
+                    if (point != kNoEdgeMidpoint) {
+                        if (point >= atPoint.size()) atPoint.resize(point + 1);
+                        atPoint[point].push_back(p);
+                    }
         }
+        // Neighbours (scheme_culling.h) meet through shared refined vertices (a transition edge
+        // lists the finer neighbours' corners). The displaced mesh culls by the frustum only.
         culling_ = PatchCulling{patchCover(planned.subfaceCount(), uint32_t(patches_.layout.size()), std::move(pairs)),
-                                closedOutwardSurface(planned.cage(), planned.topology())};
+                                closedOutwardSurface(planned.cage(), planned.topology()),
+                                adjacencyOfGroups(uint32_t(patches_.layout.size()), atPoint), {}};
         return success();
     }
 

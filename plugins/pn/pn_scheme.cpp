@@ -68,6 +68,19 @@ PatchCover pnCover(const PnPatches& patches) {
     return patchCover(patches.faceFirstSubface.back(), patches.stats.triangles, std::move(pairs));
 }
 
+// Triangles that may share a point: those of faces around a cage vertex, and of one face.
+CullAdjacency pnAdjacency(const PnPatches& patches, const PlannedCage& planned) {
+    const Topology& topology = planned.topology();
+    std::vector<std::vector<uint32_t>> groups(planned.cage().vertexCount() + planned.cage().faceCount());
+    auto addFace = [&](std::vector<uint32_t>& group, uint32_t face) {
+        for (uint32_t t = patches.faceFirstTriangle[face]; t < patches.faceFirstTriangle[face + 1]; ++t) group.push_back(t);
+    };
+    for (uint32_t v = 0; v < planned.cage().vertexCount(); ++v)
+        for (uint32_t k = topology.vertexFaceOffsets[v]; k < topology.vertexFaceOffsets[v + 1]; ++k) addFace(groups[v], topology.vertexFaces[k]);
+    for (uint32_t f = 0; f < planned.cage().faceCount(); ++f) addFace(groups[planned.cage().vertexCount() + f], f);
+    return adjacencyOfGroups(patches.stats.triangles, groups);
+}
+
 class PnScheme final : public Scheme {
 public:
     SupportReport support(const CageFeatures& features, const SchemeSettings& settings) const override {
@@ -89,7 +102,8 @@ public:
         path_ = *path;
         if (Status built = rebuild(); !built) return built;
         prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
-        culling_ = PatchCulling{pnCover(patches_), closedOutwardSurface(planned.cage(), planned.topology())};
+        culling_ = PatchCulling{pnCover(patches_), closedOutwardSurface(planned.cage(), planned.topology()),
+                                pnAdjacency(patches_, planned), subfaceAdjacency(planned)};
         return success();
     }
 

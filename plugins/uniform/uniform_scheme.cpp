@@ -19,8 +19,10 @@
 // cone of their normals (the exact set of the face's normals: the surface drawn is these flat
 // triangles); for pplane every triangle's own plane, so a face is culled exactly when every one
 // of its triangles faces away. The indices are ordered by face, and a frame draws the ranges of
-// the faces kept. Displaced: per sub-face grid, frustum only, each box grown by its tile's
-// largest |D|. Back-patch tests only on a closed, outward cage.
+// the faces kept; a face facing away is culled only when no face around it is drawn
+// (scheme_culling.h: at a fold a back-facing triangle can win the depth test along the edge it
+// shares with a front-facing one). Displaced: per sub-face grid, frustum only, each box grown by
+// its tile's largest |D|. Back-patch tests only on a closed, outward cage.
 #include <algorithm>
 #include <cmath>
 #include <string>
@@ -70,7 +72,8 @@ public:
         for (uint32_t f = 0; f < planned.cage().faceCount(); ++f)
             for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) pairs.push_back({s, f});
         culling_ = PatchCulling{patchCover(planned.subfaceCount(), planned.cage().faceCount(), std::move(pairs)),
-                                closedOutwardSurface(planned.cage(), planned.topology())};
+                                closedOutwardSurface(planned.cage(), planned.topology()),
+                                adjacencyOfGroups(planned.cage().faceCount(), facesAroundVertices(planned)), {}};
         return success();
     }
 
