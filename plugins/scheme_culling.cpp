@@ -26,8 +26,8 @@ void ensureBounds(PatchCulling& culling, bool perSubface, const PatchBounds& pat
     stats.cullMilliseconds += millisecondsSince(start);
 }
 
-// Seams (scheme_culling.h): of `culled` (sorted), the entries outside the frustum and the
-// back-facing ones none of whose neighbours is drawn; the others are drawn after all.
+}  // namespace
+
 std::vector<uint32_t> keepBesideDrawn(std::vector<uint32_t> culled, const CullAdjacency& neighbours, const PatchCullSet& set,
                                       const DrawView& view, DrawStats& stats) {
     if (neighbours.items.empty() || stats.cull.backFacing == 0) return culled;
@@ -48,8 +48,6 @@ std::vector<uint32_t> keepBesideDrawn(std::vector<uint32_t> culled, const CullAd
     stats.cullMilliseconds += millisecondsSince(start);
     return kept;
 }
-
-}  // namespace
 
 CullAdjacency adjacencyOfGroups(uint32_t entries, const std::vector<std::vector<uint32_t>>& groups) {
     std::vector<std::vector<uint32_t>> around(entries);

@@ -46,6 +46,11 @@ CullAdjacency adjacencyOfGroups(uint32_t entries, const std::vector<std::vector<
 std::vector<std::vector<uint32_t>> facesAroundVertices(const PlannedCage& planned);
 // Sub-faces of faces that share a vertex.
 CullAdjacency subfaceAdjacency(const PlannedCage& planned);
+// Outlines (above): of `culled` (sorted, what cullPatches gave for `view`), the entries outside
+// the frustum and the back-facing ones none of whose `neighbours` is drawn; the others are drawn
+// after all (and leave stats.cull.backFacing). No-op without neighbours.
+std::vector<uint32_t> keepBesideDrawn(std::vector<uint32_t> culled, const CullAdjacency& neighbours, const PatchCullSet& set,
+                                      const DrawView& view, DrawStats& stats);
 
 // Which sub-faces each patch covers part of, both ways.
 struct PatchCover {

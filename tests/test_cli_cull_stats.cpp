@@ -43,12 +43,12 @@ std::string savedCage(const qp::Cage& cage, const std::string& name) {
 }  // namespace
 
 TEST(CliCullStats, ClosedTorusKeepsThePromisesAndCullsInOrder) {
-    const std::string torus = savedCage(qp::test::makeTorus(), "torus.obj");
+    const std::string torus = savedCage(qp::test::makeTorus(24, 12), "torus.obj");
     for (const std::string path : {"cpu", "tess"}) {
         const json out = cullStats(torus, "--path " + path);
         ASSERT_TRUE(out.is_object()) << path;
         EXPECT_EQ(out["views"], 4);
-        EXPECT_EQ(out["patches"], 72) << "12 x 6 quads, one sub-face each";
+        EXPECT_EQ(out["patches"], 288) << "24 x 12 quads, one sub-face each";
         EXPECT_TRUE(out["closed"].get<bool>());
         EXPECT_GT(out["visible_subfaces"].get<double>(), 0.0) << "the ID buffer shows the surface";
         EXPECT_EQ(out["visible_culled"], 0) << path;
@@ -82,7 +82,7 @@ TEST(CliCullStats, OpenGridCullsNothingAsFacingAway) {
 }
 
 TEST(CliCullStats, RenderAndCompareReportTheirCulling) {
-    const std::string torus = savedCage(qp::test::makeTorus(), "torus-render.obj");
+    const std::string torus = savedCage(qp::test::makeTorus(24, 12), "torus-render.obj");
     const std::string png = temp("render.png");
     qp::test::CommandRun run = runQuadplan("render " + torus + " --out " + png + " --size 96x80 --tess 4 --cull pplane --json");
     ASSERT_EQ(run.status, 0) << run.out;
@@ -90,11 +90,11 @@ TEST(CliCullStats, RenderAndCompareReportTheirCulling) {
     ASSERT_TRUE(render.is_object()) << run.out;
     EXPECT_EQ(render["scheme"], "plans");
     EXPECT_EQ(render["cull"]["method"], "pplane");
-    EXPECT_EQ(render["cull"]["tested"], 72);
+    EXPECT_EQ(render["cull"]["tested"], 288);
     EXPECT_GT(render["cull"]["back_facing"].get<uint64_t>(), 0u);
     EXPECT_EQ(render["patches"].get<uint64_t>() + render["cull"]["frustum"].get<uint64_t>() +
                   render["cull"]["back_facing"].get<uint64_t>(),
-              72u)
+              288u)
         << "the patches drawn leave the culled ones out";
     EXPECT_TRUE(render["cull"].contains("cull_ms"));
 

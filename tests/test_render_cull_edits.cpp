@@ -55,7 +55,7 @@ TEST(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
     ASSERT_TRUE(context.ok()) << context.error().message;
     const PluginCatalog catalog = loadPlugins(QUADPLAN_PLUGIN_DIR);
     PlanDatabase database;
-    Result<PlannedCage> planned = PlannedCage::create(test::makeTorus(), database, PlanOptions{}, "torus");
+    Result<PlannedCage> planned = PlannedCage::create(test::makeTorus(24, 12), database, PlanOptions{}, "torus");
     ASSERT_TRUE(planned.ok());
     const Bounds bounds = computeBounds(planned->cage());
     RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
@@ -103,7 +103,8 @@ TEST(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
         const auto holed = instance.draw(camera, CullMethod::PPlane);
         const auto holedPlain = instance.draw(camera, CullMethod::None);
         EXPECT_EQ(differing(holed.first, holedPlain.first), 0u) << path << ": with a hole";
-        EXPECT_EQ(holed.second, holedPlain.second) << path << ": nothing faces away behind a hole";
+        EXPECT_EQ(holed.second, instance.draw(camera, CullMethod::Frustum).second)
+            << path << ": with a hole only the frustum culls";
 
         // Back as it was, for the next path.
         ASSERT_TRUE(planned->setHole(0, false).ok());

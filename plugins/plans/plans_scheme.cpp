@@ -45,6 +45,7 @@
 #include "vk_commands.h"
 #include "scheme_api.h"
 #include "closed_surface.h"
+#include "scheme_culling.h"
 #include "scheme_support.h"
 #include "subface_cull_bounds.h"
 
@@ -330,6 +331,7 @@ private:
         if (cullBounds_ && cullDetail_ < detail) cullBounds_.reset();
         if (!cullBounds_) {
             cullBounds_ = buildSubfaceCullBounds(*planned_, detail);
+            cullNeighbours_ = subfaceAdjacency(*planned_);
             cullDetail_ = detail;
             cullStale_.clear();
             closed_ = closedOutwardSurface(planned_->cage(), planned_->topology());
@@ -351,7 +353,12 @@ private:
         }
         stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         std::vector<uint32_t> drawn;
-        const std::vector<uint32_t> culled = cullForView(*cullBounds_, closed_, cullMargins_, view, stats);
+        // Outlines (scheme_culling.h): the bounds hold the limit surface, the rasteriser draws its
+        // triangles, and cull-stats found a facing-away sub-face beside a drawn one owning an
+        // outline pixel at factor 8 (the chord error); so only those a sub-face away from every
+        // drawn one are culled.
+        const std::vector<uint32_t> culled =
+            keepBesideDrawn(cullForView(*cullBounds_, closed_, cullMargins_, view, stats), cullNeighbours_, *cullBounds_, view, stats);
         for (uint32_t s : culled)
             if (s < buffers_.drawnOfSubface.size() && buffers_.drawnOfSubface[s] != UINT32_MAX)
                 drawn.push_back(buffers_.drawnOfSubface[s]);
@@ -389,6 +396,7 @@ private:
     std::vector<uint32_t> hiddenDrawn_;     // this draw's DrawView::hiddenSubfaces as drawn indices (and culled ones)
     std::vector<uint32_t> culledDrawn_;     // this draw's culled sub-faces as drawn indices
     std::optional<PatchCullSet> cullBounds_;  // built when first needed after a change
+    CullAdjacency cullNeighbours_;          // sub-faces sharing a cage vertex (keepBesideDrawn)
     CullMethod cullDetail_ = CullMethod::None;  // what cullBounds_ serves (PatchCullLeaves::detail)
     std::vector<uint32_t> cullStale_;       // sorted sub-faces whose bounds changed since
     bool closed_ = false;                   // back-patch tests apply (closedOutwardSurface)
