@@ -11,6 +11,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "bezier_test_support.h"
 #include "closed_surface.h"
 #include "patch_cull_set.h"
 #include "planned_cage.h"
@@ -21,23 +22,12 @@ using namespace qp;
 
 namespace {
 
-// Position and unit normal of a bicubic Bézier patch, in double (huge coordinates stay exact enough).
+// Position and normal (du x dv) of a bicubic Bézier patch, in double (huge coordinates stay
+// exact enough).
 glm::dvec3 pointAt(const BicubicPoints& p, double u, double v, glm::dvec3* normal) {
-    auto bern = [](double t, double* b, double* d) {
-        const double s = 1.0 - t;
-        b[0] = s * s * s, b[1] = 3 * t * s * s, b[2] = 3 * t * t * s, b[3] = t * t * t;
-        d[0] = -3 * s * s, d[1] = 3 * s * s - 6 * t * s, d[2] = 6 * t * s - 3 * t * t, d[3] = 3 * t * t;
-    };
-    double bu[4], du[4], bv[4], dv[4];
-    bern(u, bu, du);
-    bern(v, bv, dv);
-    glm::dvec3 out(0.0), ou(0.0), ov(0.0);
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) {
-            const glm::dvec3 q(p[4 * r + c]);
-            out += bu[c] * bv[r] * q, ou += du[c] * bv[r] * q, ov += bu[c] * dv[r] * q;
-        }
-    *normal = glm::cross(ou, ov);
+    glm::dvec3 du, dv;
+    const glm::dvec3 out = test::bicubicBezierAt(p, u, v, &du, &dv);
+    *normal = glm::cross(du, dv);
     return out;
 }
 

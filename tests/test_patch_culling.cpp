@@ -9,6 +9,7 @@
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "bezier_test_support.h"
 #include "patch_basis.h"
 #include "patch_cull_set.h"
 #include "patch_culling.h"
@@ -18,24 +19,7 @@ using namespace qp;
 namespace {
 
 glm::vec3 bezierPoint(const BicubicPoints& p, float u, float v, glm::vec3* du = nullptr, glm::vec3* dv = nullptr) {
-    auto bern = [](float t, float* b, float* d) {
-        const float s = 1.0f - t;
-        b[0] = s * s * s, b[1] = 3 * t * s * s, b[2] = 3 * t * t * s, b[3] = t * t * t;
-        d[0] = -3 * s * s, d[1] = 3 * s * s - 6 * t * s, d[2] = 6 * t * s - 3 * t * t, d[3] = 3 * t * t;
-    };
-    float bu[4], du1[4], bv[4], dv1[4];
-    bern(u, bu, du1);
-    bern(v, bv, dv1);
-    glm::vec3 out(0.0f), ou(0.0f), ov(0.0f);
-    for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) {
-            out += bu[c] * bv[r] * p[4 * r + c];
-            ou += du1[c] * bv[r] * p[4 * r + c];
-            ov += bu[c] * dv1[r] * p[4 * r + c];
-        }
-    if (du) *du = ou;
-    if (dv) *dv = ov;
-    return out;
+    return test::bicubicBezierAt(p, u, v, du, dv);
 }
 
 // A patch over [0, 1]^2 bent by a random quadratic height and jittered control points: from flat
