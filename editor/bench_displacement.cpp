@@ -52,9 +52,9 @@ DisplacementBenchResult measureDisplacementDabs(const VulkanContext& ctx, const 
         return result;
     }
     PlanBuffers& buffers = *uploaded;
-    bindPlanBuffers(ctx, *pass, buffers);
     result.gridFactor = std::min(requiredMeshFactor(*planned, displacement.layout), 64u);
-    Status ready = setPlanDisplacement(ctx, *pass, buffers, &displacement);
+    Status ready = bindPlanBuffers(ctx, *pass, buffers);
+    if (ready) ready = setPlanDisplacement(ctx, *pass, buffers, &displacement);
     if (ready) ready = prepareGrid(ctx, *pass, buffers, result.gridFactor);
     if (!ready) {
         result.error = ready.error().message;

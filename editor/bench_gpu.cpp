@@ -162,8 +162,9 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                             "grid drag | cpu drag | B-spline |\n"
                             "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     bool coverageDiffers = false;
+    if (error.empty())
+        if (Status s = bindPlanBuffers(ctx, pass, buffers); !s) error = s.error().message;
     if (error.empty()) {
-        bindPlanBuffers(ctx, pass, buffers);
         const Bounds bounds = computeBounds(bench.cage);
         const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
         PlanView view;
@@ -445,8 +446,9 @@ void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report)
         }
     };
     std::vector<std::pair<std::string, std::vector<uint64_t>>> trianglesPerScheme;  // over the factors
+    if (error.empty())
+        if (Status s = bindPlanBuffers(ctx, pass, buffers); !s) error = s.error().message;
     if (error.empty()) {
-        bindPlanBuffers(ctx, pass, buffers);
         const Bounds bounds = computeBounds(bench.cage);
         const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
         PlanView view;

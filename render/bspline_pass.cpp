@@ -25,7 +25,8 @@ Result<BSplinePass> createBSplinePass(const VulkanContext& ctx, VkPipelineCache 
     std::vector<VkPipelineShaderStageCreateInfo> stages;
     const ColorEncoding encoding(plans.colorFormat);
     for (auto [name, stage] : names)
-        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, loadShaderModule(ctx, name), "main",
+        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage,
+                          loadShaderModule(ctx, planShaderVariant(plans, name)), "main",
                           stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
 
     VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};

@@ -25,7 +25,8 @@ constexpr uint32_t kCaptureHeaderBytes = 16;
 
 // The pass's own descriptor set (one cage per pass).
 Status allocateSet(const VulkanContext& ctx, PlanPass& pass) {
-    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kPlanBindingCount};
+    const VkDescriptorPoolSize poolSize = pass.byAddress ? VkDescriptorPoolSize{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}
+                                                         : VkDescriptorPoolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kPlanBufferCount};
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
     poolInfo.poolSizeCount = 1;
@@ -175,6 +176,7 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
         {b.displacementTiles, createFilled(ctx, std::vector<uint32_t>{})},
         {b.displacementPadded, createFilled(ctx, std::vector<uint32_t>{})},
         {b.displacementSamples, createFilled(ctx, std::vector<uint32_t>{})},
+        {b.addresses, createBuffer(ctx, sizeof(PlanAddresses), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT)},
     };
     b.drawnOfSubface.assign(planned.subfaceCount(), UINT32_MAX);
     for (uint32_t drawn = 0; drawn < d.subfaces.size(); ++drawn) b.drawnOfSubface[d.subfaces[drawn].subface] = drawn;
@@ -205,19 +207,20 @@ void destroyPlanBuffers(const VulkanContext& ctx, PlanBuffers& b) {
     for (Buffer* buffer : {&b.planHeaders, &b.nodes, &b.points, &b.weights, &b.subfaces, &b.rings, &b.positions,
                            &b.controlPoints, &b.boundaries, &b.segments, &b.boundaryPoints, &b.pointPositions, &b.capture,
                            &b.subfaceGrid, &b.grid, &b.gridSource, &b.slotSubface, &b.gridIndices, &b.updateList,
-                           &b.displacementTiles, &b.displacementPadded, &b.displacementSamples})
+                           &b.displacementTiles, &b.displacementPadded, &b.displacementSamples, &b.addresses})
         destroyBuffer(ctx, *buffer);
     b = PlanBuffers{};
 }
 
 Result<PlanPass> createPlanPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
-                                VkFormat depthFormat) {
+                                VkFormat depthFormat, bool byAddress) {
     Result<PlanPass> shared = sharedDeviceObject<PlanPass>(
-        ctx, sharedPassKey("plan", colorFormat, depthFormat),
+        ctx, sharedPassKey(byAddress ? "plan-by-address" : "plan", colorFormat, depthFormat),
         [&]() -> Result<PlanPass> {
             PlanPass pipelines;
             pipelines.colorFormat = colorFormat;
             pipelines.depthFormat = depthFormat;
+            pipelines.byAddress = byAddress;
             if (Status s = createPlanPipelines(ctx, cache, pipelines); !s) {
                 destroyPlanPipelines(ctx, pipelines);
                 return s.error();
@@ -227,6 +230,8 @@ Result<PlanPass> createPlanPass(const VulkanContext& ctx, VkPipelineCache cache,
         destroyPlanPipelines);
     if (!shared) return shared.error();
     PlanPass pass = *shared;
+    pass.cache = cache;
+    pass.alwaysByAddress = byAddress;
     if (Status s = allocateSet(ctx, pass); !s) {
         destroyPlanPass(ctx, pass);
         return s.error();
@@ -239,21 +244,46 @@ void destroyPlanPass(const VulkanContext& ctx, PlanPass& pass) {
     pass = PlanPass{};  // the pipelines and layouts are the device's (shared_pipelines.h)
 }
 
-void bindPlanBuffers(const VulkanContext& ctx, PlanPass& pass, const PlanBuffers& b) {
-    // Binding numbers as the shaders declare them.
-    const Buffer* order[kPlanBindingCount] = {&b.planHeaders, &b.nodes,      &b.points,       &b.weights,     &b.subfaces,
+Status bindPlanBuffers(const VulkanContext& ctx, PlanPass& pass, const PlanBuffers& b) {
+    // In the order of the shaders' bindings (shaders/plan_buffers.glsl).
+    const Buffer* order[kPlanBufferCount] = {&b.planHeaders, &b.nodes,      &b.points,       &b.weights,     &b.subfaces,
                                           &b.rings,       &b.positions,  &b.controlPoints, &b.grid,       &b.boundaries,
                                           &b.segments,    &b.boundaryPoints, &b.subfaceGrid, &b.pointPositions,
                                           &b.capture,     &b.updateList, &b.gridSource,   &b.slotSubface,
                                           &b.displacementTiles, &b.displacementPadded, &b.displacementSamples};
-    VkDescriptorBufferInfo infos[kPlanBindingCount];
-    VkWriteDescriptorSet writes[kPlanBindingCount];
-    for (uint32_t i = 0; i < kPlanBindingCount; ++i) {
-        infos[i] = {order[i]->buffer, 0, VK_WHOLE_SIZE};
-        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, pass.set, i, 0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                     nullptr, &infos[i], nullptr};
+    const bool byAddress = pass.alwaysByAddress || std::any_of(std::begin(order), std::end(order), [&](const Buffer* buffer) {
+        return buffer->size > ctx.properties.limits.maxStorageBufferRange;
+    });
+    if (byAddress != pass.byAddress) {
+        Result<PlanPass> other = createPlanPass(ctx, pass.cache, pass.colorFormat, pass.depthFormat, byAddress);
+        if (!other) return other.error();
+        destroyPlanPass(ctx, pass);
+        pass = *other;
     }
-    vkUpdateDescriptorSets(ctx.device, kPlanBindingCount, writes, 0, nullptr);
+    if (!byAddress) {
+        VkDescriptorBufferInfo infos[kPlanBufferCount];
+        VkWriteDescriptorSet writes[kPlanBufferCount];
+        for (uint32_t i = 0; i < kPlanBufferCount; ++i) {
+            infos[i] = {order[i]->buffer, 0, VK_WHOLE_SIZE};
+            writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, pass.set, i, 0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                         nullptr, &infos[i], nullptr};
+        }
+        vkUpdateDescriptorSets(ctx.device, kPlanBufferCount, writes, 0, nullptr);
+        return success();
+    }
+    PlanAddresses addresses{};
+    for (uint32_t i = 0; i < kPlanBufferCount; ++i) {
+        assert(order[i]->address && "a storage buffer");
+        addresses.buffers[i] = order[i]->address;
+    }
+    addresses.controlPointCount = uint32_t(b.controlPoints.size / sizeof(glm::vec4));
+    addresses.dispPaddedCount = uint32_t(b.displacementPadded.size / sizeof(uint32_t));
+    uploadBuffer(b.addresses, &addresses, sizeof addresses);
+    const VkDescriptorBufferInfo info{b.addresses.buffer, 0, sizeof(PlanAddresses)};
+    const VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, pass.set, 0, 0, 1,
+                                     VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, nullptr, &info, nullptr};
+    vkUpdateDescriptorSets(ctx.device, 1, &write, 0, nullptr);
+    return success();
 }
 
 float pixelsPerUnit(const glm::mat4& projection, uint32_t viewportHeight) {
@@ -318,13 +348,13 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
 namespace {
 
 // A buffer of at least `bytes`: `buffer` itself when it is big enough, else a new one.
-// Grown with an eighth to spare (within the storage buffer range), so that the edits after the
-// first that adds sub-faces keep the buffer and move the grid inside it (carryGrid).
+// Grown with an eighth to spare (within the largest buffer the device makes), so that the edits
+// after the first that adds sub-faces keep the buffer and move the grid inside it (carryGrid).
 Status ensureCapacity(const VulkanContext& ctx, Buffer& buffer, VkDeviceSize bytes, VkBufferUsageFlags usage) {
     bytes = std::max<VkDeviceSize>(bytes, 16);
     if (buffer.size >= bytes) return success();
-    const VkDeviceSize range = ctx.properties.limits.maxStorageBufferRange;
-    const VkDeviceSize spare = bytes < range ? std::min<VkDeviceSize>(bytes / 8, range - bytes) : 0;
+    const VkDeviceSize largest = ctx.maxBufferBytes;
+    const VkDeviceSize spare = bytes < largest ? std::min<VkDeviceSize>(bytes / 8, largest - bytes) : 0;
     Result<Buffer> bigger = createBuffer(ctx, bytes + spare, usage);
     if (!bigger) return bigger.error();
     destroyBuffer(ctx, buffer);
@@ -372,11 +402,6 @@ Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffer
 
 Status installGridLayout(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridLayout layout) {
     const VkDeviceSize gridBytes = VkDeviceSize(layout.slotCount()) * sizeof(GridVertex);
-    if (gridBytes > ctx.properties.limits.maxStorageBufferRange)
-        return Error{"the grid (" + std::to_string(gridBytes >> 20) + " MiB at factor " + std::to_string(layout.maxFactor) +
-                     ") is larger than the Vulkan device's storage buffer range (" +
-                     std::to_string(ctx.properties.limits.maxStorageBufferRange >> 20) +
-                     " MiB): use a lower factor or the tessellated path"};
     std::vector<glm::uvec2> subfaceGrid(buffers.data.subfaces.size());
     for (uint32_t d = 0; d < subfaceGrid.size(); ++d)
         subfaceGrid[d] = {layout.factors.subfaceFactor[d], layout.subfaceOffset[d]};
@@ -394,8 +419,7 @@ Status installGridLayout(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& 
     uploadVector(buffers.subfaceGrid, subfaceGrid);
     uploadVector(buffers.gridIndices, layout.indices);
     buffers.gridLayout = std::move(layout);
-    bindPlanBuffers(ctx, pass, buffers);
-    return success();
+    return bindPlanBuffers(ctx, pass, buffers);
 }
 
 GridFactors adaptiveGridFactors(const PlanBuffers& buffers, const PlanView& view, const TessellationSettings& settings) {
@@ -626,8 +650,7 @@ Status setPlanDisplacement(const VulkanContext& ctx, PlanPass& pass, PlanBuffers
     buffers.displacement = displacement;
     buffers.displacementUsers = displacement ? buildDisplacementUsers(displacement->layout) : DisplacementUsers{};
     buffers.gridEvaluator = GridEvaluator::None;
-    bindPlanBuffers(ctx, pass, buffers);
-    return success();
+    return bindPlanBuffers(ctx, pass, buffers);
 }
 
 DisplacementUpdate recordDisplacementChange(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,

@@ -68,6 +68,7 @@ struct PlanBuffers {
     GpuPlanData data;               // what was uploaded, kept for sizes, updates and tests
     Buffer planHeaders, nodes, points, weights, subfaces, rings, positions, controlPoints;
     Buffer boundaries, segments, boundaryPoints, pointPositions, capture;
+    Buffer addresses;               // PlanAddresses (plan_pipelines.h): where the shaders find the others
     uint32_t captureCapacity = 0;   // records the capture buffer holds
     std::vector<glm::vec4> pointPositionsHost;  // what pointPositions holds (adaptive grid factors)
 
@@ -124,20 +125,29 @@ struct PlanPass {
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;
     VkFormat colorFormat = VK_FORMAT_UNDEFINED, depthFormat = VK_FORMAT_UNDEFINED;
+    // The shaders reach the buffers by device address (shaders/plan_buffers.glsl) instead of
+    // through storage-buffer descriptors: bindPlanBuffers switches when a buffer is larger than
+    // the device's storage buffer range, so no cage is refused for its size.
+    bool byAddress = false;
+    bool alwaysByAddress = false;            // made by address (createPlanPass): never switches back
+    VkPipelineCache cache = VK_NULL_HANDLE;  // what the pipelines of the other variant are made through
 };
 
-// The layouts and pipelines are made once per device and formats and shared by every pass
-// (shared_pipelines.h: a new pass, for a rebuild or another viewport, compiles nothing); the
-// descriptor pool and set are the pass's own.
+// The layouts and pipelines are made once per device, formats and variant and shared by every
+// pass (shared_pipelines.h: a new pass, for a rebuild or another viewport, compiles nothing); the
+// descriptor pool and set are the pass's own. `byAddress`: always the by-address variant (else
+// bindPlanBuffers picks it when the buffers need it).
 Result<PlanPass> createPlanPass(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat,
-                                VkFormat depthFormat = VK_FORMAT_D32_SFLOAT);
+                                VkFormat depthFormat = VK_FORMAT_D32_SFLOAT, bool byAddress = false);
 // Frees the pass's descriptor pool; the shared pipelines stay with the device.
 void destroyPlanPass(const VulkanContext& context, PlanPass& pass);
 
 // Points the pass's descriptor set at `buffers`: after uploadPlans and enableCapture
 // (prepareGrid rebinds itself when it replaces buffers). One set per pass: a pass draws one
-// cage.
-void bindPlanBuffers(const VulkanContext& context, PlanPass& pass, const PlanBuffers& buffers);
+// cage. When a buffer is larger than the device's storage buffer range the pass becomes its
+// by-address variant (and back when none is); fails only when those pipelines cannot be made.
+// Call while no submitted work uses the pass.
+Status bindPlanBuffers(const VulkanContext& context, PlanPass& pass, const PlanBuffers& buffers);
 
 // Where the plans' studio lights are in the world (toward the light; normalised in use).
 inline constexpr glm::vec3 kPlanKeyLight{0.3f, 0.5f, 1.0f}, kPlanFillLight{-0.6f, 0.8f, -0.2f};

@@ -1,5 +1,6 @@
 #include "plan_pipelines.h"
 
+#include <string>
 #include <vector>
 
 #include "shader_code.h"
@@ -9,9 +10,10 @@ namespace qp {
 
 namespace {
 
-Result<VkPipeline> createComputePipeline(const VulkanContext& ctx, VkPipelineCache cache, VkPipelineLayout layout,
+Result<VkPipeline> createComputePipeline(const VulkanContext& ctx, VkPipelineCache cache, const PlanPass& pass,
                                          const char* shader) {
-    VkShaderModule module = loadShaderModule(ctx, shader);
+    VkShaderModule module = loadShaderModule(ctx, planShaderVariant(pass, shader));
+    const VkPipelineLayout layout = pass.computeLayout;
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
     info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module, "main"};
     info.layout = layout;
@@ -23,20 +25,21 @@ Result<VkPipeline> createComputePipeline(const VulkanContext& ctx, VkPipelineCac
 }
 
 struct GraphicsStages {
-    const char* vertex;
-    const char* control;     // null: no tessellation
-    const char* evaluation;
-    const char* fragment;
+    std::string vertex;
+    std::string control;     // empty: no tessellation
+    std::string evaluation;
+    std::string fragment;
 };
+
 
 Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache cache, const PlanPass& pass,
                                       const GraphicsStages& names, bool wireframe) {
-    const bool tessellated = names.control != nullptr;
+    const bool tessellated = !names.control.empty();
     std::vector<VkShaderModule> modules;
     std::vector<VkPipelineShaderStageCreateInfo> stages;
     const ColorEncoding encoding(pass.colorFormat);
-    auto addStage = [&](const char* name, VkShaderStageFlagBits stage) {
-        modules.push_back(loadShaderModule(ctx, name));
+    auto addStage = [&](const std::string& name, VkShaderStageFlagBits stage) {
+        modules.push_back(loadShaderModule(ctx, planShaderVariant(pass, name)));
         stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, modules.back(), "main",
                           stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
     };
@@ -119,12 +122,20 @@ Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache 
 
 }  // namespace
 
+std::string planShaderVariant(const PlanPass& pass, const std::string& name) {
+    if (!pass.byAddress || name.empty() || name == "plan.vert") return name;
+    const size_t dot = name.find('.');
+    return name.substr(0, dot) + "_by_address" + name.substr(dot);
+}
+
 Status createPlanPipelines(const VulkanContext& ctx, VkPipelineCache cache, PlanPass& pass) {
-    VkDescriptorSetLayoutBinding bindings[kPlanBindingCount];
-    for (uint32_t b = 0; b < kPlanBindingCount; ++b)
+    // By address: one uniform block of addresses; else the buffers themselves, in that order.
+    VkDescriptorSetLayoutBinding bindings[kPlanBufferCount];
+    for (uint32_t b = 0; b < kPlanBufferCount; ++b)
         bindings[b] = {b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kPlanAllStages, nullptr};
+    if (pass.byAddress) bindings[0].descriptorType = VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    setInfo.bindingCount = kPlanBindingCount;
+    setInfo.bindingCount = pass.byAddress ? 1 : kPlanBufferCount;
     setInfo.pBindings = bindings;
     VK_CHECK(vkCreateDescriptorSetLayout(ctx.device, &setInfo, nullptr, &pass.setLayout));
 
@@ -144,16 +155,16 @@ Status createPlanPipelines(const VulkanContext& ctx, VkPipelineCache cache, Plan
         out = *r;
         return success();
     };
-    if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_stencils.comp"), pass.stencils); !s) return s;
-    if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_grid_undisplaced.comp"), pass.grid); !s)
+    if (Status s = assign(createComputePipeline(ctx, cache, pass, "plan_stencils.comp"), pass.stencils); !s) return s;
+    if (Status s = assign(createComputePipeline(ctx, cache, pass, "plan_grid_undisplaced.comp"), pass.grid); !s)
         return s;
-    if (Status s = assign(createComputePipeline(ctx, cache, pass.computeLayout, "plan_grid.comp"), pass.gridDisplaced); !s)
+    if (Status s = assign(createComputePipeline(ctx, cache, pass, "plan_grid.comp"), pass.gridDisplaced); !s)
         return s;
     const GraphicsStages tess{"plan.vert", "plan.tesc", "plan_undisplaced.tese", "plan.frag"};
     const GraphicsStages tessDisplaced{"plan.vert", "plan.tesc", "plan.tese", "plan.frag"};
     // Plain shading and the wireframe pass only normals; the colour modes also the sub-face and (u, v).
-    const GraphicsStages grid{"plan_grid_lit.vert", nullptr, nullptr, "plan_lit.frag"};
-    const GraphicsStages gridColored{"plan_grid.vert", nullptr, nullptr, "plan.frag"};
+    const GraphicsStages grid{"plan_grid_lit.vert", "", "", "plan_lit.frag"};
+    const GraphicsStages gridColored{"plan_grid.vert", "", "", "plan.frag"};
     if (!ctx.features.tessellationShader)
         return Error{"the Vulkan device '" + ctx.deviceName + "' has no tessellation shaders"};
     if (Status s = assign(createDrawPipeline(ctx, cache, pass, tess, false), pass.tessellated); !s) return s;

@@ -1,5 +1,5 @@
-// The plan pass's device objects: its descriptor set layout (kPlanBindingCount storage buffers
-// for every stage), the push-constant blocks its shaders read, and its pipelines (compute:
+// The plan pass's device objects: its descriptor set layout (one uniform block, PlanAddresses:
+// where each buffer is, read by every stage), the push-constant blocks its shaders read, and its pipelines (compute:
 // stencils and grid; draw: tessellated, grid triangles, the grid's colour modes, wireframes).
 // The grid and tessellated pipelines come twice, with and without the displacement code (the
 // *_undisplaced stages, compiled with QP_UNDISPLACED: shaders/displacement.glsl): compiled in but
@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 #include <glm/mat4x4.hpp>
 
@@ -40,13 +41,25 @@ struct PlanComputePush {
     uint32_t listOffset;    // UINT32_MAX: every sub-face; else where the list starts in updateList
 };
 
-inline constexpr uint32_t kPlanBindingCount = 21;
+// Mirrors PlanAddresses in shaders/plan_buffers.glsl (std140: 8-byte addresses, then the counts).
+inline constexpr uint32_t kPlanBufferCount = 21;
+struct PlanAddresses {
+    VkDeviceAddress buffers[kPlanBufferCount];
+    uint32_t controlPointCount;
+    uint32_t dispPaddedCount;
+};
+static_assert(sizeof(PlanAddresses) == 8 * 21 + 8);
+
 inline constexpr VkShaderStageFlags kPlanAllStages = VK_SHADER_STAGE_COMPUTE_BIT | VK_SHADER_STAGE_VERTEX_BIT |
                                                      VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT |
                                                      VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT |
                                                      VK_SHADER_STAGE_FRAGMENT_BIT;
 // The draw layout's push range covers every drawing stage.
 inline constexpr VkShaderStageFlags kPlanDrawStages = kPlanAllStages & ~VK_SHADER_STAGE_COMPUTE_BIT;
+
+// The shader `name` (stem.stage) in the pass's variant: stem_by_address.stage when the pass
+// reaches its buffers by address (plan.vert reads none and has no variant).
+std::string planShaderVariant(const PlanPass& pass, const std::string& name);
 
 // The layouts and pipelines into `pass` (its colorFormat and depthFormat set); on failure the
 // caller destroys what was made with destroyPlanPipelines.

@@ -339,7 +339,8 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
 
     bool rebind = false;
     if (Status s = appendNewPlans(ctx, buffers, database, update, rebind); !s) {
-        if (rebind) bindPlanBuffers(ctx, pass, buffers);
+        if (rebind)
+            if (Status bound = bindPlanBuffers(ctx, pass, buffers); !bound) return bound.error();
         return s.error();
     }
     if (renumbered) {  // the cage's vertices, edges and faces have new numbers too
@@ -405,7 +406,8 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
         for (uint32_t drawn : update.refresh)
             uploadBuffer(buffers.subfaces, &data.subfaces[drawn], sizeof(GpuSubface), size_t(drawn) * sizeof(GpuSubface));
     updateHoleDrawn(buffers, planned);
-    if (rebind) bindPlanBuffers(ctx, pass, buffers);
+    if (rebind)
+        if (Status s = bindPlanBuffers(ctx, pass, buffers); !s) return s.error();
     update.applied = true;
     return update;
 }

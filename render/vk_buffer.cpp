@@ -2,6 +2,7 @@
 
 #include <cassert>
 #include <cstring>
+#include <string>
 
 #include "vk_check.h"
 
@@ -22,6 +23,8 @@ uint32_t findMemoryType(const VkPhysicalDeviceMemoryProperties& properties, uint
 namespace {
 
 Status allocate(const VulkanContext& ctx, Buffer& b, VkDeviceSize size, VkBufferUsageFlags usage) {
+    const bool addressed = usage & VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    if (addressed) usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
     VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
     info.size = size;
     info.usage = usage;
@@ -35,11 +38,20 @@ Status allocate(const VulkanContext& ctx, Buffer& b, VkDeviceSize size, VkBuffer
                                          VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
     if (type == UINT32_MAX) return Error{"no host-visible coherent memory type can hold a buffer on " + ctx.deviceName};
 
-    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+    VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+    VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO, addressed ? &flags : nullptr};
     alloc.allocationSize = requirements.size;
     alloc.memoryTypeIndex = type;
-    VK_CHECK(vkAllocateMemory(ctx.device, &alloc, nullptr, &b.memory));
+    if (VkResult r = vkAllocateMemory(ctx.device, &alloc, nullptr, &b.memory); r != VK_SUCCESS)
+        return Error{"out of memory for a buffer of " + std::to_string(size >> 20) + " MiB on " + ctx.deviceName + " (" +
+                     vkResultName(r) + ")"};
     VK_CHECK(vkBindBufferMemory(ctx.device, b.buffer, b.memory, 0));
+    if (addressed) {
+        VkBufferDeviceAddressInfo where{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+        where.buffer = b.buffer;
+        b.address = vkGetBufferDeviceAddress(ctx.device, &where);
+    }
     VK_CHECK(vkMapMemory(ctx.device, b.memory, 0, VK_WHOLE_SIZE, 0, &b.data));
     b.size = size;
     return success();
@@ -49,6 +61,10 @@ Status allocate(const VulkanContext& ctx, Buffer& b, VkDeviceSize size, VkBuffer
 
 Result<Buffer> createBuffer(const VulkanContext& ctx, VkDeviceSize size, VkBufferUsageFlags usage) {
     assert(size > 0);
+    if (ctx.maxBufferBytes && size > ctx.maxBufferBytes)
+        return Error{"a buffer of " + std::to_string(size >> 20) + " MiB is larger than " + ctx.deviceName +
+                     " can make (" + std::to_string(ctx.maxBufferBytes >> 20) +
+                     " MiB): use a lower tessellation factor or a smaller cage"};
     Buffer b;
     if (Status s = allocate(ctx, b, size, usage); !s) {
         destroyBuffer(ctx, b);

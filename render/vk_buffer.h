@@ -20,6 +20,7 @@ struct Buffer {
     VkDeviceMemory memory = VK_NULL_HANDLE;
     void* data = nullptr;  // persistently mapped
     VkDeviceSize size = 0;
+    VkDeviceAddress address = 0;  // storage buffers: where shaders reach it (buffer_reference)
 };
 
 // The index of a memory type allowed by `typeBits` with all `required` properties, preferring
@@ -27,8 +28,9 @@ struct Buffer {
 uint32_t findMemoryType(const VkPhysicalDeviceMemoryProperties& properties, uint32_t typeBits,
                         VkMemoryPropertyFlags required, VkMemoryPropertyFlags preferred = 0);
 
-// A mapped buffer of `size` bytes (> 0). Fails when memory runs out or no host-visible
-// coherent memory type accepts the buffer.
+// A mapped buffer of `size` bytes (> 0); a storage buffer also gets its device address. Fails,
+// saying so, when the device makes no buffer that large (VulkanContext::maxBufferBytes), when
+// memory runs out or no host-visible coherent memory type accepts the buffer.
 Result<Buffer> createBuffer(const VulkanContext& context, VkDeviceSize size, VkBufferUsageFlags usage);
 
 // Copies `size` bytes into the buffer at `offset`; the range must lie inside the buffer. Visible

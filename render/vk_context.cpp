@@ -84,6 +84,7 @@ struct Candidate {
     VkPhysicalDeviceProperties properties{};
     VkPhysicalDeviceFeatures features{};
     uint32_t queueFamily = 0;
+    VkDeviceSize maxBufferBytes = 0;
     int score = -1;
 };
 
@@ -107,11 +108,20 @@ std::string examine(VkPhysicalDevice device, const ContextOptions& options, Cand
     if (c.properties.apiVersion < VK_API_VERSION_1_3) return "it does not support Vulkan 1.3";
 
     VkPhysicalDeviceVulkan13Features features13{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES};
-    VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
+    VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &features13};
+    VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12};
     vkGetPhysicalDeviceFeatures2(device, &features2);
     c.features = features2.features;
     if (!features13.dynamicRendering || !features13.synchronization2 || !features13.maintenance4)
         return "it lacks dynamic rendering, synchronization2 or maintenance4";
+    if (!features12.bufferDeviceAddress || !c.features.shaderInt64)
+        return "it lacks bufferDeviceAddress or shaderInt64 (the plan shaders reach their buffers by address)";
+    VkPhysicalDeviceMaintenance4Properties maintenance4{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_4_PROPERTIES};
+    VkPhysicalDeviceMaintenance3Properties maintenance3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES,
+                                                        &maintenance4};
+    VkPhysicalDeviceProperties2 properties2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2, &maintenance3};
+    vkGetPhysicalDeviceProperties2(device, &properties2);
+    c.maxBufferBytes = std::min(maintenance4.maxBufferSize, maintenance3.maxMemoryAllocationSize);
     for (size_t i = 0; i < kFeatureCount; ++i)
         if (featureArray(options.requiredFeatures)[i] && !featureArray(c.features)[i])
             return "it lacks a required feature (VkPhysicalDeviceFeatures member " + std::to_string(i) + ")";
@@ -235,7 +245,13 @@ Status createDevice(VulkanContext& ctx, const ContextOptions& options, const Can
     features13.synchronization2 = VK_TRUE;
     // SPIR-V 1.6 compute shaders (glslc --target-env=vulkan1.3) declare LocalSizeId.
     features13.maintenance4 = VK_TRUE;
-    VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features13};
+    // Buffers larger than maxStorageBufferRange (a million-face cage's control points and grid)
+    // are read by address in the plan shaders.
+    VkPhysicalDeviceVulkan12Features features12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES, &features13};
+    features12.bufferDeviceAddress = VK_TRUE;
+    ctx.features.shaderInt64 = VK_TRUE;
+    ctx.maxBufferBytes = chosen.maxBufferBytes;
+    VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2, &features12};
     features2.features = ctx.features;
 
     const float priority = 1.0f;

@@ -54,6 +54,9 @@ struct VulkanContext {
     VkPhysicalDeviceProperties properties = {};
     VkPhysicalDeviceMemoryProperties memoryProperties = {};
     VkPhysicalDeviceFeatures features = {};  // what was enabled
+    // The largest buffer the device makes (maxBufferSize and maxMemoryAllocationSize): buffers
+    // are one allocation each (vk_buffer.h).
+    VkDeviceSize maxBufferBytes = 0;
     std::string deviceName;
     bool isSoftware = false;  // a CPU implementation such as lavapipe (then malloc keeps freed
                               // memory for the process: see keepFreedMemory in vk_context.cpp)

@@ -176,7 +176,7 @@ struct DisplacementRender : ::testing::Test {
     PlanBuffers upload(const PlannedCage& planned, const Displacement& displacement) {
         Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
         EXPECT_TRUE(buffers.ok()) << buffers.error().message;
-        bindPlanBuffers(ctx, pass, *buffers);
+        EXPECT_TRUE(bindPlanBuffers(ctx, pass, *buffers).ok());
         EXPECT_TRUE(setPlanDisplacement(ctx, pass, *buffers, &displacement).ok());
         return std::move(buffers).value();
     }
@@ -302,7 +302,7 @@ TEST_F(DisplacementRender, TessellatedPathDrawsTheDisplacedSurfaceWatertight) {
         const Displacement d = randomDisplacement(planned, 8, 0.01f * diagonal, 23);
         PlanBuffers buffers = upload(planned, d);
         ASSERT_TRUE(enableCapture(ctx, buffers, 1'000'000).ok());
-        bindPlanBuffers(ctx, pass, buffers);
+        ASSERT_TRUE(bindPlanBuffers(ctx, pass, buffers).ok());
         Result<OffscreenTarget> target = createOffscreenTarget(ctx, kImageSize, kImageSize, VK_FORMAT_R8G8B8A8_UNORM);
         ASSERT_TRUE(target.ok());
         const Bounds bounds = computeBounds(planned.cage());

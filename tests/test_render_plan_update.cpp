@@ -65,7 +65,7 @@ struct PlanUpdateTest : ::testing::Test {
     PlanBuffers upload(PlanPass& p, const PlannedCage& planned) {
         Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
         EXPECT_TRUE(buffers.ok()) << buffers.error().message;
-        bindPlanBuffers(ctx, p, *buffers);
+        EXPECT_TRUE(bindPlanBuffers(ctx, p, *buffers).ok());
         return std::move(buffers).value();
     }
 

@@ -82,7 +82,7 @@ struct Fixture : ::testing::Test {
     PlanBuffers upload(const PlannedCage& planned) {
         Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
         EXPECT_TRUE(buffers.ok()) << buffers.error().message;
-        bindPlanBuffers(ctx, pass, *buffers);
+        EXPECT_TRUE(bindPlanBuffers(ctx, pass, *buffers).ok());
         return std::move(buffers).value();
     }
 
@@ -340,7 +340,7 @@ TEST_F(Fixture, TessellatedPathMatchesCpuAndIsWatertight) {
         PlannedCage planned = planCage(cage, db);
         PlanBuffers buffers = upload(planned);
         ASSERT_TRUE(enableCapture(ctx, buffers, 2'000'000).ok());
-        bindPlanBuffers(ctx, pass, buffers);
+        ASSERT_TRUE(bindPlanBuffers(ctx, pass, buffers).ok());
         for (TessellationSettings settings : {TessellationSettings{3, 0}, TessellationSettings{8, 0},
                                               TessellationSettings{0, 6.0f}, TessellationSettings{0, 2.5f}}) {
             checkTessellated(*this, planned, buffers, settings,
@@ -371,7 +371,7 @@ TEST_F(Fixture, EverySharedCageOnEveryPath) {
         }
         ++cages;
         ASSERT_TRUE(enableCapture(ctx, buffers, 4'000'000).ok());
-        bindPlanBuffers(ctx, pass, buffers);
+        ASSERT_TRUE(bindPlanBuffers(ctx, pass, buffers).ok());
         checkTessellated(*this, *planned, buffers, TessellationSettings{5, 0}, name + ", tess uniform 5");
         checkTessellated(*this, *planned, buffers, TessellationSettings{0, 4.0f}, name + ", tess adaptive 4 px");
         const TessellationSettings adaptive{0, 4.0f};
@@ -473,7 +473,7 @@ TEST_F(Fixture, SrgbAndUnormTargetsStoreTheSamePicture) {
         Result<Buffer> lineBuffer = createBuffer(ctx, cage.size() * sizeof(LineVertex), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
         ASSERT_TRUE(t && plans && lines && buffers && lineBuffer);
         uploadBuffer(*lineBuffer, cage.data(), cage.size() * sizeof(LineVertex));
-        bindPlanBuffers(ctx, *plans, *buffers);
+        ASSERT_TRUE(bindPlanBuffers(ctx, *plans, *buffers).ok());
         ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
             recordTessellated(cmd, *plans, *buffers, renderTarget(*t), view, TessellationSettings{6, 0});
             recordLines(cmd, *lines, renderTarget(*t), view.viewProjection, *lineBuffer, uint32_t(cage.size()));

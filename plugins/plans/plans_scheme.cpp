@@ -100,7 +100,7 @@ public:
         if (!buffers) return buffers.error();
         buffers_ = std::move(*buffers);
         haveBuffers_ = true;
-        bindPlanBuffers(*ctx_, pass_, buffers_);
+        if (Status s = bindPlanBuffers(*ctx_, pass_, buffers_); !s) return s;
         return setPlanDisplacement(*ctx_, pass_, buffers_, displacement_);
     }
 

@@ -22,7 +22,7 @@ void main() {
     uvec4 root = nodes[planHeaders[f.plan].rootNode];
     uint kind = root.x & 0xffu;
     bool leaf = kind == NODE_REGULAR || kind == NODE_CREASE;
-    uint last = uint(controlPoints.length()) - 1u;  // a tiny plan may have fewer than 16 stencils
+    uint last = PLAN_CONTROL_POINT_COUNT - 1u;  // a tiny plan may have fewer than 16 stencils
     vec4 bu, du, bv, dv;
     bsplineBasis(uv.x, bu, du);
     bsplineBasis(uv.y, bv, dv);

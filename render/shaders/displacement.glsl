@@ -15,9 +15,24 @@ struct DispTile {
     uint unused;
 };
 
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer DispTilesRef { DispTile data[]; };
+#define dispTiles DispTilesRef(planBuffers.dispTilesAddress).data
+#else
 layout(std430, set = 0, binding = 18) readonly buffer DispTiles { DispTile dispTiles[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer DispPaddedRef { uint data[]; };
+#define dispPadded DispPaddedRef(planBuffers.dispPaddedAddress).data
+#else
 layout(std430, set = 0, binding = 19) readonly buffer DispPadded { uint dispPadded[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer DispSamplesRef { float data[]; };
+#define dispSamples DispSamplesRef(planBuffers.dispSamplesAddress).data
+#else
 layout(std430, set = 0, binding = 20) readonly buffer DispSamples { float dispSamples[]; };
+#endif
 
 const uint DISP_REVERSED = 1u, DISP_SPLIT = 2u;
 const float DISP_SNAP = 16384.0;  // edge parameters snap to multiples of 2^-14
@@ -28,7 +43,7 @@ const float DISP_SNAP = 16384.0;  // edge parameters snap to multiples of 2^-14
 #ifdef QP_UNDISPLACED
 bool hasDisplacement() { return false; }
 #else
-bool hasDisplacement() { return dispPadded.length() > 4; }
+bool hasDisplacement() { return PLAN_DISP_PADDED_COUNT > 4u; }
 #endif
 
 // Coefficient (i, j), -1 <= i, j <= n, of a tile.

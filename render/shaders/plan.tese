@@ -19,12 +19,22 @@ struct CaptureRecord {
     float x, y, z;
     uint edgeIndex;
 };
-layout(std430, set = 0, binding = 14) buffer Capture {
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict buffer CaptureRef {
     uint captureCount;
     uint captureCapacity;
     uint captureUnused0, captureUnused1;
     CaptureRecord records[];
 };
+#define captureBuffer CaptureRef(planBuffers.captureAddress)
+#else
+layout(std430, set = 0, binding = 14) buffer Capture {
+    uint captureCount;
+    uint captureCapacity;
+    uint captureUnused0, captureUnused1;
+    CaptureRecord records[];
+} captureBuffer;
+#endif
 
 layout(location = 1) out vec3 outNormal;
 layout(location = 2) flat out uint outDrawn;
@@ -47,8 +57,8 @@ void main() {
         else if (uv.y == 1.0) { edge = 2u; n = edgeFactor.z; }
         else if (uv.x == 0.0) { edge = 3u; n = edgeFactor.w; }
         uint index = uint(round((edge == 1u || edge == 3u ? uv.y : uv.x) * float(n)));
-        uint slot = atomicAdd(captureCount, 1u);
-        if (slot < captureCapacity)
-            records[slot] = CaptureRecord(uv.x, uv.y, drawn, edge | (n << 8), s.position.x, s.position.y, s.position.z, index);
+        uint slot = atomicAdd(captureBuffer.captureCount, 1u);
+        if (slot < captureBuffer.captureCapacity)
+            captureBuffer.records[slot] = CaptureRecord(uv.x, uv.y, drawn, edge | (n << 8), s.position.x, s.position.y, s.position.z, index);
     }
 }

@@ -24,9 +24,24 @@ struct BoundaryPoint {
     uint ownerCorner;
 };
 
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer BoundariesRef { SubfaceBoundary data[]; };
+#define boundaries BoundariesRef(planBuffers.boundariesAddress).data
+#else
 layout(std430, set = 0, binding = 9) readonly buffer Boundaries { SubfaceBoundary boundaries[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer SegmentsRef { Segment data[]; };
+#define segments SegmentsRef(planBuffers.segmentsAddress).data
+#else
 layout(std430, set = 0, binding = 10) readonly buffer Segments { Segment segments[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer BoundaryPointsRef { BoundaryPoint data[]; };
+#define boundaryPoints BoundaryPointsRef(planBuffers.boundaryPointsAddress).data
+#else
 layout(std430, set = 0, binding = 11) readonly buffer BoundaryPoints { BoundaryPoint boundaryPoints[]; };
+#endif
 
 vec2 cornerUV(uint corner) {
     return vec2(corner == 1u || corner == 2u ? 1.0 : 0.0, corner >= 2u ? 1.0 : 0.0);

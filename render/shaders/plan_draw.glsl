@@ -1,4 +1,5 @@
 // Push constants shared by the plan drawing stages (128 bytes at most on lavapipe).
+#include "plan_buffers.glsl"
 layout(push_constant) uniform DrawPush {
     mat4 viewProjection;
     float uniformFactor;      // > 0: every quad edge gets this factor; 0: adaptive
@@ -10,7 +11,12 @@ layout(push_constant) uniform DrawPush {
     vec4 fillLight;           // xyz: toward the fill light
 } draw;
 
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer PointPositionsRef { vec4 data[]; };
+#define pointPositions PointPositionsRef(planBuffers.pointPositionsAddress).data
+#else
 layout(std430, set = 0, binding = 13) readonly buffer PointPositions { vec4 pointPositions[]; };
+#endif
 
 // Segments needed for a sphere (centre, radius) to be pixelsPerSegment long on screen:
 // rotation-invariant and the same from both faces of an edge.

@@ -3,6 +3,7 @@
 //
 // The bases themselves are in patch_basis.glsl.
 #include "patch_basis.glsl"
+#include "plan_buffers.glsl"
 
 struct PlanHeader {
     uint rootNode;
@@ -21,17 +22,62 @@ struct Subface {
     uint unused0, unused1, unused2;
 };
 
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer PlanHeadersRef { PlanHeader data[]; };
+#define planHeaders PlanHeadersRef(planBuffers.planHeadersAddress).data
+#else
 layout(std430, set = 0, binding = 0) readonly buffer PlanHeaders { PlanHeader planHeaders[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer NodesRef { uvec4 data[]; };
+#define nodes NodesRef(planBuffers.nodesAddress).data
+#else
 layout(std430, set = 0, binding = 1) readonly buffer Nodes { uvec4 nodes[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer PointsRef { uint data[]; };
+#define points PointsRef(planBuffers.pointsAddress).data
+#else
 layout(std430, set = 0, binding = 2) readonly buffer Points { uint points[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer WeightsRef { float data[]; };
+#define weights WeightsRef(planBuffers.weightsAddress).data
+#else
 layout(std430, set = 0, binding = 3) readonly buffer Weights { float weights[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer SubfacesRef { Subface data[]; };
+#define subfaces SubfacesRef(planBuffers.subfacesAddress).data
+#else
 layout(std430, set = 0, binding = 4) readonly buffer Subfaces { Subface subfaces[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer RingsRef { uint data[]; };
+#define rings RingsRef(planBuffers.ringsAddress).data
+#else
 layout(std430, set = 0, binding = 5) readonly buffer Rings { uint rings[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer PositionsRef { float data[]; };
+#define positions PositionsRef(planBuffers.positionsAddress).data
+#else
 layout(std430, set = 0, binding = 6) readonly buffer Positions { float positions[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+#ifdef QP_WRITE_CONTROL_POINTS
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict buffer ControlPointsRef { vec4 data[]; };
+#define controlPoints ControlPointsRef(planBuffers.controlPointsAddress).data
+#else
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer ControlPointsRef { vec4 data[]; };
+#define controlPoints ControlPointsRef(planBuffers.controlPointsAddress).data
+#endif
+#else
 #ifdef QP_WRITE_CONTROL_POINTS
 layout(std430, set = 0, binding = 7) buffer ControlPoints { vec4 controlPoints[]; };
 #else
 layout(std430, set = 0, binding = 7) readonly buffer ControlPoints { vec4 controlPoints[]; };
+#endif
 #endif
 
 const uint NODE_INTERNAL = 0u;

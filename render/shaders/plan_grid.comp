@@ -20,10 +20,30 @@ layout(push_constant) uniform Push {
     uint listOffset;    // 0xffffffff: workgroup i is drawn sub-face i; else updateList[listOffset + i]
 } push;
 
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict buffer GridRef { float data[]; };  // position, normal
+#define grid GridRef(planBuffers.gridAddress).data
+#else
 layout(std430, set = 0, binding = 8) buffer Grid { float grid[]; };  // position, normal
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 8) restrict readonly buffer SubfaceGridRef { uvec2 data[]; };  // n, first slot
+#define subfaceGrid SubfaceGridRef(planBuffers.subfaceGridAddress).data
+#else
 layout(std430, set = 0, binding = 12) readonly buffer SubfaceGrid { uvec2 subfaceGrid[]; };  // n, first slot
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer UpdateListRef { uint data[]; };
+#define updateList UpdateListRef(planBuffers.updateListAddress).data
+#else
 layout(std430, set = 0, binding = 15) readonly buffer UpdateList { uint updateList[]; };
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer GridSourceRef { uint data[]; };
+#define gridSource GridSourceRef(planBuffers.gridSourceAddress).data
+#else
 layout(std430, set = 0, binding = 16) readonly buffer GridSource { uint gridSource[]; };
+#endif
 
 void main() {
     uint id = gl_WorkGroupID.y * push.groupsPerRow + gl_WorkGroupID.x;

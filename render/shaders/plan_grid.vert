@@ -8,8 +8,18 @@
 layout(location = 0) in vec3 inPosition;
 layout(location = 1) in vec3 inNormal;
 
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 8) restrict readonly buffer SubfaceGridRef { uvec2 data[]; };  // n, first slot
+#define subfaceGrid SubfaceGridRef(planBuffers.subfaceGridAddress).data
+#else
 layout(std430, set = 0, binding = 12) readonly buffer SubfaceGrid { uvec2 subfaceGrid[]; };  // n, first slot
+#endif
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer SlotSubfaceRef { uint data[]; };
+#define slotSubface SlotSubfaceRef(planBuffers.slotSubfaceAddress).data
+#else
 layout(std430, set = 0, binding = 17) readonly buffer SlotSubface { uint slotSubface[]; };
+#endif
 
 layout(location = 1) out vec3 outNormal;
 layout(location = 2) flat out uint outDrawn;

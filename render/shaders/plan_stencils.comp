@@ -15,7 +15,12 @@ layout(push_constant) uniform Push {
     uint listOffset;    // 0xffffffff: workgroup i is drawn sub-face i; else updateList[listOffset + i]
 } push;
 
+#ifdef QP_BY_ADDRESS
+layout(buffer_reference, std430, buffer_reference_align = 4) restrict readonly buffer UpdateListRef { uint data[]; };
+#define updateList UpdateListRef(planBuffers.updateListAddress).data
+#else
 layout(std430, set = 0, binding = 15) readonly buffer UpdateList { uint updateList[]; };
+#endif
 
 void main() {
     uint id = gl_WorkGroupID.y * push.groupsPerRow + gl_WorkGroupID.x;
