@@ -36,12 +36,14 @@ struct CaptureRecord {
     float px, py, pz;
     float nx, ny, nz;
 };
-layout(std430, set = 0, binding = 1) buffer Capture {
+#include "tess_patch_buffers.glsl"
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict buffer CaptureRef {
     uint captureCount;
     uint captureCapacity;
     uint captureUnused0, captureUnused1;
     CaptureRecord records[];
 };
+#define captureBuffer CaptureRef(tessBuffers.captureAddress)
 
 // Writes the vertex (what mesh.vert would for a mesh vertex) and, when capturing, records it.
 void emitVertex(uint patchIndex, vec3 coord, vec3 position, vec3 normal) {
@@ -51,9 +53,9 @@ void emitVertex(uint patchIndex, vec3 coord, vec3 position, vec3 normal) {
     outWorld = position;
     outColor = pc.color.rgb;
     if (pc.capture != 0u) {
-        uint slot = atomicAdd(captureCount, 1u);
-        if (slot < captureCapacity)
-            records[slot] = CaptureRecord(patchIndex, coord.x, coord.y, coord.z, position.x, position.y, position.z,
+        uint slot = atomicAdd(captureBuffer.captureCount, 1u);
+        if (slot < captureBuffer.captureCapacity)
+            captureBuffer.records[slot] = CaptureRecord(patchIndex, coord.x, coord.y, coord.z, position.x, position.y, position.z,
                                           normal.x, normal.y, normal.z);
     }
 }

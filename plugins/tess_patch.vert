@@ -5,7 +5,9 @@
 // storage buffer.
 layout(location = 0) flat out uint outPatch;
 
-layout(std430, set = 0, binding = 2) readonly buffer PatchList { uint patchList[]; };
+#include "tess_patch_buffers.glsl"
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer PatchListRef { uint data[]; };
+#define patchList PatchListRef(tessBuffers.patchListAddress).data
 
 void main() {
     outPatch = patchList[gl_VertexIndex];

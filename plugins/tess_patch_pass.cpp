@@ -99,29 +99,29 @@ Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cach
     return pipeline;
 }
 
+// Mirrors TessPatchAddresses in tess_patch_buffers.glsl: the shaders reach the buffers by
+// address, so none is held to the device's storage buffer range.
+struct TessPatchAddresses {
+    VkDeviceAddress patchData, capture, patchList;
+};
+
 void bindBuffers(const VulkanContext& ctx, const TessPatchPass& pass) {
-    VkDescriptorBufferInfo infos[3] = {{pass.patchData.buffer, 0, VK_WHOLE_SIZE},
-                                       {pass.capture.buffer, 0, VK_WHOLE_SIZE},
-                                       {pass.patchList.buffer, 0, VK_WHOLE_SIZE}};
-    VkWriteDescriptorSet writes[3];
-    for (uint32_t i = 0; i < 3; ++i)
-        writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, pass.set, i, 0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                     nullptr, &infos[i], nullptr};
-    vkUpdateDescriptorSets(ctx.device, 3, writes, 0, nullptr);
+    const TessPatchAddresses addresses{pass.patchData.address, pass.capture.address, pass.patchList.address};
+    uploadBuffer(pass.addresses, &addresses, sizeof addresses);
+    const VkDescriptorBufferInfo info{pass.addresses.buffer, 0, sizeof addresses};
+    const VkWriteDescriptorSet write{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, pass.set, 0, 0, 1,
+                                     VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, nullptr, &info, nullptr};
+    vkUpdateDescriptorSets(ctx.device, 1, &write, 0, nullptr);
 }
 
 // The layouts and pipelines of one scheme's shaders: made once per device, formats and shaders
 // (render/shared_pipelines.h).
 Status initPipelines(const VulkanContext& ctx, VkPipelineCache cache, TessPatchPass& pass, const TessPatchShaders& shaders) {
     if (!ctx.features.tessellationShader) return Error{"the device (" + ctx.deviceName + ") has no tessellation shaders"};
-    VkDescriptorSetLayoutBinding bindings[3] = {
-        {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kBindingStages, nullptr},
-        {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, kBindingStages, nullptr},
-        {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_VERTEX_BIT, nullptr},
-    };
+    const VkDescriptorSetLayoutBinding addresses{0, VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1, kBindingStages, nullptr};
     VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    setInfo.bindingCount = 3;
-    setInfo.pBindings = bindings;
+    setInfo.bindingCount = 1;
+    setInfo.pBindings = &addresses;
     VK_CHECK(vkCreateDescriptorSetLayout(ctx.device, &setInfo, nullptr, &pass.setLayout));
     VkPushConstantRange range{kStages, 0, sizeof(TessPush)};
     VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -164,7 +164,7 @@ void destroyPipelines(const VulkanContext& ctx, TessPatchPass& pass) {
 
 // The pass's own descriptor set and buffers.
 Status initInstance(const VulkanContext& ctx, TessPatchPass& pass) {
-    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3};
+    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1};
     VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
     poolInfo.maxSets = 1;
     poolInfo.poolSizeCount = 1;
@@ -176,6 +176,9 @@ Status initInstance(const VulkanContext& ctx, TessPatchPass& pass) {
     allocInfo.pSetLayouts = &pass.setLayout;
     VK_CHECK(vkAllocateDescriptorSets(ctx.device, &allocInfo, &pass.set));
 
+    Result<Buffer> addresses = createBuffer(ctx, sizeof(TessPatchAddresses), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
+    if (!addresses) return addresses.error();
+    pass.addresses = *addresses;
     // Placeholders until the scheme uploads patches or a test asks for a capture.
     Result<Buffer> data = createBuffer(ctx, 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     if (!data) return data.error();
@@ -246,6 +249,7 @@ void destroyTessPatchPass(const VulkanContext& ctx, TessPatchPass& pass) {
     if (pass.patchData.buffer) destroyBuffer(ctx, pass.patchData);
     if (pass.capture.buffer) destroyBuffer(ctx, pass.capture);
     if (pass.patchList.buffer) destroyBuffer(ctx, pass.patchList);
+    if (pass.addresses.buffer) destroyBuffer(ctx, pass.addresses);
     pass = TessPatchPass{};
 }
 

@@ -2,8 +2,8 @@
 // tessellator, for the schemes that were designed for it (ACC-1, ACC-2, PN-triangles).
 //
 // The scheme brings the control stage (tessellation factors) and the evaluation stage (its
-// patch, evaluated at gl_TessCoord), both reading its patch data at set 0, binding 0, and
-// includes tess_patch.glsl for the shared push constants, edge factors and outputs. The pass
+// patch, evaluated at gl_TessCoord), both reading its patch data by address (tess_patch_buffers.glsl:
+// no buffer is held to the device's storage buffer range), and includes tess_patch.glsl for the shared push constants, edge factors and outputs. The pass
 // supplies the rest: a vertex stage that only passes the patch index on (tess_patch.vert), the
 // renderer's mesh.frag (so tessellated and CPU-grid pictures are lit alike), uniform or
 // screen-adaptive factors, a wireframe overlay, and draw splitting: lavapipe corrupts a draw
@@ -14,13 +14,13 @@
 // osd-fas applies Far's stencils): recordTessPrepare dispatches it over the same descriptor set,
 // with a barrier before the tessellation stages read what it wrote.
 //
-// Culling: the vertex stage reads each primitive's patch from a list (binding 2): the identity
+// Culling: the vertex stage reads each primitive's patch from a list: the identity
 // 0 .. patchCount - 1, or, when a draw leaves out culled patches, the others written into the
 // list by the command buffer itself (vkCmdUpdateBuffer), so the objects of one frame that share
 // the pass (DrawView::sameFrame) each draw their own list and no host write races a recorded draw.
 //
 // Capture: with `capture` set, the evaluation stage appends every vertex it evaluates
-// (patch, domain coordinate, position, normal) to a storage buffer at binding 1, so tests can
+// (patch, domain coordinate, position, normal) to a capture buffer, so tests can
 // check the GPU evaluation against the scheme's CPU evaluation.
 #pragma once
 
@@ -53,11 +53,12 @@ struct TessPatchPass {
     VkDescriptorPool pool = VK_NULL_HANDLE;
     VkDescriptorSet set = VK_NULL_HANDLE;
     VkFormat colorFormat = VK_FORMAT_UNDEFINED, depthFormat = VK_FORMAT_UNDEFINED;
-    Buffer patchData;              // binding 0: the scheme's patches
+    Buffer patchData;              // the scheme's patches
     uint32_t patchCount = 0;
-    Buffer patchList;              // binding 2: the identity list (patchCount), then room for a draw's own
-    Buffer capture;                // binding 1: header (count, capacity) + TessCaptureRecord[]
+    Buffer patchList;              // the identity list (patchCount), then room for a draw's own
+    Buffer capture;                // header (count, capacity) + TessCaptureRecord[]
     uint32_t captureCapacity = 0;
+    Buffer addresses;              // where the shaders find the three (tess_patch_buffers.glsl)
 };
 
 // Fails with a message when the device has no tessellation shaders. The layouts and pipelines

@@ -7,7 +7,9 @@ layout(vertices = 1) out;
 layout(location = 0) flat in uint inPatch[];
 layout(location = 0) patch out uint patchIndex;
 
-layout(std430, set = 0, binding = 0) readonly buffer Patches { vec4 points[]; };  // 20 per patch (acc2.h)
+#include "tess_patch_buffers.glsl"
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer PatchesRef { vec4 data[]; };
+#define points PatchesRef(tessBuffers.patchDataAddress).data  // 20 per patch (acc2.h)
 
 void main() {
     uint base = 20u * inPatch[0];

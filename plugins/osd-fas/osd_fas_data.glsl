@@ -1,11 +1,13 @@
 // The buffer of osd-fas's tessellator path (osd_fas_gpu.h: FasGpuHeader, FasGpuPatch): one
-// storage buffer of 32-bit words at set 0, binding 0. The compute pass writes the points; the
+// storage buffer of 32-bit words, the pass's patch data (tess_patch_buffers.glsl). The compute pass writes the points; the
 // tessellation stages only read.
+#include "tess_patch_buffers.glsl"
 #ifdef QP_FAS_WRITE_POINTS
-layout(std430, set = 0, binding = 0) buffer FasData { uint words[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict buffer FasDataRef { uint words[]; };
 #else
-layout(std430, set = 0, binding = 0) readonly buffer FasData { uint words[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer FasDataRef { uint words[]; };
 #endif
+#define words FasDataRef(tessBuffers.patchDataAddress).words
 
 const uint HEADER_PATCH_COUNT = 0u;
 const uint HEADER_PATCH_OFFSET = 1u;

@@ -8,7 +8,9 @@ layout(location = 0) flat in uint inPatch[];
 layout(location = 0) patch out uint patchIndex;
 
 // 16 per triangle: b300 b030 b003 b210 b120 b021 b012 b102 b201 b111, then n200 n020 n002 n110 n011 n101.
-layout(std430, set = 0, binding = 0) readonly buffer Patches { vec4 points[]; };
+#include "tess_patch_buffers.glsl"
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer PatchesRef { vec4 data[]; };
+#define points PatchesRef(tessBuffers.patchDataAddress).data
 
 void main() {
     uint base = 16u * inPatch[0];

@@ -8,7 +8,9 @@
 layout(triangles, equal_spacing, ccw) in;
 layout(location = 0) patch in uint patchIndex;
 
-layout(std430, set = 0, binding = 0) readonly buffer Patches { vec4 points[]; };
+#include "tess_patch_buffers.glsl"
+layout(buffer_reference, std430, buffer_reference_align = 16) restrict readonly buffer PatchesRef { vec4 data[]; };
+#define points PatchesRef(tessBuffers.patchDataAddress).data
 
 void main() {
     vec3 b = gl_TessCoord;
