@@ -125,6 +125,8 @@ inline constexpr uint32_t kLargeCageRepeats = 5;
 // The animation suite (a deforming cage played frame by frame against Far's per-frame work):
 // bench_animation.cpp.
 void benchAnimation(const BenchCage& bench, const BenchArgs& args, Report& report);
+// The scale suite (a production-size cage from planning to the edited frame): bench_scale.cpp.
+void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report);
 
 // The plans suite (plan engine against OpenSubdiv Far and Bfr): bench_plans.cpp.
 void benchPlans(const BenchCage& bench, const BenchArgs& args, Report& report);
@@ -136,7 +138,7 @@ std::optional<std::pair<uint32_t, uint32_t>> interiorEdge(const PlannedCage& pla
 
 // Generated-cage sizes of those suites. Render: ~10k faces, because at factor 16 the 100k cage
 // would need ~50 M triangles a frame (seconds each on lavapipe, minutes for the suite) and a grid
-// buffer of ~700 MB, over lavapipe's 128 MiB storage-buffer range; 20k faces is just over it too.
+// of ~700 MB (drawn, but by address: plan_pass.h).
 inline constexpr uint32_t kRenderGeneratedFaces = 10000;
 inline constexpr uint32_t kSchemesGeneratedFaces = 2000;
 

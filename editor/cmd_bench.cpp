@@ -456,6 +456,7 @@ constexpr Suite kSuites[] = {
     {"editor", benchEditor, 2000},
     {"scene", benchScene, 0},
     {"animation", benchAnimation, 100000},
+    {"scale", benchScale, 100000, {}},
 };
 
 int runSuite(const Suite& suite, const BenchArgs& args) {

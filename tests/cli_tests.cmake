@@ -54,6 +54,13 @@ set_tests_properties(cli.bench_fas_smoke PROPERTIES
                      PASS_REGULAR_EXPRESSION "plans tess vs osd-fas tess, factor 4: moving frame \\([1-9][0-9]* vs [1-9][0-9]* primitives, [1-9][0-9]* vs [1-9][0-9]* triangles\\) \\| 1 \\| [0-9.]+ ms"
                      TIMEOUT 60)
 
+# The scale suite on a small cage: planning cold and warm, the frames and the edits all report.
+add_test(NAME cli.bench_scale_smoke
+         COMMAND quadplan bench scale --repeats 1 --generated-faces 2000 --no-shared)
+set_tests_properties(cli.bench_scale_smoke PROPERTIES
+                     PASS_REGULAR_EXPRESSION "\\(b\\) warm plan[^|]*\\| 1 \\| [0-9.]+ ms.*\\(d\\) full-view frame[^|]*[1-9][0-9]* triangles\\) \\| 3 \\| [0-9.]+ ms.*\\(g\\) crease an interior edge[^|]*\\| 3 \\| [0-9.]+ ms"
+                     TIMEOUT 120)
+
 # Scheme plugins: the comparison of the built-in schemes on the default scene, as JSON.
 file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/test-output)
 add_test(NAME cli.compare_smoke
