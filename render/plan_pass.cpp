@@ -158,7 +158,10 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
         {b.subfaces, createFilled(ctx, d.subfaces)},
         {b.rings, createFilled(ctx, d.rings)},
         {b.positions, createFilled(ctx, cagePositions(planned))},
-        {b.controlPoints, createFilled(ctx, std::vector<glm::vec4>(d.controlPointCount))},
+        // Written by the stencil pass before anything reads them; left untouched, the CPU grid
+        // path never makes the pages resident (967 MiB at a million faces).
+        {b.controlPoints, createBuffer(ctx, std::max<VkDeviceSize>(VkDeviceSize(d.controlPointCount) * sizeof(glm::vec4), 16),
+                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT)},
         {b.boundaries, createFilled(ctx, d.boundaries)},
         {b.segments, createFilled(ctx, d.segments)},
         {b.boundaryPoints, createFilled(ctx, d.boundaryPoints)},
