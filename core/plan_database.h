@@ -31,7 +31,7 @@ struct PlanDatabaseStats {
     uint64_t fromFallback = 0;  // lookups answered by copying the fallback's plan (no build)
 };
 
-// The checksum a plan database file ends with (64-bit FNV-1a of everything before it). Public
+// The checksum a plan database file ends with (XXH3, 64 bits, of everything before it). Public
 // so tools that forge files on purpose (the fuzzer) can reach the parser behind it.
 uint64_t planDatabaseChecksum(const char* data, size_t size);
 

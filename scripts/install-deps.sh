@@ -9,7 +9,7 @@ packages=(
   libglfw3-dev libimgui-dev libstb-dev
   libvulkan-dev mesa-vulkan-drivers vulkan-tools vulkan-validationlayers vulkan-validationlayers-dev glslc spirv-tools
   libgtest-dev libgmock-dev libbenchmark-dev
-  libeigen3-dev
+  libeigen3-dev libxxhash-dev
   libtinygltf-dev libmeshoptimizer-dev libopenmesh-dev libopenexr-dev  # exports (export/) and reading them back in tests
   python3-dev pybind11-dev python3-numpy python3-pytest python3-matplotlib
   xvfb xauth xdotool imagemagick
