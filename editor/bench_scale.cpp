@@ -52,16 +52,6 @@ double peakResidentMiB() {
     return double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
 }
 
-// The sub-faces a tag edit changed, as the editor hands them to a scheme (scene_renderer.cpp).
-std::vector<uint32_t> changedSubfaces(const PlannedCage& planned, const EditReport& report) {
-    std::vector<uint32_t> subfaces = report.updatedSubfaceList;
-    for (uint32_t f : report.replannedFaceList)
-        for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) subfaces.push_back(s);
-    std::sort(subfaces.begin(), subfaces.end());
-    subfaces.erase(std::unique(subfaces.begin(), subfaces.end()), subfaces.end());
-    return subfaces;
-}
-
 }  // namespace
 
 void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {

@@ -105,4 +105,13 @@ Result<PreparedScheme> prepareScheme(const PluginCatalog& catalog, const std::st
     return prepared;
 }
 
+std::vector<uint32_t> changedSubfaces(const PlannedCage& planned, const EditReport& report) {
+    std::vector<uint32_t> out = report.updatedSubfaceList;
+    for (uint32_t f : report.replannedFaceList)
+        for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) out.push_back(s);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+}
+
 }  // namespace qp

@@ -44,6 +44,10 @@ Result<SchemeFrameTimes> timeFrames(const VulkanContext& context, const std::fun
 Result<SchemeFrameTimes> timeSchemeFrames(const VulkanContext& context, SchemeInstance& scheme, const RenderTarget& target,
                                           const DrawView& view, const GpuTimer& timer, uint32_t repeats);
 
+// PlanChange::subfaces for an edit of `planned` (sorted): every sub-face of the faces it
+// re-planned, and those whose control points moved.
+std::vector<uint32_t> changedSubfaces(const PlannedCage& planned, const EditReport& report);
+
 // "unknown scheme 'x'; available schemes: a, b (and what failed to load, if anything)".
 std::string unknownSchemeMessage(const PluginCatalog& catalog, const std::string& name);
 

@@ -185,17 +185,6 @@ double differingPixels(const Picture& a, const Picture& b, int threshold) {
     return double(differing) / double(a.pixels.size() / 4);
 }
 
-// What an edit changed, as PlanChange::subfaces wants it: sorted, every sub-face of the
-// re-planned faces with those whose control points moved.
-std::vector<uint32_t> changedSubfaces(const PlannedCage& planned, const EditReport& report) {
-    std::vector<uint32_t> out = report.updatedSubfaceList;
-    for (uint32_t f : report.replannedFaceList)
-        for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) out.push_back(s);
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
-}
-
 }  // namespace
 
 TEST(SchemePlugins, DrawWithValidationSilentAndTheSamePictureThroughBothPaths) {

@@ -333,11 +333,7 @@ bool unpark(SceneRenderer& r, const Document& doc, uint64_t generation, const Sc
 // (Scheme::updatePlans); false when it must be rebuilt, planUpdateNote saying why.
 bool updatePlansInPlace(SchemeView& view, const Document& doc, const EditReport& change) {
     const auto start = Clock::now();
-    std::vector<uint32_t> subfaces = change.updatedSubfaceList;
-    for (uint32_t f : change.replannedFaceList)
-        for (uint32_t s = doc.planned->firstSubface(f); s < doc.planned->firstSubface(f + 1); ++s) subfaces.push_back(s);
-    std::sort(subfaces.begin(), subfaces.end());
-    subfaces.erase(std::unique(subfaces.begin(), subfaces.end()), subfaces.end());
+    const std::vector<uint32_t> subfaces = changedSubfaces(*doc.planned, change);
     Result<PlanUpdate> updated =
         view.instance->updatePlans(PlanChange{subfaces, change.topologyChanged, change.previousSubfaceOf});
     view.planUpdateMs = msSince(start);
