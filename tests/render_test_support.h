@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <string>
 
+#include "camera.h"
+#include "plan_pass.h"
 #include "vk_context.h"
 
 namespace qp::test {
@@ -49,6 +51,16 @@ inline std::filesystem::path testOutputDir() {
         std::filesystem::read_symlink("/proc/self/exe").parent_path().parent_path() / "test-output";
     std::filesystem::create_directories(dir);
     return dir;
+}
+
+// A plan view framing `cage` (frameBounds' three-quarter view) on a square image `size` pixels high.
+inline PlanView framedPlanView(const Cage& cage, uint32_t size) {
+    const Bounds bounds = computeBounds(cage);
+    const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+    PlanView view;
+    view.viewProjection = viewProjection(camera);
+    view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), size);
+    return view;
 }
 
 }  // namespace qp::test

@@ -44,12 +44,7 @@ struct LargeBuffers : ::testing::Test {
     }
 
     PlanView frame(const PlannedCage& planned) const {
-        const Bounds bounds = computeBounds(planned.cage());
-        const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
-        PlanView view;
-        view.viewProjection = viewProjection(camera);
-        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kSize);
-        return view;
+        return test::framedPlanView(planned.cage(), kSize);
     }
 
     std::vector<uint8_t> pixels() {

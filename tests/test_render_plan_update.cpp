@@ -70,12 +70,7 @@ struct PlanUpdateTest : ::testing::Test {
     }
 
     PlanView frame(const PlannedCage& planned) const {
-        Bounds bounds = computeBounds(planned.cage());
-        RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
-        PlanView view;
-        view.viewProjection = viewProjection(camera);
-        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kImageSize);
-        return view;
+        return test::framedPlanView(planned.cage(), kImageSize);
     }
 
     // One frame of `path` (grid prepared and, where not cached, evaluated), its pixels.

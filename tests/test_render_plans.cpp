@@ -87,12 +87,7 @@ struct Fixture : ::testing::Test {
     }
 
     PlanView frame(const PlannedCage& planned) const {
-        Bounds bounds = computeBounds(planned.cage());
-        RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
-        PlanView view;
-        view.viewProjection = viewProjection(camera);
-        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kImageSize);
-        return view;
+        return test::framedPlanView(planned.cage(), kImageSize);
     }
 
     std::vector<uint8_t> pixels() {
