@@ -61,7 +61,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 9;
+inline constexpr uint32_t kSchemeApiVersion = 10;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -273,7 +273,9 @@ public:
     // True when record() leaves out DrawView::hiddenSubfaces; the editor warns in the viewports of
     // schemes that draw them anyway.
     virtual bool hidesSubfaces() const { return false; }
-    virtual DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) = 0;
+    // Fails, saying why, when the frame cannot be made (a buffer larger than the device makes);
+    // target.area is cleared all the same.
+    virtual Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) = 0;
     // out[i] = the surface at requests[i]; requests name sub-faces with a surface only. Called
     // concurrently from several threads on disjoint spans.
     virtual void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const = 0;

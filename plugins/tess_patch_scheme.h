@@ -75,7 +75,7 @@ public:
         return uploadTessPatches(*ctx_, pass_, points.data(), points.size() * sizeof(glm::vec4), data_.stats.patches);
     }
 
-    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+    Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         DrawStats stats;
         const PatchBounds bounds = patchBounds();
         if (onGrid()) {

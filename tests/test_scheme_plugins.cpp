@@ -226,6 +226,49 @@ TEST(SchemePlugins, DrawWithValidationSilentAndTheSamePictureThroughBothPaths) {
     destroyContext(ctx);
 }
 
+// A frame the device cannot hold (its grid larger than the largest buffer the device makes, here
+// lowered to 1 MiB) is an error of record(), naming the buffer, not an empty picture with success:
+// `quadplan render` wrote such a PNG and exited 0. A factor that fits draws again afterwards.
+TEST(SchemePlugins, PlansSaysWhenAFrameDoesNotFitTheDevice) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    VulkanContext& ctx = *context;
+    ctx.maxBufferBytes = 1 << 20;
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(perturbedCube(3), database, PlanOptions{}, "cube");
+    ASSERT_TRUE(planned.ok());
+    const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
+    const GpuContext gpu{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+    Result<OffscreenTarget> target = createOffscreenTarget(ctx, 64, 64, VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(target.ok());
+    const Bounds bounds = computeBounds(planned->cage());
+    const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+    DrawView view;
+    view.viewProjection = viewProjection(camera);
+    view.eye = camera.eye;
+    view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), 64);
+    for (uint32_t factor : {64u, 2u}) {  // 54 sub-faces x 65^2 slots x 24 bytes = 5.2 MiB; then 0.01 MiB
+        SchemeSettings settings;
+        settings.tessFactor = factor;
+        settings.options = {{"path", "cpu"}};
+        Result<PreparedScheme> prepared = prepareScheme(catalog(), "plans", *planned, features, settings, gpu, "cube");
+        ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+        Result<DrawStats> drawn = DrawStats{};
+        ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { drawn = prepared->instance.record(cmd, renderTarget(*target), view); }).ok());
+        if (factor == 64) {
+            ASSERT_FALSE(drawn.ok()) << "a 5 MiB grid on a device whose buffers stop at 1 MiB";
+            EXPECT_NE(drawn.error().message.find("is larger than"), std::string::npos) << drawn.error().message;
+        } else {
+            ASSERT_TRUE(drawn.ok()) << drawn.error().message;
+            EXPECT_GT(drawn->triangles, 0u);
+        }
+        ASSERT_TRUE(prepared->instance.destroyGpu().ok());
+    }
+    destroyOffscreenTarget(ctx, *target);
+    EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
+    destroyContext(ctx);
+}
+
 // osd-fas's tess path applies its stencils on the device and refreshes its CPU points only when
 // evaluate() asks: after a vertex move both paths must still evaluate the same surface.
 TEST(SchemePlugins, OsdFasTessPathEvaluatesTheMovedCage) {

@@ -217,6 +217,7 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
             const SchemeView& view = app.renderer.views[i];
             entry["drawn"] = view.instance.has_value();
             entry["problem"] = view.problem;
+            entry["draw_problem"] = view.drawProblem;
             entry["warnings"] = view.support.approximations;
             entry["color_modes"] = view.colorModes;
             entry["setup_ms"] = view.setupMs;

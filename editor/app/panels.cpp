@@ -262,6 +262,8 @@ void viewportBars(EditorApp& app) {
                    "Toggle perspective / orthographic (Numpad 5)"))
             camera.orthographic = !camera.orthographic;
         if (view && !view->problem.empty()) ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "%s", view->problem.c_str());
+        if (view && !view->drawProblem.empty())
+            ImGui::TextColored(ImVec4(1.0f, 0.45f, 0.35f, 1.0f), "%s", view->drawProblem.c_str());
         if (view)
             for (const std::string& warning : view->support.approximations)
                 ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "! %s", warning.c_str());

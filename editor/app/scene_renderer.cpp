@@ -671,6 +671,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
                                    : view.colorModes.front();
             barrierBeforeEvaluation(cmd);
             Result<DrawStats> drawn = view.instance->record(cmd, area, drawView);
+            view.drawProblem = drawn ? std::string() : drawn.error().message;
             if (drawn) {
                 r.recordedPatches[slot][i] = drawn->patches;
                 addCullStats(r.recordedCull[slot][i], *drawn);

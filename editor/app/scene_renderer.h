@@ -71,6 +71,7 @@ struct SchemeView {
     std::optional<SchemeInstance> instance;  // empty: nothing drawn (see problem)
     SupportReport support;                   // approximations: warnings shown in the viewport
     std::string problem;                     // why nothing is drawn: unknown, refused, failed
+    std::string drawProblem;                 // why the last frame's draw failed (empty: it did not)
     std::vector<std::string> colorModes{"shading"};
     uint64_t generation = ~0ull, planRevision = ~0ull;
     double setupMs = 0.0;   // build + GPU + first update, the last time it was made

@@ -197,7 +197,7 @@ public:
         return success();
     }
 
-    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+    Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         DrawStats stats;
         const uint32_t patchCount = uint32_t(patches_.layout.size());
         if (view.cull != CullMethod::None && !culling_.bounds) refreshCpuPoints(stats);

@@ -31,7 +31,6 @@
 // re-planned and re-owned sub-faces are evaluated (with a displacement set they rebuild).
 #include <algorithm>
 #include <chrono>
-#include <cstdio>
 #include <cstdlib>
 #include <iterator>
 #include <optional>
@@ -204,7 +203,7 @@ public:
         return success();
     }
 
-    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+    Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         PlanView planView;
         planView.viewProjection = view.viewProjection;
         planView.pixelsPerUnit = view.pixelsPerUnit;
@@ -261,10 +260,9 @@ public:
         if (Status prepared = view.sameFrame ? success()
                                              : preparePlanFrame(*ctx_, pass_, buffers_, *planned_, path_, planView, tessellation);
             !prepared) {
-            std::fprintf(stderr, "plans: %s\n", prepared.error().message.c_str());
-            beginRendering(cmd, target, view.clear, view.background);
+            beginRendering(cmd, target, view.clear, view.background);  // a defined picture all the same
             vkCmdEndRendering(cmd);
-            return DrawStats{};
+            return Error{"plans: " + prepared.error().message};
         }
         recordPlanFrame(cmd, pass_, buffers_, path_, target, planView, tessellation);
         stats.patches = buffers_.data.subfaces.size() - hiddenDrawn_.size();

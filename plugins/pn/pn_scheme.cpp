@@ -130,7 +130,7 @@ public:
         return uploadTessPatches(*ctx_, pass_, points.data(), points.size() * sizeof(glm::vec4), patches_.stats.triangles);
     }
 
-    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+    Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         DrawStats stats;
         const PatchBounds bounds = triangleBounds();
         if (onGrid()) {

@@ -57,7 +57,7 @@ public:
         return updateGridDrawing(grid_, *this);
     }
 
-    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+    Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         DrawStats stats;  // no culling (DrawView::cull): everything is drawn, the culling counts stay zero
         stats.patches = patches_.stats.patches;
         return recordGridDrawing(cmd, grid_, target, view, stats);

@@ -119,7 +119,7 @@ public:
         return success();
     }
 
-    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+    Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         DrawStats stats;
         const PatchBounds bounds = faceBounds();
         std::vector<IndexRange> parts;

@@ -39,7 +39,7 @@ public:
         mesh_ = *mesh;
         return success();
     }
-    DrawStats record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
+    Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         MeshDraw draw{&mesh_};
         recordMeshPass(cmd, pass_, target, MeshView{view.viewProjection, view.eye, view.background},
                        mesh_.indexCount ? std::span<const MeshDraw>(&draw, 1) : std::span<const MeshDraw>());
