@@ -439,20 +439,26 @@ Result<OmCounts> checkOmFile(const std::string& bytes, const std::string& source
         at += size_t(n);
         return true;
     };
-    auto custom = [&]() {
+    auto custom = [&](size_t chunkStart) {
         if (++customChunks > 64) {
             problem = "more than 64 custom property chunks (a corrupt file?)";
             return false;
         }
+        bool variableSized = false;
         if (counts.version > ((2 << 5) | 1)) {  // 2.2 names the property's type
             if (at >= bytes.size()) return take(1, "property type");
+            const std::string_view typeName = std::string_view(bytes).substr(at + 1, uint8_t(bytes[at]));
+            variableSized = typeName.find("vector") != std::string_view::npos || typeName.find("string") != std::string_view::npos;
             if (!take(1 + uint8_t(bytes[at]), "property type")) return false;
         }
         if (bytes.size() - at < 4) return take(4, "property size");
         const uint32_t block = u32(at);
-        return take(4, "property size") && take(block, "property data");
+        if (!take(4, "property size") || !take(block, "property data")) return false;
+        if (variableSized) counts.skippedChunks.push_back({chunkStart, at});
+        return true;
     };
     while (at < bytes.size()) {
+        const size_t chunkStart = at;
         if (bytes.size() - at < 2) return Error{source + ": byte " + std::to_string(at) + ": half a chunk header at the end"};
         const uint16_t header = uint16_t(uint8_t(bytes[at]) | uint8_t(bytes[at + 1]) << 8);
         at += 2;
@@ -481,7 +487,7 @@ Result<OmCounts> checkOmFile(const std::string& bytes, const std::string& source
             return Error{source + ": byte " + std::to_string(at - 2) + ": a chunk of " + std::to_string(dims) +
                          "-component values where OpenMesh expects " + std::to_string(expected)};
         bool ok = true;
-        if (type == Custom) ok = custom();
+        if (type == Custom) ok = custom(chunkStart);
         else if (entity == Vertex && type == Pos) ok = vectors("vertex positions");
         else if ((entity == Vertex || entity == Face) && type == Normal) ok = vectors("normals");
         else if (entity == Vertex && type == Texcoord) ok = take(V * 8, "texture coordinates");

@@ -161,10 +161,14 @@ Result<Cage> loadOmCage(const std::string& path, const std::string& bytes) {
     if (!counts) return counts.error();
     OmRecords records(*counts);
     om::IO::Options options = om::IO::Options::Binary;
+    std::string kept;  // the file without its variable-sized custom chunks (OmCounts::skippedChunks)
+    size_t from = 0;
+    for (auto [first, end] : counts->skippedChunks) kept.append(bytes, from, first - from), from = end;
+    kept.append(bytes, from, std::string::npos);
     bool read = false;
     try {
         QuietOpenMesh quiet;
-        std::istringstream stream(bytes);
+        std::istringstream stream(kept);
         stream.unsetf(std::ios::skipws);
         read = om::IO::OMReader().read(stream, records, options);
     } catch (const std::exception& e) {

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include "mesh_cage_write.h"
+#include "mesh_file_check.h"
 #include "mesh_import.h"
 #include "scene.h"
 #include "test_cages.h"
@@ -317,6 +318,33 @@ TEST_F(MeshImport, CorruptOmFilesAreRefusedNeverHalfRead) {
     refused = loadMeshCage(write("other.om", "PLY not an OM file at all, just text"));
     ASSERT_FALSE(refused);
     EXPECT_NE(refused.error().message.find("not an OpenMesh .om file"), std::string::npos);
+}
+
+// A custom edge property of a variable-sized type (what the fuzzer found): OpenMesh sizes each
+// element from a count inside the data, unchecked, and allocated 4 GB for a 4-byte block. The
+// chunk is left out (no cage needs it) and the rest of the file reads as before.
+TEST_F(MeshImport, OmVariableSizedCustomPropertiesAreLeftOut) {
+    const std::string path = (dir / "good.om").string();
+    ASSERT_TRUE(saveMeshCage(taggedMixedGrid(), path));
+    std::ifstream in(path, std::ios::binary);
+    const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_EQ(good[3], char((2 << 5) | 2)) << "the writer's .om 2.2 names property types";
+    std::string chunk;
+    chunk += char(0xd2), chunk += char(0x00);  // named custom chunk of the edges
+    chunk += char(4), chunk += "evil";
+    const std::string type = "std::vector<char>";
+    chunk += char(type.size()), chunk += type;
+    const uint32_t block = 4, count = 0xfdffffffu;  // the first edge's vector: 4 GB
+    chunk.append(reinterpret_cast<const char*>(&block), 4);
+    chunk.append(reinterpret_cast<const char*>(&count), 4);
+    const std::string evil = good.substr(0, 16) + chunk + good.substr(16);
+    Result<OmCounts> counts = checkOmFile(evil, "evil.om");
+    ASSERT_TRUE(counts) << counts.error().message;
+    ASSERT_EQ(counts->skippedChunks.size(), 1u);
+    EXPECT_EQ(counts->skippedChunks[0], std::make_pair(size_t(16), size_t(16) + chunk.size()));
+    Result<Cage> cage = loadMeshCage(write("evil.om", evil));
+    ASSERT_TRUE(cage) << cage.error().message;
+    expectSameCage(taggedMixedGrid(), *cage);
 }
 
 TEST_F(MeshImport, ScenesReferenceCagesInEveryFormatAndSaveWhatTheyCannotHoldAsObj) {
