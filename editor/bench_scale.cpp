@@ -25,6 +25,7 @@
 #include "bench_report.h"
 #include "bench_stats.h"
 #include "camera.h"
+#include "headless_scene.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
 #include "scheme_host.h"
@@ -122,13 +123,7 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
     const RenderTarget rt = renderTarget(*target);
     const Bounds bounds = computeBounds(bench.cage);
     RenderCamera camera = frameBounds(bounds.min, bounds.max, float(kWidth) / float(kHeight));
-    auto viewOf = [&](const RenderCamera& c) {
-        DrawView view;
-        view.viewProjection = viewProjection(c);
-        view.eye = c.eye;
-        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(c), kHeight);
-        return view;
-    };
+    auto viewOf = [&](const RenderCamera& c) { return headlessView(c, kHeight, "shading", false); };
     SchemeSettings settings;
     settings.adaptivePixels = kPixelsPerSegment;
     const GpuContext gpu{&ctx, VK_NULL_HANDLE, format, VK_FORMAT_D32_SFLOAT};
@@ -151,8 +146,8 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
                         number(prepared->gpuMs) + ", first update " + number(prepared->updateMs) +
                         " ms) and drawn on its default path, screen-adaptive (4 px), " + std::to_string(kWidth) + " x " +
                         std::to_string(kHeight) + " (" + std::to_string(drawn.triangles) + " triangles)",
-                    "ms", 1, 500.0);
-        c.ours = firstMs, c.target = Target::Informative;
+                    "ms", 1, 0.0);
+        c.ours = firstMs, c.target = Target::Informative;  // the issue sets no target for it
         report.rows.push_back(c);
 
         std::vector<double> frameMs;

@@ -2,8 +2,9 @@
 // tessellator, for the schemes that were designed for it (ACC-1, ACC-2, PN-triangles).
 //
 // The scheme brings the control stage (tessellation factors) and the evaluation stage (its
-// patch, evaluated at gl_TessCoord), both reading its patch data by address (tess_patch_buffers.glsl:
-// no buffer is held to the device's storage buffer range), and includes tess_patch.glsl for the shared push constants, edge factors and outputs. The pass
+// patch, evaluated at gl_TessCoord), both reading its patch data by address
+// (tess_patch_buffers.glsl: no buffer is held to the device's storage buffer range), and
+// includes tess_patch.glsl for the shared push constants, edge factors and outputs. The pass
 // supplies the rest: a vertex stage that only passes the patch index on (tess_patch.vert), the
 // renderer's mesh.frag (so tessellated and CPU-grid pictures are lit alike), uniform or
 // screen-adaptive factors, a wireframe overlay, and draw splitting: lavapipe corrupts a draw

@@ -31,7 +31,6 @@ struct GraphicsStages {
     std::string fragment;
 };
 
-
 Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache cache, const PlanPass& pass,
                                       const GraphicsStages& names, bool wireframe) {
     const bool tessellated = !names.control.empty();

@@ -1,6 +1,7 @@
-// The plan pass's device objects: its descriptor set layout (one uniform block, PlanAddresses:
-// where each buffer is, read by every stage), the push-constant blocks its shaders read, and its pipelines (compute:
-// stencils and grid; draw: tessellated, grid triangles, the grid's colour modes, wireframes).
+// The plan pass's device objects: its descriptor set layout (the 21 buffers as storage buffers,
+// or, in the by-address variant, one uniform block of their addresses: PlanAddresses), the
+// push-constant blocks its shaders read, and its pipelines (compute: stencils and grid; draw:
+// tessellated, grid triangles, the grid's colour modes, wireframes).
 // The grid and tessellated pipelines come twice, with and without the displacement code (the
 // *_undisplaced stages, compiled with QP_UNDISPLACED: shaders/displacement.glsl): compiled in but
 // unused it doubled the tessellated path's per-vertex cost on lavapipe.

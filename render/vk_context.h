@@ -27,7 +27,8 @@ struct ContextOptions {
     // Core features the device must support; devices without them are skipped. The optional
     // features the renderer uses (tessellation, geometry, fillModeNonSolid, wideLines,
     // pipelineStatisticsQuery, vertexPipelineStoresAndAtomics, shaderFloat64) are enabled
-    // whenever supported, without being listed here.
+    // whenever supported, without being listed here. Always required, whatever this says:
+    // shaderInt64 and (Vulkan 1.2) bufferDeviceAddress, for buffers reached by address.
     VkPhysicalDeviceFeatures requiredFeatures = {};
     // Extra extensions, e.g. the surface extensions a windowed front end needs.
     std::vector<std::string> instanceExtensions;
