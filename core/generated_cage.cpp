@@ -27,7 +27,32 @@ std::vector<uint32_t> pickDistinct(std::mt19937& rng, uint32_t n, uint32_t count
     return all;
 }
 
+// The torus grid's vertices, row after row (major radius 2, minor 1).
+void addTorusVertices(Cage& cage, uint32_t columns, uint32_t rows) {
+    const float majorRadius = 2.0f, minorRadius = 1.0f;
+    for (uint32_t j = 0; j < rows; ++j)
+        for (uint32_t i = 0; i < columns; ++i) {
+            float theta = 2.0f * kPi * float(i) / float(columns), phi = 2.0f * kPi * float(j) / float(rows);
+            float ring = majorRadius + minorRadius * std::cos(phi);
+            cage.positions.push_back({ring * std::cos(theta), ring * std::sin(theta), minorRadius * std::sin(phi)});
+        }
+}
+
 }  // namespace
+
+Cage makeRegularTorusCage(uint32_t targetFaces) {
+    const uint32_t rows = std::max(3u, uint32_t(std::lround(std::sqrt(double(targetFaces) / 2.0)))), columns = 2 * rows;
+    Cage cage;
+    cage.positions.reserve(size_t(columns) * rows);
+    addTorusVertices(cage, columns, rows);
+    for (uint32_t j = 0; j < rows; ++j)
+        for (uint32_t i = 0; i < columns; ++i) {
+            const uint32_t quad[4] = {j * columns + i, j * columns + (i + 1) % columns,
+                                      ((j + 1) % rows) * columns + (i + 1) % columns, ((j + 1) % rows) * columns + i};
+            cage.addFace(quad, 4);
+        }
+    return cage;
+}
 
 BenchmarkCageCounts benchmarkCageCounts(uint32_t targetFaces) {
     BenchmarkCageCounts counts;
@@ -43,18 +68,12 @@ BenchmarkCageCounts benchmarkCageCounts(uint32_t targetFaces) {
 Cage makeBenchmarkCage(uint32_t targetFaces, uint32_t seed) {
     const BenchmarkCageCounts counts = benchmarkCageCounts(targetFaces);
     const uint32_t columns = counts.columns, rows = counts.rows;
-    const float majorRadius = 2.0f, minorRadius = 1.0f;
     std::mt19937 rng(seed);
     auto vertex = [&](uint32_t i, uint32_t j) { return (j % rows) * columns + (i % columns); };
 
     Cage cage;
     cage.positions.reserve(counts.vertices());
-    for (uint32_t j = 0; j < rows; ++j)
-        for (uint32_t i = 0; i < columns; ++i) {
-            float theta = 2.0f * kPi * float(i) / float(columns), phi = 2.0f * kPi * float(j) / float(rows);
-            float ring = majorRadius + minorRadius * std::cos(phi);
-            cage.positions.push_back({ring * std::cos(theta), ring * std::sin(theta), minorRadius * std::sin(phi)});
-        }
+    addTorusVertices(cage, columns, rows);
 
     std::vector<bool> poked(counts.gridQuads(), false);
     for (uint32_t q : pickDistinct(rng, counts.gridQuads(), counts.pokedQuads)) poked[q] = true;

@@ -36,4 +36,8 @@ BenchmarkCageCounts benchmarkCageCounts(uint32_t targetFaces);
 
 Cage makeBenchmarkCage(uint32_t targetFaces, uint32_t seed);
 
+// The same torus grid with nothing on it: every vertex valence 4, every face regular (about
+// targetFaces quads, 2 n x n). The best case for macro faces (`quadplan bench macro`).
+Cage makeRegularTorusCage(uint32_t targetFaces);
+
 }  // namespace qp

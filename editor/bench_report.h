@@ -127,6 +127,8 @@ inline constexpr uint32_t kLargeCageRepeats = 5;
 void benchAnimation(const BenchCage& bench, const BenchArgs& args, Report& report);
 // The scale suite (a production-size cage from planning to the edited frame): bench_scale.cpp.
 void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report);
+// The macro suite (macro faces against single faces, B16 §9.4): bench_macro.cpp.
+void benchMacro(const BenchCage& bench, const BenchArgs& args, Report& report);
 
 // The plans suite (plan engine against OpenSubdiv Far and Bfr): bench_plans.cpp.
 void benchPlans(const BenchCage& bench, const BenchArgs& args, Report& report);

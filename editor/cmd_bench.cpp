@@ -457,6 +457,7 @@ constexpr Suite kSuites[] = {
     {"scene", benchScene, 0},
     {"animation", benchAnimation, 100000},
     {"scale", benchScale, 100000, {}},
+    {"macro", benchMacro, 10000},
 };
 
 int runSuite(const Suite& suite, const BenchArgs& args) {
@@ -548,7 +549,7 @@ void registerBench(CLI::App& app, int& exitCode) {
     cmd->add_option("--generated-faces", args->generatedFaces,
                     "Faces of the generated torus cage (0: none; default: plans 100000, render " +
                         std::to_string(kRenderGeneratedFaces) + ", schemes " + std::to_string(kSchemesGeneratedFaces) + ", fas 100000, edit " + std::to_string(kEditGeneratedFaces) +
-                        ", displacement 2000, editor 2000)");
+                        ", displacement 2000, editor 2000, scale 100000, macro 10000)");
     cmd->add_option("--factors", args->factors,
                     "render, schemes, fas: uniform tessellation factors (default 1,2,4,8,16; fas 1,2,4,8,16,32,64)")
         ->delimiter(',')

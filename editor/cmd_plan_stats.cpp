@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "macro_faces.h"
 #include "plan_db_option.h"
 #include "planned_scene.h"
 #include "scene.h"
@@ -45,6 +46,21 @@ int runPlanStats(const PlanStatsArgs& args) {
         subfaces += cage.subfaceCount();
         for (uint32_t s = 0; s < cage.subfaceCount(); ++s) controlPoints += cage.subfaceControlPoints(s).size();
     }
+    // Macro faces (macro_faces.h) of each distinct cage, both partitions.
+    struct MacroCounts {
+        uint64_t faces = 0, members = 0, sharedSpans = 0, spans = 0;
+    } rectangles, quartets, blocks;
+    for (const PlannedCage& cage : planned->cages) {
+        auto add = [](MacroCounts& counts, const MacroFaces& macros) {
+            counts.faces += macros.faces.size();
+            counts.members += macros.facesInMacroFaces();
+            counts.spans += macros.spanCount();
+            for (uint8_t shared : macros.spanShared) counts.sharedSpans += shared;
+        };
+        add(rectangles, rectangularMacroFaces(cage.cage(), cage.topology()));
+        add(quartets, quartetMacroFaces(cage.cage(), cage.topology()));
+        add(blocks, blockMacroFaces(cage.cage(), cage.topology()));
+    }
 
     nlohmann::json nodes = nlohmann::json::object();
     uint64_t totalNodes = 0;
@@ -86,6 +102,14 @@ int runPlanStats(const PlanStatsArgs& args) {
             {"build_ms", buildMs},
             {"database_hits", stats.hits},
             {"database_misses", stats.misses},
+            {"macro_faces", rectangles.faces},
+            {"faces_in_macro_faces", rectangles.members},
+            {"macro_spans", rectangles.spans},
+            {"macro_spans_shared", rectangles.sharedSpans},
+            {"quartet_macro_faces", quartets.faces},
+            {"faces_in_quartets", quartets.members},
+            {"block_macro_faces", blocks.faces},
+            {"faces_in_blocks", blocks.members},
         };
         std::printf("%s\n", out.dump(2).c_str());
         return 0;
@@ -112,6 +136,12 @@ int runPlanStats(const PlanStatsArgs& args) {
     std::printf("  plan bytes     %llu\n", (unsigned long long)stats.bytes);
     std::printf("  control points %llu (%llu bytes)\n", (unsigned long long)controlPoints,
                 (unsigned long long)(controlPoints * sizeof(glm::vec3)));
+    std::printf("  macro faces    %llu rectangles holding %llu faces (%llu of %llu side spans shared); or %llu quartets "
+                "holding %llu; or %llu aligned blocks holding %llu\n",
+                (unsigned long long)rectangles.faces, (unsigned long long)rectangles.members,
+                (unsigned long long)rectangles.sharedSpans, (unsigned long long)rectangles.spans,
+                (unsigned long long)quartets.faces, (unsigned long long)quartets.members, (unsigned long long)blocks.faces,
+                (unsigned long long)blocks.members);
     std::printf("  build          %.1f ms (database: %llu hits, %llu misses)\n", buildMs,
                 (unsigned long long)stats.hits, (unsigned long long)stats.misses);
     return 0;

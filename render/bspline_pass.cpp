@@ -102,7 +102,7 @@ void recordBSplinePatches(VkCommandBuffer cmd, const BSplinePass& pass, const Pl
     vkCmdPushConstants(cmd, plans.drawLayout, kPlanDrawStages, 0, sizeof push, &push);
     // The same split as PlanPass: lavapipe corrupts draws over 65,535 tessellated vertices.
     const uint32_t perDraw = patchesPerDraw(std::min(settings.uniformFactor, 64u));
-    for (const DrawnRun& run : drawnRuns(buffers, view.hiddenDrawn))
+    for (const DrawnRun& run : drawnRuns(buffers, skippedDrawn(buffers, view, false)))
         for (uint32_t first = run.begin; first < run.end; first += perDraw)
             vkCmdDraw(cmd, std::min(perDraw, run.end - first), 1, first, 0);
     vkCmdEndRendering(cmd);

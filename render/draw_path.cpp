@@ -3,7 +3,9 @@
 #include "displaced_grid_factors.h"
 #include "grid_relayout.h"
 
+#include <algorithm>
 #include <cassert>
+#include <iterator>
 
 namespace qp {
 
@@ -45,7 +47,16 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
     } else if (buffers.displacement) {
         factors = displacedGridFactors(buffers.data, *buffers.displacement, std::move(factors));
     }
-    // The compute shader's pending sub-faces are not for the CPU path: it evaluates whole instead.
+    // Macro faces last: they need every member's final factor. Hidden faces and holes keep theirs single.
+    std::vector<uint32_t> blocked;
+    std::set_union(view.hiddenDrawn.begin(), view.hiddenDrawn.end(), buffers.holeDrawn.begin(), buffers.holeDrawn.end(),
+                   std::back_inserter(blocked));
+    const AdaptiveView adaptive{view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment};
+    const bool macrosLaidOut = buffers.gridLayout.factors.macroSpanPieces.size() == buffers.data.macros.spanCount();
+    chooseMacroPieces(buffers.data, factors, buffers.pointPositionsHost, settings.uniformFactor ? nullptr : &adaptive,
+                      settings.uniformFactor == 1 ? settings.minify : 1, blocked,
+                      macrosLaidOut ? &buffers.gridLayout.factors : nullptr, settings.uniformFactor && settings.wholeMacroFaces);
+        // The compute shader's pending sub-faces are not for the CPU path: it evaluates whole instead.
     if (path == DrawPath::CpuGrid && !buffers.pendingGridSubfaces.empty()) buffers.gridEvaluator = GridEvaluator::None;
     Result<bool> kept = relayoutGridKeepingSlots(ctx, pass, buffers, planned, factors);
     if (!kept) return kept.error();

@@ -166,6 +166,7 @@ GpuPlanData packPlans(const PlannedCage& planned) {
     appendPlanTables(gpu, planned.database());
     packSubfaces(gpu, planned);
     buildRingUsers(gpu, planned.cage().vertexCount());
+    rebuildMacroGrid(planned, gpu);
     return gpu;
 }
 

@@ -13,6 +13,7 @@
 
 #include <glm/vec4.hpp>
 
+#include "macro_grid.h"
 #include "planned_cage.h"
 
 namespace qp {
@@ -102,6 +103,9 @@ struct GpuPlanData {
     std::vector<GpuSubfaceBoundary> boundaries;  // parallels subfaces
     std::vector<GpuSegment> segments;
     std::vector<GpuPoint> boundaryPoints;        // indexed by boundary point id
+
+    // Not uploaded: macro faces for drawing far-away regions (macro_grid.h), packSubfaces's.
+    MacroGrid macros;
 
     // Not uploaded; for incremental updates. CSR: cage vertex -> the drawn sub-faces whose
     // 1-ring holds it (whose control points move with it), ascending.

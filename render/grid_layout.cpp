@@ -161,10 +161,21 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLay
     layout.subfaceOffset[0] = 0;
     std::vector<uint32_t>& indexOffset = layout.indexOffset;
     indexOffset.assign(count + 1, 0);
+    // A member of a coarse macro face draws nothing of its own; its head draws the macro face.
+    const MacroGrid& macros = data.macros;
+    const bool coarseMacros = !factors.macroResolution.empty();
+    assert(!coarseMacros || factors.macroResolution.size() == 2 * macros.faces.size());
+    auto coarseMacroOf = [&](uint32_t d) {
+        const uint32_t m = coarseMacros ? macros.macroOfDrawn[d] : UINT32_MAX;
+        return m != UINT32_MAX && macroColumns(factors, m) ? m : UINT32_MAX;
+    };
     for (uint32_t d = 0; d < count; ++d) {
         const uint32_t n = factors.subfaceFactor[d];
         layout.subfaceOffset[d + 1] = layout.subfaceOffset[d] + (n + 1) * (n + 1);
-        indexOffset[d + 1] = indexOffset[d] + 6 * n * n;
+        uint32_t indexCount = 6 * n * n;
+        if (const uint32_t m = coarseMacroOf(d); m != UINT32_MAX)
+            indexCount = macros.faces[m].head == d ? 6 * macroColumns(factors, m) * macroRows(factors, m) : 0;
+        indexOffset[d + 1] = indexOffset[d] + indexCount;
         layout.maxFactor = std::max(layout.maxFactor, n);
     }
     layout.source.resize(layout.slotCount());
@@ -197,6 +208,7 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLay
                     list[ownerCount[d]++] = owner.drawn;
                 }
             }
+            if (coarseMacroOf(d) != UINT32_MAX) continue;
             uint32_t* index = layout.indices.data() + indexOffset[d];
             for (uint32_t y = 0; y < n; ++y)
                 for (uint32_t x = 0; x < n; ++x) {
@@ -206,6 +218,13 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLay
         }
     });
     for ([[maybe_unused]] uint32_t s : layout.source) assert(layout.source[s] == s && "copies come from evaluated slots");
+    // Coarse macro faces, once every slot's source is known (their vertices are owners' slots).
+    if (coarseMacros)
+        tbb::parallel_for(uint32_t(0), uint32_t(macros.faces.size()), [&](uint32_t m) {
+            if (macroColumns(factors, m))
+                writeMacroIndices(macros, m, factors, layout.subfaceOffset, layout.source,
+                                  layout.indices.data() + indexOffset[macros.faces[m].head]);
+        });
 
     // Invert "d copies from o" into the CSR of o's dependents, in ascending order.
     layout.dependentOffsets.assign(count + 1, 0);

@@ -44,6 +44,10 @@ static_assert(sizeof(GridVertex) == 24);
 struct GridFactors {
     std::vector<uint32_t> segmentPieces;  // per GpuPlanData::segments
     std::vector<uint32_t> subfaceFactor;  // per drawn sub-face: n
+    // Macro faces (GpuPlanData::macros, macro_grid.h chooseMacroPieces): pieces per span id, and
+    // per macro face its grid's columns and rows (0, 0: drawn as single faces); empty when none is
+    // drawn as one.
+    std::vector<uint32_t> macroSpanPieces, macroResolution;
 
     bool operator==(const GridFactors&) const = default;
 };
@@ -71,7 +75,9 @@ struct GridLayout {
     std::vector<uint32_t> subfaceOffset;  // first slot of each drawn sub-face, plus the total
     std::vector<uint32_t> source;         // per slot: itself (evaluated) or the slot it copies
     std::vector<uint32_t> slotSubface;    // per slot: its drawn sub-face
-    std::vector<uint32_t> indices;        // triangles: 6 n^2 per sub-face, slots of its own block
+    // Triangles: 6 n^2 per sub-face over slots of its own block; a coarse macro face's (macro_grid.h)
+    // in its head's range, over its members' corner slots, and its other members none.
+    std::vector<uint32_t> indices;
     std::vector<uint32_t> indexOffset;    // first index of each drawn sub-face, plus the total
     // CSR: drawn sub-face -> the other drawn sub-faces that copy one of its slots.
     std::vector<uint32_t> dependentOffsets, dependents;

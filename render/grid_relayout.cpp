@@ -68,13 +68,15 @@ Result<bool> relayoutGridKeepingSlots(const VulkanContext& ctx, PlanPass& pass, 
         return false;
     if (current.factors == factors) return false;
     const std::vector<uint32_t> changed = subfacesWithNewFactors(buffers.data, current.factors, factors);
-    if (changed.empty() || 2 * changed.size() > count) return false;
+    // Nothing changed but which macro faces are coarse: every slot is kept, only indices change.
+    if (2 * changed.size() > count) return false;
     std::vector<uint32_t> oldOf(count);
     for (uint32_t d = 0; d < count; ++d) oldOf[d] = d;
     for (uint32_t d : changed) oldOf[d] = UINT32_MAX;
     const GridEvaluator evaluator = buffers.gridEvaluator;
     if (Status s = carryGrid(ctx, pass, buffers, factors, oldOf); !s) return s.error();
     buffers.gridEvaluator = evaluator;
+    if (changed.empty()) return true;
     if (evaluator == GridEvaluator::Cpu) {
         evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, changed, withDependents(buffers.gridLayout, changed),
                           static_cast<GridVertex*>(buffers.grid.data), buffers.displacement,

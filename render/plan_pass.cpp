@@ -140,6 +140,16 @@ std::vector<DrawnRun> drawnRuns(const PlanBuffers& buffers, std::span<const uint
     return runs;
 }
 
+std::vector<uint32_t> skippedDrawn(const PlanBuffers& buffers, const PlanView& view, bool gridMacros) {
+    if (view.culledDrawn.empty()) return {view.hiddenDrawn.begin(), view.hiddenDrawn.end()};
+    const std::vector<uint32_t> culled =
+        gridMacros ? culledForDrawing(buffers.data.macros, buffers.gridLayout.factors, view.culledDrawn)
+                   : std::vector<uint32_t>(view.culledDrawn.begin(), view.culledDrawn.end());
+    std::vector<uint32_t> skipped;
+    std::set_union(view.hiddenDrawn.begin(), view.hiddenDrawn.end(), culled.begin(), culled.end(), std::back_inserter(skipped));
+    return skipped;
+}
+
 Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& planned) {
     PlanBuffers b;
     b.data = packPlans(planned);
@@ -315,7 +325,7 @@ void recordTessellated(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& b
     beginRendering(cmd, target, view.clear, view.background);
     const PlanDrawPush push = planDrawPush(view, &settings);
     const uint32_t perDraw = patchesPerDraw(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
-    const std::vector<DrawnRun> runs = drawnRuns(buffers, view.hiddenDrawn);
+    const std::vector<DrawnRun> runs = drawnRuns(buffers, skippedDrawn(buffers, view, false));
     const bool displaced = buffers.displacement != nullptr;
     const VkPipeline solid = displaced ? pass.tessellatedDisplaced : pass.tessellated;
     const VkPipeline wire = displaced ? pass.tessellatedDisplacedWire : pass.tessellatedWire;
@@ -490,9 +500,9 @@ void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers
                     const PlanView& view) {
     assert(buffers.gridEvaluator != GridEvaluator::None && "fill the grid first");
     std::vector<std::pair<uint32_t, uint32_t>> ranges;
-    if (!view.hiddenDrawn.empty() || !buffers.holeDrawn.empty()) {
+    if (!view.hiddenDrawn.empty() || !view.culledDrawn.empty() || !buffers.holeDrawn.empty()) {
         const std::vector<uint32_t>& indexOffset = buffers.gridLayout.indexOffset;
-        for (const DrawnRun& run : drawnRuns(buffers, view.hiddenDrawn))
+        for (const DrawnRun& run : drawnRuns(buffers, skippedDrawn(buffers, view, true)))
             ranges.push_back({indexOffset[run.begin], indexOffset[run.end] - indexOffset[run.begin]});
         if (ranges.empty()) ranges.push_back({0, 0});  // everything hidden
     }

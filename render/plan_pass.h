@@ -45,6 +45,13 @@ struct TessellationSettings {
     // Grid paths with a displacement: > 0 draws displaced tiles no finer than this many pixels per
     // segment on screen (an editor's level of detail); 0 makes every non-zero sample a vertex.
     float displacementPixels = 0.0f;
+    // Grid paths at uniform factor 1: macro faces (macro_grid.h) drawn at per-face factor
+    // 1 / minify (1: single faces). Adaptive factors choose macro faces by screen size instead.
+    uint32_t minify = 1;
+    // Uniform factors: macro faces whose members share one factor drawn as one grid even at their
+    // members' full resolution (the same triangles over shared vertices instead of each face's
+    // copies; `quadplan bench macro` compares the two).
+    bool wholeMacroFaces = false;
 };
 
 // GPU copies of one planned cage.
@@ -109,6 +116,10 @@ struct DrawnRun {
     uint32_t begin, end;
 };
 std::vector<DrawnRun> drawnRuns(const PlanBuffers& buffers, std::span<const uint32_t> hidden);
+struct PlanView;
+// What a draw of `view` skips besides holes (sorted): hidden and culled sub-faces; with
+// `gridMacros`, a coarse macro face's head (macro_grid.h) only when all its members are culled.
+std::vector<uint32_t> skippedDrawn(const PlanBuffers& buffers, const PlanView& view, bool gridMacros);
 // New positions for every vertex (same topology); drops what was cached.
 void updatePositions(PlanBuffers& buffers, const PlannedCage& planned);
 void destroyPlanBuffers(const VulkanContext& context, PlanBuffers& buffers);
@@ -166,6 +177,9 @@ struct PlanView {
     glm::vec3 keyLight = kPlanKeyLight, fillLight = kPlanFillLight;
     std::span<const uint32_t> hiddenDrawn;  // drawn sub-faces not to draw (sorted; the editor's hidden
                                             // faces); holes (PlanBuffers::holeDrawn) are never drawn
+    // Drawn sub-faces culled for this view (sorted): not drawn either, but unlike hidden ones they
+    // do not keep a macro face from being coarse (its triangles go when all its members are culled).
+    std::span<const uint32_t> culledDrawn;
 };
 
 // Pixels per world unit at clip w = 1, for adaptive factors: viewport height / 2 * |P[1][1]|

@@ -144,6 +144,10 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
         const uint32_t previous = previousOf.empty() ? subface : previousOf[subface];
         oldOf[d] = previous < oldDrawnOf.size() ? oldDrawnOf[previous] : UINT32_MAX;
     }
+    // Macro faces follow the topology and the drawn numbering; a tag edit that kept both keeps them.
+    bool renumbered = !previousOf.empty() || count != old.subfaces.size();
+    for (uint32_t d = 0; d < count && !renumbered; ++d) renumbered = oldOf[d] != d;
+    if (renumbered) rebuildMacroGrid(planned, data);
 
     // The ring users on another core while control points, owners and the grid are settled
     // below: they read the rings and ring offsets, which nothing up to the wait writes.

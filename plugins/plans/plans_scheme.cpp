@@ -62,7 +62,8 @@ public:
     SupportReport support(const CageFeatures&, const SchemeSettings& settings) const override {
         SupportReport report;
         for (const auto& [key, value] : settings.options)
-            if (key != "path" && key != "displacement-pixels")
+            if (key != "path" && key != "displacement-pixels" && key != "macro" && key != "minify" &&
+                key != "macro-whole")
                 report.approximations.push_back("plans ignores the unknown option '" + key + "'");
         return report;
     }
@@ -75,6 +76,28 @@ public:
             std::optional<DrawPath> parsed = parseDrawPath(*path);
             if (!parsed) return Error{"plans: unknown --path '" + *path + "'; use auto, tess, grid or cpu"};
             requestedPath_ = *parsed;
+        }
+        macroChoice_ = MacroChoice::Auto;
+        if (const std::string* macro = settings.option("macro")) {
+            bool known = false;
+            for (MacroChoice choice :
+                 {MacroChoice::Auto, MacroChoice::Rectangles, MacroChoice::Quartets, MacroChoice::Blocks, MacroChoice::Off})
+                if (*macro == macroChoiceName(choice)) macroChoice_ = choice, known = true;
+            if (!known) return Error{"plans: --option macro=" + *macro + ": use auto, rectangles, quartets, blocks or off"};
+        }
+        minify_ = 1;
+        if (const std::string* minify = settings.option("minify")) {
+            char* end = nullptr;
+            const long value = std::strtol(minify->c_str(), &end, 10);
+            if (minify->empty() || *end != '\0' || value < 1 || value > 64)
+                return Error{"plans: --option minify=" + *minify + " is not a whole number from 1 to 64 (at --tess 1, "
+                             "macro faces drawn at per-face factor 1 / minify)"};
+            minify_ = uint32_t(value);
+        }
+        wholeMacroFaces_ = false;
+        if (const std::string* whole = settings.option("macro-whole")) {
+            if (*whole != "on" && *whole != "off") return Error{"plans: --option macro-whole=" + *whole + ": use on or off"};
+            wholeMacroFaces_ = *whole == "on";
         }
         cullBounds_.reset();
         displacementPixels_ = 0.0f;
@@ -99,6 +122,10 @@ public:
         if (!buffers) return buffers.error();
         buffers_ = std::move(*buffers);
         haveBuffers_ = true;
+        if (macroChoice_ != buffers_.data.macros.choice) {
+            buffers_.data.macros.choice = macroChoice_;
+            rebuildMacroGrid(*planned_, buffers_.data);
+        }
         if (Status s = bindPlanBuffers(*ctx_, pass_, buffers_); !s) return s;
         return setPlanDisplacement(*ctx_, pass_, buffers_, displacement_);
     }
@@ -228,17 +255,14 @@ public:
         hiddenDrawn_ = std::move(hiddenOrHole);
         DrawStats stats;
         culledDrawn_ = culledDrawnSubfaces(view, stats);
-        if (!culledDrawn_.empty()) {
-            std::vector<uint32_t> hiddenOrCulled;
-            std::set_union(hiddenDrawn_.begin(), hiddenDrawn_.end(), culledDrawn_.begin(), culledDrawn_.end(),
-                           std::back_inserter(hiddenOrCulled));
-            hiddenDrawn_ = std::move(hiddenOrCulled);
-        }
         planView.hiddenDrawn = hiddenDrawn_;
+        planView.culledDrawn = culledDrawn_;
         planView.shading = view.shading;
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
         if (settings_.adaptivePixels > 0.0f) tessellation = {0, settings_.adaptivePixels};
         tessellation.displacementPixels = displacementPixels_;
+        tessellation.minify = minify_;
+        tessellation.wholeMacroFaces = wholeMacroFaces_;
         // Every stored sample a vertex: the grid paths raise the factors where the displacement
         // is not zero (displaced_grid_factors.h); the tessellator takes one uniform factor.
         if (displacement_ && path_ == DrawPath::Tessellated)
@@ -265,17 +289,24 @@ public:
             return Error{"plans: " + prepared.error().message};
         }
         recordPlanFrame(cmd, pass_, buffers_, path_, target, planView, tessellation);
-        stats.patches = buffers_.data.subfaces.size() - hiddenDrawn_.size();
+        const std::vector<uint32_t> skipped = skippedDrawn(buffers_, planView, path_ != DrawPath::Tessellated);
+        std::vector<uint32_t> skippedOrHole;
+        std::set_union(skipped.begin(), skipped.end(), buffers_.holeDrawn.begin(), buffers_.holeDrawn.end(),
+                       std::back_inserter(skippedOrHole));
+        stats.patches = buffers_.data.subfaces.size() - skippedOrHole.size();
         stats.drawnBy = path_ == DrawPath::Tessellated ? DrawnBy::Tessellator
                         : path_ == DrawPath::Grid      ? DrawnBy::GpuGrid
                                                        : DrawnBy::CpuMesh;
-        const std::vector<uint32_t> factors = path_ != DrawPath::Tessellated ? buffers_.gridLayout.factors.subfaceFactor
-                                              : tessellation.uniformFactor > 0  // the tessellator's count at a uniform factor
-                                                  ? uniformGridFactors(buffers_.data, tessellation.uniformFactor).subfaceFactor
-                                                  : std::vector<uint32_t>{};
-        for (uint32_t n : factors) stats.triangles += 2ull * n * n;
-        for (uint32_t d : hiddenDrawn_)
-            if (d < factors.size()) stats.triangles -= 2ull * factors[d] * factors[d];
+        if (path_ != DrawPath::Tessellated) {
+            // The index ranges drawn (a coarse macro face's triangles are its head's).
+            const std::vector<uint32_t>& indexOffset = buffers_.gridLayout.indexOffset;
+            for (const DrawnRun& run : drawnRuns(buffers_, skipped))
+                stats.triangles += (indexOffset[run.end] - indexOffset[run.begin]) / 3;
+        } else if (tessellation.uniformFactor > 0) {  // the tessellator's count at a uniform factor
+            const std::vector<uint32_t> factors = uniformGridFactors(buffers_.data, tessellation.uniformFactor).subfaceFactor;
+            for (uint32_t n : factors) stats.triangles += 2ull * n * n;
+            for (uint32_t d : skippedOrHole) stats.triangles -= 2ull * factors[d] * factors[d];
+        }
         return stats;
     }
 
@@ -382,6 +413,9 @@ private:
 
     const PlannedCage* planned_ = nullptr;
     SchemeSettings settings_;
+    MacroChoice macroChoice_ = MacroChoice::Auto;  // --option macro=
+    uint32_t minify_ = 1;                          // --option minify=
+    bool wholeMacroFaces_ = false;                 // --option macro-whole=
     float displacementPixels_ = 0.0f;  // grid paths: displaced tiles no finer than this on screen (0: off)
     DrawPath requestedPath_ = DrawPath::Auto, path_ = DrawPath::Grid;
     const Displacement* displacement_ = nullptr;
@@ -391,7 +425,7 @@ private:
     bool haveBuffers_ = false;
     std::vector<uint32_t> pendingMoves_;    // sorted: vertices moved since the last frame (updateMoved)
     std::vector<uint32_t> pendingRefresh_;  // sorted drawn sub-faces re-planned since the last frame
-    std::vector<uint32_t> hiddenDrawn_;     // this draw's DrawView::hiddenSubfaces as drawn indices (and culled ones)
+    std::vector<uint32_t> hiddenDrawn_;     // this draw's DrawView::hiddenSubfaces as drawn indices, and holes
     std::vector<uint32_t> culledDrawn_;     // this draw's culled sub-faces as drawn indices
     std::optional<PatchCullSet> cullBounds_;  // built when first needed after a change
     CullAdjacency cullNeighbours_;          // sub-faces sharing a cage vertex (keepBesideDrawn)

@@ -1,0 +1,316 @@
+#include "macro_grid.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <iterator>
+
+#include <glm/geometric.hpp>
+#include <glm/mat4x4.hpp>
+#include <tbb/parallel_invoke.h>
+
+#include "gpu_plans.h"
+#include "grid_layout.h"
+#include "macro_faces.h"
+
+namespace qp {
+
+namespace {
+
+// Positions (in pieces of 1 / n of a cage edge, ascending) of side s's vertices: its spans' pieces.
+std::vector<uint32_t> sideVertexPositions(const MacroGrid& grid, const MacroGridFace& face, uint32_t s, uint32_t n,
+                                          std::span<const uint32_t> spanPieces) {
+    std::vector<uint32_t> positions{0};
+    for (uint32_t k = face.spanBegin[s]; k < face.spanBegin[s + 1]; ++k) {
+        const MacroSpan& span = grid.spans[k];
+        const uint32_t pieces = spanPieces[span.id], stepLength = span.length * n / pieces;
+        for (uint32_t p = 1; p <= pieces; ++p) positions.push_back(span.start * n + p * stepLength);
+    }
+    return positions;
+}
+
+// The grid's columns (or rows): every vertex of the two opposite sides.
+std::vector<uint32_t> gridLines(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {
+    std::vector<uint32_t> lines;
+    std::set_union(a.begin(), a.end(), b.begin(), b.end(), std::back_inserter(lines));
+    return lines;
+}
+
+uint64_t quadsSaved(const MacroFaces& macros) { return macros.facesInMacroFaces() - macros.faces.size(); }
+
+// The cell of lattice point (a, b) and the corner of its member there.
+struct LatticeCorner {
+    uint32_t cell, corner;
+};
+LatticeCorner latticeCorner(const MacroGrid& grid, const MacroGridFace& face, uint32_t a, uint32_t b) {
+    const uint32_t i = std::min(a, face.width - 1), j = std::min(b, face.height - 1);
+    const uint32_t du = a - i, dv = b - j;
+    const uint32_t k = dv ? (du ? 2 : 3) : du;  // (0,0) 0, (1,0) 1, (1,1) 2, (0,1) 3
+    const uint32_t cell = face.firstCell + j * face.width + i;
+    return {cell, (grid.cellRotation[cell] + k) & 3};
+}
+
+// Lattice point t along side s (sides run as MacroFace says: 0 and 2 along u, 1 and 3 along v,
+// each from the lower coordinate).
+void sidePoint(const MacroGridFace& face, uint32_t s, uint32_t t, uint32_t& a, uint32_t& b) {
+    a = s == 0 || s == 2 ? t : (s == 1 ? face.width : 0);
+    b = s == 1 || s == 3 ? t : (s == 2 ? face.height : 0);
+}
+
+uint32_t smallestDivisorAtLeast(uint32_t length, float wanted) {
+    if (!(wanted > 1.0f)) return 1;
+    if (wanted >= float(length)) return length;
+    for (uint32_t p = uint32_t(std::ceil(wanted)); p < length; ++p)
+        if (length % p == 0) return p;
+    return length;
+}
+
+MacroGrid inDrawnSubfaces(const PlannedCage& planned, const GpuPlanData& data, const MacroFaces& macros,
+                          MacroPartition partition) {
+    std::vector<uint32_t> drawnOf(planned.subfaceCount(), UINT32_MAX);
+    for (uint32_t d = 0; d < data.subfaces.size(); ++d) drawnOf[data.subfaces[d].subface] = d;
+    MacroGrid grid;
+    grid.partition = partition;
+    grid.macroOfDrawn.assign(data.subfaces.size(), UINT32_MAX);
+    grid.spans = macros.spans;
+    grid.spanShared = macros.spanShared;
+    for (const MacroFace& face : macros.faces) {
+        MacroGridFace out{face.width, face.height, uint32_t(grid.cellDrawn.size()), UINT32_MAX, {}};
+        std::copy(face.spanBegin, face.spanBegin + 5, out.spanBegin);
+        bool drawn = true;
+        for (uint32_t c = 0; c < face.width * face.height && drawn; ++c)
+            drawn = drawnOf[planned.firstSubface(macros.cells[face.firstCell + c].face)] != UINT32_MAX;
+        if (!drawn) {
+            // A member without a surface: the macro face is left out, and the spans it shared are
+            // shared no more.
+            for (uint32_t k = face.spanBegin[0]; k < face.spanBegin[4]; ++k) grid.spanShared[macros.spans[k].id] = 0;
+            continue;
+        }
+        const uint32_t m = uint32_t(grid.faces.size());
+        for (uint32_t c = 0; c < face.width * face.height; ++c) {
+            const MacroCell& cell = macros.cells[face.firstCell + c];
+            const uint32_t d = drawnOf[planned.firstSubface(cell.face)];
+            grid.cellDrawn.push_back(d);
+            grid.cellRotation.push_back(uint8_t(cell.rotation));
+            grid.macroOfDrawn[d] = m;
+            out.head = std::min(out.head, d);
+        }
+        grid.faces.push_back(out);
+    }
+    return grid;
+}
+
+}  // namespace
+
+namespace {
+
+MacroFaces partitionOf(const PlannedCage& planned, MacroPartition partition) {
+    switch (partition) {
+    case MacroPartition::Rectangles: return rectangularMacroFaces(planned.cage(), planned.topology());
+    case MacroPartition::Quartets: return quartetMacroFaces(planned.cage(), planned.topology());
+    case MacroPartition::Blocks: return blockMacroFaces(planned.cage(), planned.topology());
+    }
+    return {};
+}
+
+}  // namespace
+
+MacroGrid buildMacroGrid(const PlannedCage& planned, const GpuPlanData& data, MacroPartition partition) {
+    return inDrawnSubfaces(planned, data, partitionOf(planned, partition), partition);
+}
+
+void rebuildMacroGrid(const PlannedCage& planned, GpuPlanData& data) {
+    const MacroChoice choice = data.macros.choice;
+    switch (choice) {
+    case MacroChoice::Off: data.macros = MacroGrid{}; break;
+    case MacroChoice::Rectangles: data.macros = buildMacroGrid(planned, data, MacroPartition::Rectangles); break;
+    case MacroChoice::Quartets: data.macros = buildMacroGrid(planned, data, MacroPartition::Quartets); break;
+    case MacroChoice::Blocks: data.macros = buildMacroGrid(planned, data, MacroPartition::Blocks); break;
+    case MacroChoice::Auto: {
+        // Rectangles and aligned blocks (quartets are blocks of 2 and save less), on two cores.
+        MacroFaces rectangles, blocks;
+        tbb::parallel_invoke([&] { rectangles = partitionOf(planned, MacroPartition::Rectangles); },
+                             [&] { blocks = partitionOf(planned, MacroPartition::Blocks); });
+        const bool useBlocks = quadsSaved(blocks) > quadsSaved(rectangles);
+        data.macros = inDrawnSubfaces(planned, data, useBlocks ? blocks : rectangles,
+                                      useBlocks ? MacroPartition::Blocks : MacroPartition::Rectangles);
+        break;
+    }
+    }
+    data.macros.choice = choice;
+}
+
+const char* macroChoiceName(MacroChoice choice) {
+    switch (choice) {
+    case MacroChoice::Auto: return "auto";
+    case MacroChoice::Rectangles: return "rectangles";
+    case MacroChoice::Quartets: return "quartets";
+    case MacroChoice::Blocks: return "blocks";
+    case MacroChoice::Off: return "off";
+    }
+    return "?";
+}
+
+void chooseMacroPieces(const GpuPlanData& data, GridFactors& factors, std::span<const glm::vec4> points,
+                       const AdaptiveView* view, uint32_t minify, std::span<const uint32_t> blocked,
+                       const GridFactors* previous, bool whole) {
+    const MacroGrid& grid = data.macros;
+    factors.macroSpanPieces.clear();
+    factors.macroResolution.clear();
+    const uint32_t macroCount = uint32_t(grid.faces.size());
+    if (macroCount == 0 || (!view && minify <= 1 && !whole)) return;
+
+    // Which macro faces may be drawn as one (every member at one factor n, each of its edges in n
+    // pieces, none blocked), and per span how many of its users may. The users of a span have
+    // equal n: its segments are theirs.
+    std::vector<uint32_t> resolution(macroCount, 0);  // n of an eligible macro face, else 0
+    std::vector<uint8_t> eligibleUsers(grid.spanCount(), 0);
+    for (uint32_t m = 0; m < macroCount; ++m) {
+        const MacroGridFace& face = grid.faces[m];
+        const uint32_t n = factors.subfaceFactor[grid.cellDrawn[face.firstCell]];
+        bool ok = true;
+        for (uint32_t c = face.firstCell; c < face.firstCell + face.width * face.height && ok; ++c) {
+            const uint32_t d = grid.cellDrawn[c];
+            ok = factors.subfaceFactor[d] == n && !std::binary_search(blocked.begin(), blocked.end(), d);
+            for (const GpuEdgeRef& r : data.boundaries[d].edges)
+                ok = ok && factors.segmentPieces[r.segment] * ((r.flags & kEdgeRefSplit) ? 2 : 1) == n;
+        }
+        if (!ok) continue;
+        resolution[m] = n;
+        for (uint32_t k = face.spanBegin[0]; k < face.spanBegin[4]; ++k) ++eligibleUsers[grid.spans[k].id];
+    }
+
+    // Pieces per span id, once (so equal from both users), in pieces of 1 / n of a cage edge.
+    const bool keepPrevious = previous && previous->macroSpanPieces.size() == grid.spanCount();
+    std::vector<uint32_t>& spanPieces = factors.macroSpanPieces;
+    spanPieces.assign(grid.spanCount(), 0);
+    factors.macroResolution.assign(2 * size_t(macroCount), 0);
+    bool anyCoarse = false;
+    for (uint32_t m = 0; m < macroCount; ++m) {
+        const uint32_t n = resolution[m];
+        if (!n) continue;
+        const MacroGridFace& face = grid.faces[m];
+        bool coarse = whole;
+        for (uint32_t s = 0; s < 4; ++s)
+            for (uint32_t k = face.spanBegin[s]; k < face.spanBegin[s + 1]; ++k) {
+                const MacroSpan& span = grid.spans[k];
+                const uint32_t full = span.length * n;
+                uint32_t& pieces = spanPieces[span.id];
+                if (!pieces) {
+                    if (!grid.spanShared[span.id] || eligibleUsers[span.id] < 2) {
+                        pieces = full;
+                    } else if (view) {
+                        // The span's polyline through its cage vertices, measured on screen at its middle.
+                        float polyline = 0.0f;
+                        glm::vec3 previousPoint(0.0f), middle(0.0f);
+                        for (uint32_t t = span.start; t <= span.start + span.length; ++t) {
+                            uint32_t a, b;
+                            sidePoint(face, s, t, a, b);
+                            const LatticeCorner at = latticeCorner(grid, face, a, b);
+                            const glm::vec3 p(points[data.boundaries[grid.cellDrawn[at.cell]].corners[at.corner]]);
+                            if (t > span.start) polyline += glm::length(p - previousPoint);
+                            if (t == span.start + span.length / 2) middle = p;
+                            previousPoint = p;
+                        }
+                        const float w = std::max((view->viewProjection * glm::vec4(middle, 1.0f)).w, 1e-4f);
+                        const float wanted = polyline * view->pixelsPerUnit / w / view->pixelsPerSegment;
+                        pieces = smallestDivisorAtLeast(full, wanted);
+                        if (keepPrevious) {
+                            const uint32_t kept = previous->macroSpanPieces[span.id];
+                            if (kept && full % kept == 0 && wanted <= float(kept) && wanted * 2.5f > float(kept)) pieces = kept;
+                        }
+                    } else {
+                        pieces = smallestDivisorAtLeast(full, float(full) / float(minify));  // factor n / minify
+                    }
+                }
+                coarse = coarse || pieces < full;
+            }
+        if (!coarse) continue;
+        // Columns at every vertex of the bottom and top sides, rows at those of the left and right.
+        std::vector<uint32_t> sides[4];
+        for (uint32_t s = 0; s < 4; ++s) sides[s] = sideVertexPositions(grid, face, s, n, spanPieces);
+        factors.macroResolution[2 * size_t(m)] = uint32_t(gridLines(sides[0], sides[2]).size() - 1);
+        factors.macroResolution[2 * size_t(m) + 1] = uint32_t(gridLines(sides[1], sides[3]).size() - 1);
+        anyCoarse = true;
+    }
+    if (!anyCoarse) {
+        factors.macroSpanPieces.clear();
+        factors.macroResolution.clear();
+    }
+}
+
+uint32_t macroColumns(const GridFactors& factors, uint32_t m) {
+    return factors.macroResolution.empty() ? 0 : factors.macroResolution[2 * size_t(m)];
+}
+uint32_t macroRows(const GridFactors& factors, uint32_t m) {
+    return factors.macroResolution.empty() ? 0 : factors.macroResolution[2 * size_t(m) + 1];
+}
+
+void writeMacroIndices(const MacroGrid& grid, uint32_t m, const GridFactors& factors,
+                       std::span<const uint32_t> subfaceOffset, std::span<const uint32_t> source, uint32_t* out) {
+    const MacroGridFace& face = grid.faces[m];
+    const uint32_t n = factors.subfaceFactor[grid.cellDrawn[face.firstCell]];
+    const uint32_t width = face.width * n, height = face.height * n;  // in pieces of its members' grids
+    // The slot of lattice point (a, b) (in pieces): a member's grid slot, turned from the cell's
+    // frame into the face's own (corner `rotation` at the cell's origin).
+    auto slotAt = [&](uint32_t a, uint32_t b) {
+        const uint32_t i = std::min(a / n, face.width - 1), j = std::min(b / n, face.height - 1);
+        const uint32_t x = a - i * n, y = b - j * n, cell = face.firstCell + j * face.width + i;
+        uint32_t fx = x, fy = y;
+        switch (grid.cellRotation[cell]) {
+        case 1: fx = n - y, fy = x; break;
+        case 2: fx = n - x, fy = n - y; break;
+        case 3: fx = y, fy = n - x; break;
+        default: break;
+        }
+        const uint32_t d = grid.cellDrawn[cell];
+        assert(factors.subfaceFactor[d] == n && "members of a coarse macro face share one factor");
+        return source[subfaceOffset[d] + fy * (n + 1) + fx];
+    };
+    std::vector<uint32_t> sides[4];
+    for (uint32_t s = 0; s < 4; ++s) sides[s] = sideVertexPositions(grid, face, s, n, factors.macroSpanPieces);
+    const std::vector<uint32_t> columnAt = gridLines(sides[0], sides[2]), rowAt = gridLines(sides[1], sides[3]);
+    const uint32_t columns = uint32_t(columnAt.size() - 1), rows = uint32_t(rowAt.size() - 1);
+    assert(columns == macroColumns(factors, m) && rows == macroRows(factors, m));
+    // The side vertex nearest to `position` (ties: the later one), as grid_layout.cpp snaps edges:
+    // a grid line that is not one of this side's vertices folds into a neighbour.
+    auto snap = [&](uint32_t s, uint32_t position) {
+        const std::vector<uint32_t>& vertices = sides[s];
+        const auto after = std::lower_bound(vertices.begin(), vertices.end(), position);
+        if (after == vertices.end()) return vertices.back();
+        if (after == vertices.begin() || *after == position) return *after;
+        return position - *(after - 1) < *after - position ? *(after - 1) : *after;
+    };
+    auto vertex = [&](uint32_t x, uint32_t y) {
+        if (y == 0) return slotAt(snap(0, columnAt[x]), 0);
+        if (y == rows) return slotAt(snap(2, columnAt[x]), height);
+        if (x == 0) return slotAt(0, snap(3, rowAt[y]));
+        if (x == columns) return slotAt(width, snap(1, rowAt[y]));
+        return slotAt(columnAt[x], rowAt[y]);
+    };
+    for (uint32_t y = 0; y < rows; ++y)
+        for (uint32_t x = 0; x < columns; ++x) {
+            const uint32_t a = vertex(x, y), b = vertex(x + 1, y), c = vertex(x + 1, y + 1), e = vertex(x, y + 1);
+            *out++ = a, *out++ = b, *out++ = c, *out++ = a, *out++ = c, *out++ = e;
+        }
+}
+
+std::vector<uint32_t> culledForDrawing(const MacroGrid& grid, const GridFactors& factors, std::span<const uint32_t> culled) {
+    if (factors.macroResolution.empty()) return {culled.begin(), culled.end()};
+    std::vector<uint32_t> out;
+    out.reserve(culled.size());
+    for (uint32_t d : culled) {
+        const uint32_t m = d < grid.macroOfDrawn.size() ? grid.macroOfDrawn[d] : UINT32_MAX;
+        if (m != UINT32_MAX && macroColumns(factors, m) && grid.faces[m].head == d) {
+            const MacroGridFace& face = grid.faces[m];
+            bool all = true;
+            for (uint32_t c = face.firstCell; c < face.firstCell + face.width * face.height && all; ++c)
+                all = std::binary_search(culled.begin(), culled.end(), grid.cellDrawn[c]);
+            if (!all) continue;
+        }
+        out.push_back(d);
+    }
+    return out;
+}
+
+}  // namespace qp

@@ -1,0 +1,204 @@
+// Macro faces on the grid paths (render/macro_grid.h): far-away blocks of faces drawn with
+// fewer than two triangles a face, and the surface stays closed (no crack, no T-junction)
+// between coarse macro faces, single faces and n-gon sub-faces.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+
+#include "draw_path.h"
+#include "generated_cage.h"
+#include "macro_faces.h"
+#include "obj_io.h"
+#include "offscreen_target.h"
+#include "plan_pass.h"
+#include "planned_cage.h"
+#include "render_test_support.h"
+#include "test_cages.h"
+#include "test_support.h"
+#include "vk_commands.h"
+
+using namespace qp;
+
+namespace {
+
+constexpr uint32_t kImageSize = 320;
+
+struct MacroFixture : ::testing::Test {
+    VulkanContext ctx;
+    PlanPass pass;
+
+    void SetUp() override {
+        Result<VulkanContext> created = test::createTestContext();
+        ASSERT_TRUE(created.ok()) << created.error().message;
+        ctx = std::move(created).value();
+        Result<PlanPass> p = createPlanPass(ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM);
+        ASSERT_TRUE(p.ok()) << p.error().message;
+        pass = *p;
+    }
+    void TearDown() override {
+        if (!ctx.device) return;
+        destroyPlanPass(ctx, pass);
+        destroyContext(ctx);
+        EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
+    }
+    PlanBuffers upload(const PlannedCage& planned) {
+        Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
+        EXPECT_TRUE(buffers.ok()) << buffers.error().message;
+        EXPECT_TRUE(bindPlanBuffers(ctx, pass, *buffers).ok());
+        return std::move(buffers).value();
+    }
+};
+
+PlannedCage planCage(const Cage& cage, PlanDatabase& db) {
+    Result<PlannedCage> planned = PlannedCage::create(cage, db, {}, "test cage");
+    EXPECT_TRUE(planned.ok()) << planned.error().message;
+    return std::move(planned).value();
+}
+
+// The layout's triangles over the slots that evaluate their vertices: degenerate ones (two
+// corners one vertex, as snapping makes) dropped, each undirected edge counted with its
+// direction. On a closed, consistently wound surface every edge is crossed as often one way as
+// the other; a crack or a T-junction leaves an edge crossed once. Returns the triangles kept.
+size_t expectClosed(const GridLayout& layout, std::span<const uint32_t> skipped, const std::string& what) {
+    std::map<std::pair<uint32_t, uint32_t>, int> balance;  // (low, high) -> uses low->high minus high->low
+    size_t kept = 0;
+    for (uint32_t d = 0; d + 1 < layout.indexOffset.size(); ++d) {
+        if (std::binary_search(skipped.begin(), skipped.end(), d)) continue;
+        for (uint32_t i = layout.indexOffset[d]; i < layout.indexOffset[d + 1]; i += 3) {
+            const uint32_t v[3] = {layout.source[layout.indices[i]], layout.source[layout.indices[i + 1]],
+                                   layout.source[layout.indices[i + 2]]};
+            if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
+            ++kept;
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t a = v[k], b = v[(k + 1) % 3];
+                balance[std::minmax(a, b)] += a < b ? 1 : -1;
+            }
+        }
+    }
+    size_t open = 0;
+    for (const auto& [edge, count] : balance) open += count != 0;
+    EXPECT_EQ(open, 0u) << what << ": edges crossed more often one way than the other (cracks or T-junctions)";
+    return kept;
+}
+
+std::vector<std::pair<std::string, Cage>> closedCages() {
+    std::vector<std::pair<std::string, Cage>> cages = {{"regular torus", test::makeTorus(48, 40)},
+                                                       {"subdivided cube", test::makeSubdividedCube(8)},
+                                                       {"generated", makeBenchmarkCage(3000, 1)}};
+    return cages;
+}
+
+}  // namespace
+
+TEST_F(MacroFixture, CoarseMacroFacesKeepClosedCagesClosed) {
+    for (auto& [name, cage] : closedCages()) {
+        for (MacroChoice choice : {MacroChoice::Rectangles, MacroChoice::Quartets, MacroChoice::Blocks}) {
+            PlanDatabase db;
+            PlannedCage planned = planCage(cage, db);
+            PlanBuffers buffers = upload(planned);
+            buffers.data.macros.choice = choice;
+            rebuildMacroGrid(planned, buffers.data);
+            ASSERT_FALSE(buffers.data.macros.faces.empty()) << name;
+            const std::string base = name + ", " + macroChoiceName(choice);
+            size_t single = 0;
+            for (uint32_t minify : {1u, 2u, 4u, 16u}) {
+                GridFactors factors = uniformGridFactors(buffers.data, 1);
+                chooseMacroPieces(buffers.data, factors, buffers.pointPositionsHost, nullptr, minify, buffers.holeDrawn);
+                // The generated cage has triangles: its uniform factor 1 is 2 (grid_layout.h), so minify 2
+                // draws its macro faces at per-face factor 1.
+                const bool coarse = minify > 1;
+                EXPECT_EQ(factors.macroResolution.empty(), !coarse) << base << ", minify " << minify;
+                ASSERT_TRUE(prepareGrid(ctx, pass, buffers, factors).ok());
+                evaluateGridOnCpu(planned, buffers);
+                const std::string what = base + ", per-face factor 1/" + std::to_string(minify);
+                const size_t triangles = expectClosed(buffers.gridLayout, buffers.holeDrawn, what);
+                if (minify == 1) {
+                    single = triangles;
+                } else if (coarse) {
+                    EXPECT_LT(triangles, single) << what;
+                }
+                if (HasFatalFailure()) return;
+            }
+            destroyPlanBuffers(ctx, buffers);
+        }
+    }
+}
+
+// The renderer's own choice: far away, screen-adaptive factors make macro faces coarse; drawn
+// on both grid paths with validation on, the picture covers the model, and it stays closed.
+TEST_F(MacroFixture, FarViewsDrawCoarseMacroFacesOnBothGridPaths) {
+    Result<OffscreenTarget> target = createOffscreenTarget(ctx, kImageSize, kImageSize, VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(target.ok()) << target.error().message;
+    const Cage cage = test::makeTorus(96, 40);
+    PlanDatabase db;
+    PlannedCage planned = planCage(cage, db);
+    PlanBuffers buffers = upload(planned);
+    // Factors as for a view ten times farther (fewer pixels per unit), drawn framed so that the
+    // picture shows the coarse macro faces.
+    PlanView view = test::framedPlanView(cage, kImageSize);
+    view.pixelsPerUnit /= 10.0f;
+    const TessellationSettings adaptive{0, 4.0f};
+    for (DrawPath path : {DrawPath::CpuGrid, DrawPath::Grid}) {
+        buffers.gridEvaluator = GridEvaluator::None;
+        ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, path, view, adaptive).ok());
+        ASSERT_FALSE(buffers.gridLayout.factors.macroResolution.empty()) << drawPathName(path) << ": no macro face is coarse";
+        Status drawn = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            recordPlanFrame(cmd, pass, buffers, path, renderTarget(*target), view, adaptive);
+        });
+        ASSERT_TRUE(drawn.ok()) << drawn.error().message;
+        const size_t triangles = expectClosed(buffers.gridLayout, {}, drawPathName(path));
+        EXPECT_LT(triangles, size_t(cage.faceCount())) << "fewer than one triangle a face when far away";
+        Result<std::vector<uint8_t>> rgba = readPixels(ctx, *target);
+        ASSERT_TRUE(rgba.ok());
+        size_t covered = 0;
+        for (size_t i = 0; i < rgba->size(); i += 4) covered += std::abs(int((*rgba)[i]) - int((*rgba)[0])) > 8;
+        EXPECT_GT(covered, rgba->size() / 4 / 10) << "the torus covers the picture";
+        const std::string png = (test::testOutputDir() / ("macro_faces_far_" + std::string(drawPathName(path)) + ".png")).string();
+        ASSERT_TRUE(writePng(png, kImageSize, kImageSize, *rgba).ok());
+    }
+    // Close up, no macro face is coarse: the layout is the single faces' one.
+    PlanView close = view;
+    close.pixelsPerUnit *= 400.0f;
+    ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, close, adaptive).ok());
+    EXPECT_TRUE(buffers.gridLayout.factors.macroResolution.empty());
+    destroyPlanBuffers(ctx, buffers);
+    destroyOffscreenTarget(ctx, *target);
+}
+
+TEST_F(MacroFixture, HiddenMembersAndCullingKeepFacesDrawn) {
+    const Cage cage = test::makeSubdividedCube(8);
+    PlanDatabase db;
+    PlannedCage planned = planCage(cage, db);
+    PlanBuffers buffers = upload(planned);
+    const MacroGrid& macros = buffers.data.macros;
+    ASSERT_EQ(macros.faces.size(), 6u);  // one per side of the cube (test_macro_faces.cpp)
+    // A hidden member keeps its macro face single; the other sides stay coarse.
+    const uint32_t hidden = macros.cellDrawn[macros.faces[2].firstCell + 9];
+    const std::vector<uint32_t> blocked{hidden};
+    GridFactors factors = uniformGridFactors(buffers.data, 1);
+    chooseMacroPieces(buffers.data, factors, buffers.pointPositionsHost, nullptr, 4, blocked);
+    ASSERT_EQ(factors.macroResolution.size(), 12u);
+    for (uint32_t m = 0; m < 6; ++m) {
+        if (m == 2) EXPECT_EQ(macroColumns(factors, m), 0u);
+        else EXPECT_GT(macroColumns(factors, m), 0u);
+    }
+    ASSERT_TRUE(prepareGrid(ctx, pass, buffers, factors).ok());
+    evaluateGridOnCpu(planned, buffers);
+    expectClosed(buffers.gridLayout, {}, "cube, one side single");
+    // Culling: a coarse macro face's triangles go only when all its members are culled.
+    const MacroGridFace& side = macros.faces[0];
+    std::vector<uint32_t> someCulled, allCulled;
+    for (uint32_t c = side.firstCell; c < side.firstCell + side.width * side.height; ++c) {
+        allCulled.push_back(macros.cellDrawn[c]);
+        if (macros.cellDrawn[c] != side.head && c % 2) someCulled.push_back(macros.cellDrawn[c]);
+    }
+    someCulled.push_back(side.head);
+    std::sort(someCulled.begin(), someCulled.end());
+    std::sort(allCulled.begin(), allCulled.end());
+    const std::vector<uint32_t> partly = culledForDrawing(macros, buffers.gridLayout.factors, someCulled);
+    EXPECT_FALSE(std::binary_search(partly.begin(), partly.end(), side.head)) << "the head draws its visible members";
+    const std::vector<uint32_t> whole = culledForDrawing(macros, buffers.gridLayout.factors, allCulled);
+    EXPECT_TRUE(std::binary_search(whole.begin(), whole.end(), side.head));
+    destroyPlanBuffers(ctx, buffers);
+}
