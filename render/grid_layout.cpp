@@ -152,13 +152,9 @@ GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::ve
     return f;
 }
 
-GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLayout recycled) {
-    GridLayout layout = std::move(recycled);
-    layout.maxFactor = 0;
-    layout.uniformRequest = 0;
+void writeGridIndices(const GpuPlanData& data, GridLayout& layout) {
+    const GridFactors& factors = layout.factors;
     const uint32_t count = uint32_t(data.subfaces.size());
-    layout.subfaceOffset.resize(count + 1);
-    layout.subfaceOffset[0] = 0;
     std::vector<uint32_t>& indexOffset = layout.indexOffset;
     indexOffset.assign(count + 1, 0);
     // A member of a coarse macro face draws nothing of its own; its head draws the macro face.
@@ -171,16 +167,44 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLay
     };
     for (uint32_t d = 0; d < count; ++d) {
         const uint32_t n = factors.subfaceFactor[d];
-        layout.subfaceOffset[d + 1] = layout.subfaceOffset[d] + (n + 1) * (n + 1);
         uint32_t indexCount = 6 * n * n;
         if (const uint32_t m = coarseMacroOf(d); m != UINT32_MAX)
             indexCount = macros.faces[m].head == d ? 6 * macroColumns(factors, m) * macroRows(factors, m) : 0;
         indexOffset[d + 1] = indexOffset[d] + indexCount;
+    }
+    layout.indices.resize(indexOffset[count]);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 256), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t d = range.begin(); d != range.end(); ++d) {
+            const uint32_t m = coarseMacroOf(d);
+            uint32_t* index = layout.indices.data() + indexOffset[d];
+            if (m != UINT32_MAX) {
+                if (macros.faces[m].head == d) writeMacroIndices(macros, m, factors, layout.subfaceOffset, layout.source, index);
+                continue;
+            }
+            const uint32_t n = factors.subfaceFactor[d], side = n + 1, base = layout.subfaceOffset[d];
+            for (uint32_t y = 0; y < n; ++y)
+                for (uint32_t x = 0; x < n; ++x) {
+                    const uint32_t a = base + y * side + x, b = a + 1, c = a + side + 1, e = a + side;
+                    *index++ = a, *index++ = b, *index++ = c, *index++ = a, *index++ = c, *index++ = e;
+                }
+        }
+    });
+}
+
+GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLayout recycled) {
+    GridLayout layout = std::move(recycled);
+    layout.maxFactor = 0;
+    layout.uniformRequest = 0;
+    const uint32_t count = uint32_t(data.subfaces.size());
+    layout.subfaceOffset.resize(count + 1);
+    layout.subfaceOffset[0] = 0;
+    for (uint32_t d = 0; d < count; ++d) {
+        const uint32_t n = factors.subfaceFactor[d];
+        layout.subfaceOffset[d + 1] = layout.subfaceOffset[d] + (n + 1) * (n + 1);
         layout.maxFactor = std::max(layout.maxFactor, n);
     }
     layout.source.resize(layout.slotCount());
     layout.slotSubface.resize(layout.slotCount());
-    layout.indices.resize(indexOffset[count]);
 
     // Per sub-face, the other sub-faces it copies from: its corners' and edges' owners.
     constexpr uint32_t kMaxOwners = 16;
@@ -208,23 +232,9 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLay
                     list[ownerCount[d]++] = owner.drawn;
                 }
             }
-            if (coarseMacroOf(d) != UINT32_MAX) continue;
-            uint32_t* index = layout.indices.data() + indexOffset[d];
-            for (uint32_t y = 0; y < n; ++y)
-                for (uint32_t x = 0; x < n; ++x) {
-                    const uint32_t a = base + y * side + x, b = a + 1, c = a + side + 1, e = a + side;
-                    *index++ = a, *index++ = b, *index++ = c, *index++ = a, *index++ = c, *index++ = e;
-                }
         }
     });
     for ([[maybe_unused]] uint32_t s : layout.source) assert(layout.source[s] == s && "copies come from evaluated slots");
-    // Coarse macro faces, once every slot's source is known (their vertices are owners' slots).
-    if (coarseMacros)
-        tbb::parallel_for(uint32_t(0), uint32_t(macros.faces.size()), [&](uint32_t m) {
-            if (macroColumns(factors, m))
-                writeMacroIndices(macros, m, factors, layout.subfaceOffset, layout.source,
-                                  layout.indices.data() + indexOffset[macros.faces[m].head]);
-        });
 
     // Invert "d copies from o" into the CSR of o's dependents, in ascending order.
     layout.dependentOffsets.assign(count + 1, 0);
@@ -236,6 +246,8 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLay
     for (uint32_t d = 0; d < count; ++d)
         for (uint32_t k = 0; k < ownerCount[d]; ++k) layout.dependents[fill[owners[d][k]]++] = d;
     layout.factors = std::move(factors);
+    // The triangles last: a coarse macro face's vertices are the slots that evaluate them.
+    writeGridIndices(data, layout);
     return layout;
 }
 

@@ -93,6 +93,10 @@ struct GridLayout {
 // so a relayout after each edit neither allocates nor clears the grid's tables.
 GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLayout recycled = {});
 
+// The triangles (indexOffset, indices) for layout.factors, the slots as they are: what a change
+// of the macro faces alone (GridFactors::macroSpanPieces, macroResolution) lays out again.
+void writeGridIndices(const GpuPlanData& data, GridLayout& layout);
+
 // Drawn sub-faces whose slots mean something else under `after` than under `before`: their
 // factor or the pieces of one of their edges changed (sorted).
 std::vector<uint32_t> subfacesWithNewFactors(const GpuPlanData& data, const GridFactors& before, const GridFactors& after);

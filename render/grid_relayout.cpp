@@ -59,6 +59,21 @@ Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
     return success();
 }
 
+namespace {
+
+// Only the macro faces changed (which are drawn as one, and their spans' pieces): every slot
+// keeps its meaning and its value; the triangles are written again and uploaded alone.
+Result<bool> relayoutMacroFaces(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, const GridFactors& factors) {
+    GridLayout& layout = buffers.gridLayout;
+    layout.factors.macroSpanPieces = factors.macroSpanPieces;
+    layout.factors.macroResolution = factors.macroResolution;
+    writeGridIndices(buffers.data, layout);
+    if (Status s = installGridIndices(ctx, pass, buffers); !s) return s.error();
+    return true;
+}
+
+}  // namespace
+
 Result<bool> relayoutGridKeepingSlots(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
                                       const PlannedCage& planned, const GridFactors& factors) {
     const uint32_t count = uint32_t(buffers.data.subfaces.size());
@@ -68,7 +83,7 @@ Result<bool> relayoutGridKeepingSlots(const VulkanContext& ctx, PlanPass& pass, 
         return false;
     if (current.factors == factors) return false;
     const std::vector<uint32_t> changed = subfacesWithNewFactors(buffers.data, current.factors, factors);
-    // Nothing changed but which macro faces are coarse: every slot is kept, only indices change.
+    if (changed.empty()) return relayoutMacroFaces(ctx, pass, buffers, factors);
     if (2 * changed.size() > count) return false;
     std::vector<uint32_t> oldOf(count);
     for (uint32_t d = 0; d < count; ++d) oldOf[d] = d;
@@ -76,7 +91,6 @@ Result<bool> relayoutGridKeepingSlots(const VulkanContext& ctx, PlanPass& pass, 
     const GridEvaluator evaluator = buffers.gridEvaluator;
     if (Status s = carryGrid(ctx, pass, buffers, factors, oldOf); !s) return s.error();
     buffers.gridEvaluator = evaluator;
-    if (changed.empty()) return true;
     if (evaluator == GridEvaluator::Cpu) {
         evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, changed, withDependents(buffers.gridLayout, changed),
                           static_cast<GridVertex*>(buffers.grid.data), buffers.displacement,

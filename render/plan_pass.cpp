@@ -435,6 +435,15 @@ Status installGridLayout(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& 
     return bindPlanBuffers(ctx, pass, buffers);
 }
 
+Status installGridIndices(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers) {
+    const std::vector<uint32_t>& indices = buffers.gridLayout.indices;
+    const VkBuffer before = buffers.gridIndices.buffer;
+    if (Status s = ensureCapacity(ctx, buffers.gridIndices, indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT); !s)
+        return s;
+    uploadVector(buffers.gridIndices, indices);
+    return buffers.gridIndices.buffer == before ? success() : bindPlanBuffers(ctx, pass, buffers);
+}
+
 GridFactors adaptiveGridFactors(const PlanBuffers& buffers, const PlanView& view, const TessellationSettings& settings) {
     const AdaptiveView adaptive{view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment};
     const bool laidOut = !buffers.gridLayout.subfaceOffset.empty();

@@ -212,6 +212,9 @@ Status prepareGrid(const VulkanContext& context, PlanPass& pass, PlanBuffers& bu
 // and leaves the grid's vertices as they are (the caller fills what changed; prepareGrid drops
 // them). May replace buffers: the device must be done with them.
 Status installGridLayout(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, GridLayout layout);
+// Uploads buffers.gridLayout's triangles alone (after writeGridIndices: the slots unchanged),
+// growing the index buffer when needed. The device must be done with it.
+Status installGridIndices(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers);
 
 // Adaptive factors for `view` and `settings` (uniformFactor 0), keeping the current layout's
 // where they still fit (grid_layout.h); pass them to prepareGrid.

@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstring>
 #include <map>
 
 #include "draw_path.h"
+#include "grid_relayout.h"
 #include "generated_cage.h"
 #include "macro_faces.h"
 #include "obj_io.h"
@@ -200,5 +202,34 @@ TEST_F(MacroFixture, HiddenMembersAndCullingKeepFacesDrawn) {
     EXPECT_FALSE(std::binary_search(partly.begin(), partly.end(), side.head)) << "the head draws its visible members";
     const std::vector<uint32_t> whole = culledForDrawing(macros, buffers.gridLayout.factors, allCulled);
     EXPECT_TRUE(std::binary_search(whole.begin(), whole.end(), side.head));
+    destroyPlanBuffers(ctx, buffers);
+}
+
+// A camera move that changes only the macro faces (which are drawn as one, their spans' pieces)
+// keeps every evaluated slot and writes the triangles again: the same as laying out anew.
+TEST_F(MacroFixture, AChangeOfMacroFacesAloneRewritesOnlyTheTriangles) {
+    const Cage cage = test::makeTorus(48, 40);
+    PlanDatabase db;
+    PlannedCage planned = planCage(cage, db);
+    PlanBuffers buffers = upload(planned);
+    auto minified = [&](uint32_t minify) {
+        GridFactors factors = uniformGridFactors(buffers.data, 1);
+        chooseMacroPieces(buffers.data, factors, buffers.pointPositionsHost, nullptr, minify, buffers.holeDrawn);
+        return factors;
+    };
+    ASSERT_TRUE(prepareGrid(ctx, pass, buffers, minified(4)).ok());
+    evaluateGridOnCpu(planned, buffers);
+    const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
+    const std::vector<GridVertex> before(grid, grid + buffers.gridLayout.slotCount());
+    const size_t trianglesBefore = buffers.gridLayout.indices.size() / 3;
+    const GridFactors farther = minified(16);
+    Result<bool> kept = relayoutGridKeepingSlots(ctx, pass, buffers, planned, farther);
+    ASSERT_TRUE(kept.ok()) << kept.error().message;
+    EXPECT_TRUE(*kept);
+    EXPECT_EQ(buffers.gridEvaluator, GridEvaluator::Cpu);
+    EXPECT_EQ(std::memcmp(before.data(), buffers.grid.data, before.size() * sizeof(GridVertex)), 0);
+    EXPECT_EQ(buffers.gridLayout.indices, buildGridLayout(buffers.data, farther).indices);
+    EXPECT_LT(buffers.gridLayout.indices.size() / 3, trianglesBefore);
+    expectClosed(buffers.gridLayout, {}, "torus, 1/16 after 1/4");
     destroyPlanBuffers(ctx, buffers);
 }
