@@ -47,16 +47,28 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
     } else if (buffers.displacement) {
         factors = displacedGridFactors(buffers.data, *buffers.displacement, std::move(factors));
     }
-    // Macro faces last: they need every member's final factor. Hidden faces and holes keep theirs single.
-    std::vector<uint32_t> blocked;
+    // Macro faces last: they need every member's final factor. Hidden faces and holes keep theirs
+    // single. Kept as they are while nothing they are chosen from changed (a vertex drag, an edit
+    // in place): choosing them again is a pass over every macro face.
+    PlanBuffers::MacroChoiceInputs inputs{view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment,
+                                          settings.uniformFactor, settings.minify, settings.wholeMacroFaces, {}};
     std::set_union(view.hiddenDrawn.begin(), view.hiddenDrawn.end(), buffers.holeDrawn.begin(), buffers.holeDrawn.end(),
-                   std::back_inserter(blocked));
-    const AdaptiveView adaptive{view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment};
-    const bool macrosLaidOut = buffers.gridLayout.factors.macroSpanPieces.size() == buffers.data.macros.spanCount();
-    chooseMacroPieces(buffers.data, factors, buffers.pointPositionsHost, settings.uniformFactor ? nullptr : &adaptive,
-                      settings.uniformFactor == 1 ? settings.minify : 1, blocked,
-                      macrosLaidOut ? &buffers.gridLayout.factors : nullptr, settings.uniformFactor && settings.wholeMacroFaces);
-        // The compute shader's pending sub-faces are not for the CPU path: it evaluates whole instead.
+                   std::back_inserter(inputs.blocked));
+    const GridFactors& current = buffers.gridLayout.factors;
+    const bool macrosLaidOut = current.macroSpanPieces.size() == buffers.data.macros.spanCount() &&
+                               current.macroResolution.size() == 2 * buffers.data.macros.faces.size();
+    if (macrosLaidOut && inputs == buffers.macroInputs && factors.subfaceFactor == current.subfaceFactor &&
+        factors.segmentPieces == current.segmentPieces) {
+        factors.macroSpanPieces = current.macroSpanPieces;
+        factors.macroResolution = current.macroResolution;
+    } else {
+        const AdaptiveView adaptive{view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment};
+        chooseMacroPieces(buffers.data, factors, buffers.pointPositionsHost, settings.uniformFactor ? nullptr : &adaptive,
+                          settings.uniformFactor == 1 ? settings.minify : 1, inputs.blocked,
+                          macrosLaidOut ? &current : nullptr, settings.uniformFactor && settings.wholeMacroFaces);
+        buffers.macroInputs = std::move(inputs);
+    }
+    // The compute shader's pending sub-faces are not for the CPU path: it evaluates whole instead.
     if (path == DrawPath::CpuGrid && !buffers.pendingGridSubfaces.empty()) buffers.gridEvaluator = GridEvaluator::None;
     Result<bool> kept = relayoutGridKeepingSlots(ctx, pass, buffers, planned, factors);
     if (!kept) return kept.error();

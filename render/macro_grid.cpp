@@ -1,12 +1,15 @@
 #include "macro_grid.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <iterator>
 
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include "gpu_plans.h"
@@ -18,15 +21,14 @@ namespace qp {
 namespace {
 
 // Positions (in pieces of 1 / n of a cage edge, ascending) of side s's vertices: its spans' pieces.
-std::vector<uint32_t> sideVertexPositions(const MacroGrid& grid, const MacroGridFace& face, uint32_t s, uint32_t n,
-                                          std::span<const uint32_t> spanPieces) {
-    std::vector<uint32_t> positions{0};
+void sideVertexPositions(const MacroGrid& grid, const MacroGridFace& face, uint32_t s, uint32_t n,
+                         std::span<const uint32_t> spanPieces, std::vector<uint32_t>& positions) {
+    positions.assign(1, 0);
     for (uint32_t k = face.spanBegin[s]; k < face.spanBegin[s + 1]; ++k) {
         const MacroSpan& span = grid.spans[k];
         const uint32_t pieces = spanPieces[span.id], stepLength = span.length * n / pieces;
         for (uint32_t p = 1; p <= pieces; ++p) positions.push_back(span.start * n + p * stepLength);
     }
-    return positions;
 }
 
 // The grid's columns (or rows): every vertex of the two opposite sides.
@@ -97,6 +99,15 @@ MacroGrid inDrawnSubfaces(const PlannedCage& planned, const GpuPlanData& data, c
         }
         grid.faces.push_back(out);
     }
+    // Each span id's first use and the macro face across.
+    grid.spanUses.assign(grid.spanCount(), MacroSpanUse{UINT32_MAX, 0, 0, UINT32_MAX});
+    for (uint32_t m = 0; m < grid.faces.size(); ++m)
+        for (uint32_t s = 0; s < 4; ++s)
+            for (uint32_t k = grid.faces[m].spanBegin[s]; k < grid.faces[m].spanBegin[s + 1]; ++k) {
+                MacroSpanUse& use = grid.spanUses[grid.spans[k].id];
+                if (use.macro == UINT32_MAX) use = {m, s, k, UINT32_MAX};
+                else if (grid.spanShared[grid.spans[k].id]) use.other = m;
+            }
     return grid;
 }
 
@@ -151,88 +162,114 @@ const char* macroChoiceName(MacroChoice choice) {
     return "?";
 }
 
+namespace {
+
+// Distinct values of two ascending lists, counted without building their union.
+uint32_t distinctInBoth(const std::vector<uint32_t>& a, const std::vector<uint32_t>& b) {
+    uint32_t count = 0;
+    size_t i = 0, j = 0;
+    while (i < a.size() || j < b.size()) {
+        const uint32_t next = j == b.size() || (i < a.size() && a[i] < b[j]) ? a[i] : b[j];
+        while (i < a.size() && a[i] == next) ++i;
+        while (j < b.size() && b[j] == next) ++j;
+        ++count;
+    }
+    return count;
+}
+
+}  // namespace
+
 void chooseMacroPieces(const GpuPlanData& data, GridFactors& factors, std::span<const glm::vec4> points,
                        const AdaptiveView* view, uint32_t minify, std::span<const uint32_t> blocked,
                        const GridFactors* previous, bool whole) {
     const MacroGrid& grid = data.macros;
     factors.macroSpanPieces.clear();
     factors.macroResolution.clear();
-    const uint32_t macroCount = uint32_t(grid.faces.size());
+    const uint32_t macroCount = uint32_t(grid.faces.size()), spanCount = grid.spanCount();
     if (macroCount == 0 || (!view && minify <= 1 && !whole)) return;
 
-    // Which macro faces may be drawn as one (every member at one factor n, each of its edges in n
-    // pieces, none blocked), and per span how many of its users may. The users of a span have
-    // equal n: its segments are theirs.
+    // Which macro faces may be drawn as one: every member at one factor n, each of its edges in n
+    // pieces, none blocked. The users of a span have equal n (its segments are theirs).
     std::vector<uint32_t> resolution(macroCount, 0);  // n of an eligible macro face, else 0
-    std::vector<uint8_t> eligibleUsers(grid.spanCount(), 0);
-    for (uint32_t m = 0; m < macroCount; ++m) {
-        const MacroGridFace& face = grid.faces[m];
-        const uint32_t n = factors.subfaceFactor[grid.cellDrawn[face.firstCell]];
-        bool ok = true;
-        for (uint32_t c = face.firstCell; c < face.firstCell + face.width * face.height && ok; ++c) {
-            const uint32_t d = grid.cellDrawn[c];
-            ok = factors.subfaceFactor[d] == n && !std::binary_search(blocked.begin(), blocked.end(), d);
-            for (const GpuEdgeRef& r : data.boundaries[d].edges)
-                ok = ok && factors.segmentPieces[r.segment] * ((r.flags & kEdgeRefSplit) ? 2 : 1) == n;
-        }
-        if (!ok) continue;
-        resolution[m] = n;
-        for (uint32_t k = face.spanBegin[0]; k < face.spanBegin[4]; ++k) ++eligibleUsers[grid.spans[k].id];
-    }
-
-    // Pieces per span id, once (so equal from both users), in pieces of 1 / n of a cage edge.
-    const bool keepPrevious = previous && previous->macroSpanPieces.size() == grid.spanCount();
-    std::vector<uint32_t>& spanPieces = factors.macroSpanPieces;
-    spanPieces.assign(grid.spanCount(), 0);
-    factors.macroResolution.assign(2 * size_t(macroCount), 0);
-    bool anyCoarse = false;
-    for (uint32_t m = 0; m < macroCount; ++m) {
-        const uint32_t n = resolution[m];
-        if (!n) continue;
-        const MacroGridFace& face = grid.faces[m];
-        bool coarse = whole;
-        for (uint32_t s = 0; s < 4; ++s)
-            for (uint32_t k = face.spanBegin[s]; k < face.spanBegin[s + 1]; ++k) {
-                const MacroSpan& span = grid.spans[k];
-                const uint32_t full = span.length * n;
-                uint32_t& pieces = spanPieces[span.id];
-                if (!pieces) {
-                    if (!grid.spanShared[span.id] || eligibleUsers[span.id] < 2) {
-                        pieces = full;
-                    } else if (view) {
-                        // The span's polyline through its cage vertices, measured on screen at its middle.
-                        float polyline = 0.0f;
-                        glm::vec3 previousPoint(0.0f), middle(0.0f);
-                        for (uint32_t t = span.start; t <= span.start + span.length; ++t) {
-                            uint32_t a, b;
-                            sidePoint(face, s, t, a, b);
-                            const LatticeCorner at = latticeCorner(grid, face, a, b);
-                            const glm::vec3 p(points[data.boundaries[grid.cellDrawn[at.cell]].corners[at.corner]]);
-                            if (t > span.start) polyline += glm::length(p - previousPoint);
-                            if (t == span.start + span.length / 2) middle = p;
-                            previousPoint = p;
-                        }
-                        const float w = std::max((view->viewProjection * glm::vec4(middle, 1.0f)).w, 1e-4f);
-                        const float wanted = polyline * view->pixelsPerUnit / w / view->pixelsPerSegment;
-                        pieces = smallestDivisorAtLeast(full, wanted);
-                        if (keepPrevious) {
-                            const uint32_t kept = previous->macroSpanPieces[span.id];
-                            if (kept && full % kept == 0 && wanted <= float(kept) && wanted * 2.5f > float(kept)) pieces = kept;
-                        }
-                    } else {
-                        pieces = smallestDivisorAtLeast(full, float(full) / float(minify));  // factor n / minify
-                    }
-                }
-                coarse = coarse || pieces < full;
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, macroCount, 256), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t m = range.begin(); m != range.end(); ++m) {
+            const MacroGridFace& face = grid.faces[m];
+            const uint32_t n = factors.subfaceFactor[grid.cellDrawn[face.firstCell]];
+            bool ok = true;
+            for (uint32_t c = face.firstCell; c < face.firstCell + face.width * face.height && ok; ++c) {
+                const uint32_t d = grid.cellDrawn[c];
+                ok = factors.subfaceFactor[d] == n && !std::binary_search(blocked.begin(), blocked.end(), d);
+                for (const GpuEdgeRef& r : data.boundaries[d].edges)
+                    ok = ok && factors.segmentPieces[r.segment] * ((r.flags & kEdgeRefSplit) ? 2 : 1) == n;
             }
-        if (!coarse) continue;
-        // Columns at every vertex of the bottom and top sides, rows at those of the left and right.
+            resolution[m] = ok ? n : 0;
+        }
+    });
+
+    // Pieces per span id, from its first use (so equal from both users), in pieces of 1 / n of a
+    // cage edge: below its length only when both users are eligible.
+    std::vector<uint32_t>& spanPieces = factors.macroSpanPieces;
+    spanPieces.assign(spanCount, 0);
+    const bool keepPrevious = previous && previous->macroSpanPieces.size() == spanCount;
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, spanCount, 1024), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t id = range.begin(); id != range.end(); ++id) {
+            const MacroSpanUse& use = grid.spanUses[id];
+            const uint32_t other = use.other == UINT32_MAX ? 0 : resolution[use.other];
+            const uint32_t n = resolution[use.macro] ? resolution[use.macro] : other;
+            if (!n) continue;
+            const MacroGridFace& face = grid.faces[use.macro];
+            const MacroSpan& span = grid.spans[use.span];
+            const uint32_t full = span.length * n;
+            const bool shared = resolution[use.macro] && other;
+            if (!shared) {
+                spanPieces[id] = full;
+            } else if (view) {
+                // The span's polyline through its cage vertices, measured on screen at its middle.
+                float polyline = 0.0f;
+                glm::vec3 previousPoint(0.0f), middle(0.0f);
+                for (uint32_t t = span.start; t <= span.start + span.length; ++t) {
+                    uint32_t a, b;
+                    sidePoint(face, use.side, t, a, b);
+                    const LatticeCorner at = latticeCorner(grid, face, a, b);
+                    const glm::vec3 p(points[data.boundaries[grid.cellDrawn[at.cell]].corners[at.corner]]);
+                    if (t > span.start) polyline += glm::length(p - previousPoint);
+                    if (t == span.start + span.length / 2) middle = p;
+                    previousPoint = p;
+                }
+                const float w = std::max((view->viewProjection * glm::vec4(middle, 1.0f)).w, 1e-4f);
+                const float wanted = polyline * view->pixelsPerUnit / w / view->pixelsPerSegment;
+                uint32_t pieces = smallestDivisorAtLeast(full, wanted);
+                if (keepPrevious) {
+                    const uint32_t kept = previous->macroSpanPieces[id];
+                    if (kept && full % kept == 0 && wanted <= float(kept) && wanted * 2.5f > float(kept)) pieces = kept;
+                }
+                spanPieces[id] = pieces;
+            } else {
+                spanPieces[id] = smallestDivisorAtLeast(full, float(full) / float(minify));  // factor n / minify
+            }
+        }
+    });
+
+    // Eligible macro faces with a span below its length (or all, `whole`) are drawn as one: columns
+    // at every vertex of the bottom and top sides, rows at those of the left and right.
+    factors.macroResolution.assign(2 * size_t(macroCount), 0);
+    std::atomic<bool> anyCoarse{false};
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, macroCount, 256), [&](const tbb::blocked_range<uint32_t>& range) {
         std::vector<uint32_t> sides[4];
-        for (uint32_t s = 0; s < 4; ++s) sides[s] = sideVertexPositions(grid, face, s, n, spanPieces);
-        factors.macroResolution[2 * size_t(m)] = uint32_t(gridLines(sides[0], sides[2]).size() - 1);
-        factors.macroResolution[2 * size_t(m) + 1] = uint32_t(gridLines(sides[1], sides[3]).size() - 1);
-        anyCoarse = true;
-    }
+        for (uint32_t m = range.begin(); m != range.end(); ++m) {
+            const uint32_t n = resolution[m];
+            if (!n) continue;
+            const MacroGridFace& face = grid.faces[m];
+            bool coarse = whole;
+            for (uint32_t k = face.spanBegin[0]; k < face.spanBegin[4] && !coarse; ++k)
+                coarse = spanPieces[grid.spans[k].id] < grid.spans[k].length * n;
+            if (!coarse) continue;
+            for (uint32_t s = 0; s < 4; ++s) sideVertexPositions(grid, face, s, n, spanPieces, sides[s]);
+            factors.macroResolution[2 * size_t(m)] = distinctInBoth(sides[0], sides[2]) - 1;
+            factors.macroResolution[2 * size_t(m) + 1] = distinctInBoth(sides[1], sides[3]) - 1;
+            anyCoarse = true;
+        }
+    });
     if (!anyCoarse) {
         factors.macroSpanPieces.clear();
         factors.macroResolution.clear();
@@ -268,7 +305,7 @@ void writeMacroIndices(const MacroGrid& grid, uint32_t m, const GridFactors& fac
         return source[subfaceOffset[d] + fy * (n + 1) + fx];
     };
     std::vector<uint32_t> sides[4];
-    for (uint32_t s = 0; s < 4; ++s) sides[s] = sideVertexPositions(grid, face, s, n, factors.macroSpanPieces);
+    for (uint32_t s = 0; s < 4; ++s) sideVertexPositions(grid, face, s, n, factors.macroSpanPieces, sides[s]);
     const std::vector<uint32_t> columnAt = gridLines(sides[0], sides[2]), rowAt = gridLines(sides[1], sides[3]);
     const uint32_t columns = uint32_t(columnAt.size() - 1), rows = uint32_t(rowAt.size() - 1);
     assert(columns == macroColumns(factors, m) && rows == macroRows(factors, m));

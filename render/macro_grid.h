@@ -48,6 +48,11 @@ struct MacroGridFace {
     uint32_t spanBegin[5];  // MacroFace::spanBegin
 };
 
+// Where a span id is first met, and the macro face that shares it (UINT32_MAX: none).
+struct MacroSpanUse {
+    uint32_t macro, side, span, other;
+};
+
 struct MacroGrid {
     MacroChoice choice = MacroChoice::Auto;  // kept when the grid is built again
     MacroPartition partition = MacroPartition::Rectangles;
@@ -56,6 +61,7 @@ struct MacroGrid {
     std::vector<uint8_t> cellRotation;   // per cell: MacroCell::rotation
     std::vector<MacroSpan> spans;
     std::vector<uint8_t> spanShared;     // per span id
+    std::vector<MacroSpanUse> spanUses;  // per span id
     std::vector<uint32_t> macroOfDrawn;  // per drawn sub-face: its macro face, or UINT32_MAX
 
     uint32_t spanCount() const { return uint32_t(spanShared.size()); }

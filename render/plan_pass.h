@@ -94,6 +94,16 @@ struct PlanBuffers {
     // copies): a relayout kept the rest (grid_relayout.h).
     std::vector<uint32_t> pendingGridSubfaces;
     GridFactors displacementScreen;  // the last screen caps of displaced tiles (kept while close enough)
+    // What the layout's macro faces were chosen for (draw_path.cpp): while the view, the request
+    // and every other factor stay, they are kept instead of chosen again.
+    struct MacroChoiceInputs {
+        glm::mat4 viewProjection{0.0f};
+        float pixelsPerUnit = 0.0f, pixelsPerSegment = 0.0f;
+        uint32_t uniformFactor = 0, minify = 0;
+        bool whole = false;
+        std::vector<uint32_t> blocked;
+        bool operator==(const MacroChoiceInputs&) const = default;
+    } macroInputs;
 
     // Sculpted displacement (setPlanDisplacement): DisplacementLayout's tiles and padded blocks
     // and the samples; 16-byte placeholders (shorter than any padded block: the shaders'
