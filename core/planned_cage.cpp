@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "local_cage.h"
+#include "memory_estimate.h"
 #include "osd_refiner.h"
 
 namespace qp {
@@ -58,6 +59,11 @@ Result<PlannedCage> PlannedCage::create(Cage cage, PlanDatabase& database, const
     if (options.maxDepth < 1 || options.maxDepth > kMaxPlanDepth)
         return Error{"plan depth must be between 1 and " + std::to_string(kMaxPlanDepth)};
     if (auto refiner = createRefiner(cage, source); !refiner) return refiner.error();
+    // Refused before the plans take the memory (a million faces need about 2 GiB).
+    if (Status memory = checkMemory(planningBytesEstimate(cage), availableMemoryBytes(),
+                                    "planning " + source + " (" + std::to_string(cage.faceCount()) + " faces)");
+        !memory)
+        return memory.error();
 
     PlannedCage planned;
     planned.cage_ = std::move(cage);
