@@ -61,6 +61,22 @@ set_tests_properties(cli.bench_scale_smoke PROPERTIES
                      PASS_REGULAR_EXPRESSION "\\(b\\) warm plan[^|]*\\| 1 \\| [0-9.]+ ms.*\\(d\\) full-view frame[^|]*[1-9][0-9]* triangles\\) \\| 3 \\| [0-9.]+ ms.*\\(g\\) crease an interior edge[^|]*\\| 3 \\| [0-9.]+ ms"
                      TIMEOUT 120)
 
+# The macro suite on a small cage: the partitions against single faces, the regular torus too.
+add_test(NAME cli.bench_macro_smoke
+         COMMAND quadplan bench macro --repeats 1 --generated-faces 600 --no-shared)
+set_tests_properties(cli.bench_macro_smoke PROPERTIES
+                     PASS_REGULAR_EXPRESSION "regular torus[^|]*\\| [0-9]+ \\| per-face factor 1/4: blocks macro faces \\([0-9]+ triangles\\) vs single faces at factor 1 \\([0-9]+ triangles\\)"
+                     TIMEOUT 120)
+# A macro option the plans scheme does not know is an error that says what it takes.
+add_test(NAME cli.render_bad_macro_option
+         COMMAND quadplan render ${CMAKE_SOURCE_DIR}/scenes/default.json --size 64x48 --option macro=triangles
+                 --out ${CMAKE_BINARY_DIR}/test-output/bad_macro_option.png)
+set_tests_properties(cli.render_bad_macro_option PROPERTIES PASS_REGULAR_EXPRESSION "auto, rectangles, quartets, blocks or off")
+add_test(NAME cli.render_bad_minify_option
+         COMMAND quadplan render ${CMAKE_SOURCE_DIR}/scenes/default.json --size 64x48 --tess 1 --option minify=0
+                 --out ${CMAKE_BINARY_DIR}/test-output/bad_minify_option.png)
+set_tests_properties(cli.render_bad_minify_option PROPERTIES PASS_REGULAR_EXPRESSION "whole number from 1 to 64")
+
 # Scheme plugins: the comparison of the built-in schemes on the default scene, as JSON.
 file(MAKE_DIRECTORY ${CMAKE_BINARY_DIR}/test-output)
 add_test(NAME cli.compare_smoke

@@ -5,12 +5,15 @@
 // another device instead of lavapipe.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <string>
 
 #include "camera.h"
 #include "plan_pass.h"
+#include "planned_cage.h"
 #include "vk_context.h"
 
 namespace qp::test {
@@ -62,5 +65,33 @@ inline PlanView framedPlanView(const Cage& cage, uint32_t size) {
     view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), size);
     return view;
 }
+
+// A test with the tests' device and a plan pass (R8G8B8A8, D32), that fails when validation
+// said anything by its end; upload() gives a planned cage's buffers bound to the pass.
+struct PlanPassTest : ::testing::Test {
+    VulkanContext ctx;
+    PlanPass pass;
+
+    void SetUp() override {
+        Result<VulkanContext> created = createTestContext();
+        ASSERT_TRUE(created.ok()) << created.error().message;
+        ctx = std::move(created).value();
+        Result<PlanPass> p = createPlanPass(ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM);
+        ASSERT_TRUE(p.ok()) << p.error().message;
+        pass = *p;
+    }
+    void TearDown() override {
+        if (!ctx.device) return;
+        destroyPlanPass(ctx, pass);
+        destroyContext(ctx);
+        EXPECT_EQ(validationMessageCount(ctx), 0u) << describeMessages(ctx);
+    }
+    PlanBuffers upload(const PlannedCage& planned) {
+        Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
+        EXPECT_TRUE(buffers.ok()) << buffers.error().message;
+        EXPECT_TRUE(bindPlanBuffers(ctx, pass, *buffers).ok());
+        return std::move(buffers).value();
+    }
+};
 
 }  // namespace qp::test

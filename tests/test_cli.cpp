@@ -125,6 +125,14 @@ TEST(CliPlans, PlanStatsJsonAndPersistentDatabase) {
     auto first = nlohmann::json::parse(runQuadplan(cmd).out);
     for (const char* key : {"faces", "subfaces", "unique_plans", "nodes", "stencils", "bytes", "build_ms"})
         EXPECT_TRUE(first.contains(key)) << key;
+    // Macro faces of each partition (issue 21): no more faces in them than the cage has.
+    for (const char* key : {"faces_in_macro_faces", "faces_in_quartets", "faces_in_blocks"}) {
+        ASSERT_TRUE(first.contains(key)) << key;
+        EXPECT_LE(first[key].get<uint64_t>(), first["faces"].get<uint64_t>()) << key;
+    }
+    EXPECT_GT(first["faces_in_blocks"].get<uint64_t>(), 0u) << "the default scene has blocks of quads";
+    EXPECT_LE(2 * first["macro_faces"].get<uint64_t>(), first["faces_in_macro_faces"].get<uint64_t>())
+        << "a macro face holds at least two faces";
     EXPECT_GT(first["database_misses"].get<int>(), 0);
     EXPECT_TRUE(std::filesystem::exists(db));
 

@@ -154,31 +154,12 @@ std::vector<glm::dvec3> exactVertexNormals(const Cage& cage) {
     return normals;
 }
 
-struct DisplacementRender : ::testing::Test {
-    VulkanContext ctx;
-    PlanPass pass;
-
-    void SetUp() override {
-        Result<VulkanContext> created = test::createTestContext();
-        ASSERT_TRUE(created.ok()) << created.error().message;
-        ctx = std::move(created).value();
-        Result<PlanPass> p = createPlanPass(ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM);
-        ASSERT_TRUE(p.ok()) << p.error().message;
-        pass = *p;
-    }
-    void TearDown() override {
-        if (!ctx.device) return;
-        destroyPlanPass(ctx, pass);
-        destroyContext(ctx);
-        EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
-    }
-
+struct DisplacementRender : test::PlanPassTest {
+    using PlanPassTest::upload;
     PlanBuffers upload(const PlannedCage& planned, const Displacement& displacement) {
-        Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
-        EXPECT_TRUE(buffers.ok()) << buffers.error().message;
-        EXPECT_TRUE(bindPlanBuffers(ctx, pass, *buffers).ok());
-        EXPECT_TRUE(setPlanDisplacement(ctx, pass, *buffers, &displacement).ok());
-        return std::move(buffers).value();
+        PlanBuffers buffers = PlanPassTest::upload(planned);
+        EXPECT_TRUE(setPlanDisplacement(ctx, pass, buffers, &displacement).ok());
+        return buffers;
     }
 
     // The grid filled by the compute shader or the CPU evaluator; slots start as NaN.

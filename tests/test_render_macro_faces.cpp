@@ -26,31 +26,7 @@ namespace {
 
 constexpr uint32_t kImageSize = 320;
 
-struct MacroFixture : ::testing::Test {
-    VulkanContext ctx;
-    PlanPass pass;
-
-    void SetUp() override {
-        Result<VulkanContext> created = test::createTestContext();
-        ASSERT_TRUE(created.ok()) << created.error().message;
-        ctx = std::move(created).value();
-        Result<PlanPass> p = createPlanPass(ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM);
-        ASSERT_TRUE(p.ok()) << p.error().message;
-        pass = *p;
-    }
-    void TearDown() override {
-        if (!ctx.device) return;
-        destroyPlanPass(ctx, pass);
-        destroyContext(ctx);
-        EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
-    }
-    PlanBuffers upload(const PlannedCage& planned) {
-        Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
-        EXPECT_TRUE(buffers.ok()) << buffers.error().message;
-        EXPECT_TRUE(bindPlanBuffers(ctx, pass, *buffers).ok());
-        return std::move(buffers).value();
-    }
-};
+struct MacroFixture : test::PlanPassTest {};
 
 PlannedCage planCage(const Cage& cage, PlanDatabase& db) {
     Result<PlannedCage> planned = PlannedCage::create(cage, db, {}, "test cage");

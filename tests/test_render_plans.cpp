@@ -55,35 +55,19 @@ BoundaryKey boundaryKey(const GpuPlanData& data, uint32_t drawn, uint32_t edge, 
     return {1, segment, c / g, k / g};
 }
 
-struct Fixture : ::testing::Test {
-    VulkanContext ctx;
-    PlanPass pass;
+struct Fixture : test::PlanPassTest {
     OffscreenTarget target;
 
     void SetUp() override {
-        Result<VulkanContext> created = test::createTestContext();
-        ASSERT_TRUE(created.ok()) << created.error().message;
-        ctx = std::move(created).value();
-        Result<PlanPass> p = createPlanPass(ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM);
-        ASSERT_TRUE(p.ok()) << p.error().message;
-        pass = *p;
+        PlanPassTest::SetUp();
+        if (HasFatalFailure()) return;
         Result<OffscreenTarget> t = createOffscreenTarget(ctx, kImageSize, kImageSize, VK_FORMAT_R8G8B8A8_UNORM);
         ASSERT_TRUE(t.ok()) << t.error().message;
         target = *t;
     }
     void TearDown() override {
-        if (!ctx.device) return;
-        destroyOffscreenTarget(ctx, target);
-        destroyPlanPass(ctx, pass);
-        destroyContext(ctx);
-        EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
-    }
-
-    PlanBuffers upload(const PlannedCage& planned) {
-        Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
-        EXPECT_TRUE(buffers.ok()) << buffers.error().message;
-        EXPECT_TRUE(bindPlanBuffers(ctx, pass, *buffers).ok());
-        return std::move(buffers).value();
+        if (ctx.device) destroyOffscreenTarget(ctx, target);
+        PlanPassTest::TearDown();
     }
 
     PlanView frame(const PlannedCage& planned) const {
