@@ -34,8 +34,27 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
                         DrawPath path, const PlanView& view, const TessellationSettings& settings) {
     assert(path != DrawPath::Auto && "resolveDrawPath first");
     if (path == DrawPath::Tessellated) return success();
-    GridFactors factors = settings.uniformFactor ? uniformGridFactors(buffers.data, settings.uniformFactor)
-                                                 : adaptiveGridFactors(buffers, view, settings);
+    GridFactors factors;
+    const PlanBuffers::AdaptiveInputs adaptiveInputs{true, view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment};
+    if (settings.uniformFactor) {
+        factors = uniformGridFactors(buffers.data, settings.uniformFactor);
+    } else {
+        // While the view stays and points moved only by vertex drags, just the sub-faces around
+        // the moved vertices are chosen again (a pass over every segment costs tens of ms at a
+        // million faces). With a displacement the layout's factors are raised: always a full pass.
+        const GridFactors& current = buffers.gridLayout.factors;
+        if (!buffers.displacement && adaptiveInputs == buffers.adaptiveInputs && !buffers.gridLayout.subfaceOffset.empty() &&
+            current.segmentPieces.size() == buffers.data.segments.size() &&
+            current.subfaceFactor.size() == buffers.data.subfaces.size()) {
+            factors.segmentPieces = current.segmentPieces;
+            factors.subfaceFactor = current.subfaceFactor;
+            const AdaptiveView adaptive{view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment};
+            updateAdaptiveGridFactors(buffers.data, buffers.pointPositionsHost, adaptive, factors, buffers.movedSinceFactors);
+        } else {
+            factors = adaptiveGridFactors(buffers, view, settings);
+        }
+        buffers.movedSinceFactors.clear();
+    }
     if (buffers.displacement && settings.displacementPixels > 0.0f) {
         const AdaptiveView fine{view.viewProjection, view.pixelsPerUnit, settings.displacementPixels};
         // Kept caps only for the same sub-face tables (a topology edit renumbers them).
@@ -75,6 +94,8 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
     Status laidOut = *kept ? success() : prepareGrid(ctx, pass, buffers, std::move(factors));
     if (!laidOut) return laidOut;
     buffers.gridLayout.uniformRequest = buffers.displacement ? 0 : settings.uniformFactor;
+    // What the layout's factors now are for: the next frame's incremental adaptive factors.
+    buffers.adaptiveInputs = settings.uniformFactor || buffers.displacement ? PlanBuffers::AdaptiveInputs{} : adaptiveInputs;
     // A grid filled by the other evaluator is equally good; only a missing one is filled.
     if (path == DrawPath::CpuGrid && buffers.gridEvaluator == GridEvaluator::None) evaluateGridOnCpu(planned, buffers);
     return success();

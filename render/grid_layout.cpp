@@ -113,43 +113,75 @@ GridFactors uniformGridFactors(const GpuPlanData& data, uint32_t factor) {
     return f;
 }
 
+namespace {
+
+// Pieces for the segments of drawn sub-face d that have none yet (0 in `pieces`): by the screen
+// size of a sphere around each (a half edge by its whole edge's), kept at `kept(segment)` (a
+// power of two, or 0: none) while enough and not 2.5 times too many.
+template <class Kept>
+void chooseSegmentPieces(const GpuPlanData& data, std::span<const glm::vec4> points, const AdaptiveView& view, uint32_t d,
+                         const Kept& kept, std::vector<uint32_t>& pieces) {
+    auto choose = [&](uint32_t segment, float wanted) {
+        if (pieces[segment]) return;  // seen from its other side
+        uint32_t chosen = powerOfTwoAtLeast(wanted);
+        // Only powers of two: a uniform layout's 5 pieces next to 4 would not divide the
+        // sub-face's factor.
+        const uint32_t previous = kept(segment);
+        if (std::has_single_bit(previous) && wanted <= float(previous) && wanted * 2.5f > float(previous)) chosen = previous;
+        pieces[segment] = chosen;
+    };
+    const GpuSubfaceBoundary& b = data.boundaries[d];
+    const bool ngon = isNgonSubface(data, d);
+    for (uint32_t e = 0; e < 4; ++e) {
+        const GpuEdgeRef& r = b.edges[e];
+        if (r.flags & (kEdgeRefSplit | kEdgeRefHalf)) {  // half of a cage edge: sized by the whole edge
+            const glm::vec4& m = points[r.midpoint];
+            const float wanted = 0.5f * sphereFactor(view, glm::vec3(m), m.w);
+            choose(r.segment, wanted);
+            if (r.flags & kEdgeRefSplit) choose(r.secondHalf, wanted);
+            continue;
+        }
+        const uint32_t a = b.corners[kStartCorner[e]], z = b.corners[kEndCorner[e]];
+        const glm::vec3 pa(points[std::min(a, z)]), pz(points[std::max(a, z)]);
+        const float wanted = sphereFactor(view, 0.5f * (pa + pz), 0.5f * glm::length(pz - pa));
+        choose(r.segment, ngon ? 0.5f * wanted : wanted);
+    }
+}
+
+}  // namespace
+
 GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::vec4> points, const AdaptiveView& view,
                                 const GridFactors* previous) {
     GridFactors f;
     f.segmentPieces.assign(data.segments.size(), 0);
     f.subfaceFactor.assign(data.subfaces.size(), 1);
-    auto choose = [&](uint32_t segment, float wanted) {
-        if (f.segmentPieces[segment]) return;  // seen from its other side
-        uint32_t pieces = powerOfTwoAtLeast(wanted);
-        if (previous) {
-            // Only powers of two: a uniform layout's 5 pieces next to 4 would not divide the
-            // sub-face's factor.
-            const uint32_t kept = previous->segmentPieces[segment];
-            if (std::has_single_bit(kept) && wanted <= float(kept) && wanted * 2.5f > float(kept)) pieces = kept;
-        }
-        f.segmentPieces[segment] = pieces;
-    };
-    for (uint32_t d = 0; d < data.subfaces.size(); ++d) {
-        const GpuSubfaceBoundary& b = data.boundaries[d];
-        const bool ngon = isNgonSubface(data, d);
-        for (uint32_t e = 0; e < 4; ++e) {
-            const GpuEdgeRef& r = b.edges[e];
-            if (r.flags & (kEdgeRefSplit | kEdgeRefHalf)) {  // half of a cage edge: sized by the whole edge
-                const glm::vec4& m = points[r.midpoint];
-                const float wanted = 0.5f * sphereFactor(view, glm::vec3(m), m.w);
-                choose(r.segment, wanted);
-                if (r.flags & kEdgeRefSplit) choose(r.secondHalf, wanted);
-                continue;
-            }
-            const uint32_t a = b.corners[kStartCorner[e]], z = b.corners[kEndCorner[e]];
-            const glm::vec3 pa(points[std::min(a, z)]), pz(points[std::max(a, z)]);
-            const float wanted = sphereFactor(view, 0.5f * (pa + pz), 0.5f * glm::length(pz - pa));
-            choose(r.segment, ngon ? 0.5f * wanted : wanted);
-        }
-    }
+    auto kept = [&](uint32_t segment) { return previous ? previous->segmentPieces[segment] : 0u; };
+    for (uint32_t d = 0; d < data.subfaces.size(); ++d) chooseSegmentPieces(data, points, view, d, kept, f.segmentPieces);
     for (uint32_t d = 0; d < data.subfaces.size(); ++d)
         for (uint32_t e = 0; e < 4; ++e) f.subfaceFactor[d] = std::max(f.subfaceFactor[d], edgePieces(data, f, d, e));
     return f;
+}
+
+void updateAdaptiveGridFactors(const GpuPlanData& data, std::span<const glm::vec4> points, const AdaptiveView& view,
+                               GridFactors& factors, std::span<const uint32_t> touched) {
+    // The touched sub-faces' segments chosen again, each kept at what it had.
+    std::vector<std::pair<uint32_t, uint32_t>> before;  // (segment, pieces), sorted by segment
+    for (uint32_t d : touched)
+        for (const GpuEdgeRef& r : data.boundaries[d].edges) {
+            before.push_back({r.segment, factors.segmentPieces[r.segment]});
+            if (r.flags & kEdgeRefSplit) before.push_back({r.secondHalf, factors.segmentPieces[r.secondHalf]});
+        }
+    std::sort(before.begin(), before.end());
+    before.erase(std::unique(before.begin(), before.end()), before.end());
+    for (const auto& [segment, pieces] : before) factors.segmentPieces[segment] = 0;
+    auto kept = [&](uint32_t segment) {
+        return std::lower_bound(before.begin(), before.end(), std::pair<uint32_t, uint32_t>{segment, 0})->second;
+    };
+    for (uint32_t d : touched) chooseSegmentPieces(data, points, view, d, kept, factors.segmentPieces);
+    for (uint32_t d : touched) {
+        factors.subfaceFactor[d] = 1;
+        for (uint32_t e = 0; e < 4; ++e) factors.subfaceFactor[d] = std::max(factors.subfaceFactor[d], edgePieces(data, factors, d, e));
+    }
 }
 
 void writeGridIndices(const GpuPlanData& data, GridLayout& layout) {

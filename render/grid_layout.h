@@ -70,6 +70,13 @@ struct AdaptiveView {
 GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::vec4> pointPositions,
                                 const AdaptiveView& view, const GridFactors* previous = nullptr);
 
+// adaptiveGridFactors again for the drawn sub-faces `touched` only (sorted: every sub-face on an
+// edge whose points moved, as the ring users of the moved vertices are), the rest as `factors`
+// has them: the same as a full pass with `factors` as the previous ones, when only those points
+// moved since `factors` were chosen for this view.
+void updateAdaptiveGridFactors(const GpuPlanData& data, std::span<const glm::vec4> pointPositions, const AdaptiveView& view,
+                               GridFactors& factors, std::span<const uint32_t> touched);
+
 struct GridLayout {
     GridFactors factors;
     std::vector<uint32_t> subfaceOffset;  // first slot of each drawn sub-face, plus the total

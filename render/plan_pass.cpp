@@ -214,6 +214,7 @@ void updatePositions(PlanBuffers& buffers, const PlannedCage& planned) {
     uploadBuffer(buffers.pointPositions, buffers.pointPositionsHost.data(), buffers.pointPositionsHost.size() * sizeof(glm::vec4));
     buffers.controlPointLevel = kNoControlPoints;
     buffers.gridEvaluator = GridEvaluator::None;
+    buffers.adaptiveInputs = {};  // every point may have moved
 }
 
 void destroyPlanBuffers(const VulkanContext& ctx, PlanBuffers& b) {
@@ -406,6 +407,7 @@ Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffer
 }
 
 Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors) {
+    buffers.adaptiveInputs = {};  // factors from elsewhere: the next adaptive frame chooses whole
     if (!buffers.gridLayout.subfaceOffset.empty() && buffers.gridLayout.factors == factors) return success();
     if (Status s = installGridLayout(ctx, pass, buffers, buildGridLayout(buffers.data, std::move(factors))); !s) return s;
     buffers.gridEvaluator = GridEvaluator::None;
@@ -619,12 +621,18 @@ MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBu
         buffers.pointPositionsHost[id] = boundaryPointPosition(planned, id);
         uploadBuffer(buffers.pointPositions, &buffers.pointPositionsHost[id], sizeof(glm::vec4), size_t(id) * sizeof(glm::vec4));
     }
+    const std::vector<uint32_t> touched = subfacesAround(buffers.data, vertices);
+    if (buffers.adaptiveInputs.valid) {  // their edges' factors are chosen again at the next frame
+        std::vector<uint32_t> merged;
+        std::set_union(buffers.movedSinceFactors.begin(), buffers.movedSinceFactors.end(), touched.begin(), touched.end(),
+                       std::back_inserter(merged));
+        buffers.movedSinceFactors = std::move(merged);
+    }
     const bool controlPoints = buffers.controlPointLevel != kNoControlPoints;
     if (!controlPoints && buffers.gridEvaluator != GridEvaluator::Cpu) {
         buffers.gridEvaluator = GridEvaluator::None;  // re-evaluated whole, control points first
         return update;
     }
-    const std::vector<uint32_t> touched = subfacesAround(buffers.data, vertices);
     const GridRefresh refresh = recordGridRefresh(cmd, pass, buffers, planned, touched, controlPoints);
     update.controlPointSubfaces = refresh.controlPointSubfaces;
     update.evaluatedSubfaces = refresh.evaluatedSubfaces;
@@ -672,6 +680,7 @@ Status setPlanDisplacement(const VulkanContext& ctx, PlanPass& pass, PlanBuffers
     buffers.displacement = displacement;
     buffers.displacementUsers = displacement ? buildDisplacementUsers(displacement->layout) : DisplacementUsers{};
     buffers.gridEvaluator = GridEvaluator::None;
+    buffers.adaptiveInputs = {};  // the factors were (or will be) raised for the tiles
     return bindPlanBuffers(ctx, pass, buffers);
 }
 

@@ -94,6 +94,16 @@ struct PlanBuffers {
     // copies): a relayout kept the rest (grid_relayout.h).
     std::vector<uint32_t> pendingGridSubfaces;
     GridFactors displacementScreen;  // the last screen caps of displaced tiles (kept while close enough)
+    // Adaptive factors (draw_path.cpp): the view the layout's were chosen for (valid only while the
+    // points moved just by recordMovedVertices since), and the drawn sub-faces around the vertices
+    // moved since (sorted): while the view stays, only those are chosen again.
+    struct AdaptiveInputs {
+        bool valid = false;
+        glm::mat4 viewProjection{0.0f};
+        float pixelsPerUnit = 0.0f, pixelsPerSegment = 0.0f;
+        bool operator==(const AdaptiveInputs&) const = default;
+    } adaptiveInputs;
+    std::vector<uint32_t> movedSinceFactors;
     // What the layout's macro faces were chosen for (draw_path.cpp): while the view, the request
     // and every other factor stay, they are kept instead of chosen again.
     struct MacroChoiceInputs {

@@ -147,7 +147,11 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     // Macro faces follow the topology and the drawn numbering; a tag edit that kept both keeps them.
     bool renumbered = !previousOf.empty() || count != old.subfaces.size();
     for (uint32_t d = 0; d < count && !renumbered; ++d) renumbered = oldOf[d] != d;
-    if (renumbered) rebuildMacroGrid(planned, data);
+    if (renumbered) {
+        rebuildMacroGrid(planned, data);
+        buffers.macroInputs = {};  // chosen for the old macro faces: choose again
+    }
+    buffers.adaptiveInputs = {};  // the segments are numbered anew
 
     // The ring users on another core while control points, owners and the grid are settled
     // below: they read the rings and ring offsets, which nothing up to the wait writes.
@@ -350,6 +354,7 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
     if (renumbered) {  // the cage's vertices, edges and faces have new numbers too
         const std::vector<float> positions = cagePositions(planned);
         buffers.pointPositionsHost = boundaryPointPositions(planned);
+        buffers.adaptiveInputs = {};
         Status stored = storeTail(ctx, buffers.positions, positions, 0, rebind);
         if (stored) stored = storeTail(ctx, buffers.pointPositions, buffers.pointPositionsHost, 0, rebind);
         if (!stored) return stored.error();

@@ -209,3 +209,36 @@ TEST_F(MacroFixture, AChangeOfMacroFacesAloneRewritesOnlyTheTriangles) {
     expectClosed(buffers.gridLayout, {}, "torus, 1/16 after 1/4");
     destroyPlanBuffers(ctx, buffers);
 }
+
+// While the view stays, a frame after a vertex drag chooses adaptive factors only around the
+// moved vertices: the same factors as a full pass from the layout's.
+TEST_F(MacroFixture, AdaptiveFactorsAfterADragEqualAFullPass) {
+    const Cage cage = makeBenchmarkCage(2000, 4);
+    PlanDatabase db;
+    PlannedCage planned = planCage(cage, db);
+    PlanBuffers buffers = upload(planned);
+    const PlanView view = test::framedPlanView(cage, kImageSize);
+    const TessellationSettings adaptive{0, 3.0f};
+    ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, view, adaptive).ok());
+    const float diagonal = computeBounds(cage).diagonal();
+    for (uint32_t round = 0; round < 3; ++round) {
+        // A few vertices pulled far toward the camera's side, so their edges want other factors.
+        std::vector<uint32_t> moved{7 + 50 * round, 400 + 31 * round, 900 + 3 * round};
+        std::sort(moved.begin(), moved.end());
+        std::vector<glm::vec3> to;
+        for (uint32_t v : moved) to.push_back(planned.cage().positions[v] * (1.0f + 0.15f * diagonal));
+        ASSERT_TRUE(planned.moveVertices(moved, to).ok());
+        ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordMovedVertices(cmd, pass, buffers, planned, moved); }).ok());
+        const GridFactors before = buffers.gridLayout.factors;
+        const GridFactors full = adaptiveGridFactors(buffers.data, buffers.pointPositionsHost,
+                                                     AdaptiveView{view.viewProjection, view.pixelsPerUnit, adaptive.pixelsPerSegment},
+                                                     &before);
+        ASSERT_FALSE(buffers.movedSinceFactors.empty()) << "the drag is remembered for the next frame";
+        ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, view, adaptive).ok());
+        EXPECT_EQ(buffers.gridLayout.factors.segmentPieces, full.segmentPieces) << "round " << round;
+        EXPECT_EQ(buffers.gridLayout.factors.subfaceFactor, full.subfaceFactor) << "round " << round;
+        EXPECT_NE(buffers.gridLayout.factors.segmentPieces, before.segmentPieces) << "the drag changed some factors";
+        EXPECT_TRUE(buffers.movedSinceFactors.empty());
+    }
+    destroyPlanBuffers(ctx, buffers);
+}
