@@ -166,7 +166,6 @@ GpuPlanData packPlans(const PlannedCage& planned) {
     appendPlanTables(gpu, planned.database());
     packSubfaces(gpu, planned);
     buildRingUsers(gpu, planned.cage().vertexCount());
-    rebuildMacroGrid(planned, gpu);
     return gpu;
 }
 

@@ -104,7 +104,8 @@ struct GpuPlanData {
     std::vector<GpuSegment> segments;
     std::vector<GpuPoint> boundaryPoints;        // indexed by boundary point id
 
-    // Not uploaded: macro faces for drawing far-away regions (macro_grid.h), packSubfaces's.
+    // Not uploaded: macro faces for drawing far-away regions (macro_grid.h): uploadPlans builds
+    // them (packPlans leaves them empty), repacks that renumber sub-faces build them again.
     MacroGrid macros;
 
     // Not uploaded; for incremental updates. CSR: cage vertex -> the drawn sub-faces whose

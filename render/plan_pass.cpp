@@ -150,9 +150,11 @@ std::vector<uint32_t> skippedDrawn(const PlanBuffers& buffers, const PlanView& v
     return skipped;
 }
 
-Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& planned) {
+Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& planned, MacroChoice macros) {
     PlanBuffers b;
     b.data = packPlans(planned);
+    b.data.macros.choice = macros;
+    rebuildMacroGrid(planned, b.data);
     b.pointPositionsHost = boundaryPointPositions(planned);
     const GpuPlanData& d = b.data;
     const std::vector<uint32_t> placeholder(4, 0);

@@ -127,7 +127,9 @@ struct PlanBuffers {
     SampleBits changedSamples;                   // the samples of the last dab (reused)
 };
 
-Result<PlanBuffers> uploadPlans(const VulkanContext& context, const PlannedCage& planned);
+// `macros`: which macro faces the grid paths may draw (macro_grid.h).
+Result<PlanBuffers> uploadPlans(const VulkanContext& context, const PlannedCage& planned,
+                                MacroChoice macros = MacroChoice::Auto);
 // holeDrawn from the cage's holes (O(holes)): after uploadPlans does it, for updates.
 void updateHoleDrawn(PlanBuffers& buffers, const PlannedCage& planned);
 

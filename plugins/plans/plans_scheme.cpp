@@ -118,14 +118,10 @@ public:
         Result<PlanPass> pass = createPlanPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
         if (!pass) return pass.error();
         pass_ = *pass;
-        Result<PlanBuffers> buffers = uploadPlans(*ctx_, *planned_);
+        Result<PlanBuffers> buffers = uploadPlans(*ctx_, *planned_, macroChoice_);
         if (!buffers) return buffers.error();
         buffers_ = std::move(*buffers);
         haveBuffers_ = true;
-        if (macroChoice_ != buffers_.data.macros.choice) {
-            buffers_.data.macros.choice = macroChoice_;
-            rebuildMacroGrid(*planned_, buffers_.data);
-        }
         if (Status s = bindPlanBuffers(*ctx_, pass_, buffers_); !s) return s;
         return setPlanDisplacement(*ctx_, pass_, buffers_, displacement_);
     }
