@@ -59,6 +59,24 @@ Result<VulkanContext> createBenchContext() {
     return createContext(options);
 }
 
+Result<BenchDevice> createBenchDevice(uint32_t width, uint32_t height) {
+    Result<VulkanContext> context = createBenchContext();
+    if (!context) return context.error();
+    BenchDevice device{std::move(context).value(), {}};
+    Result<OffscreenTarget> target = createOffscreenTarget(device.ctx, width, height, VK_FORMAT_R8G8B8A8_UNORM);
+    if (!target) {
+        destroyContext(device.ctx);
+        return target.error();
+    }
+    device.target = *target;
+    return device;
+}
+
+void destroyBenchDevice(BenchDevice& device) {
+    destroyOffscreenTarget(device.ctx, device.target);
+    destroyContext(device.ctx);
+}
+
 std::string loadAverage() {
     std::string one, five, fifteen;
     std::ifstream("/proc/loadavg") >> one >> five >> fifteen;

@@ -45,16 +45,11 @@ void benchMacroCage(const std::string& name, const Cage& cage, const BenchArgs& 
     Result<PlannedCage> planned = PlannedCage::create(cage, database, PlanOptions{}, name);
     if (!planned) return report.notes.push_back(name + ": skipped, " + planned.error().message);
     const PluginCatalog catalog = loadPlugins(pluginDirectory());
-    Result<VulkanContext> context = createBenchContext();
-    if (!context) return report.notes.push_back(name + ": skipped, " + context.error().message);
-    VulkanContext ctx = std::move(context).value();
-    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
-    Result<OffscreenTarget> target = createOffscreenTarget(ctx, kWidth, kHeight, format);
-    if (!target) {
-        destroyContext(ctx);
-        return report.notes.push_back(name + ": skipped, " + target.error().message);
-    }
-    const RenderTarget rt = renderTarget(*target);
+    Result<BenchDevice> device = createBenchDevice(kWidth, kHeight);
+    if (!device) return report.notes.push_back(name + ": skipped, " + device.error().message);
+    const VulkanContext& ctx = device->ctx;
+    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;  // createBenchDevice's target
+    const RenderTarget rt = renderTarget(device->target);
     const Bounds bounds = computeBounds(cage);
     const RenderCamera framed = frameBounds(bounds.min, bounds.max, float(kWidth) / float(kHeight));
     const GpuContext gpu{&ctx, VK_NULL_HANDLE, format, VK_FORMAT_D32_SFLOAT};
@@ -120,8 +115,7 @@ void benchMacroCage(const std::string& name, const Cage& cage, const BenchArgs& 
         }
     }
     report.notes.push_back(name + ": load average at the end: " + loadAverage());
-    destroyOffscreenTarget(ctx, *target);
-    destroyContext(ctx);
+    destroyBenchDevice(*device);
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cage.h"
+#include "offscreen_target.h"
 #include "planned_cage.h"
 #include "result.h"
 #include "vk_context.h"
@@ -113,6 +114,13 @@ std::string benchSharedDir();
 
 // Lavapipe unless QUADPLAN_VK_DEVICE names a device; validation off (it would dominate timings).
 Result<VulkanContext> createBenchContext();
+// That device and an RGBA8 target of width x height to draw into (with a D32 depth image).
+struct BenchDevice {
+    VulkanContext ctx;
+    OffscreenTarget target;
+};
+Result<BenchDevice> createBenchDevice(uint32_t width, uint32_t height);
+void destroyBenchDevice(BenchDevice& device);
 // "1, 5, 15 min" load averages, for the notes.
 std::string loadAverage();
 

@@ -111,16 +111,11 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
 
     // (c) to (g) on the device, through the plans plugin as every command draws.
     const PluginCatalog catalog = loadPlugins(pluginDirectory());
-    Result<VulkanContext> context = createBenchContext();
-    if (!context) return report.notes.push_back(name + ": (c)-(g) not measured, " + context.error().message);
-    VulkanContext ctx = std::move(context).value();
-    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
-    Result<OffscreenTarget> target = createOffscreenTarget(ctx, kWidth, kHeight, format);
-    if (!target) {
-        destroyContext(ctx);
-        return report.notes.push_back(name + ": (c)-(g) not measured, " + target.error().message);
-    }
-    const RenderTarget rt = renderTarget(*target);
+    Result<BenchDevice> device = createBenchDevice(kWidth, kHeight);
+    if (!device) return report.notes.push_back(name + ": (c)-(g) not measured, " + device.error().message);
+    const VulkanContext& ctx = device->ctx;
+    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;  // createBenchDevice's target
+    const RenderTarget rt = renderTarget(device->target);
     const Bounds bounds = computeBounds(bench.cage);
     RenderCamera camera = frameBounds(bounds.min, bounds.max, float(kWidth) / float(kHeight));
     auto viewOf = [&](const RenderCamera& c) { return headlessView(c, kHeight, "shading", false); };
@@ -218,8 +213,7 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
     }
     if (!failure.empty()) report.notes.push_back(name + ": frames failed, " + failure);
     report.notes.push_back(name + ": load average at the end: " + loadAverage());
-    destroyOffscreenTarget(ctx, *target);
-    destroyContext(ctx);
+    destroyBenchDevice(*device);
 }
 
 }  // namespace qp::cli

@@ -67,12 +67,10 @@ uint32_t smallestDivisorAtLeast(uint32_t length, float wanted) {
     return length;
 }
 
-MacroGrid inDrawnSubfaces(const PlannedCage& planned, const GpuPlanData& data, const MacroFaces& macros,
-                          MacroPartition partition) {
+MacroGrid inDrawnSubfaces(const PlannedCage& planned, const GpuPlanData& data, const MacroFaces& macros) {
     std::vector<uint32_t> drawnOf(planned.subfaceCount(), UINT32_MAX);
     for (uint32_t d = 0; d < data.subfaces.size(); ++d) drawnOf[data.subfaces[d].subface] = d;
     MacroGrid grid;
-    grid.partition = partition;
     grid.macroOfDrawn.assign(data.subfaces.size(), UINT32_MAX);
     grid.spans = macros.spans;
     grid.spanShared = macros.spanShared;
@@ -115,39 +113,28 @@ MacroGrid inDrawnSubfaces(const PlannedCage& planned, const GpuPlanData& data, c
 
 namespace {
 
-MacroFaces partitionOf(const PlannedCage& planned, MacroPartition partition) {
-    switch (partition) {
-    case MacroPartition::Rectangles: return rectangularMacroFaces(planned.cage(), planned.topology());
-    case MacroPartition::Quartets: return quartetMacroFaces(planned.cage(), planned.topology());
-    case MacroPartition::Blocks: return blockMacroFaces(planned.cage(), planned.topology());
+MacroFaces partitionOf(const PlannedCage& planned, MacroChoice choice) {
+    switch (choice) {
+    case MacroChoice::Rectangles: return rectangularMacroFaces(planned.cage(), planned.topology());
+    case MacroChoice::Quartets: return quartetMacroFaces(planned.cage(), planned.topology());
+    case MacroChoice::Blocks: return blockMacroFaces(planned.cage(), planned.topology());
+    case MacroChoice::Auto: {
+        // Rectangles or aligned blocks (quartets are blocks of two and save less), on two cores.
+        MacroFaces rectangles, blocks;
+        tbb::parallel_invoke([&] { rectangles = partitionOf(planned, MacroChoice::Rectangles); },
+                             [&] { blocks = partitionOf(planned, MacroChoice::Blocks); });
+        return quadsSaved(blocks) > quadsSaved(rectangles) ? std::move(blocks) : std::move(rectangles);
+    }
+    case MacroChoice::Off: break;
     }
     return {};
 }
 
 }  // namespace
 
-MacroGrid buildMacroGrid(const PlannedCage& planned, const GpuPlanData& data, MacroPartition partition) {
-    return inDrawnSubfaces(planned, data, partitionOf(planned, partition), partition);
-}
-
 void rebuildMacroGrid(const PlannedCage& planned, GpuPlanData& data) {
     const MacroChoice choice = data.macros.choice;
-    switch (choice) {
-    case MacroChoice::Off: data.macros = MacroGrid{}; break;
-    case MacroChoice::Rectangles: data.macros = buildMacroGrid(planned, data, MacroPartition::Rectangles); break;
-    case MacroChoice::Quartets: data.macros = buildMacroGrid(planned, data, MacroPartition::Quartets); break;
-    case MacroChoice::Blocks: data.macros = buildMacroGrid(planned, data, MacroPartition::Blocks); break;
-    case MacroChoice::Auto: {
-        // Rectangles and aligned blocks (quartets are blocks of 2 and save less), on two cores.
-        MacroFaces rectangles, blocks;
-        tbb::parallel_invoke([&] { rectangles = partitionOf(planned, MacroPartition::Rectangles); },
-                             [&] { blocks = partitionOf(planned, MacroPartition::Blocks); });
-        const bool useBlocks = quadsSaved(blocks) > quadsSaved(rectangles);
-        data.macros = inDrawnSubfaces(planned, data, useBlocks ? blocks : rectangles,
-                                      useBlocks ? MacroPartition::Blocks : MacroPartition::Rectangles);
-        break;
-    }
-    }
+    data.macros = inDrawnSubfaces(planned, data, partitionOf(planned, choice));
     data.macros.choice = choice;
 }
 

@@ -35,7 +35,6 @@ struct GpuPlanData;
 struct GridFactors;
 struct AdaptiveView;
 
-enum class MacroPartition : uint8_t { Rectangles, Quartets, Blocks };
 // Which partition a cage's macro faces come from (core/macro_faces.h): Auto keeps rectangles or
 // aligned blocks, whichever saves more quads when every macro face is drawn as one (faces in
 // macro faces minus macro faces; quartets, the paper's blocks of two, only when asked for); Off
@@ -55,7 +54,6 @@ struct MacroSpanUse {
 
 struct MacroGrid {
     MacroChoice choice = MacroChoice::Auto;  // kept when the grid is built again
-    MacroPartition partition = MacroPartition::Rectangles;
     std::vector<MacroGridFace> faces;
     std::vector<uint32_t> cellDrawn;     // per cell: the drawn sub-face
     std::vector<uint8_t> cellRotation;   // per cell: MacroCell::rotation
@@ -67,10 +65,9 @@ struct MacroGrid {
     uint32_t spanCount() const { return uint32_t(spanShared.size()); }
 };
 
-// The macro faces of the planned cage in the drawn numbering of `data` (its sub-face tables);
-// non-quads have no macro faces: their sub-faces are drawn alone.
-MacroGrid buildMacroGrid(const PlannedCage& planned, const GpuPlanData& data, MacroPartition partition);
-// data.macros built again for its choice (packPlans, and repacks that renumber sub-faces).
+// data.macros built again for its choice, in the drawn numbering of `data` (its sub-face tables;
+// non-quads have no macro faces: their sub-faces are drawn alone): uploadPlans, and repacks that
+// renumber sub-faces.
 void rebuildMacroGrid(const PlannedCage& planned, GpuPlanData& data);
 const char* macroChoiceName(MacroChoice choice);  // "auto", "rectangles", "quartets", "blocks", "off"
 
