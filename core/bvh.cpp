@@ -1,6 +1,8 @@
 #include "bvh.h"
 
 #include <algorithm>
+#include <array>
+#include <cassert>
 #include <cmath>
 
 #include <glm/common.hpp>
@@ -18,48 +20,6 @@ void Box::add(const Box& b) {
     max = glm::max(max, b.max);
 }
 
-float rayEntersBox(const Box& box, const glm::vec3& origin, const glm::vec3& inverseDirection, float tMax) {
-    float t0 = 0.0f, t1 = tMax;
-    for (int a = 0; a < 3; ++a) {
-        // A ray parallel to the slab (an infinite inverse) is inside it or misses the box: the
-        // products below would be 0 * inf = NaN for an origin on the slab's plane.
-        if (std::isinf(inverseDirection[a])) {
-            if (origin[a] < box.min[a] || origin[a] > box.max[a]) return std::numeric_limits<float>::infinity();
-            continue;
-        }
-        float near = (box.min[a] - origin[a]) * inverseDirection[a];
-        float far = (box.max[a] - origin[a]) * inverseDirection[a];
-        if (near > far) std::swap(near, far);
-        if (near > t0) t0 = near;
-        if (far < t1) t1 = far;
-        if (t0 > t1) return std::numeric_limits<float>::infinity();
-    }
-    return t0;
-}
-
-bool rayHitsTriangle(const glm::vec3& origin, const glm::vec3& direction, const glm::vec3& p0, const glm::vec3& p1,
-                     const glm::vec3& p2, float& t, float& b1, float& b2) {
-    const glm::vec3 e1 = p1 - p0, e2 = p2 - p0;
-    const glm::vec3 p = glm::cross(direction, e2);
-    const float det = glm::dot(e1, p);
-    if (std::fabs(det) < 1e-20f) return false;
-    const float inv = 1.0f / det;
-    const glm::vec3 s = origin - p0;
-    // A ray through the edge two triangles share must hit one of them: rounding can put it a
-    // hair outside both (a ray along a symmetry plane of the model does that every time), so the
-    // test lets barycentrics a hair past the edges count.
-    constexpr float kEdgeSlack = 1e-5f;
-    b1 = glm::dot(s, p) * inv;
-    if (b1 < -kEdgeSlack || b1 > 1.0f + kEdgeSlack) return false;
-    const glm::vec3 q = glm::cross(s, e1);
-    b2 = glm::dot(direction, q) * inv;
-    if (b2 < -kEdgeSlack || b1 + b2 > 1.0f + kEdgeSlack) return false;
-    b1 = std::clamp(b1, 0.0f, 1.0f);
-    b2 = std::clamp(b2, 0.0f, 1.0f - b1);
-    t = glm::dot(e2, q) * inv;
-    return t >= 0.0f;
-}
-
 BoxBvh::BoxBvh(std::span<const Box> boxes) {
     for (uint32_t i = 0; i < boxes.size(); ++i)
         if (!boxes[i].empty()) items_.push_back(i);
@@ -71,6 +31,8 @@ BoxBvh::BoxBvh(std::span<const Box> boxes) {
     }
     centres_.clear();
     centres_.shrink_to_fit();
+    itemBoxes_.resize(items_.size());
+    for (size_t k = 0; k < items_.size(); ++k) itemBoxes_[k] = boxes[items_[k]];
 }
 
 uint32_t BoxBvh::build(std::span<const Box> boxes, uint32_t begin, uint32_t end) {
@@ -99,6 +61,25 @@ uint32_t BoxBvh::build(std::span<const Box> boxes, uint32_t begin, uint32_t end)
     return index;
 }
 
+void BoxBvh::refit(std::span<const Box> boxes) {
+    // Children come after their parent in nodes_ (built depth first), so a backward pass sees
+    // both children of a node before the node.
+    for (size_t i = nodes_.size(); i-- > 0;) {
+        Node& node = nodes_[i];
+        node.box = Box{};
+        if (node.count > 0) {
+            for (uint32_t k = node.first; k < node.first + node.count; ++k) {
+                assert(!boxes[items_[k]].empty());
+                itemBoxes_[k] = boxes[items_[k]];
+                node.box.add(itemBoxes_[k]);
+            }
+        } else {
+            node.box.add(nodes_[node.left].box);
+            node.box.add(nodes_[node.right].box);
+        }
+    }
+}
+
 float BoxBvh::traverse(const glm::vec3& origin, const glm::vec3& direction, float tMax,
                        const std::function<float(uint32_t, float)>& test) const {
     if (nodes_.empty()) return tMax;
@@ -107,28 +88,31 @@ float BoxBvh::traverse(const glm::vec3& origin, const glm::vec3& direction, floa
         uint32_t node;
         float entry;
     };
-    std::vector<Entry> stack;
-    stack.push_back({0, rayEntersBox(nodes_[0].box, origin, inverse, tMax)});
-    while (!stack.empty()) {
-        Entry e = stack.back();
-        stack.pop_back();
-        if (!(e.entry <= tMax)) continue;
+    // A missed box enters at +infinity, which an unbounded query's tMax (+infinity) would admit.
+    auto entered = [&](float entry) { return entry <= tMax && std::isfinite(entry); };
+    // The tree splits at medians, so it is at most 32 levels deep and a stack holds at most one
+    // entry a level plus one: no allocation per ray.
+    std::array<Entry, 64> stack;
+    size_t depth = 0;
+    stack[depth++] = {0, rayEntersBox(nodes_[0].box, origin, inverse, tMax)};
+    while (depth > 0) {
+        const Entry e = stack[--depth];
+        if (!entered(e.entry)) continue;
         const Node& node = nodes_[e.node];
         if (node.count > 0) {
-            for (uint32_t i = node.first; i < node.first + node.count; ++i) tMax = test(items_[i], tMax);
+            // A leaf holds several items: only those whose own box the ray enters are tested.
+            for (uint32_t i = node.first; i < node.first + node.count; ++i)
+                if (entered(rayEntersBox(itemBoxes_[i], origin, inverse, tMax))) tMax = test(items_[i], tMax);
             continue;
         }
         const uint32_t a = node.left, b = node.right;
         const float ta = rayEntersBox(nodes_[a].box, origin, inverse, tMax);
         const float tb = rayEntersBox(nodes_[b].box, origin, inverse, tMax);
-        // Push the farther first so the nearer is visited first.
-        if (ta <= tb) {
-            stack.push_back({b, tb});
-            stack.push_back({a, ta});
-        } else {
-            stack.push_back({a, ta});
-            stack.push_back({b, tb});
-        }
+        // Push the farther first so the nearer is visited first; missed children not at all.
+        const Entry nearer = ta <= tb ? Entry{a, ta} : Entry{b, tb}, farther = ta <= tb ? Entry{b, tb} : Entry{a, ta};
+        assert(depth + 2 <= stack.size());
+        if (entered(farther.entry)) stack[depth++] = farther;
+        if (entered(nearer.entry)) stack[depth++] = nearer;
     }
     return tMax;
 }

@@ -5,12 +5,15 @@
 // enters before the current nearest hit, nearer nodes first, and lets the caller test them.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <limits>
 #include <span>
 #include <vector>
 
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 namespace qp {
@@ -24,18 +27,61 @@ struct Box {
 };
 
 // Ray-box slab test: the distance at which the ray (origin, 1 / direction) enters the box, or
-// +infinity when it misses it or enters it after tMax.
-float rayEntersBox(const Box& box, const glm::vec3& origin, const glm::vec3& inverseDirection, float tMax);
+// +infinity when it misses it or enters it after tMax. (This and the triangle test are inline:
+// a picking ray calls them for every box and triangle it passes.)
+inline float rayEntersBox(const Box& box, const glm::vec3& origin, const glm::vec3& inverseDirection, float tMax) {
+    float t0 = 0.0f, t1 = tMax;
+    for (int a = 0; a < 3; ++a) {
+        // A ray parallel to the slab (an infinite inverse) is inside it or misses the box: the
+        // products below would be 0 * inf = NaN for an origin on the slab's plane.
+        if (std::isinf(inverseDirection[a])) {
+            if (origin[a] < box.min[a] || origin[a] > box.max[a]) return std::numeric_limits<float>::infinity();
+            continue;
+        }
+        float near = (box.min[a] - origin[a]) * inverseDirection[a];
+        float far = (box.max[a] - origin[a]) * inverseDirection[a];
+        if (near > far) std::swap(near, far);
+        if (near > t0) t0 = near;
+        if (far < t1) t1 = far;
+        if (t0 > t1) return std::numeric_limits<float>::infinity();
+    }
+    return t0;
+}
 
 // Möller-Trumbore: distance along the ray and barycentrics (b1, b2) of the hit with triangle
 // (p0, p1, p2), both sides; false when the ray misses or the triangle is degenerate.
-bool rayHitsTriangle(const glm::vec3& origin, const glm::vec3& direction, const glm::vec3& p0, const glm::vec3& p1,
-                     const glm::vec3& p2, float& t, float& b1, float& b2);
+inline bool rayHitsTriangle(const glm::vec3& origin, const glm::vec3& direction, const glm::vec3& p0,
+                            const glm::vec3& p1, const glm::vec3& p2, float& t, float& b1, float& b2) {
+    const glm::vec3 e1 = p1 - p0, e2 = p2 - p0;
+    const glm::vec3 p = glm::cross(direction, e2);
+    const float det = glm::dot(e1, p);
+    if (std::fabs(det) < 1e-20f) return false;
+    const float inv = 1.0f / det;
+    const glm::vec3 s = origin - p0;
+    // A ray through the edge two triangles share must hit one of them: rounding can put it a
+    // hair outside both (a ray along a symmetry plane of the model does that every time), so the
+    // test lets barycentrics a hair past the edges count.
+    constexpr float kEdgeSlack = 1e-5f;
+    b1 = glm::dot(s, p) * inv;
+    if (b1 < -kEdgeSlack || b1 > 1.0f + kEdgeSlack) return false;
+    const glm::vec3 q = glm::cross(s, e1);
+    b2 = glm::dot(direction, q) * inv;
+    if (b2 < -kEdgeSlack || b1 + b2 > 1.0f + kEdgeSlack) return false;
+    b1 = std::clamp(b1, 0.0f, 1.0f);
+    b2 = std::clamp(b2, 0.0f, 1.0f - b1);
+    t = glm::dot(e2, q) * inv;
+    return t >= 0.0f;
+}
 
 class BoxBvh {
 public:
     BoxBvh() = default;
     explicit BoxBvh(std::span<const Box> boxes);  // empty boxes are left out
+
+    // The same items with new boxes (say, after their contents moved): every node's box made
+    // again from them, the tree kept. Valid while the same boxes are empty as at the build;
+    // cheaper than a build, and the tree may fit less tightly than a new one would.
+    void refit(std::span<const Box> boxes);
 
     // Calls test(item, tMax) for candidate items; test returns the new tMax (its nearest hit
     // so far, or tMax unchanged). Returns the final tMax.
@@ -52,6 +98,7 @@ private:
 
     std::vector<Node> nodes_;
     std::vector<uint32_t> items_;
+    std::vector<Box> itemBoxes_;  // items_[k]'s box
     std::vector<glm::vec3> centres_;
 };
 

@@ -10,21 +10,35 @@
 
 namespace qp {
 
+namespace {
+
+// Newton may move a sampled hit along the ray by less than this fraction of its sub-face's size
+// (farther, it has converged onto another sheet of the surface and the sampled hit is kept).
+constexpr float kRefineWindow = 0.25f;
+
+float sizeOf(const Box& box) {
+    return std::max(glm::length(box.max - box.min), 1e-6f);
+}
+
+}  // namespace
+
 LimitPicker::LimitPicker(const PlannedCage& planned, uint32_t resolution) : resolution_(std::max(1u, resolution)) {
     EditReport everything;
     everything.topologyChanged = true;
     update(planned, everything);
 }
 
+uint32_t LimitPicker::resolutionFor(uint32_t subfaces) {
+    constexpr double kSampleBudget = double(1u << 24);
+    const double side = std::sqrt(kSampleBudget / std::max(1u, subfaces));
+    return uint32_t(std::clamp(side - 1.0, 2.0, 8.0));
+}
+
 void LimitPicker::sample(const PlannedCage& planned, uint32_t subface) {
-    std::vector<glm::vec3>& grid = grids_[subface];
     boxes_[subface] = Box{};
-    if (!planned.hasSurface(subface)) {
-        grid.clear();
-        return;
-    }
+    if (!planned.hasSurface(subface)) return;
     const uint32_t n = resolution_;
-    grid.resize((n + 1) * (n + 1));
+    glm::vec3* grid = samples_.data() + size_t(subface) * stride();
     for (uint32_t j = 0; j <= n; ++j)
         for (uint32_t i = 0; i <= n; ++i) {
             grid[j * (n + 1) + i] = planned.evaluate(subface, float(i) / float(n), float(j) / float(n)).position;
@@ -34,45 +48,58 @@ void LimitPicker::sample(const PlannedCage& planned, uint32_t subface) {
 
 void LimitPicker::rebuildBvh() {
     bvh_ = BoxBvh(boxes_);
+    largestSubface_ = 0.0f;
+    for (const Box& box : boxes_)
+        if (!box.empty()) largestSubface_ = std::max(largestSubface_, sizeOf(box));
 }
 
 void LimitPicker::update(const PlannedCage& planned, const EditReport& report) {
-    const bool carried = report.topologyChanged && report.previousSubfaceOf.size() == planned.subfaceCount() &&
-                         !grids_.empty();
-    if (carried) {  // kept sub-faces take their grids along; new and updated ones are sampled
-        std::vector<std::vector<glm::vec3>> before = std::move(grids_);
-        std::vector<Box> boxesBefore = std::move(boxes_);
-        grids_.assign(planned.subfaceCount(), {});
-        boxes_.assign(planned.subfaceCount(), Box{});
+    const uint32_t count = planned.subfaceCount();
+    const bool carried = report.topologyChanged && report.previousSubfaceOf.size() == count && !boxes_.empty();
+    if (carried) {  // kept sub-faces take their samples along; new and updated ones are sampled
+        const std::vector<glm::vec3> before = std::move(samples_);
+        const std::vector<Box> boxesBefore = std::move(boxes_);
+        samples_.resize(size_t(count) * stride());
+        boxes_.assign(count, Box{});
         std::vector<uint32_t> stale = report.updatedSubfaceList;
-        for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+        for (uint32_t s = 0; s < count; ++s) {
             const uint32_t previous = report.previousSubfaceOf[s];
-            if (previous == kNewElement || previous >= before.size()) {
+            if (previous == kNewElement || previous >= boxesBefore.size()) {
                 stale.push_back(s);
                 continue;
             }
-            grids_[s] = std::move(before[previous]);
+            std::copy_n(before.begin() + std::ptrdiff_t(size_t(previous) * stride()), stride(),
+                        samples_.begin() + std::ptrdiff_t(size_t(s) * stride()));
             boxes_[s] = boxesBefore[previous];
         }
         std::sort(stale.begin(), stale.end());
         stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
         tbb::parallel_for(size_t(0), stale.size(), [&](size_t i) { sample(planned, stale[i]); });
-    } else if (report.topologyChanged || grids_.size() != planned.subfaceCount()) {
-        grids_.assign(planned.subfaceCount(), {});
-        boxes_.assign(planned.subfaceCount(), Box{});
-        tbb::parallel_for(uint32_t(0), planned.subfaceCount(), [&](uint32_t s) { sample(planned, s); });
+    } else if (report.topologyChanged || boxes_.size() != count) {
+        samples_.resize(size_t(count) * stride());
+        boxes_.assign(count, Box{});
+        tbb::parallel_for(uint32_t(0), count, [&](uint32_t s) { sample(planned, s); });
     } else {
         const std::vector<uint32_t>& list = report.updatedSubfaceList;
+        std::vector<uint8_t> hadSurface(list.size());
+        for (size_t i = 0; i < list.size(); ++i) hadSurface[i] = !boxes_[list[i]].empty();
         tbb::parallel_for(size_t(0), list.size(), [&](size_t i) { sample(planned, list[i]); });
+        bool sameSurfaces = true;
+        for (size_t i = 0; i < list.size(); ++i) sameSurfaces = sameSurfaces && hadSurface[i] == !boxes_[list[i]].empty();
+        if (sameSurfaces) {
+            bvh_.refit(boxes_);
+            for (uint32_t s : list) largestSubface_ = std::max(largestSubface_, boxes_[s].empty() ? 0.0f : sizeOf(boxes_[s]));
+            return;
+        }
     }
     rebuildBvh();
 }
 
-LimitPicker::Hit LimitPicker::intersect(const PlannedCage& planned, const Ray& ray, float maxDistance) const {
+LimitPicker::Hit LimitPicker::sampledHit(const Ray& ray, float maxDistance) const {
     Hit hit;
     const uint32_t n = resolution_;
     bvh_.traverse(ray.origin, ray.direction, maxDistance, [&](uint32_t s, float tMax) {
-        const std::vector<glm::vec3>& g = grids_[s];
+        const glm::vec3* g = samples_.data() + size_t(s) * stride();
         for (uint32_t j = 0; j < n; ++j)
             for (uint32_t i = 0; i < n; ++i) {
                 const glm::vec3& p00 = g[j * (n + 1) + i];
@@ -92,18 +119,19 @@ LimitPicker::Hit LimitPicker::intersect(const PlannedCage& planned, const Ray& r
             }
         return tMax;
     });
-    if (hit.subface == kNoHit) return hit;
+    return hit;
+}
 
+LimitPicker::Hit LimitPicker::refined(const PlannedCage& planned, const Ray& ray, Hit hit) const {
     // Newton on P(u, v) = origin + t direction, unknowns (u, v, t).
-    const Box& box = boxes_[hit.subface];
-    const float scale = std::max(glm::length(box.max - box.min), 1e-6f);
+    const float scale = sizeOf(boxes_[hit.subface]);
     const float tolerance = 1e-6f * std::max(scale, glm::length(hit.position));
     float u = hit.u, v = hit.v, t = hit.distance;
     for (int iteration = 0; iteration < 12; ++iteration) {
         const LimitSample sample = planned.evaluate(hit.subface, std::clamp(u, 0.0f, 1.0f), std::clamp(v, 0.0f, 1.0f));
         const glm::vec3 residual = sample.position - (ray.origin + t * ray.direction);
         if (glm::length(residual) <= tolerance) {
-            if (std::fabs(t - hit.distance) < 0.25f * scale) {
+            if (std::fabs(t - hit.distance) < kRefineWindow * scale) {
                 hit.u = std::clamp(u, 0.0f, 1.0f);
                 hit.v = std::clamp(v, 0.0f, 1.0f);
                 hit.position = sample.position;
@@ -121,6 +149,25 @@ LimitPicker::Hit LimitPicker::intersect(const PlannedCage& planned, const Ray& r
         if (u < -1e-3f || u > 1.001f || v < -1e-3f || v > 1.001f || !std::isfinite(t)) break;  // left the sub-face
     }
     return hit;
+}
+
+LimitPicker::Hit LimitPicker::intersect(const PlannedCage& planned, const Ray& ray, float maxDistance) const {
+    const Hit hit = sampledHit(ray, maxDistance);
+    return hit.subface == kNoHit ? hit : refined(planned, ray, hit);
+}
+
+bool LimitPicker::hides(const PlannedCage& planned, const Ray& ray, float distance) const {
+    if (!(distance > 0.0f)) return false;
+    // Refining moves a hit by less than its window, so a nearest sampled hit beyond `reach`
+    // cannot refine to before `distance`, and one whose whole window lies before (or after) it
+    // needs no refining.
+    const float reach = distance + kRefineWindow * largestSubface_;
+    const Hit hit = sampledHit(ray, reach);
+    if (hit.subface == kNoHit) return false;
+    const float window = kRefineWindow * sizeOf(boxes_[hit.subface]);
+    if (hit.distance + window < distance) return true;
+    if (hit.distance - window >= distance) return false;
+    return refined(planned, ray, hit).distance < distance;
 }
 
 }  // namespace qp

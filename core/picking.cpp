@@ -8,6 +8,8 @@
 #include <glm/geometric.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/matrix.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 namespace qp {
 
@@ -93,11 +95,15 @@ CageRaycaster::Hit CageRaycaster::intersect(const Ray& ray, float maxDistance) c
 }
 
 Occluder cageOccluder(const CageRaycaster& raycaster, float tolerance) {
-    return {[&raycaster](const Ray& ray) { return raycaster.intersect(ray).distance; }, tolerance};
+    return {[&raycaster, tolerance](const Ray& ray, float distance) {
+        return raycaster.intersect(ray, distance - tolerance).face != kNoHit;
+    }};
 }
 
 Occluder limitOccluder(const LimitPicker& picker, const PlannedCage& planned, float tolerance) {
-    return {[&picker, &planned](const Ray& ray) { return picker.intersect(planned, ray).distance; }, tolerance};
+    return {[&picker, &planned, tolerance](const Ray& ray, float distance) {
+        return picker.hides(planned, ray, distance - tolerance);
+    }};
 }
 
 bool isVisible(const PickView& view, const glm::vec3& point, const Occluder* occluder) {
@@ -106,7 +112,7 @@ bool isVisible(const PickView& view, const glm::vec3& point, const Occluder* occ
     if (!occluder) return true;
     const Ray ray = view.rayThrough(p.pixel);
     const float along = glm::dot(point - ray.origin, ray.direction);
-    return occluder->nearestHit(ray) >= along - occluder->tolerance;
+    return !occluder->hides(ray, along);
 }
 
 VertexPick pickVertex(const Cage& cage, const PickView& view, const glm::vec2& pixel, float tolerancePixels,
@@ -162,29 +168,46 @@ Selection boxSelect(const Cage& cage, const Topology& topology, SelectionMode mo
         const PickView::Projected q = view.project(p);
         return q.inFront && q.pixel.x >= lo.x && q.pixel.x <= hi.x && q.pixel.y >= lo.y && q.pixel.y <= hi.y;
     };
+    // Element i is taken when it is inside and `visibleAt(i)` is; each on its own flag, so the
+    // visibility rays (most of the time) run on every core and the result keeps element order.
+    auto taken = [&](uint32_t count, auto&& isInside, auto&& visibleAt) {
+        std::vector<uint8_t> flags(count);
+        tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 256), [&](const tbb::blocked_range<uint32_t>& range) {
+            for (uint32_t i = range.begin(); i < range.end(); ++i) flags[i] = isInside(i) && visibleAt(i);
+        });
+        std::vector<uint32_t> list;
+        for (uint32_t i = 0; i < count; ++i)
+            if (flags[i]) list.push_back(i);
+        return list;
+    };
     Selection s;
     s.mode = mode;
     switch (mode) {
     case SelectionMode::Vertex:
-        for (uint32_t v = 0; v < cage.vertexCount(); ++v)
-            if (inside(cage.positions[v]) && isVisible(view, cage.positions[v], occluder)) s.vertices.push_back(v);
+        s.vertices = taken(
+            cage.vertexCount(), [&](uint32_t v) { return inside(cage.positions[v]); },
+            [&](uint32_t v) { return isVisible(view, cage.positions[v], occluder); });
         break;
-    case SelectionMode::Edge:
-        for (uint32_t e = 0; e < topology.edgeCount(); ++e) {
-            const glm::vec3 a = cage.positions[topology.edgeVertices[2 * e]], b = cage.positions[topology.edgeVertices[2 * e + 1]];
-            if (inside(a) && inside(b) && isVisible(view, 0.5f * (a + b), occluder))
-                s.edges.push_back({topology.edgeVertices[2 * e], topology.edgeVertices[2 * e + 1]});
-        }
+    case SelectionMode::Edge: {
+        auto end = [&](uint32_t e, int side) { return cage.positions[topology.edgeVertices[2 * e + side]]; };
+        for (uint32_t e : taken(
+                 topology.edgeCount(), [&](uint32_t e) { return inside(end(e, 0)) && inside(end(e, 1)); },
+                 [&](uint32_t e) { return isVisible(view, 0.5f * (end(e, 0) + end(e, 1)), occluder); }))
+            s.edges.push_back({topology.edgeVertices[2 * e], topology.edgeVertices[2 * e + 1]});
         std::sort(s.edges.begin(), s.edges.end());
         break;
-    case SelectionMode::Face:
-        for (uint32_t f = 0; f < cage.faceCount(); ++f) {
-            glm::vec3 centre(0.0f);
-            for (uint32_t i = 0; i < cage.faceSize(f); ++i) centre += cage.positions[cage.faceBegin(f)[i]];
-            centre /= float(cage.faceSize(f));
-            if (inside(centre) && isVisible(view, centre, occluder)) s.faces.push_back(f);
-        }
+    }
+    case SelectionMode::Face: {
+        auto centre = [&](uint32_t f) {
+            glm::vec3 sum(0.0f);
+            for (uint32_t i = 0; i < cage.faceSize(f); ++i) sum += cage.positions[cage.faceBegin(f)[i]];
+            return sum / float(cage.faceSize(f));
+        };
+        s.faces = taken(
+            cage.faceCount(), [&](uint32_t f) { return inside(centre(f)); },
+            [&](uint32_t f) { return isVisible(view, centre(f), occluder); });
         break;
+    }
     }
     return s;
 }

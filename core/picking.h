@@ -6,9 +6,9 @@
 // the top-left corner of the viewport, x right, y down, and a point's pixel is
 // (ndc.xy + 1) / 2 * viewport size. Distances along rays are in world units.
 //
-// Visibility ("select only what you can see"): an Occluder answers "how far along this ray is
-// the first surface?"; a point is visible when nothing is hit more than `tolerance` in front of
-// it. cageOccluder tests against the cage faces, limitOccluder against the limit surface.
+// Visibility ("select only what you can see"): an Occluder answers "does a surface cross this
+// ray more than its tolerance before the given distance?"; a point is visible when none does.
+// cageOccluder tests against the cage faces, limitOccluder against the limit surface.
 #pragma once
 
 #include <cstdint>
@@ -80,9 +80,15 @@ public:
     LimitPicker() = default;
     explicit LimitPicker(const PlannedCage& planned, uint32_t resolution = 8);
 
+    // The resolution that keeps the samples of `subfaces` sub-faces near 16 M points (192 MiB):
+    // 8 up to about 200k sub-faces, 3 at a million; Newton's refinement makes the
+    // hits exact either way, the samples only find them.
+    static uint32_t resolutionFor(uint32_t subfaces);
+
     // After an edit: re-samples the sub-faces the report lists; after a topology edit the kept
     // sub-faces (EditReport::previousSubfaceOf) keep their samples and only new ones are added.
-    // A report without the maps (topology changed) re-samples everything.
+    // A report without the maps (topology changed) re-samples everything. Re-sampling alone
+    // (no sub-face gains or loses its surface) refits the BVH instead of building it again.
     void update(const PlannedCage& planned, const EditReport& report);
 
     struct Hit {
@@ -94,22 +100,32 @@ public:
     };
     // `planned` must be the PlannedCage the picker was built or last updated from.
     Hit intersect(const PlannedCage& planned, const Ray& ray, float maxDistance = kNoDistance) const;
+    // Whether the limit surface crosses the ray before `distance`: what intersect would say
+    // (its hit nearer than `distance`), without Newton's refinement where the sampled hit's
+    // refinement window lies wholly before or after `distance`, and looking no farther.
+    bool hides(const PlannedCage& planned, const Ray& ray, float distance) const;
 
 private:
     void sample(const PlannedCage& planned, uint32_t subface);
     void rebuildBvh();
+    Hit sampledHit(const Ray& ray, float maxDistance) const;  // the nearest sampled triangle's
+    Hit refined(const PlannedCage& planned, const Ray& ray, Hit hit) const;
+    uint32_t stride() const { return (resolution_ + 1) * (resolution_ + 1); }
 
     uint32_t resolution_ = 8;
-    std::vector<std::vector<glm::vec3>> grids_;  // per sub-face; empty without a surface
-    std::vector<Box> boxes_;
+    float largestSubface_ = 0.0f;    // at least the largest sub-face box's diagonal
+    std::vector<glm::vec3> samples_;  // stride() per sub-face; unused where its box is empty
+    std::vector<Box> boxes_;          // empty: the sub-face has no surface
     BoxBvh bvh_;
 };
 
 struct Occluder {
-    std::function<float(const Ray&)> nearestHit;  // distance to the first surface hit, or kNoDistance
-    float tolerance = 0.0f;                       // world units (e.g. 1e-4 x the cage's diagonal)
+    // Whether a surface crosses the ray more than the tolerance before `distance` (world units).
+    // Safe to call from several threads at once.
+    std::function<bool(const Ray& ray, float distance)> hides;
 };
-// These keep references: the raycaster, picker and planned cage must outlive the occluder.
+// `tolerance` in world units (e.g. 1e-4 x the cage's diagonal). These keep references: the
+// raycaster, picker and planned cage must outlive the occluder.
 Occluder cageOccluder(const CageRaycaster& raycaster, float tolerance);
 Occluder limitOccluder(const LimitPicker& picker, const PlannedCage& planned, float tolerance);
 
@@ -144,7 +160,8 @@ CageRaycaster::Hit pickFace(const CageRaycaster& raycaster, const PickView& view
 
 // Elements whose projections fall inside the rectangle between two pixel corners (any order):
 // vertices by their position, edges when both ends are inside, faces by their centroid. With an
-// occluder only visible ones (edges by their midpoint). Returns a selection of `mode`.
+// occluder only visible ones (edges by their midpoint), tested on every core. Returns a
+// selection of `mode`, in increasing element order.
 Selection boxSelect(const Cage& cage, const Topology& topology, SelectionMode mode, const PickView& view,
                     const glm::vec2& cornerA, const glm::vec2& cornerB, const Occluder* occluder = nullptr);
 

@@ -9,7 +9,12 @@
 //   (e) peak resident memory of the process after planning and the first frame;
 //   (f) dragging one vertex: moveVertices + the scheme's updateMoved + the next frame;
 //   (g) a crease: setEdgeSharpness on an interior edge (alternately 2 and 0) + the scheme's
-//       updatePlans + the next frame.
+//       updatePlans + the next frame;
+//   (h) the limit-surface picker built (what the editor's first visible-only pick pays);
+//   (i) box select of vertices, visible only (the limit surface as occluder, as the editor
+//       does), the box centred in the view and just large enough to hold 100k vertices (the
+//       whole view on smaller cages): the 200 ms is for a box over 100k elements, so it
+//       holds at every size.
 // The targets hold at a million faces (cold <= 4 s, warm <= 1.5 s, <= 2.5 GiB, frame
 // <= 0.5 s, drag <= 100 ms, crease <= 150 ms); smaller cages report the same rows as information,
 // so that the growth from 100k to 1M can be read off two runs.
@@ -27,6 +32,7 @@
 #include "camera.h"
 #include "headless_scene.h"
 #include "offscreen_target.h"
+#include "picking.h"
 #include "plan_pass.h"
 #include "scheme_host.h"
 #include "vk_commands.h"
@@ -51,6 +57,49 @@ double peakResidentMiB() {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     return double(usage.ru_maxrss) / 1024.0;  // KiB on Linux
+}
+
+// (h) and (i): the picker, then a box over the whole view.
+template <typename MakeRow>
+void benchBoxSelect(const PlannedCage& planned, const RenderCamera& camera, const Bounds& bounds, uint32_t rounds,
+                    MakeRow row, Report& report) {
+    auto start = Clock::now();
+    const LimitPicker picker(planned, LimitPicker::resolutionFor(planned.subfaceCount()));
+    Row h = row("(h) the limit-surface picker built (the first visible-only pick)", "ms", 1, 0.0);
+    h.ours = msSince(start), h.target = Target::Informative;
+    report.rows.push_back(h);
+    const PickView view{viewProjection(camera), glm::vec2(float(kWidth), float(kHeight))};
+    const Occluder occluder = limitOccluder(picker, planned, 1e-4f * bounds.diagonal());
+    // The box's half size: the 100,000th smallest distance (the larger of |dx| and |dy|) of a
+    // vertex in view from the view's centre.
+    const glm::vec2 centre = 0.5f * view.size;
+    std::vector<float> reach;
+    for (const glm::vec3& p : planned.cage().positions) {
+        const PickView::Projected q = view.project(p);
+        const glm::vec2 d = glm::abs(q.pixel - centre);
+        if (q.inFront && d.x <= centre.x && d.y <= centre.y) reach.push_back(std::max(d.x, d.y));
+    }
+    constexpr size_t kBoxElements = 100'000;
+    const size_t inBox = std::min(kBoxElements, reach.size());
+    float half = 0.0f;
+    if (inBox > 0) {
+        std::nth_element(reach.begin(), reach.begin() + std::ptrdiff_t(inBox - 1), reach.end());
+        half = reach[inBox - 1];
+    }
+    std::vector<double> boxMs;
+    size_t selected = 0;
+    for (uint32_t r = 0; r < rounds; ++r) {
+        start = Clock::now();
+        const Selection s = boxSelect(planned.cage(), planned.topology(), SelectionMode::Vertex, view, centre - half,
+                                      centre + half, &occluder);
+        boxMs.push_back(msSince(start));
+        selected = s.vertices.size();
+    }
+    Row i = row("(i) box select, vertices, visible only: a box of " + number(2.0 * half) + " px square holding " +
+                    std::to_string(inBox) + " vertices (" + std::to_string(selected) + " visible, selected)",
+                "ms", rounds, 200.0);
+    i.ours = median(boxMs), i.target = Target::OursAtMost;
+    report.rows.push_back(i);
 }
 
 }  // namespace
@@ -206,6 +255,7 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
             report.rows.push_back(g);
         }
         if (rebuilds) report.notes.push_back(name + ": plans asked for a rebuild after " + std::to_string(rebuilds) + " crease edits");
+        if (failure.empty()) benchBoxSelect(*planned, camera, bounds, frameRounds, row, report);
         (void)prepared->instance.destroyGpu();
     } else {
         failure = prepared ? failure : prepared.error().message;

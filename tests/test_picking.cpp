@@ -1,4 +1,5 @@
 // Picking on the cage and on the limit surface, visibility and box selection (core/picking.h).
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -153,4 +154,118 @@ TEST(Picking, LimitSurfaceHitsAreOnTheExactSurfaceAndFollowEdits) {
     qp::Occluder limit = qp::limitOccluder(picker, planned, 1e-4f);
     EXPECT_TRUE(qp::isVisible(view, pulled, &limit));
     EXPECT_FALSE(qp::isVisible(view, glm::vec3(-1, -1, -1), &limit));
+}
+
+namespace {
+
+// A lattice of unit boxes 10 x 10 x 10, spaced 2 apart.
+std::vector<qp::Box> latticeBoxes(glm::vec3 shift = glm::vec3(0.0f)) {
+    std::vector<qp::Box> boxes;
+    for (int z = 0; z < 10; ++z)
+        for (int y = 0; y < 10; ++y)
+            for (int x = 0; x < 10; ++x) {
+                qp::Box b;
+                b.add(glm::vec3(2 * x, 2 * y, 2 * z) + shift);
+                b.add(glm::vec3(2 * x + 1, 2 * y + 1, 2 * z + 1) + shift);
+                boxes.push_back(b);
+            }
+    return boxes;
+}
+
+}  // namespace
+
+TEST(Picking, BvhQueriesVisitOnlyTheBoxesTheRayEnters) {
+    const std::vector<qp::Box> boxes = latticeBoxes();
+    const qp::BoxBvh bvh(boxes);
+    auto visited = [&](glm::vec3 origin, glm::vec3 direction) {
+        std::vector<uint32_t> items;
+        bvh.traverse(origin, glm::normalize(direction), qp::kNoDistance, [&](uint32_t item, float tMax) {
+            items.push_back(item);
+            return tMax;  // no hit: an unbounded query must still skip every box it misses
+        });
+        return items;
+    };
+    EXPECT_TRUE(visited({-5, 0.5f, 0.5f}, {0, 1, 0}).empty());  // passes beside the lattice
+    EXPECT_TRUE(visited({0.5f, 1.5f, 0.5f}, {1, 0, 0}).empty());  // between two layers of boxes
+    // Along the row y = z = 0.5: its ten boxes, and no other.
+    std::vector<uint32_t> row = visited({-5, 0.5f, 0.5f}, {1, 0, 0});
+    std::sort(row.begin(), row.end());
+    EXPECT_EQ(row, (std::vector<uint32_t>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9}));
+}
+
+TEST(Picking, BvhRefitFindsWhatAFreshBuildFinds) {
+    qp::BoxBvh refitted(latticeBoxes());
+    std::vector<qp::Box> moved = latticeBoxes();
+    for (size_t i = 0; i < moved.size(); ++i) {  // every box shifted its own way
+        const glm::vec3 shift(float(i % 7) * 0.3f, float(i % 5) * -0.4f, float(i % 3) * 0.5f);
+        moved[i].min += shift, moved[i].max += shift;
+    }
+    refitted.refit(moved);
+    const qp::BoxBvh fresh(moved);
+    auto nearest = [&](const qp::BoxBvh& bvh, const qp::Ray& ray) {
+        uint32_t best = qp::kNoHit;
+        const glm::vec3 inverse = 1.0f / ray.direction;
+        bvh.traverse(ray.origin, ray.direction, qp::kNoDistance, [&](uint32_t item, float tMax) {
+            const float t = qp::rayEntersBox(moved[item], ray.origin, inverse, tMax);
+            if (t < tMax) best = item, tMax = t;
+            return tMax;
+        });
+        return best;
+    };
+    uint32_t hits = 0;
+    for (int i = 0; i < 400; ++i) {
+        const glm::vec3 target(float(i % 20), float((i / 20) % 20), float((i * 7) % 20));
+        const qp::Ray ray{glm::vec3(-10, 25, -12), glm::normalize(target - glm::vec3(-10, 25, -12))};
+        const uint32_t expected = nearest(fresh, ray);
+        EXPECT_EQ(nearest(refitted, ray), expected) << "ray " << i;
+        hits += expected != qp::kNoHit;
+    }
+    EXPECT_GT(hits, 200u);
+}
+
+TEST(Picking, LimitOccluderAnswersAsTheNearestHitWould) {
+    qp::PlanDatabase db;
+    qp::PlannedCage planned = plan(qp::test::makeSubdividedCube(3), db);
+    const qp::LimitPicker picker(planned, 6);
+    const PickView view = camera({3.5f, 2.5f, 3}, {0, 0, 0});
+    uint32_t near = 0, hidden = 0;
+    for (float x = 200; x <= 600; x += 20)
+        for (float y = 100; y <= 500; y += 20) {
+            const qp::Ray ray = view.rayThrough({x, y});
+            const float first = picker.intersect(planned, ray).distance;
+            // Distances well before, just around and well after the first hit, and past the cube.
+            for (float d : {0.5f * first, first - 1e-3f, first + 1e-3f, first + 0.05f, first + 5.0f, 20.0f}) {
+                if (!std::isfinite(d)) continue;
+                EXPECT_EQ(picker.hides(planned, ray, d), first < d) << x << ", " << y << " at " << d;
+                near += std::fabs(d - first) < 0.01f;
+                hidden += first < d;
+            }
+        }
+    EXPECT_GT(near, 100u);  // the refinement's window was crossed, not only skipped
+    EXPECT_GT(hidden, 300u);
+}
+
+TEST(Picking, LimitPickerAfterMovesEqualsAFreshOne) {
+    qp::PlanDatabase db;
+    qp::PlannedCage planned = plan(qp::test::makeSubdividedCube(3), db);
+    qp::LimitPicker picker(planned, 6);
+    const PickView view = camera({3.5f, 2.5f, 3}, {0, 0, 0});
+    for (uint32_t step = 0; step < 3; ++step) {  // moves that refit the tree
+        const uint32_t v = 5 + 11 * step;
+        const glm::vec3 p = planned.cage().positions[v] * 1.3f;
+        auto report = planned.moveVertices({&v, 1}, {&p, 1});
+        ASSERT_TRUE(report.ok());
+        picker.update(planned, *report);
+    }
+    const qp::LimitPicker fresh(planned, 6);
+    for (float x = 200; x <= 600; x += 25)
+        for (float y = 100; y <= 500; y += 25) {
+            const qp::Ray ray = view.rayThrough({x, y});
+            const qp::LimitPicker::Hit a = picker.intersect(planned, ray), b = fresh.intersect(planned, ray);
+            EXPECT_EQ(a.subface, b.subface) << x << ", " << y;
+            EXPECT_EQ(a.distance, b.distance) << x << ", " << y;
+        }
+    EXPECT_EQ(qp::LimitPicker::resolutionFor(1000), 8u);
+    EXPECT_EQ(qp::LimitPicker::resolutionFor(1'000'000), 3u);
+    EXPECT_EQ(qp::LimitPicker::resolutionFor(100'000'000), 2u);
 }

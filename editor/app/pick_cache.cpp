@@ -61,7 +61,7 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
     const auto start = std::chrono::steady_clock::now();
     const std::vector<glm::vec3>& positions = doc.planned->cage().positions;
     if (!c.limit) {
-        c.limit.emplace(*doc.planned);
+        c.limit.emplace(*doc.planned, LimitPicker::resolutionFor(doc.planned->subfaceCount()));
         ++c.limitBuilds;
         c.limitPlans = plansAndRotations(*doc.planned);
         c.replanned.clear();
