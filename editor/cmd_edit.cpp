@@ -14,6 +14,7 @@ struct EditArgs {
     std::string automation;
     bool validate = false, noVsync = false;
     double autosaveSeconds = 30.0;
+    double coarseAboveMs = 100.0;
     std::string size = "1280x800";
     uint32_t depth = 6;
     std::string pluginDir;
@@ -27,6 +28,7 @@ int runEdit(const EditArgs& args, bool untitled) {
     options.validate = args.validate;
     options.vsync = !args.noVsync;
     options.autosaveSeconds = args.autosaveSeconds;
+    options.coarseAboveMs = args.coarseAboveMs;
     options.planDepth = args.depth;
     options.pluginDir = args.pluginDir;
     unsigned w = 0, h = 0;
@@ -63,6 +65,10 @@ void registerEdit(CLI::App& app, int& exitCode) {
     cmd->add_flag("--no-vsync", args->noVsync, "Present without waiting for the display (for measurements)");
     cmd->add_option("--autosave-seconds", args->autosaveSeconds, "Autosave interval while there are unsaved changes")
         ->check(CLI::Range(1.0, 3600.0));
+    cmd->add_option("--coarse-above", args->coarseAboveMs,
+                    "Progressive refinement: while the camera moves, draw coarse frames when full ones take longer "
+                    "than MS on the device (default 100; 0: always)")
+        ->check(CLI::Range(0.0, 60000.0));
     cmd->add_option("--size", args->size, "Window size, WIDTHxHEIGHT (default 1280x800)");
     cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, 10u));
     cmd->add_option("--plugin-dir", args->pluginDir,

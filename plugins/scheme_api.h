@@ -61,7 +61,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 10;
+inline constexpr uint32_t kSchemeApiVersion = 11;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -170,6 +170,10 @@ struct DrawView {
     // sub-face drawn as several patches counts when all of them were culled): `quadplan
     // cull-stats` checks them against an ID buffer of the unculled frame.
     std::vector<uint32_t>* culledSubfacesOut = nullptr;
+    // The camera is moving (the editor's orbit, pan or zoom): a scheme whose factors follow the
+    // view may keep those it chose for an earlier view, drawing them under this view's matrix
+    // (progressive refinement: a cheaper frame now, full quality in the first frame without it).
+    bool navigating = false;
 };
 
 // What the last record() submitted.

@@ -31,9 +31,17 @@ std::optional<DrawPath> parseDrawPath(std::string_view name) {
 }
 
 Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, const PlannedCage& planned,
-                        DrawPath path, const PlanView& view, const TessellationSettings& settings) {
+                        DrawPath path, const PlanView& drawnView, const TessellationSettings& settings) {
     assert(path != DrawPath::Auto && "resolveDrawPath first");
     if (path == DrawPath::Tessellated) return success();
+    // The view the factors are chosen for: this one, or while the camera keeps moving the one
+    // the layout's factors were chosen for (then every choice below finds its inputs unchanged).
+    PlanView view = drawnView;
+    if (drawnView.keepFactors && buffers.factorsKept && !settings.uniformFactor && buffers.adaptiveInputs.valid &&
+        buffers.adaptiveInputs.pixelsPerSegment == settings.pixelsPerSegment) {
+        view.viewProjection = buffers.adaptiveInputs.viewProjection;
+        view.pixelsPerUnit = buffers.adaptiveInputs.pixelsPerUnit;
+    }
     GridFactors factors;
     const PlanBuffers::AdaptiveInputs adaptiveInputs{true, view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment};
     if (settings.uniformFactor) {
@@ -96,6 +104,7 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
     buffers.gridLayout.uniformRequest = buffers.displacement ? 0 : settings.uniformFactor;
     // What the layout's factors now are for: the next frame's incremental adaptive factors.
     buffers.adaptiveInputs = settings.uniformFactor || buffers.displacement ? PlanBuffers::AdaptiveInputs{} : adaptiveInputs;
+    buffers.factorsKept = drawnView.keepFactors;
     // A grid filled by the other evaluator is equally good; only a missing one is filled.
     if (path == DrawPath::CpuGrid && buffers.gridEvaluator == GridEvaluator::None) evaluateGridOnCpu(planned, buffers);
     return success();

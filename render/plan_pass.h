@@ -104,6 +104,7 @@ struct PlanBuffers {
         bool operator==(const AdaptiveInputs&) const = default;
     } adaptiveInputs;
     std::vector<uint32_t> movedSinceFactors;
+    bool factorsKept = false;  // the layout's factors were chosen for a PlanView::keepFactors frame
     // What the layout's macro faces were chosen for (draw_path.cpp): while the view, the request
     // and every other factor stay, they are kept instead of chosen again.
     struct MacroChoiceInputs {
@@ -202,6 +203,11 @@ struct PlanView {
     // Drawn sub-faces culled for this view (sorted): not drawn either, but unlike hidden ones they
     // do not keep a macro face from being coarse (its triangles go when all its members are culled).
     std::span<const uint32_t> culledDrawn;
+    // The camera is moving (progressive refinement): the grid paths choose screen-adaptive
+    // factors and macro faces for the first such frame's view (the caller may coarsen it through
+    // pixelsPerUnit) and keep that layout, drawn under each later view's matrix, while the flag
+    // stays; the first frame without it chooses them for its own view again.
+    bool keepFactors = false;
 };
 
 // Pixels per world unit at clip w = 1, for adaptive factors: viewport height / 2 * |P[1][1]|

@@ -485,7 +485,7 @@ void Automation::measureStep(EditorApp& app) {
     Measurement& m = measurement_;
     if (m.framesLeft > 0) {
         --m.framesLeft;
-        if (m.mode == "orbit") orbit(cameraOf(app, app.activeViewport), 4.0f, 0.0f, 400.0f);
+        if (m.mode == "orbit") orbit(cameraOf(app, app.activeViewport), 4.0f, 0.0f, 400.0f), noteCameraMoved(app);
         if (m.mode == "drag" && app.doc->planned) {
             // A drag as a person does it: the selection (or vertex 0) moves a little every
             // frame, all of it one history entry.
@@ -530,6 +530,8 @@ void Automation::measureStep(EditorApp& app) {
                 {"all_frames", all(FrameFilter::All)},
                 {"scene_drawn", all(FrameFilter::SceneDrawn)},
                 {"scene_copied", all(FrameFilter::SceneCopied)},
+                {"scene_drawn_full", all(FrameFilter::SceneDrawnFull)},
+                {"scene_drawn_coarse", all(FrameFilter::SceneDrawnCoarse)},
                 {"mode", m.mode.empty() ? "idle" : m.mode},
                 {"plans_path", app.plansPath},
                 {"factors", factors},

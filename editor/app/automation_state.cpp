@@ -75,6 +75,8 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     const Document& doc = *app.doc;
     json state;
     state["frame"] = app.frame;
+    // Whether the last frame drew the 3D coarse while the camera moved (progressive refinement).
+    state["coarse_frame"] = !app.stats.samples.empty() && app.stats.samples.back().coarse;
     state["dirty"] = doc.dirty;
     state["title"] = app.ui.title;
     state["path"] = doc.path;

@@ -273,6 +273,22 @@ void updateViewMatrices(EditorApp& app) {
     }
 }
 
+// Progressive refinement: within kSettleMs of a camera step, and when full frames are slow
+// (the median device time of the full frames among the kept samples over
+// LaunchOptions::coarseAboveMs, 100 ms by default: a million faces on lavapipe, not a small cage
+// anywhere), viewports draw coarse: adaptive factors for a view with kCoarsening times fewer
+// pixels per unit, chosen once and kept while the camera moves (DrawView::navigating), and no
+// cage lines. The first frame after it draws at full quality again.
+constexpr double kSettleMs = 250.0;
+constexpr float kCoarsening = 4.0f;
+
+bool navigating(const EditorApp& app) {
+    if (msSince(app.cameraMovedAt) > kSettleMs) return false;
+    if (app.options.coarseAboveMs <= 0.0) return true;
+    const Summary full = summarize(app.stats, FrameField::Gpu, 0, FrameFilter::SceneDrawnFull);
+    return full.count > 0 && full.median > app.options.coarseAboveMs;
+}
+
 // The tessellation factor asked of viewport `i`'s scheme: the uniform factor, or (adaptive)
 // the one that makes an average cage edge span about `pixelsPerEdge` pixels per segment in
 // that viewport, within a per-frame triangle budget shared by the viewports.
@@ -316,7 +332,7 @@ std::vector<SchemeRequest> schemeRequests(EditorApp& app) {
             // Sculpted detail finer than this on screen costs no triangles (displaced_grid_factors.h);
             // zooming in brings it back.
             r.settings.options = {{"path", path}, {"displacement-pixels", "2"}};
-            if (adaptive && path == "tess") {  // true per-edge adaptive factors on the GPU: no rebuild on zoom
+            if (adaptive) {  // screen-adaptive on every path (per edge on the GPU, per frame on the grids): no rebuild on zoom
                 r.settings.tessFactor = 8;
                 r.settings.adaptivePixels = std::max(app.tessellation.pixelsPerEdge, 1.0f);
             }
@@ -343,6 +359,7 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
         appendKey(key, d.rect);
         appendKey(key, d.viewProjection);
         appendKey(key, d.pixelsPerUnit);
+        appendKey(key, d.navigating);
         key += d.colorBy;
         appendKey(key, d.cull);  // the same picture, but the culling statistics change
         if (i < app.renderer.views.size()) {
@@ -368,8 +385,9 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     options.grid = app.display.showGrid;
     options.shading = app.display.shading;
     options.up = upAxisOf(app);
-    // Object mode shows the objects, not the edited cage's lines and selection.
-    options.cage = options.cage && app.mode == EditorMode::Edit;
+    // Object mode shows the objects, not the edited cage's lines and selection; a coarse frame
+    // while the camera moves (navigating()) leaves the lines for the full frame after it.
+    options.cage = options.cage && app.mode == EditorMode::Edit && !navigating(app);
     options.selection = app.mode == EditorMode::Edit;
     if (app.doc->editedCageRevision != app.syncedEditedCageRevision) {
         // Edit mode moved to another cage: every scheme instance and picker points into cages
@@ -429,6 +447,7 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
         d.pixelsPerUnit = d.worldPixelsPerUnit * maxScale(transform);
         d.colorBy = v.colorBy;
         d.cull = v.cull;
+        if ((d.navigating = navigating(app))) d.pixelsPerUnit /= kCoarsening, d.worldPixelsPerUnit /= kCoarsening;
         draws.push_back(d);
     }
     // Draw the viewports only when something they show changed; otherwise copy the last ones.
@@ -451,6 +470,7 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     FrameSample sample;
     sample.sceneDrawn = drawScene;
     sample.culled = std::any_of(draws.begin(), draws.end(), [](const ViewportDraw& d) { return d.cull != CullMethod::None; });
+    sample.coarse = std::any_of(draws.begin(), draws.end(), [](const ViewportDraw& d) { return d.navigating; });
     sample.cpuMs = cpuMs + msSince(recordStart);
     sample.intervalMs = app.frame == 0 ? 0.0 : std::chrono::duration<double, std::milli>(frameStart - app.lastFrameStart).count();
     app.lastFrameStart = frameStart;
@@ -470,10 +490,12 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     return success();
 }
 
-// Whether the next frame can wait for input: nothing animates, loads or replays.
+// Whether the next frame can wait for input: nothing animates, loads, replays or waits for its
+// full-quality frame after the camera moved.
 bool canIdle(const EditorApp& app) {
     const ImGuiIO& io = ImGui::GetIO();
-    return (!app.automation || app.automation->finished()) && !app.loader.busy() && !app.job.busy() && app.drag.kind == DragKind::None && !io.MouseDown[0] &&
+    return (!app.automation || app.automation->finished()) && !app.loader.busy() && !app.job.busy() &&
+           app.drag.kind == DragKind::None && !navigating(app) && !io.MouseDown[0] &&
            !io.MouseDown[1] && !io.MouseDown[2] && app.pendingScreenshot.empty();
 }
 
@@ -528,6 +550,10 @@ void runLoop(EditorApp& app) {
 }
 
 }  // namespace
+
+void noteCameraMoved(EditorApp& app) {
+    app.cameraMovedAt = Clock::now();
+}
 
 int runEditorApp(const LaunchOptions& options) {
     // An edit builds tables of a few to tens of MiB and frees the ones they replace. glibc would

@@ -52,6 +52,7 @@ struct LaunchOptions {
     bool validate = false;            // Vulkan validation; any message makes the exit status 4
     bool vsync = true;
     double autosaveSeconds = 30.0;
+    double coarseAboveMs = 100.0;     // progressive refinement when full frames take longer (editor_app.cpp navigating())
     uint32_t width = 1280, height = 800;
     uint32_t planDepth = 6;
     std::string pluginDir;            // scheme plugins (scheme_loader.h: flag, $QUADPLAN_PLUGIN_DIR, default)
@@ -246,6 +247,7 @@ struct EditorApp {
     } lastEditFrame;
     uint64_t frame = 0;  // frames presented
     std::chrono::steady_clock::time_point lastFrameStart;
+    std::chrono::steady_clock::time_point cameraMovedAt;  // the last orbit, pan or zoom step
     std::unique_ptr<Automation> automation;
     std::string pendingScreenshot;  // read back the next frame into this PNG
     bool running = true;
@@ -255,6 +257,9 @@ struct EditorApp {
 // Used by the panels, the input handler and the automation hook alike.
 void runAction(EditorApp& app, std::string_view id);
 ViewCamera& cameraOf(EditorApp& app, uint32_t viewport);
+// Progressive refinement: a camera step (orbit, pan, zoom, wheel) notes the time; while steps
+// keep coming and full frames are slow, frames are coarse (see navigating() in editor_app.cpp).
+void noteCameraMoved(EditorApp& app);
 void setViewportCount(EditorApp& app, uint32_t count);
 void requestOpen(EditorApp& app, const std::string& path);
 void requestQuit(EditorApp& app);

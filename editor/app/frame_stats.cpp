@@ -22,7 +22,9 @@ Summary summarize(const FrameStats& stats, FrameField field, size_t last, FrameF
                             : filter == FrameFilter::SceneDrawn         ? s.sceneDrawn
                             : filter == FrameFilter::SceneCopied        ? !s.sceneDrawn
                             : filter == FrameFilter::SceneDrawnCulled   ? s.sceneDrawn && s.culled
-                                                                        : s.sceneDrawn && !s.culled;
+                            : filter == FrameFilter::SceneDrawnUnculled ? s.sceneDrawn && !s.culled
+                            : filter == FrameFilter::SceneDrawnFull     ? s.sceneDrawn && !s.coarse
+                                                                        : s.sceneDrawn && s.coarse;
         if (!passes) continue;
         const double v = field == FrameField::Cpu ? s.cpuMs : field == FrameField::Gpu ? s.gpuMs : s.intervalMs;
         if (v >= 0.0) values.push_back(v);

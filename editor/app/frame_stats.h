@@ -17,6 +17,7 @@ struct FrameSample {
     double intervalMs = 0.0;  // since the previous frame started (includes waiting for input)
     bool sceneDrawn = false;  // the 3D viewports were drawn (not copied from the scene cache)
     bool culled = false;      // some viewport culled (DrawView::cull)
+    bool coarse = false;      // drawn coarse while the camera moved (progressive refinement)
 };
 
 struct FrameStats {
@@ -37,7 +38,8 @@ struct Summary {
 enum class FrameField { Cpu, Gpu, Interval };
 // SceneDrawnCulled / SceneDrawnUnculled: drawn frames with some viewport culling, or none (what
 // culling saves: the two medians side by side).
-enum class FrameFilter { All, SceneDrawn, SceneCopied, SceneDrawnCulled, SceneDrawnUnculled };
+// SceneDrawnFull / SceneDrawnCoarse: drawn frames at full quality, or coarse while the camera moved.
+enum class FrameFilter { All, SceneDrawn, SceneCopied, SceneDrawnCulled, SceneDrawnUnculled, SceneDrawnFull, SceneDrawnCoarse };
 // Over the newest `last` samples (all when 0) that pass `filter`; GPU samples still unknown are
 // skipped.
 Summary summarize(const FrameStats& stats, FrameField field, size_t last = 0, FrameFilter filter = FrameFilter::All);

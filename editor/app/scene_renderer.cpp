@@ -662,6 +662,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
             drawView.eye = v.eye;
             drawView.background = options.background;
             drawView.pixelsPerUnit = v.pixelsPerUnit;
+            drawView.navigating = v.navigating;
             drawView.wireframe = options.wireframe;
             drawView.shading = options.shading;
             drawView.hiddenSubfaces = r.hiddenSubfaces;

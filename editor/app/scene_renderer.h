@@ -111,6 +111,7 @@ struct ViewportDraw {
     float worldPixelsPerUnit = 1.0f;
     std::string colorBy = "shading";
     CullMethod cull = CullMethod::None;
+    bool navigating = false;  // the camera is moving: a coarse frame (DrawView::navigating)
 };
 
 // The objects a viewport draws besides the active one (scene_objects_draw.cpp): the active

@@ -254,6 +254,7 @@ public:
         planView.hiddenDrawn = hiddenDrawn_;
         planView.culledDrawn = culledDrawn_;
         planView.shading = view.shading;
+        planView.keepFactors = view.navigating;
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
         if (settings_.adaptivePixels > 0.0f) tessellation = {0, settings_.adaptivePixels};
         tessellation.displacementPixels = displacementPixels_;

@@ -513,6 +513,43 @@ TEST_F(EditorWindow, LoadsALargeCageWithoutFreezing) {
     EXPECT_GT(l2["frame"].get<int>(), l1["frame"].get<int>() + 2) << "no frames were drawn while planning";
 }
 
+// Issue 21 part 4 on a large generated cage: frames keep coming while it loads, while the camera
+// orbits (coarse frames, `--coarse-above 0` making every orbit coarse whatever this machine's
+// speed, then one full frame when it stops and nothing drawn after it) and across an edit.
+// Counts frames and what they drew; asserts no timing.
+TEST_F(EditorWindow, ALargeCageLoadsOrbitsAndEditsWithFramesComing) {
+    const Cage big = makeBenchmarkCage(40000, 5);
+    ASSERT_TRUE(saveObj(big, (dir / "big.obj").string()).ok());
+    EditorProcess editor;
+    start(editor,
+          "wait-frames 2\ndump-state s0.json\nwait-idle\nwait-frames 3\nmeasure-frames 12 orbit.json orbit\n"
+          "dump-state s1.json\nwait-seconds 0.6\nwait-frames 3\nscreenshot full.png\ndump-state s2.json\n"
+          "measure-frames 6 idle.json\nselect-vertex 100\nmove-selection 0 0.02 0\nwait-frames 2\ndump-state s3.json\n"
+          "quit\nclick-button Discard changes\n",
+          (dir / "big.obj").string(), {"--no-vsync", "--coarse-above", "0"});
+    json s0 = waitForState(editor, "s0.json"), s1 = waitForState(editor, "s1.json"), s2 = waitForState(editor, "s2.json"),
+         s3 = waitForState(editor, "s3.json");
+    expectCleanExit(editor);
+    EXPECT_TRUE(s0["loading"].get<bool>()) << "the load finished within 2 frames; use a bigger cage";
+    EXPECT_EQ(s2["faces"].get<uint32_t>(), big.faceCount());
+
+    const json orbit = readJson(dir / "orbit.json"), idle = readJson(dir / "idle.json");
+    ASSERT_TRUE(orbit.is_object() && idle.is_object());
+    const int coarse = orbit["scene_drawn_coarse"]["cpu_ms"]["count"].get<int>();
+    const int full = orbit["scene_drawn_full"]["cpu_ms"]["count"].get<int>();
+    std::printf("[ measure  ] orbit over %u faces: %d coarse and %d full frames of %d; median interval %.1f ms\n",
+                big.faceCount(), coarse, full, orbit["frames"].get<int>(), orbit["all_frames"]["interval_ms"]["median"].get<double>());
+    EXPECT_GE(coarse + full, 12) << "an orbit frame was not drawn";
+    EXPECT_GE(coarse, 10) << "the camera moved but frames were full";
+    EXPECT_TRUE(s1["coarse_frame"].get<bool>());
+    EXPECT_FALSE(s2["coarse_frame"].get<bool>()) << "no full-quality frame after the camera stopped";
+    EXPECT_EQ(idle["scene_drawn"]["cpu_ms"]["count"], 0) << "the 3D was drawn again with nothing changed";
+    EXPECT_GT(distinctColors(loadPng(dir / "full.png"), 0, 40, 700, 650), 20u);
+
+    EXPECT_EQ(s3["last_edit"]["description"], "move vertex 100");
+    EXPECT_GT(s3["frame"].get<int>(), s2["frame"].get<int>() + 6) << "frames stopped across the edit";
+}
+
 // Issue 6 item 11 on a ~2,000-face cage at the default tessellation: every frame of a drag
 // (an edit per frame) draws the edited surface, frames without changes only copy the cached 3D.
 // Prints the frame times (medians; docs/editor.md has the measurement); asserts no timing.
