@@ -7,6 +7,8 @@
 #include <cstring>
 #include <map>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "draw_path.h"
 #include "grid_relayout.h"
 #include "generated_cage.h"
@@ -240,5 +242,54 @@ TEST_F(MacroFixture, AdaptiveFactorsAfterADragEqualAFullPass) {
         EXPECT_NE(buffers.gridLayout.factors.segmentPieces, before.segmentPieces) << "the drag changed some factors";
         EXPECT_TRUE(buffers.movedSinceFactors.empty());
     }
+    destroyPlanBuffers(ctx, buffers);
+}
+
+// Progressive refinement (PlanView::keepFactors): the first moving frame chooses factors and
+// macro faces for its own (coarsened) view, later moving frames keep that layout whatever the
+// camera does, and the first still frame chooses again for its view: equal to a fresh choice.
+TEST_F(MacroFixture, MovingFramesKeepTheFactorsOfTheirFirstFrame) {
+    const Cage cage = test::makeTorus(48, 40);
+    PlanDatabase db;
+    PlannedCage planned = planCage(cage, db);
+    PlanBuffers buffers = upload(planned);
+    const TessellationSettings adaptive{0, 3.0f};
+    auto prepare = [&](PlanView view) {
+        EXPECT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, view, adaptive).ok());
+        return buffers.gridLayout.factors;
+    };
+    PlanView still = test::framedPlanView(cage, kImageSize);
+    const GridFactors full = prepare(still);
+
+    PlanView moving = still;
+    moving.keepFactors = true;
+    moving.pixelsPerUnit = still.pixelsPerUnit / 4.0f;  // as the editor coarsens
+    const GridFactors coarse = prepare(moving);
+    EXPECT_NE(coarse.segmentPieces, full.segmentPieces) << "the first moving frame chose for its coarser view";
+    const size_t trianglesCoarse = buffers.gridLayout.indices.size() / 3;
+
+    // Zoomed in 3x and turned: the layout stays as it was.
+    moving.viewProjection = glm::scale(glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(0, 1, 0)), glm::vec3(3.0f)) *
+                            still.viewProjection;
+    moving.pixelsPerUnit = 3.0f * still.pixelsPerUnit / 4.0f;
+    const GridFactors kept = prepare(moving);
+    EXPECT_EQ(kept.segmentPieces, coarse.segmentPieces);
+    EXPECT_EQ(kept.subfaceFactor, coarse.subfaceFactor);
+    EXPECT_EQ(kept.macroSpanPieces, coarse.macroSpanPieces);
+    EXPECT_EQ(buffers.gridLayout.indices.size() / 3, trianglesCoarse);
+    expectClosed(buffers.gridLayout, {}, "torus, kept while moving");
+
+    // Still again, in the zoomed view: what a fresh choice for it gives.
+    PlanView settled = moving;
+    settled.keepFactors = false;
+    settled.pixelsPerUnit = 3.0f * still.pixelsPerUnit;
+    const GridFactors refined = prepare(settled);
+    PlanBuffers fresh = upload(planned);
+    ASSERT_TRUE(preparePlanFrame(ctx, pass, fresh, planned, DrawPath::CpuGrid, settled, adaptive).ok());
+    EXPECT_EQ(refined.segmentPieces, fresh.gridLayout.factors.segmentPieces);
+    EXPECT_EQ(refined.subfaceFactor, fresh.gridLayout.factors.subfaceFactor);
+    EXPECT_EQ(buffers.gridLayout.indices, fresh.gridLayout.indices);
+    EXPECT_GT(buffers.gridLayout.indices.size() / 3, trianglesCoarse);
+    destroyPlanBuffers(ctx, fresh);
     destroyPlanBuffers(ctx, buffers);
 }
