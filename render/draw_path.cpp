@@ -81,6 +81,10 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
                                           settings.uniformFactor, settings.minify, settings.wholeMacroFaces, {}};
     std::set_union(view.hiddenDrawn.begin(), view.hiddenDrawn.end(), buffers.holeDrawn.begin(), buffers.holeDrawn.end(),
                    std::back_inserter(inputs.blocked));
+    const uint32_t macroMinify = settings.uniformFactor == 1 ? settings.minify : 1;
+    const bool wholeMacros = settings.uniformFactor && settings.wholeMacroFaces;
+    if (buffers.data.macros.stale && (!settings.uniformFactor || macroMinify > 1 || wholeMacros))
+        rebuildMacroGrid(planned, buffers.data);  // the first frame since a repack that can draw them
     const GridFactors& current = buffers.gridLayout.factors;
     const bool macrosLaidOut = current.macroSpanPieces.size() == buffers.data.macros.spanCount() &&
                                current.macroResolution.size() == 2 * buffers.data.macros.faces.size();
@@ -91,8 +95,7 @@ Status preparePlanFrame(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& b
     } else {
         const AdaptiveView adaptive{view.viewProjection, view.pixelsPerUnit, settings.pixelsPerSegment};
         chooseMacroPieces(buffers.data, factors, buffers.pointPositionsHost, settings.uniformFactor ? nullptr : &adaptive,
-                          settings.uniformFactor == 1 ? settings.minify : 1, inputs.blocked,
-                          macrosLaidOut ? &current : nullptr, settings.uniformFactor && settings.wholeMacroFaces);
+                          macroMinify, inputs.blocked, macrosLaidOut ? &current : nullptr, wholeMacros);
         buffers.macroInputs = std::move(inputs);
     }
     // The compute shader's pending sub-faces are not for the CPU path: it evaluates whole instead.

@@ -138,6 +138,13 @@ void rebuildMacroGrid(const PlannedCage& planned, GpuPlanData& data) {
     data.macros.choice = choice;
 }
 
+void markMacroGridStale(GpuPlanData& data) {
+    MacroGrid stale;
+    stale.choice = data.macros.choice;
+    stale.stale = true;
+    data.macros = std::move(stale);
+}
+
 const char* macroChoiceName(MacroChoice choice) {
     switch (choice) {
     case MacroChoice::Auto: return "auto";

@@ -54,6 +54,10 @@ struct MacroSpanUse {
 
 struct MacroGrid {
     MacroChoice choice = MacroChoice::Auto;  // kept when the grid is built again
+    // The sub-faces were renumbered (a topology edit) since it was built: it is empty until the
+    // first frame that can draw macro faces builds it again (preparePlanFrame), so an edit does
+    // not pay a pass over the whole cage for frames that never draw a macro face.
+    bool stale = false;
     std::vector<MacroGridFace> faces;
     std::vector<uint32_t> cellDrawn;     // per cell: the drawn sub-face
     std::vector<uint8_t> cellRotation;   // per cell: MacroCell::rotation
@@ -66,9 +70,11 @@ struct MacroGrid {
 };
 
 // data.macros built again for its choice, in the drawn numbering of `data` (its sub-face tables;
-// non-quads have no macro faces: their sub-faces are drawn alone): uploadPlans, and repacks that
-// renumber sub-faces.
+// non-quads have no macro faces: their sub-faces are drawn alone): uploadPlans, and the first
+// frame after a repack that renumbered sub-faces.
 void rebuildMacroGrid(const PlannedCage& planned, GpuPlanData& data);
+// After a repack that renumbered sub-faces: data.macros emptied and marked stale (choice kept).
+void markMacroGridStale(GpuPlanData& data);
 const char* macroChoiceName(MacroChoice choice);  // "auto", "rectangles", "quartets", "blocks", "off"
 
 // Chooses factors.macroSpanPieces and factors.macroResolution (left empty when no macro face is

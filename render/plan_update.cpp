@@ -145,10 +145,11 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
         oldOf[d] = previous < oldDrawnOf.size() ? oldDrawnOf[previous] : UINT32_MAX;
     }
     // Macro faces follow the topology and the drawn numbering; a tag edit that kept both keeps them.
+    // Built again by the first frame that can draw them (a pass over the whole cage).
     bool renumbered = !previousOf.empty() || count != old.subfaces.size();
     for (uint32_t d = 0; d < count && !renumbered; ++d) renumbered = oldOf[d] != d;
     if (renumbered) {
-        rebuildMacroGrid(planned, data);
+        markMacroGridStale(data);
         buffers.macroInputs = {};  // chosen for the old macro faces: choose again
     }
     buffers.adaptiveInputs = {};  // the segments are numbered anew

@@ -10,12 +10,14 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "draw_path.h"
+#include "edit_history.h"
 #include "grid_relayout.h"
 #include "generated_cage.h"
 #include "macro_faces.h"
 #include "obj_io.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
+#include "plan_update.h"
 #include "planned_cage.h"
 #include "render_test_support.h"
 #include "test_cages.h"
@@ -290,6 +292,56 @@ TEST_F(MacroFixture, MovingFramesKeepTheFactorsOfTheirFirstFrame) {
     EXPECT_EQ(refined.subfaceFactor, fresh.gridLayout.factors.subfaceFactor);
     EXPECT_EQ(buffers.gridLayout.indices, fresh.gridLayout.indices);
     EXPECT_GT(buffers.gridLayout.indices.size() / 3, trianglesCoarse);
+    destroyPlanBuffers(ctx, fresh);
+    destroyPlanBuffers(ctx, buffers);
+}
+
+// A topology edit taken in place leaves the macro faces empty and stale: frames that cannot draw
+// one (uniform factors) never build them, the first adaptive frame does, and then they, its
+// factors and its triangle count are those of the edited cage uploaded afresh.
+TEST_F(MacroFixture, TopologyEditsLeaveMacroFacesToTheFirstFrameThatDrawsThem) {
+    const Cage cage = test::makeTorus(48, 40);
+    PlanDatabase db;
+    PlannedCage planned = planCage(cage, db);
+    PlanBuffers buffers = upload(planned);
+    ASSERT_FALSE(buffers.data.macros.faces.empty());
+    const PlanView far = [&] {  // far enough for coarse macro faces
+        PlanView view = test::framedPlanView(cage, kImageSize);
+        view.pixelsPerUnit /= 8.0f;
+        return view;
+    }();
+    const TessellationSettings uniform{2, 8.0f}, adaptive{0, 4.0f};
+    ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, far, adaptive).ok());
+
+    EditHistory history;
+    Result<TopologyEdit> edit = extrudeFaces(planned.cage(), planned.topology(), std::vector<uint32_t>{100}, 0.2f);
+    ASSERT_TRUE(edit.ok()) << edit.error().message;
+    Result<EditReport> report = history.applyTopologyEdit(planned, "extrude", std::move(edit).value());
+    ASSERT_TRUE(report.ok()) << report.error().message;
+    std::vector<uint32_t> changed = report->updatedSubfaceList;
+    for (uint32_t f : report->replannedFaceList)
+        for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) changed.push_back(s);
+    Result<PlanTableUpdate> updated = updatePlanTables(ctx, pass, buffers, planned, changed, report->previousSubfaceOf);
+    ASSERT_TRUE(updated.ok() && updated->applied);
+    EXPECT_TRUE(buffers.data.macros.stale);
+    EXPECT_TRUE(buffers.data.macros.faces.empty());
+
+    ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, far, uniform).ok());
+    EXPECT_TRUE(buffers.data.macros.stale) << "a uniform frame draws no macro face: nothing to build";
+    ASSERT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, far, adaptive).ok());
+    EXPECT_FALSE(buffers.data.macros.stale);
+
+    PlanBuffers fresh = upload(planned);  // through the same frames (factors keep some of the last layout's)
+    ASSERT_TRUE(preparePlanFrame(ctx, pass, fresh, planned, DrawPath::CpuGrid, far, uniform).ok());
+    ASSERT_TRUE(preparePlanFrame(ctx, pass, fresh, planned, DrawPath::CpuGrid, far, adaptive).ok());
+    EXPECT_EQ(buffers.data.macros.faces.size(), fresh.data.macros.faces.size());
+    EXPECT_EQ(buffers.data.macros.cellDrawn, fresh.data.macros.cellDrawn);
+    EXPECT_FALSE(fresh.gridLayout.factors.macroResolution.empty()) << "the view draws coarse macro faces";
+    // The in-place layout keeps its slots (numbered otherwise than a fresh one's): the same
+    // factors, macro faces and triangle count.
+    EXPECT_EQ(buffers.gridLayout.factors, fresh.gridLayout.factors);
+    EXPECT_EQ(buffers.gridLayout.indices.size(), fresh.gridLayout.indices.size());
+    expectClosed(buffers.gridLayout, {}, "torus after an extrude");
     destroyPlanBuffers(ctx, fresh);
     destroyPlanBuffers(ctx, buffers);
 }
