@@ -485,7 +485,10 @@ void Automation::measureStep(EditorApp& app) {
     Measurement& m = measurement_;
     if (m.framesLeft > 0) {
         --m.framesLeft;
-        if (m.mode == "orbit") orbit(cameraOf(app, app.activeViewport), 4.0f, 0.0f, 400.0f), noteCameraMoved(app);
+        if (m.mode == "orbit") {
+            orbit(cameraOf(app, app.activeViewport), 4.0f, 0.0f, 400.0f);
+            noteCameraMoved(app);
+        }
         if (m.mode == "drag" && app.doc->planned) {
             // A drag as a person does it: the selection (or vertex 0) moves a little every
             // frame, all of it one history entry.

@@ -392,8 +392,10 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     options.shading = app.display.shading;
     options.up = upAxisOf(app);
     // Object mode shows the objects, not the edited cage's lines and selection; a coarse frame
-    // while the camera moves (navigating()) leaves the lines for the full frame after it.
-    options.cage = options.cage && app.mode == EditorMode::Edit && !navigating(app);
+    // while the camera moves (decided once for the whole frame) leaves the lines for the full
+    // frame after it.
+    const bool coarse = navigating(app);
+    options.cage = options.cage && app.mode == EditorMode::Edit && !coarse;
     options.selection = app.mode == EditorMode::Edit;
     if (app.doc->editedCageRevision != app.syncedEditedCageRevision) {
         // Edit mode moved to another cage: every scheme instance and picker points into cages
@@ -453,7 +455,11 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
         d.pixelsPerUnit = d.worldPixelsPerUnit * maxScale(transform);
         d.colorBy = v.colorBy;
         d.cull = v.cull;
-        if ((d.navigating = navigating(app))) d.pixelsPerUnit /= kCoarsening, d.worldPixelsPerUnit /= kCoarsening;
+        d.navigating = coarse;
+        if (coarse) {
+            d.pixelsPerUnit /= kCoarsening;
+            d.worldPixelsPerUnit /= kCoarsening;
+        }
         draws.push_back(d);
     }
     // Draw the viewports only when something they show changed; otherwise copy the last ones.

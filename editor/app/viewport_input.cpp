@@ -115,10 +115,12 @@ void continueDrag(EditorApp& app, glm::vec2 cursor, glm::vec2 delta) {
     d.cursor = cursor;
     ViewCamera& camera = cameraOf(app, d.viewport);
     const float height = float(app.viewports[std::min<size_t>(d.viewport, app.viewports.size() - 1)].rect.extent.height);
+    const bool navigation = d.kind == DragKind::Orbit || d.kind == DragKind::Pan || d.kind == DragKind::Zoom;
+    if (navigation && delta != glm::vec2(0.0f)) noteCameraMoved(app);  // held still, it refines
     switch (d.kind) {
-    case DragKind::Orbit: orbit(camera, delta.x, delta.y, height), noteCameraMoved(app); break;
-    case DragKind::Pan: pan(camera, delta.x, delta.y, height), noteCameraMoved(app); break;
-    case DragKind::Zoom: dolly(camera, -delta.y * 0.02f), noteCameraMoved(app); break;
+    case DragKind::Orbit: orbit(camera, delta.x, delta.y, height); break;
+    case DragKind::Pan: pan(camera, delta.x, delta.y, height); break;
+    case DragKind::Zoom: dolly(camera, -delta.y * 0.02f); break;
     case DragKind::Press: {
         if (glm::length(cursor - d.start) < kDragThreshold || !app.doc->planned) break;
         startMove(app, d, d.anchor);
@@ -364,7 +366,10 @@ void handleViewportInput(EditorApp& app) {
         app.ui.brushHover = surfaceUnderCursor(app, viewport, cursor);
         app.ui.brushViewport = viewport;
     }
-    if (io.MouseWheel != 0.0f) dolly(cameraOf(app, viewport), io.MouseWheel), noteCameraMoved(app);
+    if (io.MouseWheel != 0.0f) {
+        dolly(cameraOf(app, viewport), io.MouseWheel);
+        noteCameraMoved(app);
+    }
     if (ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
         leftPress(app, viewport, cursor);
     } else if (ImGui::IsMouseClicked(ImGuiMouseButton_Middle)) {
