@@ -1,6 +1,7 @@
 // LimitPicker: ray picking on the limit surface (see picking.h).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
@@ -57,25 +58,41 @@ void LimitPicker::update(const PlannedCage& planned, const EditReport& report) {
     const uint32_t count = planned.subfaceCount();
     const bool carried = report.topologyChanged && report.previousSubfaceOf.size() == count && !boxes_.empty();
     if (carried) {  // kept sub-faces take their samples along; new and updated ones are sampled
-        const std::vector<glm::vec3> before = std::move(samples_);
         const std::vector<Box> boxesBefore = std::move(boxes_);
-        samples_.resize(size_t(count) * stride());
+        const uint32_t before = uint32_t(boxesBefore.size());
         boxes_.assign(count, Box{});
         std::vector<uint32_t> stale = report.updatedSubfaceList;
+        std::vector<std::pair<uint32_t, uint32_t>> kept;  // (now, before), ascending in both
         for (uint32_t s = 0; s < count; ++s) {
             const uint32_t previous = report.previousSubfaceOf[s];
-            if (previous == kNewElement || previous >= boxesBefore.size()) {
-                stale.push_back(s);
+            if (previous == kNewElement || previous >= before || (!kept.empty() && previous <= kept.back().second)) {
+                stale.push_back(s);  // new, or out of order (sampled again rather than moved)
                 continue;
             }
-            std::copy_n(before.begin() + std::ptrdiff_t(size_t(previous) * stride()), stride(),
-                        samples_.begin() + std::ptrdiff_t(size_t(s) * stride()));
+            kept.push_back({s, previous});
             boxes_[s] = boxesBefore[previous];
         }
+        // The samples move inside their own array (a fresh one of a million sub-faces' samples
+        // costs more in page faults than sampling them): kept sub-faces keep their order, so
+        // moving down in ascending order, then up in descending order, overwrites nothing unmoved.
+        const size_t largest = size_t(std::max(count, before)) * stride();
+        if (samples_.capacity() < largest) samples_.reserve(largest + largest / 8);
+        samples_.resize(largest);
+        auto move = [&](const std::pair<uint32_t, uint32_t>& k) {
+            std::memmove(samples_.data() + size_t(k.first) * stride(), samples_.data() + size_t(k.second) * stride(),
+                         stride() * sizeof(glm::vec3));
+        };
+        for (const auto& k : kept)
+            if (k.first < k.second) move(k);
+        for (auto k = kept.rbegin(); k != kept.rend(); ++k)
+            if (k->first > k->second) move(*k);
+        samples_.resize(size_t(count) * stride());
         std::sort(stale.begin(), stale.end());
         stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
         tbb::parallel_for(size_t(0), stale.size(), [&](size_t i) { sample(planned, stale[i]); });
     } else if (report.topologyChanged || boxes_.size() != count) {
+        // Room for sub-faces that topology edits add later (reserved, so never touched until used).
+        samples_.reserve(size_t(count) * stride() + size_t(count) * stride() / 8);
         samples_.resize(size_t(count) * stride());
         boxes_.assign(count, Box{});
         tbb::parallel_for(uint32_t(0), count, [&](uint32_t s) { sample(planned, s); });

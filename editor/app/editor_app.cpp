@@ -413,6 +413,7 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     const std::vector<SchemeRequest> requests = schemeRequests(app);
     const std::vector<uint32_t> changedSamples = takeUnsyncedSamples(*app.doc);
     const EditReport planChange = takeUnsyncedPlanChange(*app.doc);
+    noteTopologyChange(app.picking, *app.doc, planChange);
     if (Status s = syncScene(app.ctx, app.renderer, app.catalog, *app.doc, app.documentGeneration, requests, changedSamples,
                              planChange, options);
         !s)

@@ -4,14 +4,39 @@
 #include <chrono>
 #include <numeric>
 
+#include <tbb/parallel_for.h>
+// Header-only: the hash compiled in, no library to link.
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+
 namespace qp::editor {
 
 namespace {
 
+// What a sub-face's limit surface depends on besides its plan and rotation: its ring's positions.
+uint64_t ringHash(const PlannedCage& planned, uint32_t subface) {
+    const std::span<const uint32_t> ring = planned.subfaceRing(subface);
+    glm::vec3 positions[64];
+    if (ring.size() <= 64) {
+        for (size_t i = 0; i < ring.size(); ++i) positions[i] = planned.cage().positions[ring[i]];
+        return XXH3_64bits(positions, ring.size() * sizeof(glm::vec3));
+    }
+    uint64_t hash = 0;
+    for (uint32_t v : ring) hash = XXH3_64bits_withSeed(&planned.cage().positions[v], sizeof(glm::vec3), hash);
+    return hash;
+}
+
+std::vector<uint64_t> ringHashes(const PlannedCage& planned) {
+    std::vector<uint64_t> out(planned.subfaceCount());
+    tbb::parallel_for(uint32_t(0), planned.subfaceCount(), [&](uint32_t s) { out[s] = ringHash(planned, s); });
+    return out;
+}
+
 std::vector<uint32_t> plansAndRotations(const PlannedCage& planned) {
     std::vector<uint32_t> out(2 * size_t(planned.subfaceCount()));
     for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
-        out[2 * s] = planned.subfacePlan(s);
+        // A hole keeps its plan (holes are planned as if they were not): it counts as no plan.
+        out[2 * s] = planned.hasSurface(s) ? planned.subfacePlan(s) : kNoPlan;
         out[2 * s + 1] = planned.subfaceRotation(s);
     }
     return out;
@@ -33,10 +58,43 @@ void resetIfStale(PickCache& c, const Document& doc, uint64_t generation) {
         c.planRevision = doc.planRevision;
         return;
     }
+    std::optional<LimitPicker> carried;
+    std::vector<uint32_t> carriedPlans;
+    std::vector<uint64_t> carriedRings;
+    if (c.generation == generation && c.limit && c.topologySinceRevision == doc.topologyRevision &&
+        c.topologySince.topologyChanged && c.topologySince.previousSubfaceOf.size() == doc.planned->subfaceCount()) {
+        // Topology edits the cache was told of: kept sub-faces keep their samples unless their plan,
+        // rotation or ring positions differ from when they were sampled (in the old numbering).
+        const PlannedCage& planned = *doc.planned;
+        carriedPlans = plansAndRotations(planned);
+        carriedRings = ringHashes(planned);
+        EditReport report;
+        report.topologyChanged = true;
+        report.previousSubfaceOf = c.topologySince.previousSubfaceOf;
+        const size_t before = c.limitRings.size();
+        std::vector<char> replannedBefore(before, 0);  // re-planned, not re-sampled yet
+        for (uint32_t s : c.replanned) replannedBefore[s] = 1;
+        for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+            const uint32_t previous = report.previousSubfaceOf[s];
+            if (previous >= before) continue;  // new: sampled anyway
+            if (replannedBefore[previous] || carriedPlans[2 * s] != c.limitPlans[2 * previous] ||
+                carriedPlans[2 * s + 1] != c.limitPlans[2 * previous + 1] || carriedRings[s] != c.limitRings[previous])
+                report.updatedSubfaceList.push_back(s);
+        }
+        c.limit->update(planned, report);
+        carried = std::move(c.limit);
+    }
     const uint32_t builds = c.limitBuilds, displacedBuilds = c.displacedBuilds;
     c = PickCache{};
     c.limitBuilds = builds;
     c.displacedBuilds = displacedBuilds;
+    if (carried) {
+        c.limit = std::move(carried);
+        c.limitPlans = std::move(carriedPlans);
+        c.limitRings = std::move(carriedRings);
+        c.limitPositions = doc.planned->cage().positions;
+        c.limitRevision = doc.positionRevision;
+    }
     c.generation = generation;
     c.planRevision = doc.planRevision;
     c.topologyRevision = doc.topologyRevision;
@@ -56,6 +114,13 @@ const CageRaycaster& cageRaycaster(PickCache& c, const Document& doc, uint64_t g
     return *c.cage;
 }
 
+void noteTopologyChange(PickCache& c, const Document& doc, const EditReport& change) {
+    if (!change.topologyChanged || !c.limit) return;
+    if (c.topologySinceRevision == ~0ull) c.topologySince = change;
+    else accumulateReport(c.topologySince, change);
+    c.topologySinceRevision = doc.topologyRevision;
+}
+
 const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t generation) {
     resetIfStale(c, doc, generation);
     const auto start = std::chrono::steady_clock::now();
@@ -64,6 +129,7 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
         c.limit.emplace(*doc.planned, LimitPicker::resolutionFor(doc.planned->subfaceCount()));
         ++c.limitBuilds;
         c.limitPlans = plansAndRotations(*doc.planned);
+        c.limitRings = ringHashes(*doc.planned);
         c.replanned.clear();
     } else if (c.limitRevision != doc.positionRevision || !c.replanned.empty()) {
         EditReport changed;  // the sub-faces whose control points or plans changed
@@ -74,6 +140,7 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
                                          changed.updatedSubfaceList.end());
         c.replanned.clear();
         c.limit->update(*doc.planned, changed);
+        for (uint32_t s : changed.updatedSubfaceList) c.limitRings[s] = ringHash(*doc.planned, s);
     } else {
         return *c.limit;
     }
