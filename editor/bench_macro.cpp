@@ -48,11 +48,10 @@ void benchMacroCage(const std::string& name, const Cage& cage, const BenchArgs& 
     Result<BenchDevice> device = createBenchDevice(kWidth, kHeight);
     if (!device) return report.notes.push_back(name + ": skipped, " + device.error().message);
     const VulkanContext& ctx = device->ctx;
-    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;  // createBenchDevice's target
     const RenderTarget rt = renderTarget(device->target);
     const Bounds bounds = computeBounds(cage);
     const RenderCamera framed = frameBounds(bounds.min, bounds.max, float(kWidth) / float(kHeight));
-    const GpuContext gpu{&ctx, VK_NULL_HANDLE, format, VK_FORMAT_D32_SFLOAT};
+    const GpuContext gpu = gpuContextOf(*device);
     const uint32_t rounds = std::max(5u, args.repeats);
     const CageFeatures features = analyzeCage(planned->cage(), planned->topology());
 

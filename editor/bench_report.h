@@ -15,6 +15,7 @@
 #include "offscreen_target.h"
 #include "planned_cage.h"
 #include "result.h"
+#include "scheme_api.h"
 #include "vk_context.h"
 
 namespace qp::cli {
@@ -117,9 +118,13 @@ Result<VulkanContext> createBenchContext();
 // That device and an RGBA8 target of width x height to draw into (with a D32 depth image).
 struct BenchDevice {
     VulkanContext ctx;
-    OffscreenTarget target;
+    OffscreenTarget target;  // R8G8B8A8_UNORM colour, D32 depth
 };
 Result<BenchDevice> createBenchDevice(uint32_t width, uint32_t height);
+// What a scheme plugin is prepared with to draw into the device's target.
+inline GpuContext gpuContextOf(const BenchDevice& device) {
+    return GpuContext{&device.ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+}
 void destroyBenchDevice(BenchDevice& device);
 // "1, 5, 15 min" load averages, for the notes.
 std::string loadAverage();

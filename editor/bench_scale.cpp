@@ -163,14 +163,13 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
     Result<BenchDevice> device = createBenchDevice(kWidth, kHeight);
     if (!device) return report.notes.push_back(name + ": (c)-(g) not measured, " + device.error().message);
     const VulkanContext& ctx = device->ctx;
-    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;  // createBenchDevice's target
     const RenderTarget rt = renderTarget(device->target);
     const Bounds bounds = computeBounds(bench.cage);
     RenderCamera camera = frameBounds(bounds.min, bounds.max, float(kWidth) / float(kHeight));
     auto viewOf = [&](const RenderCamera& c) { return headlessView(c, kHeight, "shading", false); };
     SchemeSettings settings;
     settings.adaptivePixels = kPixelsPerSegment;
-    const GpuContext gpu{&ctx, VK_NULL_HANDLE, format, VK_FORMAT_D32_SFLOAT};
+    const GpuContext gpu = gpuContextOf(*device);
     std::string failure;
     DrawStats drawn;
     auto frame = [&](SchemeInstance& instance, const DrawView& view) {

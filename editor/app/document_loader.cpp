@@ -31,7 +31,9 @@ Result<LoadedDocument> load(const LoadRequest& request, const BackgroundWork<Loa
     if (!document) return document.error();
     setStage("Storing the new plans", 0.9f);
     if (std::optional<std::string> why = storeNewPlans(**document)) warnings.push_back(*why);
-    LoadedDocument loaded{std::move(document).value(), std::move(warnings)};
+    setStage("Preparing picking", 0.95f);
+    LoadedDocument loaded{std::move(document).value(), std::move(warnings), {}};
+    (void)limitPicker(loaded.picking, *loaded.document, 0);
     if (request.fromRecovery) {  // restored work is still unsaved
         loaded.document->dirty = true;
         loaded.document->savedPosition.reset();

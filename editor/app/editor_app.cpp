@@ -183,11 +183,12 @@ void adoptFinishedLoad(EditorApp& app) {
     for (const std::string& w : result.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     if (app.doc)
         if (std::optional<std::string> why = storeNewPlans(*app.doc)) std::fprintf(stderr, "warning: %s\n", why->c_str());
-    // The scheme instances and pickers point into the old document: they go first.
+    // The scheme instances point into the old document: they go first.
     releaseSchemes(app.ctx, app.renderer);
-    app.picking = PickCache{};
     app.doc = std::move(result.document);
     ++app.documentGeneration;
+    app.picking = std::move(result.picking);  // built by the loader for this document
+    app.picking.generation = app.documentGeneration;
     app.drag = Drag{};
     app.playback = PlaybackClock{};  // the new document opens paused
     app.tools.loopTool = false;
