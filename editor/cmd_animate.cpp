@@ -1,5 +1,5 @@
 // `quadplan animate` (issue 22): plays a cage or scene animation headless and writes a PNG per
-// frame. Every frame is a vertex move (core/animation_playback.h showFrame: nothing re-planned)
+// frame. Every frame is a vertex move (core/animation/animation_playback.h showFrame: nothing re-planned)
 // and the scheme instance built once takes it through Scheme::updateMoved, the way the editor
 // and `bench animation` (c) update a drawn cage; a scheme that fails to update in place is built
 // again, and the count is reported.
@@ -17,15 +17,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "animation_playback.h"
-#include "bench_report.h"
-#include "bench_stats.h"
-#include "cage_sequence.h"
+#include "animation/animation_playback.h"
+#include "animation/cage_sequence.h"
+#include "bench/bench_report.h"
+#include "bench/bench_stats.h"
 #include "commands.h"
 #include "headless_scene.h"
 #include "plan_pass.h"
-#include "planned_scene.h"
 #include "render_setup.h"
+#include "scene/planned_scene.h"
 #include "scene_schemes.h"
 #include "vk_buffer.h"
 #include "vk_commands.h"

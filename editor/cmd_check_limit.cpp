@@ -4,9 +4,9 @@
 
 #include "commands.h"
 #include "plan_db_option.h"
-#include "limit_check.h"
-#include "planned_scene.h"
-#include "scene.h"
+#include "plans/limit_check.h"
+#include "scene/planned_scene.h"
+#include "scene/scene.h"
 
 namespace qp::cli {
 

@@ -10,10 +10,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "closed_surface.h"
 #include "commands.h"
 #include "cull_stats_views.h"
-#include "generated_cage.h"
+#include "mesh/closed_surface.h"
+#include "mesh/generated_cage.h"
 #include "plan_db_option.h"
 #include "render_setup.h"
 
@@ -35,7 +35,7 @@ int fail(const std::string& message) {
     return 1;
 }
 
-// The file, or the generated benchmark cage (core/generated_cage.h), planned.
+// The file, or the generated benchmark cage (core/mesh/generated_cage.h), planned.
 Result<PlannedFile> loadInput(const CullStatsArgs& args, PlanDatabase& database) {
     const PlanOptions options{args.depth, true};
     if (args.generatedFaces == 0) return loadAndPlan(args.path, database, options);
@@ -271,7 +271,7 @@ void registerCullStats(CLI::App& app, int& exitCode) {
     auto args = std::make_shared<CullStatsArgs>();
     cmd->add_option("file", args->path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json: its visible objects)");
     cmd->add_option("--generated-faces", args->generatedFaces,
-                    "Instead of a file: the generated closed benchmark cage (core/generated_cage.h) of about this many faces")
+                    "Instead of a file: the generated closed benchmark cage (core/mesh/generated_cage.h) of about this many faces")
         ->check(CLI::Range(1u, 10000000u));
     cmd->add_option("--seed", args->seed, "Seed of the generated cage (default 1)");
     cmd->add_option("--views", args->views, "Views on a sphere around the model, each framing it (default 26)")

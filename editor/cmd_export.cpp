@@ -13,9 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "mesh_cage_write.h"
-#include "planned_scene.h"
+#include "mesh/mesh_cage_write.h"
 #include "render_setup.h"
+#include "scene/planned_scene.h"
 #include "scene_export.h"
 #include "scheme_host.h"
 

@@ -4,9 +4,9 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "osd_refiner.h"
-#include "scene.h"
-#include "topology.h"
+#include "mesh/topology.h"
+#include "plans/osd_refiner.h"
+#include "scene/scene.h"
 
 namespace qp::cli {
 

@@ -3,10 +3,10 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "macro_faces.h"
 #include "plan_db_option.h"
-#include "planned_scene.h"
-#include "scene.h"
+#include "plans/macro_faces.h"
+#include "scene/planned_scene.h"
+#include "scene/scene.h"
 
 namespace qp::cli {
 

@@ -9,8 +9,8 @@
 #include "cull_report.h"
 #include "headless_scene.h"
 #include "plan_pass.h"
-#include "planned_scene.h"
 #include "render_setup.h"
+#include "scene/planned_scene.h"
 #include "scene_schemes.h"
 #include "vk_commands.h"
 

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "planned_cage.h"
+#include "plans/planned_cage.h"
 #include "render_setup.h"
 #include "scheme_loader.h"
 

@@ -6,19 +6,19 @@
 #include <cstdlib>
 #include <memory>
 
-#include "brush.h"
 #include "camera.h"
 #include "commands.h"
-#include "displaced_mesh.h"
-#include "displacement_io.h"
-#include "file_io.h"
+#include "displacement/brush.h"
+#include "displacement/displaced_mesh.h"
+#include "displacement/displacement_io.h"
+#include "displacement/sculpt_samples.h"
+#include "displacement/sculpt_script.h"
+#include "mesh/file_io.h"
 #include "mesh_pass.h"
 #include "offscreen_target.h"
 #include "plan_db_option.h"
-#include "planned_cage.h"
-#include "scene.h"
-#include "sculpt_samples.h"
-#include "sculpt_script.h"
+#include "plans/planned_cage.h"
+#include "scene/scene.h"
 #include "vk_commands.h"
 #include "vk_context.h"
 
@@ -224,7 +224,7 @@ void registerSculpt(CLI::App& app, int& exitCode) {
     cmd->add_option("--path", args->path, "Stroke path in world space: \"x,y,z;x,y,z;...\"");
     cmd->add_option("--strokes", args->strokesFile,
                     "JSON stroke list instead of --path: {\"strokes\": [{\"brush\", \"radius\", \"strength\", "
-                    "\"falloff\", \"mirror\", \"spacing\", \"path\": [[x,y,z],...]}]} (core/sculpt_script.h)");
+                    "\"falloff\", \"mirror\", \"spacing\", \"path\": [[x,y,z],...]}]} (core/displacement/sculpt_script.h)");
     cmd->add_option("--brush", args->brush,
                     "raise, lower, smooth, flatten, erase, inflate, crease, mask or unmask (default raise)");
     cmd->add_flag("--invert-mask", args->invertMask, "Invert the sculpting mask first (with no mask yet: mask everything)");

@@ -10,11 +10,11 @@
 
 #include "camera.h"
 #include "line_pass.h"
+#include "mesh/result.h"
 #include "offscreen_target.h"
 #include "pipeline_cache.h"
-#include "planned_scene.h"
-#include "result.h"
-#include "scene.h"
+#include "scene/planned_scene.h"
+#include "scene/scene.h"
 #include "scene_schemes.h"
 #include "scheme_loader.h"
 

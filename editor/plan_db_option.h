@@ -8,7 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "plan_database.h"
+#include "plans/plan_database.h"
 
 namespace qp::cli {
 

@@ -8,10 +8,10 @@
 #include <vector>
 
 #include "camera.h"
-#include "cage.h"
-#include "planned_scene.h"
-#include "result.h"
-#include "scene.h"
+#include "mesh/cage.h"
+#include "mesh/result.h"
+#include "scene/planned_scene.h"
+#include "scene/scene.h"
 #include "scheme_api.h"
 #include "vk_context.h"
 

@@ -8,7 +8,7 @@
 #include <opensubdiv/bfr/refinerSurfaceFactory.h>
 #include <opensubdiv/bfr/surface.h>
 
-#include "osd_refiner.h"
+#include "plans/osd_refiner.h"
 
 namespace qp {
 

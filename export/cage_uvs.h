@@ -18,8 +18,8 @@
 
 #include <glm/vec2.hpp>
 
-#include "planned_cage.h"
-#include "result.h"
+#include "mesh/result.h"
+#include "plans/planned_cage.h"
 
 namespace qp {
 

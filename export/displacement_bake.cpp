@@ -15,7 +15,7 @@
 #include <OpenEXR/ImfIO.h>
 #include <OpenEXR/ImfOutputFile.h>
 
-#include "file_io.h"
+#include "mesh/file_io.h"
 #include "offscreen_target.h"
 #include "scene_export.h"
 

@@ -28,9 +28,9 @@
 #include <glm/vec3.hpp>
 
 #include "cage_uvs.h"
-#include "displacement.h"
-#include "planned_cage.h"
-#include "result.h"
+#include "displacement/displacement.h"
+#include "mesh/result.h"
+#include "plans/planned_cage.h"
 #include "scene_export.h"
 
 namespace qp {

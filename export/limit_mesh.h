@@ -11,7 +11,7 @@
 // take half the factor) and those of holes are left out.
 //
 // Data are plain arrays: positions and unit normals per vertex, three indices per triangle, and
-// for pipelines each vertex's sub-face (a Ptex face, core/face_config.h) and (u, v) in it.
+// for pipelines each vertex's sub-face (a Ptex face, core/plans/face_config.h) and (u, v) in it.
 #pragma once
 
 #include <cstdint>
@@ -24,11 +24,11 @@
 #include <glm/vec3.hpp>
 
 #include "cage_uvs.h"
-#include "displacement.h"
+#include "displacement/displacement.h"
 #include "grid_layout.h"
-#include "plan_evaluator.h"
-#include "planned_cage.h"
-#include "result.h"
+#include "mesh/result.h"
+#include "plans/plan_evaluator.h"
+#include "plans/planned_cage.h"
 
 namespace qp {
 

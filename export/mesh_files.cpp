@@ -11,7 +11,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <tiny_gltf.h>
 
-#include "file_io.h"
+#include "mesh/file_io.h"
 
 namespace qp {
 

@@ -10,7 +10,7 @@
 //   .off          positions and triangles, text (OFF has no normals)
 //   .stl          binary: facets with their flat normals (STL has no shared vertices)
 // The formats without nodes get every object merged, each carried into the world by its
-// transform (normals by its inverse transpose). Writes are atomic (core/file_io.h): a failed
+// transform (normals by its inverse transpose). Writes are atomic (core/mesh/file_io.h): a failed
 // export leaves no file, or the old one. docs/formats.md lists what each format keeps and loses.
 #pragma once
 
@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "limit_mesh.h"
-#include "result.h"
-#include "scene_objects.h"
+#include "mesh/result.h"
+#include "scene/scene_objects.h"
 
 namespace qp {
 

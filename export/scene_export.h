@@ -13,8 +13,8 @@
 #include "limit_mesh.h"
 #include "mesh_files.h"
 #include "mesh_order.h"
-#include "planned_scene.h"
-#include "scene.h"
+#include "scene/planned_scene.h"
+#include "scene/scene.h"
 
 namespace qp {
 

@@ -4,15 +4,15 @@
 // updateDisplacedDrawing: only the sub-faces that read the changed samples are re-displaced,
 // from the undisplaced frames kept per vertex (no surface evaluation: the surface did not move),
 // and their vertices rewritten in the mapped vertex buffer. The bits equal a full rebuild's
-// (core/displaced_mesh.h, redisplaceGrids).
+// (core/displacement/displaced_mesh.h, redisplaceGrids).
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <vector>
 
-#include "displaced_mesh.h"
-#include "displacement_users.h"
+#include "displacement/displaced_mesh.h"
+#include "displacement/displacement_users.h"
 #include "mesh_pass.h"
 #include "scheme_api.h"
 

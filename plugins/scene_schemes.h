@@ -1,5 +1,5 @@
 // Drawing a scene of many objects through one scheme: an instance of the scheme per cage of a
-// PlannedScene (core/planned_scene.h), recorded once per visible object under that object's
+// PlannedScene (core/scene/planned_scene.h), recorded once per visible object under that object's
 // transform. Instances of a cage share its scheme instance, so they add no patches, no control
 // points and no GPU buffers; moving an object changes only the view its draw gets.
 #pragma once
@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "line_pass.h"
-#include "planned_scene.h"
+#include "scene/planned_scene.h"
 #include "scheme_host.h"
 
 namespace qp {

@@ -25,7 +25,7 @@
 //   destroyGpu()        before the Vulkan context goes away
 //
 // Parameter domain: every scheme evaluates in the plans' sub-face frame. Sub-faces are
-// OpenSubdiv's Ptex faces (PlannedCage, core/face_config.h): a quad is one sub-face with u from
+// OpenSubdiv's Ptex faces (PlannedCage, core/plans/face_config.h): a quad is one sub-face with u from
 // corner 0 to 1 and v from corner 0 to 3; an n-gon is n sub-faces, sub-face k having corners
 // (vertex k, midpoint of edge k, centre, midpoint of edge k-1). The host compares a scheme
 // with the exact limit surface (PlannedCage::evaluate) at the same (sub-face, u, v).
@@ -49,14 +49,14 @@
 #include <glm/vec3.hpp>
 #include <vulkan/vulkan.h>
 
-#include "cage.h"
-#include "displacement.h"
-#include "patch_cull_set.h"  // CullMethod, CullCounts
-#include "plan_evaluator.h"  // SampleRequest
-#include "planned_cage.h"
+#include "culling/patch_cull_set.h"  // CullMethod, CullCounts
+#include "displacement/displacement.h"
+#include "mesh/cage.h"
+#include "mesh/result.h"
+#include "plans/plan_evaluator.h"  // SampleRequest
+#include "plans/planned_cage.h"
 #include "render_target.h"
-#include "result.h"
-#include "shading.h"
+#include "scene/shading.h"
 #include "vk_context.h"
 
 namespace qp {
@@ -223,7 +223,7 @@ struct SurfacePoint {
 };
 
 // What a tag or topology edit did to the planned cage a scheme was built for (PlannedCage is
-// edited in place: core/planned_cage.h EditReport).
+// edited in place: core/plans/planned_cage.h EditReport).
 struct PlanChange {
     std::span<const uint32_t> subfaces;  // sorted: sub-faces whose plan, rotation or control
                                          // points changed (the numbering after the edit)
@@ -291,9 +291,9 @@ public:
     // ---- Displacement (docs/displacement.md; optional) ----
     // Sculpted displacement: every scheme draws s + D N, where s, its derivatives and the unit
     // normal N are the SCHEME'S OWN at (sub-face, u, v) and D = evaluateDisplacement(*d, sub-face,
-    // u, v) (core/displacement.h); the shading normal is displacePoint's (it includes D's
+    // u, v) (core/displacement/displacement.h); the shading normal is displacePoint's (it includes D's
     // derivatives). Shared boundary vertices must stay bit-identical: evaluate them through one
-    // owner, as buildDisplacedMesh (core/displaced_mesh.h) does. The tessellation factor must
+    // owner, as buildDisplacedMesh (core/displacement/displaced_mesh.h) does. The tessellation factor must
     // follow the tile resolutions (at least requiredMeshFactor / requiredTessellationFactor).
     // evaluate() keeps returning the surface WITHOUT displacement (the host compares it with the
     // undisplaced limit surface).
@@ -307,7 +307,7 @@ public:
         return Error{"this scheme does not draw sculpted displacement"};
     }
     // `samples` (indices into Displacement::samples, any order, repeats allowed: e.g.
-    // Sculptor::lastDabSamples() after a dab, core/brush.h) changed in place; the layout is the
+    // Sculptor::lastDabSamples() after a dab, core/displacement/brush.h) changed in place; the layout is the
     // one given to setDisplacement. Bring what record() draws up to date, ideally only around
     // them (uploadRanges gives the buffer regions). Default: a full update().
     virtual Status displacementChanged(std::span<const uint32_t> samples) {

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "displaced_mesh.h"
+#include "displacement/displaced_mesh.h"
 #include "scheme_support.h"
 
 namespace qp {

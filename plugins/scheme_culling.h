@@ -1,5 +1,5 @@
 // Culling (DrawView::cull, docs/culling.md) for the schemes that draw patches of their own (acc1,
-// acc2, pn, osd-fas) and for uniform: the shared bookkeeping around core/patch_cull_set.h.
+// acc2, pn, osd-fas) and for uniform: the shared bookkeeping around core/culling/patch_cull_set.h.
 //
 // A scheme describes its patches by their culling leaves (PatchBounds) and which sub-faces each
 // covers (PatchCover). Drawn one primitive per patch (the tessellator), a patch is culled by its
@@ -27,10 +27,10 @@
 #include <span>
 #include <vector>
 
+#include "culling/patch_cull_set.h"
 #include "displaced_drawing.h"
 #include "mesh_pass.h"
-#include "patch_cull_set.h"
-#include "quad_patch_source.h"
+#include "plans/quad_patch_source.h"
 #include "scheme_api.h"
 
 namespace qp {

@@ -6,7 +6,7 @@
 #include <glm/geometric.hpp>
 #include <tbb/parallel_for.h>
 
-#include "displaced_mesh.h"
+#include "displacement/displaced_mesh.h"
 
 namespace qp {
 

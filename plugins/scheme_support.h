@@ -13,7 +13,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "displaced_mesh.h"
+#include "displacement/displaced_mesh.h"
 #include "mesh_pass.h"
 #include "scheme_api.h"
 
@@ -60,7 +60,7 @@ std::vector<uint32_t> cullForView(const PatchCullSet& set, bool closed, std::spa
 // ---- Displacement (Scheme::setDisplacement) --------------------------------------------------
 
 // The grid factor for drawing `displacement` when `requested` was asked for: at least
-// requiredMeshFactor (core/displaced_mesh.h), so every stored sample is a vertex and raising
+// requiredMeshFactor (core/displacement/displaced_mesh.h), so every stored sample is a vertex and raising
 // a tile's resolution raises the tessellation with it; even on cages with non-quads; at most
 // 128 (n-gon sub-faces then get 64).
 uint32_t displacedGridFactor(const PlannedCage& planned, const Displacement& displacement, uint32_t requested);

@@ -9,8 +9,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "plans/tangent_plane.h"
 #include "scheme_support.h"
-#include "tangent_plane.h"
 
 namespace qp {
 

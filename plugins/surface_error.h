@@ -10,7 +10,7 @@
 // the angle between the scheme's shading normal and du x dv of the exact surface, left out
 // where the exact du and dv are within 0.06 degrees of parallel (folds of degenerate cages,
 // where no normal is defined) and at the face corners where the limit surface has no tangent
-// plane (core/tangent_plane.h).
+// plane (core/plans/tangent_plane.h).
 #pragma once
 
 #include <cstdint>
@@ -20,7 +20,7 @@
 
 #include <glm/vec3.hpp>
 
-#include "limit_reference.h"
+#include "plans/limit_reference.h"
 #include "scheme_api.h"
 
 namespace qp {
@@ -37,7 +37,7 @@ struct ErrorStats {
     // of them vanishes against the other, min(|du|, |dv|) <= kMinDerivativeRatio max(|du|, |dv|)
     // (its direction is then round-off: the folded edge of back-to-back faces, coincident
     // vertices); samples at a face corner where the limit surface has no tangent plane
-    // (core/tangent_plane.h: corners of sectors of two or more faces at a corner-rule vertex,
+    // (core/plans/tangent_plane.h: corners of sectors of two or more faces at a corner-rule vertex,
     // counted also in normalSamplesWithoutTangentPlane); and samples where the scheme gives no
     // normal.
     uint64_t normalSamplesExcluded = 0;

@@ -33,8 +33,8 @@
 #include <glm/vec4.hpp>
 #include <vulkan/vulkan.h>
 
+#include "mesh/result.h"
 #include "render_target.h"
-#include "result.h"
 #include "scheme_api.h"
 #include "vk_buffer.h"
 #include "vk_context.h"

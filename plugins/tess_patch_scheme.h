@@ -20,8 +20,8 @@
 // when a frame first needs them after update(). Back-patch tests only on a closed, outward cage.
 #pragma once
 
-#include "closed_surface.h"
 #include "grid_drawing.h"
+#include "mesh/closed_surface.h"
 #include "module_shader_code.h"
 #include "scheme_api.h"
 #include "scheme_culling.h"

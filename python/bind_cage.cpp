@@ -2,11 +2,11 @@
 #include <cmath>
 
 #include "conversions.h"
-#include "generated_cage.h"
-#include "obj_io.h"
-#include "osd_refiner.h"
-#include "scene.h"
-#include "topology.h"
+#include "mesh/generated_cage.h"
+#include "mesh/obj_io.h"
+#include "mesh/topology.h"
+#include "plans/osd_refiner.h"
+#include "scene/scene.h"
 
 namespace qp::py {
 
@@ -140,7 +140,7 @@ the command line do (index i is "vertex i+1" in a message).
              py::arg("positions"), py::arg("faces"), py::arg("creases") = py::tuple(), py::arg("corners") = py::tuple(),
              py::arg("holes") = py::tuple(), py::arg("boundary") = "edges-and-corners", py::arg("crease_method") = "normal",
              py::arg("triangle_subdivision") = "catmark",
-             R"doc(Builds a cage and checks it (every rule of core/cage.h); raises quadplan.Error naming the fault.
+             R"doc(Builds a cage and checks it (every rule of core/mesh/cage.h); raises quadplan.Error naming the fault.
 
 positions: (N, 3) numbers. faces: lists of vertex indices, counter-clockwise seen from outside.
 creases: (a, b, sharpness) per edge, sharpness in (0, 10], 10 = infinitely sharp.
@@ -161,7 +161,7 @@ triangle_subdivision: "catmark" or "smooth".)doc")
                         return makeBenchmarkCage(faces, seed);
                     },
                     py::arg("faces"), py::arg("seed") = 1,
-                    R"doc(The benchmarks' deterministic test cage (core/generated_cage.h): a closed torus of about `faces`
+                    R"doc(The benchmarks' deterministic test cage (core/mesh/generated_cage.h): a closed torus of about `faces`
 quads with poked quads (valence-5 vertices, triangles), semi-sharp and infinitely sharp creases and
 corners. The same (faces, seed) always gives the same cage.)doc")
         .def("save", [](const Cage& cage, const std::string& path) { check(saveObj(cage, path)); }, py::arg("path"),

@@ -1,7 +1,7 @@
 // quadplan.Scene's sculpted displacement (docs/python.md, "Sculpting"; SceneDocument's strokes in
 // scene_document.cpp).
 #include "bind_scene.h"
-#include "displacement_io.h"
+#include "displacement/displacement_io.h"
 
 namespace qp::py {
 

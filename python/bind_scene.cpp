@@ -5,14 +5,14 @@
 #include <optional>
 #include <set>
 
-#include "conversions.h"
-#include "displacement_bake.h"
-#include "displacement_io.h"
-#include "limit_check.h"
-#include "plan_evaluator.h"
-#include "plan_memory.h"
-#include "render_setup.h"
 #include "bind_scene.h"
+#include "conversions.h"
+#include "displacement/displacement_io.h"
+#include "displacement_bake.h"
+#include "plan_memory.h"
+#include "plans/limit_check.h"
+#include "plans/plan_evaluator.h"
+#include "render_setup.h"
 #include "scene_document.h"
 #include "scene_export.h"
 #include "scheme_support.h"

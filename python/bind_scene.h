@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "conversions.h"
-#include "plan_evaluator.h"
+#include "plans/plan_evaluator.h"
 #include "scene_document.h"
 
 namespace qp::py {

@@ -16,10 +16,10 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "cage.h"
-#include "result.h"
-#include "selection.h"
-#include "transform.h"
+#include "edit/selection.h"
+#include "edit/transform.h"
+#include "mesh/cage.h"
+#include "mesh/result.h"
 
 namespace qp::py {
 

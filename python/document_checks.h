@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "cage.h"
-#include "result.h"
-#include "scene_objects.h"
+#include "mesh/cage.h"
+#include "mesh/result.h"
+#include "scene/scene_objects.h"
 
 namespace qp::py {
 

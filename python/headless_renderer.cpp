@@ -7,15 +7,15 @@
 #include <functional>
 #include <mutex>
 
-#include "displaced_mesh.h"
+#include "displacement/displaced_mesh.h"
 #include "gpu_timer.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
-#include "vk_buffer.h"
 #include "render_setup.h"
 #include "scene_schemes.h"
 #include "scheme_host.h"
 #include "scheme_support.h"
+#include "vk_buffer.h"
 #include "vk_commands.h"
 
 namespace qp::py {

@@ -6,14 +6,14 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "animation_playback.h"
-#include "cage_sequence.h"
+#include "animation/animation_playback.h"
+#include "animation/cage_sequence.h"
 #include "document_checks.h"
-#include "file_io.h"
-#include "mesh_cage_write.h"
-#include "mesh_import.h"
-#include "obj_io.h"
-#include "plan_cache.h"
+#include "mesh/file_io.h"
+#include "mesh/mesh_cage_write.h"
+#include "mesh/mesh_import.h"
+#include "mesh/obj_io.h"
+#include "plans/plan_cache.h"
 
 namespace qp::py {
 

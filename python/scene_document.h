@@ -8,19 +8,19 @@
 // (add, instance, remove, rename, transform, visibility) act on the scene; a transform or
 // visibility change re-plans nothing. Undo and redo go through every kind in order.
 //
-// Animation (core/cage_animation.h): the scene shows one current frame. Every object with vertex
+// Animation (core/animation/cage_animation.h): the scene shows one current frame. Every object with vertex
 // keys has its planned cage moved there (a vertex move: nothing is re-planned) from its rest
 // positions, which the document keeps per planned cage (what a saved scene holds as the cage);
 // every object with transform keys has its transform evaluated there. On an object with vertex
 // keys a move keys the moved vertices at the current frame and a topology edit carries the keys
-// (core/animation_edits.h); objects without keys are edited as if nothing were animated.
+// (core/animation/animation_edits.h); objects without keys are edited as if nothing were animated.
 //
 // Plain C++ (no Python here): python/bindings_*.cpp wrap it. Rules it keeps:
 //   - every edit goes through EditHistory, so undo/redo re-plan only what the edit re-planned;
 //   - displacement strokes, resolution changes and clearing the displacement are history
 //     entries too (CustomEdit), so one undo stack covers everything;
 //   - a topology edit on an object with displacement carries it to the new cage in the same
-//     entry (core/displaced_topology_edit.h), so one undo brings both back;
+//     entry (core/displacement/displaced_topology_edit.h), so one undo brings both back;
 //   - on failure nothing changes and the error carries the core's message (what the command
 //     line prints); vertices and faces are 0-based here, 1-based in messages (as in OBJ).
 #pragma once
@@ -35,17 +35,17 @@
 
 #include <glm/vec3.hpp>
 
-#include "animation_edits.h"
-#include "brush.h"
-#include "displaced_topology_edit.h"
-#include "displacement_edit.h"
-#include "edit_history.h"
-#include "planned_cage.h"
-#include "planned_scene.h"
-#include "scene.h"
-#include "sculpt_samples.h"
-#include "selection.h"
-#include "transform.h"
+#include "animation/animation_edits.h"
+#include "displacement/brush.h"
+#include "displacement/displaced_topology_edit.h"
+#include "displacement/displacement_edit.h"
+#include "displacement/sculpt_samples.h"
+#include "edit/edit_history.h"
+#include "edit/selection.h"
+#include "edit/transform.h"
+#include "plans/planned_cage.h"
+#include "scene/planned_scene.h"
+#include "scene/scene.h"
 
 namespace qp::py {
 
@@ -62,7 +62,7 @@ struct EditOutcome {
 class SceneDocument {
 public:
     // Plans the scene's cage (all cores), copying what the persistent plan cache has
-    // (core/plan_cache.h) and storing what it had to build there. `source` names it in
+    // (core/plans/plan_cache.h) and storing what it had to build there. `source` names it in
     // messages (usually the path); a cache that could not be read or written adds a warning.
     static Result<std::unique_ptr<SceneDocument>> create(Scene scene, const PlanOptions& options, const std::string& source,
                                                          std::vector<std::string>* warnings = nullptr);
@@ -101,7 +101,7 @@ public:
     Scene currentScene() const;
     // `.json`: the scene, its cages stored as `storage` says and OBJ sequences referenced relative
     // to it; `.obj`, `.om`, `.ply`, `.off`, `.stl`: the active object's cage alone as the current
-    // frame shows it (core/mesh_cage_write.h; `lost` names what PLY, OFF and STL cannot hold). Any
+    // frame shows it (core/mesh/mesh_cage_write.h; `lost` names what PLY, OFF and STL cannot hold). Any
     // other name is refused.
     Status save(const std::string& path, CageStorage storage, std::vector<std::string>* lost = nullptr);
 
@@ -161,7 +161,7 @@ public:
     Status removeTransformKey(const std::string& name, int64_t frame);
     Result<EditOutcome> setInterpolation(Interpolation interpolation);
     Status setTimeline(int64_t first, int64_t last, double framesPerSecond);
-    // Makes an OBJ sequence (core/cage_sequence.h) the active object's vertex keys, one per
+    // Makes an OBJ sequence (core/animation/cage_sequence.h) the active object's vertex keys, one per
     // vertex per file, keyed at the file's number; all frames are read before anything changes
     // and a bad one is refused naming it.
     Result<EditOutcome> loadSequence(const std::string& pattern);

@@ -1,13 +1,13 @@
 // SceneDocument's animation (scene_document.h, "animation"): the frame shown, keys set by moves
 // and by hand, transform keys, interpolation, timeline and OBJ sequences, each key change a
-// history entry (core/animation_edits.h for the cage's keys).
+// history entry (core/animation/animation_edits.h for the cage's keys).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 
-#include "animation_playback.h"
-#include "cage_sequence.h"
+#include "animation/animation_playback.h"
+#include "animation/cage_sequence.h"
 #include "document_checks.h"
 #include "scene_document.h"
 

@@ -15,9 +15,9 @@
 
 #include <vulkan/vulkan.h>
 
-#include "render_target.h"
+#include "mesh/result.h"
 #include "plan_pass.h"
-#include "result.h"
+#include "render_target.h"
 #include "vk_context.h"
 
 namespace qp {

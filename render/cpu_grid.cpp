@@ -12,7 +12,7 @@
 #include <xmmintrin.h>
 #include <emmintrin.h>
 #endif
-#include "patch_basis.h"
+#include "plans/patch_basis.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -290,7 +290,7 @@ bool isSingleBicubic(const Plan& plan) {
 }
 
 // The 1D bases of a Regular or Crease leaf along the plan's u (s) and v (t), as
-// core/plan_eval.cpp's regularPatch builds them (keep the two in step).
+// core/plans/plan_eval.cpp's regularPatch builds them (keep the two in step).
 Basis1D basisAlongU(const PlanNode& node, float s) {
     Basis1D b = bsplineBasis1D(s);
     if (node.kind == NodeKind::Crease && node.edge == 1) b = creaseBasis1DFar(s, node.sharpness);
@@ -312,7 +312,7 @@ Basis1D basisAlongV(const PlanNode& node, float t) {
 // A sub-face whose plan is one Regular or Crease leaf (most faces of most cages): the patch is
 // a tensor product, so its rows of control points are combined along the plan's u once per grid
 // column, and each slot only combines four of those along v. The operations and their order
-// are core/plan_eval.cpp's tensorPatch, so the values are PlannedCage::evaluate's.
+// are core/plans/plan_eval.cpp's tensorPatch, so the values are PlannedCage::evaluate's.
 void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32_t subface, const GridLayout& layout,
                             uint32_t drawn, const Output& out) {
     const PlanNode& node = plan.nodes[0];

@@ -13,10 +13,10 @@
 
 #include <glm/geometric.hpp>
 
-#include "displacement.h"
-#include "displacement_users.h"
+#include "displacement/displacement.h"
+#include "displacement/displacement_users.h"
 #include "grid_layout.h"
-#include "planned_cage.h"
+#include "plans/planned_cage.h"
 
 namespace qp {
 

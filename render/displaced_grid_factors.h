@@ -15,7 +15,7 @@
 // a uniform factor (scheme_support.h, displacedGridFactor).
 #pragma once
 
-#include "displacement.h"
+#include "displacement/displacement.h"
 #include "gpu_plans.h"
 #include "grid_layout.h"
 

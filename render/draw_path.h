@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "plan_pass.h"
-#include "planned_cage.h"
+#include "plans/planned_cage.h"
 #include "vk_context.h"
 
 namespace qp {

@@ -14,7 +14,7 @@
 #include <glm/vec4.hpp>
 
 #include "macro_grid.h"
-#include "planned_cage.h"
+#include "plans/planned_cage.h"
 
 namespace qp {
 

@@ -4,7 +4,7 @@
 // sub-faces, the new layout takes the evaluated vertices (and, with a displacement on the CPU
 // path, their frames) of every sub-face whose slots mean the same as before, and only the
 // others are evaluated again. The result equals laying out and evaluating the whole grid, bit
-// for bit (tests/test_render_displacement.cpp, tests/test_grid_relayout.cpp).
+// for bit (tests/render/test_render_displacement.cpp, test_render_plans.cpp, test_render_macro_faces.cpp).
 #pragma once
 
 #include <cstdint>

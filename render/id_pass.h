@@ -14,8 +14,8 @@
 #include <glm/vec3.hpp>
 #include <vulkan/vulkan.h>
 
+#include "mesh/result.h"
 #include "render_target.h"
-#include "result.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
 

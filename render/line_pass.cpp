@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
+#include "mesh/topology.h"
 #include "shader_code.h"
-#include "topology.h"
 #include "vk_check.h"
 
 namespace qp {

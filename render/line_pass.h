@@ -7,7 +7,7 @@
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
-#include "cage.h"
+#include "mesh/cage.h"
 #include "render_target.h"
 #include "vk_buffer.h"
 #include "vk_context.h"

@@ -14,7 +14,7 @@
 
 #include "gpu_plans.h"
 #include "grid_layout.h"
-#include "macro_faces.h"
+#include "plans/macro_faces.h"
 
 namespace qp {
 

@@ -1,4 +1,4 @@
-// MacroGrid: the grid paths' macro faces (core/macro_faces.h) in drawn sub-faces, and how a
+// MacroGrid: the grid paths' macro faces (core/plans/macro_faces.h) in drawn sub-faces, and how a
 // far-away block of faces is drawn with fewer than two triangles a face (Brainerd et al. 2016
 // §7.3, §9.4: per-face tessellation factors below 1).
 //
@@ -26,8 +26,8 @@
 
 #include <glm/vec4.hpp>
 
-#include "macro_faces.h"
-#include "planned_cage.h"
+#include "plans/macro_faces.h"
+#include "plans/planned_cage.h"
 
 namespace qp {
 
@@ -35,7 +35,7 @@ struct GpuPlanData;
 struct GridFactors;
 struct AdaptiveView;
 
-// Which partition a cage's macro faces come from (core/macro_faces.h): Auto keeps rectangles or
+// Which partition a cage's macro faces come from (core/plans/macro_faces.h): Auto keeps rectangles or
 // aligned blocks, whichever saves more quads when every macro face is drawn as one (faces in
 // macro faces minus macro faces; quartets, the paper's blocks of two, only when asked for); Off
 // has none.

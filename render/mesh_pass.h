@@ -13,9 +13,9 @@
 #include <glm/glm.hpp>
 #include <vulkan/vulkan.h>
 
+#include "mesh/result.h"
 #include "render_target.h"
-#include "result.h"
-#include "shading.h"
+#include "scene/shading.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
 

@@ -3,7 +3,7 @@
 #include <cassert>
 #include <cstring>
 
-#include "file_io.h"
+#include "mesh/file_io.h"
 #include "vk_buffer.h"
 #include "vk_check.h"
 #include "vk_commands.h"

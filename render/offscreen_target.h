@@ -12,8 +12,8 @@
 
 #include <vulkan/vulkan.h>
 
+#include "mesh/result.h"
 #include "render_target.h"
-#include "result.h"
 #include "vk_context.h"
 
 namespace qp {

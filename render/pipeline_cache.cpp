@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <system_error>
 
-#include "file_io.h"
+#include "mesh/file_io.h"
 #include "vk_check.h"
 
 namespace qp {

@@ -18,7 +18,7 @@
 
 #include <vulkan/vulkan.h>
 
-#include "result.h"
+#include "mesh/result.h"
 #include "vk_context.h"
 
 namespace qp {

@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "planned_cage.h"
+#include "plans/planned_cage.h"
 
 namespace qp {
 

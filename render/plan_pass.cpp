@@ -9,8 +9,8 @@
 #include <iterator>
 #include <tuple>
 
-#include "brush.h"  // uploadRanges
 #include "cpu_grid.h"
+#include "displacement/brush.h"  // uploadRanges
 #include "plan_pipelines.h"
 #include "shared_pipelines.h"
 #include "vk_check.h"

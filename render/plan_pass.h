@@ -1,7 +1,7 @@
 // PlanPass: draws planned limit surfaces (Brainerd et al. 2016 §5-§6) with Vulkan.
 //
 // Three paths share one set of buffers (render/gpu_plans.h) and one evaluator design
-// (shaders/plan_eval.glsl, the GLSL twin of core/plan_eval.cpp); draw_path.h picks one:
+// (shaders/plan_eval.glsl, the GLSL twin of core/plans/plan_eval.cpp); draw_path.h picks one:
 //   - Tessellated: a compute pass applies each sub-face's stencil prefix for the level the
 //     largest factor needs (a compute pass rather than B16's tessellation-control stage: on
 //     lavapipe compute runs on every core, tessellation on one), then one patch per drawn
@@ -25,13 +25,13 @@
 
 #include <glm/mat4x4.hpp>
 
-#include "displacement.h"
-#include "displacement_users.h"
-#include "gpu_plans.h"
 #include "cpu_grid.h"  // GridFrames
+#include "displacement/displacement.h"
+#include "displacement/displacement_users.h"
+#include "gpu_plans.h"
 #include "grid_layout.h"
 #include "render_target.h"
-#include "shading.h"
+#include "scene/shading.h"
 #include "vk_buffer.h"
 #include "vk_context.h"
 
@@ -307,7 +307,7 @@ struct DisplacementUpdate {
     uint32_t displacedSlots = 0;     // CPU grid: slots re-displaced (those reading a changed sample)
 };
 // After a dab changed `samples` in place (same layout; any order, repeats allowed): copies
-// their blocks (uploadRanges, core/brush.h) into the device's samples and brings a cached grid
+// their blocks (uploadRanges, core/displacement/brush.h) into the device's samples and brings a cached grid
 // up to date for just the sub-faces that read them (device work recorded into `cmd`, outside
 // rendering; a CPU grid now, re-displacing only the slots whose D reads one of `samples`).
 // The result equals setPlanDisplacement and a full evaluation.

@@ -30,9 +30,9 @@
 
 #include <vulkan/vulkan.h>
 
+#include "mesh/result.h"
 #include "offscreen_target.h"
 #include "render_target.h"
-#include "result.h"
 #include "vk_context.h"
 
 namespace qp {

@@ -11,7 +11,7 @@
 
 #include <vulkan/vulkan.h>
 
-#include "result.h"
+#include "mesh/result.h"
 
 namespace qp {
 

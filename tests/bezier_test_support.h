@@ -1,10 +1,10 @@
-// Evaluating a bicubic Bézier patch (core/patch_culling.h's BicubicPoints, row-major, u along a
+// Evaluating a bicubic Bézier patch (core/culling/patch_culling.h's BicubicPoints, row-major, u along a
 // row) in the tests: position and first derivatives, in float or in double.
 #pragma once
 
 #include <glm/vec3.hpp>
 
-#include "patch_culling.h"
+#include "culling/patch_culling.h"
 
 namespace qp::test {
 

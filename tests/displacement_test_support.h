@@ -11,9 +11,9 @@
 
 #include <gtest/gtest.h>
 
-#include "displacement.h"
-#include "generated_cage.h"
-#include "planned_cage.h"
+#include "displacement/displacement.h"
+#include "mesh/generated_cage.h"
+#include "plans/planned_cage.h"
 #include "test_cages.h"
 
 namespace qp::test {

@@ -8,10 +8,10 @@
 
 #include <glm/geometric.hpp>
 
-#include "limit_frame.h"
-#include "quad_ring.h"
+#include "mesh/topology.h"
+#include "plans/limit_frame.h"
+#include "plans/quad_ring.h"
 #include "test_cages.h"
-#include "topology.h"
 
 namespace qp::test {
 

@@ -13,7 +13,7 @@
 
 #include "camera.h"
 #include "plan_pass.h"
-#include "planned_cage.h"
+#include "plans/planned_cage.h"
 #include "vk_context.h"
 
 namespace qp::test {

@@ -15,11 +15,11 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "obj_io.h"
-#include "planned_cage.h"
+#include "mesh/obj_io.h"
+#include "mesh/topology.h"
+#include "plans/planned_cage.h"
 #include "test_cages.h"
 #include "test_support.h"
-#include "topology.h"
 
 namespace qp::test {
 

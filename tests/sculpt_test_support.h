@@ -6,9 +6,9 @@
 
 #include <glm/geometric.hpp>
 
-#include "displacement.h"
-#include "planned_cage.h"
-#include "sculpt_samples.h"
+#include "displacement/displacement.h"
+#include "displacement/sculpt_samples.h"
+#include "plans/planned_cage.h"
 
 namespace qp::test {
 

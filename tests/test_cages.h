@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "cage.h"
+#include "mesh/cage.h"
 
 namespace qp::test {
 

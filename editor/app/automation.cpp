@@ -15,7 +15,7 @@
 #include "actions.h"
 #include "document_objects.h"
 #include "editor_app.h"
-#include "file_io.h"
+#include "mesh/file_io.h"
 #include "playback.h"
 #include "schemes.h"
 #include "tools.h"

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "automation_script.h"
-#include "result.h"
+#include "mesh/result.h"
 
 namespace qp::editor {
 

@@ -9,7 +9,7 @@
 
 #include <GLFW/glfw3.h>
 
-#include "brush.h"
+#include "displacement/brush.h"
 
 namespace qp::editor {
 

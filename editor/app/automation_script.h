@@ -16,9 +16,9 @@
 
 #include <optional>
 
-#include "result.h"
-#include "selection.h"
-#include "topology.h"
+#include "edit/selection.h"
+#include "mesh/result.h"
+#include "mesh/topology.h"
 
 namespace qp::editor {
 

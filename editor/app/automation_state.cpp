@@ -11,11 +11,11 @@
 #include "document_animation.h"
 #include "document_objects.h"
 #include "editor_app.h"
-#include "file_io.h"
+#include "mesh/file_io.h"
 #include "overlays.h"
 #include "playback.h"
 #include "recovery.h"
-#include "scene_names.h"
+#include "scene/scene_names.h"
 #include "tools.h"
 
 namespace qp::editor {

@@ -13,7 +13,7 @@
 #include <string>
 #include <thread>
 
-#include "result.h"
+#include "mesh/result.h"
 
 namespace qp::editor {
 

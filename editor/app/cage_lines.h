@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "line_pass.h"
-#include "topology.h"
+#include "mesh/topology.h"
 
 namespace qp::editor {
 

@@ -1,6 +1,6 @@
 // Screen-space helpers for dragging in a viewport: where a point appears, and the world-space
 // move that keeps a grabbed point under the cursor in the view plane. (Picking itself is the
-// editing core's: core/picking.h, used through tools.h.)
+// editing core's: core/edit/picking.h, used through tools.h.)
 #pragma once
 
 #include <optional>

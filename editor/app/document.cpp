@@ -7,14 +7,14 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "displaced_topology_edit.h"
-#include "displacement_edit.h"
+#include "displacement/displaced_topology_edit.h"
+#include "displacement/displacement_edit.h"
 #include "document_animation.h"
-#include "file_io.h"
 #include "document_objects.h"
-#include "mesh_cage_write.h"
-#include "obj_io.h"
-#include "plan_cache.h"
+#include "mesh/file_io.h"
+#include "mesh/mesh_cage_write.h"
+#include "mesh/obj_io.h"
+#include "plans/plan_cache.h"
 
 namespace qp::editor {
 

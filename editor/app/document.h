@@ -3,8 +3,8 @@
 // function every edit goes through.
 //
 // applyEdit is the single route from any tool, shortcut or automation command to the cage: it
-// builds the edit (topology operations of core/topology_edits.h from the current cage), performs
-// it through the EditHistory (core/edit_history.h: PlannedCage re-plans only the affected faces,
+// builds the edit (topology operations of core/mesh/topology_edits.h from the current cage), performs
+// it through the EditHistory (core/edit/edit_history.h: PlannedCage re-plans only the affected faces,
 // and the entry can be undone), bumps the revisions the renderer and the pickers watch, marks
 // the document dirty, updates the selection and records the report for the stats panel.
 // undoEdit / redoEdit / jumpToHistory go through the same bookkeeping. Indices are 0-based.
@@ -19,14 +19,14 @@
 
 #include <glm/vec3.hpp>
 
-#include "brush.h"
-#include "displacement_edit.h"
-#include "edit_history.h"
-#include "plan_database.h"
-#include "planned_cage.h"
-#include "scene.h"
-#include "sculpt_samples.h"
-#include "selection.h"
+#include "displacement/brush.h"
+#include "displacement/displacement_edit.h"
+#include "displacement/sculpt_samples.h"
+#include "edit/edit_history.h"
+#include "edit/selection.h"
+#include "plans/plan_database.h"
+#include "plans/planned_cage.h"
+#include "scene/scene.h"
 
 namespace qp::editor {
 
@@ -203,7 +203,7 @@ const Displacement& displacementOf(const Document& document);
 Bounds documentBounds(const Document& document);
 
 // Plans the cage of `scene`'s first object (or of the object it instances) into a new document (planning runs in parallel; can take seconds).
-// `planCache`: the persistent plan cache to copy plans from before building any (core/plan_cache.h).
+// `planCache`: the persistent plan cache to copy plans from before building any (core/plans/plan_cache.h).
 Result<std::unique_ptr<Document>> createDocument(Scene scene, const std::string& path, const PlanOptions& options,
                                                  std::shared_ptr<const PlanDatabase> planCache = nullptr);
 // Writes the plans the document built since the last call into the persistent plan cache; the
@@ -253,7 +253,7 @@ void dropHidden(const Document& document, Selection& selection);
 // in `mode` (switching the selection to that mode first, as setSelectionMode does).
 Status selectElements(Document& document, SelectionMode mode, std::span<const uint32_t> elements, SelectOp op);
 Status selectEdges(Document& document, std::span<const EdgeKey> edges, SelectOp op);
-// Converts the selection (Blender's rules, core/selection.h).
+// Converts the selection (Blender's rules, core/edit/selection.h).
 void setSelectionMode(Document& document, SelectionMode mode);
 void clearSelection(Document& document);
 // Phase-1 helpers, kept for scripts: one vertex (add: toggle it), one edge.
@@ -268,7 +268,7 @@ std::vector<EdgeKey> selectedEdges(const Document& document);  // edge mode, or 
 // the whole stroke as ONE history entry (undo per stroke) or cancelStroke restores the samples.
 // A scene without displacement gets a zero one at `newResolution` on the first stroke, in the
 // same history entry as the stroke (undoing it removes both). Strokes reach across faces, creases and extraordinary
-// vertices without seams (core/brush.h); they move no cage vertex and re-plan nothing.
+// vertices without seams (core/displacement/brush.h); they move no cage vertex and re-plan nothing.
 Status beginStroke(Document& document, uint32_t newResolution, uint64_t frame);
 bool strokeActive(const Document& document);
 // Continues the stroke to a point near the limit surface (Sculptor::dabTo: the first call dabs

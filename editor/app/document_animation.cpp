@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "animation_playback.h"
+#include "animation/animation_playback.h"
 #include "document_objects.h"
 
 namespace qp::editor {

@@ -1,6 +1,6 @@
-// Cage animation in the editor's document (issue 22; core/cage_animation.h has the keys): the
+// Cage animation in the editor's document (issue 22; core/animation/cage_animation.h has the keys): the
 // frame shown, going to a frame, and the edits of an animated cage, each one history entry made
-// by core/animation_edits.h.
+// by core/animation/animation_edits.h.
 //
 // Rest positions: each object's scene cage holds them (scene.objects[i].cage.positions), which is
 // what the scene file saves. The cages the document plans (`planned`, otherCages) show the
@@ -9,7 +9,7 @@
 // kept as the rest while it has vertex keys, and taken from the cage as shown when its first keys
 // are set (a cage without keys shows its rest).
 //
-// Going to a frame moves every cage with vertex keys (core/animation_playback.h showFrame: a
+// Going to a frame moves every cage with vertex keys (core/animation/animation_playback.h showFrame: a
 // vertex move, nothing re-planned) and sets every keyed object transform; the revisions the
 // renderer and pickers watch follow. Edits of a cage with keys: a move keys the moved vertices
 // at the current frame (rounded: keys sit on whole frames), a topology edit carries the keys to
@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "animation_edits.h"
+#include "animation/animation_edits.h"
 #include "document.h"
 
 namespace qp::editor {

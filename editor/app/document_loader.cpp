@@ -1,7 +1,7 @@
 #include "document_loader.h"
 
 
-#include "plan_cache.h"
+#include "plans/plan_cache.h"
 #include "recovery.h"
 
 namespace qp::editor {

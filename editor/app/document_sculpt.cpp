@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cassert>
 
-#include "displacement_edit.h"
+#include "displacement/displacement_edit.h"
 #include "document.h"
 #include "document_objects.h"
 
@@ -140,7 +140,7 @@ Result<EditReport> clearDisplacement(Document& doc, uint64_t frame) {
 
 namespace {
 
-// One history entry for a whole-mask operation (invertMask, clearMask of core/brush.h), whose
+// One history entry for a whole-mask operation (invertMask, clearMask of core/displacement/brush.h), whose
 // change is already made: perform() applies the `after` values again, which changes nothing.
 Result<EditReport> recordMaskOperation(Document& doc, const char* name, Result<StrokeRecord> (*operation)(Displacement&),
                                        uint64_t frame) {

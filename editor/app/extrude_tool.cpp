@@ -8,7 +8,7 @@
 #include <imgui.h>
 
 #include "editor_app.h"
-#include "topology_edits.h"
+#include "mesh/topology_edits.h"
 #include "viewport_input.h"
 
 namespace qp::editor {

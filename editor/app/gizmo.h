@@ -5,7 +5,7 @@
 // (testable without a window); gizmo_draw.cpp draws it with Dear ImGui.
 //
 // Drags map the cursor to a transform of the start positions, in the frame's axes (world or
-// local, core/transform.h):
+// local, core/edit/transform.h):
 //   - axis move: the point of the axis nearest the cursor's ray, so the grabbed point stays
 //     under the cursor (falls back to the axis's screen direction when it points at the eye);
 //   - centre move: in the view plane through the pivot;
@@ -23,8 +23,8 @@
 
 #include <glm/glm.hpp>
 
-#include "picking.h"
-#include "transform.h"
+#include "edit/picking.h"
+#include "edit/transform.h"
 
 namespace qp::editor {
 

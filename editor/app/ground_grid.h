@@ -9,9 +9,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "cage.h"
 #include "line_pass.h"
-#include "scene.h"
+#include "mesh/cage.h"
+#include "scene/scene.h"
 
 namespace qp::editor {
 

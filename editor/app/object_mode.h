@@ -12,10 +12,10 @@
 
 #include <glm/vec2.hpp>
 
+#include "edit/picking.h"
+#include "edit/transform.h"
 #include "gizmo.h"
-#include "picking.h"
-#include "scene_objects.h"
-#include "transform.h"
+#include "scene/scene_objects.h"
 
 namespace qp::editor {
 

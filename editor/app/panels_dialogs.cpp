@@ -7,9 +7,9 @@
 #include <imgui.h>
 #include <imgui_stdlib.h>
 
+#include "actions.h"
 #include "editor_app.h"
 #include "panel_widgets.h"
-#include "actions.h"
 #include "panels.h"
 
 namespace qp::editor {

@@ -1,11 +1,11 @@
-// PickCache: the structures picking needs (core/picking.h), kept in step with the document:
+// PickCache: the structures picking needs (core/edit/picking.h), kept in step with the document:
 // the cage raycaster (rebuilt after any change: ~2 ms on 2,000 faces) and the limit-surface
 // picker (built on first use; after vertex moves only the sub-faces whose 1-ring holds a moved
 // vertex are re-sampled, after tag edits only the sub-faces whose plan or rotation changed, found
 // by comparing them with what it was sampled from; after a topology change the kept sub-faces
 // keep their samples and only new ones, re-planned ones and those whose ring moved are sampled,
 // given the change (noteTopologyChange), else it is built again); and the
-// displaced-surface picker the sculpt tool uses (core/displaced_picker.h), kept the same way and
+// displaced-surface picker the sculpt tool uses (core/displacement/displaced_picker.h), kept the same way and
 // also after the samples changed: a dab re-displaces only the sub-faces reading the samples the
 // document listed since (Document::takenSamples and unsyncedSamples, read as a stream), so a
 // painted frame costs what the dab reached, not a pass over every sample.
@@ -15,9 +15,9 @@
 #include <optional>
 #include <vector>
 
-#include "displaced_picker.h"
+#include "displacement/displaced_picker.h"
 #include "document.h"
-#include "picking.h"
+#include "edit/picking.h"
 #include "subface_index.h"
 
 namespace qp::editor {

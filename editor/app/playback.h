@@ -12,7 +12,7 @@
 #include <optional>
 #include <vector>
 
-#include "cage_animation.h"
+#include "animation/cage_animation.h"
 
 namespace qp::editor {
 

@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "file_io.h"
+#include "mesh/file_io.h"
 
 namespace qp::editor {
 

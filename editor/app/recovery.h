@@ -13,8 +13,8 @@
 #include <optional>
 #include <string>
 
-#include "result.h"
-#include "scene.h"
+#include "mesh/result.h"
+#include "scene/scene.h"
 
 namespace qp::editor {
 

@@ -6,11 +6,11 @@
 
 #include <tbb/task_group.h>
 
-#include "face_config.h"
+#include "edit/transform.h"
 #include "ground_grid.h"
+#include "plans/face_config.h"
 #include "scheme_host.h"
 #include "surface_error.h"
-#include "transform.h"
 #include "vk_check.h"
 
 namespace qp::editor {

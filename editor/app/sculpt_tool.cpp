@@ -6,8 +6,8 @@
 
 #include <imgui.h>
 
+#include "displacement/sculpt_samples.h"
 #include "editor_app.h"
-#include "sculpt_samples.h"
 
 namespace qp::editor {
 

@@ -1,5 +1,5 @@
 // The sculpt tool (B): a left drag over the displaced surface paints with the brush of
-// ToolSettings::sculpt (core/brush.h: raise, lower, smooth, flatten, erase, inflate, crease,
+// ToolSettings::sculpt (core/displacement/brush.h: raise, lower, smooth, flatten, erase, inflate, crease,
 // mask, unmask; radius, strength, falloff, mirror). Ctrl swaps raise and lower, mask and
 // unmask, Shift smooths, for the stroke they start. One stroke is one undo entry; a right click or Esc during the stroke puts the samples
 // back. Strokes follow the displaced surface under the cursor, the one the user sees: the pick,
@@ -12,7 +12,7 @@
 
 #include <glm/glm.hpp>
 
-#include "brush.h"
+#include "displacement/brush.h"
 
 namespace qp::editor {
 
@@ -29,7 +29,7 @@ struct SculptSettings {
 };
 
 // The DISPLACED surface under a cursor (framebuffer pixels): the exact limit surface moved by
-// the displacement, s + D N (core/displaced_picker.h), with its unit normal normalize(f_u x f_v)
+// the displacement, s + D N (core/displacement/displaced_picker.h), with its unit normal normalize(f_u x f_v)
 // there: where dabs act and the brush circle lies. `limit` is the undisplaced point s.
 struct SurfaceHit {
     glm::vec3 position{0.0f}, normal{0.0f, 0.0f, 1.0f}, limit{0.0f};

@@ -7,7 +7,7 @@
 #include <span>
 #include <vector>
 
-#include "planned_cage.h"
+#include "plans/planned_cage.h"
 
 namespace qp::editor {
 

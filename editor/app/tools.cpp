@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "edge_loops.h"
+#include "edit/edge_loops.h"
 #include "editor_app.h"
 #include "scheme_support.h"
 

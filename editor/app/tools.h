@@ -11,8 +11,8 @@
 
 #include <glm/glm.hpp>
 
-#include "selection.h"
-#include "transform.h"
+#include "edit/selection.h"
+#include "edit/transform.h"
 
 namespace qp::editor {
 

@@ -8,8 +8,8 @@
 #include <glm/glm.hpp>
 
 #include "camera.h"
-#include "cage.h"
-#include "scene.h"
+#include "mesh/cage.h"
+#include "scene/scene.h"
 
 namespace qp::editor {
 

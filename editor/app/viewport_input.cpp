@@ -12,10 +12,10 @@
 #include "actions.h"
 #include "cage_pick.h"
 #include "document_objects.h"
+#include "editor_app.h"
 #include "extrude_tool.h"
 #include "object_mode.h"
 #include "sculpt_tool.h"
-#include "editor_app.h"
 #include "tools.h"
 
 namespace qp::editor {

@@ -36,9 +36,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "cage.h"
-#include "quad_patch_source.h"
-#include "result.h"
+#include "mesh/cage.h"
+#include "mesh/result.h"
+#include "plans/quad_patch_source.h"
 
 namespace qp {
 

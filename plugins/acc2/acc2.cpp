@@ -4,7 +4,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "patch_basis.h"
+#include "plans/patch_basis.h"
 
 namespace qp {
 

@@ -21,7 +21,7 @@
 // of ACC-1's edge points (TangentRule::AccEdgeMode) rather than exact limit tangents.
 // Interior point on a boundary edge (no neighbour, no G1 condition): the ACC-1 interior point
 // (n v + 2 e_i + 2 e_{i+1} + d_i) / (n + 5) (exact for regular boundary patches).
-// Evaluation: the rational interior blend and Bezier evaluation of core/patch_basis.h
+// Evaluation: the rational interior blend and Bezier evaluation of core/plans/patch_basis.h
 // (gregoryWeights); derivatives and normal as Acc2Settings::surfaceDerivatives says.
 //
 // Non-quad cages are refined once first (refine_once.h); a quad's (u, v) then lands on one of
@@ -34,9 +34,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "cage.h"
-#include "quad_patch_source.h"
-#include "result.h"
+#include "mesh/cage.h"
+#include "mesh/result.h"
+#include "plans/quad_patch_source.h"
 
 namespace qp {
 
@@ -64,7 +64,7 @@ struct Acc2Stats {
 struct Acc2Patches {
     static constexpr uint32_t kControlPointsPerPatch = 20;
     // 20 per patch, OpenSubdiv's GREGORY_BASIS order: corner k = 0..3 at (0,0), (1,0), (1,1),
-    // (0,1) owns P, Ep, Em, Fp, Fm at 5k .. 5k+4 (see gregoryWeights in core/patch_basis.h).
+    // (0,1) owns P, Ep, Em, Fp, Fm at 5k .. 5k+4 (see gregoryWeights in core/plans/patch_basis.h).
     std::vector<glm::vec3> controlPoints;
     QuadPatchSource source;  // the quad cage, sub-face map and patch <-> face tables
     Acc2Settings settings;

@@ -1,6 +1,6 @@
 #version 450
 // ACC-2: evaluates one bicubic Gregory patch (Loop, Schaefer, Ni, Castano 2009) at the
-// tessellation coordinate, as evaluateAcc2Patch does on the CPU (acc2.h, core/patch_basis.h):
+// tessellation coordinate, as evaluateAcc2Patch does on the CPU (acc2.h, core/plans/patch_basis.h):
 // each interior Bezier point is the rational blend of its corner's two face points,
 // (s Fp + t Fm) / (s + t) with s, t the distances to the corner's two edges (1/2 each at the
 // corner itself, where the blend is 0/0), then the patch is a bicubic Bezier patch, and du, dv

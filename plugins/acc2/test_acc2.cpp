@@ -5,7 +5,7 @@
 
 #include "acc1.h"
 #include "acc2.h"
-#include "limit_reference.h"
+#include "plans/limit_reference.h"
 #include "scheme_test_support.h"
 #include "test_cages.h"
 

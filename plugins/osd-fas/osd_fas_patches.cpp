@@ -10,8 +10,8 @@
 
 #include <glm/geometric.hpp>
 
-#include "osd_refiner.h"
-#include "patch_basis.h"
+#include "plans/osd_refiner.h"
+#include "plans/patch_basis.h"
 
 namespace qp {
 
@@ -22,7 +22,7 @@ namespace {
 // Basis of a single-crease patch: Far marks the crease edge with its PatchParam boundary bit
 // (edge 0: v=0, 1: u=1, 2: v=1, 3: u=0) and gives the sharpness separately; EvaluateBasis would
 // treat that edge as a boundary (an infinitely sharp crease). Along the crease the cubic
-// B-spline, across it the semi-sharp crease basis of core/patch_basis.h, which is exact for the
+// B-spline, across it the semi-sharp crease basis of core/plans/patch_basis.h, which is exact for the
 // uniform crease rule, fractional sharpness included.
 void singleCreaseBasis(const Far::PatchParam& param, float sharpness, float u, float v, float w[16], float wu[16],
                        float wv[16]) {
@@ -43,7 +43,7 @@ void singleCreaseBasis(const Far::PatchParam& param, float sharpness, float u, f
 // Summed in double relative to the patch's first control point: deep patches' derivatives are
 // differences of points 2^-depth of a face apart times 2^depth, which float in the model's
 // absolute coordinates cannot hold (the plans keep their control points relative for the same
-// reason, core/planned_cage.h).
+// reason, core/plans/planned_cage.h).
 FasSample evaluatePatch(const FasPatches& patches, const Far::PatchTable::PatchHandle& handle, float u, float v) {
     double w[20], wu[20], wv[20];
     const Far::PatchParam param = patches.table->GetPatchParam(handle);
@@ -68,7 +68,7 @@ FasSample evaluatePatch(const FasPatches& patches, const Far::PatchTable::PatchH
     }
     FasSample s{glm::vec3(origin + position), glm::vec3(du), glm::vec3(dv)};
     // EvaluateBasis differentiates an n-gon's sub-face in the parent's parameterisation, where
-    // it spans 1/2 (core/limit_reference.cpp): back to the sub-face's own frame.
+    // it spans 1/2 (core/plans/limit_reference.cpp): back to the sub-face's own frame.
     if (param.NonQuadRoot()) {
         s.du *= 0.5f;
         s.dv *= 0.5f;

@@ -6,7 +6,7 @@
 // surface is regular, single-crease patches where a regular face has one semi-sharp crease
 // (as OpenSubdiv's GPU path uses them), Gregory-basis end caps at the deepest level. Far's own
 // EvaluateBasis ignores a single-crease patch's sharpness (platform notes), so those are
-// evaluated with the crease basis of core/patch_basis.h, which is exact for the uniform crease
+// evaluated with the crease basis of core/plans/patch_basis.h, which is exact for the uniform crease
 // rule: the patches stay within the plans' accuracy while semi-sharp creases cost no isolation.
 //
 // Tessellation, as OpenSubdiv's uniform tessellation does it: a patch at depth d gets
@@ -35,8 +35,8 @@
 #include <opensubdiv/far/patchTable.h>
 #include <opensubdiv/far/stencilTable.h>
 
-#include "cage.h"
-#include "result.h"
+#include "mesh/cage.h"
+#include "mesh/result.h"
 
 namespace qp {
 

@@ -29,9 +29,9 @@
 
 #include <glm/vec3.hpp>
 
-#include "closed_surface.h"
 #include "displaced_drawing.h"
 #include "draw_path.h"
+#include "mesh/closed_surface.h"
 #include "mesh_pass.h"
 #include "module_shader_code.h"
 #include "osd_fas_gpu.h"

@@ -2,12 +2,12 @@
 //
 // The scheme is the reference itself: its CPU evaluation is PlannedCage::evaluate, so its error
 // in `quadplan compare` is zero by construction; the GPU evaluation behind its pictures is
-// checked against the CPU one in tests/test_render_plans.cpp. It draws every cage the plans
+// checked against the CPU one in tests/render/test_render_plans.cpp. It draws every cage the plans
 // accept (creases of any sharpness, corners, boundaries, holes, non-quads, non-manifold).
 //
 // Options: path=auto|tess|grid|cpu, the renderer's paths (render/draw_path.h: auto is cpu on a
 // CPU device, tess on a GPU). Culling (DrawView::cull) is per sub-face and frame
-// (core/subface_cull_bounds.h: conservative; back-patch tests only on closed, outward cages seen
+// (core/culling/subface_cull_bounds.h: conservative; back-patch tests only on closed, outward cages seen
 // from outside, and only the frustum with a displacement; culled sub-faces are left out as
 // hidden ones are, on every path). The grid paths keep their evaluated grid between frames, so a
 // frame whose camera moved but whose cage did not only draws, and after updateMoved (the
@@ -38,15 +38,15 @@
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
 
+#include "culling/subface_cull_bounds.h"
 #include "draw_path.h"
+#include "mesh/closed_surface.h"
 #include "plan_pass.h"
 #include "plan_update.h"
-#include "vk_commands.h"
 #include "scheme_api.h"
-#include "closed_surface.h"
 #include "scheme_culling.h"
 #include "scheme_support.h"
-#include "subface_cull_bounds.h"
+#include "vk_commands.h"
 
 namespace qp {
 namespace {

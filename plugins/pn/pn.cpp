@@ -6,7 +6,7 @@
 
 #include <glm/geometric.hpp>
 
-#include "face_config.h"
+#include "plans/face_config.h"
 
 namespace qp {
 

@@ -35,8 +35,8 @@
 
 #include <glm/vec3.hpp>
 
-#include "cage.h"
-#include "result.h"
+#include "mesh/cage.h"
+#include "mesh/result.h"
 
 namespace qp {
 

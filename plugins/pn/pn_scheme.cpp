@@ -14,8 +14,8 @@
 // control points' differences in its direction, so Sederberg and Meyers' rule bounds them (the
 // geometry's own normals decide what shows; PN's normal patch only shades). That cone serves
 // tcone, ncone and pplane alike. Back-patch tests only on a closed, outward cage.
-#include "closed_surface.h"
 #include "grid_drawing.h"
+#include "mesh/closed_surface.h"
 #include "module_shader_code.h"
 #include "pn.h"
 #include "scheme_api.h"

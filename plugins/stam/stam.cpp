@@ -25,7 +25,7 @@ void bspline(double t, double b[4], double d[4]) {
 }
 
 // (s, t) of a face in the frame whose origin is corner `rotation` (u towards the next corner),
-// and derivatives back (as core/planned_cage.cpp does for plans).
+// and derivatives back (as core/plans/planned_cage.cpp does for plans).
 void toCornerFrame(uint32_t rotation, double s, double t, double& x, double& y) {
     switch (rotation) {
     case 1: x = t; y = 1.0 - s; break;

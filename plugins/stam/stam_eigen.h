@@ -11,7 +11,7 @@
 // One subdivision step maps them to the same 2n+8 points around the child of v (matrix A,
 // (2n+8)^2) and to the three regular B-spline patches of the child level that cover the patch
 // minus its corner quarter (sub-patch 1: u >= 1/2, v < 1/2; 2: both >= 1/2; 3: u < 1/2, v >= 1/2),
-// 16 points each in core/patch_basis.h's order (matrices P_k A-bar, 16 x (2n+8)).
+// 16 points each in core/plans/patch_basis.h's order (matrices P_k A-bar, 16 x (2n+8)).
 // Both are computed, not typed in: one Catmull-Clark step on a small template mesh of the
 // 2n+8 points (the n faces around v and the 5 regular faces beyond).
 //

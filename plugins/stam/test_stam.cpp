@@ -4,7 +4,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "limit_reference.h"
+#include "plans/limit_reference.h"
 #include "scheme_test_support.h"
 #include "stam.h"
 #include "stam_eigen.h"

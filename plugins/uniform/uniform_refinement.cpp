@@ -7,8 +7,8 @@
 #include <opensubdiv/far/topologyRefiner.h>
 #include <tbb/parallel_for.h>
 
-#include "local_cage.h"
-#include "osd_refiner.h"
+#include "mesh/local_cage.h"
+#include "plans/osd_refiner.h"
 
 namespace qp {
 

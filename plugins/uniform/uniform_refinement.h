@@ -29,8 +29,8 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
-#include "planned_cage.h"
-#include "result.h"
+#include "mesh/result.h"
+#include "plans/planned_cage.h"
 
 namespace qp {
 

@@ -27,8 +27,8 @@
 #include <cmath>
 #include <string>
 
-#include "closed_surface.h"
 #include "displaced_drawing.h"
+#include "mesh/closed_surface.h"
 #include "mesh_pass.h"
 #include "scheme_api.h"
 #include "scheme_culling.h"

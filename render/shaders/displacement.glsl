@@ -1,4 +1,4 @@
-// Sculpted displacement on the GPU: the GLSL twin of core/displacement.cpp's
+// Sculpted displacement on the GPU: the GLSL twin of core/displacement/displacement.cpp's
 // evaluateDisplacement and displacePoint (docs/displacement.md; keep them in step). The three
 // buffers are DisplacementLayout's tiles and padded blocks and Displacement::samples: per
 // sub-face a bi-quadratic uniform B-spline over n x n cells whose (n + 2)^2 coefficients are

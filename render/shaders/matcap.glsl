@@ -1,4 +1,4 @@
-// The "matcap" shading (core/shading.h): a procedural clay material looked up by the view-space
+// The "matcap" shading (core/scene/shading.h): a procedural clay material looked up by the view-space
 // normal (x right, y up, z toward the viewer), so its light turns with the camera and every
 // side of the model reads the same. No texture: a key light from the upper left, a sky/ground
 // wrap, a rim at the silhouette and a soft highlight.

@@ -1,5 +1,5 @@
 // Patch bases shared by the GPU evaluators: the plans' (plan_eval.glsl) and osd-fas's
-// tessellation stages (plugins/osd-fas). The GLSL twin of core/patch_basis.cpp; keep them in step.
+// tessellation stages (plugins/osd-fas). The GLSL twin of core/plans/patch_basis.cpp; keep them in step.
 //
 // Boundary folding and semi-sharp creases change only the 1D basis across the edge they sit
 // on (every rule is a tensor product on a regular patch), so they are applied to the 1D
@@ -27,7 +27,7 @@ void bernsteinBasis(float x, out vec4 b, out vec4 d) {
 }
 
 // 1D basis across a semi-sharp crease through point 1 (point 0 beyond it); see
-// core/patch_basis.h for the derivation.
+// core/plans/patch_basis.h for the derivation.
 void creaseBasis(float x, float sharpness, out vec4 b, out vec4 d) {
     vec4 bx, dx;
     bsplineBasis(x, bx, dx);

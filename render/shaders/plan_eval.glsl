@@ -1,5 +1,5 @@
-// Evaluation of subdivision plans on the GPU: the same algorithm as core/plan_eval.cpp and
-// core/patch_basis.cpp, over the flat arrays of render/gpu_plans.h (keep the three in step).
+// Evaluation of subdivision plans on the GPU: the same algorithm as core/plans/plan_eval.cpp and
+// core/plans/patch_basis.cpp, over the flat arrays of render/gpu_plans.h (keep the three in step).
 //
 // The bases themselves are in patch_basis.glsl.
 #include "patch_basis.glsl"
@@ -93,7 +93,7 @@ LimitSample gregoryPatch(uint pointBase, uint cpBase, float u, float v) {
 }
 
 // Descent to the leaf holding (u, v) in the plan's frame; on a split line take the side towards
-// the face centre (matches the stencils' level assignment, core/plan_builder.cpp). Returns the
+// the face centre (matches the stencils' level assignment, core/plans/plan_builder.cpp). Returns the
 // leaf and its domain's origin and size; bounded by the deepest possible plan, so damaged data
 // cannot hang the device.
 struct Leaf {
@@ -226,7 +226,7 @@ LimitSample evaluatePlan(uint plan, uint cpBase, vec2 uv) {
 }
 
 // A sub-face's control points are relative to its origin, its first 1-ring vertex, as on the
-// CPU (core/planned_cage.h): deep derivatives keep float's precision of the face's size.
+// CPU (core/plans/planned_cage.h): deep derivatives keep float's precision of the face's size.
 vec3 subfaceOrigin(uint drawn) {
     uint vtx = rings[subfaces[drawn].ringOffset];
     return vec3(positions[3u * vtx], positions[3u * vtx + 1u], positions[3u * vtx + 2u]);

@@ -1,4 +1,4 @@
-// libFuzzer target: the PLY, OFF, STL and OM cage readers (core/mesh_import.h, OpenMesh's parsers
+// libFuzzer target: the PLY, OFF, STL and OM cage readers (core/mesh/mesh_import.h, OpenMesh's parsers
 // into Quadplan's importers) on arbitrary bytes. The input is written to a scratch file whose
 // extension follows its first bytes ("ply" -> .ply, "OFF" -> .off, "OM" -> .om, anything else ->
 // .stl, where binary STL takes any bytes). Whatever loads must be a valid cage the product can build topology for.
@@ -11,8 +11,8 @@
 
 #include <unistd.h>
 
-#include "mesh_import.h"
-#include "topology.h"
+#include "mesh/mesh_import.h"
+#include "mesh/topology.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string_view bytes(reinterpret_cast<const char*>(data), size);

@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "obj_io.h"
-#include "topology.h"
+#include "mesh/obj_io.h"
+#include "mesh/topology.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -7,8 +7,8 @@
 #include <cstring>
 #include <string>
 
-#include "obj_io.h"
-#include "planned_cage.h"
+#include "mesh/obj_io.h"
+#include "plans/planned_cage.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// libFuzzer target: the scripted-stroke readers (core/sculpt_script.h) — the stroke-file JSON
+// libFuzzer target: the scripted-stroke readers (core/displacement/sculpt_script.h) — the stroke-file JSON
 // and the `--path "x,y,z;..."` text — on arbitrary input. Whatever they accept must be usable:
 // a stroke has finite points, a positive radius, a finite strength and spacing, and no more
 // dabs than kMaxDabsPerStroke (a stroke with billions of dabs ran for hours before that check);
@@ -9,7 +9,7 @@
 #include <cstdlib>
 #include <string_view>
 
-#include "sculpt_script.h"
+#include "displacement/sculpt_script.h"
 
 namespace {
 

@@ -450,7 +450,7 @@ def test_plan_database_follows_the_cage_not_the_session():
     assert_matches_rebuild(scene)
 
 
-# ---- the persistent plan cache (core/plan_cache.h) -----------------------------------------
+# ---- the persistent plan cache (core/plans/plan_cache.h) -----------------------------------------
 
 def test_a_second_opening_plans_from_the_persistent_cache(tmp_path):
     """Two interpreters in turn, each with the cache at a file of its own (the tests run with

@@ -10,10 +10,10 @@
 
 #include <glm/glm.hpp>
 
-#include "cage_animation.h"
+#include "animation/cage_animation.h"
 #include "editor_process.h"
 #include "render_test_support.h"
-#include "scene.h"
+#include "scene/scene.h"
 #include "test_cages.h"
 
 using namespace qp;

@@ -12,10 +12,10 @@
 #include <glm/geometric.hpp>
 
 #include "editor_process.h"
-#include "generated_cage.h"
-#include "obj_io.h"
+#include "mesh/generated_cage.h"
+#include "mesh/obj_io.h"
 #include "render_test_support.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG

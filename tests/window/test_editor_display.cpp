@@ -18,9 +18,9 @@
 #include <glm/glm.hpp>
 
 #include "editor_process.h"
+#include "mesh/obj_io.h"
 #include "render_test_support.h"
-#include "scene.h"
-#include "obj_io.h"
+#include "scene/scene.h"
 #include "test_cages.h"
 
 

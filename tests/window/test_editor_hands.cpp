@@ -12,12 +12,12 @@
 
 #include <glm/geometric.hpp>
 
-#include "edge_loops.h"
+#include "edit/edge_loops.h"
 #include "editor_process.h"
-#include "obj_io.h"
+#include "mesh/obj_io.h"
+#include "mesh/topology.h"
 #include "render_test_support.h"
 #include "test_cages.h"
-#include "topology.h"
 
 using namespace qp;
 using namespace qp::test;

@@ -10,9 +10,9 @@
 #include <glm/glm.hpp>
 
 #include "editor_process.h"
-#include "obj_io.h"
+#include "mesh/obj_io.h"
 #include "render_test_support.h"
-#include "scene.h"
+#include "scene/scene.h"
 #include "test_cages.h"
 
 using namespace qp;

@@ -7,10 +7,10 @@
 
 #include <glm/geometric.hpp>
 
-#include "displaced_picker.h"
+#include "displacement/displaced_picker.h"
 #include "editor_process.h"
 #include "render_test_support.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 using namespace qp;
 using namespace qp::test;

@@ -10,10 +10,10 @@
 #include <sys/mount.h>
 
 #include "editor_process.h"
-#include "file_io.h"
-#include "generated_cage.h"
+#include "mesh/file_io.h"
+#include "mesh/generated_cage.h"
 #include "render_test_support.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 using namespace qp;
 using namespace qp::test;

@@ -1,0 +1,338 @@
+#include "culling/patch_cull_set.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace qp {
+
+namespace {
+
+void grow(CullBox& box, const CullBox& other) {
+    box.lo = glm::min(box.lo, other.lo);
+    box.hi = glm::max(box.hi, other.hi);
+}
+
+// The cone holding several cones (each axis within its half-angle).
+NormalCone unionOf(std::span<const NormalCone> cones) {
+    NormalCone out;
+    glm::vec3 sum(0.0f);
+    for (const NormalCone& c : cones) {
+        if (!c.bounded) return out;
+        sum += c.axis;
+    }
+    const float length = glm::length(sum);
+    if (cones.empty() || !(length > 1e-6f)) return out;
+    out.axis = sum / length;
+    float widest = 0.0f;
+    for (const NormalCone& c : cones)
+        widest = std::max(widest, std::atan2(glm::length(glm::cross(out.axis, c.axis)), glm::dot(out.axis, c.axis)) + c.halfAngle);
+    out.halfAngle = widest;
+    out.bounded = widest < 0.5f * 3.14159265f;
+    return out;
+}
+
+// With its interior points F_k(u, v), blends of Fp_k and Fm_k, a Gregory patch has
+// B_u = D_u + e_u:
+//   D_u, the Bézier net's u-derivative with the interior points held, 3 sum B2_i(u) B3_j(v) times
+//       the net's u-differences, each interior point anywhere on [Fm_k, Fp_k] (so a positive
+//       combination of the differences taken with either end): within the cone (a, alpha) of
+//       those, and D_u . a >= m = 3 min(difference . a) (the weights sum to 1);
+//   e_u = sum_k (d/du of the blend weight) B(interior point k) (Fp_k - Fm_k), each factor at most
+//       4/3 in size (gregoryWeights: e.g. corner 0, v / (u + v)^2 * 9 u (1 - u)^2 v (1 - v)^2 <=
+//       9 u (1 - u)^2 <= 4/3), so |e_u| <= E = 4/3 sum_k |Fp_k - Fm_k|.
+// B_u then lies within alpha + asin(E / m) of a (when E < m); B_v likewise; Sederberg and
+// Meyers' rule gives the normal cone. The patch has no polynomial normal patch: its ncone is
+// that cone, and pplane tests the leaf with it.
+NormalCone gregoryTangentCone(std::span<const glm::vec3> differences, float perturbation) {
+    NormalCone cone = coneOfVectors(differences);
+    if (!cone.bounded) return cone;
+    float least = INFINITY;
+    for (const glm::vec3& d : differences) least = std::min(least, 3.0f * glm::dot(d, cone.axis));
+    if (!(perturbation < least)) return NormalCone{};
+    cone.halfAngle += std::asin(perturbation / least);
+    cone.bounded = cone.halfAngle < 0.5f * 3.14159265f;
+    return cone;
+}
+
+}  // namespace
+
+std::optional<CullMethod> parseCullMethod(std::string_view name) {
+    for (CullMethod m : {CullMethod::None, CullMethod::Frustum, CullMethod::TCone, CullMethod::NCone, CullMethod::PPlane})
+        if (name == cullMethodName(m)) return m;
+    return std::nullopt;
+}
+
+const char* cullMethodName(CullMethod method) {
+    switch (method) {
+    case CullMethod::None: return "none";
+    case CullMethod::Frustum: return "frustum";
+    case CullMethod::TCone: return "tcone";
+    case CullMethod::NCone: return "ncone";
+    case CullMethod::PPlane: return "pplane";
+    }
+    return "?";
+}
+
+glm::vec4 homogeneousEye(const glm::mat4& m, const glm::vec3& eyePoint) {
+    const glm::vec4 lastRow(m[0][3], m[1][3], m[2][3], m[3][3]);
+    if (lastRow.x != 0.0f || lastRow.y != 0.0f || lastRow.z != 0.0f) return glm::vec4(eyePoint, 1.0f);
+    // Orthographic: depth grows away from the viewer along row 2.
+    return glm::vec4(-glm::normalize(glm::vec3(m[0][2], m[1][2], m[2][2])), 0.0f);
+}
+
+NormalCone gregoryNormalCone(const std::array<glm::vec3, 20>& g) {
+    // The Bézier net, each interior point as its two ends: net(i, j) -> {a, b}.
+    std::array<std::array<glm::vec3, 2>, 16> net;
+    auto set = [&](int i, int j, const glm::vec3& a, const glm::vec3& b) { net[4 * j + i] = {a, b}; };
+    // Corner k's P, Ep, Em and interior point in the net (patch_basis.h).
+    const int corner[4][4][2] = {{{0, 0}, {1, 0}, {0, 1}, {1, 1}}, {{3, 0}, {3, 1}, {2, 0}, {2, 1}},
+                                 {{3, 3}, {2, 3}, {3, 2}, {2, 2}}, {{0, 3}, {0, 2}, {1, 3}, {1, 2}}};
+    float spread = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+        for (int q = 0; q < 3; ++q) set(corner[k][q][0], corner[k][q][1], g[5 * k + q], g[5 * k + q]);
+        set(corner[k][3][0], corner[k][3][1], g[5 * k + 3], g[5 * k + 4]);
+        spread += glm::length(g[5 * k + 3] - g[5 * k + 4]);
+    }
+    std::vector<glm::vec3> alongU, alongV;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 3; ++i)
+            for (const glm::vec3& a : net[4 * j + i + 1])
+                for (const glm::vec3& b : net[4 * j + i]) alongU.push_back(a - b);
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 3; ++j)
+            for (const glm::vec3& a : net[4 * (j + 1) + i])
+                for (const glm::vec3& b : net[4 * j + i]) alongV.push_back(a - b);
+    const float perturbation = 4.0f / 3.0f * spread;
+    return normalConeOfTangents(gregoryTangentCone(alongU, perturbation), gregoryTangentCone(alongV, perturbation));
+}
+
+void addBezierLeaf(PatchCullLeaves& out, const BicubicPoints& bezier, bool reversed) {
+    grow(out.box, boxOf(bezier));
+    if (out.detail < CullMethod::TCone) return;
+    NormalCone t = tangentCone(bezier);
+    if (reversed) t.axis = -t.axis;
+    out.tcones.push_back(t);
+    if (out.detail < CullMethod::NCone) return;
+    NormalCone n = normalPatchCone(bezier);
+    if (reversed) n.axis = -n.axis;
+    out.ncones.push_back(n);
+    if (out.detail < CullMethod::PPlane) return;
+    TangentPlanes planes = tangentPlanesOf(bezier);
+    if (reversed)
+        for (glm::vec4& p : planes) p = -p;
+    out.planes.push_back(planes);
+}
+
+void addGregoryLeaf(PatchCullLeaves& out, const std::array<glm::vec3, 20>& g, bool reversed) {
+    CullBox box{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
+    for (const glm::vec3& p : g) grow(box, CullBox{p, p});
+    grow(out.box, box);
+    if (out.detail < CullMethod::TCone) return;
+    NormalCone cone = gregoryNormalCone(g);
+    if (reversed) cone.axis = -cone.axis;
+    out.tcones.push_back(cone);
+    if (out.detail >= CullMethod::NCone) out.ncones.push_back(cone);
+    if (out.detail >= CullMethod::PPlane) out.gregories.push_back({cone, box});
+}
+
+void addConelessBox(PatchCullLeaves& out, const CullBox& box) {
+    grow(out.box, box);
+    out.coneless = true;
+}
+
+void addCubicTriangleLeaf(PatchCullLeaves& out, const CubicTrianglePoints& points) {
+    grow(out.box, boxOf(points));
+    if (out.detail < CullMethod::TCone) return;
+    const NormalCone cone = cubicTriangleNormalCone(points);
+    out.tcones.push_back(cone);
+    if (out.detail >= CullMethod::NCone) out.ncones.push_back(cone);
+}
+
+void addFlatTriangle(PatchCullLeaves& out, const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) {
+    grow(out.box, boxOf(std::array<glm::vec3, 3>{a, b, c}));
+    if (out.detail < CullMethod::TCone) return;
+    // In double: a thin triangle's normal is a difference of nearly equal products.
+    const glm::dvec3 normal = glm::cross(glm::dvec3(b) - glm::dvec3(a), glm::dvec3(c) - glm::dvec3(a));
+    const double length = glm::length(normal);
+    if (!(length > 0.0)) {
+        out.coneless = true;
+        return;
+    }
+    out.tcones.push_back(NormalCone{glm::vec3(normal / length), 0.0f, true});
+    if (out.detail >= CullMethod::NCone) out.ncones.push_back(out.tcones.back());
+    if (out.detail >= CullMethod::PPlane) out.flats.push_back(glm::vec4(glm::vec3(normal), float(glm::dot(normal, glm::dvec3(a)))));
+}
+
+BicubicPoints withPhantoms(BicubicPoints p, uint32_t mask) {
+    auto at = [&](int column, int row) -> glm::vec3& { return p[4 * row + column]; };
+    for (int c = 0; c < 4; ++c) {
+        if (mask & 1) at(c, 0) = 2.0f * at(c, 1) - at(c, 2);
+        if (mask & 4) at(c, 3) = 2.0f * at(c, 2) - at(c, 1);
+    }
+    for (int r = 0; r < 4; ++r) {
+        if (mask & 8) at(0, r) = 2.0f * at(1, r) - at(2, r);
+        if (mask & 2) at(3, r) = 2.0f * at(2, r) - at(1, r);
+    }
+    return p;
+}
+
+void addSemiSharpCreaseLeaf(PatchCullLeaves& out, const BicubicPoints& real, uint32_t boundaryMask, uint32_t creaseBit) {
+    // Sharp surface + c d, c in [0, 1/2], d = real - sharp beyond the crease (zero elsewhere).
+    const BicubicPoints sharp = withPhantoms(real, boundaryMask | creaseBit);
+    const BicubicPoints smooth = withPhantoms(real, boundaryMask);
+    CullBox box = boxOf(bsplineToBezier(sharp));
+    CullBox d{glm::vec3(0.0f), glm::vec3(0.0f)};
+    for (uint32_t k = 0; k < 16; ++k) {
+        const glm::vec3 difference = 0.5f * (smooth[k] - sharp[k]);
+        d.lo = glm::min(d.lo, difference), d.hi = glm::max(d.hi, difference);
+    }
+    box.lo += d.lo;
+    box.hi += d.hi;
+    addConelessBox(out, box);
+}
+
+CullBox PatchCullSet::bounds() const {
+    CullBox all{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
+    for (const CullBox& box : boxes)
+        if (box.lo.x <= box.hi.x) grow(all, box);
+    return all;
+}
+
+void appendAbsentPatch(PatchCullSet& set) {
+    set.boxes.push_back(CullBox{glm::vec3(INFINITY), glm::vec3(-INFINITY)});
+    set.tcones.push_back(NormalCone{});
+    set.ncones.push_back(NormalCone{});
+    set.origins.push_back(glm::vec3(0.0f));
+    set.planeOffsets.push_back(uint32_t(set.planes.size()));
+    set.gregoryOffsets.push_back(uint32_t(set.gregories.size()));
+    set.flatOffsets.push_back(uint32_t(set.flats.size()));
+}
+
+void appendPatch(PatchCullSet& set, const PatchCullLeaves& leaves, const glm::vec3& origin) {
+    appendAbsentPatch(set);
+    if (!(leaves.box.lo.x <= leaves.box.hi.x)) return;
+    const uint32_t entry = set.size() - 1;
+    set.boxes[entry] = CullBox{leaves.box.lo + origin, leaves.box.hi + origin};
+    set.origins[entry] = origin;
+    if (leaves.coneless) return;
+    set.tcones[entry] = unionOf(leaves.tcones);
+    set.ncones[entry] = unionOf(leaves.ncones);
+    set.planes.insert(set.planes.end(), leaves.planes.begin(), leaves.planes.end());
+    set.planeOffsets[entry + 1] = uint32_t(set.planes.size());
+    for (GregoryCullLeaf leaf : leaves.gregories) {
+        leaf.box = CullBox{leaf.box.lo + origin, leaf.box.hi + origin};
+        set.gregories.push_back(leaf);
+    }
+    set.gregoryOffsets[entry + 1] = uint32_t(set.gregories.size());
+    set.flats.insert(set.flats.end(), leaves.flats.begin(), leaves.flats.end());
+    set.flatOffsets[entry + 1] = uint32_t(set.flats.size());
+}
+
+void replacePatches(PatchCullSet& set, std::span<const uint32_t> entries, std::span<const PatchCullLeaves> leaves,
+                    std::span<const glm::vec3> origins) {
+    PatchCullSet out;
+    out.boxes.reserve(set.size()), out.tcones.reserve(set.size()), out.ncones.reserve(set.size());
+    out.origins.reserve(set.size()), out.planeOffsets.reserve(set.size() + 1), out.gregoryOffsets.reserve(set.size() + 1);
+    out.planes.reserve(set.planes.size()), out.gregories.reserve(set.gregories.size());
+    size_t next = 0;
+    for (uint32_t e = 0; e < set.size(); ++e) {
+        if (next < entries.size() && entries[next] == e) {
+            appendPatch(out, leaves[next], origins[next]);
+            ++next;
+            continue;
+        }
+        out.boxes.push_back(set.boxes[e]);
+        out.tcones.push_back(set.tcones[e]);
+        out.ncones.push_back(set.ncones[e]);
+        out.origins.push_back(set.origins[e]);
+        out.planes.insert(out.planes.end(), set.planes.begin() + set.planeOffsets[e], set.planes.begin() + set.planeOffsets[e + 1]);
+        out.planeOffsets.push_back(uint32_t(out.planes.size()));
+        out.gregories.insert(out.gregories.end(), set.gregories.begin() + set.gregoryOffsets[e],
+                             set.gregories.begin() + set.gregoryOffsets[e + 1]);
+        out.gregoryOffsets.push_back(uint32_t(out.gregories.size()));
+        out.flats.insert(out.flats.end(), set.flats.begin() + set.flatOffsets[e], set.flats.begin() + set.flatOffsets[e + 1]);
+        out.flatOffsets.push_back(uint32_t(out.flats.size()));
+    }
+    set = std::move(out);
+}
+
+bool tangentPlanesBackFacing(const PatchCullSet& set, uint32_t entry, const glm::vec4& eye) {
+    const uint32_t first = set.planeOffsets[entry], last = set.planeOffsets[entry + 1];
+    const uint32_t firstGregory = set.gregoryOffsets[entry], lastGregory = set.gregoryOffsets[entry + 1];
+    const uint32_t firstFlat = set.flatOffsets[entry], lastFlat = set.flatOffsets[entry + 1];
+    if (first == last && firstGregory == lastGregory && firstFlat == lastFlat) return false;
+    for (uint32_t k = firstGregory; k < lastGregory; ++k)
+        if (!backFacing(set.gregories[k].cone, set.gregories[k].box, eye)) return false;
+    // The planes are relative to the entry's origin: move the eye there (a direction stays).
+    const glm::vec4 relative(glm::vec3(eye) - eye.w * set.origins[entry], eye.w);
+    // A flat triangle's plane is a one-coefficient tangent-plane function.
+    if (!tangentPlanesBackFacing(std::span<const glm::vec4>(set.flats).subspan(firstFlat, lastFlat - firstFlat), relative))
+        return false;
+    for (uint32_t k = first; k < last; ++k)
+        if (!tangentPlanesBackFacing(set.planes[k], relative)) return false;
+    return true;
+}
+
+std::vector<uint32_t> cullPatches(const PatchCullSet& set, CullMethod method, const glm::mat4& viewProjection,
+                                  const glm::vec4& eye, bool backPatch, std::span<const float> margins,
+                                  CullCounts* counts) {
+    std::vector<uint32_t> culled;
+    CullCounts local;
+    CullCounts& count = counts ? *counts : local;
+    count = CullCounts{};
+    if (method == CullMethod::None) return culled;
+    const CullFrustum frustum = frustumOf(viewProjection);
+    // Back-patch tests need the eye outside the surface (outside the box of every entry), and
+    // the near plane clear of it: where the near plane cuts the surface open, its back side
+    // shows through the cut.
+    // A displaced surface (margins) is tested against the frustum only: the cones bound the
+    // undisplaced surface's normals, and a displacement can turn pieces of it inside out.
+    if (!margins.empty()) backPatch = false;
+    if (backPatch && method >= CullMethod::TCone) {
+        const CullBox all = set.bounds();
+        if (eye.w != 0.0f) {
+            const glm::vec3 e = glm::vec3(eye) / eye.w;
+            backPatch = glm::any(glm::lessThan(e, all.lo)) || glm::any(glm::greaterThan(e, all.hi));
+        }
+        const glm::vec4& nearPlane = frustum.planes[4];
+        for (int corner = 0; corner < 8 && backPatch; ++corner) {
+            const glm::vec3 p(corner & 1 ? all.hi.x : all.lo.x, corner & 2 ? all.hi.y : all.lo.y, corner & 4 ? all.hi.z : all.lo.z);
+            backPatch = glm::dot(glm::vec3(nearPlane), p) + nearPlane.w > 0.0f;
+        }
+    }
+    for (uint32_t s = 0; s < set.size(); ++s) {
+        CullBox box = set.boxes[s];
+        if (!(box.lo.x <= box.hi.x)) continue;
+        ++count.tested;
+        const float margin = margins.empty() ? 0.0f : margins[s];
+        box.lo -= glm::vec3(margin), box.hi += glm::vec3(margin);
+        if (outsideFrustum(frustum, box)) {
+            ++count.frustum;
+            culled.push_back(s);
+            continue;
+        }
+        if (method < CullMethod::TCone) continue;
+        // Entries without any back-patch test (coneless ones have no cone and no leaf tests).
+        const bool testable = set.tcones[s].bounded || set.ncones[s].bounded ||
+                              set.planeOffsets[s] != set.planeOffsets[s + 1] || set.gregoryOffsets[s] != set.gregoryOffsets[s + 1] ||
+                              set.flatOffsets[s] != set.flatOffsets[s + 1];
+        if (!backPatch || !testable) {
+            ++count.frustumOnly;
+            continue;
+        }
+        // Each back-patch method also takes the cheaper ones' answers (all are conservative), so
+        // what tcone culls ncone culls too, and pplane both.
+        bool away = backFacing(set.tcones[s], box, eye);
+        if (!away && method >= CullMethod::NCone) away = backFacing(set.ncones[s], box, eye);
+        if (!away && method == CullMethod::PPlane) away = tangentPlanesBackFacing(set, s, eye);
+        if (away) {
+            ++count.backFacing;
+            culled.push_back(s);
+        }
+    }
+    return culled;
+}
+
+}  // namespace qp

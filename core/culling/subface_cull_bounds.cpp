@@ -1,0 +1,113 @@
+#include "culling/subface_cull_bounds.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include <glm/geometric.hpp>
+#include <tbb/parallel_for.h>
+
+#include "mesh/topology.h"
+#include "plans/plan_database.h"
+
+namespace qp {
+
+namespace {
+
+// The crease edge of a Crease leaf as a boundary bit (the phantom rows are those of an
+// infinitely sharp crease).
+uint32_t creaseBit(uint32_t edge) { return edge == 0 ? 1u : edge == 1 ? 2u : edge == 2 ? 4u : 8u; }
+
+void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, const glm::vec3* control) {
+    const uint32_t* points = &plan.points[node.first];
+    auto gather20 = [&](const uint32_t* from) {
+        std::array<glm::vec3, 20> g;
+        for (uint32_t k = 0; k < 20; ++k) g[k] = control[from[k]];
+        return g;
+    };
+    auto gather16 = [&](auto index) {
+        BicubicPoints p;
+        for (uint32_t k = 0; k < 16; ++k) p[k] = control[index(k)];
+        return p;
+    };
+    switch (node.kind) {
+    case NodeKind::Regular:
+        addBezierLeaf(out, bsplineToBezier(withPhantoms(gather16([&](uint32_t k) { return points[k]; }), node.boundaryMask)),
+                      false);
+        break;
+    case NodeKind::Crease: {
+        const BicubicPoints real = gather16([&](uint32_t k) { return points[k]; });
+        if (node.sharpness >= kInfiniteSharpness)
+            addBezierLeaf(out, bsplineToBezier(withPhantoms(real, node.boundaryMask | creaseBit(node.edge))), false);
+        else
+            addSemiSharpCreaseLeaf(out, real, node.boundaryMask, creaseBit(node.edge));
+        break;
+    }
+    case NodeKind::Terminal: {
+        const bool mirrorU = node.edge == 1 || node.edge == 2, mirrorV = node.edge == 2 || node.edge == 3;
+        // Per level the three regular windows of the 5 x 5 grid, quadrants (1, 0), (0, 1), (1, 1).
+        constexpr uint32_t kQuadrants[3][2] = {{1, 0}, {0, 1}, {1, 1}};
+        for (uint32_t level = 0; level < node.levels; ++level)
+            for (const auto& quadrant : kQuadrants) {
+                const uint32_t qx = quadrant[0], qy = quadrant[1];
+                addBezierLeaf(out, bsplineToBezier(gather16([&](uint32_t k) {
+                                  const uint32_t gx = qx + k % 4, gy = qy + k / 4;
+                                  return points[kTerminalPointsPerLevel * level + gy * 5 + gx - 1];
+                              })),
+                              mirrorU != mirrorV);
+            }
+        // The Gregory patch at the bottom, evaluated in the node's own frame (plan_eval.cpp
+        // un-mirrors its parameters): not reversed.
+        addGregoryLeaf(out, gather20(points + kTerminalPointsPerLevel * node.levels), false);
+        break;
+    }
+    case NodeKind::Extraordinary:
+        addGregoryLeaf(out, gather20(points), false);
+        break;
+    case NodeKind::Internal: break;
+    }
+}
+
+
+// The leaves of `subfaces`, gathered on all cores (a leaf's tangent planes cost some microseconds).
+std::vector<PatchCullLeaves> gatherLeaves(const PlannedCage& planned, std::span<const uint32_t> subfaces, CullMethod detail) {
+    std::vector<PatchCullLeaves> out(subfaces.size());
+    tbb::parallel_for(size_t(0), subfaces.size(), [&](size_t k) {
+        const uint32_t s = subfaces[k];
+        out[k].detail = detail;
+        if (!planned.hasSurface(s)) return;
+        const Plan& plan = planned.database().plan(planned.subfacePlan(s));
+        const std::span<const glm::vec3> control = planned.subfaceControlPoints(s);
+        for (const PlanNode& node : plan.nodes)
+            if (node.kind != NodeKind::Internal) addLeaf(out[k], plan, node, control.data());
+    });
+    return out;
+}
+
+std::vector<glm::vec3> originsOf(const PlannedCage& planned, std::span<const uint32_t> subfaces) {
+    std::vector<glm::vec3> out;
+    out.reserve(subfaces.size());
+    for (uint32_t s : subfaces) out.push_back(planned.hasSurface(s) ? planned.subfaceOrigin(s) : glm::vec3(0.0f));
+    return out;
+}
+
+}  // namespace
+
+PatchCullSet buildSubfaceCullBounds(const PlannedCage& planned, CullMethod detail) {
+    std::vector<uint32_t> all(planned.subfaceCount());
+    std::iota(all.begin(), all.end(), 0u);
+    const std::vector<PatchCullLeaves> leaves = gatherLeaves(planned, all, detail);
+    PatchCullSet out;
+    for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+        if (planned.hasSurface(s)) appendPatch(out, leaves[s], planned.subfaceOrigin(s));
+        else appendAbsentPatch(out);
+    }
+    return out;
+}
+
+void updateSubfaceCullBounds(PatchCullSet& set, const PlannedCage& planned, std::span<const uint32_t> subfaces,
+                             CullMethod detail) {
+    replacePatches(set, subfaces, gatherLeaves(planned, subfaces, detail), originsOf(planned, subfaces));
+}
+
+}  // namespace qp

@@ -1,0 +1,34 @@
+// Culling bounds of a planned cage's sub-faces (issue 20; core/culling/patch_cull_set.h decides per
+// view): per sub-face the box of its limit surface, its tcone and ncone, and the tangent-plane
+// coefficients of its leaves for pplane, from the plan's leaves and control points.
+//
+// Leaves, in the plan's frame (a rotation of the sub-face's: orientation is kept):
+//   Regular        the bicubic B-spline with the phantoms beyond boundary edges made explicit,
+//                  as its Bézier patch: box, both cones, tangent planes.
+//   Crease         infinitely sharp (sharpness >= 10): as Regular with the phantom beyond the
+//                  crease. Semi-sharp: the surface is the infinitely sharp one plus c(v) d(u),
+//                  0 <= c <= 1/2, d the second differences across the crease (patch_basis.h):
+//                  the box grows by [0, 1/2] of d's box; no cone.
+//   Terminal       per level its three regular windows (as Regular, mirrored windows with their
+//                  orientation), and the Gregory patch at the bottom (as Extraordinary).
+//   Extraordinary  Gregory: the box of its 20 points (the patch is a convex blend of them) and a
+//                  cone bounding its true normals (patch_cull_set.h, gregoryNormalCone); it has
+//                  no polynomial normal patch, so its ncone is that cone and pplane tests the
+//                  leaf with it.
+// A sub-face with a semi-sharp crease leaf cannot be back-patch culled: its cones are unbounded
+// and it has no leaf tests.
+#pragma once
+
+#include "culling/patch_cull_set.h"
+#include "plans/planned_cage.h"
+
+namespace qp {
+
+// One entry per sub-face (those without a surface are absent entries), with what methods up to
+// `detail` read (PatchCullLeaves::detail).
+PatchCullSet buildSubfaceCullBounds(const PlannedCage& planned, CullMethod detail = CullMethod::PPlane);
+// Rebuilds the entries of `subfaces` (sorted, unique) after their control points or plans changed.
+void updateSubfaceCullBounds(PatchCullSet& set, const PlannedCage& planned, std::span<const uint32_t> subfaces,
+                             CullMethod detail = CullMethod::PPlane);
+
+}  // namespace qp

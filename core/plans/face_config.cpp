@@ -1,0 +1,183 @@
+#include "plans/face_config.h"
+
+#include <algorithm>
+#include <bit>
+#include <cassert>
+
+namespace qp {
+
+namespace {
+
+constexpr uint32_t kKeyVersion = 1;
+
+// Faces around `vertex`, starting with `face`, rotating across manifold edges: first one way
+// until a boundary (or back at the start), then the other way; faces reached only through
+// non-manifold connections follow in adjacency order.
+void facesAroundVertex(const Cage& cage, const Topology& t, uint32_t vertex, uint32_t face,
+                       std::vector<uint32_t>& out) {
+    out.clear();
+    const uint32_t* all = &t.vertexFaces[t.vertexFaceOffsets[vertex]];
+    const uint32_t count = t.vertexFaceCount(vertex);
+
+    auto positionIn = [&](uint32_t f) {
+        const uint32_t* fv = cage.faceBegin(f);
+        return uint32_t(std::find(fv, fv + cage.faceSize(f), vertex) - fv);
+    };
+    auto otherFace = [&](uint32_t edge, uint32_t f) -> uint32_t {
+        if (edge == UINT32_MAX || t.edgeFaceCount(edge) != 2) return UINT32_MAX;
+        uint32_t f0 = t.edgeFaces[t.edgeFaceOffsets[edge]], f1 = t.edgeFaces[t.edgeFaceOffsets[edge] + 1];
+        return f0 == f ? f1 : f0;
+    };
+    auto walk = [&](bool backwards) {
+        uint32_t f = face;
+        for (uint32_t step = 0; step < count; ++step) {
+            uint32_t n = cage.faceSize(f), i = positionIn(f);
+            uint32_t slot = backwards ? (i + n - 1) % n : i;  // edge (prev, v) or (v, next)
+            uint32_t next = otherFace(t.faceEdges[cage.faceOffsets[f] + slot], f);
+            if (next == UINT32_MAX || next == face || std::find(out.begin(), out.end(), next) != out.end()) return;
+            out.push_back(next);
+            f = next;
+        }
+    };
+    out.push_back(face);
+    walk(true);
+    walk(false);
+    for (uint32_t i = 0; i < count; ++i)
+        if (std::find(out.begin(), out.end(), all[i]) == out.end()) out.push_back(all[i]);
+}
+
+void pushFloat(std::vector<uint32_t>& key, float value) { key.push_back(std::bit_cast<uint32_t>(value)); }
+
+uint32_t optionWord(const SubdivisionOptions& o) {
+    return uint32_t(o.boundary) | uint32_t(o.creaseMethod) << 4 | uint32_t(o.triangleSubdivision) << 8;
+}
+
+// What gathering needs from each corner of the face, computed once for all start corners.
+struct CornerInfo {
+    uint32_t vertex;
+    std::vector<uint32_t> orbit;                    // faces around it, starting at the face
+    std::vector<std::pair<uint32_t, float>> sharp;  // (other end, sharpness) of creased edges at it
+    float cornerSharpness;
+};
+
+void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, std::vector<CornerInfo>& corners) {
+    const uint32_t n = cage.faceSize(face);
+    const uint32_t* fv = cage.faceBegin(face);
+    corners.resize(n);
+    for (uint32_t i = 0; i < n; ++i) {
+        CornerInfo& c = corners[i];
+        c.vertex = fv[i];
+        facesAroundVertex(cage, t, c.vertex, face, c.orbit);
+        c.sharp.clear();
+        if (!cage.creases.empty())
+            for (uint32_t k = t.vertexEdgeOffsets[c.vertex]; k < t.vertexEdgeOffsets[c.vertex + 1]; ++k) {
+                uint32_t e = t.vertexEdges[k], a = t.edgeVertices[2 * e], b = t.edgeVertices[2 * e + 1];
+                float sharpness = cage.edgeSharpness(a, b);
+                if (sharpness > 0.0f) c.sharp.push_back({a + b - c.vertex, sharpness});
+            }
+        c.cornerSharpness = cage.vertexSharpness(c.vertex);
+    }
+}
+
+// Key and ring for one choice of start corner.
+void gatherFromCorner(const Cage& cage, const std::vector<CornerInfo>& corners, uint32_t face, uint32_t start,
+                      const PlanOptions& options, FaceConfig& out) {
+    const uint32_t n = uint32_t(corners.size());
+    std::vector<uint32_t>& ring = out.ring;
+    ring.clear();
+    auto localIndex = [&](uint32_t v) -> uint32_t {
+        for (uint32_t i = 0; i < ring.size(); ++i)
+            if (ring[i] == v) return i;
+        ring.push_back(v);
+        return uint32_t(ring.size() - 1);
+    };
+    for (uint32_t i = 0; i < n; ++i) localIndex(corners[(start + i) % n].vertex);
+
+    std::vector<uint32_t>& key = out.key;
+    key = {kKeyVersion, options.maxDepth, options.useCreaseNodes ? 1u : 0u, optionWord(cage.options), 0, 0};
+    uint32_t faceCount = 0;
+    auto appendFace = [&](uint32_t g, uint32_t from) {
+        const uint32_t m = cage.faceSize(g);
+        const uint32_t* gv = cage.faceBegin(g);
+        const uint32_t offset = uint32_t(std::find(gv, gv + m, from) - gv);
+        key.push_back(m);
+        for (uint32_t j = 0; j < m; ++j) key.push_back(localIndex(gv[(offset + j) % m]));
+        ++faceCount;
+    };
+    appendFace(face, corners[start].vertex);
+    std::vector<uint32_t> added{face};
+    for (uint32_t i = 0; i < n; ++i) {
+        const CornerInfo& c = corners[(start + i) % n];
+        for (uint32_t g : c.orbit) {
+            if (std::find(added.begin(), added.end(), g) != added.end()) continue;
+            added.push_back(g);
+            appendFace(g, c.vertex);
+        }
+    }
+    key[4] = uint32_t(ring.size());
+    key[5] = faceCount;
+
+    // Sharpness of the edges at the face's corners, by local vertex pair.
+    std::vector<std::pair<uint64_t, float>> creases;
+    for (uint32_t i = 0; i < n; ++i) {
+        const CornerInfo& c = corners[(start + i) % n];
+        for (const auto& [other, sharpness] : c.sharp) {
+            uint32_t a = localIndex(c.vertex), b = localIndex(other);
+            creases.push_back({uint64_t(std::min(a, b)) << 32 | std::max(a, b), sharpness});
+        }
+    }
+    std::sort(creases.begin(), creases.end(), [](auto& x, auto& y) { return x.first < y.first; });
+    creases.erase(std::unique(creases.begin(), creases.end(), [](auto& x, auto& y) { return x.first == y.first; }),
+                  creases.end());
+    key.push_back(uint32_t(creases.size()));
+    for (const auto& [pair, sharpness] : creases) {
+        key.push_back(uint32_t(pair >> 32));
+        key.push_back(uint32_t(pair));
+        pushFloat(key, sharpness);
+    }
+
+    uint32_t cornerCount = 0;
+    size_t countAt = key.size();
+    key.push_back(0);
+    for (uint32_t i = 0; i < n; ++i) {
+        float sharpness = corners[(start + i) % n].cornerSharpness;
+        if (sharpness <= 0.0f) continue;
+        key.push_back(i);
+        pushFloat(key, sharpness);
+        ++cornerCount;
+    }
+    key[countAt] = cornerCount;
+    out.rotation = start;
+}
+
+}  // namespace
+
+uint64_t hashKey(const std::vector<uint32_t>& key) {
+    uint64_t h = 1469598103934665603ull;  // FNV-1a over the words
+    for (uint32_t w : key) {
+        h ^= w;
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
+                            const PlanOptions& options) {
+    thread_local std::vector<CornerInfo> corners;
+    gatherCorners(cage, topology, face, corners);
+    FaceConfig best;
+    if (cage.faceSize(face) != 4) {
+        gatherFromCorner(cage, corners, face, subface, options, best);
+        best.rotation = 0;
+    } else {
+        FaceConfig candidate;
+        for (uint32_t start = 0; start < 4; ++start) {
+            gatherFromCorner(cage, corners, face, start, options, start == 0 ? best : candidate);
+            if (start > 0 && candidate.key < best.key) std::swap(best, candidate);
+        }
+    }
+    best.hash = hashKey(best.key);
+    return best;
+}
+
+}  // namespace qp

@@ -1,0 +1,26 @@
+// What planning a cage is expected to cost in memory, so that a cage too large for the machine is
+// refused before anything is allocated, with the estimate in the message (issue 21).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "mesh/cage.h"
+#include "mesh/result.h"
+
+namespace qp {
+
+// Bytes PlannedCage::create is expected to hold at its peak for `cage`: per sub-face (a quad is
+// one, an n-gon n), from the million-face generated cage's measured peak (docs/plan-engine.md (f):
+// 1.77 GiB for 1,078,494 sub-faces), rounded up.
+inline constexpr uint64_t kPlanningBytesPerSubface = 1800;
+uint64_t planningBytesEstimate(const Cage& cage);
+
+// MemAvailable from /proc/meminfo, or 0 when it cannot be read.
+uint64_t availableMemoryBytes();
+
+// An error naming `what`, the estimate and what is available when `needed` is more than
+// `available` (0: unknown, never refused).
+Status checkMemory(uint64_t needed, uint64_t available, const std::string& what);
+
+}  // namespace qp

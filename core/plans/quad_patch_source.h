@@ -1,0 +1,55 @@
+// QuadPatchSource: the all-quad cage a per-quad patching scheme (ACC-1, ACC-2, Stam) builds its
+// patches on, the map from the original cage's (sub-face, u, v) onto it, and the per-vertex
+// data those schemes share (1-rings, limit positions and tangents).
+//
+// The original cage is refined `steps` times with refineOnce (0: used as it is). Patches are
+// made for the faces of the refined cage that have a surface: not holes, and not touching the
+// boundary when the boundary rule is "none".
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "mesh/cage.h"
+#include "mesh/topology.h"
+#include "plans/limit_frame.h"
+#include "plans/quad_ring.h"
+#include "plans/refine_once.h"
+
+namespace qp {
+
+inline constexpr uint32_t kNoPatch = UINT32_MAX;
+
+struct QuadPatchSource {
+    Cage quads;                       // the cage patches are built on: all quads, manifold
+    Topology topology;                // of `quads`
+    std::vector<RefinedCage> steps;   // the refinements applied, first to last (their cages moved out)
+    uint32_t originalSubfaces = 0;    // sub-faces of the original cage
+    std::vector<uint32_t> facePatch;  // per face of `quads`: its patch, or kNoPatch
+    std::vector<uint32_t> patchFace;  // per patch: its face of `quads`
+
+    // Per vertex of `quads` (empty rings for unused vertices): the ring gathered from its first
+    // face, and the limit position and tangents in that ring's order.
+    std::vector<QuadRing> rings;
+    std::vector<VertexLimit> limits;
+
+    // Tags of `quads` that the smooth patch rules cannot honour (boundary edges excluded).
+    uint32_t ignoredCreases = 0, ignoredCorners = 0;
+
+    // Index in rings[vertex] of the face that has `vertex` at its corner `corner`.
+    uint32_t ringFace(uint32_t face, uint32_t corner) const;
+};
+
+// steps = 0, 1 or 2. Fails with a message when OpenSubdiv rejects the cage or the result is not
+// an all-quad manifold cage (e.g. a quad cage with a non-manifold vertex and steps = 0).
+Result<QuadPatchSource> prepareQuadPatchSource(const Cage& cage, uint32_t steps, TangentRule rule,
+                                               const std::string& source);
+
+// Fewest steps that give an all-quad cage: 0 if it is one already, else 1.
+uint32_t stepsToAllQuads(const Cage& cage);
+
+// Where (sub-face, u, v) of the original cage lies on `quads`. `face` may have no patch (holes).
+RefinedLocation locateOnQuads(const QuadPatchSource& source, uint32_t subface, double u, double v);
+
+}  // namespace qp
