@@ -40,17 +40,8 @@ namespace fs = std::filesystem;
 
 struct AnimateArgs {
     std::string path, out, sequence, frames;
-    std::string scheme = "plans";
-    std::string size = "800x600";
-    uint32_t tess = 0;
-    float adaptive = 0.0f;
-    bool wire = false, noCage = false, validate = false, json = false;
-    std::string colorBy = "shading";
-    std::string camera;
-    std::string drawPath;
-    std::vector<std::string> options;
-    std::string pluginDir;
-    uint32_t depth = 6;
+    DrawOptions draw;  // --scheme, --size, --tess, ... (addDrawOptions)
+    bool json = false;
 };
 
 int fail(const std::string& message) {
@@ -120,9 +111,9 @@ std::string frameFile(const std::string& dir, int32_t frame) {
 
 int runAnimate(const AnimateArgs& args) {
     uint32_t width = 0, height = 0;
-    if (!parseSize(args.size, width, height))
-        return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.size + "'");
-    if (args.tess > 0 && args.adaptive > 0.0f) return fail("give either --tess or --adaptive, not both");
+    if (!parseSize(args.draw.size, width, height))
+        return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.draw.size + "'");
+    if (args.draw.tess > 0 && args.draw.adaptive > 0.0f) return fail("give either --tess or --adaptive, not both");
     std::optional<std::pair<int32_t, int32_t>> frameRange;
     if (!args.frames.empty()) {
         Result<std::pair<int32_t, int32_t>> parsed = parseFrames(args.frames);
@@ -132,15 +123,13 @@ int runAnimate(const AnimateArgs& args) {
     if (fs::exists(args.out) && !fs::is_directory(args.out))
         return fail("--out " + args.out + " is a file; give the folder to write the frames into");
 
-    Result<SchemeSettings> parsedSettings = schemeSettingsOf(args.depth, args.drawPath, args.options);
-    if (!parsedSettings) return fail(parsedSettings.error().message);
-    SchemeSettings settings = *parsedSettings;
-    Result<PluginCatalog> loadedCatalog = loadCatalogWith(args.pluginDir, args.scheme);
-    if (!loadedCatalog) return fail(loadedCatalog.error().message);
-    const PluginCatalog& catalog = *loadedCatalog;
+    Result<SchemeChoice> chosen = chooseScheme(args.draw.depth, args.draw.drawPath, args.draw.options, args.draw.pluginDir, args.draw.scheme);
+    if (!chosen) return fail(chosen.error().message);
+    SchemeSettings settings = chosen->settings;
+    const PluginCatalog& catalog = chosen->catalog;
 
     PlanDatabase database;
-    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.depth, true});
+    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.draw.depth, true});
     if (!file) return fail(file.error().message);
     Scene& scene = file->scene;
     PlannedScene& planned = file->planned;
@@ -164,17 +153,17 @@ int runAnimate(const AnimateArgs& args) {
     const int32_t first = frameRange ? frameRange->first : timeline.firstFrame;
     const int32_t last = frameRange ? frameRange->second : timeline.lastFrame;
 
-    setTessellation(settings, args.tess, args.adaptive, scene.tessellation);
-    const bool showCage = !args.noCage && scene.tessellation.showCage;
+    setTessellation(settings, args.draw.tess, args.draw.adaptive, scene.tessellation);
+    const bool showCage = !args.draw.noCage && scene.tessellation.showCage;
     const float aspect = float(width) / float(height);
-    Result<RenderCamera> camera = chooseCamera(scene, animationBounds(scene, planned, first, last), aspect, args.camera);
+    Result<RenderCamera> camera = chooseCamera(scene, animationBounds(scene, planned, first, last), aspect, args.draw.camera);
     if (!camera) return fail(camera.error().message);
 
     // Each object's own transform, under its transform keys' values per frame.
     std::vector<ObjectTransform> restTransforms;
     for (const SceneObject& o : scene.objects) restTransforms.push_back(o.transform);
 
-    HeadlessSceneRequest request{&catalog, args.scheme, settings, args.path, width, height, args.colorBy, args.validate};
+    HeadlessSceneRequest request{&catalog, args.draw.scheme, settings, args.path, width, height, args.draw.colorBy, args.draw.validate};
     Result<std::unique_ptr<HeadlessScene>> created = createHeadlessScene(request, scene, planned);
     if (!created) return fail(created.error().message);
     HeadlessScene& h = **created;
@@ -190,7 +179,7 @@ int runAnimate(const AnimateArgs& args) {
     uint32_t rebuilds = 0;
     bool createdOut = false;
     if (status == 0) {
-        const DrawView view = headlessView(*camera, height, args.colorBy, args.wire || scene.tessellation.showWireframe);
+        const DrawView view = headlessView(*camera, height, args.draw.colorBy, args.draw.wire || scene.tessellation.showWireframe);
         SceneSchemes& schemes = *h.schemes;
         SceneCageLines& cageLineBuffers = *h.cageLines;
 
@@ -229,10 +218,10 @@ int runAnimate(const AnimateArgs& args) {
                     // Built again for the cage as it is now, as the editor does when a scheme
                     // cannot take a change in place.
                     std::fprintf(stderr, "warning: %s: %s could not update in place (%s); building it again\n",
-                                 where.c_str(), args.scheme.c_str(), updated.error().message.c_str());
+                                 where.c_str(), args.draw.scheme.c_str(), updated.error().message.c_str());
                     (void)instance.destroyGpu();
                     Result<PreparedScheme> again =
-                        prepareScheme(catalog, args.scheme, cage, analyzeCage(cage.cage(), cage.topology()), settings, gpu,
+                        prepareScheme(catalog, args.draw.scheme, cage, analyzeCage(cage.cage(), cage.topology()), settings, gpu,
                                       args.path, owner.displacement.empty() ? nullptr : &owner.displacement);
                     if (!again) {
                         problem = again.error().message;
@@ -281,7 +270,7 @@ int runAnimate(const AnimateArgs& args) {
         }
     }
     const std::string device = ctx.deviceName;
-    status = destroyHeadlessScene(h, args.validate, status);
+    status = destroyHeadlessScene(h, args.draw.validate, status);
     if (status != 0) return status;
 
     if (replanned > 0)
@@ -298,7 +287,7 @@ int runAnimate(const AnimateArgs& args) {
                               {"update_ms_median", updateMedian},
                               {"frame_ms_median", frameMedian},
                               {"triangles", triangles},
-                              {"scheme", args.scheme},
+                              {"scheme", args.draw.scheme},
                               {"tess", adaptive ? nlohmann::json(nullptr) : nlohmann::json(settings.tessFactor)},
                               {"adaptive_pixels", adaptive ? nlohmann::json(settings.adaptivePixels) : nlohmann::json(nullptr)},
                               {"rebuilds", rebuilds},
@@ -312,7 +301,7 @@ int runAnimate(const AnimateArgs& args) {
     std::fprintf(stderr,
                  "wrote %zu frames (%d..%d) to %s (%ux%u, scheme %s at %s on %s): update %.3f ms, frame %.3f ms "
                  "(medians, PNG encoding not counted), %llu faces re-planned, %u rebuilds\n",
-                 written.size(), int(first), int(last), args.out.c_str(), width, height, args.scheme.c_str(), density,
+                 written.size(), int(first), int(last), args.out.c_str(), width, height, args.draw.scheme.c_str(), density,
                  device.c_str(), updateMedian, frameMedian, (unsigned long long)replanned, rebuilds);
     return 0;
 }
@@ -329,21 +318,8 @@ void registerAnimate(CLI::App& app, int& exitCode) {
                     "OBJ sequence to play on the cage (or the scene's first object): a pattern with one '*' for the frame "
                     "number, e.g. 'frames/frame_*.obj'");
     cmd->add_option("--frames", args->frames, "Frames to play, A:B inclusive (default: the scene's timeline, else its keys' range)");
-    cmd->add_option("--scheme", args->scheme, "Patching scheme (default plans; `quadplan schemes` lists them)");
-    cmd->add_option("--size", args->size, "Image size, WIDTHxHEIGHT (default 800x600)");
-    cmd->add_option("--tess", args->tess, "Uniform tessellation factor")->check(CLI::Range(1u, 64u));
-    cmd->add_option("--adaptive", args->adaptive, "Adaptive tessellation: target pixels per segment")
-        ->check(CLI::PositiveNumber);
-    cmd->add_flag("--wire", args->wire, "Draw the tessellation wireframe");
-    cmd->add_flag("--no-cage", args->noCage, "Do not draw the cage");
-    cmd->add_option("--color-by", args->colorBy, "shading, or a scheme's own mode (plans: node-kind, depth, sharpness)");
-    cmd->add_option("--camera", args->camera,
-                    "EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed on every frame played)");
-    cmd->add_option("--path", args->drawPath, "The scheme's drawing path, as for render (plans: auto, tess, grid or cpu)");
-    cmd->add_option("--option", args->options, "Scheme option KEY=VALUE (repeatable), e.g. level=4 for uniform");
-    cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
-    cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, kMaxPlanDepth));
-    cmd->add_flag("--validate", args->validate, "Enable Vulkan validation; any message makes the command fail");
+    addDrawOptions(*cmd, args->draw, "EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed on every frame played)",
+                   "The scheme's drawing path, as for render (plans: auto, tess, grid or cpu)");
     cmd->add_flag("--json", args->json, "Print what was played as JSON: frames, replanned_faces, update_ms_median, ...");
     cmd->callback([args, &exitCode] { exitCode = runAnimate(*args); });
 }

@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "plan_db_option.h"
 #include "plans/limit_check.h"
+#include "render_setup.h"
 #include "scene/planned_scene.h"
 #include "scene/scene.h"
 
@@ -29,9 +30,7 @@ uint32_t faceOfSubface(const PlannedCage& planned, uint32_t subface) {
 }
 
 int runCheckLimit(const CheckLimitArgs& args) {
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    Result<Scene> scene = loadSceneWarning(args.path);
     if (!scene) {
         std::fprintf(stderr, "error: %s\n", scene.error().message.c_str());
         return 1;

@@ -51,17 +51,6 @@ struct CompareArgs {
     bool json = false, validate = false;
 };
 
-struct SchemeResult {
-    std::string name;
-    bool drawn = false;
-    std::string reason;                       // why not, when not drawn
-    std::vector<std::string> approximations;
-    ErrorStats error;
-    DrawStats draw;
-    SchemeStats stats;
-    double frameMs = 0.0, drawMs = 0.0, setupMs = 0.0;
-};
-
 constexpr uint32_t kMaxColumns = 4;
 constexpr glm::vec3 kBackground{0.9f, 0.92f, 0.95f};
 
@@ -133,10 +122,10 @@ void drawLegend(RgbaImage& image, const Layout& layout, const ExactReference& re
              1, ink);
 }
 
-void drawLabels(RgbaImage& image, const Layout& layout, const std::vector<SchemeResult>& results) {
+void drawLabels(RgbaImage& image, const Layout& layout, const std::vector<SchemeComparison>& results) {
     const int scale = nameScale(layout);
     for (uint32_t i = 0; i < results.size(); ++i) {
-        const SchemeResult& r = results[i];
+        const SchemeComparison& r = results[i];
         const int x = int((i % layout.columns) * layout.tileWidth), y = int((i / layout.columns) * layout.cellHeight());
         image.fill(x, y, int(layout.tileWidth), int(layout.labelHeight), {255, 255, 255});
         image.fill(x, y, 1, int(layout.cellHeight()), {170, 170, 170});  // column separator
@@ -190,22 +179,22 @@ std::string referenceLine(const ExactReference& reference) {
     return line;
 }
 
-void printTable(const std::vector<SchemeResult>& results, const ExactReference& reference, CullMethod cull) {
+void printTable(const std::vector<SchemeComparison>& results, const ExactReference& reference, CullMethod cull) {
     std::printf("%s\n", referenceLine(reference).c_str());
     std::printf("| scheme | max rel error | rms rel error | max normal (deg) | patches | triangles | frame ms | draw ms | setup ms |\n");
     std::printf("|---|---|---|---|---|---|---|---|---|\n");
-    for (const SchemeResult& r : results) {
+    for (const SchemeComparison& r : results) {
         if (!r.drawn) continue;
         std::printf("| %s | %s | %s | %.3g | %llu | %llu | %.2f | %.2f | %.1f |\n", r.name.c_str(),
                     sci(r.error.maxRelError).c_str(), sci(r.error.rmsRelError).c_str(), r.error.maxNormalDegrees,
                     (unsigned long long)r.draw.patches, (unsigned long long)r.draw.triangles, r.frameMs, r.drawMs,
                     r.setupMs);
     }
-    for (const SchemeResult& r : results)
+    for (const SchemeComparison& r : results)
         if (!r.drawn) std::printf("not drawn: %s: %s\n", r.name.c_str(), r.reason.c_str());
     // The table's patches and triangles leave the culled ones out; what was culled, per scheme.
     if (cull != CullMethod::None)
-        for (const SchemeResult& r : results)
+        for (const SchemeComparison& r : results)
             if (r.drawn)
                 std::printf("culled (%s): %s: %llu of %llu patches outside the frustum, %llu facing away, %llu tested by "
                             "the frustum only; %.2f ms on the CPU\n",
@@ -214,10 +203,10 @@ void printTable(const std::vector<SchemeResult>& results, const ExactReference& 
                             (unsigned long long)r.draw.cull.frustumOnly, r.draw.cullMilliseconds);
 }
 
-void printJson(const std::vector<SchemeResult>& results, const std::string& image, const std::string& cage,
+void printJson(const std::vector<SchemeComparison>& results, const std::string& image, const std::string& cage,
                const CompareArgs& args, const ExactReference& reference) {
     nlohmann::json schemes = nlohmann::json::array(), skipped = nlohmann::json::array();
-    for (const SchemeResult& r : results) {
+    for (const SchemeComparison& r : results) {
         if (!r.drawn) {
             skipped.push_back({{"name", r.name}, {"reason", r.reason}});
             continue;
@@ -363,7 +352,7 @@ int runCompare(const CompareArgs& args) {
     const GpuContext gpu{&ctx, vkCache, format, VK_FORMAT_D32_SFLOAT};
 
     int status = 0;
-    std::vector<SchemeResult> results;
+    std::vector<SchemeComparison> results;
     Result<OffscreenTarget> target = createOffscreenTarget(ctx, layout.width(), layout.height(), format);
     Result<MeshPass> heatPass = target ? createMeshPass(ctx, vkCache, format) : Result<MeshPass>(target.error());
     Result<GpuTimer> timer = heatPass ? createGpuTimer(ctx) : Result<GpuTimer>(heatPass.error());
@@ -382,7 +371,7 @@ int runCompare(const CompareArgs& args) {
         view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(*camera), tileHeight);
         view.cull = *parseCullMethod(args.cull);
         for (uint32_t i = 0; i < names.size(); ++i) {
-            SchemeResult r;
+            SchemeComparison r;
             r.name = names[i];
             SchemeSettings settings;
             settings.tessFactor = args.tess;
@@ -469,7 +458,7 @@ int runCompare(const CompareArgs& args) {
     }
     destroyContext(ctx);
 
-    const size_t drawn = size_t(std::count_if(results.begin(), results.end(), [](const SchemeResult& r) { return r.drawn; }));
+    const size_t drawn = size_t(std::count_if(results.begin(), results.end(), [](const SchemeComparison& r) { return r.drawn; }));
     if (status == 0) {
         if (args.json) printJson(results, args.out, args.path, args, reference);
         else printTable(results, reference, *parseCullMethod(args.cull));

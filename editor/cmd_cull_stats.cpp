@@ -216,12 +216,11 @@ int runCullStats(const CullStatsArgs& args) {
     uint32_t width = 0, height = 0;
     if (!parseSize(args.size, width, height))
         return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.size + "'");
-    Result<SchemeSettings> parsedSettings = schemeSettingsOf(args.depth, args.drawPath, args.options);
-    if (!parsedSettings) return fail(parsedSettings.error().message);
-    SchemeSettings settings = *parsedSettings;
+    Result<SchemeChoice> chosen = chooseScheme(args.depth, args.drawPath, args.options, args.pluginDir, args.scheme);
+    if (!chosen) return fail(chosen.error().message);
+    SchemeSettings settings = chosen->settings;
     settings.tessFactor = args.tess;
-    Result<PluginCatalog> catalog = loadCatalogWith(args.pluginDir, args.scheme);
-    if (!catalog) return fail(catalog.error().message);
+    const PluginCatalog& catalog = chosen->catalog;
 
     PlanDatabase database;
     loadPlanDatabase(database, args.planDb);
@@ -235,7 +234,7 @@ int runCullStats(const CullStatsArgs& args) {
     for (const PlannedCage& cage : planned.cages)
         measured.closed = measured.closed && closedOutwardSurface(cage.cage(), cage.topology());
 
-    HeadlessSceneRequest request{&*catalog, args.scheme, settings, inputName(args), width, height, "shading", args.validate};
+    HeadlessSceneRequest request{&catalog, args.scheme, settings, inputName(args), width, height, "shading", args.validate};
     Result<std::unique_ptr<HeadlessScene>> created = createHeadlessScene(request, scene, planned);
     if (!created) return fail(created.error().message);
     HeadlessScene& h = **created;

@@ -6,6 +6,7 @@
 #include "commands.h"
 #include "mesh/topology.h"
 #include "plans/osd_refiner.h"
+#include "render_setup.h"
 #include "scene/scene.h"
 
 namespace qp::cli {
@@ -80,9 +81,7 @@ void addStats(CageStats& into, const CageStats& s) {
 }
 
 int runInfo(const std::string& path, bool json) {
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(path, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    Result<Scene> scene = loadSceneWarning(path);
     if (!scene) {
         std::fprintf(stderr, "error: %s\n", scene.error().message.c_str());
         return 1;

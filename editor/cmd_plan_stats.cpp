@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "plan_db_option.h"
 #include "plans/macro_faces.h"
+#include "render_setup.h"
 #include "scene/planned_scene.h"
 #include "scene/scene.h"
 
@@ -21,9 +22,7 @@ struct PlanStatsArgs {
 };
 
 int runPlanStats(const PlanStatsArgs& args) {
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(args.path, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    Result<Scene> scene = loadSceneWarning(args.path);
     if (!scene) {
         std::fprintf(stderr, "error: %s\n", scene.error().message.c_str());
         return 1;

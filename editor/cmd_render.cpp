@@ -20,17 +20,8 @@ namespace {
 
 struct RenderArgs {
     std::string path, out;
-    std::string scheme = "plans";
-    std::string size = "800x600";
-    uint32_t tess = 0;
-    float adaptive = 0.0f;
-    bool wire = false, noCage = false, validate = false, json = false;
-    std::string colorBy = "shading";
-    std::string camera;
-    std::string drawPath;
-    std::vector<std::string> options;
-    std::string pluginDir;
-    uint32_t depth = 6;
+    DrawOptions draw;  // --scheme, --size, --tess, ... (addDrawOptions)
+    bool json = false;
     std::string cull = "none";
 };
 
@@ -41,38 +32,36 @@ int fail(const std::string& message) {
 
 int runRender(const RenderArgs& args) {
     uint32_t width = 0, height = 0;
-    if (!parseSize(args.size, width, height))
-        return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.size + "'");
-    if (args.tess > 0 && args.adaptive > 0.0f) return fail("give either --tess or --adaptive, not both");
+    if (!parseSize(args.draw.size, width, height))
+        return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.draw.size + "'");
+    if (args.draw.tess > 0 && args.draw.adaptive > 0.0f) return fail("give either --tess or --adaptive, not both");
 
-    Result<SchemeSettings> parsedSettings = schemeSettingsOf(args.depth, args.drawPath, args.options);
-    if (!parsedSettings) return fail(parsedSettings.error().message);
-    SchemeSettings settings = *parsedSettings;
-    Result<PluginCatalog> loadedCatalog = loadCatalogWith(args.pluginDir, args.scheme);
-    if (!loadedCatalog) return fail(loadedCatalog.error().message);
-    const PluginCatalog& catalog = *loadedCatalog;
+    Result<SchemeChoice> chosen = chooseScheme(args.draw.depth, args.draw.drawPath, args.draw.options, args.draw.pluginDir, args.draw.scheme);
+    if (!chosen) return fail(chosen.error().message);
+    SchemeSettings settings = chosen->settings;
+    const PluginCatalog& catalog = chosen->catalog;
 
     PlanDatabase database;
-    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.depth, true});
+    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.draw.depth, true});
     if (!file) return fail(file.error().message);
     Scene& scene = file->scene;
     PlannedScene& planned = file->planned;
 
-    setTessellation(settings, args.tess, args.adaptive, scene.tessellation);
-    const bool showCage = !args.noCage && scene.tessellation.showCage;
+    setTessellation(settings, args.draw.tess, args.draw.adaptive, scene.tessellation);
+    const bool showCage = !args.draw.noCage && scene.tessellation.showCage;
 
 
     const float aspect = float(width) / float(height);
-    Result<RenderCamera> camera = chooseCamera(scene, sceneBounds(scene), aspect, args.camera);
+    Result<RenderCamera> camera = chooseCamera(scene, sceneBounds(scene), aspect, args.draw.camera);
     if (!camera) return fail(camera.error().message);
 
-    HeadlessSceneRequest request{&catalog, args.scheme, settings, args.path, width, height, args.colorBy, args.validate};
+    HeadlessSceneRequest request{&catalog, args.draw.scheme, settings, args.path, width, height, args.draw.colorBy, args.draw.validate};
     Result<std::unique_ptr<HeadlessScene>> created = createHeadlessScene(request, scene, planned);
     if (!created) return fail(created.error().message);
     HeadlessScene& h = **created;
     int status = h.problem.empty() ? 0 : fail(h.problem);
     if (status == 0) {
-        DrawView view = headlessView(*camera, height, args.colorBy, args.wire || scene.tessellation.showWireframe);
+        DrawView view = headlessView(*camera, height, args.draw.colorBy, args.draw.wire || scene.tessellation.showWireframe);
         view.cull = *parseCullMethod(args.cull);
         const RenderTarget target = renderTarget(*h.target);
         Result<DrawStats> drawStats = DrawStats{};
@@ -87,7 +76,7 @@ int runRender(const RenderArgs& args) {
             status = fail("rendering " + args.path + " failed: " + written.error().message);
         else if (args.json) {
             const nlohmann::json out = {
-                {"out", args.out}, {"width", width}, {"height", height}, {"scheme", args.scheme},
+                {"out", args.out}, {"width", width}, {"height", height}, {"scheme", args.draw.scheme},
                 {"device", h.ctx.deviceName}, {"objects", scene.objects.size()}, {"cages", planned.cages.size()},
                 {"path", drawnByName(drawStats->drawnBy)}, {"patches", drawStats->patches},
                 // 0 from the scheme means the tessellator chose the count at draw time: unknown.
@@ -102,7 +91,7 @@ int runRender(const RenderArgs& args) {
                                         : std::to_string(scene.objects.size()) + " objects, " +
                                               std::to_string(planned.cages.size()) + " cages, ";
             std::fprintf(stderr, "wrote %s (%ux%u, scheme %s on %s, %s%llu patches, %s)\n", args.out.c_str(), width,
-                         height, args.scheme.c_str(), h.ctx.deviceName.c_str(), objects.c_str(),
+                         height, args.draw.scheme.c_str(), h.ctx.deviceName.c_str(), objects.c_str(),
                          (unsigned long long)drawStats->patches, triangles.c_str());
             if (view.cull != CullMethod::None)
                 std::fprintf(stderr, "culled (%s): %llu of %llu patches outside the frustum, %llu facing away, %llu tested by "
@@ -112,7 +101,7 @@ int runRender(const RenderArgs& args) {
                              (unsigned long long)drawStats->cull.frustumOnly, drawStats->cullMilliseconds);
         }
     }
-    return destroyHeadlessScene(h, args.validate, status);
+    return destroyHeadlessScene(h, args.draw.validate, status);
 }
 
 }  // namespace
@@ -122,27 +111,15 @@ void registerRender(CLI::App& app, int& exitCode) {
     auto args = std::make_shared<RenderArgs>();
     cmd->add_option("file", args->path, "Cage (.obj, .om, .ply, .off, .stl) or scene (.json)")->required();
     cmd->add_option("--out", args->out, "PNG file to write")->required();
-    cmd->add_option("--scheme", args->scheme, "Patching scheme (default plans; `quadplan schemes` lists them)");
-    cmd->add_option("--size", args->size, "Image size, WIDTHxHEIGHT (default 800x600)");
-    cmd->add_option("--tess", args->tess, "Uniform tessellation factor")->check(CLI::Range(1u, 64u));
-    cmd->add_option("--adaptive", args->adaptive, "Adaptive tessellation: target pixels per segment")
-        ->check(CLI::PositiveNumber);
-    cmd->add_flag("--wire", args->wire, "Draw the tessellation wireframe");
-    cmd->add_flag("--no-cage", args->noCage, "Do not draw the cage");
-    cmd->add_option("--color-by", args->colorBy, "shading, or a scheme's own mode (plans: node-kind, depth, sharpness)");
-    cmd->add_option("--camera", args->camera, "EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed)");
-    cmd->add_option("--path", args->drawPath, "plans: auto (default: cpu on a CPU device, tess on a GPU), tess (tessellator), grid (compute-shader "
-                    "grid) or cpu (grid from the multithreaded CPU evaluator); osd-fas: auto, tess or cpu; acc1, acc2, pn: "
-                    "tess (default) or cpu; the option path=...");
-    cmd->add_option("--option", args->options, "Scheme option KEY=VALUE (repeatable), e.g. level=4 for uniform");
-    cmd->add_option("--plugin-dir", args->pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
-    cmd->add_option("--depth", args->depth, "Plan depth")->check(CLI::Range(1u, kMaxPlanDepth));
+    addDrawOptions(*cmd, args->draw, "EX,EY,EZ,TX,TY,TZ[,FOV_DEGREES] (default: the scene's, or framed)",
+                   "plans: auto (default: cpu on a CPU device, tess on a GPU), tess (tessellator), grid (compute-shader "
+                   "grid) or cpu (grid from the multithreaded CPU evaluator); osd-fas: auto, tess or cpu; acc1, acc2, pn: "
+                   "tess (default) or cpu; the option path=...");
     cmd->add_option("--cull", args->cull, "Skip patches that cannot show a pixel (docs/culling.md): none (default), frustum, "
                                           "or a back-patch test with it: tcone, ncone, pplane")
         ->check(CLI::IsMember({"none", "frustum", "tcone", "ncone", "pplane"}));
     cmd->add_flag("--json", args->json, "Print what was drawn as one JSON object on stdout (patches, triangles, culling) "
                                          "instead of the summary on stderr");
-    cmd->add_flag("--validate", args->validate, "Enable Vulkan validation; any message makes the command fail");
     cmd->callback([args, &exitCode] { exitCode = runRender(*args); });
 }
 

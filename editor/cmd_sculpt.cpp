@@ -18,6 +18,7 @@
 #include "offscreen_target.h"
 #include "plan_db_option.h"
 #include "plans/planned_cage.h"
+#include "render_setup.h"
 #include "scene/scene.h"
 #include "vk_commands.h"
 #include "vk_context.h"
@@ -152,9 +153,7 @@ int runSculpt(const SculptArgs& args) {
         return failWith("--resolution must be a power of two between 1 and " + std::to_string(kMaxDisplacementResolution) +
                         ", got " + std::to_string(args.resolution));
 
-    std::vector<std::string> warnings;
-    Result<Scene> scene = loadSceneOrCage(args.input, &warnings);
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    Result<Scene> scene = loadSceneWarning(args.input);
     if (!scene) return failWith(scene.error().message);
 
     Result<uint32_t> index = sculptedObject(*scene, args.object);

@@ -39,8 +39,6 @@ std::string setUp(HeadlessScene& h, const HeadlessSceneRequest& request, const S
     return "";
 }
 
-}  // namespace
-
 Result<SchemeSettings> schemeSettingsOf(uint32_t depth, const std::string& drawPath, const std::vector<std::string>& options) {
     SchemeSettings settings;
     settings.planDepth = depth;
@@ -53,18 +51,45 @@ Result<SchemeSettings> schemeSettingsOf(uint32_t depth, const std::string& drawP
     return settings;
 }
 
-void setTessellation(SchemeSettings& settings, uint32_t tess, float adaptive, const Tessellation& scene) {
-    if (tess > 0) settings.tessFactor = tess;
-    else if (adaptive > 0.0f) settings.adaptivePixels = adaptive;
-    else if (scene.mode == TessellationMode::Uniform) settings.tessFactor = uint32_t(scene.factor);
-    else settings.adaptivePixels = scene.pixelsPerEdge;
-}
-
 Result<PluginCatalog> loadCatalogWith(const std::string& pluginDir, const std::string& scheme) {
     PluginCatalog catalog = loadPlugins(pluginDirectory(pluginDir));
     for (const PluginProblem& p : catalog.problems) std::fprintf(stderr, "warning: %s\n", p.message.c_str());
     if (!catalog.find(scheme)) return Error{unknownSchemeMessage(catalog, scheme)};
     return catalog;
+}
+
+}  // namespace
+
+Result<SchemeChoice> chooseScheme(uint32_t depth, const std::string& drawPath, const std::vector<std::string>& options,
+                                  const std::string& pluginDir, const std::string& scheme) {
+    Result<SchemeSettings> settings = schemeSettingsOf(depth, drawPath, options);
+    if (!settings) return settings.error();
+    Result<PluginCatalog> catalog = loadCatalogWith(pluginDir, scheme);
+    if (!catalog) return catalog.error();
+    return SchemeChoice{std::move(settings).value(), std::move(catalog).value()};
+}
+
+void addDrawOptions(CLI::App& cmd, DrawOptions& draw, const std::string& cameraHelp, const std::string& pathHelp) {
+    cmd.add_option("--scheme", draw.scheme, "Patching scheme (default plans; `quadplan schemes` lists them)");
+    cmd.add_option("--size", draw.size, "Image size, WIDTHxHEIGHT (default 800x600)");
+    cmd.add_option("--tess", draw.tess, "Uniform tessellation factor")->check(CLI::Range(1u, 64u));
+    cmd.add_option("--adaptive", draw.adaptive, "Adaptive tessellation: target pixels per segment")->check(CLI::PositiveNumber);
+    cmd.add_flag("--wire", draw.wire, "Draw the tessellation wireframe");
+    cmd.add_flag("--no-cage", draw.noCage, "Do not draw the cage");
+    cmd.add_option("--color-by", draw.colorBy, "shading, or a scheme's own mode (plans: node-kind, depth, sharpness)");
+    cmd.add_option("--camera", draw.camera, cameraHelp);
+    cmd.add_option("--path", draw.drawPath, pathHelp);
+    cmd.add_option("--option", draw.options, "Scheme option KEY=VALUE (repeatable), e.g. level=4 for uniform");
+    cmd.add_option("--plugin-dir", draw.pluginDir, "Where the scheme plugins are (default: $QUADPLAN_PLUGIN_DIR, else <bin>/../plugins)");
+    cmd.add_option("--depth", draw.depth, "Plan depth")->check(CLI::Range(1u, kMaxPlanDepth));
+    cmd.add_flag("--validate", draw.validate, "Enable Vulkan validation; any message makes the command fail");
+}
+
+void setTessellation(SchemeSettings& settings, uint32_t tess, float adaptive, const Tessellation& scene) {
+    if (tess > 0) settings.tessFactor = tess;
+    else if (adaptive > 0.0f) settings.adaptivePixels = adaptive;
+    else if (scene.mode == TessellationMode::Uniform) settings.tessFactor = uint32_t(scene.factor);
+    else settings.adaptivePixels = scene.pixelsPerEdge;
 }
 
 Result<std::unique_ptr<HeadlessScene>> createHeadlessScene(const HeadlessSceneRequest& request, const Scene& scene,

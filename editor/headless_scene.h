@@ -7,6 +7,9 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "camera.h"
 #include "line_pass.h"
@@ -20,14 +23,34 @@
 
 namespace qp::cli {
 
-// The scheme settings render's options give: the plan depth, `--path` (as the option path=...)
-// and `--option KEY=VALUE` pairs (refused naming a malformed one).
-Result<SchemeSettings> schemeSettingsOf(uint32_t depth, const std::string& drawPath, const std::vector<std::string>& options);
+// What a drawing command's scheme options give: the settings (the plan depth, `--path` as the
+// option path=..., `--option KEY=VALUE` pairs, refused naming a malformed one) and the plugins of
+// `pluginDir` (problems printed as warnings), refused, naming the schemes there, when `scheme`
+// is not one of them.
+struct SchemeChoice {
+    SchemeSettings settings;
+    PluginCatalog catalog;
+};
+Result<SchemeChoice> chooseScheme(uint32_t depth, const std::string& drawPath, const std::vector<std::string>& options,
+                                  const std::string& pluginDir, const std::string& scheme);
 // The tessellation: `tess` when set, else `adaptive` pixels when set, else the scene's.
 void setTessellation(SchemeSettings& settings, uint32_t tess, float adaptive, const Tessellation& scene);
-// The plugins of `pluginDir` (problems printed as warnings); fails, naming the schemes there,
-// when `scheme` is not one of them.
-Result<PluginCatalog> loadCatalogWith(const std::string& pluginDir, const std::string& scheme);
+
+// The drawing options `render` and `animate` share, registered by addDrawOptions with the help
+// texts both give (the camera's and the path's help differ per command).
+struct DrawOptions {
+    std::string scheme = "plans";
+    std::string size = "800x600";
+    uint32_t tess = 0;
+    float adaptive = 0.0f;
+    bool wire = false, noCage = false, validate = false;
+    std::string colorBy = "shading";
+    std::string camera, drawPath;
+    std::vector<std::string> options;
+    std::string pluginDir;
+    uint32_t depth = 6;
+};
+void addDrawOptions(CLI::App& cmd, DrawOptions& draw, const std::string& cameraHelp, const std::string& pathHelp);
 
 struct HeadlessSceneRequest {
     const PluginCatalog* catalog = nullptr;

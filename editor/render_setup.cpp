@@ -63,10 +63,15 @@ bool parseSize(const std::string& text, uint32_t& width, uint32_t& height) {
     return true;
 }
 
-Result<PlannedFile> loadAndPlan(const std::string& path, PlanDatabase& database, const PlanOptions& options) {
+Result<Scene> loadSceneWarning(const std::string& path) {
     std::vector<std::string> warnings;
     Result<Scene> scene = loadSceneOrCage(path, &warnings);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    return scene;
+}
+
+Result<PlannedFile> loadAndPlan(const std::string& path, PlanDatabase& database, const PlanOptions& options) {
+    Result<Scene> scene = loadSceneWarning(path);
     if (!scene) return scene.error();
     Result<PlannedScene> planned = PlannedScene::create(*scene, database, options, path);
     if (!planned) return planned.error();

@@ -13,9 +13,13 @@
 #include "scene/planned_scene.h"
 #include "scene/scene.h"
 #include "scheme_api.h"
+#include "surface_error.h"
 #include "vk_context.h"
 
 namespace qp::cli {
+
+// A scene or cage file (loadSceneOrCage); the reader's warnings go to stderr as "warning: ...".
+Result<Scene> loadSceneWarning(const std::string& path);
 
 // A scene or cage file, planned with `options` through `database` (every command's first step);
 // the reader's warnings go to stderr as "warning: ...".
@@ -37,6 +41,18 @@ Result<VulkanContext> createHeadlessContext(bool validation);
 
 // Prints validation messages; true when there were any.
 bool reportValidation(const VulkanContext& context);
+
+// One scheme's numbers, as `quadplan compare` and the Python module's compare compute them.
+struct SchemeComparison {
+    std::string name;
+    bool drawn = false;
+    std::string reason;  // why not, when not drawn
+    std::vector<std::string> approximations;
+    ErrorStats error;
+    DrawStats draw;
+    SchemeStats stats;
+    double frameMs = 0.0, drawMs = 0.0, setupMs = 0.0;
+};
 
 // "key=value" scheme options, as given to --option; fails with a message naming the text.
 Result<std::pair<std::string, std::string>> parseOption(const std::string& text);

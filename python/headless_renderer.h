@@ -20,11 +20,14 @@
 #include "line_pass.h"
 #include "mesh_pass.h"
 #include "pipeline_cache.h"
+#include "render_setup.h"
 #include "scene_document.h"
 #include "scheme_loader.h"
 #include "surface_error.h"
 
 namespace qp::py {
+
+using cli::SchemeComparison;  // one scheme's numbers, as `quadplan compare` computes them
 
 struct RendererOptions {
     bool validation = false;
@@ -53,18 +56,6 @@ struct RenderedImage {
     std::vector<uint8_t> rgba;  // rows top to bottom
     DrawStats draw;
     std::vector<std::string> approximations;  // what the scheme approximates on this cage
-};
-
-// One scheme's numbers, as `quadplan compare` computes them.
-struct SchemeComparison {
-    std::string name;
-    bool drawn = false;
-    std::string reason;  // why not, when not drawn
-    std::vector<std::string> approximations;
-    ErrorStats error;
-    DrawStats draw;
-    SchemeStats stats;
-    double frameMs = 0.0, drawMs = 0.0, setupMs = 0.0;
 };
 
 struct CompareRequest {

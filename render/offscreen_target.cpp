@@ -20,57 +20,6 @@
 
 namespace qp {
 
-namespace {
-
-VkImageMemoryBarrier2 colorBarrier(VkImage image, VkImageLayout from, VkImageLayout to) {
-    VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    return b;
-}
-
-void pipelineBarrier(VkCommandBuffer cmd, const VkImageMemoryBarrier2* image, const VkBufferMemoryBarrier2* buffer) {
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dependency.imageMemoryBarrierCount = image ? 1 : 0;
-    dependency.pImageMemoryBarriers = image;
-    dependency.bufferMemoryBarrierCount = buffer ? 1 : 0;
-    dependency.pBufferMemoryBarriers = buffer;
-    vkCmdPipelineBarrier2(cmd, &dependency);
-}
-
-Status initTarget(const VulkanContext& ctx, OffscreenTarget& t, VkFormat colorFormat) {
-    if (Status s = createImage(ctx, t.color, t.width, t.height, colorFormat,
-                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                               VK_IMAGE_ASPECT_COLOR_BIT);
-        !s)
-        return s;
-    if (Status s = createImage(ctx, t.depth, t.width, t.height, VK_FORMAT_D32_SFLOAT,
-                               VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT, VK_IMAGE_ASPECT_DEPTH_BIT);
-        !s)
-        return s;
-    // Establish the layout contract (see the header) from the start.
-    return submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-        VkImageMemoryBarrier2 b[2] = {colorBarrier(t.color.image, VK_IMAGE_LAYOUT_UNDEFINED,
-                                                   VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL),
-                                      colorBarrier(t.depth.image, VK_IMAGE_LAYOUT_UNDEFINED,
-                                                   VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL)};
-        b[0].dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-        b[0].dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
-        b[1].subresourceRange.aspectMask = VK_IMAGE_ASPECT_DEPTH_BIT;
-        b[1].dstStageMask = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
-        b[1].dstAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
-        VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-        dependency.imageMemoryBarrierCount = 2;
-        dependency.pImageMemoryBarriers = b;
-        vkCmdPipelineBarrier2(cmd, &dependency);
-    });
-}
-
-}  // namespace
 
 Status createImage(const VulkanContext& ctx, Image& image, uint32_t width, uint32_t height, VkFormat format,
                    VkImageUsageFlags usage, VkImageAspectFlags aspect) {
@@ -122,11 +71,35 @@ Result<OffscreenTarget> createOffscreenTarget(const VulkanContext& ctx, uint32_t
     OffscreenTarget t;
     t.width = width;
     t.height = height;
-    if (Status s = initTarget(ctx, t, colorFormat); !s) {
+    if (Status s = createAttachments(ctx, width, height, colorFormat, t.color, t.depth); !s) {
         destroyOffscreenTarget(ctx, t);
         return s.error();
     }
     return t;
+}
+
+Status createAttachments(const VulkanContext& ctx, uint32_t width, uint32_t height, VkFormat colorFormat, Image& color,
+                         Image& depth) {
+    if (Status s = createImage(ctx, color, width, height, colorFormat,
+                               VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                               VK_IMAGE_ASPECT_COLOR_BIT);
+        !s)
+        return s;
+    if (Status s = createImage(ctx, depth, width, height, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                               VK_IMAGE_ASPECT_DEPTH_BIT);
+        !s)
+        return s;
+    return submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+        VkImageMemoryBarrier2 toColor = imageBarrier(color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                                                     VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
+        toColor.dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+        toColor.dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+        VkImageMemoryBarrier2 toDepth = imageBarrier(depth.image, VK_IMAGE_ASPECT_DEPTH_BIT, VK_IMAGE_LAYOUT_UNDEFINED,
+                                                     VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL);
+        toDepth.dstStageMask = VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+        toDepth.dstAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+        pipelineBarrier(cmd, {toColor, toDepth});
+    });
 }
 
 void destroyOffscreenTarget(const VulkanContext& ctx, OffscreenTarget& t) {
@@ -135,18 +108,23 @@ void destroyOffscreenTarget(const VulkanContext& ctx, OffscreenTarget& t) {
     t = OffscreenTarget{};
 }
 
-RenderTarget renderTarget(const OffscreenTarget& t) {
+RenderTarget renderTargetOf(VkImage colorImage, VkImageView colorView, VkFormat colorFormat, const Image& depth,
+                            uint32_t width, uint32_t height) {
     RenderTarget r;
-    r.colorImage = t.color.image;
-    r.colorView = t.color.view;
-    r.colorFormat = t.color.format;
-    r.depthImage = t.depth.image;
-    r.depthView = t.depth.view;
-    r.depthFormat = t.depth.format;
-    r.width = t.width;
-    r.height = t.height;
-    r.area = {{0, 0}, {t.width, t.height}};
+    r.colorImage = colorImage;
+    r.colorView = colorView;
+    r.colorFormat = colorFormat;
+    r.depthImage = depth.image;
+    r.depthView = depth.view;
+    r.depthFormat = depth.format;
+    r.width = width;
+    r.height = height;
+    r.area = {{0, 0}, {width, height}};
     return r;
+}
+
+RenderTarget renderTarget(const OffscreenTarget& t) {
+    return renderTargetOf(t.color.image, t.color.view, t.color.format, t.depth, t.width, t.height);
 }
 
 Result<std::vector<uint8_t>> readPixels(const VulkanContext& ctx, const OffscreenTarget& t) {
@@ -155,13 +133,13 @@ Result<std::vector<uint8_t>> readPixels(const VulkanContext& ctx, const Offscree
     if (!staging) return staging.error();
 
     Status copied = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-        VkImageMemoryBarrier2 toSource = colorBarrier(t.color.image, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL,
-                                                      VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+        VkImageMemoryBarrier2 toSource = imageBarrier(t.color.image, VK_IMAGE_ASPECT_COLOR_BIT,
+                                                      VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
         toSource.srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
         toSource.srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
         toSource.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
         toSource.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
-        pipelineBarrier(cmd, &toSource, nullptr);
+        pipelineBarrier(cmd, {toSource});
 
         VkBufferImageCopy region{};
         region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
@@ -178,17 +156,12 @@ Result<std::vector<uint8_t>> readPixels(const VulkanContext& ctx, const Offscree
         toHost.buffer = staging->buffer;
         toHost.size = VK_WHOLE_SIZE;
         // Back to the resting layout; the copy's reads must finish before the transition.
-        VkImageMemoryBarrier2 back = colorBarrier(t.color.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+        VkImageMemoryBarrier2 back = imageBarrier(t.color.image, VK_IMAGE_ASPECT_COLOR_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                                                   VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL);
         back.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
         back.dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
         back.dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT;
-        VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-        dependency.bufferMemoryBarrierCount = 1;
-        dependency.pBufferMemoryBarriers = &toHost;
-        dependency.imageMemoryBarrierCount = 1;
-        dependency.pImageMemoryBarriers = &back;
-        vkCmdPipelineBarrier2(cmd, &dependency);
+        pipelineBarrier(cmd, {back}, &toHost);
     });
     std::vector<uint8_t> pixels;
     if (copied) {

@@ -30,6 +30,14 @@ struct Image {
 Status createImage(const VulkanContext& context, Image& image, uint32_t width, uint32_t height, VkFormat format,
                    VkImageUsageFlags usage, VkImageAspectFlags aspect);
 void destroyImage(const VulkanContext& context, Image& image);
+// A RenderTarget over the whole of a colour image and `depth`, both width x height.
+RenderTarget renderTargetOf(VkImage colorImage, VkImageView colorView, VkFormat colorFormat, const Image& depth,
+                            uint32_t width, uint32_t height);
+// A colour image (attachment and copy source) and a D32 depth image, already in the layouts every
+// pass expects between passes (COLOR_ATTACHMENT_OPTIMAL, DEPTH_ATTACHMENT_OPTIMAL). On failure the
+// caller destroys what was made.
+Status createAttachments(const VulkanContext& context, uint32_t width, uint32_t height, VkFormat colorFormat, Image& color,
+                         Image& depth);
 
 struct OffscreenTarget {
     Image color;  // R8G8B8A8_SRGB (shaders write linear colour) or R8G8B8A8_UNORM

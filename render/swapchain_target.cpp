@@ -11,27 +11,6 @@ namespace qp {
 
 namespace {
 
-VkImageMemoryBarrier2 imageBarrier(VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to) {
-    VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-    b.oldLayout = from;
-    b.newLayout = to;
-    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-    b.image = image;
-    b.subresourceRange = {aspect, 0, 1, 0, 1};
-    return b;
-}
-
-void pipelineBarrier(VkCommandBuffer cmd, std::initializer_list<VkImageMemoryBarrier2> images,
-                     const VkBufferMemoryBarrier2* buffer = nullptr) {
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dependency.imageMemoryBarrierCount = uint32_t(images.size());
-    dependency.pImageMemoryBarriers = images.begin();
-    dependency.bufferMemoryBarrierCount = buffer ? 1 : 0;
-    dependency.pBufferMemoryBarriers = buffer;
-    vkCmdPipelineBarrier2(cmd, &dependency);
-}
-
 // UNORM first: the passes and Dear ImGui both write display-encoded colour.
 Result<VkSurfaceFormatKHR> chooseFormat(const VulkanContext& ctx, VkSurfaceKHR surface) {
     uint32_t count = 0;
@@ -250,16 +229,8 @@ Result<std::optional<SwapchainFrame>> beginFrame(const VulkanContext& ctx, Swapc
     frame.cmd = slot.cmd;
     frame.imageIndex = imageIndex;
     frame.image = t.images[imageIndex];
-    RenderTarget& r = frame.target;
-    r.colorImage = t.images[imageIndex];
-    r.colorView = t.views[imageIndex];
-    r.colorFormat = t.surfaceFormat.format;
-    r.depthImage = t.depth.image;
-    r.depthView = t.depth.view;
-    r.depthFormat = t.depth.format;
-    r.width = t.extent.width;
-    r.height = t.extent.height;
-    r.area = {{0, 0}, t.extent};
+    frame.target = renderTargetOf(t.images[imageIndex], t.views[imageIndex], t.surfaceFormat.format, t.depth,
+                                  t.extent.width, t.extent.height);
     return std::optional<SwapchainFrame>{frame};
 }
 

@@ -46,4 +46,38 @@ Status submitAndWait(const VulkanContext& ctx, const std::function<void(VkComman
     return status;
 }
 
+void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
+                   VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess) {
+    VkMemoryBarrier2 memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    memory.srcStageMask = srcStage;
+    memory.srcAccessMask = srcAccess;
+    memory.dstStageMask = dstStage;
+    memory.dstAccessMask = dstAccess;
+    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dependency.memoryBarrierCount = 1;
+    dependency.pMemoryBarriers = &memory;
+    vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
+VkImageMemoryBarrier2 imageBarrier(VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to) {
+    VkImageMemoryBarrier2 b{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    b.oldLayout = from;
+    b.newLayout = to;
+    b.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    b.image = image;
+    b.subresourceRange = {aspect, 0, 1, 0, 1};
+    return b;
+}
+
+void pipelineBarrier(VkCommandBuffer cmd, std::initializer_list<VkImageMemoryBarrier2> images,
+                     const VkBufferMemoryBarrier2* buffer) {
+    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dependency.imageMemoryBarrierCount = uint32_t(images.size());
+    dependency.pImageMemoryBarriers = images.begin();
+    dependency.bufferMemoryBarrierCount = buffer ? 1 : 0;
+    dependency.pBufferMemoryBarriers = buffer;
+    vkCmdPipelineBarrier2(cmd, &dependency);
+}
+
 }  // namespace qp

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <vulkan/vulkan.h>
+
 #include "bench_stats.h"
 #include "mesh/result.h"
 #include "mesh_pass.h"
@@ -27,8 +29,7 @@ inline constexpr uint32_t kRenderWarmups = 2;  // rounds: pipeline JIT, first to
 inline constexpr uint32_t kRenderTargetFactor = 8;
 inline constexpr double kRenderTargetRatio = 1.5;  // issue: default path within 1.5x of pre-tessellated
 
-// One kind of frame: `host` runs first (untimed when `hostTimed` is false), then `record` is
-// submitted and waited for; both count.
+// One kind of frame: `host` runs first, then `record` is submitted and waited for; both count.
 struct FrameKind {
     std::string name;
     std::function<Status()> host;
@@ -41,6 +42,7 @@ struct FrameKind {
     double medianMs() const { return ms.empty() ? NAN : median(ms); }
     double medianRatio() const { return ratios.empty() ? NAN : median(ratios); }
     double medianCpuRatio() const { return cpuRatios.empty() ? NAN : median(cpuRatios); }
+};
 
 // CPU time of this process, every thread (lavapipe's and TBB's included), in ms.
 double processCpuMs();
@@ -53,6 +55,23 @@ std::string cellWithCpu(const FrameKind& k);
 // device for those triangles.
 Status preparePreTessellated(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, const PlannedCage& planned,
                              uint32_t factor, GpuMesh& mesh);
+// What both suites draw with: the benchmark device, a kRenderSize square RGBA8 target, the plans'
+// pass and buffers for the cage, and the pre-tessellated baseline's mesh (filled per factor by
+// preparePreTessellated).
+struct FrameBench {
+    VulkanContext ctx;
+    OffscreenTarget target;
+    PlanPass pass;
+    PlanBuffers buffers;
+    GpuMesh preMesh;
+    std::string error;  // the first failure after the context was made; the rest is then skipped
+};
+// Fails only when no Vulkan context can be made (nothing to destroy then); the load average goes
+// into the notes, prefixed with `name`.
+Result<FrameBench> createFrameBench(const PlannedCage& planned, const std::string& name, std::vector<std::string>& notes);
+// Waits for the device and destroys whatever was made.
+void destroyFrameBench(FrameBench& bench);
+
 // Pixels of the last frame that are not the background (the top-left pixel's colour).
 Result<uint32_t> coveredPixels(const VulkanContext& ctx, const OffscreenTarget& target);
 

@@ -77,6 +77,35 @@ Status preparePreTessellated(const VulkanContext& ctx, PlanPass& pass, PlanBuffe
     return success();
 }
 
+Result<FrameBench> createFrameBench(const PlannedCage& planned, const std::string& name, std::vector<std::string>& notes) {
+    Result<VulkanContext> context = createBenchContext();
+    if (!context) return context.error();
+    FrameBench bench;
+    bench.ctx = std::move(context).value();
+    notes.push_back(name + ": load average at the start (1, 5, 15 min): " + loadAverage());
+    auto take = [&](auto result, auto& out) {
+        if (result) out = std::move(result).value();
+        else if (bench.error.empty()) bench.error = result.error().message;
+        return bool(result);
+    };
+    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
+    take(createOffscreenTarget(bench.ctx, kRenderSize, kRenderSize, format), bench.target) &&
+        take(createPlanPass(bench.ctx, VK_NULL_HANDLE, format), bench.pass) &&
+        take(uploadPlans(bench.ctx, planned), bench.buffers);
+    if (bench.error.empty())
+        if (Status bound = bindPlanBuffers(bench.ctx, bench.pass, bench.buffers); !bound) bench.error = bound.error().message;
+    return bench;
+}
+
+void destroyFrameBench(FrameBench& bench) {
+    vkDeviceWaitIdle(bench.ctx.device);
+    destroyMesh(bench.ctx, bench.preMesh);
+    destroyPlanBuffers(bench.ctx, bench.buffers);
+    destroyPlanPass(bench.ctx, bench.pass);
+    destroyOffscreenTarget(bench.ctx, bench.target);
+    destroyContext(bench.ctx);
+}
+
 Result<uint32_t> coveredPixels(const VulkanContext& ctx, const OffscreenTarget& target) {
     Result<std::vector<uint8_t>> pixels = readPixels(ctx, target);
     if (!pixels) return pixels.error();

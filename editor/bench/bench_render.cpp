@@ -37,27 +37,21 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
     Result<PlannedCage> created = PlannedCage::create(bench.cage, database, PlanOptions{}, name);
     if (!created) return skip(created.error().message);
     PlannedCage& planned = *created;
-    Result<VulkanContext> context = createBenchContext();
-    if (!context) return skip(context.error().message);
-    VulkanContext ctx = std::move(context).value();
-    report.notes.push_back(name + ": load average at the start (1, 5, 15 min): " + loadAverage());
-
+    Result<FrameBench> made = createFrameBench(planned, name, report.notes);
+    if (!made) return skip(made.error().message);
     // Everything below is destroyed at the end, whatever failed on the way.
-    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
-    OffscreenTarget target;
-    PlanPass pass;
+    FrameBench& frames = *made;
+    VulkanContext& ctx = frames.ctx;
+    OffscreenTarget& target = frames.target;
+    PlanPass& pass = frames.pass;
+    PlanBuffers& buffers = frames.buffers;
+    GpuMesh& preMesh = frames.preMesh;
+    std::string& error = frames.error;
     BSplinePass bspline;
-    PlanBuffers buffers;
-    GpuMesh preMesh;
-    std::string error;
-    auto take = [&](auto result, auto& out) {
-        if (result) out = std::move(result).value();
-        else if (error.empty()) error = result.error().message;
-        return bool(result);
-    };
-    take(createOffscreenTarget(ctx, kRenderSize, kRenderSize, format), target) &&
-        take(createPlanPass(ctx, VK_NULL_HANDLE, format), pass) &&
-        take(createBSplinePass(ctx, VK_NULL_HANDLE, pass), bspline) && take(uploadPlans(ctx, planned), buffers);
+    if (error.empty()) {
+        if (Result<BSplinePass> spline = createBSplinePass(ctx, VK_NULL_HANDLE, pass)) bspline = std::move(spline).value();
+        else error = spline.error().message;
+    }
 
     const DrawPath picked = resolveDrawPath(DrawPath::Auto, ctx);
     const uint32_t subfaces = uint32_t(buffers.data.subfaces.size());
@@ -71,8 +65,6 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
                             "grid drag | cpu drag | B-spline |\n"
                             "|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     bool coverageDiffers = false;
-    if (error.empty())
-        if (Status s = bindPlanBuffers(ctx, pass, buffers); !s) error = s.error().message;
     if (error.empty()) {
         const Bounds bounds = computeBounds(bench.cage);
         const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
@@ -283,12 +275,8 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
     report.appendix += defaultTable + "\n" + pathTable + "\n";
 
     vkDeviceWaitIdle(ctx.device);
-    destroyMesh(ctx, preMesh);
-    destroyPlanBuffers(ctx, buffers);
     destroyBSplinePass(ctx, bspline);
-    destroyPlanPass(ctx, pass);
-    destroyOffscreenTarget(ctx, target);
-    destroyContext(ctx);
+    destroyFrameBench(frames);
 }
 
 }  // namespace qp::cli

@@ -26,7 +26,6 @@
 
 namespace qp::cli {
 
-// pre-tessellated triangles at the same factor, measured in the same rounds.
 void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report) {
     const std::string& name = bench.name;
     std::fprintf(stderr, "bench schemes: %s (%u faces)\n", name.c_str(), bench.cage.faceCount());
@@ -38,27 +37,18 @@ void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report)
     const PluginCatalog catalog = loadPlugins(pluginDirectory());
     for (const PluginProblem& p : catalog.problems) report.notes.push_back(name + ": " + p.message);
     if (catalog.plugins.empty()) return skip("no scheme plugin loaded from " + catalog.directory);
-    Result<VulkanContext> context = createBenchContext();
-    if (!context) return skip(context.error().message);
-    VulkanContext ctx = std::move(context).value();
-    report.notes.push_back(name + ": load average at the start (1, 5, 15 min): " + loadAverage());
-
-    const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
-    OffscreenTarget target;
-    PlanPass pass;
-    PlanBuffers buffers;
-    GpuMesh preMesh;
-    std::string error;
-    auto take = [&](auto result, auto& out) {
-        if (result) out = std::move(result).value();
-        else if (error.empty()) error = result.error().message;
-        return bool(result);
-    };
-    take(createOffscreenTarget(ctx, kRenderSize, kRenderSize, format), target) &&
-        take(createPlanPass(ctx, VK_NULL_HANDLE, format), pass) && take(uploadPlans(ctx, planned), buffers);
+    Result<FrameBench> made = createFrameBench(planned, name, report.notes);
+    if (!made) return skip(made.error().message);
+    FrameBench& frames = *made;
+    VulkanContext& ctx = frames.ctx;
+    OffscreenTarget& target = frames.target;
+    PlanPass& pass = frames.pass;
+    PlanBuffers& buffers = frames.buffers;
+    GpuMesh& preMesh = frames.preMesh;
+    std::string& error = frames.error;
 
     const CageFeatures features = analyzeCage(planned.cage(), planned.topology());
-    const GpuContext gpu{&ctx, VK_NULL_HANDLE, format, VK_FORMAT_D32_SFLOAT};
+    const GpuContext gpu{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
     std::string table = "### schemes: " + name + " (" + std::to_string(bench.cage.faceCount()) +
                         " faces), frame ms and the ratio to pre-tessellated triangles at the same factor\n\n"
                         "| scheme | factor | triangles | frame ms | pre-tessellated ms (triangles) | ratio | covered pixels vs "
@@ -71,8 +61,6 @@ void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report)
         }
     };
     std::vector<std::pair<std::string, std::vector<uint64_t>>> trianglesPerScheme;  // over the factors
-    if (error.empty())
-        if (Status s = bindPlanBuffers(ctx, pass, buffers); !s) error = s.error().message;
     if (error.empty()) {
         const Bounds bounds = computeBounds(bench.cage);
         const RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
@@ -246,12 +234,7 @@ void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report)
             "cage). Triangles '?': the scheme does not report them.\n\n";
     report.appendix += table + "\n";
 
-    vkDeviceWaitIdle(ctx.device);
-    destroyMesh(ctx, preMesh);
-    destroyPlanBuffers(ctx, buffers);
-    destroyPlanPass(ctx, pass);
-    destroyOffscreenTarget(ctx, target);
-    destroyContext(ctx);
+    destroyFrameBench(frames);
 }
 
 }  // namespace qp::cli

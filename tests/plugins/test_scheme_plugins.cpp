@@ -688,44 +688,43 @@ TEST(SchemePlugins, TessellationShadersMatchTheCpuEvaluation) {
     VulkanContext& ctx = *context;
     const Cage cube = perturbedCube(8);
     const Bounds bounds = computeBounds(cube);
-    const double diagonal = bounds.diagonal();
     constexpr uint32_t kFactor = 16;
     // Equal spacing, even factor n: a quad is an (n+1)^2 lattice; a triangle is n/2 concentric
     // rings of 3n, 3(n-2), ... 6 vertices around its centre (not a barycentric lattice).
     const size_t quadVertices = (kFactor + 1) * (kFactor + 1), triangleVertices = 1 + 3 * kFactor * (kFactor + 2) / 4;
 
+    // Draws `patches` patches of `data` through the scheme's shaders, captures every vertex and
+    // compares it with `evaluate` (position and normal at the captured parameter).
+    auto expectShadersMatch = [&](const char* scheme, const std::vector<glm::vec4>& data, uint32_t patches,
+                                  const Bounds& b, size_t verticesPerPatch, const auto& evaluate) {
+        const std::string name = scheme;
+        Captured c = drawAndCapture(ctx, (name + ".tesc").c_str(), (name + ".tese").c_str(), data, patches, kFactor, b);
+        EXPECT_EQ(c.overflow, 0u);
+        GpuCpuGap gap = compare(c, b.diagonal(), evaluate);
+        std::printf("%s: %zu vertices, GPU - CPU: position %.2e of the diagonal, normal %.2e deg\n", scheme,
+                    gap.distinctVertices, gap.position, gap.normalDegrees);
+        EXPECT_EQ(gap.distinctVertices, patches * verticesPerPatch) << scheme;
+        EXPECT_LT(gap.position, 1e-5) << scheme;
+        EXPECT_LT(gap.normalDegrees, 0.01) << scheme;
+    };
     {
         Result<Acc2Patches> acc2 = buildAcc2(cube, {}, "cube");
         ASSERT_TRUE(acc2.ok());
         ASSERT_GT(acc2->stats.patches, patchesPerDraw(kFactor));
-        Captured c = drawAndCapture(ctx, "acc2.tesc", "acc2.tese", paddedPoints(acc2->controlPoints), acc2->stats.patches,
-                                    kFactor, bounds);
-        EXPECT_EQ(c.overflow, 0u);
-        GpuCpuGap gap = compare(c, diagonal, [&](const TessCaptureRecord& r) {
-            Acc2Sample s = evaluateAcc2Patch(*acc2, r.patch, r.u, r.v);
-            return std::pair(s.position, s.normal);
-        });
-        std::printf("acc2: %zu vertices, GPU - CPU: position %.2e of the diagonal, normal %.2e deg\n", gap.distinctVertices,
-                    gap.position, gap.normalDegrees);
-        EXPECT_EQ(gap.distinctVertices, acc2->stats.patches * quadVertices);
-        EXPECT_LT(gap.position, 1e-5);
-        EXPECT_LT(gap.normalDegrees, 0.01);
+        expectShadersMatch("acc2", paddedPoints(acc2->controlPoints), acc2->stats.patches, bounds, quadVertices,
+                           [&](const TessCaptureRecord& r) {
+                               Acc2Sample s = evaluateAcc2Patch(*acc2, r.patch, r.u, r.v);
+                               return std::pair(s.position, s.normal);
+                           });
     }
     {
         Result<Acc1Patches> acc1 = buildAcc1(cube, {}, "cube");
         ASSERT_TRUE(acc1.ok());
-        Captured c = drawAndCapture(ctx, "acc1.tesc", "acc1.tese", paddedPoints(acc1->controlPoints), acc1->stats.patches,
-                                    kFactor, bounds);
-        EXPECT_EQ(c.overflow, 0u);
-        GpuCpuGap gap = compare(c, diagonal, [&](const TessCaptureRecord& r) {
-            Acc1Sample s = evaluateAcc1Patch(*acc1, r.patch, r.u, r.v);
-            return std::pair(s.position, s.normal);
-        });
-        std::printf("acc1: %zu vertices, GPU - CPU: position %.2e of the diagonal, normal %.2e deg\n", gap.distinctVertices,
-                    gap.position, gap.normalDegrees);
-        EXPECT_EQ(gap.distinctVertices, acc1->stats.patches * quadVertices);
-        EXPECT_LT(gap.position, 1e-5);
-        EXPECT_LT(gap.normalDegrees, 0.01);
+        expectShadersMatch("acc1", paddedPoints(acc1->controlPoints), acc1->stats.patches, bounds, quadVertices,
+                           [&](const TessCaptureRecord& r) {
+                               Acc1Sample s = evaluateAcc1Patch(*acc1, r.patch, r.u, r.v);
+                               return std::pair(s.position, s.normal);
+                           });
     }
     for (const Cage& cage : {cube, test::makeMixedGrid()}) {  // split quads; a triangle and a fanned pentagon
         Result<PnPatches> pn = buildPn(cage, "pn cage");
@@ -735,18 +734,11 @@ TEST(SchemePlugins, TessellationShadersMatchTheCpuEvaluation) {
             for (uint32_t i = 0; i < PnPatches::kPositionPoints; ++i) data.push_back(glm::vec4(pn->positions[t * 10 + i], 1.0f));
             for (uint32_t i = 0; i < PnPatches::kNormalPoints; ++i) data.push_back(glm::vec4(pn->normals[t * 6 + i], 0.0f));
         }
-        const Bounds b = computeBounds(cage);
-        Captured c = drawAndCapture(ctx, "pn.tesc", "pn.tese", data, pn->stats.triangles, kFactor, b);
-        EXPECT_EQ(c.overflow, 0u);
-        GpuCpuGap gap = compare(c, b.diagonal(), [&](const TessCaptureRecord& r) {
-            PnSample s = evaluatePnTriangle(*pn, r.patch, glm::vec3(r.u, r.v, r.w));
-            return std::pair(s.position, s.normal);
-        });
-        std::printf("pn: %zu vertices, GPU - CPU: position %.2e of the diagonal, normal %.2e deg\n", gap.distinctVertices,
-                    gap.position, gap.normalDegrees);
-        EXPECT_EQ(gap.distinctVertices, pn->stats.triangles * triangleVertices);
-        EXPECT_LT(gap.position, 1e-5);
-        EXPECT_LT(gap.normalDegrees, 0.01);
+        expectShadersMatch("pn", data, pn->stats.triangles, computeBounds(cage), triangleVertices,
+                           [&](const TessCaptureRecord& r) {
+                               PnSample s = evaluatePnTriangle(*pn, r.patch, glm::vec3(r.u, r.v, r.w));
+                               return std::pair(s.position, s.normal);
+                           });
     }
     EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
     destroyContext(ctx);
