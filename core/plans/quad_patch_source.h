@@ -7,8 +7,10 @@
 // boundary when the boundary rule is "none".
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "mesh/cage.h"
@@ -51,5 +53,37 @@ uint32_t stepsToAllQuads(const Cage& cage);
 
 // Where (sub-face, u, v) of the original cage lies on `quads`. `face` may have no patch (holes).
 RefinedLocation locateOnQuads(const QuadPatchSource& source, uint32_t subface, double u, double v);
+
+// A scheme's sample at (sub-face, u, v) of the original cage: evaluatePatch(patch, s, t) of the
+// patch it lands on, whose du and dv (float or double vectors) are in the frame of that quad,
+// taken back to the sub-face's frame (the normal stays: the map keeps orientation). A default
+// sample where the quad has no patch.
+template <class EvaluatePatch>
+auto evaluateOnQuads(const QuadPatchSource& source, uint32_t subface, double u, double v, EvaluatePatch evaluatePatch) {
+    using Sample = std::invoke_result_t<EvaluatePatch, uint32_t, double, double>;
+    const RefinedLocation loc = locateOnQuads(source, subface, u, v);
+    const uint32_t patch = source.facePatch[loc.face];
+    if (patch == kNoPatch) return Sample{};
+    Sample sample = evaluatePatch(patch, loc.s, loc.t);
+    using Real = typename decltype(sample.du)::value_type;
+    const auto ds = sample.du, dt = sample.dv;
+    sample.du = Real(loc.dsdu) * ds + Real(loc.dtdu) * dt;
+    sample.dv = Real(loc.dsdv) * ds + Real(loc.dtdv) * dt;
+    return sample;
+}
+
+// The set-up counts a per-quad scheme's stats share (patches, controlPoints, refinementSteps,
+// ignoredCreases, ignoredCorners, setupMilliseconds): one patch per entry of source.patchFace,
+// and the time since `start`.
+template <class Stats>
+void countQuadPatches(Stats& stats, const QuadPatchSource& source, size_t controlPoints,
+                      std::chrono::steady_clock::time_point start) {
+    stats.patches = uint32_t(source.patchFace.size());
+    stats.controlPoints = uint32_t(controlPoints);
+    stats.refinementSteps = uint32_t(source.steps.size());
+    stats.ignoredCreases = source.ignoredCreases;
+    stats.ignoredCorners = source.ignoredCorners;
+    stats.setupMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
 
 }  // namespace qp

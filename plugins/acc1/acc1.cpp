@@ -160,13 +160,7 @@ Result<Acc1Patches> buildAcc1(const Cage& cage, const Acc1Settings& settings, co
             for (int i = 0; i < 4; ++i) cp[28 + 4 * j + i] = glm::vec3(V[i][j]);
     }
 
-    out.stats.patches = uint32_t(src.patchFace.size());
-    out.stats.controlPoints = uint32_t(out.controlPoints.size());
-    out.stats.refinementSteps = uint32_t(src.steps.size());
-    out.stats.ignoredCreases = src.ignoredCreases;
-    out.stats.ignoredCorners = src.ignoredCorners;
-    out.stats.setupMilliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    countQuadPatches(out.stats, src, out.controlPoints.size(), start);
     return out;
 }
 
@@ -192,14 +186,9 @@ Acc1Sample evaluateAcc1Patch(const Acc1Patches& patches, uint32_t patch, float s
 }
 
 Acc1Sample evaluateAcc1(const Acc1Patches& patches, uint32_t subface, float u, float v) {
-    RefinedLocation loc = locateOnQuads(patches.source, subface, u, v);
-    const uint32_t patch = patches.source.facePatch[loc.face];
-    if (patch == kNoPatch) return Acc1Sample{};
-    Acc1Sample sample = evaluateAcc1Patch(patches, patch, float(loc.s), float(loc.t));
-    glm::vec3 ds = sample.du, dt = sample.dv;
-    sample.du = float(loc.dsdu) * ds + float(loc.dtdu) * dt;
-    sample.dv = float(loc.dsdv) * ds + float(loc.dtdv) * dt;
-    return sample;
+    return evaluateOnQuads(patches.source, subface, u, v, [&](uint32_t patch, double s, double t) {
+        return evaluateAcc1Patch(patches, patch, float(s), float(t));
+    });
 }
 
 const char* acc1Restrictions() {

@@ -94,13 +94,7 @@ Result<Acc2Patches> buildAcc2(const Cage& cage, const Acc2Settings& settings, co
         }
     }
 
-    out.stats.patches = uint32_t(src.patchFace.size());
-    out.stats.controlPoints = uint32_t(out.controlPoints.size());
-    out.stats.refinementSteps = uint32_t(src.steps.size());
-    out.stats.ignoredCreases = src.ignoredCreases;
-    out.stats.ignoredCorners = src.ignoredCorners;
-    out.stats.setupMilliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    countQuadPatches(out.stats, src, out.controlPoints.size(), start);
     return out;
 }
 
@@ -122,14 +116,9 @@ Acc2Sample evaluateAcc2Patch(const Acc2Patches& patches, uint32_t patch, float s
 }
 
 Acc2Sample evaluateAcc2(const Acc2Patches& patches, uint32_t subface, float u, float v) {
-    RefinedLocation loc = locateOnQuads(patches.source, subface, u, v);
-    const uint32_t patch = patches.source.facePatch[loc.face];
-    if (patch == kNoPatch) return Acc2Sample{};
-    Acc2Sample sample = evaluateAcc2Patch(patches, patch, float(loc.s), float(loc.t));
-    glm::vec3 ds = sample.du, dt = sample.dv;
-    sample.du = float(loc.dsdu) * ds + float(loc.dtdu) * dt;
-    sample.dv = float(loc.dsdv) * ds + float(loc.dtdv) * dt;
-    return sample;  // the normal is unchanged: the map to the child frame keeps orientation
+    return evaluateOnQuads(patches.source, subface, u, v, [&](uint32_t patch, double s, double t) {
+        return evaluateAcc2Patch(patches, patch, float(s), float(t));
+    });
 }
 
 const char* acc2Restrictions() {

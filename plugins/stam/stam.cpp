@@ -144,13 +144,7 @@ Result<StamPatches> buildStam(const Cage& cage, const std::string& source) {
         }
     }
 
-    out.stats.patches = uint32_t(src.patchFace.size());
-    out.stats.controlPoints = uint32_t(out.controlPoints.size());
-    out.stats.refinementSteps = uint32_t(src.steps.size());
-    out.stats.ignoredCreases = src.ignoredCreases;
-    out.stats.ignoredCorners = src.ignoredCorners;
-    out.stats.setupMilliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    countQuadPatches(out.stats, src, out.controlPoints.size(), start);
     return out;
 }
 
@@ -222,14 +216,8 @@ StamSample evaluateStamPatch(const StamPatches& patches, uint32_t patch, double 
 }
 
 StamSample evaluateStam(const StamPatches& patches, uint32_t subface, double u, double v) {
-    RefinedLocation loc = locateOnQuads(patches.source, subface, u, v);
-    const uint32_t patch = patches.source.facePatch[loc.face];
-    if (patch == kNoPatch) return StamSample{};
-    StamSample sample = evaluateStamPatch(patches, patch, loc.s, loc.t);
-    glm::dvec3 ds = sample.du, dt = sample.dv;
-    sample.du = loc.dsdu * ds + loc.dtdu * dt;
-    sample.dv = loc.dsdv * ds + loc.dtdv * dt;
-    return sample;
+    return evaluateOnQuads(patches.source, subface, u, v,
+                           [&](uint32_t patch, double s, double t) { return evaluateStamPatch(patches, patch, s, t); });
 }
 
 const char* stamRestrictions() {
