@@ -265,7 +265,9 @@ SeamGap measurePatchSeams(const Patches& patches, Sample (*evaluatePatch)(const 
     const QuadPatchSource& src = patches.source;
     return measureSeams(
         src.quads, src.topology,
-        [&](uint32_t face, double s, double t) { return schemeSample(evaluatePatch(patches, src.facePatch[face], Real(s), Real(t))); },
+        [&](uint32_t face, double s, double t) {
+            return schemeSample(evaluatePatch(patches, src.facePatch[face], Real(s), Real(t)));
+        },
         [&](uint32_t face) { return src.facePatch[face] != kNoPatch; }, diagonal);
 }
 

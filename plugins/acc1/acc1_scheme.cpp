@@ -24,11 +24,10 @@ constexpr FeatureRule kRules[] = {
     {CageFeature::NonManifold, Handling::Unsupported, "acc1 needs a manifold cage (a fan of quads around every vertex)"},
 };
 
-struct Acc1Traits {
+struct Acc1Traits : QuadPatchTraits<Acc1Patches> {
     static constexpr const char* kName = "acc1";
     static constexpr const char* kTessControl = "acc1.tesc";
     static constexpr const char* kTessEvaluation = "acc1.tese";
-    using Data = Acc1Patches;
     static std::span<const FeatureRule> rules() { return kRules; }
     static Result<Data> build(const Cage& cage) { return buildAcc1(cage, {}, kName); }
     static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v) {

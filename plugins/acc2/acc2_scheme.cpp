@@ -23,11 +23,10 @@ constexpr FeatureRule kRules[] = {
     {CageFeature::NonManifold, Handling::Unsupported, "acc2 needs a manifold cage (a fan of quads around every vertex)"},
 };
 
-struct Acc2Traits {
+struct Acc2Traits : QuadPatchTraits<Acc2Patches> {
     static constexpr const char* kName = "acc2";
     static constexpr const char* kTessControl = "acc2.tesc";
     static constexpr const char* kTessEvaluation = "acc2.tese";
-    using Data = Acc2Patches;
     static std::span<const FeatureRule> rules() { return kRules; }
     static Result<Data> build(const Cage& cage) { return buildAcc2(cage, {}, kName); }
     static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v) {
