@@ -13,6 +13,8 @@
 #include <type_traits>
 #include <vector>
 
+#include <glm/geometric.hpp>
+
 #include "mesh/cage.h"
 #include "mesh/topology.h"
 #include "plans/limit_frame.h"
@@ -53,6 +55,15 @@ uint32_t stepsToAllQuads(const Cage& cage);
 
 // Where (sub-face, u, v) of the original cage lies on `quads`. `face` may have no patch (holes).
 RefinedLocation locateOnQuads(const QuadPatchSource& source, uint32_t subface, double u, double v);
+
+// A patch sample's normal: normalize(du x dv), zero where du and dv are parallel (float or
+// double vectors).
+template <class Vec>
+Vec patchNormal(const Vec& du, const Vec& dv) {
+    const Vec n = glm::cross(du, dv);
+    const auto length = glm::length(n);
+    return length > 0 ? n / length : Vec(0);
+}
 
 // A scheme's sample at (sub-face, u, v) of the original cage: evaluatePatch(patch, s, t) of the
 // patch it lands on, whose du and dv (float or double vectors) are in the frame of that quad,

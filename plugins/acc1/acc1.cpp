@@ -2,8 +2,6 @@
 
 #include <chrono>
 
-#include <glm/geometric.hpp>
-
 namespace qp {
 
 namespace {
@@ -178,9 +176,7 @@ Acc1Sample evaluateAcc1Patch(const Acc1Patches& patches, uint32_t patch, float s
         for (int i = 0; i < 3; ++i) sample.du += qs[i] * bt[j] * cp[16 + 3 * j + i];
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 4; ++i) sample.dv += bs[i] * qt[j] * cp[28 + 4 * j + i];
-    glm::vec3 n = glm::cross(sample.du, sample.dv);
-    float length = glm::length(n);
-    sample.normal = length > 0.0f ? n / length : glm::vec3(0.0f);
+    sample.normal = patchNormal(sample.du, sample.dv);
     sample.valid = true;
     return sample;
 }

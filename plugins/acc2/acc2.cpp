@@ -2,8 +2,6 @@
 
 #include <chrono>
 
-#include <glm/geometric.hpp>
-
 #include "plans/patch_basis.h"
 
 namespace qp {
@@ -108,9 +106,7 @@ Acc2Sample evaluateAcc2Patch(const Acc2Patches& patches, uint32_t patch, float s
         sample.du += w.du[i] * cp[i];
         sample.dv += w.dv[i] * cp[i];
     }
-    glm::vec3 n = glm::cross(sample.du, sample.dv);
-    float length = glm::length(n);
-    sample.normal = length > 0.0f ? n / length : glm::vec3(0.0f);
+    sample.normal = patchNormal(sample.du, sample.dv);
     sample.valid = true;
     return sample;
 }

@@ -3,8 +3,6 @@
 #include <chrono>
 #include <cmath>
 
-#include <glm/geometric.hpp>
-
 #include "stam_eigen.h"
 
 namespace qp {
@@ -208,9 +206,7 @@ StamSample evaluateStamPatch(const StamPatches& patches, uint32_t patch, double 
     derivativesToFaceFrame(rotation, dx, dy);
     sample.du = dx;
     sample.dv = dy;
-    glm::dvec3 normal = glm::cross(dx, dy);
-    double length = glm::length(normal);
-    sample.normal = length > 0.0 ? normal / length : glm::dvec3(0.0);
+    sample.normal = patchNormal(dx, dy);
     sample.valid = true;
     return sample;
 }
