@@ -31,8 +31,7 @@ struct Acc1Traits : QuadPatchTraits<Acc1Patches> {
     static std::span<const FeatureRule> rules() { return kRules; }
     static Result<Data> build(const Cage& cage) { return buildAcc1(cage, {}, kName); }
     static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v) {
-        const Acc1Sample s = evaluateAcc1(data, subface, u, v);
-        return SurfacePoint{s.position, s.normal, s.du, s.dv, s.valid};
+        return surfacePointOf(evaluateAcc1(data, subface, u, v));
     }
     static void addCullLeaves(const Data& data, uint32_t patch, const glm::vec3& origin, PatchCullLeaves& leaves) {
         BicubicPoints geometry;  // b(i, j) at 4 j + i: BicubicPoints' order

@@ -30,8 +30,7 @@ struct Acc2Traits : QuadPatchTraits<Acc2Patches> {
     static std::span<const FeatureRule> rules() { return kRules; }
     static Result<Data> build(const Cage& cage) { return buildAcc2(cage, {}, kName); }
     static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v) {
-        const Acc2Sample s = evaluateAcc2(data, subface, u, v);
-        return SurfacePoint{s.position, s.normal, s.du, s.dv, s.valid};
+        return surfacePointOf(evaluateAcc2(data, subface, u, v));
     }
     static void addCullLeaves(const Data& data, uint32_t patch, const glm::vec3& origin, PatchCullLeaves& leaves) {
         std::array<glm::vec3, 20> gregory;
