@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "plans/corner_frame.h"
 #include "stam_eigen.h"
 
 namespace qp {
@@ -20,27 +21,6 @@ void bspline(double t, double b[4], double d[4]) {
     d[1] = (9.0 * t * t - 12.0 * t) / 6.0;
     d[2] = (-9.0 * t * t + 6.0 * t + 3.0) / 6.0;
     d[3] = t * t / 2.0;
-}
-
-// (s, t) of a face in the frame whose origin is corner `rotation` (u towards the next corner),
-// and derivatives back (as core/plans/planned_cage.cpp does for plans).
-void toCornerFrame(uint32_t rotation, double s, double t, double& x, double& y) {
-    switch (rotation) {
-    case 1: x = t; y = 1.0 - s; break;
-    case 2: x = 1.0 - s; y = 1.0 - t; break;
-    case 3: x = 1.0 - t; y = s; break;
-    default: x = s; y = t; break;
-    }
-}
-
-void derivativesToFaceFrame(uint32_t rotation, glm::dvec3& du, glm::dvec3& dv) {
-    glm::dvec3 a = du, b = dv;
-    switch (rotation) {
-    case 1: du = -b; dv = a; break;
-    case 2: du = -a; dv = -b; break;
-    case 3: du = b; dv = -a; break;
-    default: break;
-    }
 }
 
 uint32_t countBoundaryEdges(const Cage& cage) {
