@@ -276,13 +276,8 @@ SeamGap measurePatchSeams(const Patches& patches, Sample (*evaluatePatch)(const 
 inline SubfaceFilter regularPatchSubfaces(const QuadPatchSource& src) {
     return [&src](uint32_t s) {
         for (double u : {0.0, 1.0})
-            for (double v : {0.0, 1.0}) {
-                const uint32_t face = locateOnQuads(src, s, u, v).face;
-                for (uint32_t k = 0; k < 4; ++k) {
-                    const QuadRing& ring = src.rings[src.quads.faceBegin(face)[k]];
-                    if (ring.boundary || ring.faceCount() != 4) return false;
-                }
-            }
+            for (double v : {0.0, 1.0})
+                if (!regularQuad(src, locateOnQuads(src, s, u, v).face)) return false;
         return true;
     };
 }

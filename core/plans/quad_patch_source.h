@@ -56,6 +56,11 @@ uint32_t stepsToAllQuads(const Cage& cage);
 // Where (sub-face, u, v) of the original cage lies on `quads`. `face` may have no patch (holes).
 RefinedLocation locateOnQuads(const QuadPatchSource& source, uint32_t subface, double u, double v);
 
+// A quad of `quads` whose four corners are interior vertices of valence 4 (where a per-quad
+// scheme's patch is the bicubic B-spline), and one with a corner on the boundary.
+bool regularQuad(const QuadPatchSource& source, uint32_t face);
+bool boundaryQuad(const QuadPatchSource& source, uint32_t face);
+
 // A patch sample's normal: normalize(du x dv), zero where du and dv are parallel (float or
 // double vectors).
 template <class Vec>
@@ -95,6 +100,29 @@ void countQuadPatches(Stats& stats, const QuadPatchSource& source, size_t contro
     stats.ignoredCreases = source.ignoredCreases;
     stats.ignoredCorners = source.ignoredCorners;
     stats.setupMilliseconds = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The patches of a scheme with Patches::kControlPointsPerPatch points per quad of the fewest
+// steps to an all-quad cage (ACC-1, ACC-2; tangents by `rule`): buildPatch(source, face, points)
+// writes the points of each patch's quad, and the stats get countQuadPatches' counts and the
+// regular and boundary patches.
+template <class Patches, class BuildPatch>
+Result<Patches> buildQuadPatches(const Cage& cage, TangentRule rule, const std::string& source, BuildPatch buildPatch) {
+    const auto start = std::chrono::steady_clock::now();
+    Result<QuadPatchSource> prepared = prepareQuadPatchSource(cage, stepsToAllQuads(cage), rule, source);
+    if (!prepared) return prepared.error();
+    Patches out;
+    out.source = std::move(prepared).value();
+    const QuadPatchSource& src = out.source;
+    out.controlPoints.resize(src.patchFace.size() * Patches::kControlPointsPerPatch);
+    for (uint32_t patch = 0; patch < src.patchFace.size(); ++patch) {
+        const uint32_t face = src.patchFace[patch];
+        out.stats.regularPatches += regularQuad(src, face);
+        out.stats.boundaryPatches += boundaryQuad(src, face);
+        buildPatch(src, face, &out.controlPoints[size_t(patch) * Patches::kControlPointsPerPatch]);
+    }
+    countQuadPatches(out.stats, src, out.controlPoints.size(), start);
+    return out;
 }
 
 }  // namespace qp
