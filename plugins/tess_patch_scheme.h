@@ -32,6 +32,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <vector>
 
 #include "grid_drawing.h"
@@ -42,6 +43,14 @@
 #include "tess_patch_pass.h"
 
 namespace qp {
+
+// N points from `first` on, relative to `origin`: a patch's geometry as its culling leaf takes it.
+template <size_t N>
+std::array<glm::vec3, N> pointsRelativeTo(const glm::vec3* first, const glm::vec3& origin) {
+    std::array<glm::vec3, N> points;
+    for (size_t k = 0; k < N; ++k) points[k] = first[k] - origin;
+    return points;
+}
 
 // The Traits acc1 and acc2 share: one quad patch per face of data.source that has one,
 // Data::kControlPointsPerPatch points each, uploaded as they are.

@@ -34,10 +34,9 @@ struct Acc1Traits : QuadPatchTraits<Acc1Patches> {
         return surfacePointOf(evaluateAcc1(data, subface, u, v));
     }
     static void addCullLeaves(const Data& data, uint32_t patch, const glm::vec3& origin, PatchCullLeaves& leaves) {
-        BicubicPoints geometry;  // b(i, j) at 4 j + i: BicubicPoints' order
-        for (uint32_t k = 0; k < Acc1Patches::kGeometryPoints; ++k)
-            geometry[k] = data.controlPoints[size_t(patch) * Acc1Patches::kControlPointsPerPatch + k] - origin;
-        addBezierLeaf(leaves, geometry, false);
+        // The geometry patch, b(i, j) at 4 j + i: BicubicPoints' order.
+        const glm::vec3* geometry = &data.controlPoints[size_t(patch) * Acc1Patches::kControlPointsPerPatch];
+        addBezierLeaf(leaves, pointsRelativeTo<Acc1Patches::kGeometryPoints>(geometry, origin), false);
     }
 };
 

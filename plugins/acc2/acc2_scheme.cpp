@@ -33,10 +33,8 @@ struct Acc2Traits : QuadPatchTraits<Acc2Patches> {
         return surfacePointOf(evaluateAcc2(data, subface, u, v));
     }
     static void addCullLeaves(const Data& data, uint32_t patch, const glm::vec3& origin, PatchCullLeaves& leaves) {
-        std::array<glm::vec3, 20> gregory;
-        for (uint32_t k = 0; k < Acc2Patches::kControlPointsPerPatch; ++k)
-            gregory[k] = data.controlPoints[size_t(patch) * Acc2Patches::kControlPointsPerPatch + k] - origin;
-        addGregoryLeaf(leaves, gregory, false);
+        const glm::vec3* gregory = &data.controlPoints[size_t(patch) * Acc2Patches::kControlPointsPerPatch];
+        addGregoryLeaf(leaves, pointsRelativeTo<Acc2Patches::kControlPointsPerPatch>(gregory, origin), false);
     }
 };
 

@@ -103,10 +103,8 @@ struct PnTraits {
     }
     static glm::vec3 anchor(const Data& data, uint32_t t) { return data.positions[size_t(t) * PnPatches::kPositionPoints]; }
     static void addCullLeaves(const Data& data, uint32_t t, const glm::vec3& origin, PatchCullLeaves& leaves) {
-        CubicTrianglePoints points;  // pn.h's order is CubicTrianglePoints'
-        for (uint32_t k = 0; k < PnPatches::kPositionPoints; ++k)
-            points[k] = data.positions[size_t(t) * PnPatches::kPositionPoints + k] - origin;
-        addCubicTriangleLeaf(leaves, points);
+        const glm::vec3* geometry = &data.positions[size_t(t) * PnPatches::kPositionPoints];  // CubicTrianglePoints' order
+        addCubicTriangleLeaf(leaves, pointsRelativeTo<PnPatches::kPositionPoints>(geometry, origin));
     }
 };
 
