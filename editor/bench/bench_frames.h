@@ -41,6 +41,7 @@ struct FrameKind {
     double medianMs() const { return ms.empty() ? NAN : median(ms); }
     double medianRatio() const { return ratios.empty() ? NAN : median(ratios); }
     double medianCpuRatio() const { return cpuRatios.empty() ? NAN : median(cpuRatios); }
+};
 
 // CPU time of this process, every thread (lavapipe's and TBB's included), in ms.
 double processCpuMs();
