@@ -13,8 +13,7 @@ Status buildDisplacedDrawing(DisplacedDrawing& drawing, const VulkanContext& con
     drawing.users = buildDisplacementUsers(displacement.layout);
     drawing.gridOfSubface.assign(planned.subfaceCount(), UINT32_MAX);
     for (uint32_t g = 0; g < drawing.mesh.gridSubface.size(); ++g) drawing.gridOfSubface[drawing.mesh.gridSubface[g]] = g;
-    std::vector<MeshVertex> vertices(drawing.mesh.positions.size());
-    for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = {drawing.mesh.positions[i], drawing.mesh.normals[i]};
+    const std::vector<MeshVertex> vertices = meshVertices(drawing.mesh.positions, drawing.mesh.normals);
     if (vertices.empty()) return success();
     Result<GpuMesh> gpu = uploadMesh(context, vertices, drawing.mesh.indices);
     if (!gpu) return gpu.error();

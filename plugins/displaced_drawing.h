@@ -27,6 +27,11 @@ struct DisplacedDrawing {
     const Displacement* displacement = nullptr;  // what it was built from (samples change in place)
 };
 
+// Scheme::setDisplacement's argument as a scheme keeps it: nullptr for none or an empty one.
+inline const Displacement* displacementToDraw(const Displacement* displacement) {
+    return displacement && !displacement->empty() ? displacement : nullptr;
+}
+
 // Builds the scheme's displaced mesh at `factor` (displacedGridFactor) and uploads it, replacing
 // what `drawing` held. The scheme's evaluate() must be ready (call after its own update work).
 Status buildDisplacedDrawing(DisplacedDrawing& drawing, const VulkanContext& context, const Scheme& scheme,

@@ -19,32 +19,27 @@ void prepareGridDrawing(GridDrawing& drawing, const PlannedCage& planned, uint32
 }
 
 Status createGridDrawing(GridDrawing& drawing, const GpuContext& gpu) {
-    Result<MeshPass> pass = createMeshPass(*gpu.vulkan, gpu.cache, gpu.colorFormat, gpu.depthFormat);
-    if (!pass) return pass.error();
-    drawing.pass = *pass;
+    if (Status pass = createSchemeMeshPass(drawing.pass, gpu); !pass) return pass;
     drawing.context = gpu.vulkan;
     return success();
 }
 
 Status setGridDisplacement(GridDrawing& drawing, const Displacement* displacement) {
-    drawing.displacement = displacement && !displacement->empty() ? displacement : nullptr;
+    drawing.displacement = displacementToDraw(displacement);
     return success();
 }
 
 Status updateGridDrawing(GridDrawing& drawing, const Scheme& scheme) {
     if (!drawing.context || drawing.grid.samples.empty()) return success();
-    if (drawing.mesh.indexCount) destroyMesh(*drawing.context, drawing.mesh);
-    drawing.mesh = GpuMesh{};
-    if (drawing.displacement)
+    if (drawing.displacement) {
+        if (Status cleared = replaceMesh(*drawing.context, drawing.mesh, {}, {}); !cleared) return cleared;  // drawn instead
         return buildDisplacedDrawing(drawing.displaced, *drawing.context, scheme, *drawing.planned, *drawing.displacement,
                                      displacedGridFactor(*drawing.planned, *drawing.displacement, drawing.factor));
+    }
     destroyDisplacedDrawing(drawing.displaced);
     std::vector<SurfacePoint> points(drawing.grid.samples.size());
     evaluateParallel(scheme, drawing.grid.samples, points);
-    Result<GpuMesh> mesh = uploadMesh(*drawing.context, meshVertices(points), drawing.grid.indices);
-    if (!mesh) return mesh.error();
-    drawing.mesh = *mesh;
-    return success();
+    return replaceMesh(*drawing.context, drawing.mesh, meshVertices(points), drawing.grid.indices);
 }
 
 Status gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> samples) {
@@ -53,11 +48,12 @@ Status gridDisplacementChanged(GridDrawing& drawing, std::span<const uint32_t> s
 
 DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, const RenderTarget& target,
                             const DrawView& view, DrawStats stats, std::span<const uint32_t> culledSubfaces) {
-    const GpuMesh& mesh = drawing.displacement ? drawing.displaced.gpu : drawing.mesh;
+    if (drawing.displacement) {
+        recordDisplacedParts(cmd, drawing.pass, target, view, drawing.displaced, culledSubfaces, stats);
+        return stats;
+    }
     std::vector<IndexRange> parts;
-    if (!culledSubfaces.empty() && drawing.displacement) {
-        parts = displacedKeptRanges(drawing.displaced, culledSubfaces);
-    } else if (!culledSubfaces.empty()) {
+    if (!culledSubfaces.empty()) {
         std::vector<uint32_t> culledGrids;  // positions in grid.subfaces (both ascending)
         const std::vector<uint32_t>& gridded = drawing.grid.subfaces;
         for (uint32_t s : culledSubfaces) {
@@ -66,7 +62,7 @@ DrawStats recordGridDrawing(VkCommandBuffer cmd, const GridDrawing& drawing, con
         }
         parts = keptIndexRanges(drawing.gridFirstIndex, culledGrids);
     }
-    recordMeshParts(cmd, drawing.pass, target, view, mesh, culledSubfaces.empty() ? nullptr : &parts, stats);
+    recordMeshParts(cmd, drawing.pass, target, view, drawing.mesh, culledSubfaces.empty() ? nullptr : &parts, stats);
     return stats;
 }
 

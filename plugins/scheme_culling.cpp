@@ -249,4 +249,11 @@ void recordMeshParts(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarg
     stats.drawnBy = DrawnBy::CpuMesh;
 }
 
+void recordDisplacedParts(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarget& target, const DrawView& view,
+                          const DisplacedDrawing& drawing, std::span<const uint32_t> culledSubfaces, DrawStats& stats) {
+    if (culledSubfaces.empty()) return recordMeshParts(cmd, pass, target, view, drawing.gpu, nullptr, stats);
+    const std::vector<IndexRange> parts = displacedKeptRanges(drawing, culledSubfaces);
+    recordMeshParts(cmd, pass, target, view, drawing.gpu, &parts, stats);
+}
+
 }  // namespace qp

@@ -119,5 +119,8 @@ std::vector<IndexRange> displacedKeptRanges(const DisplacedDrawing& drawing, std
 // ranges; stats.triangles and stats.drawnBy say what was drawn.
 void recordMeshParts(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarget& target, const DrawView& view,
                      const GpuMesh& mesh, const std::vector<IndexRange>* parts, DrawStats& stats);
+// recordMeshParts of a displaced mesh, all but the sub-faces `culledSubfaces` (sorted).
+void recordDisplacedParts(VkCommandBuffer cmd, const MeshPass& pass, const RenderTarget& target, const DrawView& view,
+                          const DisplacedDrawing& drawing, std::span<const uint32_t> culledSubfaces, DrawStats& stats);
 
 }  // namespace qp

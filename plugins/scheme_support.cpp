@@ -86,6 +86,30 @@ std::vector<MeshVertex> meshVertices(std::span<const SurfacePoint> points) {
     return vertices;
 }
 
+std::vector<MeshVertex> meshVertices(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals) {
+    std::vector<MeshVertex> vertices(positions.size());
+    for (size_t i = 0; i < positions.size(); ++i) vertices[i] = {positions[i], normals[i]};
+    return vertices;
+}
+
+Status createSchemeMeshPass(MeshPass& pass, const GpuContext& gpu) {
+    Result<MeshPass> created = createMeshPass(*gpu.vulkan, gpu.cache, gpu.colorFormat, gpu.depthFormat);
+    if (!created) return created.error();
+    pass = *created;
+    return success();
+}
+
+Status replaceMesh(const VulkanContext& context, GpuMesh& mesh, std::span<const MeshVertex> vertices,
+                   std::span<const uint32_t> indices) {
+    if (mesh.indexCount) destroyMesh(context, mesh);
+    mesh = GpuMesh{};
+    if (vertices.empty()) return success();
+    Result<GpuMesh> uploaded = uploadMesh(context, vertices, indices);
+    if (!uploaded) return uploaded.error();
+    mesh = *uploaded;
+    return success();
+}
+
 uint32_t displacedGridFactor(const PlannedCage& planned, const Displacement& displacement, uint32_t requested) {
     uint32_t factor = std::max(requested, 1u);
     if (!displacement.empty()) factor = std::max(factor, requiredMeshFactor(planned, displacement.layout));

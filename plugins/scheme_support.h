@@ -44,11 +44,29 @@ glm::vec3 normalOf(const glm::vec3& du, const glm::vec3& dv);
 // A SurfacePoint from position and derivatives, its normal from them.
 SurfacePoint surfacePoint(const glm::vec3& position, const glm::vec3& du, const glm::vec3& dv);
 
+// A scheme's own sample (position, normal, du, dv in float or double, and `valid`: it has a
+// surface there) as a SurfacePoint.
+template <class Sample>
+SurfacePoint surfacePointOf(const Sample& s) {
+    return SurfacePoint{glm::vec3(s.position), glm::vec3(s.normal), glm::vec3(s.du), glm::vec3(s.dv), s.valid};
+}
+
 // Evaluates `scheme` at every request, spread over all cores in chunks (Scheme::evaluate is
 // thread-safe by contract).
 void evaluateParallel(const Scheme& scheme, std::span<const SampleRequest> requests, std::span<SurfacePoint> out);
 
 std::vector<MeshVertex> meshVertices(std::span<const SurfacePoint> points);
+std::vector<MeshVertex> meshVertices(std::span<const glm::vec3> positions, std::span<const glm::vec3> normals);
+
+// ---- Drawing triangles (MeshPass) -------------------------------------------------------------
+
+// The MeshPass for `gpu`'s target formats, as createGpu makes it.
+Status createSchemeMeshPass(MeshPass& pass, const GpuContext& gpu);
+
+// Destroys `mesh` (if it holds one) and uploads these triangles in its place; none when there
+// are no vertices.
+Status replaceMesh(const VulkanContext& context, GpuMesh& mesh, std::span<const MeshVertex> vertices,
+                   std::span<const uint32_t> indices);
 
 // ---- Culling (DrawView::cull) ----------------------------------------------------------------
 

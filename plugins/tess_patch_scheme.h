@@ -2,16 +2,27 @@
 // primitive per patch through the tessellator (path=tess, the default: the control points in a
 // storage buffer, the surface evaluated in the module's .tese) or on a sub-face grid evaluated
 // on all cores (path=cpu, and whenever displaced: grid_drawing.h). update() rebuilds the patches
-// from the cage's positions. acc1 and acc2 differ only in their patches, given by `Traits`:
+// from the cage's positions. acc1, acc2 and pn differ only in their patches, given by `Traits`
+// (acc1 and acc2 take most of theirs from QuadPatchTraits below):
 //
 //   struct Traits {
 //       static constexpr const char* kName;              // the scheme's name, e.g. "acc1"
 //       static constexpr const char* kTessControl, *kTessEvaluation;  // its shaders (module files)
+//       static constexpr const char* kApproximates;      // said whatever the cage (or nullptr)
+//       static constexpr bool kTriangles;                 // triangle patches (else quads)
 //       static std::span<const FeatureRule> rules();     // what it does with each cage feature
-//       using Data = ...;                                // .controlPoints, .stats, .source
+//       using Data = ...;
 //       static Result<Data> build(const Cage& cage);
+//       static uint32_t patchCount(const Data& data), controlPoints(const Data& data);
+//       static std::vector<glm::vec4> packPatches(const Data& data);  // what the .tese reads
+//       // Segments per patch edge for `factor` per quad sub-face edge.
+//       static uint32_t edgeFactor(const Data& data, uint32_t factor);
 //       static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v);
-//       // Culling (scheme_culling.h): patch p's geometry as culling leaves relative to `origin`.
+//       // Culling (scheme_culling.h): which sub-faces each patch covers, which patches touch, a
+//       // point near patch p, and patch p's geometry as culling leaves relative to `origin`.
+//       static PatchCover cover(const Data& data);
+//       static CullAdjacency adjacency(const Data& data, const PlannedCage& planned);
+//       static glm::vec3 anchor(const Data& data, uint32_t p);
 //       static void addCullLeaves(const Data& data, uint32_t p, const glm::vec3& origin, PatchCullLeaves& leaves);
 //   };
 //
@@ -19,6 +30,10 @@
 // sub-face on the grid (the leaves of the patches covering it); the bounds are built on the CPU
 // when a frame first needs them after update(). Back-patch tests only on a closed, outward cage.
 #pragma once
+
+#include <algorithm>
+#include <array>
+#include <vector>
 
 #include "grid_drawing.h"
 #include "mesh/closed_surface.h"
@@ -29,11 +44,44 @@
 
 namespace qp {
 
+// N points from `first` on, relative to `origin`: a patch's geometry as its culling leaf takes it.
+template <size_t N>
+std::array<glm::vec3, N> pointsRelativeTo(const glm::vec3* first, const glm::vec3& origin) {
+    std::array<glm::vec3, N> points;
+    for (size_t k = 0; k < N; ++k) points[k] = first[k] - origin;
+    return points;
+}
+
+// The Traits acc1 and acc2 share: one quad patch per face of data.source that has one,
+// Data::kControlPointsPerPatch points each, uploaded as they are.
+template <class Patches>
+struct QuadPatchTraits {
+    using Data = Patches;
+    static constexpr const char* kApproximates = nullptr;
+    static constexpr bool kTriangles = false;
+    static uint32_t patchCount(const Data& data) { return data.stats.patches; }
+    static uint32_t controlPoints(const Data& data) { return data.stats.controlPoints; }
+    static std::vector<glm::vec4> packPatches(const Data& data) { return paddedPoints(data.controlPoints); }
+    // A patch of a refined cage covers half a sub-face edge.
+    static uint32_t edgeFactor(const Data& data, uint32_t factor) {
+        return data.source.steps.empty() ? factor : std::max(1u, factor / 2);
+    }
+    static PatchCover cover(const Data& data) { return quadPatchCover(data.source, data.stats.patches); }
+    static CullAdjacency adjacency(const Data& data, const PlannedCage&) {
+        return quadPatchAdjacency(data.source, data.stats.patches);
+    }
+    static glm::vec3 anchor(const Data& data, uint32_t p) {
+        return data.controlPoints[size_t(p) * Data::kControlPointsPerPatch];
+    }
+};
+
 template <class Traits>
 class TessPatchScheme final : public Scheme {
 public:
     SupportReport support(const CageFeatures& features, const SchemeSettings& settings) const override {
         SupportReport report = assessSupport(Traits::rules(), features);
+        if constexpr (Traits::kApproximates != nullptr)
+            report.approximations.insert(report.approximations.begin(), Traits::kApproximates);
         checkPatchOptions(report, settings, Traits::kName);
         return report;
     }
@@ -46,9 +94,8 @@ public:
         path_ = *path;
         if (Status built = rebuild(); !built) return built;
         prepareGridDrawing(grid_, planned, settings.adaptivePixels > 0.0f ? 16u : settings.tessFactor);
-        culling_ = PatchCulling{quadPatchCover(data_.source, data_.stats.patches),
-                                closedOutwardSurface(planned.cage(), planned.topology()),
-                                quadPatchAdjacency(data_.source, data_.stats.patches), subfaceAdjacency(planned)};
+        culling_ = PatchCulling{Traits::cover(data_), closedOutwardSurface(planned.cage(), planned.topology()),
+                                Traits::adjacency(data_, planned), subfaceAdjacency(planned)};
         return success();
     }
 
@@ -71,8 +118,8 @@ public:
         if (Status built = rebuild(); !built) return built;
         if (onGrid()) return updateGridDrawing(grid_, *this);
         if (!havePass_) return success();
-        const std::vector<glm::vec4> points = paddedPoints(data_.controlPoints);
-        return uploadTessPatches(*ctx_, pass_, points.data(), points.size() * sizeof(glm::vec4), data_.stats.patches);
+        const std::vector<glm::vec4> points = Traits::packPatches(data_);
+        return uploadTessPatches(*ctx_, pass_, points.data(), points.size() * sizeof(glm::vec4), Traits::patchCount(data_));
     }
 
     Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
@@ -85,8 +132,8 @@ public:
         const std::vector<uint32_t> culled = cullPatchesForView(culling_, bounds, view, stats);
         const uint32_t factor = patchFactor();
         recordTessPatches(cmd, pass_, target, view, {factor, settings_.adaptivePixels, false}, culled);
-        stats.patches = data_.stats.patches - culled.size();
-        stats.triangles = factor ? stats.patches * tessTriangles(factor, false) : 0;
+        stats.patches = Traits::patchCount(data_) - culled.size();
+        stats.triangles = factor ? stats.patches * tessTriangles(factor, Traits::kTriangles) : 0;
         stats.drawnBy = DrawnBy::Tessellator;
         return stats;
     }
@@ -108,7 +155,7 @@ public:
     }
 
     SchemeStats stats() const override {
-        return SchemeStats{data_.stats.patches, data_.stats.controlPoints,
+        return SchemeStats{Traits::patchCount(data_), Traits::controlPoints(data_),
                            onGrid() ? gridDrawingBytes(grid_) : pass_.patchData.size};
     }
 
@@ -131,17 +178,15 @@ private:
     }
 
     PatchBounds patchBounds() const {
-        return PatchBounds{data_.stats.patches,
-                           [this](uint32_t p) { return data_.controlPoints[size_t(p) * Traits::Data::kControlPointsPerPatch]; },
+        return PatchBounds{Traits::patchCount(data_), [this](uint32_t p) { return Traits::anchor(data_, p); },
                            [this](uint32_t p, const glm::vec3& origin, PatchCullLeaves& leaves) {
                                Traits::addCullLeaves(data_, p, origin, leaves);
                            }};
     }
 
-    // Segments per patch edge: a patch of a refined cage covers half a sub-face edge.
+    // Segments per patch edge; 0: screen-adaptive.
     uint32_t patchFactor() const {
-        if (settings_.adaptivePixels > 0.0f) return 0;
-        return data_.source.steps.empty() ? settings_.tessFactor : std::max(1u, settings_.tessFactor / 2);
+        return settings_.adaptivePixels > 0.0f ? 0u : Traits::edgeFactor(data_, settings_.tessFactor);
     }
 
     const PlannedCage* planned_ = nullptr;

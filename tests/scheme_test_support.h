@@ -18,6 +18,7 @@
 #include "mesh/obj_io.h"
 #include "mesh/topology.h"
 #include "plans/planned_cage.h"
+#include "plans/quad_patch_source.h"
 #include "test_cages.h"
 #include "test_support.h"
 
@@ -216,6 +217,113 @@ inline SchemeError printErrorTableRow(const std::string& scheme, const std::stri
     std::printf("| %-8s | %-22s | %7u | %10.2e | %10.2e | %7.2f | %7.2f | %15s | %15s |\n", scheme.c_str(), name.c_str(),
                 patches, all.maxRelative, all.rmsRelative, all.maxNormalDegrees, all.rmsNormalDegrees, evPosition, evNormal);
     return all;
+}
+
+// The README error table: the header, then for every errorTableCages() cage `rows(name, cage,
+// exact)`, which builds the scheme, prints its rows (printErrorTableRow) and checks them. Stops
+// at a cage without an exact surface.
+using ErrorTableRows = std::function<void(const std::string& name, const Cage& cage, const ExactSurface& exact)>;
+inline void printErrorTable(const ErrorTableRows& rows) {
+    printErrorTableHeader();
+    for (const std::string& name : errorTableCages()) {
+        Cage cage = loadSharedShape(name);
+        auto exact = makeExactSurface(cage, name);
+        ASSERT_TRUE(exact);
+        rows(name, cage, *exact);
+    }
+}
+
+// ---- A scheme's own build and evaluation ------------------------------------------------------
+
+// The value of a scheme's build; the test fails (and goes on) when it is an error.
+template <class T>
+T built(Result<T> result) {
+    EXPECT_TRUE(result.ok()) << (result.ok() ? "" : result.error().message);
+    return std::move(result).value();
+}
+
+// A scheme's sample (position and normal, in float or double) in double.
+template <class Sample>
+SchemeSample schemeSample(const Sample& sample) {
+    return SchemeSample{glm::dvec3(sample.position), glm::dvec3(sample.normal)};
+}
+
+// A SchemeEvaluator over the scheme's own evaluate(patches, subface, u, v), whose (u, v) are
+// float or double. `patches` must outlive it.
+template <class Patches, class Sample, class Real>
+SchemeEvaluator schemeEvaluator(const Patches& patches, Sample (*evaluate)(const Patches&, uint32_t, Real, Real)) {
+    return [&patches, evaluate](uint32_t s, double u, double v) { return schemeSample(evaluate(patches, s, Real(u), Real(v))); };
+}
+
+// ---- Per-quad schemes (acc1, acc2, stam: patches on a QuadPatchSource) ------------------------
+
+// measureSeams over the quads of patches.source, evaluatePatch(patches, patch, s, t) in the
+// frame of the patch's quad.
+template <class Patches, class Sample, class Real>
+SeamGap measurePatchSeams(const Patches& patches, Sample (*evaluatePatch)(const Patches&, uint32_t, Real, Real),
+                          double diagonal) {
+    const QuadPatchSource& src = patches.source;
+    return measureSeams(
+        src.quads, src.topology,
+        [&](uint32_t face, double s, double t) {
+            return schemeSample(evaluatePatch(patches, src.facePatch[face], Real(s), Real(t)));
+        },
+        [&](uint32_t face) { return src.facePatch[face] != kNoPatch; }, diagonal);
+}
+
+// Sub-faces all of whose points land on patches with four interior valence-4 corners: where a
+// per-quad scheme is the bicubic B-spline. `src` must outlive the filter.
+inline SubfaceFilter regularPatchSubfaces(const QuadPatchSource& src) {
+    return [&src](uint32_t s) {
+        for (double u : {0.0, 1.0})
+            for (double v : {0.0, 1.0})
+                if (!regularQuad(src, locateOnQuads(src, s, u, v).face)) return false;
+        return true;
+    };
+}
+
+// The bicubic B-spline limit to float precision, on the sub-faces `filter` keeps (all when empty).
+inline void expectBSplineLimit(const ExactSurface& exact, const SchemeEvaluator& scheme, const SubfaceFilter& filter = {}) {
+    SchemeError e = measureScheme(exact, scheme, 9, filter);
+    EXPECT_GT(e.samples, 0u);
+    EXPECT_LT(e.maxRelative, 1e-6);
+    EXPECT_LT(e.maxNormalDegrees, 1e-3);
+}
+
+// On a regular closed cage: one regular patch per face of `pointsPerPatch` control points, and
+// the B-spline limit.
+template <class Patches>
+void expectRegularCageIsTheBSplineLimit(const Cage& cage, const Patches& patches, const SchemeEvaluator& scheme,
+                                        uint32_t pointsPerPatch) {
+    EXPECT_EQ(patches.stats.patches, cage.faceCount());
+    EXPECT_EQ(patches.stats.regularPatches, cage.faceCount());
+    EXPECT_EQ(patches.stats.controlPoints, pointsPerPatch * cage.faceCount());
+    expectBSplineLimit(*makeExactSurface(cage), scheme);
+}
+
+// The corners of every sub-face interpolate the limit position and, loosely, its normal: the
+// plans' own normals scatter by a fraction of a degree at extraordinary vertices. A corner at a
+// valence-2 vertex (no tangent plane) counts for its position only.
+inline void expectCornersOnTheLimit(const ExactSurface& exact, const SchemeEvaluator& scheme) {
+    double position = 0.0, normalDegrees = 0.0;
+    for (uint32_t s = 0; s < exact.planned->subfaceCount(); ++s)
+        for (glm::vec2 uv : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(1, 1), glm::vec2(0, 1)}) {
+            const LimitSample ref = exact.planned->evaluate(s, uv.x, uv.y);
+            const SchemeSample ours = scheme(s, uv.x, uv.y);
+            position = std::max(position, glm::length(ours.position - glm::dvec3(ref.position)) / exact.diagonal);
+            const glm::dvec3 refNormal = glm::cross(glm::dvec3(ref.du), glm::dvec3(ref.dv));
+            if (glm::length(refNormal) == 0.0) continue;
+            normalDegrees = std::max(normalDegrees, angleDegrees(ours.normal, refNormal));
+        }
+    EXPECT_LT(position, 1e-6);
+    EXPECT_LT(normalDegrees, 0.5);
+}
+
+// Neighbouring patches meet (C0 geometry) with one tangent plane (a continuous normal field).
+inline void expectContinuousNormals(const SeamGap& gap) {
+    EXPECT_GT(gap.edges, 0u);
+    EXPECT_LT(gap.position, 1e-6);
+    EXPECT_LT(gap.normalDegrees, 1e-2);
 }
 
 }  // namespace qp::test

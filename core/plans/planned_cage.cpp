@@ -8,6 +8,7 @@
 #include <tbb/parallel_for.h>
 
 #include "mesh/local_cage.h"
+#include "plans/corner_frame.h"
 #include "plans/memory_estimate.h"
 #include "plans/osd_refiner.h"
 
@@ -29,26 +30,6 @@ void forEach(size_t count, const Body& body) {
 
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-// (u, v) of the face in the frame of a plan whose origin is corner `rotation`.
-void toPlanFrame(uint32_t rotation, float u, float v, float& pu, float& pv) {
-    switch (rotation) {
-    case 1: pu = v; pv = 1.0f - u; break;
-    case 2: pu = 1.0f - u; pv = 1.0f - v; break;
-    case 3: pu = 1.0f - v; pv = u; break;
-    default: pu = u; pv = v; break;
-    }
-}
-
-void derivativesToFaceFrame(uint32_t rotation, LimitSample& s) {
-    glm::vec3 du = s.du, dv = s.dv;
-    switch (rotation) {
-    case 1: s.du = -dv; s.dv = du; break;
-    case 2: s.du = -du; s.dv = -dv; break;
-    case 3: s.du = dv; s.dv = -du; break;
-    default: break;
-    }
 }
 
 }  // namespace
@@ -211,11 +192,11 @@ void PlannedCage::updateControlPoints(const std::vector<uint32_t>& subfaces) {
 LimitSample PlannedCage::evaluate(uint32_t subface, float u, float v) const {
     uint32_t rotation = subfaceRotation_[subface];
     float pu, pv;
-    toPlanFrame(rotation, u, v, pu, pv);
+    toCornerFrame(rotation, u, v, pu, pv);
     LimitSample sample =
         evaluatePlan(database_->plan(subfacePlan_[subface]), subfaceControlPoints_[subface].data(), pu, pv);
     sample.position += subfaceOrigin(subface);
-    derivativesToFaceFrame(rotation, sample);
+    derivativesToFaceFrame(rotation, sample.du, sample.dv);
     return sample;
 }
 

@@ -13,6 +13,20 @@ uint32_t QuadPatchSource::ringFace(uint32_t face, uint32_t corner) const {
     return UINT32_MAX;
 }
 
+bool regularQuad(const QuadPatchSource& source, uint32_t face) {
+    for (uint32_t k = 0; k < 4; ++k) {
+        const QuadRing& ring = source.rings[source.quads.faceBegin(face)[k]];
+        if (ring.boundary || ring.faceCount() != 4) return false;
+    }
+    return true;
+}
+
+bool boundaryQuad(const QuadPatchSource& source, uint32_t face) {
+    for (uint32_t k = 0; k < 4; ++k)
+        if (source.rings[source.quads.faceBegin(face)[k]].boundary) return true;
+    return false;
+}
+
 uint32_t stepsToAllQuads(const Cage& cage) {
     for (uint32_t f = 0; f < cage.faceCount(); ++f)
         if (cage.faceSize(f) != 4) return 1;

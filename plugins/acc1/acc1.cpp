@@ -1,9 +1,5 @@
 #include "acc1.h"
 
-#include <chrono>
-
-#include <glm/geometric.hpp>
-
 namespace qp {
 
 namespace {
@@ -95,79 +91,55 @@ void bernstein2(float x, float b[3]) {
     b[2] = x * x;
 }
 
+// The 40 points of the patch of `face` (acc1.h's order).
+void buildPatch(const QuadPatchSource& src, uint32_t face, glm::vec3* cp) {
+    Corner c[4];
+    for (uint32_t k = 0; k < 4; ++k) c[k] = makeCorner(src, face, k);
+
+    glm::dvec3 b[4][4];  // b[i][j], i along u, j along v
+    b[0][0] = c[0].P, b[3][0] = c[1].P, b[3][3] = c[2].P, b[0][3] = c[3].P;
+    b[1][1] = c[0].interior, b[2][1] = c[1].interior, b[2][2] = c[2].interior, b[1][2] = c[3].interior;
+    b[1][0] = c[0].edgeNext, b[0][1] = c[0].edgePrev;
+    b[3][1] = c[1].edgeNext, b[2][0] = c[1].edgePrev;
+    b[2][3] = c[2].edgeNext, b[3][2] = c[2].edgePrev;
+    b[0][2] = c[3].edgeNext, b[1][3] = c[3].edgePrev;
+
+    EdgeDerivatives e[4];
+    for (uint32_t k = 0; k < 4; ++k) e[k] = edgeDerivatives(c[k], c[(k + 1) % 4]);
+    glm::dvec3 U[3][4], V[4][3];  // U[i][j]: d/du, i along u (degree 2); V[i][j]: d/dv, j degree 2
+    for (int i = 0; i < 3; ++i) {
+        U[i][0] = e[0].T[i];           // edge 0 runs along +u at v = 0
+        U[i][3] = -e[2].T[2 - i];      // edge 2 runs along -u at v = 1
+    }
+    for (int j = 1; j < 3; ++j) {
+        U[0][j] = e[3].L[3 - j];       // edge 3 (u = 0, t = 1 - v): cross = +d/du
+        U[2][j] = -e[1].L[j];          // edge 1 (u = 1, t = v): cross = -d/du
+    }
+    U[1][1] = 3.0 * (b[2][1] - b[1][1]);
+    U[1][2] = 3.0 * (b[2][2] - b[1][2]);
+    for (int j = 0; j < 3; ++j) {
+        V[3][j] = e[1].T[j];           // edge 1 runs along +v at u = 1
+        V[0][j] = -e[3].T[2 - j];      // edge 3 runs along -v at u = 0
+    }
+    for (int i = 1; i < 3; ++i) {
+        V[i][0] = e[0].L[i];           // edge 0 (v = 0, t = u): cross = +d/dv
+        V[i][2] = -e[2].L[3 - i];      // edge 2 (v = 1, t = 1 - u): cross = -d/dv
+    }
+    V[1][1] = 3.0 * (b[1][2] - b[1][1]);
+    V[2][1] = 3.0 * (b[2][2] - b[2][1]);
+
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) cp[4 * j + i] = glm::vec3(b[i][j]);
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 3; ++i) cp[16 + 3 * j + i] = glm::vec3(U[i][j]);
+    for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 4; ++i) cp[28 + 4 * j + i] = glm::vec3(V[i][j]);
+}
+
 }  // namespace
 
 Result<Acc1Patches> buildAcc1(const Cage& cage, const Acc1Settings& settings, const std::string& source) {
-    const auto start = std::chrono::steady_clock::now();
-    auto prepared = prepareQuadPatchSource(cage, stepsToAllQuads(cage), settings.tangents, source);
-    if (!prepared) return prepared.error();
-
-    Acc1Patches out;
-    out.source = std::move(prepared).value();
-    const QuadPatchSource& src = out.source;
-    out.controlPoints.resize(src.patchFace.size() * Acc1Patches::kControlPointsPerPatch);
-
-    for (uint32_t patch = 0; patch < src.patchFace.size(); ++patch) {
-        const uint32_t face = src.patchFace[patch];
-        Corner c[4];
-        for (uint32_t k = 0; k < 4; ++k) c[k] = makeCorner(src, face, k);
-        bool regular = true, boundary = false;
-        for (const Corner& corner : c) {
-            regular &= !corner.ring->boundary && corner.ring->faceCount() == 4;
-            boundary |= corner.ring->boundary;
-        }
-        out.stats.regularPatches += regular;
-        out.stats.boundaryPatches += boundary;
-
-        glm::dvec3 b[4][4];  // b[i][j], i along u, j along v
-        b[0][0] = c[0].P, b[3][0] = c[1].P, b[3][3] = c[2].P, b[0][3] = c[3].P;
-        b[1][1] = c[0].interior, b[2][1] = c[1].interior, b[2][2] = c[2].interior, b[1][2] = c[3].interior;
-        b[1][0] = c[0].edgeNext, b[0][1] = c[0].edgePrev;
-        b[3][1] = c[1].edgeNext, b[2][0] = c[1].edgePrev;
-        b[2][3] = c[2].edgeNext, b[3][2] = c[2].edgePrev;
-        b[0][2] = c[3].edgeNext, b[1][3] = c[3].edgePrev;
-
-        EdgeDerivatives e[4];
-        for (uint32_t k = 0; k < 4; ++k) e[k] = edgeDerivatives(c[k], c[(k + 1) % 4]);
-        glm::dvec3 U[3][4], V[4][3];  // U[i][j]: d/du, i along u (degree 2); V[i][j]: d/dv, j degree 2
-        for (int i = 0; i < 3; ++i) {
-            U[i][0] = e[0].T[i];           // edge 0 runs along +u at v = 0
-            U[i][3] = -e[2].T[2 - i];      // edge 2 runs along -u at v = 1
-        }
-        for (int j = 1; j < 3; ++j) {
-            U[0][j] = e[3].L[3 - j];       // edge 3 (u = 0, t = 1 - v): cross = +d/du
-            U[2][j] = -e[1].L[j];          // edge 1 (u = 1, t = v): cross = -d/du
-        }
-        U[1][1] = 3.0 * (b[2][1] - b[1][1]);
-        U[1][2] = 3.0 * (b[2][2] - b[1][2]);
-        for (int j = 0; j < 3; ++j) {
-            V[3][j] = e[1].T[j];           // edge 1 runs along +v at u = 1
-            V[0][j] = -e[3].T[2 - j];      // edge 3 runs along -v at u = 0
-        }
-        for (int i = 1; i < 3; ++i) {
-            V[i][0] = e[0].L[i];           // edge 0 (v = 0, t = u): cross = +d/dv
-            V[i][2] = -e[2].L[3 - i];      // edge 2 (v = 1, t = 1 - u): cross = -d/dv
-        }
-        V[1][1] = 3.0 * (b[1][2] - b[1][1]);
-        V[2][1] = 3.0 * (b[2][2] - b[2][1]);
-
-        glm::vec3* cp = &out.controlPoints[size_t(patch) * Acc1Patches::kControlPointsPerPatch];
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 4; ++i) cp[4 * j + i] = glm::vec3(b[i][j]);
-        for (int j = 0; j < 4; ++j)
-            for (int i = 0; i < 3; ++i) cp[16 + 3 * j + i] = glm::vec3(U[i][j]);
-        for (int j = 0; j < 3; ++j)
-            for (int i = 0; i < 4; ++i) cp[28 + 4 * j + i] = glm::vec3(V[i][j]);
-    }
-
-    out.stats.patches = uint32_t(src.patchFace.size());
-    out.stats.controlPoints = uint32_t(out.controlPoints.size());
-    out.stats.refinementSteps = uint32_t(src.steps.size());
-    out.stats.ignoredCreases = src.ignoredCreases;
-    out.stats.ignoredCorners = src.ignoredCorners;
-    out.stats.setupMilliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return out;
+    return buildQuadPatches<Acc1Patches>(cage, settings.tangents, source, buildPatch);
 }
 
 Acc1Sample evaluateAcc1Patch(const Acc1Patches& patches, uint32_t patch, float s, float t) {
@@ -184,22 +156,15 @@ Acc1Sample evaluateAcc1Patch(const Acc1Patches& patches, uint32_t patch, float s
         for (int i = 0; i < 3; ++i) sample.du += qs[i] * bt[j] * cp[16 + 3 * j + i];
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 4; ++i) sample.dv += bs[i] * qt[j] * cp[28 + 4 * j + i];
-    glm::vec3 n = glm::cross(sample.du, sample.dv);
-    float length = glm::length(n);
-    sample.normal = length > 0.0f ? n / length : glm::vec3(0.0f);
+    sample.normal = patchNormal(sample.du, sample.dv);
     sample.valid = true;
     return sample;
 }
 
 Acc1Sample evaluateAcc1(const Acc1Patches& patches, uint32_t subface, float u, float v) {
-    RefinedLocation loc = locateOnQuads(patches.source, subface, u, v);
-    const uint32_t patch = patches.source.facePatch[loc.face];
-    if (patch == kNoPatch) return Acc1Sample{};
-    Acc1Sample sample = evaluateAcc1Patch(patches, patch, float(loc.s), float(loc.t));
-    glm::vec3 ds = sample.du, dt = sample.dv;
-    sample.du = float(loc.dsdu) * ds + float(loc.dtdu) * dt;
-    sample.dv = float(loc.dsdv) * ds + float(loc.dtdv) * dt;
-    return sample;
+    return evaluateOnQuads(patches.source, subface, u, v, [&](uint32_t patch, double s, double t) {
+        return evaluateAcc1Patch(patches, patch, float(s), float(t));
+    });
 }
 
 const char* acc1Restrictions() {

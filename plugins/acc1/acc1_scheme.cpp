@@ -24,22 +24,19 @@ constexpr FeatureRule kRules[] = {
     {CageFeature::NonManifold, Handling::Unsupported, "acc1 needs a manifold cage (a fan of quads around every vertex)"},
 };
 
-struct Acc1Traits {
+struct Acc1Traits : QuadPatchTraits<Acc1Patches> {
     static constexpr const char* kName = "acc1";
     static constexpr const char* kTessControl = "acc1.tesc";
     static constexpr const char* kTessEvaluation = "acc1.tese";
-    using Data = Acc1Patches;
     static std::span<const FeatureRule> rules() { return kRules; }
     static Result<Data> build(const Cage& cage) { return buildAcc1(cage, {}, kName); }
     static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v) {
-        const Acc1Sample s = evaluateAcc1(data, subface, u, v);
-        return SurfacePoint{s.position, s.normal, s.du, s.dv, s.valid};
+        return surfacePointOf(evaluateAcc1(data, subface, u, v));
     }
     static void addCullLeaves(const Data& data, uint32_t patch, const glm::vec3& origin, PatchCullLeaves& leaves) {
-        BicubicPoints geometry;  // b(i, j) at 4 j + i: BicubicPoints' order
-        for (uint32_t k = 0; k < Acc1Patches::kGeometryPoints; ++k)
-            geometry[k] = data.controlPoints[size_t(patch) * Acc1Patches::kControlPointsPerPatch + k] - origin;
-        addBezierLeaf(leaves, geometry, false);
+        // The geometry patch, b(i, j) at 4 j + i: BicubicPoints' order.
+        const glm::vec3* geometry = &data.controlPoints[size_t(patch) * Acc1Patches::kControlPointsPerPatch];
+        addBezierLeaf(leaves, pointsRelativeTo<Acc1Patches::kGeometryPoints>(geometry, origin), false);
     }
 };
 

@@ -1,9 +1,5 @@
 #include "acc2.h"
 
-#include <chrono>
-
-#include <glm/geometric.hpp>
-
 #include "plans/patch_basis.h"
 
 namespace qp {
@@ -44,63 +40,39 @@ glm::dvec3 crossDifference(const Cage& cage, const QuadRing& ring, int i) {
            (at(cage, ring.diagonal(i)) - at(cage, ring.diagonal(i - 1))) / 6.0;
 }
 
+// The 20 points of the patch of `face` (acc2.h's order).
+void buildPatch(const QuadPatchSource& src, uint32_t face, glm::vec3* cp) {
+    const Cage& quads = src.quads;
+    Corner corners[4];
+    for (uint32_t k = 0; k < 4; ++k) corners[k] = makeCorner(src, face, k);
+    for (uint32_t k = 0; k < 4; ++k) {
+        const Corner& c = corners[k];
+        const Corner& next = corners[(k + 1) % 4];
+        const Corner& prev = corners[(k + 3) % 4];
+        const int i = int(c.face);
+        glm::dvec3 Fp = c.nextEdgeOnBoundary
+                            ? interiorBezierPoint(quads, *c.ring, c.face)
+                            : c.Ep + (2.0 * c.cosine * (next.Em - c.Ep) - next.cosine * (c.Ep - c.P) +
+                                      crossDifference(quads, *c.ring, i)) /
+                                         3.0;
+        glm::dvec3 Fm = c.prevEdgeOnBoundary
+                            ? interiorBezierPoint(quads, *c.ring, c.face)
+                            : c.Em + (2.0 * c.cosine * (prev.Ep - c.Em) - prev.cosine * (c.Em - c.P) -
+                                      crossDifference(quads, *c.ring, i + 1)) /
+                                         3.0;
+        cp[5 * k + 0] = glm::vec3(c.P);
+        cp[5 * k + 1] = glm::vec3(c.Ep);
+        cp[5 * k + 2] = glm::vec3(c.Em);
+        cp[5 * k + 3] = glm::vec3(Fp);
+        cp[5 * k + 4] = glm::vec3(Fm);
+    }
+}
+
 }  // namespace
 
 Result<Acc2Patches> buildAcc2(const Cage& cage, const Acc2Settings& settings, const std::string& source) {
-    const auto start = std::chrono::steady_clock::now();
-    auto prepared = prepareQuadPatchSource(cage, stepsToAllQuads(cage), settings.tangents, source);
-    if (!prepared) return prepared.error();
-
-    Acc2Patches out;
-    out.source = std::move(prepared).value();
-    out.settings = settings;
-    const QuadPatchSource& src = out.source;
-    const Cage& quads = src.quads;
-    out.controlPoints.resize(src.patchFace.size() * Acc2Patches::kControlPointsPerPatch);
-
-    for (uint32_t patch = 0; patch < src.patchFace.size(); ++patch) {
-        const uint32_t face = src.patchFace[patch];
-        Corner corners[4];
-        for (uint32_t k = 0; k < 4; ++k) corners[k] = makeCorner(src, face, k);
-        bool regular = true, boundary = false;
-        for (const Corner& c : corners) {
-            regular &= !c.ring->boundary && c.ring->faceCount() == 4;
-            boundary |= c.ring->boundary;
-        }
-        out.stats.regularPatches += regular;
-        out.stats.boundaryPatches += boundary;
-
-        glm::vec3* cp = &out.controlPoints[size_t(patch) * Acc2Patches::kControlPointsPerPatch];
-        for (uint32_t k = 0; k < 4; ++k) {
-            const Corner& c = corners[k];
-            const Corner& next = corners[(k + 1) % 4];
-            const Corner& prev = corners[(k + 3) % 4];
-            const int i = int(c.face);
-            glm::dvec3 Fp = c.nextEdgeOnBoundary
-                                ? interiorBezierPoint(quads, *c.ring, c.face)
-                                : c.Ep + (2.0 * c.cosine * (next.Em - c.Ep) - next.cosine * (c.Ep - c.P) +
-                                          crossDifference(quads, *c.ring, i)) /
-                                             3.0;
-            glm::dvec3 Fm = c.prevEdgeOnBoundary
-                                ? interiorBezierPoint(quads, *c.ring, c.face)
-                                : c.Em + (2.0 * c.cosine * (prev.Ep - c.Em) - prev.cosine * (c.Em - c.P) -
-                                          crossDifference(quads, *c.ring, i + 1)) /
-                                             3.0;
-            cp[5 * k + 0] = glm::vec3(c.P);
-            cp[5 * k + 1] = glm::vec3(c.Ep);
-            cp[5 * k + 2] = glm::vec3(c.Em);
-            cp[5 * k + 3] = glm::vec3(Fp);
-            cp[5 * k + 4] = glm::vec3(Fm);
-        }
-    }
-
-    out.stats.patches = uint32_t(src.patchFace.size());
-    out.stats.controlPoints = uint32_t(out.controlPoints.size());
-    out.stats.refinementSteps = uint32_t(src.steps.size());
-    out.stats.ignoredCreases = src.ignoredCreases;
-    out.stats.ignoredCorners = src.ignoredCorners;
-    out.stats.setupMilliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    Result<Acc2Patches> out = buildQuadPatches<Acc2Patches>(cage, settings.tangents, source, buildPatch);
+    if (out) out->settings = settings;
     return out;
 }
 
@@ -114,22 +86,15 @@ Acc2Sample evaluateAcc2Patch(const Acc2Patches& patches, uint32_t patch, float s
         sample.du += w.du[i] * cp[i];
         sample.dv += w.dv[i] * cp[i];
     }
-    glm::vec3 n = glm::cross(sample.du, sample.dv);
-    float length = glm::length(n);
-    sample.normal = length > 0.0f ? n / length : glm::vec3(0.0f);
+    sample.normal = patchNormal(sample.du, sample.dv);
     sample.valid = true;
     return sample;
 }
 
 Acc2Sample evaluateAcc2(const Acc2Patches& patches, uint32_t subface, float u, float v) {
-    RefinedLocation loc = locateOnQuads(patches.source, subface, u, v);
-    const uint32_t patch = patches.source.facePatch[loc.face];
-    if (patch == kNoPatch) return Acc2Sample{};
-    Acc2Sample sample = evaluateAcc2Patch(patches, patch, float(loc.s), float(loc.t));
-    glm::vec3 ds = sample.du, dt = sample.dv;
-    sample.du = float(loc.dsdu) * ds + float(loc.dtdu) * dt;
-    sample.dv = float(loc.dsdv) * ds + float(loc.dtdv) * dt;
-    return sample;  // the normal is unchanged: the map to the child frame keeps orientation
+    return evaluateOnQuads(patches.source, subface, u, v, [&](uint32_t patch, double s, double t) {
+        return evaluateAcc2Patch(patches, patch, float(s), float(t));
+    });
 }
 
 const char* acc2Restrictions() {

@@ -23,22 +23,18 @@ constexpr FeatureRule kRules[] = {
     {CageFeature::NonManifold, Handling::Unsupported, "acc2 needs a manifold cage (a fan of quads around every vertex)"},
 };
 
-struct Acc2Traits {
+struct Acc2Traits : QuadPatchTraits<Acc2Patches> {
     static constexpr const char* kName = "acc2";
     static constexpr const char* kTessControl = "acc2.tesc";
     static constexpr const char* kTessEvaluation = "acc2.tese";
-    using Data = Acc2Patches;
     static std::span<const FeatureRule> rules() { return kRules; }
     static Result<Data> build(const Cage& cage) { return buildAcc2(cage, {}, kName); }
     static SurfacePoint evaluate(const Data& data, uint32_t subface, float u, float v) {
-        const Acc2Sample s = evaluateAcc2(data, subface, u, v);
-        return SurfacePoint{s.position, s.normal, s.du, s.dv, s.valid};
+        return surfacePointOf(evaluateAcc2(data, subface, u, v));
     }
     static void addCullLeaves(const Data& data, uint32_t patch, const glm::vec3& origin, PatchCullLeaves& leaves) {
-        std::array<glm::vec3, 20> gregory;
-        for (uint32_t k = 0; k < Acc2Patches::kControlPointsPerPatch; ++k)
-            gregory[k] = data.controlPoints[size_t(patch) * Acc2Patches::kControlPointsPerPatch + k] - origin;
-        addGregoryLeaf(leaves, gregory, false);
+        const glm::vec3* gregory = &data.controlPoints[size_t(patch) * Acc2Patches::kControlPointsPerPatch];
+        addGregoryLeaf(leaves, pointsRelativeTo<Acc2Patches::kControlPointsPerPatch>(gregory, origin), false);
     }
 };
 

@@ -12,54 +12,26 @@
 namespace {
 
 using qp::Cage;
-using qp::test::SchemeSample;
 
 qp::Acc2Patches build(const Cage& cage, qp::Acc2Settings settings = {}) {
-    auto patches = qp::buildAcc2(cage, settings, "test cage");
-    EXPECT_TRUE(patches.ok()) << (patches.ok() ? "" : patches.error().message);
-    return std::move(patches).value();
+    return qp::test::built(qp::buildAcc2(cage, settings, "test cage"));
 }
 
-qp::test::SchemeEvaluator evaluator(const qp::Acc2Patches& patches) {
-    return [&patches](uint32_t s, double u, double v) {
-        qp::Acc2Sample a = qp::evaluateAcc2(patches, s, float(u), float(v));
-        return SchemeSample{glm::dvec3(a.position), glm::dvec3(a.normal)};
-    };
-}
-
-qp::test::SeamGap seams(const qp::Acc2Patches& patches, double diagonal) {
-    const qp::QuadPatchSource& src = patches.source;
-    return qp::test::measureSeams(
-        src.quads, src.topology,
-        [&](uint32_t face, double s, double t) {
-            qp::Acc2Sample a = qp::evaluateAcc2Patch(patches, src.facePatch[face], float(s), float(t));
-            return SchemeSample{glm::dvec3(a.position), glm::dvec3(a.normal)};
-        },
-        [&](uint32_t face) { return src.facePatch[face] != qp::kNoPatch; }, diagonal);
-}
+qp::test::SchemeEvaluator evaluator(const qp::Acc2Patches& patches) { return qp::test::schemeEvaluator(patches, qp::evaluateAcc2); }
 
 }  // namespace
 
 TEST(Acc2, RegularClosedCageIsTheBSplineLimit) {
     Cage torus = qp::test::makeTorus();
-    auto exact = qp::test::makeExactSurface(torus);
     qp::Acc2Patches patches = build(torus);
-    EXPECT_EQ(patches.stats.patches, torus.faceCount());
-    EXPECT_EQ(patches.stats.regularPatches, torus.faceCount());
-    EXPECT_EQ(patches.stats.controlPoints, 20 * torus.faceCount());
-    qp::test::SchemeError e = qp::test::measureScheme(*exact, evaluator(patches));
-    EXPECT_LT(e.maxRelative, 1e-6);
-    EXPECT_LT(e.maxNormalDegrees, 1e-3);
+    qp::test::expectRegularCageIsTheBSplineLimit(torus, patches, evaluator(patches), 20);
 }
 
 TEST(Acc2, RegularBoundaryAndCornerPatchesAreExact) {
     Cage grid = qp::test::makeGrid(5);
-    auto exact = qp::test::makeExactSurface(grid);
     qp::Acc2Patches patches = build(grid);
     EXPECT_GT(patches.stats.boundaryPatches, 0u);
-    qp::test::SchemeError e = qp::test::measureScheme(*exact, evaluator(patches));
-    EXPECT_LT(e.maxRelative, 1e-6);
-    EXPECT_LT(e.maxNormalDegrees, 1e-3);
+    qp::test::expectBSplineLimit(*qp::test::makeExactSurface(grid), evaluator(patches));
 }
 
 TEST(Acc2, CornersInterpolateTheLimitAndNeighboursMeetG1) {
@@ -68,26 +40,10 @@ TEST(Acc2, CornersInterpolateTheLimitAndNeighboursMeetG1) {
         qp::Acc2Settings exactTangents;
         exactTangents.tangents = qp::TangentRule::Exact;
         qp::Acc2Patches patches = build(cage, exactTangents);
-        // Corners of every sub-face: the limit position (and, with exact tangents, the limit
-        // normal, checked loosely: the plans' own normals scatter by a fraction of a degree at
-        // extraordinary vertices).
-        double worstCorner = 0.0, worstCornerNormal = 0.0;
-        for (uint32_t s = 0; s < exact->planned->subfaceCount(); ++s)
-            for (glm::vec2 uv : {glm::vec2(0, 0), glm::vec2(1, 0), glm::vec2(1, 1), glm::vec2(0, 1)}) {
-                qp::LimitSample ref = exact->planned->evaluate(s, uv.x, uv.y);
-                qp::Acc2Sample ours = qp::evaluateAcc2(patches, s, uv.x, uv.y);
-                worstCorner = std::max(worstCorner, double(glm::length(ours.position - ref.position)) / exact->diagonal);
-                glm::dvec3 refNormal = glm::cross(glm::dvec3(ref.du), glm::dvec3(ref.dv));
-                if (glm::length(refNormal) == 0.0) continue;  // valence-2 vertex: no tangent plane
-                worstCornerNormal = std::max(worstCornerNormal, qp::test::angleDegrees(glm::dvec3(ours.normal), refNormal));
-            }
-        EXPECT_LT(worstCorner, 1e-6);
-        EXPECT_LT(worstCornerNormal, 0.5);
+        // Corners of every sub-face: the limit position (and, with exact tangents, the limit normal).
+        qp::test::expectCornersOnTheLimit(*exact, evaluator(patches));
         patches = build(cage);  // the default construction must meet G1 just as well
-        qp::test::SeamGap gap = seams(patches, exact->diagonal);
-        EXPECT_GT(gap.edges, 0u);
-        EXPECT_LT(gap.position, 1e-6);
-        EXPECT_LT(gap.normalDegrees, 1e-2);  // G1: one tangent plane on both sides
+        qp::test::expectContinuousNormals(qp::test::measurePatchSeams(patches, qp::evaluateAcc2Patch, exact->diagonal));
         qp::test::SchemeError e = qp::test::measureScheme(*exact, evaluator(patches));
         EXPECT_LT(e.maxRelative, 2e-2);
     }
@@ -115,17 +71,6 @@ TEST(Acc2, RejectsNonManifoldCagesWithAMessage) {
     EXPECT_NE(patches.error().message.find("bowtie"), std::string::npos);
 }
 
-namespace {
-
-qp::test::SchemeEvaluator acc1Evaluator(const qp::Acc1Patches& patches) {
-    return [&patches](uint32_t s, double u, double v) {
-        qp::Acc1Sample a = qp::evaluateAcc1(patches, s, float(u), float(v));
-        return SchemeSample{glm::dvec3(a.position), glm::dvec3(a.normal)};
-    };
-}
-
-}  // namespace
-
 // The literature's claim (issue 5: "ACC-2 no worse than ACC-1 in normals"): measured where only
 // the extraordinary vertices decide, on faces with an interior extraordinary corner and no
 // tags, holes or boundaries in their 1-ring. Asserted for the RMS deviation on the two curved
@@ -141,7 +86,7 @@ TEST(Acc2, NormalsAtExtraordinaryVerticesNoWorseThanAcc1) {
         auto filter = qp::test::smoothExtraordinaryFilter(cage);
         auto acc1 = qp::buildAcc1(cage, {}, name);
         ASSERT_TRUE(acc1.ok());
-        qp::test::SchemeError e1 = qp::test::measureScheme(*exact, acc1Evaluator(*acc1), 9, filter);
+        qp::test::SchemeError e1 = qp::test::measureScheme(*exact, qp::test::schemeEvaluator(*acc1, qp::evaluateAcc1), 9, filter);
         qp::Acc2Patches acc2 = build(cage);
         qp::test::SchemeError e2 = qp::test::measureScheme(*exact, evaluator(acc2), 9, filter);
         qp::Acc2Settings exactTangents;
@@ -194,13 +139,9 @@ TEST(Acc2, EqualsOpenSubdivGregoryEndCapsWithoutIsolation) {
 // The README table (plugins/acc2/README.md): ACC-2 against the exact limit on the shared cages.
 TEST(Acc2, ErrorTableOnSharedCages) {
     QP_REQUIRE_SHARED_SHAPES();
-    qp::test::printErrorTableHeader();
-    for (const std::string& name : qp::test::errorTableCages()) {
-        Cage cage = qp::test::loadSharedShape(name);
-        auto exact = qp::test::makeExactSurface(cage, name);
-        ASSERT_TRUE(exact);
+    qp::test::printErrorTable([](const std::string& name, const Cage& cage, const qp::test::ExactSurface& exact) {
         qp::Acc2Patches patches = build(cage);
-        qp::test::SchemeError e = qp::test::printErrorTableRow("acc2", name, patches.stats.patches, *exact, evaluator(patches));
+        qp::test::SchemeError e = qp::test::printErrorTableRow("acc2", name, patches.stats.patches, exact, evaluator(patches));
         EXPECT_LT(e.maxRelative, 0.1) << name;  // gregory_test1's boundary EVs: 4e-2 (ACC-1), 8e-2 (ACC-2)
         if (name == "catmark_torus") {
             EXPECT_LT(e.maxRelative, 1e-6);
@@ -208,33 +149,16 @@ TEST(Acc2, ErrorTableOnSharedCages) {
         qp::Acc2Settings exactTangents;
         exactTangents.tangents = qp::TangentRule::Exact;
         qp::Acc2Patches x = build(cage, exactTangents);
-        qp::test::printErrorTableRow("acc2 x", name, x.stats.patches, *exact, evaluator(x));
-    }
+        qp::test::printErrorTableRow("acc2 x", name, x.stats.patches, exact, evaluator(x));
+    });
 }
 
 // Away from extraordinary vertices the scheme is the B-spline limit, also on irregular cages:
 // faces whose four corners are interior valence-4 vertices.
 TEST(Acc2, RegularFacesOfIrregularCagesAreExact) {
     for (const Cage& cage : {qp::test::makeSubdividedCube(4), qp::test::makeMixedGrid()}) {
-        auto exact = qp::test::makeExactSurface(cage);
-        auto patches = build(cage);
-        const qp::QuadPatchSource& src = patches.source;
-        qp::test::SchemeEvaluator eval = evaluator(patches);
-        // Sub-faces all of whose points land on patches with four regular corners.
-        auto regular = [&](uint32_t s) {
-            for (double u : {0.0, 1.0})
-                for (double v : {0.0, 1.0}) {
-                    uint32_t face = qp::locateOnQuads(src, s, u, v).face;
-                    for (uint32_t k = 0; k < 4; ++k) {
-                        const qp::QuadRing& ring = src.rings[src.quads.faceBegin(face)[k]];
-                        if (ring.boundary || ring.faceCount() != 4) return false;
-                    }
-                }
-            return true;
-        };
-        qp::test::SchemeError e = qp::test::measureScheme(*exact, eval, 9, regular);
-        EXPECT_GT(e.samples, 0u);
-        EXPECT_LT(e.maxRelative, 1e-6);
-        EXPECT_LT(e.maxNormalDegrees, 1e-3);
+        qp::Acc2Patches patches = build(cage);
+        qp::test::expectBSplineLimit(*qp::test::makeExactSurface(cage), evaluator(patches),
+                                     qp::test::regularPatchSubfaces(patches.source));
     }
 }

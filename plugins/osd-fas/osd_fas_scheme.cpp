@@ -136,9 +136,7 @@ public:
         ctx_ = gpu.vulkan;
         tessellated_ = requestedPath_ == FasPath::Tessellated ||
                        (requestedPath_ == FasPath::Auto && resolveDrawPath(DrawPath::Auto, *ctx_) == DrawPath::Tessellated);
-        Result<MeshPass> pass = createMeshPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
-        if (!pass) return pass.error();
-        pass_ = *pass;
+        if (Status pass = createSchemeMeshPass(pass_, gpu); !pass) return pass;
         if (!tessellated_) return success();
         Result<TessPatchPass> tess = createTessPatchPass(
             *ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat,
@@ -179,22 +177,14 @@ public:
         cpuPointsStale_ = false;
         if (!ctx_) return success();
         if (displacement_) {
-            if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
-            mesh_ = GpuMesh{};
+            if (Status cleared = replaceMesh(*ctx_, mesh_, {}, {}); !cleared) return cleared;  // drawn instead
             const uint32_t factor = displacedGridFactor(*planned_, *displacement_, factor_);
             return buildDisplacedDrawing(displaced_, *ctx_, *this, *planned_, *displacement_, factor);
         }
         destroyDisplacedDrawing(displaced_);
         std::vector<glm::vec3> positions, normals;
         tessellateFas(patches_, positions, normals);
-        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
-        if (positions.empty()) return success();
-        std::vector<MeshVertex> vertices(positions.size());
-        for (size_t i = 0; i < positions.size(); ++i) vertices[i] = {positions[i], normals[i]};
-        Result<GpuMesh> mesh = uploadMesh(*ctx_, vertices, patches_.indices);
-        if (!mesh) return mesh.error();
-        mesh_ = *mesh;
-        return success();
+        return replaceMesh(*ctx_, mesh_, meshVertices(positions, normals), patches_.indices);
     }
 
     Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
@@ -207,8 +197,7 @@ public:
                                  }};
         if (displacement_) {
             const std::vector<uint32_t> culled = cullSubfacesForView(culling_, bounds, displacement_, view, stats);
-            const std::vector<IndexRange> parts = displacedKeptRanges(displaced_, culled);
-            recordMeshParts(cmd, pass_, target, view, displaced_.gpu, culled.empty() ? nullptr : &parts, stats);
+            recordDisplacedParts(cmd, pass_, target, view, displaced_, culled, stats);
             return stats;
         }
         const std::vector<uint32_t> culled = cullPatchesForView(culling_, bounds, view, stats);
@@ -234,7 +223,7 @@ public:
 
     Status setDisplacement(const Displacement* displacement) override {
         culling_.bounds.reset();
-        displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
+        displacement_ = displacementToDraw(displacement);
         return success();
     }
 

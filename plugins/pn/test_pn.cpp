@@ -14,11 +14,7 @@ namespace {
 
 using qp::Cage;
 
-qp::PnPatches build(const Cage& cage) {
-    auto patches = qp::buildPn(cage, "test cage");
-    EXPECT_TRUE(patches.ok()) << (patches.ok() ? "" : patches.error().message);
-    return std::move(patches).value();
-}
+qp::PnPatches build(const Cage& cage) { return qp::test::built(qp::buildPn(cage, "test cage")); }
 
 Cage makeOctahedron() {
     Cage cage;
@@ -146,33 +142,19 @@ TEST(Pn, TriangleCagesDirectly) {
     EXPECT_LT(glm::length(centre.position), 1.0f);
 }
 
-namespace {
-
-qp::test::SchemeEvaluator evaluator(const qp::PnPatches& patches) {
-    return [&patches](uint32_t s, double u, double v) {
-        qp::PnSample a = qp::evaluatePn(patches, s, float(u), float(v));
-        return qp::test::SchemeSample{glm::dvec3(a.position), glm::dvec3(a.normal)};
-    };
-}
-
-}  // namespace
-
 // The README table (plugins/pn/README.md): PN-triangles against the exact limit. PN
 // interpolates the cage, so the numbers are large by design; the test only checks that they
 // are finite and that a cage whose limit is far from its vertices shows it.
 TEST(Pn, ErrorTableOnSharedCages) {
     QP_REQUIRE_SHARED_SHAPES();
-    qp::test::printErrorTableHeader();
-    for (const std::string& name : qp::test::errorTableCages()) {
-        Cage cage = qp::test::loadSharedShape(name);
-        auto exact = qp::test::makeExactSurface(cage, name);
-        ASSERT_TRUE(exact);
+    qp::test::printErrorTable([](const std::string& name, const Cage& cage, const qp::test::ExactSurface& exact) {
         qp::PnPatches patches = build(cage);
-        qp::test::SchemeError e = qp::test::printErrorTableRow("pn", name, patches.stats.triangles, *exact, evaluator(patches));
+        qp::test::SchemeError e = qp::test::printErrorTableRow("pn", name, patches.stats.triangles, exact,
+                                                               qp::test::schemeEvaluator(patches, qp::evaluatePn));
         EXPECT_TRUE(std::isfinite(e.maxRelative)) << name;
         EXPECT_LT(e.maxRelative, 0.5) << name;
         if (name == "catmark_cube") {
             EXPECT_GT(e.maxRelative, 0.05);  // interpolating the corners
         }
-    }
+    });
 }

@@ -3,8 +3,7 @@
 #include <chrono>
 #include <cmath>
 
-#include <glm/geometric.hpp>
-
+#include "plans/corner_frame.h"
 #include "stam_eigen.h"
 
 namespace qp {
@@ -22,27 +21,6 @@ void bspline(double t, double b[4], double d[4]) {
     d[1] = (9.0 * t * t - 12.0 * t) / 6.0;
     d[2] = (-9.0 * t * t + 6.0 * t + 3.0) / 6.0;
     d[3] = t * t / 2.0;
-}
-
-// (s, t) of a face in the frame whose origin is corner `rotation` (u towards the next corner),
-// and derivatives back (as core/plans/planned_cage.cpp does for plans).
-void toCornerFrame(uint32_t rotation, double s, double t, double& x, double& y) {
-    switch (rotation) {
-    case 1: x = t; y = 1.0 - s; break;
-    case 2: x = 1.0 - s; y = 1.0 - t; break;
-    case 3: x = 1.0 - t; y = s; break;
-    default: x = s; y = t; break;
-    }
-}
-
-void derivativesToFaceFrame(uint32_t rotation, glm::dvec3& du, glm::dvec3& dv) {
-    glm::dvec3 a = du, b = dv;
-    switch (rotation) {
-    case 1: du = -b; dv = a; break;
-    case 2: du = -a; dv = -b; break;
-    case 3: du = b; dv = -a; break;
-    default: break;
-    }
 }
 
 uint32_t countBoundaryEdges(const Cage& cage) {
@@ -144,13 +122,7 @@ Result<StamPatches> buildStam(const Cage& cage, const std::string& source) {
         }
     }
 
-    out.stats.patches = uint32_t(src.patchFace.size());
-    out.stats.controlPoints = uint32_t(out.controlPoints.size());
-    out.stats.refinementSteps = uint32_t(src.steps.size());
-    out.stats.ignoredCreases = src.ignoredCreases;
-    out.stats.ignoredCorners = src.ignoredCorners;
-    out.stats.setupMilliseconds =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    countQuadPatches(out.stats, src, out.controlPoints.size(), start);
     return out;
 }
 
@@ -214,22 +186,14 @@ StamSample evaluateStamPatch(const StamPatches& patches, uint32_t patch, double 
     derivativesToFaceFrame(rotation, dx, dy);
     sample.du = dx;
     sample.dv = dy;
-    glm::dvec3 normal = glm::cross(dx, dy);
-    double length = glm::length(normal);
-    sample.normal = length > 0.0 ? normal / length : glm::dvec3(0.0);
+    sample.normal = patchNormal(dx, dy);
     sample.valid = true;
     return sample;
 }
 
 StamSample evaluateStam(const StamPatches& patches, uint32_t subface, double u, double v) {
-    RefinedLocation loc = locateOnQuads(patches.source, subface, u, v);
-    const uint32_t patch = patches.source.facePatch[loc.face];
-    if (patch == kNoPatch) return StamSample{};
-    StamSample sample = evaluateStamPatch(patches, patch, loc.s, loc.t);
-    glm::dvec3 ds = sample.du, dt = sample.dv;
-    sample.du = loc.dsdu * ds + loc.dtdu * dt;
-    sample.dv = loc.dsdv * ds + loc.dtdv * dt;
-    return sample;
+    return evaluateOnQuads(patches.source, subface, u, v,
+                           [&](uint32_t patch, double s, double t) { return evaluateStamPatch(patches, patch, s, t); });
 }
 
 const char* stamRestrictions() {

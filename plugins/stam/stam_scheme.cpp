@@ -9,6 +9,7 @@
 
 #include "grid_drawing.h"
 #include "scheme_api.h"
+#include "scheme_support.h"
 #include "stam.h"
 
 namespace qp {
@@ -69,10 +70,8 @@ public:
     Status displacementChanged(std::span<const uint32_t> samples) override { return gridDisplacementChanged(grid_, samples); }
 
     void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const override {
-        for (size_t i = 0; i < requests.size(); ++i) {
-            const StamSample s = evaluateStam(patches_, requests[i].subface, requests[i].u, requests[i].v);
-            out[i] = SurfacePoint{glm::vec3(s.position), glm::vec3(s.normal), glm::vec3(s.du), glm::vec3(s.dv), s.valid};
-        }
+        for (size_t i = 0; i < requests.size(); ++i)
+            out[i] = surfacePointOf(evaluateStam(patches_, requests[i].subface, requests[i].u, requests[i].v));
     }
 
     SchemeStats stats() const override {

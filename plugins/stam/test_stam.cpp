@@ -13,20 +13,10 @@
 namespace {
 
 using qp::Cage;
-using qp::test::SchemeSample;
 
-qp::StamPatches build(const Cage& cage) {
-    auto patches = qp::buildStam(cage, "test cage");
-    EXPECT_TRUE(patches.ok()) << (patches.ok() ? "" : patches.error().message);
-    return std::move(patches).value();
-}
+qp::StamPatches build(const Cage& cage) { return qp::test::built(qp::buildStam(cage, "test cage")); }
 
-qp::test::SchemeEvaluator evaluator(const qp::StamPatches& patches) {
-    return [&patches](uint32_t s, double u, double v) {
-        qp::StamSample a = qp::evaluateStam(patches, s, u, v);
-        return SchemeSample{a.position, a.normal};
-    };
-}
+qp::test::SchemeEvaluator evaluator(const qp::StamPatches& patches) { return qp::test::schemeEvaluator(patches, qp::evaluateStam); }
 
 }  // namespace
 
@@ -50,13 +40,9 @@ TEST(StamEigen, DiagonalisableForValences3To32) {
 
 TEST(Stam, RegularTorusIsTheBSplineLimit) {
     Cage torus = qp::test::makeTorus();
-    auto exact = qp::test::makeExactSurface(torus);
     qp::StamPatches patches = build(torus);
     EXPECT_EQ(patches.stats.refinementSteps, 0u);
-    EXPECT_EQ(patches.stats.regularPatches, torus.faceCount());
-    qp::test::SchemeError e = qp::test::measureScheme(*exact, evaluator(patches));
-    EXPECT_LT(e.maxRelative, 1e-6);
-    EXPECT_LT(e.maxNormalDegrees, 1e-3);
+    qp::test::expectRegularCageIsTheBSplineLimit(torus, patches, evaluator(patches), 16);
 }
 
 TEST(Stam, MatchesTheExactLimitOnClosedCages) {
@@ -97,17 +83,6 @@ Cage makePrism(uint32_t n) {
     return cage;
 }
 
-qp::test::SeamGap seams(const qp::StamPatches& patches, double diagonal) {
-    const qp::QuadPatchSource& src = patches.source;
-    return qp::test::measureSeams(
-        src.quads, src.topology,
-        [&](uint32_t face, double s, double t) {
-            qp::StamSample a = qp::evaluateStamPatch(patches, src.facePatch[face], s, t);
-            return SchemeSample{a.position, a.normal};
-        },
-        [&](uint32_t face) { return src.facePatch[face] != qp::kNoPatch; }, diagonal);
-}
-
 }  // namespace
 
 TEST(Stam, ValencesUpTo16AfterTwoSteps) {
@@ -121,7 +96,7 @@ TEST(Stam, ValencesUpTo16AfterTwoSteps) {
         qp::test::SchemeError e = qp::test::measureScheme(*exact, evaluator(patches), 13);
         EXPECT_LT(e.maxRelative, 1e-5);
         EXPECT_LT(e.maxNormalDegrees, 0.1);
-        qp::test::SeamGap gap = seams(patches, exact->diagonal);
+        qp::test::SeamGap gap = qp::test::measurePatchSeams(patches, qp::evaluateStamPatch, exact->diagonal);
         EXPECT_LT(gap.position, 1e-8);  // not bitwise (eigenspace sums), but to double round-off
         EXPECT_LT(gap.normalDegrees, 1e-4);
     }
@@ -164,22 +139,18 @@ TEST(Stam, RejectsBoundariesAndCountsIgnoredTags) {
 // cages (the others are rejected for their boundaries, which the loop checks too).
 TEST(Stam, ErrorTableOnSharedCages) {
     QP_REQUIRE_SHARED_SHAPES();
-    qp::test::printErrorTableHeader();
-    for (const std::string& name : qp::test::errorTableCages()) {
-        Cage cage = qp::test::loadSharedShape(name);
+    qp::test::printErrorTable([](const std::string& name, const Cage& cage, const qp::test::ExactSurface& exact) {
         auto patches = qp::buildStam(cage, name);
         if (!patches.ok()) {
             EXPECT_NE(patches.error().message.find("boundary"), std::string::npos) << name;
             std::printf("| stam     | %-22s | rejected: %s |\n", name.c_str(), patches.error().message.c_str());
-            continue;
+            return;
         }
-        auto exact = qp::test::makeExactSurface(cage, name);
-        ASSERT_TRUE(exact);
-        qp::test::SchemeError e = qp::test::printErrorTableRow("stam", name, patches->stats.patches, *exact, evaluator(*patches));
+        qp::test::SchemeError e = qp::test::printErrorTableRow("stam", name, patches->stats.patches, exact, evaluator(*patches));
         if (cage.creases.empty() && cage.corners.empty()) {
             EXPECT_LT(e.maxRelative, 1e-5) << name;
         }
-    }
+    });
 }
 
 // Within 1/32 of the extraordinary vertices of the shared closed cages (a 1/256 grid), against

@@ -91,10 +91,7 @@ public:
 
     Status createGpu(const GpuContext& gpu) override {
         ctx_ = gpu.vulkan;
-        Result<MeshPass> pass = createMeshPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
-        if (!pass) return pass.error();
-        pass_ = *pass;
-        return success();
+        return createSchemeMeshPass(pass_, gpu);
     }
 
     Status update() override {
@@ -111,25 +108,18 @@ public:
             return buildDisplacedDrawing(displaced_, *ctx_, *this, *planned_, *displacement_, factor);
         }
         destroyDisplacedDrawing(displaced_);
-        std::vector<MeshVertex> vertices(finest_.size());
-        for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = {finest_[i], normals_[i]};
-        Result<GpuMesh> mesh = uploadMesh(*ctx_, vertices, indices_);
-        if (!mesh) return mesh.error();
-        mesh_ = *mesh;
-        return success();
+        return replaceMesh(*ctx_, mesh_, meshVertices(finest_, normals_), indices_);
     }
 
     Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         DrawStats stats;
         const PatchBounds bounds = faceBounds();
-        std::vector<IndexRange> parts;
         if (displacement_) {
             const std::vector<uint32_t> culled = cullSubfacesForView(culling_, bounds, displacement_, view, stats);
-            parts = displacedKeptRanges(displaced_, culled);
-            recordMeshParts(cmd, pass_, target, view, displaced_.gpu, culled.empty() ? nullptr : &parts, stats);
+            recordDisplacedParts(cmd, pass_, target, view, displaced_, culled, stats);
         } else {
             const std::vector<uint32_t> culled = cullPatchesForView(culling_, bounds, view, stats);
-            parts = keptIndexRanges(faceFirstIndex_, culled);
+            const std::vector<IndexRange> parts = keptIndexRanges(faceFirstIndex_, culled);
             recordMeshParts(cmd, pass_, target, view, mesh_, culled.empty() ? nullptr : &parts, stats);
         }
         stats.patches = 0;  // uniform draws no patches, only triangles
@@ -138,7 +128,7 @@ public:
 
     Status setDisplacement(const Displacement* displacement) override {
         culling_.bounds.reset();
-        displacement_ = displacement && !displacement->empty() ? displacement : nullptr;
+        displacement_ = displacementToDraw(displacement);
         return success();
     }
 

@@ -24,20 +24,13 @@ public:
     }
     Status createGpu(const GpuContext& gpu) override {
         ctx_ = gpu.vulkan;
-        Result<MeshPass> pass = createMeshPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
-        if (!pass) return pass.error();
-        pass_ = *pass;
-        return success();
+        return createSchemeMeshPass(pass_, gpu);
     }
     Status update() override {
         if (!ctx_ || grid_.samples.empty()) return success();
         std::vector<SurfacePoint> points(grid_.samples.size());
         evaluateParallel(*this, grid_.samples, points);
-        if (mesh_.indexCount) destroyMesh(*ctx_, mesh_);
-        Result<GpuMesh> mesh = uploadMesh(*ctx_, meshVertices(points), grid_.indices);
-        if (!mesh) return mesh.error();
-        mesh_ = *mesh;
-        return success();
+        return replaceMesh(*ctx_, mesh_, meshVertices(points), grid_.indices);
     }
     Result<DrawStats> record(VkCommandBuffer cmd, const RenderTarget& target, const DrawView& view) override {
         MeshDraw draw{&mesh_};
