@@ -8,6 +8,7 @@
 #include <glm/glm.hpp>
 
 #include "plan_pass.h"  // patchesPerDraw: the same lavapipe limit as the plans' tessellated path
+#include "pipeline_builder.h"
 #include "shader_code.h"
 #include "shared_pipelines.h"
 #include "vk_check.h"
@@ -40,63 +41,21 @@ constexpr VkDeviceSize kUpdateBufferBytes = 65536;  // vkCmdUpdateBuffer's most 
 
 Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cache, const TessPatchPass& pass,
                                   const VkShaderModule modules[4], bool wireframe) {
-    const VkShaderStageFlagBits stageBits[4] = {VK_SHADER_STAGE_VERTEX_BIT, VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT,
-                                                VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, VK_SHADER_STAGE_FRAGMENT_BIT};
-    const ColorEncoding encoding(pass.colorFormat);  // mesh.frag encodes sRGB itself unless the target does
-    VkPipelineShaderStageCreateInfo stages[4];
-    for (int i = 0; i < 4; ++i)
-        stages[i] = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stageBits[i], modules[i], "main"};
-    stages[3].pSpecializationInfo = &encoding.info;
-    VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_PATCH_LIST;
-    VkPipelineTessellationStateCreateInfo tessellation{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
-    tessellation.patchControlPoints = 1;  // the patch index; the control points are in the buffer
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    viewport.viewportCount = 1;
-    viewport.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    raster.polygonMode = wireframe ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL;
-    raster.cullMode = VK_CULL_MODE_NONE;  // open cages show their inside
-    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    raster.lineWidth = 1.0f;
-    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = wireframe ? VK_FALSE : VK_TRUE;
-    depth.depthCompareOp = wireframe ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_LESS;
-    VkPipelineColorBlendAttachmentState blendAttachment{};
-    blendAttachment.colorWriteMask =
-        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 1;
-    blend.pAttachments = &blendAttachment;
-    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dynamic.dynamicStateCount = 2;
-    dynamic.pDynamicStates = dynamicStates;
-    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &pass.colorFormat;
-    rendering.depthAttachmentFormat = pass.depthFormat;
-
-    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
-    info.stageCount = 4;
-    info.pStages = stages;
-    info.pVertexInputState = &vertexInput;
-    info.pInputAssemblyState = &assembly;
-    info.pTessellationState = &tessellation;
-    info.pViewportState = &viewport;
-    info.pRasterizationState = &raster;
-    info.pMultisampleState = &multisample;
-    info.pDepthStencilState = &depth;
-    info.pColorBlendState = &blend;
-    info.pDynamicState = &dynamic;
-    info.layout = pass.layout;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateGraphicsPipelines(ctx.device, cache, 1, &info, nullptr, &pipeline));
-    return pipeline;
+    // mesh.frag encodes sRGB itself unless the target does (GraphicsPipelineDesc::encodeColor).
+    const ShaderStage stages[] = {{VK_SHADER_STAGE_VERTEX_BIT, modules[0]},
+                                  {VK_SHADER_STAGE_TESSELLATION_CONTROL_BIT, modules[1]},
+                                  {VK_SHADER_STAGE_TESSELLATION_EVALUATION_BIT, modules[2]},
+                                  {VK_SHADER_STAGE_FRAGMENT_BIT, modules[3]}};
+    GraphicsPipelineDesc desc;
+    desc.stages = stages;
+    desc.layout = pass.layout;
+    desc.colorFormat = pass.colorFormat;
+    desc.depthFormat = pass.depthFormat;
+    desc.patchControlPoints = 1;  // the patch index; the control points are in the buffer
+    desc.polygonMode = wireframe ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL;
+    desc.depthWrite = !wireframe;
+    desc.depthCompare = wireframe ? VK_COMPARE_OP_LESS_OR_EQUAL : VK_COMPARE_OP_LESS;
+    return createGraphicsPipeline(ctx, cache, desc);
 }
 
 // Mirrors TessPatchAddresses in tess_patch_buffers.glsl: the shaders reach the buffers by
@@ -146,12 +105,10 @@ Status initPipelines(const VulkanContext& ctx, VkPipelineCache cache, TessPatchP
     pass.wire = *wire;
     if (shaders.prepare.empty()) return success();
     VkShaderModule compute = createShaderModule(ctx, shaders.prepare);
-    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, compute, "main"};
-    info.layout = pass.layout;
-    const VkResult created = vkCreateComputePipelines(ctx.device, cache, 1, &info, nullptr, &pass.prepare);
+    Result<VkPipeline> prepare = createComputePipeline(ctx, cache, compute, pass.layout);
     vkDestroyShaderModule(ctx.device, compute, nullptr);
-    VK_CHECK(created);
+    if (!prepare) return prepare.error();
+    pass.prepare = *prepare;
     return success();
 }
 

@@ -3,6 +3,7 @@
 #include <cassert>
 #include <cstddef>
 
+#include "pipeline_builder.h"
 #include "shader_code.h"
 #include "shared_pipelines.h"
 #include "vk_check.h"
@@ -10,79 +11,6 @@
 namespace qp {
 
 namespace {
-
-Result<VkPipeline> createPipeline(const VulkanContext& ctx, VkPipelineCache cache, const IdPass& pass, VkShaderModule vert,
-                                  VkShaderModule frag) {
-    const VkPipelineShaderStageCreateInfo stages[2] = {
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vert, "main"},
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, frag, "main"},
-    };
-    const VkVertexInputBindingDescription binding{0, sizeof(IdVertex), VK_VERTEX_INPUT_RATE_VERTEX};
-    const VkVertexInputAttributeDescription attributes[2] = {
-        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(IdVertex, position)},
-        {1, 0, VK_FORMAT_R32_UINT, offsetof(IdVertex, id)},
-    };
-    VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-    vertexInput.vertexBindingDescriptionCount = 1;
-    vertexInput.pVertexBindingDescriptions = &binding;
-    vertexInput.vertexAttributeDescriptionCount = 2;
-    vertexInput.pVertexAttributeDescriptions = attributes;
-
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    viewport.viewportCount = 1;
-    viewport.scissorCount = 1;
-
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    raster.polygonMode = VK_POLYGON_MODE_FILL;
-    raster.cullMode = VK_CULL_MODE_NONE;  // the schemes draw back sides too
-    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    raster.lineWidth = 1.0f;
-
-    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-
-    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = VK_TRUE;
-    depth.depthCompareOp = VK_COMPARE_OP_LESS;
-
-    VkPipelineColorBlendAttachmentState blendAttachment{};
-    blendAttachment.colorWriteMask =
-        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 1;
-    blend.pAttachments = &blendAttachment;
-
-    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dynamic.dynamicStateCount = 2;
-    dynamic.pDynamicStates = dynamicStates;
-
-    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &pass.colorFormat;
-    rendering.depthAttachmentFormat = pass.depthFormat;
-
-    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
-    info.stageCount = 2;
-    info.pStages = stages;
-    info.pVertexInputState = &vertexInput;
-    info.pInputAssemblyState = &assembly;
-    info.pViewportState = &viewport;
-    info.pRasterizationState = &raster;
-    info.pMultisampleState = &multisample;
-    info.pDepthStencilState = &depth;
-    info.pColorBlendState = &blend;
-    info.pDynamicState = &dynamic;
-    info.layout = pass.layout;
-
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    VK_CHECK(vkCreateGraphicsPipelines(ctx.device, cache, 1, &info, nullptr, &pipeline));
-    return pipeline;
-}
 
 void destroyPipelines(const VulkanContext& ctx, IdPass& pass) {
     if (pass.pipeline) vkDestroyPipeline(ctx.device, pass.pipeline, nullptr);
@@ -98,7 +26,22 @@ Status initPass(const VulkanContext& ctx, VkPipelineCache cache, IdPass& pass) {
     // Modules are only needed while the pipeline is created.
     VkShaderModule vert = loadShaderModule(ctx, "id.vert");
     VkShaderModule frag = loadShaderModule(ctx, "id.frag");
-    Result<VkPipeline> pipeline = createPipeline(ctx, cache, pass, vert, frag);
+    const ShaderStage stages[] = {{VK_SHADER_STAGE_VERTEX_BIT, vert}, {VK_SHADER_STAGE_FRAGMENT_BIT, frag}};
+    const VkVertexInputBindingDescription binding{0, sizeof(IdVertex), VK_VERTEX_INPUT_RATE_VERTEX};
+    const VkVertexInputAttributeDescription attributes[2] = {
+        {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(IdVertex, position)},
+        {1, 0, VK_FORMAT_R32_UINT, offsetof(IdVertex, id)},
+    };
+    GraphicsPipelineDesc desc;
+    desc.stages = stages;
+    desc.layout = pass.layout;
+    desc.colorFormat = pass.colorFormat;
+    desc.depthFormat = pass.depthFormat;
+    desc.encodeColor = false;  // the pixels are numbers
+    desc.vertexBindings = {&binding, 1};
+    desc.vertexAttributes = attributes;
+    desc.depthCompare = VK_COMPARE_OP_LESS;
+    Result<VkPipeline> pipeline = createGraphicsPipeline(ctx, cache, desc);
     vkDestroyShaderModule(ctx.device, vert, nullptr);
     vkDestroyShaderModule(ctx.device, frag, nullptr);
     if (!pipeline) return pipeline.error();

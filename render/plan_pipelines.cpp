@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "pipeline_builder.h"
 #include "shader_code.h"
 #include "vk_check.h"
 
@@ -10,17 +11,11 @@ namespace qp {
 
 namespace {
 
-Result<VkPipeline> createComputePipeline(const VulkanContext& ctx, VkPipelineCache cache, const PlanPass& pass,
-                                         const char* shader) {
+Result<VkPipeline> createPlanComputePipeline(const VulkanContext& ctx, VkPipelineCache cache, const PlanPass& pass,
+                                             const char* shader) {
     VkShaderModule module = loadShaderModule(ctx, planShaderVariant(pass, shader));
-    const VkPipelineLayout layout = pass.computeLayout;
-    VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, module, "main"};
-    info.layout = layout;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    VkResult result = vkCreateComputePipelines(ctx.device, cache, 1, &info, nullptr, &pipeline);
+    Result<VkPipeline> pipeline = createComputePipeline(ctx, cache, module, pass.computeLayout);
     vkDestroyShaderModule(ctx.device, module, nullptr);
-    VK_CHECK(result);
     return pipeline;
 }
 
@@ -34,13 +29,9 @@ struct GraphicsStages {
 Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache cache, const PlanPass& pass,
                                       const GraphicsStages& names, bool wireframe) {
     const bool tessellated = !names.control.empty();
-    std::vector<VkShaderModule> modules;
-    std::vector<VkPipelineShaderStageCreateInfo> stages;
-    const ColorEncoding encoding(pass.colorFormat);
+    std::vector<ShaderStage> stages;
     auto addStage = [&](const std::string& name, VkShaderStageFlagBits stage) {
-        modules.push_back(loadShaderModule(ctx, planShaderVariant(pass, name)));
-        stages.push_back({VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, stage, modules.back(), "main",
-                          stage == VK_SHADER_STAGE_FRAGMENT_BIT ? &encoding.info : nullptr});
+        stages.push_back({stage, loadShaderModule(ctx, planShaderVariant(pass, name))});
     };
     addStage(names.vertex, VK_SHADER_STAGE_VERTEX_BIT);
     if (tessellated) {
@@ -49,73 +40,30 @@ Result<VkPipeline> createDrawPipeline(const VulkanContext& ctx, VkPipelineCache 
     }
     addStage(names.fragment, VK_SHADER_STAGE_FRAGMENT_BIT);
 
+    GraphicsPipelineDesc desc;
+    desc.stages = stages;
+    desc.layout = pass.drawLayout;
+    desc.colorFormat = pass.colorFormat;
+    desc.depthFormat = pass.depthFormat;
     // The grid is also a vertex buffer: the device's vertex fetch beats loads from a storage
     // buffer in the vertex shader (measured on lavapipe, docs/renderer.md).
-    VkPipelineVertexInputStateCreateInfo vertexInput{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     const VkVertexInputBindingDescription gridBinding{0, sizeof(GridVertex), VK_VERTEX_INPUT_RATE_VERTEX};
     const VkVertexInputAttributeDescription gridAttributes[2] = {
         {0, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(GridVertex, position)},
         {1, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(GridVertex, normal)}};
-    if (!tessellated) {
-        vertexInput.vertexBindingDescriptionCount = 1;
-        vertexInput.pVertexBindingDescriptions = &gridBinding;
-        vertexInput.vertexAttributeDescriptionCount = 2;
-        vertexInput.pVertexAttributeDescriptions = gridAttributes;
+    if (tessellated) {
+        desc.patchControlPoints = 1;
+    } else {
+        desc.vertexBindings = {&gridBinding, 1};
+        desc.vertexAttributes = gridAttributes;
     }
-    VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-    assembly.topology = tessellated ? VK_PRIMITIVE_TOPOLOGY_PATCH_LIST : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    VkPipelineTessellationStateCreateInfo tessellation{VK_STRUCTURE_TYPE_PIPELINE_TESSELLATION_STATE_CREATE_INFO};
-    tessellation.patchControlPoints = 1;
-    VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-    viewport.viewportCount = 1;
-    viewport.scissorCount = 1;
-    VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-    raster.polygonMode = wireframe ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL;
-    raster.cullMode = VK_CULL_MODE_NONE;  // open cages show their back side
-    raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    raster.lineWidth = 1.0f;
+    desc.polygonMode = wireframe ? VK_POLYGON_MODE_LINE : VK_POLYGON_MODE_FILL;
+    desc.depthWrite = !wireframe;
     // The wireframe is drawn over the shaded surface: pull it towards the eye a little.
-    raster.depthBiasEnable = wireframe ? VK_TRUE : VK_FALSE;
-    raster.depthBiasConstantFactor = -1.0f;
-    raster.depthBiasSlopeFactor = -1.0f;
-    VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-    multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-    VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-    depth.depthTestEnable = VK_TRUE;
-    depth.depthWriteEnable = wireframe ? VK_FALSE : VK_TRUE;
-    depth.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
-    VkPipelineColorBlendAttachmentState blendAttachment{};
-    blendAttachment.colorWriteMask =
-        VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
-    VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-    blend.attachmentCount = 1;
-    blend.pAttachments = &blendAttachment;
-    const VkDynamicState dynamicStates[] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-    VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-    dynamic.dynamicStateCount = 2;
-    dynamic.pDynamicStates = dynamicStates;
-    VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-    rendering.colorAttachmentCount = 1;
-    rendering.pColorAttachmentFormats = &pass.colorFormat;
-    rendering.depthAttachmentFormat = pass.depthFormat;
-
-    VkGraphicsPipelineCreateInfo info{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO, &rendering};
-    info.stageCount = uint32_t(stages.size());
-    info.pStages = stages.data();
-    info.pVertexInputState = &vertexInput;
-    info.pInputAssemblyState = &assembly;
-    info.pTessellationState = tessellated ? &tessellation : nullptr;
-    info.pViewportState = &viewport;
-    info.pRasterizationState = &raster;
-    info.pMultisampleState = &multisample;
-    info.pDepthStencilState = &depth;
-    info.pColorBlendState = &blend;
-    info.pDynamicState = &dynamic;
-    info.layout = pass.drawLayout;
-    VkPipeline pipeline = VK_NULL_HANDLE;
-    VkResult result = vkCreateGraphicsPipelines(ctx.device, cache, 1, &info, nullptr, &pipeline);
-    for (VkShaderModule m : modules) vkDestroyShaderModule(ctx.device, m, nullptr);
-    VK_CHECK(result);
+    desc.depthBias = wireframe;
+    desc.depthBiasConstant = desc.depthBiasSlope = -1.0f;
+    Result<VkPipeline> pipeline = createGraphicsPipeline(ctx, cache, desc);
+    for (const ShaderStage& stage : stages) vkDestroyShaderModule(ctx.device, stage.module, nullptr);
     return pipeline;
 }
 
@@ -154,10 +102,10 @@ Status createPlanPipelines(const VulkanContext& ctx, VkPipelineCache cache, Plan
         out = *r;
         return success();
     };
-    if (Status s = assign(createComputePipeline(ctx, cache, pass, "plan_stencils.comp"), pass.stencils); !s) return s;
-    if (Status s = assign(createComputePipeline(ctx, cache, pass, "plan_grid_undisplaced.comp"), pass.grid); !s)
+    if (Status s = assign(createPlanComputePipeline(ctx, cache, pass, "plan_stencils.comp"), pass.stencils); !s) return s;
+    if (Status s = assign(createPlanComputePipeline(ctx, cache, pass, "plan_grid_undisplaced.comp"), pass.grid); !s)
         return s;
-    if (Status s = assign(createComputePipeline(ctx, cache, pass, "plan_grid.comp"), pass.gridDisplaced); !s)
+    if (Status s = assign(createPlanComputePipeline(ctx, cache, pass, "plan_grid.comp"), pass.gridDisplaced); !s)
         return s;
     const GraphicsStages tess{"plan.vert", "plan.tesc", "plan_undisplaced.tese", "plan.frag"};
     const GraphicsStages tessDisplaced{"plan.vert", "plan.tesc", "plan.tese", "plan.frag"};
