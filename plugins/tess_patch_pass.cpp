@@ -12,6 +12,7 @@
 #include "shader_code.h"
 #include "shared_pipelines.h"
 #include "vk_check.h"
+#include "vk_commands.h"
 
 namespace qp {
 
@@ -121,17 +122,8 @@ void destroyPipelines(const VulkanContext& ctx, TessPatchPass& pass) {
 
 // The pass's own descriptor set and buffers.
 Status initInstance(const VulkanContext& ctx, TessPatchPass& pass) {
-    VkDescriptorPoolSize poolSize{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1};
-    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = 1;
-    poolInfo.pPoolSizes = &poolSize;
-    VK_CHECK(vkCreateDescriptorPool(ctx.device, &poolInfo, nullptr, &pass.pool));
-    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    allocInfo.descriptorPool = pass.pool;
-    allocInfo.descriptorSetCount = 1;
-    allocInfo.pSetLayouts = &pass.setLayout;
-    VK_CHECK(vkAllocateDescriptorSets(ctx.device, &allocInfo, &pass.set));
+    if (Status made = createDescriptorSet(ctx, pass.setLayout, {VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}, pass.pool, pass.set); !made)
+        return made;
 
     Result<Buffer> addresses = createBuffer(ctx, sizeof(TessPatchAddresses), VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT);
     if (!addresses) return addresses.error();
@@ -158,19 +150,6 @@ uint64_t shaderHash(const TessPatchShaders& shaders) {
     for (std::span<const uint32_t> code : {shaders.vertex, shaders.control, shaders.evaluation, shaders.prepare})
         for (uint32_t word : code) hash = (hash ^ word) * 1099511628211ull;
     return hash;
-}
-
-void barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess, VkPipelineStageFlags2 dstStage,
-             VkAccessFlags2 dstAccess) {
-    VkMemoryBarrier2 memory{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    memory.srcStageMask = srcStage;
-    memory.srcAccessMask = srcAccess;
-    memory.dstStageMask = dstStage;
-    memory.dstAccessMask = dstAccess;
-    VkDependencyInfo dependency{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dependency.memoryBarrierCount = 1;
-    dependency.pMemoryBarriers = &memory;
-    vkCmdPipelineBarrier2(cmd, &dependency);
 }
 
 }  // namespace
@@ -252,9 +231,9 @@ void recordTessPrepare(VkCommandBuffer cmd, const TessPatchPass& pass, uint32_t 
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass.prepare);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pass.layout, 0, 1, &pass.set, 0, nullptr);
     vkCmdDispatch(cmd, rowGroups, (groups + rowGroups - 1) / rowGroups, 1);
-    barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-            VK_PIPELINE_STAGE_2_TESSELLATION_CONTROL_SHADER_BIT | VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
-            VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+    memoryBarrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                  VK_PIPELINE_STAGE_2_TESSELLATION_CONTROL_SHADER_BIT | VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
+                  VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 }
 
 void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const RenderTarget& target, const DrawView& view,
@@ -273,20 +252,20 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
         listFirst = pass.patchCount;
         listCount = uint32_t(kept.size());
         // An earlier draw of this command buffer may still read the slots (DrawView::sameFrame).
-        barrier(cmd, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                      VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT);
         const VkDeviceSize bytes = VkDeviceSize(listCount) * sizeof(uint32_t);
         for (VkDeviceSize done = 0; done < bytes; done += kUpdateBufferBytes)
             vkCmdUpdateBuffer(cmd, pass.patchList.buffer, VkDeviceSize(listFirst) * sizeof(uint32_t) + done,
                               std::min(kUpdateBufferBytes, bytes - done), reinterpret_cast<const char*>(kept.data()) + done);
-        barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
-                VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT,
+                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     }
     if (capture) {
         vkCmdFillBuffer(cmd, pass.capture.buffer, 0, 4, 0);
-        barrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
-                VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
+                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
     }
     beginRendering(cmd, target, view.clear, view.background);
     const uint32_t maxFactor = settings.largestLevel ? std::min(settings.largestLevel, 64u)
@@ -314,10 +293,10 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
             // rendering instance at these stages).
             if (push.capture && first > 0) {
                 vkCmdEndRendering(cmd);
-                barrier(cmd, VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
-                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
-                        VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
-                        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
+                memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
+                              VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT,
+                              VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT,
+                              VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
                 beginRendering(cmd, target, false, view.background);
                 vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
                 vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.layout, 0, 1, &pass.set, 0, nullptr);
@@ -328,8 +307,8 @@ void recordTessPatches(VkCommandBuffer cmd, const TessPatchPass& pass, const Ren
     }
     vkCmdEndRendering(cmd);
     if (capture)
-        barrier(cmd, VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
-                VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
+        memoryBarrier(cmd, VK_PIPELINE_STAGE_2_TESSELLATION_EVALUATION_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                      VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
 }
 
 Status enableTessCapture(const VulkanContext& ctx, TessPatchPass& pass, uint32_t capacity) {

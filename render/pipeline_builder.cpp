@@ -84,4 +84,19 @@ Result<VkPipeline> createComputePipeline(const VulkanContext& ctx, VkPipelineCac
     return pipeline;
 }
 
+Status createDescriptorSet(const VulkanContext& ctx, VkDescriptorSetLayout setLayout, VkDescriptorPoolSize size,
+                           VkDescriptorPool& pool, VkDescriptorSet& set) {
+    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+    poolInfo.maxSets = 1;
+    poolInfo.poolSizeCount = 1;
+    poolInfo.pPoolSizes = &size;
+    VK_CHECK(vkCreateDescriptorPool(ctx.device, &poolInfo, nullptr, &pool));
+    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    allocInfo.descriptorPool = pool;
+    allocInfo.descriptorSetCount = 1;
+    allocInfo.pSetLayouts = &setLayout;
+    VK_CHECK(vkAllocateDescriptorSets(ctx.device, &allocInfo, &set));
+    return success();
+}
+
 }  // namespace qp

@@ -56,4 +56,9 @@ Result<VkPipeline> createGraphicsPipeline(const VulkanContext& context, VkPipeli
 Result<VkPipeline> createComputePipeline(const VulkanContext& context, VkPipelineCache cache, VkShaderModule module,
                                          VkPipelineLayout layout);
 
+// A pool holding exactly one set of `setLayout` with `size`'s descriptors, and that set: what a
+// pass that binds its own buffers needs. Destroying the pool frees the set.
+Status createDescriptorSet(const VulkanContext& context, VkDescriptorSetLayout setLayout, VkDescriptorPoolSize size,
+                           VkDescriptorPool& pool, VkDescriptorSet& set);
+
 }  // namespace qp

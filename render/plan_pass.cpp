@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "cpu_grid.h"
+#include "pipeline_builder.h"
 #include "plan_pass_support.h"
 #include "plan_pipelines.h"
 #include "shared_pipelines.h"
@@ -29,17 +30,7 @@ constexpr uint32_t kCaptureHeaderBytes = 16;
 Status allocateSet(const VulkanContext& ctx, PlanPass& pass) {
     const VkDescriptorPoolSize poolSize = pass.byAddress ? VkDescriptorPoolSize{VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER, 1}
                                                          : VkDescriptorPoolSize{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, kPlanBufferCount};
-    VkDescriptorPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-    poolInfo.maxSets = 1;
-    poolInfo.poolSizeCount = 1;
-    poolInfo.pPoolSizes = &poolSize;
-    VK_CHECK(vkCreateDescriptorPool(ctx.device, &poolInfo, nullptr, &pass.pool));
-    VkDescriptorSetAllocateInfo allocInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-    allocInfo.descriptorPool = pass.pool;
-    allocInfo.descriptorSetCount = 1;
-    allocInfo.pSetLayouts = &pass.setLayout;
-    VK_CHECK(vkAllocateDescriptorSets(ctx.device, &allocInfo, &pass.set));
-    return success();
+    return createDescriptorSet(ctx, pass.setLayout, poolSize, pass.pool, pass.set);
 }
 
 constexpr VkPipelineStageFlags2 kShaderStagesReading =
