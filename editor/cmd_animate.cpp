@@ -123,16 +123,12 @@ int runAnimate(const AnimateArgs& args) {
     if (fs::exists(args.out) && !fs::is_directory(args.out))
         return fail("--out " + args.out + " is a file; give the folder to write the frames into");
 
-    Result<SchemeChoice> chosen = chooseScheme(args.draw.depth, args.draw.drawPath, args.draw.options, args.draw.pluginDir, args.draw.scheme);
-    if (!chosen) return fail(chosen.error().message);
-    SchemeSettings settings = chosen->settings;
-    const PluginCatalog& catalog = chosen->catalog;
-
-    PlanDatabase database;
-    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.draw.depth, true});
-    if (!file) return fail(file.error().message);
-    Scene& scene = file->scene;
-    PlannedScene& planned = file->planned;
+    Result<DrawInput> input = loadDrawInput(args.path, args.draw);
+    if (!input) return fail(input.error().message);
+    SchemeSettings settings = input->scheme.settings;
+    const PluginCatalog& catalog = input->scheme.catalog;
+    Scene& scene = input->file.scene;
+    PlannedScene& planned = input->file.planned;
 
     if (!args.sequence.empty()) {
         SceneObject& target = scene.objects.front();

@@ -36,16 +36,12 @@ int runRender(const RenderArgs& args) {
         return fail("--size must be WIDTHxHEIGHT with each side between 16 and 8192, got '" + args.draw.size + "'");
     if (args.draw.tess > 0 && args.draw.adaptive > 0.0f) return fail("give either --tess or --adaptive, not both");
 
-    Result<SchemeChoice> chosen = chooseScheme(args.draw.depth, args.draw.drawPath, args.draw.options, args.draw.pluginDir, args.draw.scheme);
-    if (!chosen) return fail(chosen.error().message);
-    SchemeSettings settings = chosen->settings;
-    const PluginCatalog& catalog = chosen->catalog;
-
-    PlanDatabase database;
-    Result<PlannedFile> file = loadAndPlan(args.path, database, PlanOptions{args.draw.depth, true});
-    if (!file) return fail(file.error().message);
-    Scene& scene = file->scene;
-    PlannedScene& planned = file->planned;
+    Result<DrawInput> input = loadDrawInput(args.path, args.draw);
+    if (!input) return fail(input.error().message);
+    SchemeSettings settings = input->scheme.settings;
+    const PluginCatalog& catalog = input->scheme.catalog;
+    Scene& scene = input->file.scene;
+    PlannedScene& planned = input->file.planned;
 
     setTessellation(settings, args.draw.tess, args.draw.adaptive, scene.tessellation);
     const bool showCage = !args.draw.noCage && scene.tessellation.showCage;

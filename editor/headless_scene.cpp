@@ -85,6 +85,15 @@ void addDrawOptions(CLI::App& cmd, DrawOptions& draw, const std::string& cameraH
     cmd.add_flag("--validate", draw.validate, "Enable Vulkan validation; any message makes the command fail");
 }
 
+Result<DrawInput> loadDrawInput(const std::string& path, const DrawOptions& draw) {
+    Result<SchemeChoice> chosen = chooseScheme(draw.depth, draw.drawPath, draw.options, draw.pluginDir, draw.scheme);
+    if (!chosen) return chosen.error();
+    auto database = std::make_unique<PlanDatabase>();
+    Result<PlannedFile> file = loadAndPlan(path, *database, PlanOptions{draw.depth, true});
+    if (!file) return file.error();
+    return DrawInput{std::move(chosen).value(), std::move(database), std::move(file).value()};
+}
+
 void setTessellation(SchemeSettings& settings, uint32_t tess, float adaptive, const Tessellation& scene) {
     if (tess > 0) settings.tessFactor = tess;
     else if (adaptive > 0.0f) settings.adaptivePixels = adaptive;

@@ -16,6 +16,7 @@
 #include "mesh/result.h"
 #include "offscreen_target.h"
 #include "pipeline_cache.h"
+#include "render_setup.h"
 #include "scene/planned_scene.h"
 #include "scene/scene.h"
 #include "scene_schemes.h"
@@ -51,6 +52,15 @@ struct DrawOptions {
     uint32_t depth = 6;
 };
 void addDrawOptions(CLI::App& cmd, DrawOptions& draw, const std::string& cameraHelp, const std::string& pathHelp);
+
+// What `render` and `animate` draw: the scheme `draw` chooses and the file planned at its depth
+// (warnings printed), the plans in a database of their own.
+struct DrawInput {
+    SchemeChoice scheme;
+    std::unique_ptr<PlanDatabase> database;  // on the heap: the planned scene points into it
+    PlannedFile file;
+};
+Result<DrawInput> loadDrawInput(const std::string& path, const DrawOptions& draw);
 
 struct HeadlessSceneRequest {
     const PluginCatalog* catalog = nullptr;

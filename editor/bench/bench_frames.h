@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -55,10 +56,12 @@ std::string cellWithCpu(const FrameKind& k);
 // device for those triangles.
 Status preparePreTessellated(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, const PlannedCage& planned,
                              uint32_t factor, GpuMesh& mesh);
-// What both suites draw with: the benchmark device, a kRenderSize square RGBA8 target, the plans'
-// pass and buffers for the cage, and the pre-tessellated baseline's mesh (filled per factor by
-// preparePreTessellated).
+// What both suites draw with: the cage planned, the benchmark device, a kRenderSize square RGBA8
+// target, the plans' pass and buffers for the cage, and the pre-tessellated baseline's mesh
+// (filled per factor by preparePreTessellated).
 struct FrameBench {
+    std::unique_ptr<PlanDatabase> database;  // on the heap: the planned cage points into it
+    std::unique_ptr<PlannedCage> planned;
     VulkanContext ctx;
     OffscreenTarget target;
     PlanPass pass;
@@ -66,9 +69,9 @@ struct FrameBench {
     GpuMesh preMesh;
     std::string error;  // the first failure after the context was made; the rest is then skipped
 };
-// Fails only when no Vulkan context can be made (nothing to destroy then); the load average goes
-// into the notes, prefixed with `name`.
-Result<FrameBench> createFrameBench(const PlannedCage& planned, const std::string& name, std::vector<std::string>& notes);
+// Fails only when the cage cannot be planned or no Vulkan context can be made (nothing to destroy
+// then); the load average goes into the notes, prefixed with `name`.
+Result<FrameBench> createFrameBench(const Cage& cage, const std::string& name, std::vector<std::string>& notes);
 // Waits for the device and destroys whatever was made.
 void destroyFrameBench(FrameBench& bench);
 

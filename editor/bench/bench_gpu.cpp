@@ -77,10 +77,14 @@ Status preparePreTessellated(const VulkanContext& ctx, PlanPass& pass, PlanBuffe
     return success();
 }
 
-Result<FrameBench> createFrameBench(const PlannedCage& planned, const std::string& name, std::vector<std::string>& notes) {
+Result<FrameBench> createFrameBench(const Cage& cage, const std::string& name, std::vector<std::string>& notes) {
+    FrameBench bench;
+    bench.database = std::make_unique<PlanDatabase>();
+    Result<PlannedCage> created = PlannedCage::create(cage, *bench.database, PlanOptions{}, name);
+    if (!created) return created.error();
+    bench.planned = std::make_unique<PlannedCage>(std::move(created).value());
     Result<VulkanContext> context = createBenchContext();
     if (!context) return context.error();
-    FrameBench bench;
     bench.ctx = std::move(context).value();
     notes.push_back(name + ": load average at the start (1, 5, 15 min): " + loadAverage());
     auto take = [&](auto result, auto& out) {
@@ -91,7 +95,7 @@ Result<FrameBench> createFrameBench(const PlannedCage& planned, const std::strin
     const VkFormat format = VK_FORMAT_R8G8B8A8_UNORM;
     take(createOffscreenTarget(bench.ctx, kRenderSize, kRenderSize, format), bench.target) &&
         take(createPlanPass(bench.ctx, VK_NULL_HANDLE, format), bench.pass) &&
-        take(uploadPlans(bench.ctx, planned), bench.buffers);
+        take(uploadPlans(bench.ctx, *bench.planned), bench.buffers);
     if (bench.error.empty())
         if (Status bound = bindPlanBuffers(bench.ctx, bench.pass, bench.buffers); !bound) bench.error = bound.error().message;
     return bench;

@@ -33,14 +33,11 @@ void benchRender(const BenchCage& bench, const BenchArgs& args, Report& report) 
     const std::string& name = bench.name;
     std::fprintf(stderr, "bench render: %s (%u faces)\n", name.c_str(), bench.cage.faceCount());
     auto skip = [&](const std::string& why) { report.notes.push_back(name + ": skipped, " + why); };
-    PlanDatabase database;
-    Result<PlannedCage> created = PlannedCage::create(bench.cage, database, PlanOptions{}, name);
-    if (!created) return skip(created.error().message);
-    PlannedCage& planned = *created;
-    Result<FrameBench> made = createFrameBench(planned, name, report.notes);
+    Result<FrameBench> made = createFrameBench(bench.cage, name, report.notes);
     if (!made) return skip(made.error().message);
     // Everything below is destroyed at the end, whatever failed on the way.
     FrameBench& frames = *made;
+    PlannedCage& planned = *frames.planned;
     VulkanContext& ctx = frames.ctx;
     OffscreenTarget& target = frames.target;
     PlanPass& pass = frames.pass;

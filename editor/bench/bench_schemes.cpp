@@ -30,16 +30,13 @@ void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report)
     const std::string& name = bench.name;
     std::fprintf(stderr, "bench schemes: %s (%u faces)\n", name.c_str(), bench.cage.faceCount());
     auto skip = [&](const std::string& why) { report.notes.push_back(name + ": skipped, " + why); };
-    PlanDatabase database;
-    Result<PlannedCage> created = PlannedCage::create(bench.cage, database, PlanOptions{}, name);
-    if (!created) return skip(created.error().message);
-    PlannedCage& planned = *created;
     const PluginCatalog catalog = loadPlugins(pluginDirectory());
     for (const PluginProblem& p : catalog.problems) report.notes.push_back(name + ": " + p.message);
     if (catalog.plugins.empty()) return skip("no scheme plugin loaded from " + catalog.directory);
-    Result<FrameBench> made = createFrameBench(planned, name, report.notes);
+    Result<FrameBench> made = createFrameBench(bench.cage, name, report.notes);
     if (!made) return skip(made.error().message);
     FrameBench& frames = *made;
+    PlannedCage& planned = *frames.planned;
     VulkanContext& ctx = frames.ctx;
     OffscreenTarget& target = frames.target;
     PlanPass& pass = frames.pass;
