@@ -157,19 +157,9 @@ uint64_t shaderHash(const TessPatchShaders& shaders) {
 Result<TessPatchPass> createTessPatchPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
                                           VkFormat depthFormat, const TessPatchShaders& shaders) {
     const std::string key = sharedPassKey("tess-patch", colorFormat, depthFormat) + ":" + std::to_string(shaderHash(shaders));
-    Result<TessPatchPass> shared = sharedDeviceObject<TessPatchPass>(
-        ctx, key,
-        [&]() -> Result<TessPatchPass> {
-            TessPatchPass pipelines;
-            pipelines.colorFormat = colorFormat;
-            pipelines.depthFormat = depthFormat;
-            if (Status s = initPipelines(ctx, cache, pipelines, shaders); !s) {
-                destroyPipelines(ctx, pipelines);
-                return s.error();
-            }
-            return pipelines;
-        },
-        destroyPipelines);
+    Result<TessPatchPass> shared = sharedPass<TessPatchPass>(
+        ctx, key, colorFormat, depthFormat,
+        [&](TessPatchPass& pipelines) { return initPipelines(ctx, cache, pipelines, shaders); }, destroyPipelines);
     if (!shared) return shared.error();
     TessPatchPass pass = *shared;
     if (Status s = initInstance(ctx, pass); !s) {

@@ -77,19 +77,9 @@ void destroyIdMesh(const VulkanContext& ctx, IdMesh& mesh) {
 
 Result<IdPass> createIdPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat, VkFormat depthFormat) {
     if (isSrgbFormat(colorFormat)) return Error{"an ID buffer needs a UNORM colour format: sRGB would re-encode its numbers"};
-    return sharedDeviceObject<IdPass>(
-        ctx, sharedPassKey("id", colorFormat, depthFormat),
-        [&]() -> Result<IdPass> {
-            IdPass pass;
-            pass.colorFormat = colorFormat;
-            pass.depthFormat = depthFormat;
-            if (Status s = initPass(ctx, cache, pass); !s) {
-                destroyPipelines(ctx, pass);
-                return s.error();
-            }
-            return pass;
-        },
-        destroyPipelines);
+    return sharedPass<IdPass>(
+        ctx, sharedPassKey("id", colorFormat, depthFormat), colorFormat, depthFormat,
+        [&](IdPass& pass) { return initPass(ctx, cache, pass); }, destroyPipelines);
 }
 
 void destroyIdPass(const VulkanContext&, IdPass& pass) {

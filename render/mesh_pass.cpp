@@ -124,19 +124,9 @@ void destroyMesh(const VulkanContext& ctx, GpuMesh& mesh) {
 
 Result<MeshPass> createMeshPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
                                 VkFormat depthFormat) {
-    return sharedDeviceObject<MeshPass>(
-        ctx, sharedPassKey("mesh", colorFormat, depthFormat),
-        [&]() -> Result<MeshPass> {
-            MeshPass pass;
-            pass.colorFormat = colorFormat;
-            pass.depthFormat = depthFormat;
-            if (Status s = initPass(ctx, cache, pass); !s) {
-                destroyPipelines(ctx, pass);
-                return s.error();
-            }
-            return pass;
-        },
-        destroyPipelines);
+    return sharedPass<MeshPass>(
+        ctx, sharedPassKey("mesh", colorFormat, depthFormat), colorFormat, depthFormat,
+        [&](MeshPass& pass) { return initPass(ctx, cache, pass); }, destroyPipelines);
 }
 
 void destroyMeshPass(const VulkanContext&, MeshPass& pass) {

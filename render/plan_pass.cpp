@@ -198,18 +198,11 @@ void destroyPlanBuffers(const VulkanContext& ctx, PlanBuffers& b) {
 
 Result<PlanPass> createPlanPass(const VulkanContext& ctx, VkPipelineCache cache, VkFormat colorFormat,
                                 VkFormat depthFormat, bool byAddress) {
-    Result<PlanPass> shared = sharedDeviceObject<PlanPass>(
-        ctx, sharedPassKey(byAddress ? "plan-by-address" : "plan", colorFormat, depthFormat),
-        [&]() -> Result<PlanPass> {
-            PlanPass pipelines;
-            pipelines.colorFormat = colorFormat;
-            pipelines.depthFormat = depthFormat;
+    Result<PlanPass> shared = sharedPass<PlanPass>(
+        ctx, sharedPassKey(byAddress ? "plan-by-address" : "plan", colorFormat, depthFormat), colorFormat, depthFormat,
+        [&](PlanPass& pipelines) {
             pipelines.byAddress = byAddress;
-            if (Status s = createPlanPipelines(ctx, cache, pipelines); !s) {
-                destroyPlanPipelines(ctx, pipelines);
-                return s.error();
-            }
-            return pipelines;
+            return createPlanPipelines(ctx, cache, pipelines);
         },
         destroyPlanPipelines);
     if (!shared) return shared.error();

@@ -55,4 +55,24 @@ Result<T> sharedDeviceObject(const VulkanContext& context, const std::string& ke
 // "name:color:depth", the usual key of a pass for targets of these formats.
 std::string sharedPassKey(const char* name, VkFormat colorFormat, VkFormat depthFormat);
 
+// The usual shared pass: a T with its colorFormat and depthFormat set, completed by `init(T&)`
+// (a Status; on failure `release` destroys what it made), kept under `key`.
+template <class T, class Init, class Release>
+Result<T> sharedPass(const VulkanContext& context, const std::string& key, VkFormat colorFormat, VkFormat depthFormat,
+                     Init init, Release release) {
+    return sharedDeviceObject<T>(
+        context, key,
+        [&]() -> Result<T> {
+            T pass;
+            pass.colorFormat = colorFormat;
+            pass.depthFormat = depthFormat;
+            if (Status s = init(pass); !s) {
+                release(context, pass);
+                return s.error();
+            }
+            return pass;
+        },
+        release);
+}
+
 }  // namespace qp
