@@ -2,8 +2,9 @@
 // with the compute pass or on the CPU (cpu_grid.h), drawing it, refreshing what vertex moves and
 // displacement changes touched.
 #include <algorithm>
-#include <cstring>
+#include <cassert>
 #include <iterator>
+#include <tuple>
 #include <utility>
 
 #include "cpu_grid.h"

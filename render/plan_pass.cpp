@@ -9,7 +9,6 @@
 #include <cstring>
 #include <utility>
 #include <iterator>
-#include <tuple>
 
 #include "cpu_grid.h"
 #include "pipeline_builder.h"

@@ -256,14 +256,7 @@ Status endFrame(const VulkanContext& ctx, SwapchainTarget& t, const SwapchainFra
         toSource.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
         pipelineBarrier(cmd, {toSource});
         recordCopyToBuffer(cmd, frame.image, t.extent, staging);
-        VkBufferMemoryBarrier2 toHost{VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2};
-        toHost.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-        toHost.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-        toHost.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
-        toHost.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
-        toHost.srcQueueFamilyIndex = toHost.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        toHost.buffer = staging.buffer;
-        toHost.size = VK_WHOLE_SIZE;
+        const VkBufferMemoryBarrier2 toHost = copyToHostBarrier(staging.buffer);
         VkImageMemoryBarrier2 toPresent = imageBarrier(frame.image, VK_IMAGE_ASPECT_COLOR_BIT,
                                                        VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                                                        VK_IMAGE_LAYOUT_PRESENT_SRC_KHR);

@@ -19,6 +19,8 @@ void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccess
 // A layout transition of an image's first mip level and layer, queue families ignored; the
 // caller sets the stages and accesses.
 VkImageMemoryBarrier2 imageBarrier(VkImage image, VkImageAspectFlags aspect, VkImageLayout from, VkImageLayout to);
+// The barrier after a copy into `buffer` that the host then reads (a read-back).
+VkBufferMemoryBarrier2 copyToHostBarrier(VkBuffer buffer);
 // vkCmdPipelineBarrier2 with these image barriers and at most one buffer barrier.
 void pipelineBarrier(VkCommandBuffer cmd, std::initializer_list<VkImageMemoryBarrier2> images,
                      const VkBufferMemoryBarrier2* buffer = nullptr);
