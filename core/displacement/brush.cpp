@@ -76,17 +76,6 @@ std::optional<MirrorAxis> mirrorAxisFromName(std::string_view name) { return fro
 const char* brushKindName(BrushKind kind) { return toName(kBrushNames, kind); }
 const char* falloffName(Falloff falloff) { return toName(kFalloffNames, falloff); }
 
-float falloffWeight(Falloff falloff, float x) {
-    x = std::clamp(x, 0.0f, 1.0f);
-    switch (falloff) {
-    case Falloff::Smooth: return 1.0f - x * x * (3.0f - 2.0f * x);
-    case Falloff::Linear: return 1.0f - x;
-    case Falloff::Constant: return 1.0f;
-    case Falloff::Sphere: return std::sqrt(1.0f - x * x);
-    }
-    return 0.0f;
-}
-
 Status validateBrush(const Brush& brush) {
     if (!std::isfinite(brush.radius) || brush.radius <= 0.0f)
         return Error{"brush radius must be a positive number, got " + number(brush.radius)};
@@ -348,21 +337,32 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
     std::vector<float>& values = strokeValues();
     const float* mask = !maskBrush && displacement_.mask.size() == sampleCount ? displacement_.mask.data() : nullptr;
 
-    // Displaced positions, and weights per centre (the mirror image's in the second half).
-    weights_.resize(2 * count);
-    displaced_.resize(count);
+    // Weights per centre, from the displaced positions the spatial index keeps (before this dab:
+    // it grows them after the writes). Flatten needs them all for its planes before any new
+    // value (weights_, the mirror image's in the second half); the others weigh each sample
+    // where they update it.
+    auto displacedAt = [&](size_t k) -> const glm::vec3& { return cells_.indexedDisplaced(indexed_[k]); };
     auto weightAt = [&](float distance) {
         if (distance > brush.radius) return 0.0f;
         return brush.strength * falloffWeight(brush.falloff, distance / brush.radius);
     };
+    auto weighSample = [&](size_t k, float* w) {
+        const glm::vec3& p = displacedAt(k);
+        w[0] = weightAt(glm::length(p - centres[0]));
+        w[1] = centreCount > 1 ? weightAt(glm::length(p - centres[1])) : 0.0f;
+    };
     auto normal = [&](size_t k) -> const glm::vec3& { return samples_.indexedNormal(indexed_[k]); };
-    forEach(4096, [&](size_t begin, size_t end) {
-        for (size_t k = begin; k < end; ++k) {
-            displaced_[k] = cells_.indexedDisplaced(indexed_[k]);
-            weights_[k] = weightAt(glm::length(displaced_[k] - centres[0]));
-            weights_[count + k] = centreCount > 1 ? weightAt(glm::length(displaced_[k] - centres[1])) : 0.0f;
-        }
-    });
+    const bool weighFirst = brush.kind == BrushKind::Flatten;
+    if (weighFirst) {
+        weights_.resize(2 * count);
+        forEach(4096, [&](size_t begin, size_t end) {
+            for (size_t k = begin; k < end; ++k) {
+                float w[2];
+                weighSample(k, w);
+                weights_[k] = w[0], weights_[count + k] = w[1];
+            }
+        });
+    }
 
     // Flatten: per centre, the plane through the weighted mean displaced point (mask or not:
     // masked samples are part of the surface the plane fits). Sums over fixed chunks added in
@@ -382,7 +382,7 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
                 for (size_t k = chunk * kSumChunk; k < std::min(count, (chunk + 1) * kSumChunk); ++k) {
                     const float w = weights_[c * count + k];
                     if (w <= 0.0f) continue;
-                    sum.point += w * displaced_[k];
+                    sum.point += w * displacedAt(k);
                     sum.normal += w * normal(k);
                     sum.total += w;
                 }
@@ -420,7 +420,10 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
             newValues_[k] = d;
             return;
         }
-        float w[2] = {weights_[k] * keep, weights_[count + k] * keep};
+        float w[2];
+        if (weighFirst) w[0] = weights_[k], w[1] = weights_[count + k];
+        else weighSample(k, w);
+        w[0] *= keep, w[1] *= keep;
         float total = w[0] + w[1];
         float next = d;
         switch (brush.kind) {
@@ -446,7 +449,7 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
                 if (w[c] <= 0.0f || !havePlane[c]) continue;
                 float along = glm::dot(planeNormal[c], normal(k));
                 if (std::abs(along) < 0.1f) continue;  // the plane is nearly parallel to the normal
-                float target = d + glm::dot(planeNormal[c], planePoint[c] - displaced_[k]) / along;
+                float target = d + glm::dot(planeNormal[c], planePoint[c] - displacedAt(k)) / along;
                 delta += scale * w[c] * (target - d);
             }
             next = d + delta;
@@ -457,7 +460,7 @@ uint32_t Sculptor::dab(const Brush& brush, MirrorAxis mirror, const glm::vec3& c
             float pinched = d, cut = 0.0f;
             for (uint32_t c = 0; c < centreCount; ++c) {
                 if (w[c] <= 0.0f) continue;
-                const glm::vec3 offset = displaced_[k] - centres[c];
+                const glm::vec3 offset = displacedAt(k) - centres[c];
                 const float x = std::min(glm::length(offset) / brush.radius, 1.0f);
                 const float pulled = pinch * falloffWeight(brush.falloff, x) * keep;
                 if (pulled > 0.0f)

@@ -44,6 +44,8 @@
 // changes D or the mask, never both: its first dab decides (see Sculptor::dab).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -88,8 +90,17 @@ const char* brushKindName(BrushKind kind);
 const char* falloffName(Falloff falloff);
 
 // falloff(x) for x = distance / radius in [0, 1]: 1 at the centre, 0 at the rim (except
-// Constant, which is 1 throughout).
-float falloffWeight(Falloff falloff, float x);
+// Constant, which is 1 throughout). Inline: a big dab weighs a hundred thousand samples.
+inline float falloffWeight(Falloff falloff, float x) {
+    x = std::clamp(x, 0.0f, 1.0f);
+    switch (falloff) {
+    case Falloff::Smooth: return 1.0f - x * x * (3.0f - 2.0f * x);
+    case Falloff::Linear: return 1.0f - x;
+    case Falloff::Constant: return 1.0f;
+    case Falloff::Sphere: return std::sqrt(1.0f - x * x);
+    }
+    return 0.0f;
+}
 
 // Radii above this are refused whatever the model (callers that know the model's size check
 // against it too: checkBrushRadiusForModel).
@@ -182,8 +193,8 @@ private:
     // The array this stroke changes: D, or the mask.
     std::vector<float>& strokeValues() { return strokeMask_ ? displacement_.mask : displacement_.samples; }
     const std::vector<float>& strokeValues() const { return strokeMask_ ? displacement_.mask : displacement_.samples; }
-    // The dab's samples (and its mirror image's) into affected_ / indexed_, their displaced
-    // positions into displaced_.
+    // The dab's samples (and its mirror image's) into affected_, their places in the spatial
+    // index (where their displaced positions are kept) into indexed_.
     void gatherDab(const glm::vec3* centres, uint32_t centreCount, float radius);
     // After a dab changed D: the displaced cells' boxes take in the new positions.
     void growDisplacedCells();
@@ -216,7 +227,6 @@ private:
     std::vector<uint32_t> affected_, indexed_, dabStamp_;
     uint32_t dabSerial_ = 0;
     std::vector<float> weights_, newValues_;
-    std::vector<glm::vec3> displaced_;  // per affected sample: its displaced position
     DisplacedCells cells_;              // where displaced positions lie, for queries
     bool strokeMask_ = false;           // this stroke paints the mask
     bool cellsStale_ = true;            // D may have changed since cells_ was built

@@ -19,6 +19,8 @@ namespace {
 constexpr float kSamplesPerCellSide = 4.0f;
 constexpr int kCellBits = 21;
 constexpr int64_t kCellBias = int64_t(1) << (kCellBits - 1);
+// A displaced query with more candidate samples than this collects runs of cells on every core.
+constexpr size_t kParallelQuerySamples = 8192;
 
 // Revisions are unique across every SculptSamples, so cells built for one cache (or one that
 // stood at the same address before) are never taken as current for another.
@@ -425,43 +427,91 @@ void SculptSamples::queryDisplaced(const glm::vec3& centre, float radius, const 
     if (cellKeys_.empty() || !(radius >= 0.0f)) return;
     assert(cells.current(*this) && "DisplacedCells built for other samples or an older index");
     const float r2 = radius * radius;
-    // Tests a cell's box, then each of its samples' displaced positions.
-    auto visitSamples = [&](size_t cell) {
-        for (uint32_t k = cellOffsets_[cell]; k < cellOffsets_[cell + 1]; ++k) {
-            const glm::vec3 d = cells.displaced_[k] - centre;
-            if (glm::dot(d, d) > r2) continue;
-            out.push_back(cellSamples_[k]);
-            if (indexed) indexed->push_back(k);
-        }
-    };
-    // A cell whose whole box lies in the sphere is taken without testing its samples (most
-    // cells of a big dab): each coordinate of a point in the box is no farther from the centre's
-    // than the box's farther side, in float too (rounding is monotonic).
-    auto visit = [&](size_t cell) {
+    // First the cells whose box meets the sphere, in visiting order, each marked whole when the
+    // box lies in the sphere: each coordinate of a point in the box is no farther from the
+    // centre's than the box's farther side, in float too (rounding is monotonic), so its samples
+    // are taken without testing them (most cells of a big dab).
+    constexpr uint32_t kWhole = 1u << 31;
+    // The list is borrowed from this thread's spare one and given back on return (the crease
+    // brush queries once per sample on every core; a nested query would find no spare and make
+    // its own).
+    thread_local std::vector<uint32_t> spare;
+    struct Borrowed {
+        std::vector<uint32_t> list;
+        ~Borrowed() { spare = std::move(list); }
+    } borrowed{std::move(spare)};
+    std::vector<uint32_t>& reached = borrowed.list;
+    reached.clear();
+    size_t candidates = 0;
+    auto consider = [&](size_t cell) {
         const glm::vec3 &lo = cells.lo_[cell], &hi = cells.hi_[cell];
         if (squaredDistanceToBox(centre, lo, hi) > r2) return;
         const glm::vec3 farthest = glm::max(glm::abs(lo - centre), glm::abs(hi - centre));
-        if (glm::dot(farthest, farthest) > r2) {
-            visitSamples(cell);
-            return;
-        }
-        // Whole cells: copied in bulk (most of a big dab's samples come this way).
-        const uint32_t first = cellOffsets_[cell], end = cellOffsets_[cell + 1];
-        out.insert(out.end(), cellSamples_.begin() + first, cellSamples_.begin() + end);
-        if (indexed) {
-            const size_t at = indexed->size();
-            indexed->resize(at + (end - first));
-            std::iota(indexed->begin() + std::ptrdiff_t(at), indexed->end(), first);
-        }
+        reached.push_back(uint32_t(cell) | (glm::dot(farthest, farthest) > r2 ? 0u : kWhole));
+        candidates += cellOffsets_[cell + 1] - cellOffsets_[cell];
     };
     // Near cells: a displaced position within the radius has its limit position within
     // radius + lift of the centre, and that within slack of where the index filed it.
     forEachCellNear(centre, radius + slack_ + cells.nearLift_, [&](size_t cell) {
-        if (cells.farSlot_[cell] == UINT32_MAX) visit(cell);
+        if (cells.farSlot_[cell] == UINT32_MAX) consider(cell);
     });
     // Far cells: each box on its own, wherever the cell is filed.
     for (size_t slot = 0; slot < cells.farCells_.size(); ++slot)
-        if (squaredDistanceToBox(centre, cells.farLo_[slot], cells.farHi_[slot]) <= r2) visit(cells.farCells_[slot]);
+        if (squaredDistanceToBox(centre, cells.farLo_[slot], cells.farHi_[slot]) <= r2) consider(cells.farCells_[slot]);
+
+    // Appends the samples of reached cells [first, last) to `samples` (and their places in the
+    // index to `places`).
+    auto collect = [&](size_t first, size_t last, std::vector<uint32_t>& samples, std::vector<uint32_t>* places) {
+        for (size_t r = first; r < last; ++r) {
+            const uint32_t cell = reached[r] & ~kWhole, begin = cellOffsets_[cell], end = cellOffsets_[cell + 1];
+            if (reached[r] & kWhole) {
+                samples.insert(samples.end(), cellSamples_.begin() + begin, cellSamples_.begin() + end);
+                if (places) {
+                    const size_t at = places->size();
+                    places->resize(at + (end - begin));
+                    std::iota(places->begin() + std::ptrdiff_t(at), places->end(), begin);
+                }
+                continue;
+            }
+            for (uint32_t k = begin; k < end; ++k) {
+                const glm::vec3 d = cells.displaced_[k] - centre;
+                if (glm::dot(d, d) > r2) continue;
+                samples.push_back(cellSamples_[k]);
+                if (places) places->push_back(k);
+            }
+        }
+    };
+    if (candidates < kParallelQuerySamples) {
+        collect(0, reached.size(), out, indexed);
+        return;
+    }
+    // A big dab: runs of consecutive cells with about kParallelQuerySamples candidates each,
+    // collected on any core and joined in order, so the result is the serial one.
+    std::vector<size_t> runStarts{0};
+    for (size_t r = 0, inRun = 0; r < reached.size(); ++r) {
+        const uint32_t cell = reached[r] & ~kWhole;
+        inRun += cellOffsets_[cell + 1] - cellOffsets_[cell];
+        if (inRun >= kParallelQuerySamples) runStarts.push_back(r + 1), inRun = 0;
+    }
+    if (runStarts.back() != reached.size()) runStarts.push_back(reached.size());
+    const size_t runs = runStarts.size() - 1;
+    std::vector<std::vector<uint32_t>> runSamples(runs), runPlaces(indexed ? runs : 0);
+    tbb::parallel_for(size_t(0), runs, [&](size_t run) {
+        runSamples[run].reserve(kParallelQuerySamples + kParallelQuerySamples / 4);
+        if (indexed) runPlaces[run].reserve(kParallelQuerySamples + kParallelQuerySamples / 4);
+        collect(runStarts[run], runStarts[run + 1], runSamples[run], indexed ? &runPlaces[run] : nullptr);
+    });
+    std::vector<size_t> at(runs + 1, out.size());
+    for (size_t run = 0; run < runs; ++run) at[run + 1] = at[run] + runSamples[run].size();
+    const size_t indexedBase = indexed ? indexed->size() : 0;
+    out.resize(at[runs]);
+    if (indexed) indexed->resize(indexedBase + (at[runs] - at[0]));
+    tbb::parallel_for(size_t(0), runs, [&](size_t run) {
+        std::copy(runSamples[run].begin(), runSamples[run].end(), out.begin() + std::ptrdiff_t(at[run]));
+        if (indexed)
+            std::copy(runPlaces[run].begin(), runPlaces[run].end(),
+                      indexed->begin() + std::ptrdiff_t(indexedBase + (at[run] - at[0])));
+    });
 }
 
 }  // namespace qp
