@@ -77,7 +77,8 @@ Status startVulkan(EditorApp& app) {
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     if (cache) app.pipelineCache = *cache;
     const VkPipelineCache vkCache = app.pipelineCache ? app.pipelineCache->cache : VK_NULL_HANDLE;
-    Result<SceneRenderer> renderer = createSceneRenderer(app.ctx, vkCache, app.swapchain.surfaceFormat.format);
+    Result<SceneRenderer> renderer =
+        createSceneRenderer(app.ctx, vkCache, sceneCacheFormat(app.ctx, app.swapchain.surfaceFormat.format));
     if (!renderer) return Error{"cannot set up the renderer: " + renderer.error().message};
     app.renderer = std::move(renderer).value();
     // Before ImGui's backend, which chains to it.
@@ -465,7 +466,8 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
         draws.push_back(d);
     }
     // Draw the viewports only when something they show changed; otherwise copy the last ones.
-    if (Status s = ensureSceneCache(app.ctx, app.sceneCache, app.swapchain.extent, app.swapchain.surfaceFormat.format); !s)
+    if (Status s = ensureSceneCache(app.ctx, app.sceneCache, app.swapchain.extent,
+                                   sceneCacheFormat(app.ctx, app.swapchain.surfaceFormat.format)); !s)
         return s;
     const std::string key = sceneKey(app, draws, options);
     const bool drawScene = key != app.sceneCache.key;

@@ -5,6 +5,17 @@
 
 namespace qp::editor {
 
+VkFormat sceneCacheFormat(const VulkanContext& ctx, VkFormat swapchainFormat) {
+    const VkFormat srgb = swapchainFormat == VK_FORMAT_B8G8R8A8_UNORM   ? VK_FORMAT_B8G8R8A8_SRGB
+                          : swapchainFormat == VK_FORMAT_R8G8B8A8_UNORM ? VK_FORMAT_R8G8B8A8_SRGB
+                                                                        : VK_FORMAT_UNDEFINED;
+    if (srgb == VK_FORMAT_UNDEFINED) return swapchainFormat;
+    VkFormatProperties properties{};
+    vkGetPhysicalDeviceFormatProperties(ctx.physicalDevice, srgb, &properties);
+    constexpr VkFormatFeatureFlags needed = VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT | VK_FORMAT_FEATURE_TRANSFER_SRC_BIT;
+    return (properties.optimalTilingFeatures & needed) == needed ? srgb : swapchainFormat;
+}
+
 Status ensureSceneCache(const VulkanContext& ctx, SceneCache& cache, VkExtent2D extent, VkFormat colorFormat) {
     if (cache.color.image && cache.extent.width == extent.width && cache.extent.height == extent.height &&
         cache.color.format == colorFormat)
