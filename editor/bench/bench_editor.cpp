@@ -23,6 +23,8 @@ namespace {
 // the interface (the 3D copied from its cache), measured in the same editor run.
 
 constexpr double kEditorFrameTargetMs = 50.0;
+// Issue 19's target for a frame with a brush dab in it, on catmark_car and the 2,000-face cage.
+constexpr double kSculptFrameTargetMs = 25.0;
 // Issue 15's targets for the frame that shows an edit: a tag edit's at most 1.5 vertex-drag
 // frames, a one-face extrude's at most 2; a scheme switch or a new viewport at most 50 ms.
 constexpr double kTagEditFrameRatio = 1.5, kTopologyEditFrameRatio = 2.0, kEditorSwitchTargetMs = 50.0;
@@ -91,7 +93,7 @@ void benchEditor(const BenchCage& bench, const BenchArgs& args, Report& report) 
         r.ours = medianOf(*m, "all_frames", "interval_ms");
         r.baseline = medianOf(idle, "all_frames", "interval_ms");
         r.target = Target::OursAtMost;
-        r.targetValue = kEditorFrameTargetMs;
+        r.targetValue = m == &sculpt ? kSculptFrameTargetMs : kEditorFrameTargetMs;
         report.rows.push_back(r);
     }
     // Issue 15: the frame that shows an edit against a vertex-drag frame of the same run (CPU).
