@@ -155,14 +155,17 @@ void appendPlanTables(GpuPlanData& gpu, const PlanDatabase& database) {
             g.sharpness = node.sharpness;
             gpu.nodes.push_back(g);
         }
-        gpu.points.insert(gpu.points.end(), plan.points.begin(), plan.points.end());
-        gpu.weights.insert(gpu.weights.end(), plan.stencilWeights.begin(), plan.stencilWeights.end());
+        if (!gpu.hostEvaluation) {
+            gpu.points.insert(gpu.points.end(), plan.points.begin(), plan.points.end());
+            gpu.weights.insert(gpu.weights.end(), plan.stencilWeights.begin(), plan.stencilWeights.end());
+        }
         gpu.plans.push_back(header);
     }
 }
 
-GpuPlanData packPlans(const PlannedCage& planned) {
+GpuPlanData packPlans(const PlannedCage& planned, bool hostEvaluation) {
     GpuPlanData gpu;
+    gpu.hostEvaluation = hostEvaluation;
     appendPlanTables(gpu, planned.database());
     packSubfaces(gpu, planned);
     buildRingUsers(gpu, planned.cage().vertexCount());

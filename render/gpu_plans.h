@@ -108,6 +108,14 @@ struct GpuPlanData {
     // them (packPlans leaves them empty), repacks that renumber sub-faces build them again.
     MacroGrid macros;
 
+    // Evaluated on the host (the CPU grid path): the plans' stencils (points and weights) are
+    // not packed, PlannedCage evaluates from the plan database that holds them, and the device
+    // keeps no copy of them, of the rings and cage positions its evaluation reads, or of what
+    // the tessellator's factors read (boundaries, segments, boundary points and their
+    // positions): uploadPlans. Headers, nodes and sub-faces stay, for the colour modes. 1 GiB
+    // less at a million faces (bench scale's peak 3,970 -> 2,971 MiB with the stencils alone).
+    bool hostEvaluation = false;
+
     // Not uploaded; for incremental updates. CSR: cage vertex -> the drawn sub-faces whose
     // 1-ring holds it (whose control points move with it), ascending.
     std::vector<uint32_t> vertexSubfaceOffsets, vertexSubfaces;
@@ -127,7 +135,7 @@ std::vector<glm::vec4> boundaryPointPositions(const PlannedCage& planned);
 std::vector<float> cagePositions(const PlannedCage& planned);
 glm::vec4 boundaryPointPosition(const PlannedCage& planned, uint32_t id);
 
-GpuPlanData packPlans(const PlannedCage& planned);
+GpuPlanData packPlans(const PlannedCage& planned, bool hostEvaluation = false);
 
 // The sub-face part of packPlans (sub-faces, rings, control-point offsets, boundaries, segments,
 // boundary points), replacing what `gpu` had; the plan tables stay (they must hold every plan
@@ -146,7 +154,8 @@ void renumberRingUsers(GpuPlanData& gpu, const std::vector<uint32_t>& oldOffsets
                        const std::vector<uint32_t>& oldOf, uint32_t oldCount);
 
 // Appends the database's plans that `gpu` does not have yet (ids gpu.plans.size() onwards): the
-// plan tables only ever grow, so plan ids stay the database's.
+// plan tables only ever grow, so plan ids stay the database's. With gpu.hostEvaluation their
+// stencils are left out.
 void appendPlanTables(GpuPlanData& gpu, const PlanDatabase& database);
 
 }  // namespace qp

@@ -278,14 +278,16 @@ MoveUpdate recordMovedVertices(VkCommandBuffer cmd, const PlanPass& pass, PlanBu
                                const PlannedCage& planned, std::span<const uint32_t> vertices) {
     MoveUpdate update;
     update.movedVertices = uint32_t(vertices.size());
+    const bool onDevice = !buffers.data.hostEvaluation;  // the device's copies (uploadPlans)
     for (uint32_t v : vertices) {
         const glm::vec3& p = planned.cage().positions[v];
         const float xyz[3] = {p.x, p.y, p.z};
-        uploadBuffer(buffers.positions, xyz, sizeof xyz, size_t(v) * sizeof xyz);
+        if (onDevice) uploadBuffer(buffers.positions, xyz, sizeof xyz, size_t(v) * sizeof xyz);
     }
     for (uint32_t id : boundaryPointsAround(planned, vertices)) {
         buffers.pointPositionsHost[id] = boundaryPointPosition(planned, id);
-        uploadBuffer(buffers.pointPositions, &buffers.pointPositionsHost[id], sizeof(glm::vec4), size_t(id) * sizeof(glm::vec4));
+        if (onDevice)
+            uploadBuffer(buffers.pointPositions, &buffers.pointPositionsHost[id], sizeof(glm::vec4), size_t(id) * sizeof(glm::vec4));
     }
     const std::vector<uint32_t> touched = subfacesAround(buffers.data, vertices);
     if (buffers.adaptiveInputs.valid) {  // their edges' factors are chosen again at the next frame

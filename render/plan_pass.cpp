@@ -7,8 +7,9 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
-#include <utility>
 #include <iterator>
+#include <type_traits>
+#include <utility>
 
 #include "cpu_grid.h"
 #include "pipeline_builder.h"
@@ -62,6 +63,7 @@ uint32_t levelFor(uint32_t factor) {
 }
 
 void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, uint32_t level) {
+    assert(!buffers.data.hostEvaluation && "these buffers hold no stencils: the CPU grid path evaluates on the host");
     // Displaced corners are shaded from derivatives kCornerNormalStep inside (cpu_grid.h): a
     // parameter of factor 64, which needs the deepest control points.
     if (buffers.displacement) level = std::max(level, levelFor(uint32_t(1.0f / kCornerNormalStep)));
@@ -117,14 +119,20 @@ std::vector<uint32_t> skippedDrawn(const PlanBuffers& buffers, const PlanView& v
     return skipped;
 }
 
-Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& planned, MacroChoice macros) {
+Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& planned, MacroChoice macros,
+                                bool hostEvaluation) {
     PlanBuffers b;
-    b.data = packPlans(planned);
+    b.data = packPlans(planned, hostEvaluation);
     b.data.macros.choice = macros;
     rebuildMacroGrid(planned, b.data);
     b.pointPositionsHost = boundaryPointPositions(planned);
     const GpuPlanData& d = b.data;
     const std::vector<uint32_t> placeholder(4, 0);
+    // What only the device's evaluation and tessellator read: nothing with hostEvaluation.
+    auto forDevice = [hostEvaluation](const auto& table) -> const std::decay_t<decltype(table)>& {
+        static const std::decay_t<decltype(table)> none;
+        return hostEvaluation ? none : table;
+    };
     struct Item {
         Buffer& buffer;
         Result<Buffer> result;
@@ -132,19 +140,19 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
     Item items[] = {
         {b.planHeaders, createFilled(ctx, d.plans)},
         {b.nodes, createFilled(ctx, d.nodes)},
-        {b.points, createFilled(ctx, d.points)},
+        {b.points, createFilled(ctx, d.points)},  // empty with hostEvaluation, as are the weights
         {b.weights, createFilled(ctx, d.weights)},
         {b.subfaces, createFilled(ctx, d.subfaces)},
-        {b.rings, createFilled(ctx, d.rings)},
-        {b.positions, createFilled(ctx, cagePositions(planned))},
+        {b.rings, createFilled(ctx, forDevice(d.rings))},
+        {b.positions, createFilled(ctx, hostEvaluation ? std::vector<float>{} : cagePositions(planned))},
         // Written by the stencil pass before anything reads them; left untouched, the CPU grid
         // path never makes the pages resident (967 MiB at a million faces).
         {b.controlPoints, createBuffer(ctx, std::max<VkDeviceSize>(VkDeviceSize(d.controlPointCount) * sizeof(glm::vec4), 16),
                                        VK_BUFFER_USAGE_STORAGE_BUFFER_BIT)},
-        {b.boundaries, createFilled(ctx, d.boundaries)},
-        {b.segments, createFilled(ctx, d.segments)},
-        {b.boundaryPoints, createFilled(ctx, d.boundaryPoints)},
-        {b.pointPositions, createFilled(ctx, b.pointPositionsHost)},
+        {b.boundaries, createFilled(ctx, forDevice(d.boundaries))},
+        {b.segments, createFilled(ctx, forDevice(d.segments))},
+        {b.boundaryPoints, createFilled(ctx, forDevice(d.boundaryPoints))},
+        {b.pointPositions, createFilled(ctx, forDevice(b.pointPositionsHost))},
         {b.capture, createFilled(ctx, placeholder, VK_BUFFER_USAGE_TRANSFER_DST_BIT)},
         // The grid's buffers get their sizes from prepareGrid.
         {b.subfaceGrid, createFilled(ctx, placeholder)},
@@ -176,11 +184,14 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
 }
 
 void updatePositions(PlanBuffers& buffers, const PlannedCage& planned) {
-    std::vector<float> positions = cagePositions(planned);
-    assert(positions.size() * sizeof(float) <= buffers.positions.size);
-    uploadBuffer(buffers.positions, positions.data(), positions.size() * sizeof(float));
     buffers.pointPositionsHost = boundaryPointPositions(planned);
-    uploadBuffer(buffers.pointPositions, buffers.pointPositionsHost.data(), buffers.pointPositionsHost.size() * sizeof(glm::vec4));
+    if (!buffers.data.hostEvaluation) {
+        std::vector<float> positions = cagePositions(planned);
+        assert(positions.size() * sizeof(float) <= buffers.positions.size);
+        uploadBuffer(buffers.positions, positions.data(), positions.size() * sizeof(float));
+        uploadBuffer(buffers.pointPositions, buffers.pointPositionsHost.data(),
+                     buffers.pointPositionsHost.size() * sizeof(glm::vec4));
+    }
     buffers.controlPointLevel = kNoControlPoints;
     buffers.gridEvaluator = GridEvaluator::None;
     buffers.adaptiveInputs = {};  // every point may have moved

@@ -128,9 +128,11 @@ struct PlanBuffers {
     SampleBits changedSamples;                   // the samples of the last dab (reused)
 };
 
-// `macros`: which macro faces the grid paths may draw (macro_grid.h).
+// `macros`: which macro faces the grid paths may draw (macro_grid.h). `hostEvaluation`: only
+// the CPU grid path will draw (GpuPlanData::hostEvaluation); the stencil pass, the compute
+// grid and the tessellated path must not be recorded with these buffers (recordStencils asserts).
 Result<PlanBuffers> uploadPlans(const VulkanContext& context, const PlannedCage& planned,
-                                MacroChoice macros = MacroChoice::Auto);
+                                MacroChoice macros = MacroChoice::Auto, bool hostEvaluation = false);
 // holeDrawn from the cage's holes (O(holes)): after uploadPlans does it, for updates.
 void updateHoleDrawn(PlanBuffers& buffers, const PlannedCage& planned);
 

@@ -290,11 +290,13 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
         buffers.updateList = *list;
         rebind = true;
     }
-    Status stored = storeTail(ctx, buffers.rings, data.rings, 0, rebind);
-    if (stored) stored = storeTail(ctx, buffers.boundaries, data.boundaries, 0, rebind);
-    if (stored) stored = storeTail(ctx, buffers.segments, data.segments, 0, rebind);
-    if (stored) stored = storeTail(ctx, buffers.boundaryPoints, data.boundaryPoints, 0, rebind);
-    if (stored) stored = storeTail(ctx, buffers.subfaces, data.subfaces, 0, rebind);
+    Status stored = storeTail(ctx, buffers.subfaces, data.subfaces, 0, rebind);
+    if (!data.hostEvaluation) {  // what only the device's evaluation and tessellator read
+        if (stored) stored = storeTail(ctx, buffers.rings, data.rings, 0, rebind);
+        if (stored) stored = storeTail(ctx, buffers.boundaries, data.boundaries, 0, rebind);
+        if (stored) stored = storeTail(ctx, buffers.segments, data.segments, 0, rebind);
+        if (stored) stored = storeTail(ctx, buffers.boundaryPoints, data.boundaryPoints, 0, rebind);
+    }
     update.rewrittenSubfaces = count;
     return stored;
 }
@@ -353,12 +355,13 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
         return s.error();
     }
     if (renumbered) {  // the cage's vertices, edges and faces have new numbers too
-        const std::vector<float> positions = cagePositions(planned);
         buffers.pointPositionsHost = boundaryPointPositions(planned);
         buffers.adaptiveInputs = {};
-        Status stored = storeTail(ctx, buffers.positions, positions, 0, rebind);
-        if (stored) stored = storeTail(ctx, buffers.pointPositions, buffers.pointPositionsHost, 0, rebind);
-        if (!stored) return stored.error();
+        if (!buffers.data.hostEvaluation) {
+            Status stored = storeTail(ctx, buffers.positions, cagePositions(planned), 0, rebind);
+            if (stored) stored = storeTail(ctx, buffers.pointPositions, buffers.pointPositionsHost, 0, rebind);
+            if (!stored) return stored.error();
+        }
     }
     if (drawnSetChanged) {
         if (Status s = repackDrawnSet(ctx, pass, buffers, planned, changed, previousSubfaceOf, update, rebind); !s)
@@ -373,7 +376,8 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
             record.rotation = planned.subfaceRotation(s);
             const std::span<const uint32_t> ring = planned.subfaceRing(s);
             std::copy(ring.begin(), ring.end(), data.rings.begin() + record.ringOffset);
-            uploadBuffer(buffers.rings, ring.data(), ring.size_bytes(), size_t(record.ringOffset) * sizeof(uint32_t));
+            if (!data.hostEvaluation)
+                uploadBuffer(buffers.rings, ring.data(), ring.size_bytes(), size_t(record.ringOffset) * sizeof(uint32_t));
             const uint32_t stencils = database.plan(record.plan).stencilCount();
             if (stencils > capacity[drawn]) {
                 record.cpOffset = data.controlPointCount;

@@ -118,7 +118,7 @@ public:
         Result<PlanPass> pass = createPlanPass(*ctx_, gpu.cache, gpu.colorFormat, gpu.depthFormat);
         if (!pass) return pass.error();
         pass_ = *pass;
-        Result<PlanBuffers> buffers = uploadPlans(*ctx_, *planned_, macroChoice_);
+        Result<PlanBuffers> buffers = uploadPlans(*ctx_, *planned_, macroChoice_, path_ == DrawPath::CpuGrid);
         if (!buffers) return buffers.error();
         buffers_ = std::move(*buffers);
         haveBuffers_ = true;
