@@ -30,10 +30,10 @@ RenderTarget sceneCacheTarget(const SceneCache& cache);
 
 // The cache's colour format for a swapchain of `swapchainFormat` (UNORM holding sRGB-encoded
 // bytes): its _SRGB twin where the device can draw into it and copy from it, so the device
-// encodes each written colour instead of every fragment shader (on lavapipe the shaders' pow
-// cost about 1 ms of a catmark_car frame at 1280 x 800; the store's encoding half of that). The
-// bytes are the same sRGB encoding either way, within rounding, and the copy to the frame is
-// bitwise. Otherwise the swapchain's own format.
+// encodes each written colour instead of every fragment shader (on lavapipe the shaders' curve
+// cost about 2 ms of a catmark_car frame at 1280 x 800, encoding on store about half of that).
+// The bytes are the same sRGB encoding either way, within rounding, and the copy to the frame
+// is bitwise. Otherwise the swapchain's own format.
 VkFormat sceneCacheFormat(const VulkanContext& context, VkFormat swapchainFormat);
 
 // Copies the cached picture into the frame's image (both keep the layout contract).
