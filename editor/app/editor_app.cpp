@@ -466,8 +466,8 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
         draws.push_back(d);
     }
     // Draw the viewports only when something they show changed; otherwise copy the last ones.
-    if (Status s = ensureSceneCache(app.ctx, app.sceneCache, app.swapchain.extent,
-                                   sceneCacheFormat(app.ctx, app.swapchain.surfaceFormat.format)); !s)
+    // In the format the renderer's pipelines were made for (sceneCacheFormat, at start-up).
+    if (Status s = ensureSceneCache(app.ctx, app.sceneCache, app.swapchain.extent, app.renderer.gpu.colorFormat); !s)
         return s;
     const std::string key = sceneKey(app, draws, options);
     const bool drawScene = key != app.sceneCache.key;
