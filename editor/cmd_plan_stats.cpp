@@ -43,7 +43,7 @@ int runPlanStats(const PlanStatsArgs& args) {
     for (const PlannedCage& cage : planned->cages) {
         faces += cage.cage().faceCount();
         subfaces += cage.subfaceCount();
-        for (uint32_t s = 0; s < cage.subfaceCount(); ++s) controlPoints += cage.subfaceControlPoints(s).size();
+        for (uint32_t s = 0; s < cage.subfaceCount(); ++s) controlPoints += cage.storedControlPoints(s).size();
     }
     // Macro faces (macro_faces.h) of each distinct cage, both partitions.
     struct MacroCounts {

@@ -58,7 +58,7 @@ py::dict planStats(const PlannedCage& planned) {
     uint64_t controlPoints = 0;
     for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
         if (planned.subfacePlan(s) != kNoPlan) used.insert(planned.subfacePlan(s));
-        controlPoints += planned.subfaceControlPoints(s).size();
+        controlPoints += planned.storedControlPoints(s).size();
     }
     std::array<uint64_t, kNodeKindCount> nodes{};
     uint64_t stencils = 0, bytes = 0, totalNodes = 0;

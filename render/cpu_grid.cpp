@@ -313,11 +313,10 @@ Basis1D basisAlongV(const PlanNode& node, float t) {
 // a tensor product, so its rows of control points are combined along the plan's u once per grid
 // column, and each slot only combines four of those along v. The operations and their order
 // are core/plans/plan_eval.cpp's tensorPatch, so the values are PlannedCage::evaluate's.
-void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32_t subface, const GridLayout& layout,
-                            uint32_t drawn, const Output& out) {
+void evaluateBicubicSubface(const PlannedCage& planned, const Plan& plan, uint32_t subface,
+                            const glm::vec3* controlPoints, const GridLayout& layout, uint32_t drawn, const Output& out) {
     const PlanNode& node = plan.nodes[0];
     const uint32_t* points = plan.points.data() + node.first;
-    const glm::vec3* controlPoints = planned.subfaceControlPoints(subface).data();  // relative to `origin`
     const glm::vec3 origin = planned.subfaceOrigin(subface);
     const uint32_t rotation = planned.subfaceRotation(subface), n = layout.factors.subfaceFactor[drawn];
     // The plan's (s, t) of grid column / row k, as PlannedCage::evaluate rotates (u, v) = k / n.
@@ -373,15 +372,18 @@ void evaluatePhase(const PlannedCage& planned, const GpuPlanData& data, const Gr
     forEachSubface(list, count, [&](uint32_t drawn) {
         const uint32_t subface = data.subfaces[drawn].subface, n = layout.factors.subfaceFactor[drawn];
         const Plan& plan = planned.database().plan(planned.subfacePlan(subface));
+        thread_local std::vector<glm::vec3> scratch;
+        // Relative to the sub-face's origin (PlannedCage::storedControlPoints).
+        const std::span<const glm::vec3> controlPoints = planned.controlPointsFor(subface, stencilLevelFor(n), scratch);
         if (isSingleBicubic(plan)) {
-            evaluateBicubicSubface(planned, plan, subface, layout, drawn, out);
+            evaluateBicubicSubface(planned, plan, subface, controlPoints.data(), layout, drawn, out);
         } else {
             const uint32_t first = layout.subfaceOffset[drawn], end = layout.subfaceOffset[drawn + 1];
             for (uint32_t slot = first; slot < end; ++slot) {
                 if (layout.source[slot] != slot) continue;
                 float u, v;
                 slotParameter(slot - first, n, u, v);
-                out.write(planned, slot, planned.evaluate(subface, u, v), subface, u, v);
+                out.write(planned, slot, planned.evaluate(subface, controlPoints, u, v), subface, u, v);
             }
         }
         if (out.displacement)

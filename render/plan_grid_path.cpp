@@ -114,7 +114,7 @@ GridFactors adaptiveGridFactors(const PlanBuffers& buffers, const PlanView& view
 
 void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers) {
     assert(!buffers.gridLayout.subfaceOffset.empty() && "prepareGrid first");
-    recordStencils(cmd, pass, buffers, levelFor(buffers.gridLayout.maxFactor));
+    recordStencils(cmd, pass, buffers, stencilLevelFor(buffers.gridLayout.maxFactor));
     const uint32_t count = uint32_t(buffers.data.subfaces.size());
     dispatchGridPhase(cmd, pass, buffers, count, 0, kWholeCage);
     dispatchGridPhase(cmd, pass, buffers, count, 1, kWholeCage);
@@ -270,7 +270,7 @@ void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
 void recordPendingGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers) {
     if (buffers.pendingGridSubfaces.empty()) return;
     const std::vector<uint32_t> pending = std::exchange(buffers.pendingGridSubfaces, {});
-    recordStencils(cmd, pass, buffers, levelFor(buffers.gridLayout.maxFactor));  // raised factors may go deeper
+    recordStencils(cmd, pass, buffers, stencilLevelFor(buffers.gridLayout.maxFactor));  // raised factors may go deeper
     recordGpuGridRefresh(cmd, pass, buffers, pending, withDependents(buffers.gridLayout, pending));
 }
 

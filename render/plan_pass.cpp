@@ -56,17 +56,11 @@ void computeWritesBeforeReads(VkCommandBuffer cmd) {
                   VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_VERTEX_ATTRIBUTE_READ_BIT);
 }
 
-uint32_t levelFor(uint32_t factor) {
-    uint32_t level = 0;
-    while ((1u << level) < factor) ++level;
-    return level;
-}
-
 void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, uint32_t level) {
     assert(!buffers.data.hostEvaluation && "these buffers hold no stencils: the CPU grid path evaluates on the host");
     // Displaced corners are shaded from derivatives kCornerNormalStep inside (cpu_grid.h): a
     // parameter of factor 64, which needs the deepest control points.
-    if (buffers.displacement) level = std::max(level, levelFor(uint32_t(1.0f / kCornerNormalStep)));
+    if (buffers.displacement) level = std::max(level, stencilLevelFor(uint32_t(1.0f / kCornerNormalStep)));
     if (buffers.controlPointLevel != kNoControlPoints && buffers.controlPointLevel >= level) return;
     dispatchPerSubface(cmd, pass, pass.stencils, PlanComputePush{uint32_t(buffers.data.subfaces.size()), level, 0, kWholeCage});
     computeWritesBeforeReads(cmd);
@@ -278,7 +272,7 @@ float pixelsPerUnit(const glm::mat4& projection, uint32_t viewportHeight) {
 }
 
 uint32_t maxTessellationLevel(const TessellationSettings& settings) {
-    return levelFor(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
+    return stencilLevelFor(settings.uniformFactor == 0 ? 64 : std::min(settings.uniformFactor, 64u));
 }
 
 uint32_t patchesPerDraw(uint32_t maxFactor) {

@@ -30,8 +30,6 @@ Result<Buffer> createFilled(const VulkanContext& ctx, const std::vector<T>& valu
 void dispatchPerSubface(VkCommandBuffer cmd, const PlanPass& pass, VkPipeline pipeline, PlanComputePush push);
 // Compute results (control points, grid vertices) before any later shader or vertex fetch.
 void computeWritesBeforeReads(VkCommandBuffer cmd);
-// The tessellation level whose control points a factor needs: factor <= 2^level.
-uint32_t levelFor(uint32_t factor);
 // Control points for factors up to 2^level, visible to every later shader stage; nothing when
 // they are cached for that level or a higher one.
 void recordStencils(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, uint32_t level);

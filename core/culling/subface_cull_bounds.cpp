@@ -77,7 +77,8 @@ std::vector<PatchCullLeaves> gatherLeaves(const PlannedCage& planned, std::span<
         out[k].detail = detail;
         if (!planned.hasSurface(s)) return;
         const Plan& plan = planned.database().plan(planned.subfacePlan(s));
-        const std::span<const glm::vec3> control = planned.subfaceControlPoints(s);
+        std::vector<glm::vec3> scratch;  // the leaves read every control point
+        const std::span<const glm::vec3> control = planned.controlPointsFor(s, kMaxPlanDepth, scratch);
         for (const PlanNode& node : plan.nodes)
             if (node.kind != NodeKind::Internal) addLeaf(out[k], plan, node, control.data());
     });

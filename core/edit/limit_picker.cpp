@@ -40,9 +40,11 @@ void LimitPicker::sample(const PlannedCage& planned, uint32_t subface) {
     if (!planned.hasSurface(subface)) return;
     const uint32_t n = resolution_;
     glm::vec3* grid = samples_.data() + size_t(subface) * stride();
+    thread_local std::vector<glm::vec3> scratch;
+    const std::span<const glm::vec3> controlPoints = planned.controlPointsFor(subface, stencilLevelFor(n), scratch);
     for (uint32_t j = 0; j <= n; ++j)
         for (uint32_t i = 0; i <= n; ++i) {
-            grid[j * (n + 1) + i] = planned.evaluate(subface, float(i) / float(n), float(j) / float(n)).position;
+            grid[j * (n + 1) + i] = planned.evaluate(subface, controlPoints, float(i) / float(n), float(j) / float(n)).position;
             boxes_[subface].add(grid[j * (n + 1) + i]);
         }
 }

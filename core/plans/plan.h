@@ -101,6 +101,14 @@ struct LimitSample {
 // controlPoints[i] = sum_j stencil(i, j) * ringPositions[j] for the first `count` stencils.
 void applyStencils(const Plan& plan, const glm::vec3* ringPositions, uint32_t count, glm::vec3* controlPoints);
 
+// The level whose stencil prefix (Plan::stencilCountByLevel) serves tessellation factor
+// `factor`: the least n with 2^n >= factor.
+inline uint32_t stencilLevelFor(uint32_t factor) {
+    uint32_t level = 0;
+    while ((1u << level) < factor) ++level;
+    return level;
+}
+
 // Evaluates the plan at (u, v) in its own frame, given all its control points.
 LimitSample evaluatePlan(const Plan& plan, const glm::vec3* controlPoints, float u, float v);
 

@@ -1,6 +1,7 @@
 #include "plans/planned_cage.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <chrono>
 #include <cmath>
@@ -30,6 +31,12 @@ void forEach(size_t count, const Body& body) {
 
 double millisecondsSince(std::chrono::steady_clock::time_point start) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A fresh PlannedCage::controlPointsGeneration_: unique across every planned cage of the process.
+uint64_t nextControlPointsGeneration() {
+    static std::atomic<uint64_t> next{1};
+    return next.fetch_add(1, std::memory_order_relaxed);
 }
 
 }  // namespace
@@ -64,8 +71,23 @@ Result<PlannedCage> PlannedCage::create(Cage cage, PlanDatabase& database, const
 
 std::span<const uint32_t> PlannedCage::subfaceRing(uint32_t subface) const { return subfaceRing_[subface]; }
 
-std::span<const glm::vec3> PlannedCage::subfaceControlPoints(uint32_t subface) const {
+std::span<const glm::vec3> PlannedCage::storedControlPoints(uint32_t subface) const {
     return subfaceControlPoints_[subface];
+}
+
+std::span<const glm::vec3> PlannedCage::controlPointsFor(uint32_t subface, uint32_t level,
+                                                         std::vector<glm::vec3>& scratch) const {
+    const std::vector<glm::vec3>& stored = subfaceControlPoints_[subface];
+    if (level <= kStoredControlPointLevel || subfacePlan_[subface] == kNoPlan) return stored;
+    const Plan& plan = database_->plan(subfacePlan_[subface]);
+    if (stored.size() == plan.stencilCount()) return stored;
+    const std::span<const uint32_t> ring = subfaceRing_[subface];
+    scratch.resize(ring.size() + plan.stencilCount());
+    glm::vec3* positions = scratch.data() + plan.stencilCount();
+    const glm::vec3 origin = subfaceOrigin(subface);
+    for (size_t j = 0; j < ring.size(); ++j) positions[j] = cage_.positions[ring[j]] - origin;
+    applyStencils(plan, positions, plan.stencilCount(), scratch.data());
+    return {scratch.data(), plan.stencilCount()};
 }
 
 std::vector<uint32_t> PlannedCage::remapSubfaces(const std::vector<uint32_t>& oldFaceOf) {
@@ -118,6 +140,7 @@ std::vector<uint32_t> PlannedCage::remapSubfaces(const std::vector<uint32_t>& ol
     subfaceRing_.resize(count);
     subfaceControlPoints_.resize(count);
     subfaceHole_.assign(count, 0);
+    controlPointsGeneration_ = nextControlPointsGeneration();  // the numbers now name other sub-faces
     for (uint32_t hole : cage_.holes)
         std::fill(subfaceHole_.begin() + faceFirstSubface_[hole], subfaceHole_.begin() + faceFirstSubface_[hole + 1], 1);
     return previousSubfaceOf;
@@ -184,17 +207,36 @@ void PlannedCage::updateControlPoints(const std::vector<uint32_t>& subfaces) {
         std::vector<glm::vec3> ring(subfaceRing_[s].size());
         const glm::vec3 origin = subfaceOrigin(s);
         for (size_t j = 0; j < ring.size(); ++j) ring[j] = cage_.positions[subfaceRing_[s][j]] - origin;
-        subfaceControlPoints_[s].resize(plan.stencilCount());
-        applyStencils(plan, ring.data(), plan.stencilCount(), subfaceControlPoints_[s].data());
+        const uint32_t stored = plan.stencilCountByLevel[kStoredControlPointLevel];
+        subfaceControlPoints_[s].resize(stored);
+        applyStencils(plan, ring.data(), stored, subfaceControlPoints_[s].data());
     });
+    controlPointsGeneration_ = nextControlPointsGeneration();
 }
 
 LimitSample PlannedCage::evaluate(uint32_t subface, float u, float v) const {
+    const std::vector<glm::vec3>& stored = subfaceControlPoints_[subface];
+    const uint32_t count = database_->plan(subfacePlan_[subface]).stencilCount();
+    if (stored.size() == count) return evaluate(subface, stored, u, v);
+    struct Computed {
+        uint64_t generation = 0;
+        uint32_t subface = 0;
+        std::vector<glm::vec3> points;  // controlPointsFor's scratch: the control points first
+    };
+    thread_local Computed computed;
+    if (computed.generation != controlPointsGeneration_ || computed.subface != subface) {
+        controlPointsFor(subface, kMaxPlanDepth, computed.points);
+        computed.generation = controlPointsGeneration_;
+        computed.subface = subface;
+    }
+    return evaluate(subface, std::span<const glm::vec3>(computed.points.data(), count), u, v);
+}
+
+LimitSample PlannedCage::evaluate(uint32_t subface, std::span<const glm::vec3> controlPoints, float u, float v) const {
     uint32_t rotation = subfaceRotation_[subface];
     float pu, pv;
     toCornerFrame(rotation, u, v, pu, pv);
-    LimitSample sample =
-        evaluatePlan(database_->plan(subfacePlan_[subface]), subfaceControlPoints_[subface].data(), pu, pv);
+    LimitSample sample = evaluatePlan(database_->plan(subfacePlan_[subface]), controlPoints.data(), pu, pv);
     sample.position += subfaceOrigin(subface);
     derivativesToFaceFrame(rotation, sample.du, sample.dv);
     return sample;

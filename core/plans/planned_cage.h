@@ -86,12 +86,27 @@ public:
     // coordinates float keeps only the precision of the model's size for them, which at depth 8-10
     // next to an extraordinary vertex is the size of the differences themselves (normals off by
     // degrees, flipped at depth 10); relative to a corner of the face it is the face's size.
-    std::span<const glm::vec3> subfaceControlPoints(uint32_t subface) const;
+    //
+    // Each sub-face stores only the prefix of its control points that tessellation factors up
+    // to 2^kStoredControlPointLevel read (Plan::stencilCountByLevel): the factors at which whole
+    // cages are evaluated (far views, screen-adaptive factors on large cages). Deeper points,
+    // which only evaluations close to an extraordinary vertex read, are computed when asked for;
+    // at a million faces the prefix is 33 points a sub-face against 59, 330 MiB less.
+    static constexpr uint32_t kStoredControlPointLevel = 2;
+    std::span<const glm::vec3> storedControlPoints(uint32_t subface) const;
+    // The control points that evaluating the sub-face on a grid of factor <= 2^level reads
+    // (level >= kMaxPlanDepth: at every (u, v)): the stored ones where they serve it, else all
+    // of them, computed into `scratch` (the span then points into it).
+    std::span<const glm::vec3> controlPointsFor(uint32_t subface, uint32_t level, std::vector<glm::vec3>& scratch) const;
     glm::vec3 subfaceOrigin(uint32_t subface) const { return cage_.positions[subfaceRing_[subface][0]]; }
 
     // Limit position and derivatives at (u, v) of a sub-face, in the sub-face's own frame
     // (quads: u from corner 0 to 1, v from corner 0 to 3). The sub-face must have a surface.
+    // Thread-safe; each thread keeps the last sub-face's computed control points (see
+    // storedControlPoints), so evaluating many points of one sub-face computes them once.
     LimitSample evaluate(uint32_t subface, float u, float v) const;
+    // The same from control points controlPointsFor returned for a level that serves (u, v).
+    LimitSample evaluate(uint32_t subface, std::span<const glm::vec3> controlPoints, float u, float v) const;
 
     Result<EditReport> moveVertices(std::span<const uint32_t> vertices, std::span<const glm::vec3> positions);
     // Sharpness 0 clears the tag; values above kInfiniteSharpness are clamped to it.
@@ -156,7 +171,10 @@ private:
     std::vector<uint32_t> subfacePlan_, subfaceRotation_;
     std::vector<uint8_t> subfaceHole_;  // 1 where the sub-face's face is a hole
     std::vector<std::vector<uint32_t>> subfaceRing_;
-    std::vector<std::vector<glm::vec3>> subfaceControlPoints_;
+    std::vector<std::vector<glm::vec3>> subfaceControlPoints_;  // the stored prefix
+    // A value no other state of any PlannedCage's control points had: what evaluate's
+    // per-thread copy of computed control points is keyed by.
+    uint64_t controlPointsGeneration_ = 0;
 };
 
 }  // namespace qp

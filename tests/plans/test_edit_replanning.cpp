@@ -37,7 +37,8 @@ struct SubfaceState {
 std::vector<SubfaceState> snapshot(const PlannedCage& planned, uint32_t face) {
     std::vector<SubfaceState> out;
     for (uint32_t s = planned.firstSubface(face); s < planned.firstSubface(face + 1); ++s) {
-        auto points = planned.subfaceControlPoints(s);
+        std::vector<glm::vec3> scratch;
+        auto points = planned.controlPointsFor(s, qp::kMaxPlanDepth, scratch);
         out.push_back({planned.subfacePlan(s), planned.subfaceRotation(s), {points.begin(), points.end()}});
     }
     return out;

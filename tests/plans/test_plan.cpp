@@ -1,4 +1,5 @@
 // The plan engine against OpenSubdiv, and its own invariants.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -157,6 +158,48 @@ TEST(PlanEngine, ExtraordinaryCornerNormalsKeepTheirPrecisionAtDepth) {
     }
 }
 
+// Each sub-face stores the prefix of its control points that factors up to
+// 2^kStoredControlPointLevel read; evaluate computes the rest, bit for bit what storing them
+// all gave, and computes them again after an edit.
+TEST(PlanEngine, StoredControlPointsAreThePrefixAndEvaluateComputesTheRest) {
+    Cage cage = qp::test::makeCube();  // valence-3 corners: plans deeper than the stored level
+    PlanDatabase db;
+    PlannedCage planned = plan(cage, db);
+    const float at[][2] = {{1e-3f, 1e-3f}, {0.37f, 0.01f}, {0.999f, 0.999f}, {0.5f, 0.25f}};
+    uint32_t partial = 0;
+    for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+        const qp::Plan& p = db.plan(planned.subfacePlan(s));
+        const auto stored = planned.storedControlPoints(s);
+        std::vector<glm::vec3> scratch;
+        const auto all = planned.controlPointsFor(s, qp::kMaxPlanDepth, scratch);
+        ASSERT_EQ(stored.size(), p.stencilCountByLevel[PlannedCage::kStoredControlPointLevel]);
+        ASSERT_EQ(all.size(), p.stencilCount());
+        EXPECT_TRUE(std::equal(stored.begin(), stored.end(), all.begin())) << "sub-face " << s;
+        EXPECT_EQ(planned.controlPointsFor(s, PlannedCage::kStoredControlPointLevel, scratch).data(), stored.data());
+        partial += stored.size() < all.size();
+        for (const auto& uv : at) {
+            const qp::LimitSample computed = planned.evaluate(s, uv[0], uv[1]);
+            const qp::LimitSample from = planned.evaluate(s, all, uv[0], uv[1]);
+            EXPECT_EQ(computed.position, from.position) << "sub-face " << s;
+            EXPECT_EQ(computed.du, from.du) << "sub-face " << s;
+            EXPECT_EQ(computed.dv, from.dv) << "sub-face " << s;
+        }
+    }
+    EXPECT_GT(partial, 0u) << "no sub-face keeps fewer control points than it has: nothing computed";
+
+    // The same point before and after moving a vertex of its sub-face's 1-ring.
+    const uint32_t s = 0, vertex = planned.subfaceRing(s)[1];
+    const qp::LimitSample before = planned.evaluate(s, 1e-3f, 1e-3f);
+    const glm::vec3 moved = planned.cage().positions[vertex] + glm::vec3(0.1f, 0.2f, -0.1f);
+    ASSERT_TRUE(planned.moveVertices({&vertex, 1}, {&moved, 1}).ok());
+    PlanDatabase freshDb;
+    const PlannedCage fresh = plan(planned.cage(), freshDb);
+    const qp::LimitSample after = planned.evaluate(s, 1e-3f, 1e-3f), expected = fresh.evaluate(s, 1e-3f, 1e-3f);
+    EXPECT_NE(before.position, after.position);
+    EXPECT_EQ(after.position, expected.position);
+    EXPECT_EQ(after.du, expected.du);
+}
+
 TEST(PlanEngine, StencilPrefixServesEveryFactorOfItsLevel) {
     Cage cage = qp::test::makeMixedGrid();
     cage.setEdgeSharpness(0, 1, 1.5f);
@@ -165,7 +208,8 @@ TEST(PlanEngine, StencilPrefixServesEveryFactorOfItsLevel) {
     const float nan = std::numeric_limits<float>::quiet_NaN();
     for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
         const qp::Plan& p = db.plan(planned.subfacePlan(s));
-        auto all = planned.subfaceControlPoints(s);
+        std::vector<glm::vec3> scratch;
+        auto all = planned.controlPointsFor(s, qp::kMaxPlanDepth, scratch);
         for (uint32_t level = 0; level <= p.maxDepth; ++level) {
             // Control points beyond the prefix are poisoned: any use shows up as NaN.
             std::vector<glm::vec3> prefix(all.begin(), all.end());
