@@ -168,7 +168,7 @@ GpuPlanData packPlans(const PlannedCage& planned, bool hostEvaluation) {
     gpu.hostEvaluation = hostEvaluation;
     appendPlanTables(gpu, planned.database());
     packSubfaces(gpu, planned);
-    buildRingUsers(gpu, planned.cage().vertexCount());
+    buildRingUsers(gpu, planned);
     return gpu;
 }
 
@@ -202,8 +202,10 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
             faceAndCorner.push_back({face, s - planned.firstSubface(face)});
         }
     }
-    gpu.rings.resize(ringSize);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, gpu.subfaces.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+    gpu.ringEntries = ringSize;
+    gpu.rings.resize(gpu.hostEvaluation ? 0 : ringSize);
+    if (!gpu.hostEvaluation)
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, gpu.subfaces.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t d = range.begin(); d != range.end(); ++d) {
             const std::span<const uint32_t> ring = planned.subfaceRing(gpu.subfaces[d].subface);
             std::copy(ring.begin(), ring.end(), gpu.rings.begin() + gpu.subfaces[d].ringOffset);
@@ -228,21 +230,34 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
             if ((cage.faceSize(faceAndCorner[d].first) == 4) == quads) numberSegments(gpu, segmentIndex, d);
 }
 
-void buildRingUsers(GpuPlanData& gpu, uint32_t vertexCount) {
+void buildRingUsers(GpuPlanData& gpu, const PlannedCage& planned) {
+    const uint32_t vertexCount = planned.cage().vertexCount(), count = uint32_t(gpu.subfaces.size());
     gpu.vertexSubfaceOffsets.assign(vertexCount + 1, 0);
-    for (uint32_t v : gpu.rings) ++gpu.vertexSubfaceOffsets[v + 1];
+    for (uint32_t d = 0; d < count; ++d)
+        for (uint32_t v : planned.subfaceRing(gpu.subfaces[d].subface)) ++gpu.vertexSubfaceOffsets[v + 1];
     for (uint32_t v = 0; v < vertexCount; ++v) gpu.vertexSubfaceOffsets[v + 1] += gpu.vertexSubfaceOffsets[v];
-    gpu.vertexSubfaces.resize(gpu.rings.size());
+    gpu.vertexSubfaces.resize(gpu.vertexSubfaceOffsets.back());
     std::vector<uint32_t> fill(gpu.vertexSubfaceOffsets.begin(), gpu.vertexSubfaceOffsets.end() - 1);
-    for (uint32_t d = 0; d < gpu.subfaces.size(); ++d) {
-        const uint32_t first = gpu.subfaces[d].ringOffset;
-        const uint32_t end = d + 1 < gpu.subfaces.size() ? gpu.subfaces[d + 1].ringOffset : uint32_t(gpu.rings.size());
-        for (uint32_t j = first; j < end; ++j) gpu.vertexSubfaces[fill[gpu.rings[j]]++] = d;
-    }
+    for (uint32_t d = 0; d < count; ++d)
+        for (uint32_t v : planned.subfaceRing(gpu.subfaces[d].subface)) gpu.vertexSubfaces[fill[v]++] = d;
 }
 
-void renumberRingUsers(GpuPlanData& gpu, const std::vector<uint32_t>& oldOffsets, const std::vector<uint32_t>& oldUsers,
-                       const std::vector<uint32_t>& oldOf, uint32_t oldCount) {
+bool ringUsersMatch(const GpuPlanData& gpu, uint32_t drawn, std::span<const uint32_t> ring) {
+    const uint32_t end = drawn + 1 < gpu.subfaces.size() ? gpu.subfaces[drawn + 1].ringOffset : gpu.ringEntries;
+    if (ring.size() != end - gpu.subfaces[drawn].ringOffset) return false;
+    // Equal lengths, and every vertex of `ring` lists the sub-face as often as `ring` holds it:
+    // then the packed ring has no other vertex.
+    for (uint32_t v : ring) {
+        if (v + 1 >= gpu.vertexSubfaceOffsets.size()) return false;
+        const auto users = std::equal_range(gpu.vertexSubfaces.begin() + gpu.vertexSubfaceOffsets[v],
+                                            gpu.vertexSubfaces.begin() + gpu.vertexSubfaceOffsets[v + 1], drawn);
+        if (users.second - users.first != std::count(ring.begin(), ring.end(), v)) return false;
+    }
+    return true;
+}
+
+void renumberRingUsers(GpuPlanData& gpu, const PlannedCage& planned, const std::vector<uint32_t>& oldOffsets,
+                       const std::vector<uint32_t>& oldUsers, const std::vector<uint32_t>& oldOf, uint32_t oldCount) {
     const uint32_t vertexCount = uint32_t(oldOffsets.size()) - 1, count = uint32_t(gpu.subfaces.size());
     std::vector<uint32_t> newOfOld(oldCount, UINT32_MAX);
     std::vector<std::pair<uint32_t, uint32_t>> joining;  // (vertex, drawn) of the sub-faces drawn only now
@@ -251,13 +266,12 @@ void renumberRingUsers(GpuPlanData& gpu, const std::vector<uint32_t>& oldOffsets
             newOfOld[oldOf[d]] = d;
             continue;
         }
-        const uint32_t end = d + 1 < count ? gpu.subfaces[d + 1].ringOffset : uint32_t(gpu.rings.size());
-        for (uint32_t j = gpu.subfaces[d].ringOffset; j < end; ++j) joining.push_back({gpu.rings[j], d});
+        for (uint32_t v : planned.subfaceRing(gpu.subfaces[d].subface)) joining.push_back({v, d});
     }
     std::sort(joining.begin(), joining.end());
     gpu.vertexSubfaceOffsets.assign(vertexCount + 1, 0);
     gpu.vertexSubfaces.clear();
-    gpu.vertexSubfaces.reserve(gpu.rings.size());
+    gpu.vertexSubfaces.reserve(gpu.ringEntries);
     auto join = joining.begin();
     for (uint32_t v = 0; v < vertexCount; ++v) {
         // Both lists ascend (oldOf keeps the order of kept sub-faces): merge them.

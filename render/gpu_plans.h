@@ -97,7 +97,10 @@ struct GpuPlanData {
     // (they own edges their neighbours copy) but never drawn (PlanBuffers::holeDrawn), so that
     // making or filling a hole changes no other sub-face.
     std::vector<GpuSubface> subfaces;
+    // The 1-rings for the device (GpuSubface::ringOffset); empty with hostEvaluation, where
+    // the host reads the planned cage's (PlannedCage::subfaceRing) and the device reads none.
     std::vector<uint32_t> rings;
+    uint32_t ringEntries = 0;          // the rings' total length, packed or not
     uint32_t controlPointCount = 0;    // all stencils of all drawn sub-faces
 
     std::vector<GpuSubfaceBoundary> boundaries;  // parallels subfaces
@@ -143,15 +146,20 @@ GpuPlanData packPlans(const PlannedCage& planned, bool hostEvaluation = false);
 // renumberRingUsers.
 void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned);
 
-// The ring users (vertexSubfaceOffsets, vertexSubfaces) of gpu.rings, by counting sort.
-void buildRingUsers(GpuPlanData& gpu, uint32_t vertexCount);
+// The ring users (vertexSubfaceOffsets, vertexSubfaces) of the drawn sub-faces' 1-rings in
+// `planned` (the ones packSubfaces packed), by counting sort.
+void buildRingUsers(GpuPlanData& gpu, const PlannedCage& planned);
+
+// Whether drawn sub-face `drawn`'s 1-ring, as the ring users list it (as packed, before an
+// edit), holds the vertices of `ring`, each as many times.
+bool ringUsersMatch(const GpuPlanData& gpu, uint32_t drawn, std::span<const uint32_t> ring);
 
 // The same from the ring users before a change of the drawn set that kept every ring (holes):
 // each vertex's list renumbered through `oldOf` (drawn sub-face now -> before, or UINT32_MAX for
 // one drawn only now, whose ring joins). One pass in vertex order instead of a scatter over
 // every ring.
-void renumberRingUsers(GpuPlanData& gpu, const std::vector<uint32_t>& oldOffsets, const std::vector<uint32_t>& oldUsers,
-                       const std::vector<uint32_t>& oldOf, uint32_t oldCount);
+void renumberRingUsers(GpuPlanData& gpu, const PlannedCage& planned, const std::vector<uint32_t>& oldOffsets,
+                       const std::vector<uint32_t>& oldUsers, const std::vector<uint32_t>& oldOf, uint32_t oldCount);
 
 // Appends the database's plans that `gpu` does not have yet (ids gpu.plans.size() onwards): the
 // plan tables only ever grow, so plan ids stay the database's. With gpu.hostEvaluation their

@@ -49,6 +49,7 @@ void dispatchGridPhase(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuff
 
 // Writes `list` into updateList at `offset` entries (vkCmdUpdateBuffer: at most 64 KiB a call).
 void recordListUpload(VkCommandBuffer cmd, const PlanBuffers& buffers, const std::vector<uint32_t>& list, uint32_t offset) {
+    assert(!buffers.data.hostEvaluation && "the list feeds the device's evaluation");
     constexpr size_t kChunk = 65536 / sizeof(uint32_t);
     for (size_t first = 0; first < list.size(); first += kChunk) {
         const size_t count = std::min(kChunk, list.size() - first);
@@ -82,13 +83,14 @@ Status installGridLayout(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& 
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     const std::tuple<Buffer*, VkDeviceSize, VkBufferUsageFlags> sizes[] = {
         {&buffers.grid, gridBytes, storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT},
-        {&buffers.gridSource, layout.source.size() * sizeof(uint32_t), storage},
+        // Read by the device's grid evaluation only (not with hostEvaluation: a placeholder).
+        {&buffers.gridSource, buffers.data.hostEvaluation ? 0 : layout.source.size() * sizeof(uint32_t), storage},
         {&buffers.slotSubface, layout.slotSubface.size() * sizeof(uint32_t), storage},
         {&buffers.subfaceGrid, subfaceGrid.size() * sizeof(glm::uvec2), storage},
         {&buffers.gridIndices, layout.indices.size() * sizeof(uint32_t), VkBufferUsageFlags(VK_BUFFER_USAGE_INDEX_BUFFER_BIT)}};
     for (auto [buffer, bytes, usage] : sizes)
         if (Status s = ensureCapacity(ctx, *buffer, bytes, usage); !s) return s;
-    uploadVector(buffers.gridSource, layout.source);
+    if (!buffers.data.hostEvaluation) uploadVector(buffers.gridSource, layout.source);
     uploadVector(buffers.slotSubface, layout.slotSubface);
     uploadVector(buffers.subfaceGrid, subfaceGrid);
     uploadVector(buffers.gridIndices, layout.indices);

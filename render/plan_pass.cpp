@@ -154,8 +154,10 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
         {b.gridSource, createFilled(ctx, placeholder)},
         {b.slotSubface, createFilled(ctx, placeholder)},
         {b.gridIndices, createFilled(ctx, placeholder, VK_BUFFER_USAGE_INDEX_BUFFER_BIT)},
-        // A partial update lists its sub-faces twice at most (phase 1, then phase 2).
-        {b.updateList, createFilled(ctx, std::vector<uint32_t>(2 * d.subfaces.size() + 4), VK_BUFFER_USAGE_TRANSFER_DST_BIT)},
+        // A partial update of the device's evaluation lists its sub-faces twice at most (phase 1,
+        // then phase 2).
+        {b.updateList, createFilled(ctx, std::vector<uint32_t>(hostEvaluation ? 4 : 2 * d.subfaces.size() + 4),
+                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT)},
         // No displacement until setPlanDisplacement: placeholders smaller than one record.
         {b.displacementTiles, createFilled(ctx, std::vector<uint32_t>{})},
         {b.displacementPadded, createFilled(ctx, std::vector<uint32_t>{})},

@@ -36,20 +36,6 @@ Status storeTail(const VulkanContext& ctx, Buffer& buffer, const std::vector<T>&
     return success();
 }
 
-bool sameVertices(std::span<const uint32_t> a, std::span<const uint32_t> b) {
-    if (a.size() != b.size()) return false;
-    std::vector<uint32_t> x(a.begin(), a.end()), y(b.begin(), b.end());
-    std::sort(x.begin(), x.end());
-    std::sort(y.begin(), y.end());
-    return x == y;
-}
-
-std::span<const uint32_t> ringOf(const GpuPlanData& data, uint32_t drawn) {
-    const uint32_t begin = data.subfaces[drawn].ringOffset;
-    const uint32_t end = drawn + 1 < data.subfaces.size() ? data.subfaces[drawn + 1].ringOffset : uint32_t(data.rings.size());
-    return {data.rings.data() + begin, end - begin};
-}
-
 // Plans new to the database into the tables (and their buffers).
 Status appendNewPlans(const VulkanContext& ctx, PlanBuffers& buffers, const PlanDatabase& database, PlanTableUpdate& update,
                       bool& rebind) {
@@ -125,7 +111,7 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     bool sameRings = previousOf.empty() && data.vertexSubfaceOffsets.size() == planned.cage().vertexCount() + 1;
     for (size_t k = 0; k < changed.size() && sameRings; ++k)
         if (const uint32_t d = buffers.drawnOfSubface[changed[k]]; d != UINT32_MAX)
-            sameRings = sameVertices(ringOf(data, d), planned.subfaceRing(changed[k]));
+            sameRings = ringUsersMatch(data, d, planned.subfaceRing(changed[k]));
     GpuPlanData old;  // the sub-face part before the change: what ownersOf and the ring users read
     old.subfaces = std::move(data.subfaces);
     old.boundaries = std::move(data.boundaries);
@@ -155,11 +141,14 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     buffers.adaptiveInputs = {};  // the segments are numbered anew
 
     // The ring users on another core while control points, owners and the grid are settled
-    // below: they read the rings and ring offsets, which nothing up to the wait writes.
+    // below: they read the planned cage's rings and the records' sub-face numbers, which
+    // nothing up to the wait writes.
     tbb::task_group ringUsers;
     ringUsers.run([&] {
-        if (sameRings) renumberRingUsers(data, old.vertexSubfaceOffsets, old.vertexSubfaces, oldOf, uint32_t(old.subfaces.size()));
-        else buildRingUsers(data, planned.cage().vertexCount());
+        if (sameRings)
+            renumberRingUsers(data, planned, old.vertexSubfaceOffsets, old.vertexSubfaces, oldOf, uint32_t(old.subfaces.size()));
+        else
+            buildRingUsers(data, planned);
     });
 
     // Control points: kept sub-faces keep their ranges (and cached values); new ones go at the end.
@@ -282,7 +271,7 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
     if (!grid) return grid;
     buffers.drawnOfSubface = std::move(drawnOf);
     const VkDeviceSize listBytes = (2 * VkDeviceSize(count) + 4) * sizeof(uint32_t);
-    if (listBytes > buffers.updateList.size) {
+    if (listBytes > buffers.updateList.size && !data.hostEvaluation) {
         Result<Buffer> list = createBuffer(ctx, listBytes + listBytes / 2,
                                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT);
         if (!list) return list.error();
@@ -335,7 +324,7 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
             drawnSetChanged = true;
             continue;
         }
-        if (drawn != UINT32_MAX && !sameVertices(ringOf(data, drawn), planned.subfaceRing(s))) {
+        if (drawn != UINT32_MAX && !ringUsersMatch(data, drawn, planned.subfaceRing(s))) {
             update.reason = "the 1-ring of sub-face " + std::to_string(s) + " changed";
             return update;
         }
@@ -374,10 +363,11 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
             GpuSubface& record = data.subfaces[drawn];
             record.plan = planned.subfacePlan(s);
             record.rotation = planned.subfaceRotation(s);
-            const std::span<const uint32_t> ring = planned.subfaceRing(s);
-            std::copy(ring.begin(), ring.end(), data.rings.begin() + record.ringOffset);
-            if (!data.hostEvaluation)
+            if (!data.hostEvaluation) {  // the same vertices, perhaps in another order
+                const std::span<const uint32_t> ring = planned.subfaceRing(s);
+                std::copy(ring.begin(), ring.end(), data.rings.begin() + record.ringOffset);
                 uploadBuffer(buffers.rings, ring.data(), ring.size_bytes(), size_t(record.ringOffset) * sizeof(uint32_t));
+            }
             const uint32_t stencils = database.plan(record.plan).stencilCount();
             if (stencils > capacity[drawn]) {
                 record.cpOffset = data.controlPointCount;

@@ -3,6 +3,9 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 namespace qp {
 
@@ -32,6 +35,12 @@ uint64_t availableMemoryBytes() {
         if (fields >> key >> kib && key == "MemAvailable:") return kib * 1024;
     }
     return 0;
+}
+
+void releaseFreedMemory() {
+#ifdef __GLIBC__
+    malloc_trim(0);
+#endif
 }
 
 Status checkMemory(uint64_t needed, uint64_t available, const std::string& what) {
