@@ -133,7 +133,8 @@ int runPlanStats(const PlanStatsArgs& args) {
         std::printf(" %s %llu", nodeKindName(NodeKind(k)), (unsigned long long)stats.nodesByKind[k]);
     std::printf("\n  stencils       %llu\n", (unsigned long long)stats.stencils);
     std::printf("  plan bytes     %llu\n", (unsigned long long)stats.bytes);
-    std::printf("  control points %llu (%llu bytes)\n", (unsigned long long)controlPoints,
+    std::printf("  control points %llu stored, those factors <= %u read (%llu bytes)\n", (unsigned long long)controlPoints,
+                1u << PlannedCage::kStoredControlPointLevel,
                 (unsigned long long)(controlPoints * sizeof(glm::vec3)));
     std::printf("  macro faces    %llu rectangles holding %llu faces (%llu of %llu side spans shared); or %llu quartets "
                 "holding %llu; or %llu aligned blocks holding %llu\n",

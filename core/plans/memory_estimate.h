@@ -12,8 +12,8 @@ namespace qp {
 
 // Bytes PlannedCage::create is expected to hold at its peak for `cage`: per sub-face (a quad is
 // one, an n-gon n), from the million-face generated cage's measured peak (docs/plan-engine.md (f):
-// 1.77 GiB for 1,078,494 sub-faces), rounded up.
-inline constexpr uint64_t kPlanningBytesPerSubface = 1800;
+// 1.54 GiB for 1,078,494 sub-faces, the OBJ file read included), rounded up.
+inline constexpr uint64_t kPlanningBytesPerSubface = 1600;
 uint64_t planningBytesEstimate(const Cage& cage);
 
 // MemAvailable from /proc/meminfo, or 0 when it cannot be read.
