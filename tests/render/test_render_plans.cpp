@@ -646,6 +646,34 @@ TEST(GpuPlans, SegmentsAndPointsBelongToTheirFirstUser) {
     }
 }
 
+// Host evaluation packs no 1-rings; the ring users are the same as with them, and tell an
+// unchanged ring (in any order) from a changed one.
+TEST(GpuPlans, RingUsersWithoutPackedRings) {
+    PlanDatabase db;
+    for (const Cage& cage : {featureCage(), test::makeSubdividedCube()}) {
+        PlannedCage planned = planCage(cage, db);
+        const GpuPlanData packed = packPlans(planned), host = packPlans(planned, true);
+        EXPECT_TRUE(host.rings.empty());
+        EXPECT_EQ(host.ringEntries, packed.rings.size());
+        EXPECT_EQ(host.vertexSubfaceOffsets, packed.vertexSubfaceOffsets);
+        EXPECT_EQ(host.vertexSubfaces, packed.vertexSubfaces);
+        const uint32_t vertexCount = planned.cage().vertexCount();
+        for (uint32_t d = 0; d < host.subfaces.size(); ++d) {
+            const std::span<const uint32_t> ring = planned.subfaceRing(host.subfaces[d].subface);
+            ASSERT_TRUE(ringUsersMatch(host, d, ring)) << "drawn sub-face " << d;
+            std::vector<uint32_t> other(ring.begin(), ring.end());
+            std::reverse(other.begin(), other.end());
+            EXPECT_TRUE(ringUsersMatch(host, d, other)) << "the same vertices in another order";
+            other.back() = other.front();  // one vertex twice, one missing
+            EXPECT_FALSE(ringUsersMatch(host, d, other));
+            other.back() = (ring.front() + 1) % vertexCount;
+            if (std::find(ring.begin(), ring.end(), other.back()) == ring.end()) EXPECT_FALSE(ringUsersMatch(host, d, other));
+            other.pop_back();
+            EXPECT_FALSE(ringUsersMatch(host, d, other)) << "a shorter ring";
+        }
+    }
+}
+
 // Pixels, not just vertices: from inside a closed surface every pixel must show the surface.
 // A crack between sub-faces (a T-junction, an unsnapped edge, a wrong owner) would show the
 // pure red background. Adaptive factors from an off-centre eye, so neighbours differ.
