@@ -139,10 +139,12 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
         {b.subfaces, createFilled(ctx, d.subfaces)},
         {b.rings, createFilled(ctx, forDevice(d.rings))},
         {b.positions, createFilled(ctx, hostEvaluation ? std::vector<float>{} : cagePositions(planned))},
-        // Written by the stencil pass before anything reads them; left untouched, the CPU grid
-        // path never makes the pages resident (967 MiB at a million faces).
-        {b.controlPoints, createBuffer(ctx, std::max<VkDeviceSize>(VkDeviceSize(d.controlPointCount) * sizeof(glm::vec4), 16),
-                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT)},
+        // Written by the stencil pass before anything reads them (967 MiB at a million faces);
+        // none with hostEvaluation (an edit that relocated a sub-face's range once grew and
+        // copied it whole: 3.3 s and 2.4 GB touched at the first crease of a million faces).
+        {b.controlPoints,
+         createBuffer(ctx, std::max<VkDeviceSize>(hostEvaluation ? 0 : VkDeviceSize(d.controlPointCount) * sizeof(glm::vec4), 16),
+                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT)},
         {b.boundaries, createFilled(ctx, forDevice(d.boundaries))},
         {b.segments, createFilled(ctx, forDevice(d.segments))},
         {b.boundaryPoints, createFilled(ctx, forDevice(d.boundaryPoints))},

@@ -396,7 +396,7 @@ Result<PlanTableUpdate> updatePlanTables(const VulkanContext& ctx, PlanPass& pas
         update.compacted = true;
     }
     const VkDeviceSize controlBytes = VkDeviceSize(std::max(data.controlPointCount, 1u)) * sizeof(glm::vec4);
-    if (controlBytes > buffers.controlPoints.size) {
+    if (controlBytes > buffers.controlPoints.size && !data.hostEvaluation) {
         Result<Buffer> bigger = createBuffer(ctx, controlBytes + controlBytes / 2, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
         if (!bigger) return bigger.error();
         // Cached control points stay valid where they are (coherent, mapped memory).

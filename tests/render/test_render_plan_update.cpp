@@ -62,8 +62,9 @@ struct PlanUpdateTest : ::testing::Test {
         EXPECT_EQ(validationMessageCount(ctx), 0u) << test::describeMessages(ctx);
     }
 
-    PlanBuffers upload(PlanPass& p, const PlannedCage& planned) {
-        Result<PlanBuffers> buffers = uploadPlans(ctx, planned);
+    // The CPU grid path evaluates on the host, as the plans scheme draws it (hostEvaluation).
+    PlanBuffers upload(PlanPass& p, const PlannedCage& planned, bool hostEvaluation = false) {
+        Result<PlanBuffers> buffers = uploadPlans(ctx, planned, MacroChoice::Auto, hostEvaluation);
         EXPECT_TRUE(buffers.ok()) << buffers.error().message;
         EXPECT_TRUE(bindPlanBuffers(ctx, p, *buffers).ok());
         return std::move(buffers).value();
@@ -92,7 +93,9 @@ struct PlanUpdateTest : ::testing::Test {
     void expectSameAsAFreshUpload(PlanBuffers& buffers, const PlannedCage& planned, DrawPath path,
                                   const TessellationSettings& settings, const std::vector<uint32_t>& refresh) {
         const std::vector<uint8_t> inPlace = draw(pass, buffers, planned, path, settings, &refresh);
-        PlanBuffers fresh = upload(freshPass, planned);
+        PlanBuffers fresh = upload(freshPass, planned, buffers.data.hostEvaluation);
+        if (buffers.data.hostEvaluation)
+            EXPECT_LE(buffers.controlPoints.size, 16u) << "host evaluation keeps no device control points, edits included";
         const std::vector<uint8_t> rebuilt = draw(freshPass, fresh, planned, path, settings);
         EXPECT_TRUE(inPlace == rebuilt) << "the picture differs from the edited cage uploaded again";
         ASSERT_EQ(buffers.data.subfaces.size(), fresh.data.subfaces.size());
@@ -146,7 +149,7 @@ TEST_F(PlanUpdateTest, TagEditsInPlaceEqualAFreshUploadOnEveryPath) {
             Result<PlannedCage> created = PlannedCage::create(cage, db, {}, name);
             ASSERT_TRUE(created.ok()) << created.error().message;
             PlannedCage planned = std::move(created).value();
-            PlanBuffers buffers = upload(pass, planned);
+            PlanBuffers buffers = upload(pass, planned, path == DrawPath::CpuGrid);
             const TessellationSettings settings{8, 8.0f};
             (void)draw(pass, buffers, planned, path, settings);  // caches control points and the grid
 
@@ -210,7 +213,7 @@ TEST_F(PlanUpdateTest, TopologyEditsInPlaceEqualAFreshUploadOnEveryPath) {
             Result<PlannedCage> created = PlannedCage::create(cage, db, {}, name);
             ASSERT_TRUE(created.ok()) << created.error().message;
             PlannedCage planned = std::move(created).value();
-            PlanBuffers buffers = upload(pass, planned);
+            PlanBuffers buffers = upload(pass, planned, path == DrawPath::CpuGrid);
             const TessellationSettings settings{8, 8.0f};
             (void)draw(pass, buffers, planned, path, settings);
             EditHistory history;
