@@ -176,7 +176,7 @@ TEST_F(EditorAnimation, ShowsFramesPlaysAndKeysEditsAtTheFrame) {
     EXPECT_EQ(moved["animation"]["key_frames"], json::array({1, 24, 30}));
     const glm::vec3 target = tower.positions[kMovedVertex] + glm::vec3(0, -0.5f, 0);
     EXPECT_LT(glm::distance(vec(moved["vertices"][kMovedVertex]), target), 1e-5f);
-    const json keyed = readJson(saved);
+    const json keyed = state(editor, "keyed.json");  // saved after moved.json: waited for, not assumed
     ASSERT_TRUE(keyed.is_object());
     ASSERT_FALSE(savedKey(keyed, kMovedVertex, 30).is_null()) << keyed["objects"][0]["animation"].dump();
     EXPECT_LT(glm::distance(vec(savedKey(keyed, kMovedVertex, 30)), target), 1e-5f);
@@ -188,7 +188,7 @@ TEST_F(EditorAnimation, ShowsFramesPlaysAndKeysEditsAtTheFrame) {
     const json back = state(editor, "undone.json");
     EXPECT_EQ(back["animation"]["key_frames"], json::array({1, 24}));
     EXPECT_EQ(vec(back["vertices"][kMovedVertex]), tower.positions[kMovedVertex]);
-    EXPECT_TRUE(savedKey(readJson(unkeyed), kMovedVertex, 30).is_null());
+    EXPECT_TRUE(savedKey(state(editor, "unkeyed.json"), kMovedVertex, 30).is_null());
 
     // A third key (top[0] at frame 36): between frames 1 and 24 linear stays on the line,
     // Catmull-Rom (its tangent at 24 now sees frame 36) leaves it; one entry, undone to linear.
