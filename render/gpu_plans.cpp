@@ -204,13 +204,13 @@ void packSubfaces(GpuPlanData& gpu, const PlannedCage& planned) {
     }
     gpu.ringEntries = ringSize;
     gpu.rings.resize(gpu.hostEvaluation ? 0 : ringSize);
-    if (!gpu.hostEvaluation)
-        tbb::parallel_for(tbb::blocked_range<size_t>(0, gpu.subfaces.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
+    auto packRings = [&](const tbb::blocked_range<size_t>& range) {
         for (size_t d = range.begin(); d != range.end(); ++d) {
             const std::span<const uint32_t> ring = planned.subfaceRing(gpu.subfaces[d].subface);
             std::copy(ring.begin(), ring.end(), gpu.rings.begin() + gpu.subfaces[d].ringOffset);
         }
-    });
+    };
+    if (!gpu.hostEvaluation) tbb::parallel_for(tbb::blocked_range<size_t>(0, gpu.subfaces.size(), 1024), packRings);
 
     // Non-quads first, so half segments are owned by the n-gon sub-face that has exactly that
     // edge; a quad owns half of its edge only when no such sub-face is in the tables (boundary
