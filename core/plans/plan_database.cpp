@@ -1,10 +1,13 @@
 #include "plans/plan_database.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <optional>
+
+#include <tbb/parallel_for.h>
 
 // Header-only: the hash compiled in, no library to link.
 #define XXH_INLINE_ALL
@@ -109,7 +112,7 @@ uint32_t PlanDatabase::findLocked(const FaceConfig& config) const {
 }
 
 uint32_t PlanDatabase::find(const FaceConfig& config) const {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::shared_mutex> lock(mutex_);
     return findLocked(config);
 }
 
@@ -123,18 +126,21 @@ uint32_t PlanDatabase::insertLocked(std::vector<uint32_t> key, uint64_t hash, Pl
 }
 
 void PlanDatabase::setFallback(std::shared_ptr<const PlanDatabase> fallback) {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::shared_mutex> lock(mutex_);
     fallback_ = std::move(fallback);
 }
 
 Result<uint32_t> PlanDatabase::findOrBuild(const FaceConfig& config) {
     std::shared_ptr<const PlanDatabase> fallback;
     {
-        std::lock_guard<std::mutex> lock(mutex_);
+        // Shared: a warm plan of a million faces is a million hits, which an exclusive lock made
+        // the threads take in turn. The counters they touch are atomic; everything else that
+        // writes them holds the lock exclusively.
+        std::shared_lock<std::shared_mutex> lock(mutex_);
         uint32_t id = findLocked(config);
         if (id != UINT32_MAX) {
-            ++hits_;
-            lastUse_[id] = session_;
+            std::atomic_ref<uint64_t>(hits_).fetch_add(1, std::memory_order_relaxed);
+            std::atomic_ref<uint32_t>(lastUse_[id]).store(session_, std::memory_order_relaxed);
             return id;
         }
         fallback = fallback_;
@@ -142,11 +148,11 @@ Result<uint32_t> PlanDatabase::findOrBuild(const FaceConfig& config) {
     if (fallback) {
         std::optional<Plan> cached;
         {
-            std::lock_guard<std::mutex> lock(fallback->mutex_);
+            std::lock_guard<std::shared_mutex> lock(fallback->mutex_);
             if (const uint32_t at = fallback->findLocked(config); at != UINT32_MAX) cached = fallback->plans_[at];
         }
         if (cached) {
-            std::lock_guard<std::mutex> lock(mutex_);
+            std::lock_guard<std::shared_mutex> lock(mutex_);
             if (uint32_t id = findLocked(config); id != UINT32_MAX) return id;
             ++fromFallback_;
             return insertLocked(config.key, config.hash, std::move(*cached), session_);
@@ -155,7 +161,7 @@ Result<uint32_t> PlanDatabase::findOrBuild(const FaceConfig& config) {
     // Build outside the lock so several threads can build different plans at once.
     Result<Plan> plan = buildPlan(config.key);
     if (!plan) return plan.error();
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::shared_mutex> lock(mutex_);
     uint32_t id = findLocked(config);  // another thread may have built it meanwhile
     if (id != UINT32_MAX) {
         ++hits_;
@@ -187,12 +193,12 @@ void PlanDatabase::mergeFrom(const PlanDatabase& older) {
 }
 
 uint64_t PlanDatabase::misses() const {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::shared_mutex> lock(mutex_);
     return misses_;
 }
 
 PlanDatabaseStats PlanDatabase::stats() const {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::shared_mutex> lock(mutex_);
     PlanDatabaseStats s;
     for (size_t i = 0; i < plans_.size(); ++i) {
         if (keys_[i].empty()) continue;  // released
@@ -209,7 +215,7 @@ PlanDatabaseStats PlanDatabase::stats() const {
 }
 
 uint32_t PlanDatabase::releaseUnused(const std::vector<bool>& inUse) {
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::shared_mutex> lock(mutex_);
     uint32_t released = 0;
     for (uint32_t id = 0; id < uint32_t(std::min(inUse.size(), plans_.size())); ++id) {
         if (inUse[id] || keys_[id].empty()) continue;
@@ -228,7 +234,7 @@ uint32_t PlanDatabase::releaseUnused(const std::vector<bool>& inUse) {
 
 Status PlanDatabase::save(const std::string& path, uint64_t maxBytes) const {
     std::string out(kMagic, sizeof(kMagic));
-    std::lock_guard<std::mutex> lock(mutex_);
+    std::lock_guard<std::shared_mutex> lock(mutex_);
     // The most recently used first, until the bound; written in id order.
     std::vector<uint32_t> held;
     for (uint32_t i = 0; i < uint32_t(plans_.size()); ++i)
@@ -263,20 +269,20 @@ Status PlanDatabase::save(const std::string& path, uint64_t maxBytes) const {
 }
 
 Status PlanDatabase::load(const std::string& path) {
-    Result<std::string> file = readFile(path);
+    Result<MappedFile> file = mapFile(path);
     if (!file) {
-        std::lock_guard<std::mutex> lock(mutex_);
+        std::lock_guard<std::shared_mutex> lock(mutex_);
         byHash_.clear();
         keys_.clear();
         plans_.clear();
         lastUse_.clear();
         return file.error();
     }
-    return loadFromBytes(*file, path);
+    return loadFromBytes(file->bytes(), path);
 }
 
-Status PlanDatabase::loadFromBytes(const std::string& bytes, const std::string& path) {
-    std::lock_guard<std::mutex> lock(mutex_);
+Status PlanDatabase::loadFromBytes(std::string_view bytes, const std::string& path) {
+    std::lock_guard<std::shared_mutex> lock(mutex_);
     byHash_.clear();
     keys_.clear();
     plans_.clear();
@@ -301,30 +307,68 @@ Status PlanDatabase::loadFromBytes(const std::string& bytes, const std::string& 
     if (version != kFileVersion)
         return corrupt("was written by another version (" + std::to_string(version) + ", expected " +
                        std::to_string(kFileVersion) + ")");
-    uint32_t count = in.word();
+    const uint32_t count = in.word();
     const size_t limit = bytes.size() / 4;
+
+    // Where each entry starts, from its array lengths alone; the entries are then read and
+    // checked on every core (half of a million-face database's load), and inserted in order.
+    std::vector<size_t> entryAt;
+    entryAt.reserve(std::min<size_t>(count, limit));
     for (uint32_t i = 0; i < count && in.ok; ++i) {
+        const size_t at = in.at;
+        auto skipArray = [&](size_t wordsEach) {
+            const uint32_t n = in.word();
+            if (!in.ok || n > limit || in.at + size_t(n) * wordsEach * 4 > in.size) in.ok = false;
+            else in.at += size_t(n) * wordsEach * 4;
+        };
+        skipArray(1);                       // key
+        in.at += 2 * 4;                     // ring size, depth
+        skipArray(sizeof(PlanNode) / 4);    // nodes
+        skipArray(1);                       // points
+        skipArray(1);                       // stencil weights
+        in.at += sizeof(Plan::stencilCountByLevel) + 2 * 4;  // counts by level, corner tangents, last use
+        if (in.at > in.size) in.ok = false;
+        if (in.ok) entryAt.push_back(at);
+    }
+    const size_t readable = entryAt.size();  // entries before the first one cut short
+
+    struct Entry {
         std::vector<uint32_t> key;
         Plan plan;
-        in.array(key, limit);
-        plan.ringSize = in.word();
-        plan.maxDepth = in.word();
-        in.array(plan.nodes, limit);
-        in.array(plan.points, limit);
-        in.array(plan.stencilWeights, limit);
-        for (uint32_t& c : plan.stencilCountByLevel) c = in.word();
-        plan.cornerTangents = in.word();
-        const uint32_t lastUse = in.word();
+        uint32_t lastUse = 0;
+        uint64_t hash = 0;
+        bool valid = false;
+    };
+    std::vector<Entry> entries(readable);
+    tbb::parallel_for(size_t(0), readable, [&](size_t i) {
+        Entry& e = entries[i];
+        Reader entry{bytes.data(), bytes.size() - sizeof(stored), entryAt[i]};
+        entry.array(e.key, limit);
+        e.plan.ringSize = entry.word();
+        e.plan.maxDepth = entry.word();
+        entry.array(e.plan.nodes, limit);
+        entry.array(e.plan.points, limit);
+        entry.array(e.plan.stencilWeights, limit);
+        for (uint32_t& c : e.plan.stencilCountByLevel) c = entry.word();
+        e.plan.cornerTangents = entry.word();
+        e.lastUse = entry.word();
         // Word 4 of a key is its local vertex count (face_config.h): the columns the plan's
         // stencils must have, or applying them would read past the face's 1-ring.
-        const bool matchesKey = key.size() > 5 && (plan.nodes.empty() || plan.ringSize == key[4]);
-        if (!in.ok || !matchesKey || !planIsConsistent(plan))
-            return corrupt("has an invalid plan (entry " + std::to_string(i) + ")");
-        const uint64_t hash = hashKey(key);
-        insertLocked(std::move(key), hash, std::move(plan), lastUse);
-        session_ = std::max(session_, lastUse + 1);
+        const bool matchesKey = e.key.size() > 5 && (e.plan.nodes.empty() || e.plan.ringSize == e.key[4]);
+        e.valid = entry.ok && matchesKey && planIsConsistent(e.plan);
+        if (e.valid) e.hash = hashKey(e.key);
+    });
+    for (size_t i = 0; i < readable; ++i)
+        if (!entries[i].valid) return corrupt("has an invalid plan (entry " + std::to_string(i) + ")");
+    if (readable < count) return corrupt("has an invalid plan (entry " + std::to_string(readable) + ")");
+    byHash_.reserve(readable);
+    keys_.reserve(readable);
+    lastUse_.reserve(readable);
+    for (Entry& e : entries) {
+        insertLocked(std::move(e.key), e.hash, std::move(e.plan), e.lastUse);
+        session_ = std::max(session_, e.lastUse + 1);
     }
-    if (!in.ok || in.at != in.size) return corrupt("is truncated or has trailing data");
+    if (in.at != in.size) return corrupt("is truncated or has trailing data");
     return success();
 }
 

@@ -12,7 +12,9 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -71,13 +73,13 @@ public:
     // error says why (the caller reports it as a warning and carries on).
     Status load(const std::string& path);
     // load() on bytes already read; `source` names them in the message.
-    Status loadFromBytes(const std::string& bytes, const std::string& source);
+    Status loadFromBytes(std::string_view bytes, const std::string& source);
 
 private:
     uint32_t findLocked(const FaceConfig& config) const;
     uint32_t insertLocked(std::vector<uint32_t> key, uint64_t hash, Plan plan, uint32_t session);
 
-    mutable std::mutex mutex_;
+    mutable std::shared_mutex mutex_;
     std::unordered_multimap<uint64_t, uint32_t> byHash_;
     std::vector<std::vector<uint32_t>> keys_;
     std::deque<Plan> plans_;  // deque: references stay valid while other threads insert
