@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
+#include <unordered_map>
 
 namespace qp {
 
@@ -12,8 +13,9 @@ constexpr uint32_t kKeyVersion = 1;
 
 // Faces around `vertex`, starting with `face`, rotating across manifold edges: first one way
 // until a boundary (or back at the start), then the other way; faces reached only through
-// non-manifold connections follow in adjacency order.
-void facesAroundVertex(const Cage& cage, const Topology& t, uint32_t vertex, uint32_t face,
+// non-manifold connections follow in adjacency order. Returns whether none did: the order then
+// follows from the faces' connectivity alone.
+bool facesAroundVertex(const Cage& cage, const Topology& t, uint32_t vertex, uint32_t face,
                        std::vector<uint32_t>& out) {
     out.clear();
     const uint32_t* all = &t.vertexFaces[t.vertexFaceOffsets[vertex]];
@@ -42,8 +44,10 @@ void facesAroundVertex(const Cage& cage, const Topology& t, uint32_t vertex, uin
     out.push_back(face);
     walk(true);
     walk(false);
+    if (out.size() == count) return true;
     for (uint32_t i = 0; i < count; ++i)
         if (std::find(out.begin(), out.end(), all[i]) == out.end()) out.push_back(all[i]);
+    return false;
 }
 
 void pushFloat(std::vector<uint32_t>& key, float value) { key.push_back(std::bit_cast<uint32_t>(value)); }
@@ -58,6 +62,7 @@ struct CornerInfo {
     std::vector<uint32_t> orbit;                    // faces around it, starting at the face
     std::vector<std::pair<uint32_t, float>> sharp;  // (other end, sharpness) of creased edges at it
     float cornerSharpness;
+    bool ordered;  // the orbit's order follows from connectivity (facesAroundVertex)
 };
 
 void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, std::vector<CornerInfo>& corners) {
@@ -67,7 +72,7 @@ void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, std::vect
     for (uint32_t i = 0; i < n; ++i) {
         CornerInfo& c = corners[i];
         c.vertex = fv[i];
-        facesAroundVertex(cage, t, c.vertex, face, c.orbit);
+        c.ordered = facesAroundVertex(cage, t, c.vertex, face, c.orbit);
         c.sharp.clear();
         if (!cage.creases.empty())
             for (uint32_t k = t.vertexEdgeOffsets[c.vertex]; k < t.vertexEdgeOffsets[c.vertex + 1]; ++k) {
@@ -79,9 +84,24 @@ void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, std::vect
     }
 }
 
+// Working arrays of one thread's gathering, kept from face to face.
+struct GatherScratch {
+    std::vector<CornerInfo> corners;
+    std::vector<uint32_t> added;
+    std::vector<std::pair<uint64_t, float>> creases;
+    FaceConfig candidate;
+    // Quads whose orbits' order follows from connectivity: the hash of the key from corner 0 ->
+    // the corner of the smallest key. A 64-bit collision would give a key from another corner:
+    // a plan of that very configuration all the same, only not shared with its rotations.
+    std::unordered_map<uint64_t, uint8_t> smallestFrom;
+};
+// A thread's memory for smallestFrom: about 40 MB at most (a million-face cage remembers ~100,000).
+constexpr size_t kMaxRememberedFirstKeys = size_t(1) << 20;
+
 // Key and ring for one choice of start corner.
-void gatherFromCorner(const Cage& cage, const std::vector<CornerInfo>& corners, uint32_t face, uint32_t start,
-                      const PlanOptions& options, FaceConfig& out) {
+void gatherFromCorner(const Cage& cage, uint32_t face, uint32_t start, const PlanOptions& options,
+                      GatherScratch& scratch, FaceConfig& out) {
+    const std::vector<CornerInfo>& corners = scratch.corners;
     const uint32_t n = uint32_t(corners.size());
     std::vector<uint32_t>& ring = out.ring;
     ring.clear();
@@ -94,7 +114,7 @@ void gatherFromCorner(const Cage& cage, const std::vector<CornerInfo>& corners, 
     for (uint32_t i = 0; i < n; ++i) localIndex(corners[(start + i) % n].vertex);
 
     std::vector<uint32_t>& key = out.key;
-    key = {kKeyVersion, options.maxDepth, options.useCreaseNodes ? 1u : 0u, optionWord(cage.options), 0, 0};
+    key.assign({kKeyVersion, options.maxDepth, options.useCreaseNodes ? 1u : 0u, optionWord(cage.options), 0, 0});
     uint32_t faceCount = 0;
     auto appendFace = [&](uint32_t g, uint32_t from) {
         const uint32_t m = cage.faceSize(g);
@@ -105,7 +125,8 @@ void gatherFromCorner(const Cage& cage, const std::vector<CornerInfo>& corners, 
         ++faceCount;
     };
     appendFace(face, corners[start].vertex);
-    std::vector<uint32_t> added{face};
+    std::vector<uint32_t>& added = scratch.added;
+    added.assign(1, face);
     for (uint32_t i = 0; i < n; ++i) {
         const CornerInfo& c = corners[(start + i) % n];
         for (uint32_t g : c.orbit) {
@@ -118,7 +139,8 @@ void gatherFromCorner(const Cage& cage, const std::vector<CornerInfo>& corners, 
     key[5] = faceCount;
 
     // Sharpness of the edges at the face's corners, by local vertex pair.
-    std::vector<std::pair<uint64_t, float>> creases;
+    std::vector<std::pair<uint64_t, float>>& creases = scratch.creases;
+    creases.clear();
     for (uint32_t i = 0; i < n; ++i) {
         const CornerInfo& c = corners[(start + i) % n];
         for (const auto& [other, sharpness] : c.sharp) {
@@ -163,20 +185,43 @@ uint64_t hashKey(const std::vector<uint32_t>& key) {
 
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
                             const PlanOptions& options) {
-    thread_local std::vector<CornerInfo> corners;
-    gatherCorners(cage, topology, face, corners);
+    thread_local GatherScratch scratch;
+    gatherCorners(cage, topology, face, scratch.corners);
     FaceConfig best;
     if (cage.faceSize(face) != 4) {
-        gatherFromCorner(cage, corners, face, subface, options, best);
+        gatherFromCorner(cage, face, subface, options, scratch, best);
         best.rotation = 0;
-    } else {
-        FaceConfig candidate;
-        for (uint32_t start = 0; start < 4; ++start) {
-            gatherFromCorner(cage, corners, face, start, options, start == 0 ? best : candidate);
-            if (start > 0 && candidate.key < best.key) std::swap(best, candidate);
-        }
+        best.hash = hashKey(best.key);
+        return best;
     }
-    best.hash = hashKey(best.key);
+    // A quad's key from corner 0 tells its keys from every corner when its orbits' order follows
+    // from connectivity: then a quad seen before with that first key had its smallest key at the
+    // same corner, and only that corner is gathered again (most of a warm plan was gathering
+    // every quad four times).
+    gatherFromCorner(cage, face, 0, options, scratch, best);
+    const uint64_t firstHash = hashKey(best.key);
+    const bool ordered = std::all_of(scratch.corners.begin(), scratch.corners.end(),
+                                     [](const CornerInfo& c) { return c.ordered; });
+    if (ordered)
+        if (auto seen = scratch.smallestFrom.find(firstHash); seen != scratch.smallestFrom.end()) {
+            if (seen->second == 0) {
+                best.hash = firstHash;
+                return best;
+            }
+            gatherFromCorner(cage, face, seen->second, options, scratch, best);
+            best.hash = hashKey(best.key);
+            return best;
+        }
+    FaceConfig& candidate = scratch.candidate;
+    for (uint32_t start = 1; start < 4; ++start) {
+        gatherFromCorner(cage, face, start, options, scratch, candidate);
+        if (candidate.key < best.key) std::swap(best, candidate);
+    }
+    if (ordered) {
+        if (scratch.smallestFrom.size() >= kMaxRememberedFirstKeys) scratch.smallestFrom.clear();
+        scratch.smallestFrom.emplace(firstHash, uint8_t(best.rotation));
+    }
+    best.hash = best.rotation == 0 ? firstHash : hashKey(best.key);
     return best;
 }
 

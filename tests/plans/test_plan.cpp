@@ -6,6 +6,7 @@
 #include <fstream>
 #include <random>
 #include <set>
+#include <thread>
 
 #include <unistd.h>
 
@@ -13,6 +14,9 @@
 #include <gtest/gtest.h>
 
 #include "extraordinary_corners.h"
+#include "mesh/generated_cage.h"
+#include "mesh/topology.h"
+#include "plans/face_config.h"
 #include "plans/limit_check.h"
 #include "plans/plan_builder.h"
 #include "plans/plan_evaluator.h"
@@ -419,5 +423,38 @@ TEST(PlanEvaluator, BatchEqualsOneByOne) {
         ASSERT_EQ(out[i].position, one.position);
         ASSERT_EQ(out[i].du, one.du);
         ASSERT_EQ(out[i].dv, one.dv);
+    }
+}
+
+// A quad gathered again takes the corner of its smallest key from what its thread remembers of
+// the quads it gathered before; the key, ring and rotation must be a full gathering's (a fresh
+// thread remembers nothing). Rotated copies, two-fold symmetric creases, creases and corners,
+// extraordinary vertices and a fin of three faces on one edge (non-manifold: never remembered).
+TEST(PlanEngine, QuadsGatheredAgainKeepAFullGatheringsKey) {
+    Cage creased = qp::test::makeGrid(6);
+    for (uint32_t x = 0; x < 6; ++x) creased.setEdgeSharpness(3 * 7 + x, 3 * 7 + x + 1, 1.5f);
+    creased.setEdgeSharpness(1, 8, 3.0f);
+    Cage fin = qp::test::makeGrid(3);
+    const uint32_t a = 5, b = 6;  // an interior edge of the grid's second row
+    const uint32_t top = uint32_t(fin.positions.size());
+    fin.positions.push_back(fin.positions[a] + glm::vec3(0, 0, 1));
+    fin.positions.push_back(fin.positions[b] + glm::vec3(0, 0, 1));
+    fin.faceVertices.insert(fin.faceVertices.end(), {a, b, top + 1, top});
+    fin.faceOffsets.push_back(uint32_t(fin.faceVertices.size()));
+    const std::vector<Cage> cages = {qp::makeBenchmarkCage(600, 3), creased, qp::test::makeCube(), fin};
+    for (size_t c = 0; c < cages.size(); ++c) {
+        const Cage& cage = cages[c];
+        const qp::Topology topology = qp::buildTopology(cage);
+        for (int pass = 0; pass < 2; ++pass)
+            for (uint32_t f = 0; f < cage.faceCount(); ++f) {
+                if (cage.faceSize(f) != 4) continue;
+                qp::FaceConfig full;
+                std::thread([&] { full = qp::gatherFaceConfig(cage, topology, f, 0, PlanOptions{}); }).join();
+                const qp::FaceConfig again = qp::gatherFaceConfig(cage, topology, f, 0, PlanOptions{});
+                ASSERT_EQ(again.key, full.key) << "cage " << c << " face " << f << " pass " << pass;
+                ASSERT_EQ(again.ring, full.ring) << "cage " << c << " face " << f;
+                ASSERT_EQ(again.rotation, full.rotation) << "cage " << c << " face " << f;
+                ASSERT_EQ(again.hash, qp::hashKey(full.key)) << "cage " << c << " face " << f;
+            }
     }
 }
