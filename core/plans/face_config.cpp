@@ -65,7 +65,8 @@ struct CornerInfo {
     bool ordered;  // the orbit's order follows from connectivity (facesAroundVertex)
 };
 
-void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, std::vector<CornerInfo>& corners) {
+void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, const std::vector<uint8_t>* withCreases,
+                   std::vector<CornerInfo>& corners) {
     const uint32_t n = cage.faceSize(face);
     const uint32_t* fv = cage.faceBegin(face);
     corners.resize(n);
@@ -74,7 +75,7 @@ void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, std::vect
         c.vertex = fv[i];
         c.ordered = facesAroundVertex(cage, t, c.vertex, face, c.orbit);
         c.sharp.clear();
-        if (!cage.creases.empty())
+        if (!cage.creases.empty() && (!withCreases || (*withCreases)[c.vertex]))
             for (uint32_t k = t.vertexEdgeOffsets[c.vertex]; k < t.vertexEdgeOffsets[c.vertex + 1]; ++k) {
                 uint32_t e = t.vertexEdges[k], a = t.edgeVertices[2 * e], b = t.edgeVertices[2 * e + 1];
                 float sharpness = cage.edgeSharpness(a, b);
@@ -183,10 +184,17 @@ uint64_t hashKey(const std::vector<uint32_t>& key) {
     return h;
 }
 
+std::vector<uint8_t> verticesWithCreases(const Cage& cage) {
+    std::vector<uint8_t> with(cage.vertexCount(), 0);
+    for (const EdgeCrease& c : cage.creases)
+        if (c.sharpness > 0.0f && c.v0 < with.size() && c.v1 < with.size()) with[c.v0] = with[c.v1] = 1;
+    return with;
+}
+
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
-                            const PlanOptions& options) {
+                            const PlanOptions& options, const std::vector<uint8_t>* withCreases) {
     thread_local GatherScratch scratch;
-    gatherCorners(cage, topology, face, scratch.corners);
+    gatherCorners(cage, topology, face, withCreases, scratch.corners);
     FaceConfig best;
     if (cage.faceSize(face) != 4) {
         gatherFromCorner(cage, face, subface, options, scratch, best);

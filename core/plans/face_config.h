@@ -46,8 +46,12 @@ struct FaceConfig {
 // float bits, cornerCount, then per corner: local vertex, float bits].
 // A hole's own flag is not part of the key either: a hole gets the plan it would have without
 // it (PlannedCage keeps holes planned and hides them).
+// `withCreases`, when given, is verticesWithCreases(cage): gathering then looks up the edges'
+// sharpness only at those vertices (a planning of many faces makes it once).
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
-                            const PlanOptions& options);
+                            const PlanOptions& options, const std::vector<uint8_t>* withCreases = nullptr);
+// Per vertex, 1 where an edge with sharpness above 0 ends.
+std::vector<uint8_t> verticesWithCreases(const Cage& cage);
 
 // Number of quad sub-faces (primitives) a face contributes: 1 for a quad, n for an n-gon.
 inline uint32_t subfaceCount(uint32_t faceSize) { return faceSize == 4 ? 1 : faceSize; }

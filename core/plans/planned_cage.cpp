@@ -37,6 +37,8 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 // Planning at least this many sub-faces hands the heap's free pages back afterwards (0.3-9 ms at
 // a million faces; nothing worth it on small cages).
 constexpr uint32_t kReleaseAfterSubfaces = 1u << 16;
+// Planning at least this many sub-faces first marks the vertices with creased edges.
+constexpr size_t kCreaseIndexAfterSubfaces = 4096;
 
 // A fresh PlannedCage::controlPointsGeneration_: unique across every planned cage of the process.
 uint64_t nextControlPointsGeneration() {
@@ -170,9 +172,13 @@ Result<std::vector<PlannedCage::SubfacePlan>> PlannedCage::planFaces(const Cage&
     const uint64_t missesBefore = database_->misses();
     std::vector<SubfacePlan> plans(work.size());
     std::vector<std::string> errors(work.size());
+    // Worth a pass over the vertices only when planning many faces (a million faces: 0.15 s less).
+    const std::vector<uint8_t> withCreases =
+        work.size() >= kCreaseIndexAfterSubfaces ? verticesWithCreases(cage) : std::vector<uint8_t>{};
     forEach(work.size(), [&](size_t i) {
         const auto [face, k] = work[i];
-        FaceConfig config = gatherFaceConfig(cage, topology, face, k, options_);
+        FaceConfig config =
+            gatherFaceConfig(cage, topology, face, k, options_, withCreases.empty() ? nullptr : &withCreases);
         Result<uint32_t> id = database_->findOrBuild(config);
         if (!id) {
             // A hole has no surface to lose: it stays unplanned (and is planned when filled).
