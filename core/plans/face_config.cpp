@@ -1,6 +1,7 @@
 #include "plans/face_config.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cassert>
 #include <unordered_map>
@@ -95,7 +96,9 @@ struct GatherScratch {
     // the corner of the smallest key. A 64-bit collision would give a key from another corner:
     // a plan of that very configuration all the same, only not shared with its rotations.
     std::unordered_map<uint64_t, uint8_t> smallestFrom;
+    uint64_t remembering = 0;  // forgetRememberedCorners' count when smallestFrom began
 };
+std::atomic<uint64_t> forgottenCorners{0};
 // A thread's memory for smallestFrom: about 40 MB at most (a million-face cage remembers ~100,000).
 constexpr size_t kMaxRememberedFirstKeys = size_t(1) << 20;
 
@@ -184,6 +187,8 @@ uint64_t hashKey(const std::vector<uint32_t>& key) {
     return h;
 }
 
+void forgetRememberedCorners() { forgottenCorners.fetch_add(1, std::memory_order_relaxed); }
+
 std::vector<uint8_t> verticesWithCreases(const Cage& cage) {
     std::vector<uint8_t> with(cage.vertexCount(), 0);
     for (const EdgeCrease& c : cage.creases)
@@ -194,6 +199,10 @@ std::vector<uint8_t> verticesWithCreases(const Cage& cage) {
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
                             const PlanOptions& options, const std::vector<uint8_t>* withCreases) {
     thread_local GatherScratch scratch;
+    if (const uint64_t now = forgottenCorners.load(std::memory_order_relaxed); scratch.remembering != now) {
+        scratch.smallestFrom.clear();
+        scratch.remembering = now;
+    }
     gatherCorners(cage, topology, face, withCreases, scratch.corners);
     FaceConfig best;
     if (cage.faceSize(face) != 4) {

@@ -13,7 +13,10 @@
 // equal keys mean equal limit surfaces (no false sharing: the database compares whole keys).
 //
 // Quads try all four start corners and keep the smallest key (`rotation` = that corner), so a
-// rotated copy of a configuration finds the same plan. An n-gon (n != 4) is split into n quad
+// rotated copy of a configuration finds the same plan. A thread remembers, by the hash of a
+// quad's key from corner 0, which corner gave the smallest key, and gathers a quad with that
+// first key again only from that corner (when its corners' orbits are manifold): the same
+// answer as trying all four, at a third of the work. An n-gon (n != 4) is split into n quad
 // sub-faces (OpenSubdiv's / Ptex's numbering: sub-face k has its origin at corner k, u towards
 // corner k+1); sub-face k uses start corner k and is always sub-face 0 of its local mesh.
 #pragma once
@@ -50,6 +53,9 @@ struct FaceConfig {
 // sharpness only at those vertices (a planning of many faces makes it once).
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
                             const PlanOptions& options, const std::vector<uint8_t>* withCreases = nullptr);
+// Makes every thread forget the corners it remembered (see the top of this file): for
+// benchmarks that time a fresh process's planning within one process.
+void forgetRememberedCorners();
 // Per vertex, 1 where an edge with sharpness above 0 ends.
 std::vector<uint8_t> verticesWithCreases(const Cage& cage);
 

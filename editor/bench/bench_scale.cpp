@@ -33,6 +33,7 @@
 #include "edit/picking.h"
 #include "headless_scene.h"
 #include "offscreen_target.h"
+#include "plans/face_config.h"
 #include "plan_pass.h"
 #include "scheme_host.h"
 #include "vk_commands.h"
@@ -128,6 +129,7 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
     uint32_t plans = 0;
     for (uint32_t r = 0; r < planRounds; ++r) {
         PlanDatabase database;
+        forgetRememberedCorners();  // each plan as a fresh process's
         const auto start = Clock::now();
         Result<PlannedCage> planned = PlannedCage::create(bench.cage, database, options, name);
         if (!planned) return skip(planned.error().message);
@@ -141,6 +143,7 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
     for (uint32_t r = 0; r < planRounds; ++r) {
         planned.reset();
         database.emplace();
+        forgetRememberedCorners();
         const auto start = Clock::now();
         if (Status loaded = database->load(file.string()); !loaded) return skip(loaded.error().message);
         Result<PlannedCage> created = PlannedCage::create(bench.cage, *database, options, name);

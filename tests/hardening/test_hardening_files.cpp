@@ -15,6 +15,7 @@
 #include <signal.h>
 #include <sys/mount.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -172,6 +173,50 @@ TEST(FileFaults, MissingOrNonDirectoryParent) {
     Status notDir = writeFileAtomically((dir / "file" / "scene.json").string(), "x");
     ASSERT_FALSE(notDir.ok());
     EXPECT_NE(notDir.error().message.find("Not a directory"), std::string::npos) << notDir.error().message;
+}
+
+// Reading: readFile and mapFile give a file's exact bytes (a large one, an empty one, a pipe,
+// whose size is not known up front), and name the file and the cause when there is none to read.
+TEST(FileFaults, ReadsGiveTheExactBytesOrAClearMessage) {
+    const fs::path dir = freshDir("reading");
+    std::string large(3'000'001, '\0');
+    std::mt19937 random(3);
+    for (char& c : large) c = char(random());
+    ASSERT_TRUE(writeFileAtomically((dir / "large").string(), large).ok());
+    ASSERT_TRUE(writeFileAtomically((dir / "empty").string(), "").ok());
+    for (const std::string name : {"large", "empty"}) {
+        const std::string expected = name == "large" ? large : std::string();
+        Result<std::string> read = readFile((dir / name).string());
+        ASSERT_TRUE(read.ok()) << read.error().message;
+        EXPECT_EQ(*read, expected) << name;
+        Result<MappedFile> mapped = mapFile((dir / name).string());
+        ASSERT_TRUE(mapped.ok()) << mapped.error().message;
+        EXPECT_EQ(mapped->bytes(), expected) << name;
+        MappedFile moved = std::move(mapped).value();  // the bytes move with it
+        EXPECT_EQ(moved.bytes(), expected) << name;
+    }
+
+    const fs::path pipe = dir / "pipe";
+    ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+    std::thread writer([&] {
+        std::ofstream out(pipe, std::ios::binary);
+        out.write(large.data(), std::streamsize(large.size()));
+    });
+    Result<MappedFile> fromPipe = mapFile(pipe.string());
+    writer.join();
+    ASSERT_TRUE(fromPipe.ok()) << fromPipe.error().message;
+    EXPECT_EQ(fromPipe->bytes(), large);
+
+    for (const fs::path& bad : {dir / "missing", dir}) {
+        Result<std::string> read = readFile(bad.string());
+        Result<MappedFile> mapped = mapFile(bad.string());
+        ASSERT_FALSE(read.ok());
+        ASSERT_FALSE(mapped.ok());
+        EXPECT_NE(read.error().message.find(bad.string()), std::string::npos) << read.error().message;
+        EXPECT_EQ(mapped.error().message, read.error().message);
+    }
+    EXPECT_NE(readFile((dir / "missing").string()).error().message.find("No such file or directory"), std::string::npos);
+    EXPECT_NE(readFile(dir.string()).error().message.find("is a directory"), std::string::npos);
 }
 
 // A directory the process may not write: chmod for a normal user; root ignores modes, so
