@@ -91,7 +91,7 @@ struct GatherScratch {
     std::vector<CornerInfo> corners;
     std::vector<uint32_t> added;
     std::vector<std::pair<uint64_t, float>> creases;
-    FaceConfig candidate;
+    FaceConfig best, candidate;
     // Quads whose orbits' order follows from connectivity: the hash of the key from corner 0 ->
     // the corner of the smallest key. A 64-bit collision would give a key from another corner:
     // a plan of that very configuration all the same, only not shared with its rotations.
@@ -204,12 +204,21 @@ FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t
         scratch.remembering = now;
     }
     gatherCorners(cage, topology, face, withCreases, scratch.corners);
-    FaceConfig best;
+    // Gathered into the thread's arrays, which keep their capacity from face to face, and
+    // returned in arrays of their exact size (growing fresh ones took several allocations a face).
+    FaceConfig& best = scratch.best;
+    auto result = [&](uint64_t hash) {
+        FaceConfig out;
+        out.ring = best.ring;
+        out.key = best.key;
+        out.hash = hash;
+        out.rotation = best.rotation;
+        return out;
+    };
     if (cage.faceSize(face) != 4) {
         gatherFromCorner(cage, face, subface, options, scratch, best);
         best.rotation = 0;
-        best.hash = hashKey(best.key);
-        return best;
+        return result(hashKey(best.key));
     }
     // A quad's key from corner 0 tells its keys from every corner when its orbits' order follows
     // from connectivity: then a quad seen before with that first key had its smallest key at the
@@ -221,13 +230,9 @@ FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t
                                      [](const CornerInfo& c) { return c.ordered; });
     if (ordered)
         if (auto seen = scratch.smallestFrom.find(firstHash); seen != scratch.smallestFrom.end()) {
-            if (seen->second == 0) {
-                best.hash = firstHash;
-                return best;
-            }
+            if (seen->second == 0) return result(firstHash);
             gatherFromCorner(cage, face, seen->second, options, scratch, best);
-            best.hash = hashKey(best.key);
-            return best;
+            return result(hashKey(best.key));
         }
     FaceConfig& candidate = scratch.candidate;
     for (uint32_t start = 1; start < 4; ++start) {
@@ -238,8 +243,7 @@ FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t
         if (scratch.smallestFrom.size() >= kMaxRememberedFirstKeys) scratch.smallestFrom.clear();
         scratch.smallestFrom.emplace(firstHash, uint8_t(best.rotation));
     }
-    best.hash = best.rotation == 0 ? firstHash : hashKey(best.key);
-    return best;
+    return result(best.rotation == 0 ? firstHash : hashKey(best.key));
 }
 
 }  // namespace qp
