@@ -99,7 +99,7 @@ struct GatherScratch {
     uint64_t remembering = 0;  // forgetRememberedCorners' count when smallestFrom began
 };
 std::atomic<uint64_t> forgottenCorners{0};
-// A thread's memory for smallestFrom: about 40 MB at most (a million-face cage remembers ~100,000).
+// A bound on smallestFrom, about 40 bytes an entry (a thread that reaches it starts over).
 constexpr size_t kMaxRememberedFirstKeys = size_t(1) << 20;
 
 // Key and ring for one choice of start corner.
