@@ -312,6 +312,8 @@ Status PlanDatabase::loadFromBytes(std::string_view bytes, const std::string& pa
 
     // Where each entry starts, from its array lengths alone; the entries are then read and
     // checked on every core (half of a million-face database's load), and inserted in order.
+    // The skips below and the reads after them follow the entry layout save() writes: change
+    // the three together (and kFileVersion).
     std::vector<size_t> entryAt;
     entryAt.reserve(std::min<size_t>(count, limit));
     for (uint32_t i = 0; i < count && in.ok; ++i) {

@@ -62,8 +62,8 @@ Result<PlannedCage> PlannedCage::create(Cage cage, PlanDatabase& database, const
     PlannedCage planned;
     planned.cage_ = std::move(cage);
     // Whether OpenSubdiv accepts the whole topology is asked beside the planning, on a thread of
-    // its own (a third of a second at a million faces, on one core, most of it while planning's
-    // serial steps leave a core free); its verdict comes first.
+    // its own (a third of a second on one core at a million faces; about 0.1 s of it is hidden in
+    // the planning's serial steps, the rest shares the cores); its verdict comes first.
     std::future<Status> accepted = std::async(std::launch::async, [&planned, &source]() -> Status {
         if (auto refiner = createRefiner(planned.cage_, source); !refiner) return refiner.error();
         return success();
