@@ -370,6 +370,7 @@ int runCompare(const CompareArgs& args) {
         view.background = kBackground;
         view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(*camera), tileHeight);
         view.cull = *parseCullMethod(args.cull);
+        view.sampleCulling = false;  // like with like: the frame times compare every scheme's whole draw
         for (uint32_t i = 0; i < names.size(); ++i) {
             SchemeComparison r;
             r.name = names[i];

@@ -170,6 +170,10 @@ struct DrawView {
     // sub-face drawn as several patches counts when all of them were culled): `quadplan
     // cull-stats` checks them against an ID buffer of the unculled frame.
     std::vector<uint32_t>* culledSubfacesOut = nullptr;
+    // A scheme that writes its triangles on the host may leave out those that cover no pixel
+    // centre of target.area (plans' CPU grid: render/sample_culling.h). The picture is the same;
+    // false draws every triangle (benchmarks compare the two).
+    bool sampleCulling = true;
     // The camera is moving (the editor's orbit, pan or zoom): a scheme whose factors follow the
     // view may keep those it chose for an earlier view, drawing them under this view's matrix
     // (progressive refinement: a cheaper frame now, full quality in the first frame without it).
@@ -197,6 +201,9 @@ inline const char* drawnByName(DrawnBy by) {
 struct DrawStats {
     uint64_t patches = 0;    // primitives through the tessellator, or patches drawn as grids
     uint64_t triangles = 0;  // 0 when unknown (screen-adaptive tessellation)
+    // Of `triangles`, those the draw left out because they cover no pixel centre (plans' CPU
+    // grid, render/sample_culling.h): the density is `triangles`, the rasteriser saw the rest.
+    uint64_t sampleCulledTriangles = 0;
     DrawnBy drawnBy = DrawnBy::Unknown;
     // DrawView::cull: what the tests culled (patches and triangles above leave the culled ones
     // out) and the CPU time they took this frame (bounds built after an update included).

@@ -87,7 +87,9 @@ Status installGridLayout(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& 
         {&buffers.gridSource, buffers.data.hostEvaluation ? 0 : layout.source.size() * sizeof(uint32_t), storage},
         {&buffers.slotSubface, layout.slotSubface.size() * sizeof(uint32_t), storage},
         {&buffers.subfaceGrid, subfaceGrid.size() * sizeof(glm::uvec2), storage},
-        {&buffers.gridIndices, layout.indices.size() * sizeof(uint32_t), VkBufferUsageFlags(VK_BUFFER_USAGE_INDEX_BUFFER_BIT)}};
+        {&buffers.gridIndices, layout.indices.size() * sizeof(uint32_t), VkBufferUsageFlags(VK_BUFFER_USAGE_INDEX_BUFFER_BIT)},
+        {&buffers.gridCulledIndices, buffers.data.hostEvaluation ? layout.indices.size() * sizeof(uint32_t) : 0,
+         VkBufferUsageFlags(VK_BUFFER_USAGE_INDEX_BUFFER_BIT)}};
     for (auto [buffer, bytes, usage] : sizes)
         if (Status s = ensureCapacity(ctx, *buffer, bytes, usage); !s) return s;
     if (!buffers.data.hostEvaluation) uploadVector(buffers.gridSource, layout.source);
@@ -95,6 +97,7 @@ Status installGridLayout(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& 
     uploadVector(buffers.subfaceGrid, subfaceGrid);
     uploadVector(buffers.gridIndices, layout.indices);
     buffers.gridLayout = std::move(layout);
+    invalidateSampleCulling(buffers.sampleCulling);
     return bindPlanBuffers(ctx, pass, buffers);
 }
 
@@ -103,7 +106,11 @@ Status installGridIndices(const VulkanContext& ctx, PlanPass& pass, PlanBuffers&
     const VkBuffer before = buffers.gridIndices.buffer;
     if (Status s = ensureCapacity(ctx, buffers.gridIndices, indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT); !s)
         return s;
+    if (buffers.data.hostEvaluation)
+        if (Status s = ensureCapacity(ctx, buffers.gridCulledIndices, indices.size() * sizeof(uint32_t), VK_BUFFER_USAGE_INDEX_BUFFER_BIT); !s)
+            return s;
     uploadVector(buffers.gridIndices, indices);
+    invalidateSampleCulling(buffers.sampleCulling);
     return buffers.gridIndices.buffer == before ? success() : bindPlanBuffers(ctx, pass, buffers);
 }
 
@@ -135,42 +142,48 @@ void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers) {
                            buffers.displacement, buffers.displacement ? &buffers.gridFrames : nullptr);
     buffers.gridEvaluator = GridEvaluator::Cpu;
     buffers.pendingGridSubfaces.clear();
+    invalidateSampleCulling(buffers.sampleCulling);
 }
 
 namespace {
 
-// Indexed GridVertex triangles into `target` (cleared), shaded as the view asks.
-// `ranges`: (first index, count) pairs to draw; one covering every index when empty.
-void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices, uint32_t indexCount,
-                     const RenderTarget& target, const PlanView& view,
-                     std::span<const std::pair<uint32_t, uint32_t>> ranges = {}) {
+// Index ranges (first, count) of one indexed draw; every index of the buffer when `ranges` is empty.
+struct TriangleDraw {
+    VkBuffer indices = VK_NULL_HANDLE;
+    uint32_t indexCount = 0;
+    std::span<const std::pair<uint32_t, uint32_t>> ranges;
+};
+
+// Indexed GridVertex triangles into `target` (cleared), shaded as the view asks: the surface
+// from `surface`, the wireframe over it (when the view asks for one) from `wire`.
+void recordTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, const TriangleDraw& surface,
+                     const TriangleDraw& wire, const RenderTarget& target, const PlanView& view) {
     assert(pass.colorFormat == target.colorFormat && pass.depthFormat == target.depthFormat);
     beginRendering(cmd, target, view.clear, view.background);
     PlanDrawPush push = planDrawPush(view, nullptr);
     push.capture = 0;
-    const VkPipeline surface = view.colorBy == ColorBy::Shading ? pass.gridTriangles : pass.gridColored;
-    for (VkPipeline pipeline : {surface, view.wireframe ? pass.gridWire : VkPipeline(VK_NULL_HANDLE)}) {
-        if (!pipeline || indexCount == 0) continue;
+    const VkPipeline surfacePipeline = view.colorBy == ColorBy::Shading ? pass.gridTriangles : pass.gridColored;
+    for (VkPipeline pipeline : {surfacePipeline, view.wireframe ? pass.gridWire : VkPipeline(VK_NULL_HANDLE)}) {
+        const TriangleDraw& draw = pipeline == surfacePipeline ? surface : wire;
+        if (!pipeline || draw.indexCount == 0) continue;
         vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipeline);
         vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pass.drawLayout, 0, 1, &pass.set, 0, nullptr);
-        vkCmdBindIndexBuffer(cmd, indices, 0, VK_INDEX_TYPE_UINT32);
+        vkCmdBindIndexBuffer(cmd, draw.indices, 0, VK_INDEX_TYPE_UINT32);
         const VkDeviceSize offset = 0;
         vkCmdBindVertexBuffers(cmd, 0, 1, &vertices, &offset);
         PlanDrawPush p = push;
         if (pipeline == pass.gridWire) p.colorMode = 0xffffffffu;
         vkCmdPushConstants(cmd, pass.drawLayout, kPlanDrawStages, 0, sizeof(p), &p);
-        if (ranges.empty()) vkCmdDrawIndexed(cmd, indexCount, 1, 0, 0, 0);
-        for (const auto& [first, count] : ranges)
+        if (draw.ranges.empty()) vkCmdDrawIndexed(cmd, draw.indexCount, 1, 0, 0, 0);
+        for (const auto& [first, count] : draw.ranges)
             if (count) vkCmdDrawIndexed(cmd, count, 1, first, 0, 0);
     }
     vkCmdEndRendering(cmd);
 }
 
-}  // namespace
-
-void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
-                    const PlanView& view) {
-    assert(buffers.gridEvaluator != GridEvaluator::None && "fill the grid first");
+// The ranges (first index, count) of the layout's indices a draw of `view` covers: empty for
+// every index, {0, 0} for none.
+std::vector<std::pair<uint32_t, uint32_t>> drawnIndexRanges(const PlanBuffers& buffers, const PlanView& view) {
     std::vector<std::pair<uint32_t, uint32_t>> ranges;
     if (!view.hiddenDrawn.empty() || !view.culledDrawn.empty() || !buffers.holeDrawn.empty()) {
         const std::vector<uint32_t>& indexOffset = buffers.gridLayout.indexOffset;
@@ -178,15 +191,28 @@ void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers
             ranges.push_back({indexOffset[run.begin], indexOffset[run.end] - indexOffset[run.begin]});
         if (ranges.empty()) ranges.push_back({0, 0});  // everything hidden
     }
-    recordTriangles(cmd, pass, buffers.grid.buffer, buffers.gridIndices.buffer, uint32_t(buffers.gridLayout.indices.size()),
-                    target, view, ranges);
+    return ranges;
+}
+
+TriangleDraw wholeGrid(const PlanBuffers& buffers, std::span<const std::pair<uint32_t, uint32_t>> ranges) {
+    return {buffers.gridIndices.buffer, uint32_t(buffers.gridLayout.indices.size()), ranges};
+}
+
+}  // namespace
+
+void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
+                    const PlanView& view) {
+    assert(buffers.gridEvaluator != GridEvaluator::None && "fill the grid first");
+    const std::vector<std::pair<uint32_t, uint32_t>> ranges = drawnIndexRanges(buffers, view);
+    recordTriangles(cmd, pass, buffers.grid.buffer, wholeGrid(buffers, ranges), wholeGrid(buffers, ranges), target, view);
 }
 
 void recordShadedTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer vertices, VkBuffer indices,
                            uint32_t indexCount, const RenderTarget& target, const PlanView& view) {
     PlanView shaded = view;
     shaded.colorBy = ColorBy::Shading;
-    recordTriangles(cmd, pass, vertices, indices, indexCount, target, shaded);
+    const TriangleDraw all{indices, indexCount, {}};
+    recordTriangles(cmd, pass, vertices, all, all, target, shaded);
 }
 
 
@@ -252,6 +278,8 @@ GridRefresh recordGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuf
         evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, touched, copying,
                           static_cast<GridVertex*>(buffers.grid.data), buffers.displacement,
                           buffers.displacement ? &buffers.gridFrames : nullptr);
+        markSlotsChanged(buffers.sampleCulling, buffers.gridLayout, touched);
+        markSlotsChanged(buffers.sampleCulling, buffers.gridLayout, copying);
     }
     if (buffers.gridEvaluator != GridEvaluator::None) {
         update.evaluatedSubfaces = touchedCount;
@@ -266,7 +294,21 @@ void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
                 const PlanView& view) {
     if (buffers.gridEvaluator == GridEvaluator::None) recordGridEvaluation(cmd, pass, buffers);
     else recordPendingGridRefresh(cmd, pass, buffers);
-    recordGridDraw(cmd, pass, buffers, target, view);
+    const std::vector<std::pair<uint32_t, uint32_t>> ranges = drawnIndexRanges(buffers, view);
+    const TriangleDraw whole = wholeGrid(buffers, ranges);
+    SampleCulling& culling = buffers.sampleCulling;
+    const size_t indexBytes = buffers.gridLayout.indices.size() * sizeof(uint32_t);
+    culling.inUse = view.sampleCulling && buffers.gridEvaluator == GridEvaluator::Cpu && indexBytes > 0 &&
+                    buffers.gridCulledIndices.size >= indexBytes && buffers.gridCulledIndices.data;
+    if (!culling.inUse) return recordTriangles(cmd, pass, buffers.grid.buffer, whole, whole, target, view);
+    const SampleView sampleView{view.viewProjection, target.area.offset.x, target.area.offset.y, target.area.extent.width,
+                                target.area.extent.height};
+    std::vector<std::pair<uint32_t, uint32_t>> draws =
+        updateSampleCulling(culling, buffers.gridLayout, static_cast<const GridVertex*>(buffers.grid.data), sampleView, ranges,
+                            static_cast<uint32_t*>(buffers.gridCulledIndices.data));
+    if (draws.empty()) draws.push_back({0, 0});  // nothing covers a pixel centre
+    const TriangleDraw kept{buffers.gridCulledIndices.buffer, uint32_t(buffers.gridLayout.indices.size()), draws};
+    recordTriangles(cmd, pass, buffers.grid.buffer, kept, whole, target, view);
 }
 
 void recordPendingGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers) {
@@ -370,6 +412,8 @@ DisplacementUpdate recordDisplacementChange(VkCommandBuffer cmd, const PlanPass&
         const std::vector<uint32_t> copying = withDependents(buffers.gridLayout, touched);
         update.displacedSlots = redisplaceGridOnCpu(buffers.data, buffers.gridLayout, touched, copying, *buffers.displacement,
                                                     changed, buffers.gridFrames, static_cast<GridVertex*>(buffers.grid.data));
+        markSlotsChanged(buffers.sampleCulling, buffers.gridLayout, touched);
+        markSlotsChanged(buffers.sampleCulling, buffers.gridLayout, copying);
         update.evaluatedSubfaces = uint32_t(touched.size());
         update.copiedSubfaces = uint32_t(copying.size());
         return update;

@@ -156,6 +156,7 @@ Result<PlanBuffers> uploadPlans(const VulkanContext& ctx, const PlannedCage& pla
         {b.gridSource, createFilled(ctx, placeholder)},
         {b.slotSubface, createFilled(ctx, placeholder)},
         {b.gridIndices, createFilled(ctx, placeholder, VK_BUFFER_USAGE_INDEX_BUFFER_BIT)},
+        {b.gridCulledIndices, createFilled(ctx, placeholder, VK_BUFFER_USAGE_INDEX_BUFFER_BIT)},
         // A partial update of the device's evaluation lists its sub-faces twice at most (phase 1,
         // then phase 2).
         {b.updateList, createFilled(ctx, std::vector<uint32_t>(hostEvaluation ? 4 : 2 * d.subfaces.size() + 4),
@@ -198,7 +199,7 @@ void updatePositions(PlanBuffers& buffers, const PlannedCage& planned) {
 void destroyPlanBuffers(const VulkanContext& ctx, PlanBuffers& b) {
     for (Buffer* buffer : {&b.planHeaders, &b.nodes, &b.points, &b.weights, &b.subfaces, &b.rings, &b.positions,
                            &b.controlPoints, &b.boundaries, &b.segments, &b.boundaryPoints, &b.pointPositions, &b.capture,
-                           &b.subfaceGrid, &b.grid, &b.gridSource, &b.slotSubface, &b.gridIndices, &b.updateList,
+                           &b.subfaceGrid, &b.grid, &b.gridSource, &b.slotSubface, &b.gridIndices, &b.gridCulledIndices, &b.updateList,
                            &b.displacementTiles, &b.displacementPadded, &b.displacementSamples, &b.addresses})
         destroyBuffer(ctx, *buffer);
     b = PlanBuffers{};

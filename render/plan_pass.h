@@ -30,6 +30,7 @@
 #include "displacement/displacement_users.h"
 #include "gpu_plans.h"
 #include "grid_layout.h"
+#include "sample_culling.h"
 #include "render_target.h"
 #include "scene/shading.h"
 #include "vk_buffer.h"
@@ -83,6 +84,10 @@ struct PlanBuffers {
     GridLayout gridLayout;
     Buffer subfaceGrid;             // per drawn sub-face: grid factor n, first slot
     Buffer grid, gridSource, slotSubface, gridIndices;
+    // The CPU grid's triangles that may cover a pixel centre, chunk by chunk (sample_culling.h;
+    // with hostEvaluation only, else a placeholder), and what they were chosen for.
+    Buffer gridCulledIndices;
+    SampleCulling sampleCulling;
     Buffer updateList;              // drawn sub-faces of partial updates (written by commands)
 
     uint32_t controlPointLevel = kNoControlPoints;  // the control points serve factors <= 2^level
@@ -195,6 +200,9 @@ struct PlanView {
     ColorBy colorBy = ColorBy::Shading;
     Shading shading = Shading::Studio;
     bool wireframe = false;            // tessellation wireframe over the shaded surface
+    // The CPU grid path leaves out the triangles that cover no pixel centre (sample_culling.h);
+    // the picture is the same either way.
+    bool sampleCulling = true;
     bool capture = false;              // tessellated path: record every evaluated vertex
     bool clear = true;                 // false: draw over what target.area holds (later objects of a scene)
     // The studio lights (plan_lighting.glsl), unit vectors toward them in the cage's coordinates:

@@ -114,6 +114,12 @@ void statsSection(EditorApp& app) {
         const ViewportCounts counts = i < app.stats.viewportCounts.size() ? app.stats.viewportCounts[i] : ViewportCounts{};
         ImGui::Text("View %zu %s: %llu triangles, %llu patches", i + 1, app.viewports[i].scheme.c_str(),
                     (unsigned long long)counts.triangles, (unsigned long long)counts.patches);
+        if (counts.sampleCulled) {
+            ImGui::TextDisabled("  %llu of them cover no pixel centre: left out", (unsigned long long)counts.sampleCulled);
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("The CPU grid leaves out triangles that cannot make a pixel: the picture is the same,\n"
+                                  "the rasteriser does less (docs/renderer.md, sample culling).");
+        }
         if (app.viewports[i].cull != CullMethod::None) {
             const CullCounts& c = counts.cull;
             ImGui::Text("  culled %llu of %llu: %llu off view, %llu facing away",

@@ -693,6 +693,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
 void addCullStats(ViewportCounts& counts, const DrawStats& drawn) {
     counts.cull += drawn.cull;
     counts.cullMilliseconds += drawn.cullMilliseconds;
+    counts.sampleCulled += drawn.sampleCulledTriangles;
 }
 
 std::vector<ViewportCounts> readViewportCounts(const VulkanContext& ctx, const SceneRenderer& r, uint32_t slot) {
@@ -705,10 +706,14 @@ std::vector<ViewportCounts> readViewportCounts(const VulkanContext& ctx, const S
         if (r.recordedSurface[slot][i] &&
             vkGetQueryPoolResults(ctx.device, r.statistics[slot], i, 1, sizeof values, values, sizeof values,
                                   VK_QUERY_RESULT_64_BIT) == VK_SUCCESS) {
-            c.triangles = values[1] / passes;
+            // The device counts what reached it: the surface without the triangles sample culling
+            // left out, the wireframe (drawn from every triangle) with them.
+            const uint64_t left = r.recordedCull[slot][i].sampleCulled;
+            c.triangles = (values[1] - std::min(values[1], (passes - 1) * left)) / passes + left;
             c.patches = r.recordedPatches[slot][i];
             c.cull = r.recordedCull[slot][i].cull;
             c.cullMilliseconds = r.recordedCull[slot][i].cullMilliseconds;
+            c.sampleCulled = left;
         }
         counts.push_back(c);
     }

@@ -156,9 +156,10 @@ struct ViewportCounts {
     uint64_t triangles = 0, patches = 0;
     CullCounts cull;              // every object the viewport drew (DrawStats::cull)
     double cullMilliseconds = 0.0;
+    uint64_t sampleCulled = 0;    // of `triangles`: covering no pixel centre, left out (DrawStats::sampleCulledTriangles)
 };
 
-// Adds a draw's culling (DrawStats::cull, cullMilliseconds) to a viewport's.
+// Adds a draw's culling (DrawStats::cull, cullMilliseconds, sampleCulledTriangles) to a viewport's.
 void addCullStats(ViewportCounts& counts, const DrawStats& drawn);
 
 struct SceneRenderer {

@@ -95,6 +95,7 @@ void benchFas(const BenchCage& bench, const BenchArgs& args, Report& report) {
     view.viewProjection = viewProjection(camera);
     view.eye = camera.eye;
     view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kRenderSize);
+    view.sampleCulling = false;  // like with like: osd-fas draws every triangle too
     const CageFeatures features = analyzeCage(planned.cage(), planned.topology());
     const GpuContext gpu{&ctx, VK_NULL_HANDLE, format, VK_FORMAT_D32_SFLOAT};
 

@@ -6,8 +6,10 @@
 //   (c) first frame: the plans scheme prepared (build, GPU buffers, first update) and its first
 //       frame drawn with screen-adaptive factors (4 px a segment) on its default path;
 //   (d) a full-view frame: the camera turned by 5 degrees, then record + submit + wait;
+//       its second baseline the same with every triangle drawn (no sample culling, alternated);
 //   (e) peak resident memory of the process after planning and the first frame;
-//   (f) dragging one vertex: moveVertices + the scheme's updateMoved + the next frame;
+//   (f) dragging one vertex: moveVertices + the scheme's updateMoved + the next frame (second
+//       baseline as for (d));
 //   (g) a crease: setEdgeSharpness on an interior edge (alternately 2 and 0) + the scheme's
 //       updatePlans + the next frame;
 //   (h) the limit-surface picker built (what the editor's first visible-only pick pays);
@@ -169,7 +171,12 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
     const RenderTarget rt = renderTarget(device->target);
     const Bounds bounds = computeBounds(bench.cage);
     RenderCamera camera = frameBounds(bounds.min, bounds.max, float(kWidth) / float(kHeight));
-    auto viewOf = [&](const RenderCamera& c) { return headlessView(c, kHeight, "shading", false); };
+    // Sample culling (render/sample_culling.h) on, or off for the rows' second baseline.
+    auto viewOf = [&](const RenderCamera& c, bool sampleCulling = true) {
+        DrawView view = headlessView(c, kHeight, "shading", false);
+        view.sampleCulling = sampleCulling;
+        return view;
+    };
     SchemeSettings settings;
     settings.adaptivePixels = kPixelsPerSegment;
     const GpuContext gpu = gpuContextOf(*device);
@@ -196,15 +203,21 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
         c.ours = firstMs, c.target = Target::Informative;  // the issue sets no target for it
         report.rows.push_back(c);
 
-        std::vector<double> frameMs;
-        for (uint32_t r = 0; r < frameRounds && failure.empty(); ++r) {
+        // Rounds alternate sample culling on (ours) and off (the second baseline).
+        std::vector<double> frameMs, unculledFrameMs;
+        uint64_t sampleCulled = 0;
+        for (uint32_t r = 0; r < 2 * frameRounds && failure.empty(); ++r) {
             camera = turned(camera, glm::radians(5.0f));
             start = Clock::now();
-            if (frame(prepared->instance, viewOf(camera))) frameMs.push_back(msSince(start));
+            if (frame(prepared->instance, viewOf(camera, r % 2 == 0))) (r % 2 ? unculledFrameMs : frameMs).push_back(msSince(start));
+            if (r % 2 == 0) sampleCulled = drawn.sampleCulledTriangles;
         }
         Row d = row("(d) full-view frame, the camera turned 5 degrees: record + submit + wait (" +
-                        std::to_string(drawn.triangles) + " triangles)", "ms", frameRounds, 500.0);
+                        std::to_string(drawn.triangles) + " triangles, " + std::to_string(sampleCulled) +
+                        " of them covering no pixel centre and left out; 2nd baseline: all drawn)",
+                    "ms", frameRounds, 500.0);
         d.ours = frameMs.empty() ? NAN : median(frameMs);
+        d.baseline2 = unculledFrameMs.empty() ? NAN : median(unculledFrameMs);
         report.rows.push_back(d);
         Row e = row("(e) peak resident memory after planning (cold and warm) and the first frames", "MiB", 1, 2560.0);
         e.ours = peakResidentMiB();
@@ -213,18 +226,22 @@ void benchScale(const BenchCage& bench, const BenchArgs& args, Report& report) {
         // (f) one vertex near the middle of the list, moved back and forth by 1% of the diagonal.
         const uint32_t vertex = bench.cage.vertexCount() / 2;
         const glm::vec3 home = planned->cage().positions[vertex];
-        const DrawView view = viewOf(camera);
-        std::vector<double> dragMs;
-        for (uint32_t r = 0; r < frameRounds && failure.empty(); ++r) {
+        const DrawView view = viewOf(camera), unculledView = viewOf(camera, false);
+        std::vector<double> dragMs, unculledDragMs;
+        for (uint32_t r = 0; r < 2 * frameRounds && failure.empty(); ++r) {
             const glm::vec3 moved = home + (r % 2 ? 0.0f : 0.01f * bounds.diagonal()) * glm::vec3(0.0f, 1.0f, 0.0f);
+            const bool culled = r % 4 < 2;  // each setting moves the vertex there and back
             start = Clock::now();
             Result<EditReport> edit = planned->moveVertices(std::span(&vertex, 1), std::span(&moved, 1));
             Status ok = edit ? prepared->instance.updateMoved(std::span(&vertex, 1)) : Status(edit.error());
             if (!ok) failure = ok.error().message;
-            else if (frame(prepared->instance, view)) dragMs.push_back(msSince(start));
+            else if (frame(prepared->instance, culled ? view : unculledView))
+                (culled ? dragMs : unculledDragMs).push_back(msSince(start));
         }
-        Row f = row("(f) drag one vertex: moveVertices + updateMoved + the next frame", "ms", frameRounds, 100.0);
+        Row f = row("(f) drag one vertex: moveVertices + updateMoved + the next frame (2nd baseline: every triangle drawn)",
+                    "ms", frameRounds, 100.0);
         f.ours = dragMs.empty() ? NAN : median(dragMs);
+        f.baseline2 = unculledDragMs.empty() ? NAN : median(unculledDragMs);
         report.rows.push_back(f);
 
         // (g) a crease on and off an interior edge.

@@ -68,6 +68,7 @@ void benchSchemes(const BenchCage& bench, const BenchArgs& args, Report& report)
         drawView.viewProjection = view.viewProjection;
         drawView.eye = camera.eye;
         drawView.pixelsPerUnit = view.pixelsPerUnit;
+        drawView.sampleCulling = false;  // like with like: every scheme's triangles reach the rasteriser
         const RenderTarget rt = renderTarget(target);
 
         for (uint32_t factor : args.factorsOr({1, 2, 4, 8, 16})) {

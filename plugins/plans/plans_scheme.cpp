@@ -63,7 +63,7 @@ public:
         SupportReport report;
         for (const auto& [key, value] : settings.options)
             if (key != "path" && key != "displacement-pixels" && key != "macro" && key != "minify" &&
-                key != "macro-whole")
+                key != "macro-whole" && key != "sample-culling")
                 report.approximations.push_back("plans ignores the unknown option '" + key + "'");
         return report;
     }
@@ -98,6 +98,12 @@ public:
         if (const std::string* whole = settings.option("macro-whole")) {
             if (*whole != "on" && *whole != "off") return Error{"plans: --option macro-whole=" + *whole + ": use on or off"};
             wholeMacroFaces_ = *whole == "on";
+        }
+        sampleCulling_ = true;
+        if (const std::string* culling = settings.option("sample-culling")) {
+            if (*culling != "on" && *culling != "off")
+                return Error{"plans: --option sample-culling=" + *culling + ": use on or off"};
+            sampleCulling_ = *culling == "on";
         }
         cullBounds_.reset();
         displacementPixels_ = 0.0f;
@@ -232,6 +238,9 @@ public:
         planView.pixelsPerUnit = view.pixelsPerUnit;
         planView.background = view.background;
         planView.wireframe = view.wireframe;
+        // A later draw of the same frame (another instance of the cage) must not rewrite the culled
+        // triangles an earlier draw of the command buffer reads: it draws every triangle.
+        planView.sampleCulling = sampleCulling_ && view.sampleCulling && !view.sameFrame;
         planView.clear = view.clear;
         // Lights fixed in the world: toward them in the cage's coordinates (normals go by the
         // inverse transpose, so dot(n, l) keeps its sign and, for rotations and uniform scales, its value).
@@ -299,6 +308,7 @@ public:
             const std::vector<uint32_t>& indexOffset = buffers_.gridLayout.indexOffset;
             for (const DrawnRun& run : drawnRuns(buffers_, skipped))
                 stats.triangles += (indexOffset[run.end] - indexOffset[run.begin]) / 3;
+            if (buffers_.sampleCulling.inUse) stats.sampleCulledTriangles = stats.triangles - buffers_.sampleCulling.keptTriangles;
         } else if (tessellation.uniformFactor > 0) {  // the tessellator's count at a uniform factor
             const std::vector<uint32_t> factors = uniformGridFactors(buffers_.data, tessellation.uniformFactor).subfaceFactor;
             for (uint32_t n : factors) stats.triangles += 2ull * n * n;
@@ -325,7 +335,7 @@ public:
                                     &buffers_.subfaces, &buffers_.rings, &buffers_.positions, &buffers_.controlPoints,
                                     &buffers_.boundaries, &buffers_.segments, &buffers_.boundaryPoints,
                                     &buffers_.pointPositions, &buffers_.subfaceGrid, &buffers_.grid,
-                                    &buffers_.gridSource, &buffers_.slotSubface, &buffers_.gridIndices,
+                                    &buffers_.gridSource, &buffers_.slotSubface, &buffers_.gridIndices, &buffers_.gridCulledIndices,
                                     &buffers_.displacementTiles, &buffers_.displacementPadded,
                                     &buffers_.displacementSamples})
                 stats.gpuBytes += b->size;
@@ -413,6 +423,7 @@ private:
     MacroChoice macroChoice_ = MacroChoice::Auto;  // --option macro=
     uint32_t minify_ = 1;                          // --option minify=
     bool wholeMacroFaces_ = false;                 // --option macro-whole=
+    bool sampleCulling_ = true;                    // --option sample-culling=
     float displacementPixels_ = 0.0f;  // grid paths: displaced tiles no finer than this on screen (0: off)
     DrawPath requestedPath_ = DrawPath::Auto, path_ = DrawPath::Grid;
     const Displacement* displacement_ = nullptr;

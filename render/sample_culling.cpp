@@ -1,0 +1,169 @@
+#include "sample_culling.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cassert>
+#include <cmath>
+#include <cstring>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace qp {
+
+namespace {
+
+// A vertex in framebuffer pixels, or unsure (the clipper's business: behind the eye, outside
+// the depth range, not finite, or so far out that float pixels lose the margin).
+struct Pixel {
+    float x, y;
+    bool sure;
+};
+
+constexpr float kFarOut = 1e6f;  // pixels from the viewport's origin
+
+Pixel project(const glm::vec3& p, const SampleView& view) {
+    const glm::vec4 c = view.viewProjection * glm::vec4(p, 1.0f);
+    // Negated so that NaN is unsure too.
+    if (!(c.w > 0.0f && c.z >= 0.0f && c.z <= c.w)) return {0.0f, 0.0f, false};
+    const float x = float(view.x) + (c.x / c.w + 1.0f) * 0.5f * float(view.width);
+    const float y = float(view.y) + (c.y / c.w + 1.0f) * 0.5f * float(view.height);
+    if (!(std::abs(x) < kFarOut && std::abs(y) < kFarOut)) return {0.0f, 0.0f, false};
+    return {x, y, true};
+}
+
+// At most this many pixel centres near a triangle are tested one by one; a larger one is kept.
+constexpr int kMostCentres = 16;
+
+bool mayCover(const Pixel& a, const Pixel& b, const Pixel& c, const SampleView& view) {
+    if (!a.sure || !b.sure || !c.sure) return true;
+    // Pixel centres (i + 0.5, j + 0.5) within the margin of the triangle's bounds, in the viewport.
+    const float m = kSampleMargin;
+    const int i0 = std::max(int(std::ceil(std::min({a.x, b.x, c.x}) - m - 0.5f)), view.x);
+    const int i1 = std::min(int(std::floor(std::max({a.x, b.x, c.x}) + m - 0.5f)), view.x + int(view.width) - 1);
+    const int j0 = std::max(int(std::ceil(std::min({a.y, b.y, c.y}) - m - 0.5f)), view.y);
+    const int j1 = std::min(int(std::floor(std::max({a.y, b.y, c.y}) + m - 0.5f)), view.y + int(view.height) - 1);
+    if (i0 > i1 || j0 > j1) return false;
+    if ((i1 - i0 + 1) * (j1 - j0 + 1) > kMostCentres) return true;
+    const float area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    if (!(std::abs(area) >= kTinyArea)) return true;
+    const float sign = area > 0.0f ? 1.0f : -1.0f;
+    // Inside an edge p -> q, or within the margin outside it (signed distance >= -m).
+    auto inside = [&](const Pixel& p, const Pixel& q, float x, float y) {
+        const float ex = q.x - p.x, ey = q.y - p.y;
+        return sign * (ex * (y - p.y) - ey * (x - p.x)) >= -m * std::sqrt(ex * ex + ey * ey);
+    };
+    for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) {
+            const float x = float(i) + 0.5f, y = float(j) + 0.5f;
+            if (inside(a, b, x, y) && inside(b, c, x, y) && inside(c, a, x, y)) return true;
+        }
+    return false;
+}
+
+glm::vec3 positionOf(const GridVertex& v) { return {v.position[0], v.position[1], v.position[2]}; }
+
+bool samePosition(const GridVertex& a, const GridVertex& b) {
+    return std::memcmp(a.position, b.position, sizeof a.position) == 0;
+}
+
+}  // namespace
+
+bool mayCoverPixelCentre(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const SampleView& view) {
+    if (a == b || b == c || c == a) return false;
+    return mayCover(project(a, view), project(b, view), project(c, view), view);
+}
+
+void markSlotsChanged(SampleCulling& culling, const GridLayout& layout, std::span<const uint32_t> drawn) {
+    if (!culling.valid) return;
+    for (uint32_t d : drawn) {
+        const uint32_t first = layout.subfaceOffset[d], end = layout.subfaceOffset[d + 1];
+        if (!culling.changedSlots.empty() && culling.changedSlots.back().second == first) culling.changedSlots.back().second = end;
+        else culling.changedSlots.push_back({first, end});
+    }
+}
+
+std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& culling, const GridLayout& layout,
+                                                               const GridVertex* vertices, const SampleView& view,
+                                                               std::span<const std::pair<uint32_t, uint32_t>> drawnRanges,
+                                                               uint32_t* culledIndices) {
+    const std::vector<uint32_t>& indices = layout.indices;
+    const uint32_t triangles = uint32_t(indices.size() / 3);
+    const uint32_t chunkTriangles = culling.chunkTriangles;
+    assert(chunkTriangles > 0);
+    const uint32_t chunks = (triangles + chunkTriangles - 1) / chunkTriangles;
+    const bool everything = !culling.valid || !(culling.view == view) || culling.chunkKept.size() != chunks ||
+                            !std::equal(drawnRanges.begin(), drawnRanges.end(), culling.drawnRanges.begin(),
+                                        culling.drawnRanges.end());
+    std::vector<uint32_t> dirty;
+    if (everything) {
+        culling.chunkKept.assign(chunks, 0);
+        culling.chunkSlotMin.assign(chunks, 0);
+        culling.chunkSlotMax.assign(chunks, 0);
+        culling.drawnRanges.assign(drawnRanges.begin(), drawnRanges.end());
+        culling.view = view;
+        dirty.resize(chunks);
+        for (uint32_t c = 0; c < chunks; ++c) dirty[c] = c;
+    } else {
+        for (uint32_t c = 0; c < chunks; ++c)
+            for (const auto& [first, end] : culling.changedSlots)
+                if (first <= culling.chunkSlotMax[c] && culling.chunkSlotMin[c] < end) {
+                    dirty.push_back(c);
+                    break;
+                }
+    }
+    culling.changedSlots.clear();
+    culling.valid = true;
+
+    // Triangle ranges drawn: [first, end) in triangles, sorted.
+    std::vector<std::pair<uint32_t, uint32_t>> drawn;
+    if (drawnRanges.empty()) drawn.push_back({0, triangles});
+    for (const auto& [first, count] : drawnRanges)
+        if (count) drawn.push_back({first / 3, (first + count) / 3});
+
+    std::atomic<uint64_t> tested{0};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, dirty.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t k = range.begin(); k < range.end(); ++k) {
+            const uint32_t c = dirty[k];
+            const uint32_t begin = c * chunkTriangles, end = std::min(begin + chunkTriangles, triangles);
+            if (everything) {
+                const auto [low, high] = std::minmax_element(indices.begin() + 3 * size_t(begin), indices.begin() + 3 * size_t(end));
+                culling.chunkSlotMin[c] = *low;
+                culling.chunkSlotMax[c] = *high;
+            }
+            uint32_t* out = culledIndices + 3 * size_t(begin);
+            uint32_t kept = 0, seen = 0;
+            auto run = std::lower_bound(drawn.begin(), drawn.end(), begin,
+                                        [](const std::pair<uint32_t, uint32_t>& r, uint32_t t) { return r.second <= t; });
+            for (; run != drawn.end() && run->first < end; ++run) {
+                const uint32_t from = std::max(run->first, begin), to = std::min(run->second, end);
+                seen += to - from;
+                for (uint32_t t = from; t < to; ++t) {
+                    const uint32_t* tri = indices.data() + 3 * size_t(t);
+                    const GridVertex &a = vertices[tri[0]], &b = vertices[tri[1]], &c3 = vertices[tri[2]];
+                    if (samePosition(a, b) || samePosition(b, c3) || samePosition(c3, a)) continue;
+                    if (!mayCover(project(positionOf(a), view), project(positionOf(b), view), project(positionOf(c3), view), view))
+                        continue;
+                    std::memcpy(out + 3 * size_t(kept++), tri, 3 * sizeof(uint32_t));
+                }
+            }
+            culling.chunkKept[c] = kept;
+            tested += seen;
+        }
+    });
+    culling.testedTriangles = tested;
+
+    std::vector<std::pair<uint32_t, uint32_t>> draws;
+    culling.keptTriangles = 0;
+    for (uint32_t c = 0; c < chunks; ++c) {
+        const uint32_t kept = culling.chunkKept[c];
+        culling.keptTriangles += kept;
+        if (!kept) continue;
+        const uint32_t first = 3 * c * chunkTriangles;
+        if (!draws.empty() && draws.back().first + draws.back().second == first) draws.back().second += 3 * kept;
+        else draws.push_back({first, 3 * kept});
+    }
+    return draws;
+}
+
+}  // namespace qp

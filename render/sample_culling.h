@@ -1,0 +1,88 @@
+// Sample culling: the CPU grid's triangles (DrawPath::CpuGrid) that cover no pixel centre of the
+// viewport are left out of the draw.
+//
+// Why. A triangle that covers no sample makes no fragment, so leaving it out changes no pixel,
+// but lavapipe pays for it all the same: its vertex shading, clipping and triangle setup run on
+// one thread before the rasteriser finds it empty. Seen whole, a million-face cage at 4 px a
+// segment draws 1.67 M triangles into 800 x 600 pixels and about 85% of them cover no pixel
+// centre (docs/renderer.md has the measurements). Hardware does the same (small-primitive
+// culling); here the host has the vertices already, so it tests them itself.
+//
+// Conservative. A triangle is kept when a pixel centre lies inside it or within kMargin pixels
+// of it (the device snaps vertices to 1/256 px and computes the projection in its own float
+// order: both move a vertex by far less), when its winding cannot be told (area under
+// kTinyArea square pixels), when a vertex is behind the eye, outside the depth range or not
+// finite (the clipper's business), or when it spans more than a few pixel centres. Left out are
+// triangles none of whose pixel centres in the viewport is near, and triangles with two corners
+// at bit-identical positions (zero area in any projection: the device's coordinates are equal
+// too). Single-sampled targets only (the renderer's).
+//
+// Incremental. The triangles are tested in chunks of kChunkTriangles consecutive triangles of
+// the layout's index buffer (kChunkTriangles: 100 chunks at a million faces, each tested in
+// about 0.1 ms); each chunk's kept triangles are written at the chunk's own place
+// in the culled index buffer, so a chunk is tested again alone. Everything is tested again when
+// the view, the viewport, the drawn ranges or the layout's triangles change; after a vertex
+// move or a displacement dab only the chunks that read a changed slot.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "grid_layout.h"
+
+namespace qp {
+
+// The viewport in framebuffer pixels (VkViewport x, y, width, height; depth 0..1) and the
+// transform to clip space.
+struct SampleView {
+    glm::mat4 viewProjection{1.0f};
+    int32_t x = 0, y = 0;
+    uint32_t width = 0, height = 0;
+    bool operator==(const SampleView&) const = default;
+};
+
+inline constexpr float kSampleMargin = 1.0f / 32.0f;  // pixels
+inline constexpr float kTinyArea = 1e-3f;             // square pixels (twice the triangle's area)
+inline constexpr uint32_t kChunkTriangles = 16384;  // SampleCulling::chunkTriangles unless set
+
+// Whether the triangle a, b, c (object space) may cover a pixel centre of `view` (see above).
+bool mayCoverPixelCentre(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const SampleView& view);
+
+struct SampleCulling {
+    uint32_t chunkTriangles = kChunkTriangles;  // set before the first update (tests use small chunks)
+    // What the kept triangles were chosen for (valid: every chunk is up to date for them).
+    bool valid = false;
+    SampleView view;
+    std::vector<std::pair<uint32_t, uint32_t>> drawnRanges;  // (first index, count); empty: every index
+    // Per chunk: triangles kept (written from index 3 * chunkTriangles * chunk on), and the
+    // lowest and highest slot its triangles read (a changed slot outside cannot concern it).
+    std::vector<uint32_t> chunkKept, chunkSlotMin, chunkSlotMax;
+    // Slot ranges [first, end) written since the chunks were tested.
+    std::vector<std::pair<uint32_t, uint32_t>> changedSlots;
+    uint64_t keptTriangles = 0, testedTriangles = 0;  // of the drawn triangles; tested: this update
+    bool inUse = false;                               // the last frame drew the culled triangles
+};
+
+// The layout's triangles or the whole grid changed: everything is tested again.
+inline void invalidateSampleCulling(SampleCulling& culling) {
+    culling.valid = false;
+    culling.changedSlots.clear();
+}
+
+// The slots of the drawn sub-faces `drawn` were written (their vertices moved or were displaced).
+void markSlotsChanged(SampleCulling& culling, const GridLayout& layout, std::span<const uint32_t> drawn);
+
+// Brings the culled triangles up to date for `view`, drawing the index ranges `drawnRanges`
+// (first index, count; empty: all) of `layout.indices` over `vertices` (the grid, one per slot).
+// Writes the kept triangles into `culledIndices` (room for layout.indices.size()) chunk by chunk
+// and returns the index ranges to draw from it.
+std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& culling, const GridLayout& layout,
+                                                               const GridVertex* vertices, const SampleView& view,
+                                                               std::span<const std::pair<uint32_t, uint32_t>> drawnRanges,
+                                                               uint32_t* culledIndices);
+
+}  // namespace qp

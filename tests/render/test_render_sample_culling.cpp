@@ -1,0 +1,193 @@
+// Sample culling (render/sample_culling.h): the CPU grid leaves out triangles that cover no
+// pixel centre, and the picture stays the same pixel for pixel: from far and close views, in a
+// viewport inside a larger image, with hidden faces, after vertex moves drawn incrementally.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "draw_path.h"
+#include "mesh/generated_cage.h"
+#include "offscreen_target.h"
+#include "plan_pass.h"
+#include "plans/planned_cage.h"
+#include "render_test_support.h"
+#include "sample_culling.h"
+#include "test_cages.h"
+#include "vk_commands.h"
+
+using namespace qp;
+
+namespace {
+
+// Object (x, y) in [0, width] x [0, height] onto the same framebuffer pixels, z = 0.5 in depth.
+SampleView pixelView(uint32_t width, uint32_t height) {
+    SampleView view;
+    view.width = width, view.height = height;
+    view.viewProjection = glm::translate(glm::mat4(1.0f), glm::vec3(-1.0f, -1.0f, 0.5f)) *
+                          glm::scale(glm::mat4(1.0f), glm::vec3(2.0f / float(width), 2.0f / float(height), 0.0f));
+    return view;
+}
+
+// Whether a pixel centre lies strictly inside the triangle (pixel coordinates): what must never
+// be culled.
+bool coversACentreStrictly(glm::vec2 a, glm::vec2 b, glm::vec2 c, uint32_t width, uint32_t height) {
+    auto cross = [](glm::vec2 p, glm::vec2 q, glm::vec2 r) { return (q.x - p.x) * (r.y - p.y) - (q.y - p.y) * (r.x - p.x); };
+    for (uint32_t j = 0; j < height; ++j)
+        for (uint32_t i = 0; i < width; ++i) {
+            const glm::vec2 s{float(i) + 0.5f, float(j) + 0.5f};
+            const float e0 = cross(a, b, s), e1 = cross(b, c, s), e2 = cross(c, a, s);
+            if ((e0 > 0 && e1 > 0 && e2 > 0) || (e0 < 0 && e1 < 0 && e2 < 0)) return true;
+        }
+    return false;
+}
+
+}  // namespace
+
+TEST(SampleCulling, KeepsEveryTriangleThatCoversAPixelCentre) {
+    const uint32_t width = 24, height = 16;
+    const SampleView view = pixelView(width, height);
+    std::mt19937 random(7);
+    std::uniform_real_distribution<float> corner(-2.0f, 26.0f), size(0.05f, 3.0f), unit(-1.0f, 1.0f);
+    uint32_t culled = 0, covering = 0;
+    for (int t = 0; t < 20000; ++t) {
+        const glm::vec2 a{corner(random), corner(random) * float(height) / float(width)};
+        const float s = size(random);
+        const glm::vec2 b = a + s * glm::vec2(unit(random), unit(random)), c = a + s * glm::vec2(unit(random), unit(random));
+        const bool covers = coversACentreStrictly(a, b, c, width, height);
+        const bool kept = mayCoverPixelCentre({a, 0.0f}, {b, 0.0f}, {c, 0.0f}, view);
+        covering += covers;
+        culled += !kept;
+        ASSERT_TRUE(kept || !covers) << "culled a triangle covering a pixel centre: (" << a.x << ", " << a.y << ") (" << b.x
+                                     << ", " << b.y << ") (" << c.x << ", " << c.y << ")";
+    }
+    EXPECT_GT(culled, 20000u / 4) << "small triangles between pixel centres are left out";
+    EXPECT_GT(covering, 20000u / 10);
+
+    // Between four pixel centres: out. On a centre: in. Off the viewport: out.
+    EXPECT_FALSE(mayCoverPixelCentre({1.6f, 1.6f, 0}, {2.4f, 1.6f, 0}, {2.0f, 2.4f, 0}, view));
+    EXPECT_TRUE(mayCoverPixelCentre({2.2f, 2.2f, 0}, {2.8f, 2.2f, 0}, {2.5f, 2.8f, 0}, view));
+    EXPECT_FALSE(mayCoverPixelCentre({30.2f, 2.2f, 0}, {30.8f, 2.2f, 0}, {30.5f, 2.8f, 0}, view));
+    // A centre just outside an edge (by less than the margin) keeps the triangle: the device
+    // snaps and rounds on its own.
+    EXPECT_TRUE(mayCoverPixelCentre({2.0f, 2.51f, 0}, {3.0f, 2.51f, 0}, {2.5f, 3.3f, 0}, view));
+    // Two corners at one position: zero area in any projection.
+    EXPECT_FALSE(mayCoverPixelCentre({2.2f, 2.2f, 0}, {2.2f, 2.2f, 0}, {12.5f, 9.8f, 0}, view));
+    // Not finite, behind the eye or outside the depth range: the clipper decides, the triangle stays.
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_TRUE(mayCoverPixelCentre({nan, 1.6f, 0}, {2.4f, 1.6f, 0}, {2.0f, 2.4f, 0}, view));
+    SampleView behind = view;
+    behind.viewProjection[3][3] = -1.0f;  // w < 0
+    EXPECT_TRUE(mayCoverPixelCentre({1.6f, 1.6f, 0}, {2.4f, 1.6f, 0}, {2.0f, 2.4f, 0}, behind));
+}
+
+namespace {
+
+struct SampleCullingFixture : test::PlanPassTest {
+    static constexpr uint32_t kSize = 256;
+
+    // Planned for the CPU grid path only (PlanBuffers::gridCulledIndices exists then).
+    PlanBuffers uploadForCpu(const PlannedCage& planned) {
+        Result<PlanBuffers> buffers = uploadPlans(ctx, planned, MacroChoice::Auto, true);
+        EXPECT_TRUE(buffers.ok()) << buffers.error().message;
+        EXPECT_TRUE(bindPlanBuffers(ctx, pass, *buffers).ok());
+        return std::move(buffers).value();
+    }
+
+    std::vector<uint8_t> draw(const OffscreenTarget& image, VkRect2D area, PlanBuffers& buffers, const PlannedCage& planned,
+                              PlanView view, bool sampleCulling) {
+        view.sampleCulling = sampleCulling;
+        const TessellationSettings adaptive{0, 4.0f};
+        EXPECT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, view, adaptive).ok());
+        const Status drawn = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
+            recordPlanFrame(cmd, pass, buffers, DrawPath::CpuGrid, subArea(renderTarget(image), area), view, adaptive);
+        });
+        EXPECT_TRUE(drawn.ok()) << drawn.error().message;
+        EXPECT_EQ(buffers.sampleCulling.inUse, sampleCulling);
+        Result<std::vector<uint8_t>> rgba = readPixels(ctx, image);
+        EXPECT_TRUE(rgba.ok());
+        return rgba.ok() ? *rgba : std::vector<uint8_t>{};
+    }
+};
+
+size_t differingBytes(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+    if (a.size() != b.size()) return std::max(a.size(), b.size());
+    size_t count = 0;
+    for (size_t i = 0; i < a.size(); ++i) count += a[i] != b[i];
+    return count;
+}
+
+}  // namespace
+
+TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
+    Result<OffscreenTarget> image = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(image.ok()) << image.error().message;
+    const Cage cage = makeBenchmarkCage(20000, 3);
+    PlanDatabase db;
+    Result<PlannedCage> created = PlannedCage::create(cage, db, {}, "generated");
+    ASSERT_TRUE(created.ok()) << created.error().message;
+    PlannedCage& planned = *created;
+    PlanBuffers buffers = uploadForCpu(planned);
+    buffers.sampleCulling.chunkTriangles = 1024;  // so that a move's chunks are a small part of the grid
+
+    const PlanView framed = test::framedPlanView(cage, kSize);
+    const VkRect2D whole{{0, 0}, {kSize, kSize}};
+    struct Case {
+        std::string name;
+        PlanView view;
+        VkRect2D area;
+    };
+    std::vector<Case> cases;
+    cases.push_back({"framed", framed, whole});
+    // A viewport inside the image, off its origin and not square (the editor's split views).
+    cases.push_back({"sub-viewport", framed, VkRect2D{{37, 21}, {150, 201}}});
+    // Close up, the near plane through the model: triangles behind the eye and crossing it.
+    const Bounds bounds = computeBounds(cage);
+    RenderCamera close = frameBounds(bounds.min, bounds.max, 1.0f);
+    close.eye = close.target + 0.4f * (close.eye - close.target);  // the planes stay: the near one cuts the cage
+    PlanView inside = framed;
+    inside.viewProjection = viewProjection(close);
+    inside.pixelsPerUnit = pixelsPerUnit(projectionMatrix(close), kSize);
+    cases.push_back({"close up", inside, whole});
+    // Hidden faces: the drawn ranges are gaps in the index buffer.
+    PlanView hidden = framed;
+    std::vector<uint32_t> hiddenDrawn;
+    for (uint32_t d = 0; d < buffers.data.subfaces.size(); d += 3) hiddenDrawn.push_back(d);
+    hidden.hiddenDrawn = hiddenDrawn;
+    cases.push_back({"hidden faces", hidden, whole});
+
+    for (const Case& c : cases) {
+        const std::vector<uint8_t> all = draw(*image, c.area, buffers, planned, c.view, false);
+        const std::vector<uint8_t> culled = draw(*image, c.area, buffers, planned, c.view, true);
+        EXPECT_EQ(differingBytes(all, culled), 0u) << c.name;
+        const uint64_t triangles = buffers.gridLayout.indices.size() / 3;
+        EXPECT_LT(buffers.sampleCulling.keptTriangles, triangles) << c.name;
+        if (c.name == "framed") {
+            EXPECT_LT(buffers.sampleCulling.keptTriangles, 3 * triangles / 4) << "many of a far cage's triangles cover no centre";
+            ASSERT_TRUE(writePng((test::testOutputDir() / "sample_culling_framed.png").string(), kSize, kSize, culled).ok());
+        }
+    }
+
+    // Vertex moves: only the chunks that read a moved slot are tested again, and the picture is
+    // still the one with every triangle drawn.
+    draw(*image, whole, buffers, planned, framed, true);
+    std::mt19937 random(11);
+    std::uniform_int_distribution<uint32_t> pick(0, planned.cage().vertexCount() - 1);
+    for (int round = 0; round < 4; ++round) {
+        std::vector<uint32_t> moved = {pick(random), pick(random)};
+        std::vector<glm::vec3> to;
+        for (uint32_t v : moved) to.push_back(planned.cage().positions[v] + 0.002f * bounds.diagonal() * glm::vec3(0.3f, 1.0f, -0.5f));
+        ASSERT_TRUE(planned.moveVertices(moved, to).ok());
+        ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordMovedVertices(cmd, pass, buffers, planned, moved); }).ok());
+        const std::vector<uint8_t> culled = draw(*image, whole, buffers, planned, framed, true);
+        EXPECT_LT(buffers.sampleCulling.testedTriangles, buffers.gridLayout.indices.size() / 3 / 4)
+            << "round " << round << ": a move tests the chunks around it, not the whole grid";
+        const std::vector<uint8_t> all = draw(*image, whole, buffers, planned, framed, false);
+        EXPECT_EQ(differingBytes(all, culled), 0u) << "after move " << round;
+    }
+    destroyPlanBuffers(ctx, buffers);
+    destroyOffscreenTarget(ctx, *image);
+}
