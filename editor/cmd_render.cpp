@@ -77,12 +77,14 @@ int runRender(const RenderArgs& args) {
                 {"path", drawnByName(drawStats->drawnBy)}, {"patches", drawStats->patches},
                 // 0 from the scheme means the tessellator chose the count at draw time: unknown.
                 {"triangles", drawStats->triangles > 0 ? nlohmann::json(drawStats->triangles) : nlohmann::json(nullptr)},
+                {"sample_culled", drawStats->sampleCulledTriangles},
                 {"cull", cullJson(view.cull, *drawStats)}};
             std::printf("%s\n", out.dump(1).c_str());
         } else {
-            const std::string triangles = drawStats->triangles > 0
-                                              ? std::to_string(drawStats->triangles) + " triangles"
-                                              : "triangle count set by the tessellator at draw time";
+            std::string triangles = drawStats->triangles > 0 ? std::to_string(drawStats->triangles) + " triangles"
+                                                             : "triangle count set by the tessellator at draw time";
+            if (drawStats->sampleCulledTriangles)
+                triangles += ", " + std::to_string(drawStats->sampleCulledTriangles) + " of them covering no pixel centre left out";
             const std::string objects = scene.objects.size() == 1 ? ""
                                         : std::to_string(scene.objects.size()) + " objects, " +
                                               std::to_string(planned.cages.size()) + " cages, ";
