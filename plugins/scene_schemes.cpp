@@ -94,6 +94,7 @@ Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const 
             total.drawnBy = drawn->drawnBy;
             total.cull += drawn->cull;
             total.cullMilliseconds += drawn->cullMilliseconds;
+            total.sampleCulledTriangles += drawn->sampleCulledTriangles;
         }
     }
     if (!trianglesKnown) total.triangles = 0;  // the tessellator chose some counts at draw time
