@@ -76,6 +76,9 @@ bool mayCoverPixelCentre(const glm::vec3& a, const glm::vec3& b, const glm::vec3
 
 void markSlotsChanged(SampleCulling& culling, const GridLayout& layout, std::span<const uint32_t> drawn) {
     if (!culling.valid) return;
+    // Many moves while nothing is culled (a long drag at a density below the gate): testing
+    // everything again later is cheaper than keeping the list.
+    if (culling.changedSlots.size() + drawn.size() > kMostChangedRanges) return invalidateSampleCulling(culling);
     for (uint32_t d : drawn) {
         const uint32_t first = layout.subfaceOffset[d], end = layout.subfaceOffset[d + 1];
         if (!culling.changedSlots.empty() && culling.changedSlots.back().second == first) culling.changedSlots.back().second = end;

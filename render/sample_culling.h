@@ -25,6 +25,7 @@
 // move or a displacement dab only the chunks that read a changed slot.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -48,12 +49,20 @@ struct SampleView {
 inline constexpr float kSampleMargin = 1.0f / 32.0f;  // pixels
 inline constexpr float kTinyArea = 1e-3f;             // square pixels (twice the triangle's area)
 inline constexpr uint32_t kChunkTriangles = 16384;  // SampleCulling::chunkTriangles unless set
+// Below one triangle a pixel most triangles cover a centre and testing them costs what it saves
+// or more (docs/renderer.md: the editor's frames on a 20k cage were 10-20% slower with it), so
+// the renderer tests only grids with more triangles than the viewport has pixels.
+inline constexpr float kMinTrianglesPerPixel = 1.0f;
+inline constexpr size_t kMostChangedRanges = 65536;  // changed slot ranges kept before testing everything again
 
 // Whether the triangle a, b, c (object space) may cover a pixel centre of `view` (see above).
 bool mayCoverPixelCentre(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const SampleView& view);
 
 struct SampleCulling {
     uint32_t chunkTriangles = kChunkTriangles;  // set before the first update (tests use small chunks)
+    // Used only while the grid has more triangles than this times the viewport's pixels (see
+    // kMinTrianglesPerPixel).
+    float minTrianglesPerPixel = kMinTrianglesPerPixel;
     // What the kept triangles were chosen for (valid: every chunk is up to date for them).
     bool valid = false;
     SampleView view;

@@ -98,7 +98,7 @@ struct SampleCullingFixture : test::PlanPassTest {
     }
 
     std::vector<uint8_t> draw(const OffscreenTarget& image, VkRect2D area, PlanBuffers& buffers, const PlannedCage& planned,
-                              PlanView view, bool sampleCulling) {
+                              PlanView view, bool sampleCulling, bool expectCulled = true) {
         view.sampleCulling = sampleCulling;
         const TessellationSettings adaptive{0, 4.0f};
         EXPECT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, view, adaptive).ok());
@@ -106,7 +106,7 @@ struct SampleCullingFixture : test::PlanPassTest {
             recordPlanFrame(cmd, pass, buffers, DrawPath::CpuGrid, subArea(renderTarget(image), area), view, adaptive);
         });
         EXPECT_TRUE(drawn.ok()) << drawn.error().message;
-        EXPECT_EQ(buffers.sampleCulling.inUse, sampleCulling);
+        EXPECT_EQ(buffers.sampleCulling.inUse, sampleCulling && expectCulled);
         Result<std::vector<uint8_t>> rgba = readPixels(ctx, image);
         EXPECT_TRUE(rgba.ok());
         return rgba.ok() ? *rgba : std::vector<uint8_t>{};
@@ -132,6 +132,7 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
     PlannedCage& planned = *created;
     PlanBuffers buffers = uploadForCpu(planned);
     buffers.sampleCulling.chunkTriangles = 1024;  // so that a move's chunks are a small part of the grid
+    buffers.sampleCulling.minTrianglesPerPixel = 0.0f;  // culled at any density (the gate is tested below)
 
     const PlanView framed = test::framedPlanView(cage, kSize);
     const VkRect2D whole{{0, 0}, {kSize, kSize}};
@@ -188,6 +189,15 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
         const std::vector<uint8_t> all = draw(*image, whole, buffers, planned, framed, false);
         EXPECT_EQ(differingBytes(all, culled), 0u) << "after move " << round;
     }
+
+    // With fewer triangles than pixels the renderer does not test them (kMinTrianglesPerPixel).
+    buffers.sampleCulling.minTrianglesPerPixel = kMinTrianglesPerPixel;
+    const uint32_t large = 512;
+    Result<OffscreenTarget> largeImage = createOffscreenTarget(ctx, large, large, VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(largeImage.ok()) << largeImage.error().message;
+    draw(*largeImage, VkRect2D{{0, 0}, {large, large}}, buffers, planned, framed, true, false);
+    EXPECT_LT(buffers.gridLayout.indices.size() / 3, size_t(large) * large);
+    destroyOffscreenTarget(ctx, *largeImage);
     destroyPlanBuffers(ctx, buffers);
     destroyOffscreenTarget(ctx, *image);
 }
