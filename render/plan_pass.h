@@ -262,7 +262,7 @@ GridFactors adaptiveGridFactors(const PlanBuffers& buffers, const PlanView& view
 void recordGridEvaluation(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers);
 // Fills the whole grid on the CPU (cpu_grid.h), now.
 void evaluateGridOnCpu(const PlannedCage& planned, PlanBuffers& buffers);
-// Draws the grid as it is (it must have been filled).
+// Draws the grid as it is (it must have been filled), every triangle of it.
 void recordGridDraw(VkCommandBuffer cmd, const PlanPass& pass, const PlanBuffers& buffers, const RenderTarget& target,
                     const PlanView& view);
 // Any triangle mesh of GridVertex (a vertex buffer, uint32 indices) drawn as recordGridDraw
@@ -273,7 +273,9 @@ void recordShadedTriangles(VkCommandBuffer cmd, const PlanPass& pass, VkBuffer v
 // The sub-faces a relayout left to the compute shader (PlanBuffers::pendingGridSubfaces) and
 // their neighbours' copies; nothing when none are pending.
 void recordPendingGridRefresh(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers);
-// recordGridEvaluation unless the grid is cached (then the pending refresh), then recordGridDraw.
+// recordGridEvaluation unless the grid is cached (then the pending refresh), then the draw: as
+// recordGridDraw, except that a CPU grid denser than one triangle a pixel leaves out the triangles
+// that cover no pixel centre (view.sampleCulling; sample_culling.h).
 void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers, const RenderTarget& target,
                 const PlanView& view);
 

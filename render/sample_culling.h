@@ -4,11 +4,11 @@
 // Why. A triangle that covers no sample makes no fragment, so leaving it out changes no pixel,
 // but lavapipe pays for it all the same: its vertex shading, clipping and triangle setup run on
 // one thread before the rasteriser finds it empty. Seen whole, a million-face cage at 4 px a
-// segment draws 1.67 M triangles into 800 x 600 pixels and about 85% of them cover no pixel
+// segment draws 1.67 M triangles into 800 x 600 pixels and about 88% of them cover no pixel
 // centre (docs/renderer.md has the measurements). Hardware does the same (small-primitive
 // culling); here the host has the vertices already, so it tests them itself.
 //
-// Conservative. A triangle is kept when a pixel centre lies inside it or within kMargin pixels
+// Conservative. A triangle is kept when a pixel centre lies inside it or within kSampleMargin px
 // of it (the device snaps vertices to 1/256 px and computes the projection in its own float
 // order: both move a vertex by far less), when its winding cannot be told (area under
 // kTinyArea square pixels), when a vertex is behind the eye, outside the depth range or not
@@ -18,11 +18,14 @@
 // too). Single-sampled targets only (the renderer's).
 //
 // Incremental. The triangles are tested in chunks of kChunkTriangles consecutive triangles of
-// the layout's index buffer (kChunkTriangles: 100 chunks at a million faces, each tested in
-// about 0.1 ms); each chunk's kept triangles are written at the chunk's own place
-// in the culled index buffer, so a chunk is tested again alone. Everything is tested again when
+// the layout's index buffer (about 100 chunks at a million faces, drawn as that many ranges);
+// each chunk's kept triangles are written at the chunk's own place in the culled index buffer,
+// so a chunk is tested again alone. Everything is tested again when
 // the view, the viewport, the drawn ranges or the layout's triangles change; after a vertex
 // move or a displacement dab only the chunks that read a changed slot.
+//
+// When. The renderer (plan_pass.h, recordGrid) uses it for CPU grids denser than
+// kMinTrianglesPerPixel and without a displacement, where it pays (docs/renderer.md).
 #pragma once
 
 #include <cstddef>
@@ -48,7 +51,7 @@ struct SampleView {
 
 inline constexpr float kSampleMargin = 1.0f / 32.0f;  // pixels
 inline constexpr float kTinyArea = 1e-3f;             // square pixels (twice the triangle's area)
-inline constexpr uint32_t kChunkTriangles = 16384;  // SampleCulling::chunkTriangles unless set
+inline constexpr uint32_t kChunkTriangles = 16384;    // SampleCulling::chunkTriangles unless set
 // Below one triangle a pixel most triangles cover a centre and testing them costs what it saves
 // or more (docs/renderer.md: the editor's frames on a 20k cage were 10-20% slower with it), so
 // the renderer tests only grids with more triangles than the viewport has pixels.
