@@ -4,7 +4,7 @@
 // Why. A triangle that covers no sample makes no fragment, so leaving it out changes no pixel,
 // but lavapipe pays for it all the same: its vertex shading, clipping and triangle setup run on
 // one thread before the rasteriser finds it empty. Seen whole, a million-face cage at 4 px a
-// segment draws 1.67 M triangles into 800 x 600 pixels and about 88% of them cover no pixel
+// segment draws 1.67 M triangles into 800 x 600 pixels and about 89% of them cover no pixel
 // centre (docs/renderer.md has the measurements). Hardware does the same (small-primitive
 // culling); here the host has the vertices already, so it tests them itself.
 //
