@@ -61,16 +61,17 @@ bool mayCover(const Pixel& a, const Pixel& b, const Pixel& c, const SampleView& 
     return false;
 }
 
-glm::vec3 positionOf(const GridVertex& v) { return {v.position[0], v.position[1], v.position[2]}; }
+static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
 
-bool samePosition(const GridVertex& a, const GridVertex& b) {
-    return std::memcmp(a.position, b.position, sizeof a.position) == 0;
-}
+// Bit for bit, as the device receives them (float == would call +0 and -0 the same).
+bool samePosition(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+glm::vec3 positionOf(const GridVertex& v) { return {v.position[0], v.position[1], v.position[2]}; }
 
 }  // namespace
 
 bool mayCoverPixelCentre(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const SampleView& view) {
-    if (a == b || b == c || c == a) return false;
+    if (samePosition(a, b) || samePosition(b, c) || samePosition(c, a)) return false;
     return mayCover(project(a, view), project(b, view), project(c, view), view);
 }
 
@@ -143,9 +144,8 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
                 seen += to - from;
                 for (uint32_t t = from; t < to; ++t) {
                     const uint32_t* tri = indices.data() + 3 * size_t(t);
-                    const GridVertex &a = vertices[tri[0]], &b = vertices[tri[1]], &c3 = vertices[tri[2]];
-                    if (samePosition(a, b) || samePosition(b, c3) || samePosition(c3, a)) continue;
-                    if (!mayCover(project(positionOf(a), view), project(positionOf(b), view), project(positionOf(c3), view), view))
+                    if (!mayCoverPixelCentre(positionOf(vertices[tri[0]]), positionOf(vertices[tri[1]]),
+                                             positionOf(vertices[tri[2]]), view))
                         continue;
                     std::memcpy(out + 3 * size_t(kept++), tri, 3 * sizeof(uint32_t));
                 }
