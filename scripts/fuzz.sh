@@ -1,16 +1,13 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer targets (clang, ASan + UBSan) into build-fuzz/ and runs each for a bounded
-# time on a scratch copy of its seed corpus (tests/fuzz/corpus/<target>). Fails on any crash,
-# hang, leak or sanitizer report; the reproducer is left in build-fuzz/findings/.
+# Builds the libFuzzer targets (clang, ASan + UBSan: scripts/build-sanitized-core.sh) into
+# build-fuzz/ and runs each for a bounded time on a scratch copy of its seed corpus
+# (tests/fuzz/corpus/<target>). Fails on any crash, hang, leak or sanitizer report; the
+# reproducer is left in build-fuzz/findings/.
 # Usage: scripts/fuzz.sh [SECONDS_PER_TARGET]   (default 60)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
-launcher=()
-if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
-cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DQUADPLAN_FUZZ=ON \
-      -DBUILD_TESTING=OFF "${launcher[@]}" >/dev/null
-cmake --build build-fuzz -j"$(nproc)"
+scripts/build-sanitized-core.sh
 
 export UBSAN_OPTIONS="suppressions=$PWD/tests/fuzz/ubsan.supp:print_stacktrace=1"
 findings=build-fuzz/findings
