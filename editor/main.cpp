@@ -2,8 +2,10 @@
 // Without a subcommand it opens the editor on the default scene.
 
 #include "commands.h"
+#include "huge_page_malloc.h"
 
 int main(int argc, char** argv) {
+    qp::cli::useHugePagesForMalloc(argv);
     CLI::App app{"Quadplan: edit Catmull-Clark cages and render their exact limit surface "
                  "through subdivision plans.\nWithout a subcommand, opens the editor on the default scene."};
     app.set_version_flag("--version", QUADPLAN_VERSION);
