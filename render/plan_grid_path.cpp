@@ -301,8 +301,8 @@ void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
     const double pixels = double(target.area.extent.width) * double(target.area.extent.height);
     // Not with a displacement: sculpting dabs all over a dense grid re-test many chunks a frame,
     // and the editor's sculpt frames were slower with it (docs/renderer.md).
-    culling.inUse = view.sampleCulling && buffers.gridEvaluator == GridEvaluator::Cpu && !buffers.displacement && indexBytes > 0 &&
-                    buffers.gridCulledIndices.size >= indexBytes && buffers.gridCulledIndices.data &&
+    culling.inUse = view.sampleCulling && buffers.gridEvaluator == GridEvaluator::Cpu && !buffers.displacement &&
+                    indexBytes > 0 && buffers.gridCulledIndices.size >= indexBytes && buffers.gridCulledIndices.data &&
                     double(buffers.gridLayout.indices.size() / 3) > culling.minTrianglesPerPixel * pixels;
     if (!culling.inUse) return recordTriangles(cmd, pass, buffers.grid.buffer, whole, whole, target, view);
     const SampleView sampleView{view.viewProjection, target.area.offset.x, target.area.offset.y, target.area.extent.width,
