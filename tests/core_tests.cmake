@@ -4,7 +4,7 @@
 # here their tests are named sanitized.<Suite>.<Test>.
 include(GoogleTest)
 set(CORE_TEST_SOURCES displacement/brush displacement/brush_mask displacement/displacement displacement/displacement_io
-    displacement/displaced_picking edit/edit_history plans/edit_replanning mesh/generated_cage mesh/obj_io plans/patch_basis
+    displacement/displaced_picking edit/edit_history plans/dense_stencils plans/edit_replanning mesh/generated_cage mesh/obj_io plans/patch_basis
     edit/picking plans/plan plans/plan_shapes scene/scene scene/scene_objects edit/selection mesh/topology
     mesh/topology_edits mesh/mesh_import animation/cage_sequence animation/cage_animation)
 list(TRANSFORM CORE_TEST_SOURCES REPLACE "(.+)/(.+)" "${CMAKE_CURRENT_LIST_DIR}/\\1/test_\\2.cpp")

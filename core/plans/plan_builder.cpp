@@ -9,10 +9,9 @@
 
 #include <opensubdiv/far/patchTable.h>
 #include <opensubdiv/far/patchTableFactory.h>
-#include <opensubdiv/far/stencilTable.h>
-#include <opensubdiv/far/stencilTableFactory.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 
+#include "plans/dense_stencils.h"
 #include "plans/osd_refiner.h"
 #include "plans/tangent_plane.h"
 
@@ -247,20 +246,6 @@ std::vector<uint32_t> pointLevels(const std::vector<FarLeaf>& leaves, uint32_t m
     return levels;
 }
 
-std::unique_ptr<const Far::StencilTable> createStencils(const Far::TopologyRefiner& refiner,
-                                                        const Far::PatchTable& patches) {
-    Far::StencilTableFactory::Options options;
-    options.generateOffsets = true;
-    options.generateControlVerts = true;
-    options.generateIntermediateLevels = true;
-    options.factorizeIntermediateLevels = true;
-    std::unique_ptr<const Far::StencilTable> refined(Far::StencilTableFactory::Create(refiner, options));
-    const Far::StencilTable* local = patches.GetLocalPointStencilTable();
-    if (!local || local->GetNumStencils() == 0) return refined;
-    return std::unique_ptr<const Far::StencilTable>(
-        Far::StencilTableFactory::AppendLocalPointStencilTable(refiner, refined.get(), local, true));
-}
-
 // Which corner of the (sub-)face the leaf's corner i ((0,0) (1,0) (1,1) (0,1)) lies on, or -1.
 int leafCornerAtFaceCorner(const FarLeaf& leaf, uint32_t i) { return patchCornerOfDomain(leaf.u, leaf.v, 1u << leaf.depth, i); }
 
@@ -351,7 +336,7 @@ Result<Plan> buildPlan(const std::vector<uint32_t>& key) {
     else
         (*refiner)->RefineAdaptive(patchOptions.GetRefineAdaptiveOptions(), selectedFaces);
     std::unique_ptr<Far::PatchTable> patches(Far::PatchTableFactory::Create(**refiner, patchOptions, selectedFaces));
-    std::unique_ptr<const Far::StencilTable> stencils = createStencils(**refiner, *patches);
+    const DenseStencils stencils = computeDenseStencils(**refiner, *patches);
 
     Result<std::vector<FarLeaf>> collected = collectLeaves(*patches);
     if (!collected) return collected.error();
@@ -371,7 +356,7 @@ Result<Plan> buildPlan(const std::vector<uint32_t>& key) {
     flattenTree(tree, plan, farPoints);
 
     // Order the distinct points by needed level, then by first use.
-    const uint32_t farPointCount = uint32_t(stencils->GetNumStencils());
+    const uint32_t farPointCount = stencils.pointCount;
     std::vector<uint32_t> levels = pointLevels(leaves, mesh.maxDepth, farPointCount);
     std::vector<uint32_t> order;
     std::vector<uint32_t> slotOf(farPointCount, UINT32_MAX);
@@ -400,9 +385,7 @@ Result<Plan> buildPlan(const std::vector<uint32_t>& key) {
     for (uint32_t slot = first; slot < first + order.size(); ++slot) {
         const uint32_t point = order[slot - first];
         slotOf[point] = slot;
-        Far::Stencil stencil = stencils->GetStencil(Far::Index(point));
-        for (int k = 0; k < stencil.GetSize(); ++k)
-            plan.stencilWeights[slot * plan.ringSize + uint32_t(stencil.GetVertexIndices()[k])] += stencil.GetWeights()[k];
+        std::ranges::copy(stencils.row(point), plan.stencilWeights.begin() + size_t(slot) * plan.ringSize);
         for (uint32_t n = levels[point]; n <= kMaxPlanDepth; ++n) plan.stencilCountByLevel[n] = slot + 1;
     }
     exactDartCorners(mesh, leaves, tangents, slotOf, plan);
