@@ -33,8 +33,8 @@ struct LevelRows {
 
 }  // namespace
 
-DenseStencils computeDenseStencils(const Far::TopologyRefiner& refiner, const Far::PatchTable& patches) {
-    DenseStencils stencils;
+void computeDenseStencils(const Far::TopologyRefiner& refiner, const Far::PatchTable& patches,
+                          DenseStencils& stencils) {
     stencils.ringSize = uint32_t(refiner.GetLevel(0).GetNumVertices());
     const uint32_t refinedCount = uint32_t(refiner.GetNumVerticesTotal());
     const Far::StencilTable* local = patches.GetLocalPointStencilTable();
@@ -64,7 +64,6 @@ DenseStencils computeDenseStencils(const Far::TopologyRefiner& refiner, const Fa
             row.AddWithWeight({weights + size_t(source) * n, n}, stencil.GetWeights()[k]);
         }
     }
-    return stencils;
 }
 
 }  // namespace qp

@@ -28,8 +28,9 @@ struct DenseStencils {
 };
 
 // Points are numbered as Far's patch tables number them: the control points, each refined
-// level's vertices in turn, then `patches`' local points.
-DenseStencils computeDenseStencils(const OpenSubdiv::Far::TopologyRefiner& refiner,
-                                   const OpenSubdiv::Far::PatchTable& patches);
+// level's vertices in turn, then `patches`' local points. `stencils` is overwritten; its
+// storage is reused (the plan builder keeps one per thread).
+void computeDenseStencils(const OpenSubdiv::Far::TopologyRefiner& refiner, const OpenSubdiv::Far::PatchTable& patches,
+                          DenseStencils& stencils);
 
 }  // namespace qp

@@ -336,7 +336,8 @@ Result<Plan> buildPlan(const std::vector<uint32_t>& key) {
     else
         (*refiner)->RefineAdaptive(patchOptions.GetRefineAdaptiveOptions(), selectedFaces);
     std::unique_ptr<Far::PatchTable> patches(Far::PatchTableFactory::Create(**refiner, patchOptions, selectedFaces));
-    const DenseStencils stencils = computeDenseStencils(**refiner, *patches);
+    thread_local DenseStencils stencils;  // reused: fresh memory for each plan cost page faults
+    computeDenseStencils(**refiner, *patches, stencils);
 
     Result<std::vector<FarLeaf>> collected = collectLeaves(*patches);
     if (!collected) return collected.error();
@@ -370,16 +371,14 @@ Result<Plan> buildPlan(const std::vector<uint32_t>& key) {
     // First the exact tangents of the extraordinary corners (Plan::cornerTangents), then the
     // points in that order.
     const CornerTangents tangents = endCapCornerTangents(**refiner, leaves);
-    uint32_t first = 0;
-    plan.stencilWeights.assign(order.size() * plan.ringSize, 0.0f);
-    for (uint32_t c = 0; c < 4; ++c) {
+    const uint32_t first = 2 * uint32_t(std::ranges::count_if(tangents, [](const auto& t) { return t.has_value(); }));
+    plan.stencilWeights.assign((first + order.size()) * plan.ringSize, 0.0f);
+    for (uint32_t c = 0, row = 0; c < 4; ++c) {
         if (!tangents[c]) continue;
         plan.cornerTangents |= 1u << c;
-        plan.stencilWeights.insert(plan.stencilWeights.begin() + size_t(first) * plan.ringSize, 2 * plan.ringSize, 0.0f);
-        for (size_t k = 0; k < 2; ++k)
+        for (size_t k = 0; k < 2; ++k, ++row)
             for (size_t j = 0; j < tangents[c]->ring.size(); ++j)
-                plan.stencilWeights[(first + k) * plan.ringSize + uint32_t(tangents[c]->ring[j])] = float(tangents[c]->left[k][j]);
-        first += 2;
+                plan.stencilWeights[row * plan.ringSize + uint32_t(tangents[c]->ring[j])] = float(tangents[c]->left[k][j]);
     }
     for (uint32_t n = 0; n <= kMaxPlanDepth; ++n) plan.stencilCountByLevel[n] = first;
     for (uint32_t slot = first; slot < first + order.size(); ++slot) {

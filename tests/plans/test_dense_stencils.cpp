@@ -30,7 +30,8 @@ void expectSameAsFar(const qp::Cage& cage, uint32_t depth, bool useCreaseNodes) 
     if (const Far::StencilTable* local = patches->GetLocalPointStencilTable(); local && local->GetNumStencils() > 0)
         far.reset(Far::StencilTableFactory::AppendLocalPointStencilTable(**refiner, far.get(), local, true));
 
-    const qp::DenseStencils dense = qp::computeDenseStencils(**refiner, *patches);
+    qp::DenseStencils dense;
+    qp::computeDenseStencils(**refiner, *patches, dense);
     ASSERT_EQ(dense.ringSize, cage.positions.size());
     ASSERT_EQ(dense.pointCount, uint32_t(far->GetNumStencils()));
     ASSERT_GT(dense.pointCount, (*refiner)->GetLevel(0).GetNumVertices()) << "nothing was refined";
