@@ -25,10 +25,7 @@
 // stencils serve every tessellation factor f <= 2^n, so the GPU applies only a prefix.
 #pragma once
 
-#include <algorithm>
 #include <array>
-#include <initializer_list>
-#include <memory>
 #include <cstdint>
 #include <vector>
 
@@ -57,52 +54,12 @@ static_assert(sizeof(PlanNode) == 12);
 constexpr uint32_t kTerminalPointsPerLevel = 24;
 constexpr uint32_t kGregoryPoints = 20;
 
-// One of a plan's flat arrays, read as a std::vector is. Plans built in this process own
-// theirs; plans read from a plan database file view the file's bytes where they lie in memory
-// (every array that views the mapping keeps it alive), so loading a million-face database copies
-// none of its half gigabyte into fresh memory. edit() gives the owned vector, copying a viewed
-// array into it first.
-template <class T>
-class PlanArray {
-public:
-    PlanArray() = default;
-    PlanArray(std::initializer_list<T> values) : owned_(values) {}
-    // Views `count` values at `data`, which `keeper` keeps alive.
-    PlanArray(std::shared_ptr<const void> keeper, const T* data, size_t count)
-        : keeper_(std::move(keeper)), viewed_(data), viewedCount_(count) {}
-
-    const T* data() const { return viewed_ ? viewed_ : owned_.data(); }
-    size_t size() const { return viewed_ ? viewedCount_ : owned_.size(); }
-    bool empty() const { return size() == 0; }
-    const T& operator[](size_t i) const { return data()[i]; }
-    const T* begin() const { return data(); }
-    const T* end() const { return data() + size(); }
-    bool isView() const { return viewed_ != nullptr; }
-
-    std::vector<T>& edit() {
-        if (viewed_) {
-            owned_.assign(viewed_, viewed_ + viewedCount_);
-            keeper_.reset();
-            viewed_ = nullptr;
-            viewedCount_ = 0;
-        }
-        return owned_;
-    }
-    bool operator==(const PlanArray& other) const { return std::equal(begin(), end(), other.begin(), other.end()); }
-
-private:
-    std::vector<T> owned_;
-    std::shared_ptr<const void> keeper_;
-    const T* viewed_ = nullptr;
-    size_t viewedCount_ = 0;
-};
-
 struct Plan {
     uint32_t ringSize = 0;  // stencil width: vertices in the configuration's 1-ring
     uint32_t maxDepth = 0;
-    PlanArray<PlanNode> nodes;
-    PlanArray<uint32_t> points;          // stencil indices read by the leaves
-    PlanArray<float> stencilWeights;     // stencilCount() rows of ringSize weights
+    std::vector<PlanNode> nodes;
+    std::vector<uint32_t> points;          // stencil indices read by the leaves
+    std::vector<float> stencilWeights;     // stencilCount() rows of ringSize weights
     std::array<uint32_t, kMaxPlanDepth + 1> stencilCountByLevel{};
     // Bit c: the plan-frame corner c ((0,0), (1,0), (1,1), (0,1)) is an extraordinary vertex
     // whose limit tangent plane the plan carries exactly: stencils 2k and 2k + 1 (k = the bits

@@ -214,19 +214,18 @@ void collapseTerminals(Tree& tree, uint32_t node) {
 // Copies the reachable part of `tree` into `plan` in breadth-first order (dropping the
 // children of collapsed nodes), with leaf points still as Far indices.
 void flattenTree(const Tree& tree, Plan& plan, std::vector<uint32_t>& farPoints) {
-    std::vector<PlanNode>& nodes = plan.nodes.edit();
-    nodes.clear();
+    plan.nodes.clear();
     std::vector<uint32_t> source{0};
-    nodes.push_back(tree.nodes[0]);
+    plan.nodes.push_back(tree.nodes[0]);
     for (size_t i = 0; i < source.size(); ++i) {
-        PlanNode& node = nodes[i];
+        PlanNode& node = plan.nodes[i];
         const std::vector<uint32_t>& pts = tree.points[source[i]];
         if (node.kind == NodeKind::Internal) {
             uint32_t firstChild = tree.nodes[source[i]].first;
-            node.first = uint32_t(nodes.size());
+            node.first = uint32_t(plan.nodes.size());
             for (uint32_t c = 0; c < 4; ++c) {
                 source.push_back(firstChild + c);
-                nodes.push_back(tree.nodes[firstChild + c]);
+                plan.nodes.push_back(tree.nodes[firstChild + c]);
             }
         } else {
             node.first = uint32_t(farPoints.size());
@@ -287,12 +286,11 @@ void exactDartCorners(const LocalMesh& mesh, const std::vector<FarLeaf>& leaves,
             const int c = leafCornerAtFaceCorner(leaf, i);
             if (c < 0 || !tangents[size_t(c)] || !tangents[size_t(c)]->dart) continue;
             const ExactTangents& t = *tangents[size_t(c)];
-            std::vector<float>& weights = plan.stencilWeights.edit();
-            const float* p = &weights[size_t(slotOf[leaf.farPoints[5 * i]]) * mesh.vertexCount];
+            const float* p = &plan.stencilWeights[size_t(slotOf[leaf.farPoints[5 * i]]) * mesh.vertexCount];
             for (uint32_t edgePoint : {leaf.farPoints[5 * i + 1], leaf.farPoints[5 * i + 2]}) {
                 if (done[edgePoint]) continue;  // shared with the neighbouring end cap
                 done[edgePoint] = 1;
-                float* row = &weights[size_t(slotOf[edgePoint]) * mesh.vertexCount];
+                float* row = &plan.stencilWeights[size_t(slotOf[edgePoint]) * mesh.vertexCount];
                 std::vector<double> mask(t.ring.size());
                 for (size_t j = 0; j < t.ring.size(); ++j) mask[j] = double(row[t.ring[j]]) - double(p[t.ring[j]]);
                 const std::vector<double> exact = t.project(mask);
@@ -374,26 +372,24 @@ Result<Plan> buildPlan(const std::vector<uint32_t>& key) {
     // points in that order.
     const CornerTangents tangents = endCapCornerTangents(**refiner, leaves);
     const uint32_t first = 2 * uint32_t(std::ranges::count_if(tangents, [](const auto& t) { return t.has_value(); }));
-    std::vector<float>& weights = plan.stencilWeights.edit();
-    weights.assign((first + order.size()) * plan.ringSize, 0.0f);
+    plan.stencilWeights.assign((first + order.size()) * plan.ringSize, 0.0f);
     for (uint32_t c = 0, row = 0; c < 4; ++c) {
         if (!tangents[c]) continue;
         plan.cornerTangents |= 1u << c;
         for (size_t k = 0; k < 2; ++k, ++row)
             for (size_t j = 0; j < tangents[c]->ring.size(); ++j)
-                weights[row * plan.ringSize + uint32_t(tangents[c]->ring[j])] = float(tangents[c]->left[k][j]);
+                plan.stencilWeights[row * plan.ringSize + uint32_t(tangents[c]->ring[j])] = float(tangents[c]->left[k][j]);
     }
     for (uint32_t n = 0; n <= kMaxPlanDepth; ++n) plan.stencilCountByLevel[n] = first;
     for (uint32_t slot = first; slot < first + order.size(); ++slot) {
         const uint32_t point = order[slot - first];
         slotOf[point] = slot;
-        std::ranges::copy(stencils.row(point), weights.begin() + size_t(slot) * plan.ringSize);
+        std::ranges::copy(stencils.row(point), plan.stencilWeights.begin() + size_t(slot) * plan.ringSize);
         for (uint32_t n = levels[point]; n <= kMaxPlanDepth; ++n) plan.stencilCountByLevel[n] = slot + 1;
     }
     exactDartCorners(mesh, leaves, tangents, slotOf, plan);
-    std::vector<uint32_t>& points = plan.points.edit();
-    points.reserve(farPoints.size());
-    for (uint32_t p : farPoints) points.push_back(slotOf[p]);
+    plan.points.reserve(farPoints.size());
+    for (uint32_t p : farPoints) plan.points.push_back(slotOf[p]);
     return plan;
 }
 

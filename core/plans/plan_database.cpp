@@ -32,11 +32,11 @@ void putWords(std::string& out, const uint32_t* words, size_t count) {
 }
 void putWord(std::string& out, uint32_t word) { putWords(out, &word, 1); }
 
-template <class Array>  // std::vector or PlanArray
-void putArray(std::string& out, const Array& values) {
-    static_assert(sizeof(*values.data()) % sizeof(uint32_t) == 0);
+template <class T>
+void putArray(std::string& out, const std::vector<T>& values) {
+    static_assert(sizeof(T) % sizeof(uint32_t) == 0);
     putWord(out, uint32_t(values.size()));
-    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(*values.data()));
+    out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
 }
 
 // Bounds-checked reader over the file contents.
@@ -59,25 +59,6 @@ struct Reader {
         values.resize(count);
         if (count > 0) std::memcpy(values.data(), data + at, count * sizeof(T));  // data() may be null
         at += count * sizeof(T);
-    }
-    // A view of the bytes where `keeper` holds them; a copy without a keeper, or where they are
-    // not aligned for T.
-    template <class T>
-    void array(PlanArray<T>& values, size_t maxCount, const std::shared_ptr<const void>& keeper) {
-        static_assert(alignof(T) <= sizeof(uint32_t));
-        const size_t start = at;
-        uint32_t count = word();
-        if (!ok || count > maxCount || at + size_t(count) * sizeof(T) > size) {
-            ok = false;
-            return;
-        }
-        if (keeper && count > 0 && reinterpret_cast<uintptr_t>(data + at) % alignof(T) == 0) {
-            values = PlanArray<T>(keeper, reinterpret_cast<const T*>(data + at), count);
-            at += count * sizeof(T);
-        } else {
-            at = start;
-            array(values.edit(), maxCount);
-        }
     }
 };
 
@@ -298,17 +279,10 @@ Status PlanDatabase::load(const std::string& path) {
         lastUse_.clear();
         return file.error();
     }
-    // The plans view the mapped file (PlanArray): it stays mapped while one of them is held.
-    auto mapped = std::make_shared<const MappedFile>(std::move(file).value());
-    return loadFromBytes(mapped->bytes(), path, mapped);
+    return loadFromBytes(file->bytes(), path);
 }
 
 Status PlanDatabase::loadFromBytes(std::string_view bytes, const std::string& path) {
-    return loadFromBytes(bytes, path, nullptr);
-}
-
-Status PlanDatabase::loadFromBytes(std::string_view bytes, const std::string& path,
-                                   const std::shared_ptr<const void>& keeper) {
     std::lock_guard<std::shared_mutex> lock(mutex_);
     byHash_.clear();
     keys_.clear();
@@ -377,9 +351,9 @@ Status PlanDatabase::loadFromBytes(std::string_view bytes, const std::string& pa
             entry.array(e.key, limit);
             e.plan.ringSize = entry.word();
             e.plan.maxDepth = entry.word();
-            entry.array(e.plan.nodes, limit, keeper);
-            entry.array(e.plan.points, limit, keeper);
-            entry.array(e.plan.stencilWeights, limit, keeper);
+            entry.array(e.plan.nodes, limit);
+            entry.array(e.plan.points, limit);
+            entry.array(e.plan.stencilWeights, limit);
             for (uint32_t& c : e.plan.stencilCountByLevel) c = entry.word();
             e.plan.cornerTangents = entry.word();
             e.lastUse = entry.word();

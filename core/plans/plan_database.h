@@ -70,18 +70,13 @@ public:
     // this database's plans count as used after all of `older`'s.
     void mergeFrom(const PlanDatabase& older);
     // Replaces the contents with the file's. On failure the database is left empty and the
-    // error says why (the caller reports it as a warning and carries on). The plans view the
-    // file mapped in memory (PlanArray), which stays mapped while one of them is held: replacing
-    // or removing the file is safe (save() writes a new file and renames it over the old), but
-    // a file changed in place under a running process changes or cuts its plans.
+    // error says why (the caller reports it as a warning and carries on).
     Status load(const std::string& path);
     // load() on bytes already read; `source` names them in the message.
     Status loadFromBytes(std::string_view bytes, const std::string& source);
 
 private:
     uint32_t findLocked(const FaceConfig& config) const;
-    // load() and loadFromBytes(): with a keeper, the plans view `bytes`, which it keeps alive.
-    Status loadFromBytes(std::string_view bytes, const std::string& source, const std::shared_ptr<const void>& keeper);
     uint32_t insertLocked(std::vector<uint32_t> key, uint64_t hash, Plan plan, uint32_t session);
 
     mutable std::shared_mutex mutex_;

@@ -353,38 +353,6 @@ TEST(PlanDatabase, PersistsAndRejectsDamagedFiles) {
 // Files with a valid checksum but unsafe contents (a forged or buggy writer): each must be
 // refused, since a plan that loads is applied to 1-rings without further checks. Found by
 // tests/fuzz/fuzz_plan_db (an empty key array reached memcpy with a null pointer).
-// Loaded plans view the mapped file instead of copying it (PlanArray): they stay valid after
-// the file is replaced or removed and after their database is gone, and editing one copies it.
-TEST(PlanDatabase, LoadedPlansViewTheFileAndOutliveIt) {
-    PlanDatabase db;
-    PlannedCage planned = plan(qp::test::makeMixedGrid(), db);
-    auto path = std::filesystem::temp_directory_path() / ("qp-plans-view-" + std::to_string(::getpid()) + ".db");
-    ASSERT_TRUE(db.save(path.string()).ok());
-    auto loaded = std::make_unique<PlanDatabase>();
-    ASSERT_TRUE(loaded->load(path.string()).ok());
-    uint32_t withSurface = 0;
-    while (withSurface < loaded->size() && !loaded->plan(withSurface).hasSurface()) ++withSurface;
-    ASSERT_LT(withSurface, loaded->size());
-    const qp::Plan& viewed = loaded->plan(withSurface);
-    EXPECT_TRUE(viewed.nodes.isView() && viewed.points.isView() && viewed.stencilWeights.isView());
-
-    // Replaced the way Quadplan writes (a new file renamed over it), then removed.
-    PlanDatabase other;
-    plan(qp::test::makeGrid(2), other);
-    ASSERT_TRUE(other.save(path.string()).ok());
-    std::filesystem::remove(path);
-    for (uint32_t i = 0; i < db.size(); ++i) EXPECT_TRUE(loaded->plan(i) == db.plan(i));
-
-    qp::Plan copy = loaded->plan(withSurface);
-    loaded.reset();
-    EXPECT_TRUE(copy == db.plan(withSurface));
-    copy.stencilWeights.edit()[0] += 1.0f;
-    EXPECT_FALSE(copy.stencilWeights.isView());
-    EXPECT_FALSE(copy == db.plan(withSurface));
-    EXPECT_TRUE(std::equal(copy.stencilWeights.begin() + 1, copy.stencilWeights.end(),
-                           db.plan(withSurface).stencilWeights.begin() + 1));
-}
-
 TEST(PlanDatabase, RejectsChecksumValidFilesWithUnsafePlans) {
     PlanDatabase db;
     PlannedCage planned = plan(qp::test::makeMixedGrid(), db);
