@@ -5,7 +5,9 @@
 // through Far::PrimvarRefiner with rows as the primvar, then one row per patch-table local point
 // (the Gregory end caps' points) from the local-point stencils. The sums are those
 // Far::StencilTableFactory forms with factorized intermediate levels, in the same order, without
-// its sparse bookkeeping (which allocated for every point and was a quarter of cold planning).
+// its sparse bookkeeping (which allocated for every point and was a quarter of cold planning):
+// the weights are Far's to the bit (tests/plans/test_dense_stencils.cpp) as long as neither side
+// is compiled to fuse the multiply-adds (no -march with FMA here, nor in Debian's OpenSubdiv).
 #pragma once
 
 #include <cstdint>
