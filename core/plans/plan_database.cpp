@@ -101,6 +101,76 @@ bool planIsConsistent(const Plan& plan) {
     return true;
 }
 
+// One entry of a database file, read and checked.
+struct FileEntry {
+    std::vector<uint32_t> key;
+    Plan plan;
+    uint32_t lastUse = 0;
+    uint64_t hash = 0;
+    bool valid = false;
+};
+
+// Reads and checks every entry of `body` (the file without its checksum) into `entries`:
+// empty when all are sound, else what is wrong. Bounds-checked, so damaged bytes are safe.
+std::string parseEntries(std::string_view body, std::vector<FileEntry>& entries) {
+    Reader in{body.data(), body.size(), sizeof(kMagic)};
+    uint32_t version = in.word();
+    if (version != kFileVersion)
+        return "was written by another version (" + std::to_string(version) + ", expected " +
+               std::to_string(kFileVersion) + ")";
+    const uint32_t count = in.word();
+    const size_t limit = body.size() / 4;
+
+    // Where each entry starts, from its array lengths alone; the entries are then read and
+    // checked on every core (half of a million-face database's load). The skips below and the
+    // reads after them follow the entry layout save() writes: change the three together (and
+    // kFileVersion).
+    std::vector<size_t> entryAt;
+    entryAt.reserve(std::min<size_t>(count, limit));
+    for (uint32_t i = 0; i < count && in.ok; ++i) {
+        const size_t at = in.at;
+        auto skipArray = [&](size_t wordsEach) {
+            const uint32_t n = in.word();
+            if (!in.ok || n > limit || in.at + size_t(n) * wordsEach * 4 > in.size) in.ok = false;
+            else in.at += size_t(n) * wordsEach * 4;
+        };
+        skipArray(1);                       // key
+        in.at += 2 * 4;                     // ring size, depth
+        skipArray(sizeof(PlanNode) / 4);    // nodes
+        skipArray(1);                       // points
+        skipArray(1);                       // stencil weights
+        in.at += sizeof(Plan::stencilCountByLevel) + 2 * 4;  // counts by level, corner tangents, last use
+        if (in.at > in.size) in.ok = false;
+        if (in.ok) entryAt.push_back(at);
+    }
+    const size_t readable = entryAt.size();  // entries before the first one cut short
+
+    entries.resize(readable);
+    tbb::parallel_for(size_t(0), readable, [&](size_t i) {
+        FileEntry& e = entries[i];
+        Reader entry{body.data(), body.size(), entryAt[i]};
+        entry.array(e.key, limit);
+        e.plan.ringSize = entry.word();
+        e.plan.maxDepth = entry.word();
+        entry.array(e.plan.nodes, limit);
+        entry.array(e.plan.points, limit);
+        entry.array(e.plan.stencilWeights, limit);
+        for (uint32_t& c : e.plan.stencilCountByLevel) c = entry.word();
+        e.plan.cornerTangents = entry.word();
+        e.lastUse = entry.word();
+        // Word 4 of a key is its local vertex count (face_config.h): the columns the plan's
+        // stencils must have, or applying them would read past the face's 1-ring.
+        const bool matchesKey = e.key.size() > 5 && (e.plan.nodes.empty() || e.plan.ringSize == e.key[4]);
+        e.valid = entry.ok && matchesKey && planIsConsistent(e.plan);
+        if (e.valid) e.hash = hashKey(e.key);
+    });
+    for (size_t i = 0; i < readable; ++i)
+        if (!entries[i].valid) return "has an invalid plan (entry " + std::to_string(i) + ")";
+    if (readable < count) return "has an invalid plan (entry " + std::to_string(readable) + ")";
+    if (in.at != in.size) return "is truncated or has trailing data";
+    return {};
+}
+
 }  // namespace
 
 uint64_t planDatabaseChecksum(const char* data, size_t size) { return XXH3_64bits(data, size); }
@@ -302,86 +372,21 @@ Status PlanDatabase::loadFromBytes(std::string_view bytes, const std::string& pa
     uint64_t stored;
     std::memcpy(&stored, bytes.data() + bytes.size() - sizeof(stored), sizeof(stored));
 
-    struct Entry {
-        std::vector<uint32_t> key;
-        Plan plan;
-        uint32_t lastUse = 0;
-        uint64_t hash = 0;
-        bool valid = false;
-    };
-    std::vector<Entry> entries;
-    // Reads and checks every entry: empty when all are sound, else what is wrong.
-    auto parse = [&]() -> std::string {
-        Reader in{bytes.data(), bytes.size() - sizeof(stored), sizeof(kMagic)};
-        uint32_t version = in.word();
-        if (version != kFileVersion)
-            return "was written by another version (" + std::to_string(version) + ", expected " +
-                   std::to_string(kFileVersion) + ")";
-        const uint32_t count = in.word();
-        const size_t limit = bytes.size() / 4;
-
-        // Where each entry starts, from its array lengths alone; the entries are then read and
-        // checked on every core (half of a million-face database's load). The skips below and
-        // the reads after them follow the entry layout save() writes: change the three together
-        // (and kFileVersion).
-        std::vector<size_t> entryAt;
-        entryAt.reserve(std::min<size_t>(count, limit));
-        for (uint32_t i = 0; i < count && in.ok; ++i) {
-            const size_t at = in.at;
-            auto skipArray = [&](size_t wordsEach) {
-                const uint32_t n = in.word();
-                if (!in.ok || n > limit || in.at + size_t(n) * wordsEach * 4 > in.size) in.ok = false;
-                else in.at += size_t(n) * wordsEach * 4;
-            };
-            skipArray(1);                       // key
-            in.at += 2 * 4;                     // ring size, depth
-            skipArray(sizeof(PlanNode) / 4);    // nodes
-            skipArray(1);                       // points
-            skipArray(1);                       // stencil weights
-            in.at += sizeof(Plan::stencilCountByLevel) + 2 * 4;  // counts by level, corner tangents, last use
-            if (in.at > in.size) in.ok = false;
-            if (in.ok) entryAt.push_back(at);
-        }
-        const size_t readable = entryAt.size();  // entries before the first one cut short
-
-        entries.resize(readable);
-        tbb::parallel_for(size_t(0), readable, [&](size_t i) {
-            Entry& e = entries[i];
-            Reader entry{bytes.data(), bytes.size() - sizeof(stored), entryAt[i]};
-            entry.array(e.key, limit);
-            e.plan.ringSize = entry.word();
-            e.plan.maxDepth = entry.word();
-            entry.array(e.plan.nodes, limit);
-            entry.array(e.plan.points, limit);
-            entry.array(e.plan.stencilWeights, limit);
-            for (uint32_t& c : e.plan.stencilCountByLevel) c = entry.word();
-            e.plan.cornerTangents = entry.word();
-            e.lastUse = entry.word();
-            // Word 4 of a key is its local vertex count (face_config.h): the columns the plan's
-            // stencils must have, or applying them would read past the face's 1-ring.
-            const bool matchesKey = e.key.size() > 5 && (e.plan.nodes.empty() || e.plan.ringSize == e.key[4]);
-            e.valid = entry.ok && matchesKey && planIsConsistent(e.plan);
-            if (e.valid) e.hash = hashKey(e.key);
-        });
-        for (size_t i = 0; i < readable; ++i)
-            if (!entries[i].valid) return "has an invalid plan (entry " + std::to_string(i) + ")";
-        if (readable < count) return "has an invalid plan (entry " + std::to_string(readable) + ")";
-        if (in.at != in.size) return "is truncated or has trailing data";
-        return {};
-    };
+    std::vector<FileEntry> entries;
+    const std::string_view body = bytes.substr(0, bytes.size() - sizeof(stored));
     // The checksum (a fifth of a million-face database's load, on one core) is computed beside
     // the parsing, which is bounds-checked and safe on damaged bytes; a mismatch is told first.
     bool intact = false;
     std::string problem;
-    tbb::parallel_invoke([&] { intact = stored == planDatabaseChecksum(bytes.data(), bytes.size() - sizeof(stored)); },
-                         [&] { problem = parse(); });
+    tbb::parallel_invoke([&] { intact = stored == planDatabaseChecksum(body.data(), body.size()); },
+                         [&] { problem = parseEntries(body, entries); });
     if (!intact) return corrupt("is damaged (checksum mismatch)");
     if (!problem.empty()) return corrupt(problem);
     const size_t readable = entries.size();
     byHash_.reserve(readable);
     keys_.reserve(readable);
     lastUse_.reserve(readable);
-    for (Entry& e : entries) {
+    for (FileEntry& e : entries) {
         insertLocked(std::move(e.key), e.hash, std::move(e.plan), e.lastUse);
         session_ = std::max(session_, e.lastUse + 1);
     }
