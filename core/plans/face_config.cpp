@@ -6,11 +6,25 @@
 #include <cassert>
 #include <unordered_map>
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace qp {
 
 namespace {
 
 constexpr uint32_t kKeyVersion = 1;
+
+// The face across the edge (prev, vertex) of `f` (backwards) or (vertex, next): UINT32_MAX at a
+// boundary or a non-manifold edge.
+uint32_t faceAcross(const Cage& cage, const Topology& t, uint32_t vertex, uint32_t f, bool backwards) {
+    const uint32_t* fv = cage.faceBegin(f);
+    const uint32_t n = cage.faceSize(f), i = uint32_t(std::find(fv, fv + n, vertex) - fv);
+    const uint32_t edge = t.faceEdges[cage.faceOffsets[f] + (backwards ? (i + n - 1) % n : i)];
+    if (edge == UINT32_MAX || t.edgeFaceCount(edge) != 2) return UINT32_MAX;
+    const uint32_t f0 = t.edgeFaces[t.edgeFaceOffsets[edge]], f1 = t.edgeFaces[t.edgeFaceOffsets[edge] + 1];
+    return f0 == f ? f1 : f0;
+}
 
 // Faces around `vertex`, starting with `face`, rotating across manifold edges: first one way
 // until a boundary (or back at the start), then the other way; faces reached only through
@@ -22,21 +36,10 @@ bool facesAroundVertex(const Cage& cage, const Topology& t, uint32_t vertex, uin
     const uint32_t* all = &t.vertexFaces[t.vertexFaceOffsets[vertex]];
     const uint32_t count = t.vertexFaceCount(vertex);
 
-    auto positionIn = [&](uint32_t f) {
-        const uint32_t* fv = cage.faceBegin(f);
-        return uint32_t(std::find(fv, fv + cage.faceSize(f), vertex) - fv);
-    };
-    auto otherFace = [&](uint32_t edge, uint32_t f) -> uint32_t {
-        if (edge == UINT32_MAX || t.edgeFaceCount(edge) != 2) return UINT32_MAX;
-        uint32_t f0 = t.edgeFaces[t.edgeFaceOffsets[edge]], f1 = t.edgeFaces[t.edgeFaceOffsets[edge] + 1];
-        return f0 == f ? f1 : f0;
-    };
     auto walk = [&](bool backwards) {
         uint32_t f = face;
         for (uint32_t step = 0; step < count; ++step) {
-            uint32_t n = cage.faceSize(f), i = positionIn(f);
-            uint32_t slot = backwards ? (i + n - 1) % n : i;  // edge (prev, v) or (v, next)
-            uint32_t next = otherFace(t.faceEdges[cage.faceOffsets[f] + slot], f);
+            const uint32_t next = faceAcross(cage, t, vertex, f, backwards);
             if (next == UINT32_MAX || next == face || std::find(out.begin(), out.end(), next) != out.end()) return;
             out.push_back(next);
             f = next;
@@ -49,6 +52,14 @@ bool facesAroundVertex(const Cage& cage, const Topology& t, uint32_t vertex, uin
     for (uint32_t i = 0; i < count; ++i)
         if (std::find(out.begin(), out.end(), all[i]) == out.end()) out.push_back(all[i]);
     return false;
+}
+
+// Whether `orbit` (facesAroundVertex from its first face, all of the vertex's faces) is one
+// cycle of backward steps: the last face steps back to the first.
+bool closesBackwards(const Cage& cage, const Topology& t, uint32_t vertex, const std::vector<uint32_t>& orbit) {
+    for (size_t k = 0; k < orbit.size(); ++k)
+        if (faceAcross(cage, t, vertex, orbit[k], true) != orbit[(k + 1) % orbit.size()]) return false;
+    return true;
 }
 
 void pushFloat(std::vector<uint32_t>& key, float value) { key.push_back(std::bit_cast<uint32_t>(value)); }
@@ -66,7 +77,21 @@ struct CornerInfo {
     bool ordered;  // the orbit's order follows from connectivity (facesAroundVertex)
 };
 
-void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, const std::vector<uint8_t>* withCreases,
+// The orbit of a cyclic vertex (GatherIndex) from `face`: its walk from any face is a rotation of
+// the walk from its first face, so the stored cycle is rotated instead of walked again.
+bool rotatedOrbit(const Topology& t, const GatherIndex& index, uint32_t vertex, uint32_t face,
+                  std::vector<uint32_t>& out) {
+    if (!index.cyclic[vertex]) return false;
+    const uint32_t* cycle = &index.orbitFaces[t.vertexFaceOffsets[vertex]];
+    const uint32_t count = t.vertexFaceCount(vertex);
+    const uint32_t at = uint32_t(std::find(cycle, cycle + count, face) - cycle);
+    assert(at < count);
+    out.assign(cycle + at, cycle + count);
+    out.insert(out.end(), cycle, cycle + at);
+    return true;
+}
+
+void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, const GatherIndex* index,
                    std::vector<CornerInfo>& corners) {
     const uint32_t n = cage.faceSize(face);
     const uint32_t* fv = cage.faceBegin(face);
@@ -74,9 +99,10 @@ void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, const std
     for (uint32_t i = 0; i < n; ++i) {
         CornerInfo& c = corners[i];
         c.vertex = fv[i];
-        c.ordered = facesAroundVertex(cage, t, c.vertex, face, c.orbit);
+        c.ordered = (index && rotatedOrbit(t, *index, c.vertex, face, c.orbit)) ||
+                    facesAroundVertex(cage, t, c.vertex, face, c.orbit);
         c.sharp.clear();
-        if (!cage.creases.empty() && (!withCreases || (*withCreases)[c.vertex]))
+        if (!cage.creases.empty() && (!index || index->withCreases.empty() || index->withCreases[c.vertex]))
             for (uint32_t k = t.vertexEdgeOffsets[c.vertex]; k < t.vertexEdgeOffsets[c.vertex + 1]; ++k) {
                 uint32_t e = t.vertexEdges[k], a = t.edgeVertices[2 * e], b = t.edgeVertices[2 * e + 1];
                 float sharpness = cage.edgeSharpness(a, b);
@@ -196,24 +222,43 @@ std::vector<uint8_t> verticesWithCreases(const Cage& cage) {
     return with;
 }
 
-FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
-                            const PlanOptions& options, const std::vector<uint8_t>* withCreases) {
+GatherIndex buildGatherIndex(const Cage& cage, const Topology& topology) {
+    GatherIndex index;
+    if (!cage.creases.empty()) index.withCreases = verticesWithCreases(cage);
+    index.orbitFaces.resize(topology.vertexFaces.size());
+    index.cyclic.assign(cage.vertexCount(), 0);
+    const tbb::blocked_range<uint32_t> vertices(0, cage.vertexCount(), 4096);
+    tbb::parallel_for(vertices, [&](const tbb::blocked_range<uint32_t>& range) {
+        std::vector<uint32_t> orbit;
+        for (uint32_t v = range.begin(); v != range.end(); ++v) {
+            const uint32_t count = topology.vertexFaceCount(v);
+            if (count == 0) continue;
+            // The walk from the first face is a rotation of the walk from any other exactly when
+            // stepping backwards face to face goes round once through all of them: each step
+            // depends on the face alone, so from any face it follows the same cycle.
+            const uint32_t first = topology.vertexFaces[topology.vertexFaceOffsets[v]];
+            if (!facesAroundVertex(cage, topology, v, first, orbit) || !closesBackwards(cage, topology, v, orbit)) continue;
+            std::copy(orbit.begin(), orbit.end(), index.orbitFaces.begin() + topology.vertexFaceOffsets[v]);
+            index.cyclic[v] = 1;
+        }
+    });
+    return index;
+}
+
+const FaceConfig& gatherFaceConfigInThread(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
+                                           const PlanOptions& options, const GatherIndex* index) {
     thread_local GatherScratch scratch;
     if (const uint64_t now = forgottenCorners.load(std::memory_order_relaxed); scratch.remembering != now) {
         scratch.smallestFrom.clear();
         scratch.remembering = now;
     }
-    gatherCorners(cage, topology, face, withCreases, scratch.corners);
-    // Gathered into the thread's arrays, which keep their capacity from face to face, and
-    // returned in arrays of their exact size (growing fresh ones took several allocations a face).
+    gatherCorners(cage, topology, face, index, scratch.corners);
+    // Gathered into the thread's arrays, which keep their capacity from face to face (growing
+    // fresh ones took several allocations a face).
     FaceConfig& best = scratch.best;
-    auto result = [&](uint64_t hash) {
-        FaceConfig out;
-        out.ring = best.ring;
-        out.key = best.key;
-        out.hash = hash;
-        out.rotation = best.rotation;
-        return out;
+    auto result = [&](uint64_t hash) -> const FaceConfig& {
+        best.hash = hash;
+        return best;
     };
     if (cage.faceSize(face) != 4) {
         gatherFromCorner(cage, face, subface, options, scratch, best);
@@ -244,6 +289,12 @@ FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t
         scratch.smallestFrom.emplace(firstHash, uint8_t(best.rotation));
     }
     return result(best.rotation == 0 ? firstHash : hashKey(best.key));
+}
+
+FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
+                            const PlanOptions& options, const GatherIndex* index) {
+    const FaceConfig& gathered = gatherFaceConfigInThread(cage, topology, face, subface, options, index);
+    return gathered;  // a copy in arrays of their exact size
 }
 
 }  // namespace qp

@@ -49,10 +49,27 @@ struct FaceConfig {
 // float bits, cornerCount, then per corner: local vertex, float bits].
 // A hole's own flag is not part of the key either: a hole gets the plan it would have without
 // it (PlannedCage keeps holes planned and hides them).
-// `withCreases`, when given, is verticesWithCreases(cage): gathering then looks up the edges'
-// sharpness only at those vertices (a planning of many faces makes it once).
+// What gathering many faces looks up in a pass over the cage made once for all of them
+// (buildGatherIndex; worth it from a few thousand faces). Gathering with it gives the same
+// FaceConfig as without.
+struct GatherIndex {
+    std::vector<uint8_t> withCreases;  // verticesWithCreases(cage); empty when the cage has no creases
+    // Per vertex, 1 where stepping from face to face across the edges at the vertex goes round
+    // once through all of its faces (a manifold fan, consistently wound, no boundary): then the
+    // faces around it from any face are a rotation of orbitFaces' cycle, which is laid out like
+    // Topology::vertexFaces (the same offsets).
+    std::vector<uint8_t> cyclic;
+    std::vector<uint32_t> orbitFaces;
+};
+GatherIndex buildGatherIndex(const Cage& cage, const Topology& topology);
+
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
-                            const PlanOptions& options, const std::vector<uint8_t>* withCreases = nullptr);
+                            const PlanOptions& options, const GatherIndex* index = nullptr);
+// The same, gathered into the calling thread's own arrays and valid until that thread's next
+// gathering: no allocation once the arrays have grown (planning many faces reads the key once).
+const FaceConfig& gatherFaceConfigInThread(const Cage& cage, const Topology& topology, uint32_t face,
+                                           uint32_t subface, const PlanOptions& options,
+                                           const GatherIndex* index = nullptr);
 // Makes every thread forget the corners it remembered (see the top of this file): for
 // benchmarks that time a fresh process's planning within one process.
 void forgetRememberedCorners();

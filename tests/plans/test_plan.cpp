@@ -430,6 +430,8 @@ TEST(PlanEvaluator, BatchEqualsOneByOne) {
 // the quads it gathered before; the key, ring and rotation must be a full gathering's (a fresh
 // thread remembers nothing). Rotated copies, two-fold symmetric creases, creases and corners,
 // extraordinary vertices and a fin of three faces on one edge (non-manifold: never remembered).
+// Gathering with a GatherIndex gives the same, on these, a torus with one face wound the wrong
+// way and a grid of quads, triangles and n-gons (every sub-face).
 TEST(PlanEngine, QuadsGatheredAgainKeepAFullGatheringsKey) {
     Cage creased = qp::test::makeGrid(6);
     for (uint32_t x = 0; x < 6; ++x) creased.setEdgeSharpness(3 * 7 + x, 3 * 7 + x + 1, 1.5f);
@@ -441,23 +443,37 @@ TEST(PlanEngine, QuadsGatheredAgainKeepAFullGatheringsKey) {
     fin.positions.push_back(fin.positions[b] + glm::vec3(0, 0, 1));
     fin.faceVertices.insert(fin.faceVertices.end(), {a, b, top + 1, top});
     fin.faceOffsets.push_back(uint32_t(fin.faceVertices.size()));
-    const std::vector<Cage> cages = {qp::makeBenchmarkCage(600, 3), creased, qp::test::makeCube(), fin};
+    // A torus with one face wound the other way: the fans at its corners do not close, so the
+    // index must not take their orbits as cycles.
+    Cage flipped = qp::test::makeTorus(8, 6);
+    std::reverse(flipped.faceVertices.begin() + flipped.faceOffsets[9], flipped.faceVertices.begin() + flipped.faceOffsets[10]);
+    const std::vector<Cage> cages = {qp::makeBenchmarkCage(600, 3), creased, qp::test::makeCube(), fin, flipped,
+                                     qp::test::makeMixedGrid()};
     for (size_t c = 0; c < cages.size(); ++c) {
         const Cage& cage = cages[c];
         const qp::Topology topology = qp::buildTopology(cage);
-        const std::vector<uint8_t> withCreases = qp::verticesWithCreases(cage);
+        const qp::GatherIndex index = qp::buildGatherIndex(cage, topology);
+        uint32_t cyclic = 0;
+        for (uint8_t is : index.cyclic) cyclic += is;
+        EXPECT_GT(cyclic, 0u) << "cage " << c << ": the index rotates no orbit";
         for (int pass = 0; pass < 2; ++pass)
-            for (uint32_t f = 0; f < cage.faceCount(); ++f) {
-                if (cage.faceSize(f) != 4) continue;
-                qp::FaceConfig full;
-                std::thread([&] { full = qp::gatherFaceConfig(cage, topology, f, 0, PlanOptions{}); }).join();
-                // The second pass also looks up creases only at the vertices the index marks.
-                const qp::FaceConfig again =
-                    qp::gatherFaceConfig(cage, topology, f, 0, PlanOptions{}, pass == 1 ? &withCreases : nullptr);
-                ASSERT_EQ(again.key, full.key) << "cage " << c << " face " << f << " pass " << pass;
-                ASSERT_EQ(again.ring, full.ring) << "cage " << c << " face " << f;
-                ASSERT_EQ(again.rotation, full.rotation) << "cage " << c << " face " << f;
-                ASSERT_EQ(again.hash, qp::hashKey(full.key)) << "cage " << c << " face " << f;
-            }
+            for (uint32_t f = 0; f < cage.faceCount(); ++f)
+                for (uint32_t k = 0; k < qp::subfaceCount(cage.faceSize(f)); ++k) {
+                    qp::FaceConfig full;
+                    std::thread([&] { full = qp::gatherFaceConfig(cage, topology, f, k, PlanOptions{}); }).join();
+                    // The second pass gathers with the index: creases looked up only at the
+                    // vertices it marks, orbits of cyclic vertices rotated instead of walked.
+                    const qp::FaceConfig again =
+                        qp::gatherFaceConfig(cage, topology, f, k, PlanOptions{}, pass == 1 ? &index : nullptr);
+                    ASSERT_EQ(again.key, full.key) << "cage " << c << " face " << f << " sub-face " << k << " pass " << pass;
+                    ASSERT_EQ(again.ring, full.ring) << "cage " << c << " face " << f << " sub-face " << k;
+                    ASSERT_EQ(again.rotation, full.rotation) << "cage " << c << " face " << f;
+                    ASSERT_EQ(again.hash, qp::hashKey(full.key)) << "cage " << c << " face " << f;
+                }
     }
+    // Where the flipped face meets its neighbours the fans are not cycles.
+    const qp::Topology flippedTopology = qp::buildTopology(flipped);
+    const qp::GatherIndex flippedIndex = qp::buildGatherIndex(flipped, flippedTopology);
+    for (uint32_t j = flipped.faceOffsets[9]; j < flipped.faceOffsets[10]; ++j)
+        EXPECT_EQ(flippedIndex.cyclic[flipped.faceVertices[j]], 0) << "vertex " << flipped.faceVertices[j];
 }
