@@ -245,9 +245,18 @@ GatherIndex buildGatherIndex(const Cage& cage, const Topology& topology) {
     return index;
 }
 
-const FaceConfig& gatherFaceConfigInThread(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
-                                           const PlanOptions& options, const GatherIndex* index) {
-    thread_local GatherScratch scratch;
+struct GatherThread {
+    GatherScratch scratch;
+};
+
+GatherThread& gatherThread() {
+    thread_local GatherThread thread;
+    return thread;
+}
+
+const FaceConfig& gatherFaceConfig(GatherThread& thread, const Cage& cage, const Topology& topology, uint32_t face,
+                                   uint32_t subface, const PlanOptions& options, const GatherIndex* index) {
+    GatherScratch& scratch = thread.scratch;
     if (const uint64_t now = forgottenCorners.load(std::memory_order_relaxed); scratch.remembering != now) {
         scratch.smallestFrom.clear();
         scratch.remembering = now;
@@ -293,7 +302,7 @@ const FaceConfig& gatherFaceConfigInThread(const Cage& cage, const Topology& top
 
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
                             const PlanOptions& options, const GatherIndex* index) {
-    const FaceConfig& gathered = gatherFaceConfigInThread(cage, topology, face, subface, options, index);
+    const FaceConfig& gathered = gatherFaceConfig(gatherThread(), cage, topology, face, subface, options, index);
     return gathered;  // a copy in arrays of their exact size
 }
 

@@ -65,11 +65,15 @@ GatherIndex buildGatherIndex(const Cage& cage, const Topology& topology);
 
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
                             const PlanOptions& options, const GatherIndex* index = nullptr);
-// The same, gathered into the calling thread's own arrays and valid until that thread's next
-// gathering: no allocation once the arrays have grown (planning many faces reads the key once).
-const FaceConfig& gatherFaceConfigInThread(const Cage& cage, const Topology& topology, uint32_t face,
-                                           uint32_t subface, const PlanOptions& options,
-                                           const GatherIndex* index = nullptr);
+// One thread's gathering: the arrays it gathers into and the corners it remembers (see the top
+// of this file). gatherThread() is the calling thread's; a loop over many faces on one thread
+// fetches it once (each fetch of a thread-local in a shared library is a call).
+struct GatherThread;
+GatherThread& gatherThread();
+// The same as gatherFaceConfig, gathered into `thread`'s own arrays (it must be the calling
+// thread's) and valid until its next gathering: no allocation once the arrays have grown.
+const FaceConfig& gatherFaceConfig(GatherThread& thread, const Cage& cage, const Topology& topology, uint32_t face,
+                                   uint32_t subface, const PlanOptions& options, const GatherIndex* index = nullptr);
 // Makes every thread forget the corners it remembered (see the top of this file): for
 // benchmarks that time a fresh process's planning within one process.
 void forgetRememberedCorners();
