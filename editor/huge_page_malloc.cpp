@@ -18,10 +18,6 @@
 
 namespace qp::cli {
 
-namespace {
-constexpr int kMallocTopPad = 64 << 20;
-}
-
 void useHugePagesForMalloc(char** argv) {
 #if defined(__GLIBC__) && !defined(QP_MALLOC_REPLACED)
     // A thread's heap (every thread but the main one has its own) is made writable only as far
@@ -30,6 +26,7 @@ void useHugePagesForMalloc(char** argv) {
     // blocks go, came in 4 KiB pages. With this pad a new heap is writable whole (64 MiB) and the
     // main heap grows 64 MiB at a time: the planning threads' blocks get huge pages too. Untouched
     // pages cost no memory; the pad is also the free memory kept at the top of a heap.
+    constexpr int kMallocTopPad = 64 << 20;
     mallopt(M_TOP_PAD, kMallocTopPad);
     if (std::getenv("GLIBC_TUNABLES")) return;  // the user's tunables, or the second run
     std::ifstream modeFile("/sys/kernel/mm/transparent_hugepage/enabled");

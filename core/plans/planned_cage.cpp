@@ -21,11 +21,11 @@ namespace qp {
 namespace {
 
 // Runs body(begin, end) over ranges of [0, count), each on one thread, which fetches its
-// per-thread state once for the range (a thread-local of this shared library is a call each time
-// it is reached: twice a sub-face was 1.7% of a million-face `plan-stats`' samples). On all cores for
-// large counts; inline for the handful of sub-faces a local edit touches, where waking worker
-// threads costs more than the work (and on a busy machine a descheduled worker can hold the edit
-// up for milliseconds).
+// per-thread state once for the range (a thread-local of this shared library is a call each
+// time it is reached: twice a sub-face was 1.7% of a million-face `plan-stats`' samples). On all
+// cores for large counts; inline for the handful of sub-faces a local edit touches, where waking
+// worker threads costs more than the work (and on a busy machine a descheduled worker can hold
+// the edit up for milliseconds).
 template <class Body>
 void forEachRange(size_t count, const Body& body) {
     if (count < 64) {
