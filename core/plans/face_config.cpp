@@ -81,7 +81,7 @@ struct CornerInfo {
 // the walk from its first face, so the stored cycle is rotated instead of walked again.
 bool rotatedOrbit(const Topology& t, const GatherIndex& index, uint32_t vertex, uint32_t face,
                   std::vector<uint32_t>& out) {
-    if (!index.cyclic[vertex]) return false;
+    if (index.cyclic.empty() || !index.cyclic[vertex]) return false;
     const uint32_t* cycle = &index.orbitFaces[t.vertexFaceOffsets[vertex]];
     const uint32_t count = t.vertexFaceCount(vertex);
     const uint32_t at = uint32_t(std::find(cycle, cycle + count, face) - cycle);
@@ -222,9 +222,10 @@ std::vector<uint8_t> verticesWithCreases(const Cage& cage) {
     return with;
 }
 
-GatherIndex buildGatherIndex(const Cage& cage, const Topology& topology) {
+GatherIndex buildGatherIndex(const Cage& cage, const Topology& topology, bool withOrbits) {
     GatherIndex index;
     if (!cage.creases.empty()) index.withCreases = verticesWithCreases(cage);
+    if (!withOrbits) return index;
     index.orbitFaces.resize(topology.vertexFaces.size());
     index.cyclic.assign(cage.vertexCount(), 0);
     const tbb::blocked_range<uint32_t> vertices(0, cage.vertexCount(), 4096);

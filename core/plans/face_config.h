@@ -57,11 +57,13 @@ struct GatherIndex {
     // Per vertex, 1 where stepping from face to face across the edges at the vertex goes round
     // once through all of its faces (a manifold fan, consistently wound, no boundary): then the
     // faces around it from any face are a rotation of orbitFaces' cycle, which is laid out like
-    // Topology::vertexFaces (the same offsets).
+    // Topology::vertexFaces (the same offsets). Both empty when made without orbits.
     std::vector<uint8_t> cyclic;
     std::vector<uint32_t> orbitFaces;
 };
-GatherIndex buildGatherIndex(const Cage& cage, const Topology& topology);
+// The orbits are a pass over every vertex into arrays the size of the cage: worth it only when
+// the faces to gather are a good part of the cage.
+GatherIndex buildGatherIndex(const Cage& cage, const Topology& topology, bool withOrbits = true);
 
 FaceConfig gatherFaceConfig(const Cage& cage, const Topology& topology, uint32_t face, uint32_t subface,
                             const PlanOptions& options, const GatherIndex* index = nullptr);

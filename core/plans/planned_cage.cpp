@@ -182,9 +182,12 @@ Result<std::vector<PlannedCage::SubfacePlan>> PlannedCage::planFaces(const Cage&
     size_t firstFailed = SIZE_MAX;
     std::string firstError;
     // Worth its passes over the cage only when planning many faces (a million: the crease marks
-    // 20-70 ms less, the rotated orbits about 140 ms).
+    // 20-70 ms less, the rotated orbits about 140 ms); the orbits, arrays over the whole cage, only
+    // when those faces are a quarter of it or more (not for an edit of thousands of faces of a
+    // million).
     const bool indexed = work.size() >= kGatherIndexAfterSubfaces;
-    const GatherIndex index = indexed ? buildGatherIndex(cage, topology) : GatherIndex{};
+    const bool withOrbits = faces.size() * 4 >= cage.faceCount();
+    const GatherIndex index = indexed ? buildGatherIndex(cage, topology, withOrbits) : GatherIndex{};
     forEachRange(work.size(), [&](size_t begin, size_t end) {
         GatherThread& thread = gatherThread();
         for (size_t i = begin; i < end; ++i) {

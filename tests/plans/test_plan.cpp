@@ -453,18 +453,22 @@ TEST(PlanEngine, QuadsGatheredAgainKeepAFullGatheringsKey) {
         const Cage& cage = cages[c];
         const qp::Topology topology = qp::buildTopology(cage);
         const qp::GatherIndex index = qp::buildGatherIndex(cage, topology);
+        const qp::GatherIndex creasesOnly = qp::buildGatherIndex(cage, topology, false);
+        EXPECT_TRUE(creasesOnly.cyclic.empty() && creasesOnly.orbitFaces.empty());
+        EXPECT_EQ(creasesOnly.withCreases, index.withCreases);
         uint32_t cyclic = 0;
         for (uint8_t is : index.cyclic) cyclic += is;
         EXPECT_GT(cyclic, 0u) << "cage " << c << ": the index rotates no orbit";
-        for (int pass = 0; pass < 2; ++pass)
+        for (int pass = 0; pass < 3; ++pass)
             for (uint32_t f = 0; f < cage.faceCount(); ++f)
                 for (uint32_t k = 0; k < qp::subfaceCount(cage.faceSize(f)); ++k) {
                     qp::FaceConfig full;
                     std::thread([&] { full = qp::gatherFaceConfig(cage, topology, f, k, PlanOptions{}); }).join();
                     // The second pass gathers with the index: creases looked up only at the
-                    // vertices it marks, orbits of cyclic vertices rotated instead of walked.
-                    const qp::FaceConfig again =
-                        qp::gatherFaceConfig(cage, topology, f, k, PlanOptions{}, pass == 1 ? &index : nullptr);
+                    // vertices it marks, orbits of cyclic vertices rotated instead of walked;
+                    // the third with the crease marks alone.
+                    const qp::GatherIndex* with = pass == 1 ? &index : pass == 2 ? &creasesOnly : nullptr;
+                    const qp::FaceConfig again = qp::gatherFaceConfig(cage, topology, f, k, PlanOptions{}, with);
                     ASSERT_EQ(again.key, full.key) << "cage " << c << " face " << f << " sub-face " << k << " pass " << pass;
                     ASSERT_EQ(again.ring, full.ring) << "cage " << c << " face " << f << " sub-face " << k;
                     ASSERT_EQ(again.rotation, full.rotation) << "cage " << c << " face " << f;
