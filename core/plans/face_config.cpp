@@ -112,8 +112,10 @@ void gatherCorners(const Cage& cage, const Topology& t, uint32_t face, const Gat
     }
 }
 
-// Working arrays of one thread's gathering, kept from face to face.
-struct GatherScratch {
+}  // namespace
+
+// Working arrays of one thread's gathering, kept from face to face (face_config.h).
+struct GatherThread {
     std::vector<CornerInfo> corners;
     std::vector<uint32_t> added;
     std::vector<std::pair<uint64_t, float>> creases;
@@ -124,13 +126,16 @@ struct GatherScratch {
     std::unordered_map<uint64_t, uint8_t> smallestFrom;
     uint64_t remembering = 0;  // forgetRememberedCorners' count when smallestFrom began
 };
+
+namespace {
+
 std::atomic<uint64_t> forgottenCorners{0};
 // A bound on smallestFrom, about 40 bytes an entry (a thread that reaches it starts over).
 constexpr size_t kMaxRememberedFirstKeys = size_t(1) << 20;
 
 // Key and ring for one choice of start corner.
 void gatherFromCorner(const Cage& cage, uint32_t face, uint32_t start, const PlanOptions& options,
-                      GatherScratch& scratch, FaceConfig& out) {
+                      GatherThread& scratch, FaceConfig& out) {
     const std::vector<CornerInfo>& corners = scratch.corners;
     const uint32_t n = uint32_t(corners.size());
     std::vector<uint32_t>& ring = out.ring;
@@ -246,18 +251,13 @@ GatherIndex buildGatherIndex(const Cage& cage, const Topology& topology, bool wi
     return index;
 }
 
-struct GatherThread {
-    GatherScratch scratch;
-};
-
 GatherThread& gatherThread() {
     thread_local GatherThread thread;
     return thread;
 }
 
-const FaceConfig& gatherFaceConfig(GatherThread& thread, const Cage& cage, const Topology& topology, uint32_t face,
+const FaceConfig& gatherFaceConfig(GatherThread& scratch, const Cage& cage, const Topology& topology, uint32_t face,
                                    uint32_t subface, const PlanOptions& options, const GatherIndex* index) {
-    GatherScratch& scratch = thread.scratch;
     if (const uint64_t now = forgottenCorners.load(std::memory_order_relaxed); scratch.remembering != now) {
         scratch.smallestFrom.clear();
         scratch.remembering = now;
