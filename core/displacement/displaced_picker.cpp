@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "displacement/sculpt_samples.h"
+#include "edit/grid_hit.h"
 
 namespace qp {
 
@@ -96,6 +97,7 @@ void DisplacedPicker::displace(const Displacement& displacement, uint32_t subfac
             }
     }
     for (const glm::vec3& p : g.displaced) box.add(p);
+    growForRounding(box);
 }
 
 void DisplacedPicker::resample(const PlannedCage& planned, const Displacement& displacement,
@@ -128,34 +130,18 @@ void DisplacedPicker::updateSamples(const PlannedCage& planned, const Displaceme
 
 DisplacedPicker::Hit DisplacedPicker::triangleHit(const Ray& ray, float maxDistance) const {
     Hit hit;
+    const RayFrame frame(ray.origin, ray.direction);
+    thread_local std::vector<glm::vec3> scratchOfThread;
+    std::vector<glm::vec3>& scratch = scratchOfThread;
     bvh_.traverse(ray.origin, ray.direction, maxDistance, [&](uint32_t s, float tMax) {
-        const Grid& g = grids_[s];
-        const uint32_t n = g.n;
-        const std::vector<glm::vec3>& p = g.displaced;
-        for (uint32_t j = 0; j < n; ++j)
-            for (uint32_t i = 0; i < n; ++i) {
-                const glm::vec3& p00 = p[j * (n + 1) + i];
-                const glm::vec3& p10 = p[j * (n + 1) + i + 1];
-                const glm::vec3& p01 = p[(j + 1) * (n + 1) + i];
-                const glm::vec3& p11 = p[(j + 1) * (n + 1) + i + 1];
-                float t, b1, b2;
-                // Triangles (00, 10, 11) and (00, 11, 01), parameters interpolated linearly.
-                if (rayHitsTriangle(ray.origin, ray.direction, p00, p10, p11, t, b1, b2) && t < tMax) {
-                    tMax = t;
-                    hit.subface = s;
-                    hit.u = (float(i) + b1 + b2) / float(n);
-                    hit.v = (float(j) + b2) / float(n);
-                    hit.distance = t;
-                }
-                if (rayHitsTriangle(ray.origin, ray.direction, p00, p11, p01, t, b1, b2) && t < tMax) {
-                    tMax = t;
-                    hit.subface = s;
-                    hit.u = (float(i) + b1) / float(n);
-                    hit.v = (float(j) + b1 + b2) / float(n);
-                    hit.distance = t;
-                }
-            }
-        return tMax;
+        const Grid& grid = grids_[s];
+        const GridHit g = nearestGridHit(frame, grid.displaced.data(), grid.n, CellRange::all(grid.n), tMax, scratch);
+        if (!g.hit()) return tMax;
+        hit.subface = s;
+        hit.u = g.u;
+        hit.v = g.v;
+        hit.distance = g.distance;
+        return g.distance;
     });
     return hit;
 }

@@ -1,7 +1,6 @@
 #include "edit/bvh.h"
 
 #include <algorithm>
-#include <array>
 #include <cassert>
 #include <cmath>
 
@@ -10,14 +9,12 @@
 
 namespace qp {
 
-void Box::add(const glm::vec3& p) {
-    min = glm::min(min, p);
-    max = glm::max(max, p);
-}
-
-void Box::add(const Box& b) {
-    min = glm::min(min, b.min);
-    max = glm::max(max, b.max);
+void growForRounding(Box& box) {
+    if (box.empty()) return;
+    const glm::vec3 magnitude = glm::max(glm::abs(box.min), glm::abs(box.max));
+    const glm::vec3 pad = glm::vec3(1e-4f * glm::length(box.max - box.min)) + 1e-6f * magnitude;
+    box.min -= pad;
+    box.max += pad;
 }
 
 BoxBvh::BoxBvh(std::span<const Box> boxes) {
@@ -78,43 +75,6 @@ void BoxBvh::refit(std::span<const Box> boxes) {
             node.box.add(nodes_[node.right].box);
         }
     }
-}
-
-float BoxBvh::traverse(const glm::vec3& origin, const glm::vec3& direction, float tMax,
-                       const std::function<float(uint32_t, float)>& test) const {
-    if (nodes_.empty()) return tMax;
-    const glm::vec3 inverse = 1.0f / direction;
-    struct Entry {
-        uint32_t node;
-        float entry;
-    };
-    // A missed box enters at +infinity, which an unbounded query's tMax (+infinity) would admit.
-    auto entered = [&](float entry) { return entry <= tMax && std::isfinite(entry); };
-    // The tree splits at medians, so it is at most 32 levels deep and a stack holds at most one
-    // entry a level plus one: no allocation per ray.
-    std::array<Entry, 64> stack;
-    size_t depth = 0;
-    stack[depth++] = {0, rayEntersBox(nodes_[0].box, origin, inverse, tMax)};
-    while (depth > 0) {
-        const Entry e = stack[--depth];
-        if (!entered(e.entry)) continue;
-        const Node& node = nodes_[e.node];
-        if (node.count > 0) {
-            // A leaf holds several items: only those whose own box the ray enters are tested.
-            for (uint32_t i = node.first; i < node.first + node.count; ++i)
-                if (entered(rayEntersBox(itemBoxes_[i], origin, inverse, tMax))) tMax = test(items_[i], tMax);
-            continue;
-        }
-        const uint32_t a = node.left, b = node.right;
-        const float ta = rayEntersBox(nodes_[a].box, origin, inverse, tMax);
-        const float tb = rayEntersBox(nodes_[b].box, origin, inverse, tMax);
-        // Push the farther first so the nearer is visited first; missed children not at all.
-        const Entry nearer = ta <= tb ? Entry{a, ta} : Entry{b, tb}, farther = ta <= tb ? Entry{b, tb} : Entry{a, ta};
-        assert(depth + 2 <= stack.size());
-        if (entered(farther.entry)) stack[depth++] = farther;
-        if (entered(nearer.entry)) stack[depth++] = nearer;
-    }
-    return tMax;
 }
 
 }  // namespace qp

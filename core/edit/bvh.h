@@ -6,13 +6,15 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <cassert>
 #include <cmath>
 #include <cstdint>
-#include <functional>
 #include <limits>
 #include <span>
 #include <vector>
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
@@ -21,10 +23,15 @@ namespace qp {
 struct Box {
     glm::vec3 min{std::numeric_limits<float>::infinity()};
     glm::vec3 max{-std::numeric_limits<float>::infinity()};
-    void add(const glm::vec3& p);
-    void add(const Box& b);
+    void add(const glm::vec3& p) { min = glm::min(min, p), max = glm::max(max, p); }
+    void add(const Box& b) { min = glm::min(min, b.min), max = glm::max(max, b.max); }
     bool empty() const { return min.x > max.x; }
 };
+
+// A box of samples grown by a hair (1e-4 of its size and the rounding of its coordinates), so
+// the slab test's rounding cannot lose a ray through a sample on its boundary: an extreme
+// point of the surface, a flat patch (a box of no thickness), a line two boxes share.
+void growForRounding(Box& box);
 
 // Ray-box slab test: the distance at which the ray (origin, 1 / direction) enters the box, or
 // +infinity when it misses it or enters it after tMax. (This and the triangle test are inline:
@@ -84,9 +91,10 @@ public:
     void refit(std::span<const Box> boxes);
 
     // Calls test(item, tMax) for candidate items; test returns the new tMax (its nearest hit
-    // so far, or tMax unchanged). Returns the final tMax.
-    float traverse(const glm::vec3& origin, const glm::vec3& direction, float tMax,
-                   const std::function<float(uint32_t item, float tMax)>& test) const;
+    // so far, or tMax unchanged). Returns the final tMax. A template, so the test (called for
+    // every item a picking ray reaches) is inlined rather than called through a pointer.
+    template <typename Test>
+    float traverse(const glm::vec3& origin, const glm::vec3& direction, float tMax, Test&& test) const;
 
 private:
     struct Node {
@@ -101,5 +109,42 @@ private:
     std::vector<Box> itemBoxes_;  // items_[k]'s box
     std::vector<glm::vec3> centres_;
 };
+
+template <typename Test>
+float BoxBvh::traverse(const glm::vec3& origin, const glm::vec3& direction, float tMax, Test&& test) const {
+    if (nodes_.empty()) return tMax;
+    const glm::vec3 inverse = 1.0f / direction;
+    struct Entry {
+        uint32_t node;
+        float entry;
+    };
+    // A missed box enters at +infinity, which an unbounded query's tMax (+infinity) would admit.
+    auto entered = [&](float entry) { return entry <= tMax && std::isfinite(entry); };
+    // The tree splits at medians, so it is at most 32 levels deep and a stack holds at most one
+    // entry a level plus one: no allocation per ray.
+    std::array<Entry, 64> stack;
+    size_t depth = 0;
+    stack[depth++] = {0, rayEntersBox(nodes_[0].box, origin, inverse, tMax)};
+    while (depth > 0) {
+        const Entry e = stack[--depth];
+        if (!entered(e.entry)) continue;
+        const Node& node = nodes_[e.node];
+        if (node.count > 0) {
+            // A leaf holds several items: only those whose own box the ray enters are tested.
+            for (uint32_t i = node.first; i < node.first + node.count; ++i)
+                if (entered(rayEntersBox(itemBoxes_[i], origin, inverse, tMax))) tMax = test(items_[i], tMax);
+            continue;
+        }
+        const uint32_t a = node.left, b = node.right;
+        const float ta = rayEntersBox(nodes_[a].box, origin, inverse, tMax);
+        const float tb = rayEntersBox(nodes_[b].box, origin, inverse, tMax);
+        // Push the farther first so the nearer is visited first; missed children not at all.
+        const Entry nearer = ta <= tb ? Entry{a, ta} : Entry{b, tb}, farther = ta <= tb ? Entry{b, tb} : Entry{a, ta};
+        assert(depth + 2 <= stack.size());
+        if (entered(farther.entry)) stack[depth++] = farther;
+        if (entered(nearer.entry)) stack[depth++] = nearer;
+    }
+    return tMax;
+}
 
 }  // namespace qp

@@ -7,6 +7,7 @@
 #include <glm/matrix.hpp>
 #include <tbb/parallel_for.h>
 
+#include "edit/grid_hit.h"
 #include "edit/picking.h"
 
 namespace qp {
@@ -37,6 +38,7 @@ uint32_t LimitPicker::resolutionFor(uint32_t subfaces) {
 
 void LimitPicker::sample(const PlannedCage& planned, uint32_t subface) {
     boxes_[subface] = Box{};
+    if (hasQuadrants()) quadrantBoxes_[subface] = {};
     if (!planned.hasSurface(subface)) return;
     const uint32_t n = resolution_;
     glm::vec3* grid = samples_.data() + size_t(subface) * stride();
@@ -46,6 +48,15 @@ void LimitPicker::sample(const PlannedCage& planned, uint32_t subface) {
         for (uint32_t i = 0; i <= n; ++i) {
             grid[j * (n + 1) + i] = planned.evaluate(subface, controlPoints, float(i) / float(n), float(j) / float(n)).position;
             boxes_[subface].add(grid[j * (n + 1) + i]);
+        }
+    growForRounding(boxes_[subface]);
+    if (hasQuadrants())
+        for (uint32_t q = 0; q < 4; ++q) {
+            Box& box = quadrantBoxes_[subface][q];
+            const CellRange cells = CellRange::quadrant(n, q);
+            for (uint32_t j = cells.j0; j <= cells.j1; ++j)
+                for (uint32_t i = cells.i0; i <= cells.i1; ++i) box.add(grid[j * (n + 1) + i]);
+            growForRounding(box);
         }
 }
 
@@ -61,8 +72,10 @@ void LimitPicker::update(const PlannedCage& planned, const EditReport& report) {
     const bool carried = report.topologyChanged && report.previousSubfaceOf.size() == count && !boxes_.empty();
     if (carried) {  // kept sub-faces take their samples along; new and updated ones are sampled
         const std::vector<Box> boxesBefore = std::move(boxes_);
+        const std::vector<std::array<Box, 4>> quadrantsBefore = std::move(quadrantBoxes_);
         const uint32_t before = uint32_t(boxesBefore.size());
         boxes_.assign(count, Box{});
+        quadrantBoxes_.assign(hasQuadrants() ? count : 0, {});
         std::vector<uint32_t> stale = report.updatedSubfaceList;
         std::vector<std::pair<uint32_t, uint32_t>> kept;  // (now, before), ascending in both
         for (uint32_t s = 0; s < count; ++s) {
@@ -73,6 +86,7 @@ void LimitPicker::update(const PlannedCage& planned, const EditReport& report) {
             }
             kept.push_back({s, previous});
             boxes_[s] = boxesBefore[previous];
+            if (hasQuadrants()) quadrantBoxes_[s] = quadrantsBefore[previous];
         }
         // The samples move inside their own array (a fresh one of a million sub-faces' samples
         // costs more in page faults than sampling them): kept sub-faces keep their order, so
@@ -97,6 +111,7 @@ void LimitPicker::update(const PlannedCage& planned, const EditReport& report) {
         samples_.reserve(size_t(count) * stride() + size_t(count) * stride() / 8);
         samples_.resize(size_t(count) * stride());
         boxes_.assign(count, Box{});
+        quadrantBoxes_.assign(hasQuadrants() ? count : 0, {});
         tbb::parallel_for(uint32_t(0), count, [&](uint32_t s) { sample(planned, s); });
     } else {
         const std::vector<uint32_t>& list = report.updatedSubfaceList;
@@ -116,26 +131,25 @@ void LimitPicker::update(const PlannedCage& planned, const EditReport& report) {
 
 LimitPicker::Hit LimitPicker::sampledHit(const Ray& ray, float maxDistance) const {
     Hit hit;
-    const uint32_t n = resolution_;
+    const RayFrame frame(ray.origin, ray.direction);
+    thread_local std::vector<glm::vec3> scratchOfThread;
+    std::vector<glm::vec3>& scratch = scratchOfThread;
+    const glm::vec3 inverse = 1.0f / ray.direction;
     bvh_.traverse(ray.origin, ray.direction, maxDistance, [&](uint32_t s, float tMax) {
-        const glm::vec3* g = samples_.data() + size_t(s) * stride();
-        for (uint32_t j = 0; j < n; ++j)
-            for (uint32_t i = 0; i < n; ++i) {
-                const glm::vec3& p00 = g[j * (n + 1) + i];
-                const glm::vec3& p10 = g[j * (n + 1) + i + 1];
-                const glm::vec3& p01 = g[(j + 1) * (n + 1) + i];
-                const glm::vec3& p11 = g[(j + 1) * (n + 1) + i + 1];
-                float t, b1, b2;
-                // Triangles (00, 10, 11) and (00, 11, 01), parameters interpolated linearly.
-                if (rayHitsTriangle(ray.origin, ray.direction, p00, p10, p11, t, b1, b2) && t < tMax) {
-                    tMax = t;
-                    hit = {s, (float(i) + b1 + b2) / float(n), (float(j) + b2) / float(n), ray.origin + t * ray.direction, t, false};
-                }
-                if (rayHitsTriangle(ray.origin, ray.direction, p00, p11, p01, t, b1, b2) && t < tMax) {
-                    tMax = t;
-                    hit = {s, (float(i) + b1) / float(n), (float(j) + b1 + b2) / float(n), ray.origin + t * ray.direction, t, false};
-                }
-            }
+        const glm::vec3* grid = samples_.data() + size_t(s) * stride();
+        auto test = [&](CellRange cells) {
+            const GridHit g = nearestGridHit(frame, grid, resolution_, cells, tMax, scratch);
+            if (!g.hit()) return;
+            hit = {s, g.u, g.v, ray.origin + g.distance * ray.direction, g.distance, false};
+            tMax = g.distance;
+        };
+        if (!hasQuadrants()) {
+            test(CellRange::all(resolution_));
+            return tMax;
+        }
+        for (uint32_t q = 0; q < 4; ++q)
+            if (std::isfinite(rayEntersBox(quadrantBoxes_[s][q], ray.origin, inverse, tMax)))
+                test(CellRange::quadrant(resolution_, q));
         return tMax;
     });
     return hit;

@@ -11,6 +11,7 @@
 // cageOccluder tests against the cage faces, limitOccluder against the limit surface.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <limits>
@@ -111,11 +112,15 @@ private:
     Hit sampledHit(const Ray& ray, float maxDistance) const;  // the nearest sampled triangle's
     Hit refined(const PlannedCage& planned, const Ray& ray, Hit hit) const;
     uint32_t stride() const { return (resolution_ + 1) * (resolution_ + 1); }
+    // Grids of 4 x 4 cells or more keep a box per quadrant: a ray through a sub-face's box
+    // passes through one or two of them, and only their cells are tested.
+    bool hasQuadrants() const { return resolution_ >= 4; }
 
     uint32_t resolution_ = 8;
     float largestSubface_ = 0.0f;    // at least the largest sub-face box's diagonal
     std::vector<glm::vec3> samples_;  // stride() per sub-face; unused where its box is empty
     std::vector<Box> boxes_;          // empty: the sub-face has no surface
+    std::vector<std::array<Box, 4>> quadrantBoxes_;  // per sub-face where hasQuadrants()
     BoxBvh bvh_;
 };
 

@@ -1,6 +1,7 @@
 // Picking on the cage and on the limit surface, visibility and box selection (core/edit/picking.h).
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/matrix_transform.hpp>
@@ -268,4 +269,50 @@ TEST(Picking, LimitPickerAfterMovesEqualsAFreshOne) {
     EXPECT_EQ(qp::LimitPicker::resolutionFor(1000), 8u);
     EXPECT_EQ(qp::LimitPicker::resolutionFor(1'000'000), 3u);
     EXPECT_EQ(qp::LimitPicker::resolutionFor(100'000'000), 2u);
+}
+
+// Rays aimed at the sampled points themselves: the corners of cells and the lines quadrants
+// share, where a test that skips cells or quadrants before the triangle tests could lose a hit
+// to rounding. Grids with and without quadrant boxes, odd and even; a curved closed cage and a
+// flat one (boxes of no thickness).
+TEST(Picking, RaysAimedAtSampledPointsHitThem) {
+    qp::PlanDatabase db;
+    struct Case {
+        qp::Cage cage;
+        glm::vec3 eye;
+        bool aroundOrigin;  // closed and convex about the origin, else flat
+    };
+    const Case cases[] = {{qp::test::makeSubdividedCube(3), {3.5f, 2.5f, 3.0f}, true},
+                          {qp::test::makeFlatGrid(6), {1.0f, -2.0f, 7.0f}, false}};
+    for (const Case& c : cases) {
+        qp::PlannedCage planned = plan(c.cage, db);
+        for (uint32_t resolution : {3u, 5u, 6u, 8u}) {
+            const qp::LimitPicker picker(planned, resolution);
+            uint32_t aimed = 0;
+            for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+                if (!planned.hasSurface(s)) continue;
+                for (uint32_t j = 0; j <= resolution; ++j)
+                    for (uint32_t i = 0; i <= resolution; ++i) {
+                        const float u = float(i) / float(resolution), v = float(j) / float(resolution);
+                        const qp::LimitSample sample = planned.evaluate(s, u, v);
+                        const glm::vec3 toPoint = sample.position - c.eye;
+                        const qp::Ray ray{c.eye, glm::normalize(toPoint)};
+                        const glm::vec3 normal = glm::normalize(glm::cross(sample.du, sample.dv));
+                        // Facing the eye, not grazing: on these convex or flat surfaces nothing
+                        // else lies before the point.
+                        const glm::vec3 outwards = glm::dot(normal, sample.position) >= 0.0f ? normal : -normal;
+                        const float facing = c.aroundOrigin ? glm::dot(outwards, -ray.direction)
+                                                            : std::fabs(glm::dot(normal, ray.direction));
+                        if (facing < 0.3f) continue;
+                        ++aimed;
+                        const qp::LimitPicker::Hit hit = picker.intersect(planned, ray);
+                        const std::string where = "resolution " + std::to_string(resolution) + " sub-face " +
+                                                  std::to_string(s) + " (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+                        ASSERT_NE(hit.subface, qp::kNoHit) << where;
+                        EXPECT_NEAR(hit.distance, glm::length(toPoint), 1e-4f) << where;
+                    }
+            }
+            EXPECT_GT(aimed, 200u) << "resolution " << resolution;
+        }
+    }
 }
