@@ -79,10 +79,16 @@ GridPlace edgeVertexOwnerPlace(const GpuPlanData& data, const GridFactors& facto
     return segmentOwnerPlace(data, factors, r.segment, (r.flags & kEdgeRefReversed) ? pieces - i : i, pieces);
 }
 
-// Segments needed for a sphere to be `pixelsPerSegment` long on screen (plan_draw.glsl).
+// Segments needed for a sphere to be `pixelsPerSegment` long on screen (plan_draw.glsl). A
+// sphere wholly behind the eye takes one: its w (depth along the view, 1 everywhere for an
+// orthographic camera) stays below 0 however far across it, with twice its radius for the curve
+// between the points. (Clamped as one that reaches the eye, it took 64: with the camera among a
+// million faces, the half behind it laid out at 64 filled the memory.)
 float sphereFactor(const AdaptiveView& view, const glm::vec3& centre, float radius) {
-    const float w = std::max((view.viewProjection * glm::vec4(centre, 1.0f)).w, 1e-4f);
-    return std::clamp(2.0f * radius * view.pixelsPerUnit / w / view.pixelsPerSegment, 1.0f, 64.0f);
+    const glm::mat4& m = view.viewProjection;
+    const float w = (m * glm::vec4(centre, 1.0f)).w;
+    if (w + 2.0f * radius * glm::length(glm::vec3(m[0][3], m[1][3], m[2][3])) < 0.0f) return 1.0f;
+    return std::clamp(2.0f * radius * view.pixelsPerUnit / std::max(w, 1e-4f) / view.pixelsPerSegment, 1.0f, 64.0f);
 }
 
 uint32_t powerOfTwoAtLeast(float pieces) { return std::bit_ceil(uint32_t(std::ceil(pieces))); }
@@ -152,14 +158,29 @@ void chooseSegmentPieces(const GpuPlanData& data, std::span<const glm::vec4> poi
 
 GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::vec4> points, const AdaptiveView& view,
                                 const GridFactors* previous) {
-    GridFactors f;
-    f.segmentPieces.assign(data.segments.size(), 0);
-    f.subfaceFactor.assign(data.subfaces.size(), 1);
-    auto kept = [&](uint32_t segment) { return previous ? previous->segmentPieces[segment] : 0u; };
-    for (uint32_t d = 0; d < data.subfaces.size(); ++d) chooseSegmentPieces(data, points, view, d, kept, f.segmentPieces);
-    for (uint32_t d = 0; d < data.subfaces.size(); ++d)
-        for (uint32_t e = 0; e < 4; ++e) f.subfaceFactor[d] = std::max(f.subfaceFactor[d], edgePieces(data, f, d, e));
+    auto choose = [&](const AdaptiveView& v, const GridFactors* before) {
+        GridFactors f;
+        f.segmentPieces.assign(data.segments.size(), 0);
+        f.subfaceFactor.assign(data.subfaces.size(), 1);
+        auto kept = [&](uint32_t segment) { return before ? before->segmentPieces[segment] : 0u; };
+        for (uint32_t d = 0; d < data.subfaces.size(); ++d) chooseSegmentPieces(data, points, v, d, kept, f.segmentPieces);
+        for (uint32_t d = 0; d < data.subfaces.size(); ++d)
+            for (uint32_t e = 0; e < 4; ++e) f.subfaceFactor[d] = std::max(f.subfaceFactor[d], edgePieces(data, f, d, e));
+        return f;
+    };
+    GridFactors f = choose(view, previous);
+    AdaptiveView coarser = view;
+    while (gridSlots(f) > kMaxAdaptiveGridSlots && coarser.pixelsPerSegment < 1e6f) {
+        coarser.pixelsPerSegment *= 2.0f;
+        f = choose(coarser, nullptr);
+    }
     return f;
+}
+
+uint64_t gridSlots(const GridFactors& factors) {
+    uint64_t slots = 0;
+    for (uint32_t n : factors.subfaceFactor) slots += uint64_t(n + 1) * (n + 1);
+    return slots;
 }
 
 void updateAdaptiveGridFactors(const GpuPlanData& data, std::span<const glm::vec4> points, const AdaptiveView& view,

@@ -19,9 +19,12 @@ layout(std430, set = 0, binding = 13) readonly buffer PointPositions { vec4 poin
 #endif
 
 // Segments needed for a sphere (centre, radius) to be pixelsPerSegment long on screen:
-// rotation-invariant and the same from both faces of an edge.
+// rotation-invariant and the same from both faces of an edge. One for a sphere wholly behind the
+// eye (render/grid_layout.cpp sphereFactor, which this matches).
 float sphereFactor(vec3 centre, float radius) {
     if (draw.uniformFactor > 0.0) return draw.uniformFactor;
-    float w = max((draw.viewProjection * vec4(centre, 1.0)).w, 1e-4);
-    return clamp(2.0 * radius * draw.pixelsPerUnit / w / draw.pixelsPerSegment, 1.0, 64.0);
+    mat4 m = draw.viewProjection;
+    float w = (m * vec4(centre, 1.0)).w;
+    if (w + 2.0 * radius * length(vec3(m[0][3], m[1][3], m[2][3])) < 0.0) return 1.0;
+    return clamp(2.0 * radius * draw.pixelsPerUnit / max(w, 1e-4) / draw.pixelsPerSegment, 1.0, 64.0);
 }
