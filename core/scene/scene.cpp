@@ -407,6 +407,8 @@ DisplaySettings readDisplay(const json& value, const Context& ctx) {
     if (const json* v = object.optional("shading"))
         d.shading = readEnum<Shading>(*v, object.field("shading"), kShadingNames);
     if (const json* v = object.optional("show_grid")) d.showGrid = readBool(*v, object.field("show_grid"));
+    if (const json* v = object.optional("dense_cage_lines"))
+        d.denseCageLines = readBool(*v, object.field("dense_cage_lines"));
     object.warnAboutUnknownFields(ctx.source, ctx.warnings);
     return d;
 }

@@ -69,6 +69,9 @@ struct DisplaySettings {
     std::optional<UpAxis> upAxis;  // absent (older files): the viewer guesses from the cage
     Shading shading = Shading::Studio;
     bool showGrid = true;          // the ground grid
+    // The editor draws plain cage edges however short they project (it leaves them out where
+    // they would be shorter than a few pixels: editor/app/cage_lines.h plainLinesReadable).
+    bool denseCageLines = false;
 
     bool operator==(const DisplaySettings&) const = default;
 };

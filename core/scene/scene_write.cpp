@@ -112,6 +112,7 @@ ordered_json displayJson(const DisplaySettings& d) {
     if (d.upAxis) out["up_axis"] = enumName<UpAxis>(kUpAxisNames, *d.upAxis);
     out["shading"] = enumName<Shading>(kShadingNames, d.shading);
     out["show_grid"] = d.showGrid;
+    out["dense_cage_lines"] = d.denseCageLines;
     return out;
 }
 

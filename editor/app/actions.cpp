@@ -70,6 +70,7 @@ const ActionInfo kActions[] = {
     {"layout.two", "Two viewports", "Ctrl+2", {GLFW_KEY_2, true}, "Show two viewports side by side"},
     {"layout.four", "Four viewports", "Ctrl+4", {GLFW_KEY_4, true}, "Show four viewports in a 2x2 grid"},
     {"display.cage", "Cage overlay", "C", {GLFW_KEY_C}, "Show or hide the cage (creases coloured yellow to red by sharpness, corners as stars)"},
+    {"display.dense_cage", "Dense cage edges", "", {}, "Draw uncreased cage edges however short (by default a view leaves them out while under 8 pixels near the camera)"},
     {"display.wireframe", "Tessellation wireframe", "Shift+W", {GLFW_KEY_W, false, true}, "Show or hide the tessellation wireframe"},
     {"help.toggle", "Help", "F1", {GLFW_KEY_F1}, "Show or hide this help"},
     {"mode.toggle", "Object / edit mode", "Tab", {GLFW_KEY_TAB}, "Object mode places whole objects; edit mode edits the selected object's cage (an instance's: its source's)"},

@@ -423,6 +423,8 @@ void runAction(EditorApp& app, std::string_view id) {
         app.frameAfterLayout = true;
     } else if (id == "display.cage") {
         app.tessellation.showCage = !app.tessellation.showCage;
+    } else if (id == "display.dense_cage") {
+        app.display.denseCageLines = !app.display.denseCageLines;
     } else if (id == "display.wireframe") {
         app.tessellation.showWireframe = !app.tessellation.showWireframe;
     } else if (id == "help.toggle") {

@@ -251,6 +251,7 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                               {"view_ring_radius", gizmo->viewRingRadius / scale},
                               {"pivot", vec(gizmo->frame.pivot)}};
         }
+        entry["plain_cage_lines_hidden"] = i < kMaxViewports && app.renderer.plainLinesHidden[i];
         // Where each cage vertex appears (window pixels), so tests can click real vertices.
         if (doc.planned && doc.planned->cage().vertexCount() <= 5000) {
             json projected = json::array();
@@ -283,6 +284,7 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
                         {"shading", app.display.shading == Shading::Matcap ? "matcap" : "studio"},
                         {"up_axis", upAxisOf(app) == UpAxis::Z ? "z" : "y"},
                         {"grid", app.display.showGrid},
+                        {"dense_cage_lines", app.display.denseCageLines},
                         {"grid_lines", app.renderer.gridLineCount / 2},
                         {"crease_lines", app.renderer.creaseLineCount / 2},
                         {"crease_line_width", std::min(kCreaseLineWidth, app.renderer.lines.maxLineWidth)}};

@@ -1,6 +1,11 @@
 #include "cage_lines.h"
 
 #include <algorithm>
+#include <limits>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
 namespace qp::editor {
 
@@ -54,6 +59,34 @@ void rebuildCageLines(CageLines& lines, const Cage& cage, const Topology& topolo
     lines.changedPlain.clear();
     lines.changedCreased.clear();
     lines.wholePlain = lines.wholeCreased = true;
+
+    std::vector<float> lengths(lines.plainEdge.size());
+    for (size_t k = 0; k < lengths.size(); ++k)
+        lengths[k] = glm::length(lines.plain[2 * k + 1].position - lines.plain[2 * k].position);
+    lines.longPlainEdge = 0.0f;
+    if (!lengths.empty()) {
+        const auto percentile = lengths.begin() + std::ptrdiff_t(lengths.size() * 9 / 10);
+        std::nth_element(lengths.begin(), percentile, lengths.end());
+        lines.longPlainEdge = *percentile;
+    }
+    lines.boundsMin = glm::vec3(std::numeric_limits<float>::infinity());
+    lines.boundsMax = -lines.boundsMin;
+    for (const std::vector<LineVertex>* set : {&lines.plain, &lines.creased})
+        for (const LineVertex& v : *set) {
+            lines.boundsMin = glm::min(lines.boundsMin, v.position);
+            lines.boundsMax = glm::max(lines.boundsMax, v.position);
+        }
+}
+
+bool plainLinesReadable(const CageLines& lines, const glm::mat4& viewProjection, const glm::vec3& eye,
+                        float pixelsPerUnit) {
+    if (lines.plain.empty() || !(lines.boundsMin.x <= lines.boundsMax.x)) return true;
+    const glm::vec3 nearest = glm::clamp(eye, lines.boundsMin, lines.boundsMax);
+    // Clip w is the depth along the view for a perspective camera, 1 for an orthographic one:
+    // pixelsPerUnit / w is the scale at that point either way.
+    const float w = (viewProjection * glm::vec4(nearest, 1.0f)).w;
+    if (!(w > 0.0f)) return true;
+    return lines.longPlainEdge * pixelsPerUnit / w >= kReadableEdgePixels;
 }
 
 void moveCageLines(CageLines& lines, const Cage& cage, const Topology& topology, std::span<const uint32_t> vertices) {

@@ -378,6 +378,7 @@ std::string sceneKey(const EditorApp& app, const std::vector<ViewportDraw>& draw
     }
     appendKey(key, options.wireframe);
     appendKey(key, options.cage);
+    appendKey(key, options.denseCage);
     appendKey(key, options.selection);
     appendKey(key, options.grid);
     appendKey(key, options.shading);
@@ -391,6 +392,7 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     options.wireframe = app.tessellation.showWireframe;
     options.cage = app.tessellation.showCage;
     options.grid = app.display.showGrid;
+    options.denseCage = app.display.denseCageLines;
     options.shading = app.display.shading;
     options.up = upAxisOf(app);
     // Object mode shows the objects, not the edited cage's lines and selection; a coarse frame

@@ -70,6 +70,11 @@ void displaySection(EditorApp& app) {
     for (const ViewportState& v : app.viewports) factors += (factors.empty() ? "" : ", ") + std::to_string(v.factor);
     ImGui::Text("Factor per view: %s", factors.c_str());
     checkbox(app, "Cage overlay", &t.showCage, "The cage's edges; creases from yellow (soft) to red (infinitely sharp) (C)");
+    ImGui::SameLine();
+    checkbox(app, "Dense edges", &app.display.denseCageLines,
+             "Draw the uncreased edges however short: by default a view leaves them out while they would draw\n"
+             "shorter than 8 pixels near the camera (a dense cage seen whole), where they hide the surface\n"
+             "and cost more to draw than it does; creases always show (saved in the scene)");
     checkbox(app, "Tessellation wireframe", &t.showWireframe, "Lines along the tessellated triangles (Shift+W)");
 }
 
@@ -114,6 +119,11 @@ void statsSection(EditorApp& app) {
         const ViewportCounts counts = i < app.stats.viewportCounts.size() ? app.stats.viewportCounts[i] : ViewportCounts{};
         ImGui::Text("View %zu %s: %llu triangles, %llu patches", i + 1, app.viewports[i].scheme.c_str(),
                     (unsigned long long)counts.triangles, (unsigned long long)counts.patches);
+        if (i < kMaxViewports && app.renderer.plainLinesHidden[i]) {
+            ImGui::TextDisabled("  uncreased cage edges left out: under 8 px here");
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("Zoom in to see them, or tick Display > Dense edges to draw them however short.");
+        }
         if (counts.sampleCulled) {
             ImGui::TextDisabled("  %llu of them cover no pixel centre: left out", (unsigned long long)counts.sampleCulled);
             if (ImGui::IsItemHovered())

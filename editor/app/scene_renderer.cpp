@@ -680,7 +680,10 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
         if (options.grid && r.gridLineCount > 0)
             recordLines(cmd, r.lines, area, v.worldViewProjection, r.gridLines, r.gridLineCount, kGridLineWidth);
         const glm::mat4 cageView = withDepthBias(v.viewProjection, kCageDepthBias);
-        if (options.cage && r.cageLineCount > 0)
+        const bool plainLines =
+            options.denseCage || plainLinesReadable(r.cageLineCache, v.viewProjection, v.eye, v.pixelsPerUnit);
+        r.plainLinesHidden[i] = options.cage && r.cageLineCount > 0 && !plainLines;
+        if (options.cage && plainLines && r.cageLineCount > 0)
             recordLines(cmd, r.lines, area, cageView, r.cageLines, r.cageLineCount, kCageLineWidth);
         if (options.cage && r.creaseLineCount > 0)
             recordLines(cmd, r.lines, area, cageView, r.creaseLines, r.creaseLineCount, kCreaseLineWidth);

@@ -140,7 +140,8 @@ struct ObjectDraw {
 
 struct DisplayOptions {
     bool wireframe = false, cage = true, grid = true;
-    bool selection = true;  // the edited cage's selection (edit mode)
+    bool denseCage = false;  // plain cage lines however short they draw (cage_lines.h plainLinesReadable)
+    bool selection = true;   // the edited cage's selection (edit mode)
     Shading shading = Shading::Studio;
     UpAxis up = UpAxis::Y;  // the ground grid lies across it
     glm::vec3 background{0.22f, 0.23f, 0.25f};
@@ -191,6 +192,8 @@ struct SceneRenderer {
     bool recordedSurface[kFramesInFlight][kMaxViewports] = {};
     uint64_t recordedPatches[kFramesInFlight][kMaxViewports] = {};
     ViewportCounts recordedCull[kFramesInFlight][kMaxViewports] = {};  // its cull and cullMilliseconds
+    // Per viewport, as last recorded: the cage shown but its plain lines left out (too dense there).
+    bool plainLinesHidden[kMaxViewports] = {};
 };
 
 Result<SceneRenderer> createSceneRenderer(const VulkanContext& context, VkPipelineCache cache, VkFormat colorFormat);
