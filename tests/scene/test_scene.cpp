@@ -74,6 +74,7 @@ void expectSameScene(const qp::Scene& a, const qp::Scene& b) {
     EXPECT_EQ(a.camera, b.camera);
     EXPECT_EQ(a.viewports, b.viewports);
     EXPECT_EQ(a.tessellation, b.tessellation);
+    EXPECT_EQ(a.display, b.display);
     EXPECT_EQ(a.objects[0].displacement, b.objects[0].displacement);
 }
 
@@ -89,8 +90,10 @@ TEST_F(SceneFiles, SceneRoundTripInline) {
     source["camera"]["ortho_height"] = 3.3;
     source["viewports"].push_back({{"scheme", "someone-elses-plugin"}, {"camera", "independent"}, {"color_by", "x"}});
     source["tessellation"]["pixels_per_edge"] = 0.1;
+    source["display"] = {{"shading", "matcap"}, {"show_grid", false}, {"dense_cage_lines", true}};
     qp::Result<qp::Scene> original = qp::parseScene(source.dump(), "source.json", "");
     ASSERT_TRUE(original) << original.error().message;
+    EXPECT_TRUE(original->display.denseCageLines);
 
     ASSERT_TRUE(qp::saveScene(*original, path("scene.json"), qp::CageStorage::Inline));
     qp::Result<qp::Scene> reloaded = qp::loadScene(path("scene.json"));
@@ -258,6 +261,9 @@ TEST(SceneErrors, WrongTypes) {
     scene = validScene();
     scene["tessellation"]["show_cage"] = "yes";
     EXPECT_EQ(errorOf(scene), "scene.json: tessellation.show_cage: expected true or false, got a string");
+    scene = validScene();
+    scene["display"] = {{"dense_cage_lines", 1}};
+    EXPECT_EQ(errorOf(scene), "scene.json: display.dense_cage_lines: expected true or false, got a number");
     scene = validScene();
     scene["camera"] = json::array();
     EXPECT_EQ(errorOf(scene), "scene.json: camera: expected an object, got an array");
