@@ -21,8 +21,18 @@ PlannedCage plan(const Cage& cage, PlanDatabase& db) {
     return std::move(planned).value();
 }
 
-// Standing on an n x n grid of unit quads (the xy plane, gently bumped) at its middle, looking
-// along +x just above it: the half at x below the middle is behind the eye.
+// An n x n grid of unit quads (the xy plane, gently bumped), planned and packed for the grid.
+struct PlannedGrid {
+    PlanDatabase db;  // before `planned`, which points into it
+    PlannedCage planned;
+    GpuPlanData data;
+    std::vector<glm::vec4> points;
+    explicit PlannedGrid(uint32_t n)
+        : planned(plan(test::makeGrid(n), db)), data(packPlans(planned)), points(boundaryPointPositions(planned)) {}
+};
+
+// Standing on the middle of an n x n PlannedGrid, looking along +x just above it: the half at x
+// below the middle is behind the eye.
 RenderCamera standingOnGrid(uint32_t n) {
     RenderCamera camera;
     const float middle = 0.5f * float(n);
@@ -46,10 +56,9 @@ void expectNested(const GpuPlanData& data, const GridFactors& factors) {
 
 TEST(GridFactors, SegmentsBehindTheEyeTakeOnePiece) {
     constexpr uint32_t n = 24;
-    PlanDatabase db;
-    const PlannedCage planned = plan(test::makeGrid(n), db);
-    const GpuPlanData data = packPlans(planned);
-    const std::vector<glm::vec4> points = boundaryPointPositions(planned);
+    const PlannedGrid grid(n);
+    const GpuPlanData& data = grid.data;
+    const std::vector<glm::vec4>& points = grid.points;
     const RenderCamera camera = standingOnGrid(n);
     const AdaptiveView view{viewProjection(camera), pixelsPerUnit(projectionMatrix(camera), 600), 4.0f};
     const GridFactors factors = adaptiveGridFactors(data, points, view);
@@ -79,10 +88,9 @@ TEST(GridFactors, SegmentsBehindTheEyeTakeOnePiece) {
 TEST(GridFactors, AViewAmongManyFacesStaysWithinTheSlotBudget) {
     // 4,900 quads at factor 64 would be 20.7 M slots.
     constexpr uint32_t n = 70;
-    PlanDatabase db;
-    const PlannedCage planned = plan(test::makeGrid(n), db);
-    const GpuPlanData data = packPlans(planned);
-    const std::vector<glm::vec4> points = boundaryPointPositions(planned);
+    const PlannedGrid grid(n);
+    const GpuPlanData& data = grid.data;
+    const std::vector<glm::vec4>& points = grid.points;
     RenderCamera camera = standingOnGrid(n);
     camera.eye.z = 40.0f;  // high above the middle, looking down: every face in front
     camera.target = {camera.eye.x + 0.01f, camera.eye.y, 0.0f};
