@@ -169,10 +169,15 @@ GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::ve
         return f;
     };
     GridFactors f = choose(view, previous);
+    // Slots go about as the square of the pieces: one pass with the segments coarser by the
+    // power of two that should fit, more only where the factors' rounding kept it over. The
+    // factors in use keep their hysteresis at the coarser size too.
     AdaptiveView coarser = view;
-    while (gridSlots(f) > kMaxAdaptiveGridSlots && coarser.pixelsPerSegment < 1e6f) {
-        coarser.pixelsPerSegment *= 2.0f;
-        f = choose(coarser, nullptr);
+    for (uint64_t slots = gridSlots(f); slots > kMaxAdaptiveGridSlots && coarser.pixelsPerSegment < 1e6f;
+         slots = gridSlots(f)) {
+        const double over = std::sqrt(double(slots) / double(kMaxAdaptiveGridSlots));
+        coarser.pixelsPerSegment *= float(std::max(2.0, std::exp2(std::ceil(std::log2(over)))));
+        f = choose(coarser, previous);
     }
     return f;
 }
