@@ -68,10 +68,10 @@ struct AdaptiveView {
 // `previous` (the factors in use), a segment keeps its pieces (a power of two) while they are
 // enough and not more than 2.5 times too many, so that small camera moves leave the grid as it is.
 // Segments wholly behind the eye take one piece. A layout of more than kMaxAdaptiveGridSlots
-// slots is chosen again with pixelsPerSegment doubled until it fits: a camera close to a dense
-// cage asked for more than any screen shows (the faces beside it at factor 64: 100 M slots at a
-// million faces, 2.3 GiB of grid, refused by the device), and such a layout is not worth its
-// memory.
+// slots is chosen again with pixelsPerSegment raised by a power of two until it fits: a camera
+// close to a dense cage asked for more than any screen shows (the faces beside it at factor 64:
+// 100 M slots at a million faces, 2.3 GiB of grid, refused by the device), and such a layout is
+// not worth its memory.
 GridFactors adaptiveGridFactors(const GpuPlanData& data, std::span<const glm::vec4> pointPositions,
                                 const AdaptiveView& view, const GridFactors* previous = nullptr);
 inline constexpr uint64_t kMaxAdaptiveGridSlots = uint64_t(16) << 20;  // 384 MiB of GridVertex
