@@ -119,16 +119,17 @@ void statsSection(EditorApp& app) {
         const ViewportCounts counts = i < app.stats.viewportCounts.size() ? app.stats.viewportCounts[i] : ViewportCounts{};
         ImGui::Text("View %zu %s: %llu triangles, %llu patches", i + 1, app.viewports[i].scheme.c_str(),
                     (unsigned long long)counts.triangles, (unsigned long long)counts.patches);
-        if (i < kMaxViewports && app.renderer.plainLinesHidden[i]) {
-            ImGui::TextDisabled("  uncreased cage edges left out: under 8 px here");
-            if (ImGui::IsItemHovered())
-                ImGui::SetTooltip("Zoom in to see them, or tick Display > Dense edges to draw them however short.");
-        }
         if (counts.sampleCulled) {
             ImGui::TextDisabled("  %llu of them cover no pixel centre: left out", (unsigned long long)counts.sampleCulled);
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip("The CPU grid leaves out triangles that cannot make a pixel: the picture is the same,\n"
                                   "the rasteriser does less (docs/renderer.md, sample culling).");
+        }
+        // After the triangle lines, whose "of them" reads the line above.
+        if (i < kMaxViewports && app.renderer.plainLinesHidden[i]) {
+            ImGui::TextDisabled("  uncreased cage edges left out: under %.0f px here", double(kReadableEdgePixels));
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("Zoom in to see them, or tick Display > Dense edges to draw them however short.");
         }
         if (app.viewports[i].cull != CullMethod::None) {
             const CullCounts& c = counts.cull;
