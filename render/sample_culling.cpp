@@ -68,6 +68,40 @@ bool samePosition(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&
 
 glm::vec3 positionOf(const GridVertex& v) { return {v.position[0], v.position[1], v.position[2]}; }
 
+
+// Index ranges (first index, count; empty: all) as sorted triangle ranges [first, end).
+std::vector<std::pair<uint32_t, uint32_t>> drawnTriangles(std::span<const std::pair<uint32_t, uint32_t>> ranges,
+                                                          uint32_t triangles) {
+    std::vector<std::pair<uint32_t, uint32_t>> drawn;
+    if (ranges.empty()) drawn.push_back({0, triangles});
+    for (const auto& [first, count] : ranges)
+        if (count) drawn.push_back({first / 3, (first + count) / 3});
+    return drawn;
+}
+
+// The triangle ranges [first, end) drawn by one of `a` and `b` and not the other (each sorted,
+// ranges apart).
+std::vector<std::pair<uint32_t, uint32_t>> differingTriangles(const std::vector<std::pair<uint32_t, uint32_t>>& a,
+                                                              const std::vector<std::pair<uint32_t, uint32_t>>& b) {
+    std::vector<std::pair<uint32_t, int>> edges;  // (triangle, +1 / -1): where a range starts or ends
+    for (const auto* list : {&a, &b})
+        for (const auto& [first, end] : *list) {
+            edges.push_back({first, 1});
+            edges.push_back({end, -1});
+        }
+    std::sort(edges.begin(), edges.end());
+    std::vector<std::pair<uint32_t, uint32_t>> differing;
+    int covering = 0;  // ranges of a and b holding the triangles after the last edge
+    for (size_t k = 0; k < edges.size(); ++k) {
+        covering += edges[k].second;
+        const uint32_t from = edges[k].first, to = k + 1 < edges.size() ? edges[k + 1].first : from;
+        if (covering == 1 && from < to) {
+            if (!differing.empty() && differing.back().second == from) differing.back().second = to;
+            else differing.push_back({from, to});
+        }
+    }
+    return differing;
+}
 }  // namespace
 
 bool mayCoverPixelCentre(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const SampleView& view) {
@@ -96,34 +130,34 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
     const uint32_t chunkTriangles = culling.chunkTriangles;
     assert(chunkTriangles > 0);
     const uint32_t chunks = (triangles + chunkTriangles - 1) / chunkTriangles;
-    const bool everything = !culling.valid || !(culling.view == view) || culling.chunkKept.size() != chunks ||
-                            !std::equal(drawnRanges.begin(), drawnRanges.end(), culling.drawnRanges.begin(),
-                                        culling.drawnRanges.end());
+    const bool everything = !culling.valid || !(culling.view == view) || culling.chunkKept.size() != chunks;
+    // Triangle ranges drawn: [first, end) in triangles, sorted.
+    const std::vector<std::pair<uint32_t, uint32_t>> drawn = drawnTriangles(drawnRanges, triangles);
     std::vector<uint32_t> dirty;
     if (everything) {
         culling.chunkKept.assign(chunks, 0);
         culling.chunkSlotMin.assign(chunks, 0);
         culling.chunkSlotMax.assign(chunks, 0);
-        culling.drawnRanges.assign(drawnRanges.begin(), drawnRanges.end());
         culling.view = view;
         dirty.resize(chunks);
         for (uint32_t c = 0; c < chunks; ++c) dirty[c] = c;
     } else {
+        std::vector<char> marked(chunks, 0);
         for (uint32_t c = 0; c < chunks; ++c)
             for (const auto& [first, end] : culling.changedSlots)
                 if (first <= culling.chunkSlotMax[c] && culling.chunkSlotMin[c] < end) {
-                    dirty.push_back(c);
+                    marked[c] = 1;
                     break;
                 }
+        // Faces hidden or shown (a hole made or filled): the chunks where what is drawn changed.
+        for (const auto& [first, end] : differingTriangles(drawnTriangles(culling.drawnRanges, triangles), drawn))
+            std::fill(marked.begin() + first / chunkTriangles, marked.begin() + (end - 1) / chunkTriangles + 1, 1);
+        for (uint32_t c = 0; c < chunks; ++c)
+            if (marked[c]) dirty.push_back(c);
     }
+    culling.drawnRanges.assign(drawnRanges.begin(), drawnRanges.end());
     culling.changedSlots.clear();
     culling.valid = true;
-
-    // Triangle ranges drawn: [first, end) in triangles, sorted.
-    std::vector<std::pair<uint32_t, uint32_t>> drawn;
-    if (drawnRanges.empty()) drawn.push_back({0, triangles});
-    for (const auto& [first, count] : drawnRanges)
-        if (count) drawn.push_back({first / 3, (first + count) / 3});
 
     std::atomic<uint64_t> tested{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, dirty.size(), 1), [&](const tbb::blocked_range<size_t>& range) {

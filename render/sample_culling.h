@@ -20,9 +20,10 @@
 // Incremental. The triangles are tested in chunks of kChunkTriangles consecutive triangles of
 // the layout's index buffer (about 100 chunks at a million faces, drawn as that many ranges);
 // each chunk's kept triangles are written at the chunk's own place in the culled index buffer,
-// so a chunk is tested again alone. Everything is tested again when
-// the view, the viewport, the drawn ranges or the layout's triangles change; after a vertex
-// move or a displacement dab only the chunks that read a changed slot.
+// so a chunk is tested again alone. Everything is tested again when the view, the viewport or
+// the layout's triangles change; after a vertex move or a displacement dab only the chunks that
+// read a changed slot, and after faces are hidden or shown (the drawn ranges change: a hole
+// made or filled) only the chunks whose drawn triangles changed.
 //
 // When. The renderer (plan_pass.h, recordGrid) uses it for CPU grids denser than
 // kMinTrianglesPerPixel and without a displacement, where it pays (docs/renderer.md).

@@ -1,6 +1,7 @@
 // Sample culling (render/sample_culling.h): the CPU grid leaves out triangles that cover no
 // pixel centre, and the picture stays the same pixel for pixel: from far and close views, in a
-// viewport inside a larger image, with hidden faces, after vertex moves drawn incrementally.
+// viewport inside a larger image, with hidden faces, after vertex moves and after faces hidden
+// and shown again, drawn incrementally.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -189,6 +190,42 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
         const std::vector<uint8_t> all = draw(*image, whole, buffers, planned, framed, false);
         EXPECT_EQ(differingBytes(all, culled), 0u) << "after move " << round;
     }
+
+    // Faces hidden and shown again (a hole made and undone): only the chunks whose drawn
+    // triangles changed are tested again, and the picture is still the one with every drawn
+    // triangle drawn.
+    PlanView holed = framed;
+    // Faces drawn alone: hiding a member of a coarse macro face breaks it up (a new layout,
+    // everything tested again).
+    const uint32_t drawnCount = uint32_t(buffers.data.subfaces.size());
+    const GridFactors& factors = buffers.gridLayout.factors;
+    auto drawnAlone = [&](uint32_t d) {
+        const uint32_t m = buffers.data.macros.macroOfDrawn.empty() ? UINT32_MAX : buffers.data.macros.macroOfDrawn[d];
+        return m == UINT32_MAX || factors.macroResolution.empty() || factors.macroResolution[2 * m] == 0;
+    };
+    std::vector<uint32_t> holes;  // one in each quarter of the drawn sub-faces
+    for (uint32_t quarter = 0; quarter < 4; ++quarter)
+        for (uint32_t d = quarter * drawnCount / 4 + drawnCount / 8; d < (quarter + 1) * drawnCount / 4; ++d)
+            if (drawnAlone(d)) {
+                holes.push_back(d);
+                break;
+            }
+    ASSERT_EQ(holes.size(), 4u);
+    const size_t layoutTriangles = buffers.gridLayout.indices.size() / 3;
+    holed.hiddenDrawn = holes;
+    for (const PlanView& v : {holed, framed}) {
+        const std::vector<uint8_t> culled = draw(*image, whole, buffers, planned, v, true);
+        const uint64_t tested = buffers.sampleCulling.testedTriangles;
+        ASSERT_EQ(buffers.gridLayout.indices.size() / 3, layoutTriangles) << "the same layout";
+        EXPECT_GT(tested, 0u);
+        EXPECT_LT(tested, buffers.gridLayout.indices.size() / 3 / 4)
+            << (v.hiddenDrawn.empty() ? "showing" : "hiding") << " four faces tests the chunks around them, not the whole grid";
+        const std::vector<uint8_t> all = draw(*image, whole, buffers, planned, v, false);
+        EXPECT_EQ(differingBytes(all, culled), 0u) << (v.hiddenDrawn.empty() ? "shown again" : "hidden");
+    }
+    EXPECT_NE(differingBytes(draw(*image, whole, buffers, planned, holed, true), draw(*image, whole, buffers, planned, framed, true)),
+              0u)
+        << "the hidden faces are visible in the framed view";
 
     // With fewer triangles than pixels the renderer does not test them (kMinTrianglesPerPixel).
     buffers.sampleCulling.minTrianglesPerPixel = kMinTrianglesPerPixel;
