@@ -32,6 +32,10 @@ Pixel project(const glm::vec3& p, const SampleView& view) {
     return {x, y, true};
 }
 
+// A chunk whose triangles read more slots than this per triangle (not a layout's runs of
+// sub-faces) projects each triangle's corners on their own instead of its slots first.
+constexpr uint32_t kMostSlotsPerTriangle = 4;
+
 // At most this many pixel centres near a triangle are tested one by one; a larger one is kept.
 constexpr int kMostCentres = 16;
 
@@ -161,6 +165,7 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
 
     std::atomic<uint64_t> tested{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, dirty.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
+        std::vector<Pixel> projected;
         for (size_t k = range.begin(); k < range.end(); ++k) {
             const uint32_t c = dirty[k];
             const uint32_t begin = c * chunkTriangles, end = std::min(begin + chunkTriangles, triangles);
@@ -169,6 +174,18 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
                 culling.chunkSlotMin[c] = *low;
                 culling.chunkSlotMax[c] = *high;
             }
+            // A chunk's triangles read a narrow run of slots, each about six times: projected
+            // once each, first.
+            const uint32_t slotMin = culling.chunkSlotMin[c], slots = culling.chunkSlotMax[c] - slotMin + 1;
+            if (slots <= kMostSlotsPerTriangle * (end - begin)) {
+                projected.resize(slots);
+                for (uint32_t k = 0; k < slots; ++k) projected[k] = project(positionOf(vertices[slotMin + k]), view);
+            } else {
+                projected.clear();
+            }
+            auto pixelOf = [&](uint32_t slot) {
+                return projected.empty() ? project(positionOf(vertices[slot]), view) : projected[slot - slotMin];
+            };
             uint32_t* out = culledIndices + 3 * size_t(begin);
             uint32_t kept = 0, seen = 0;
             auto run = std::lower_bound(drawn.begin(), drawn.end(), begin,
@@ -178,8 +195,10 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
                 seen += to - from;
                 for (uint32_t t = from; t < to; ++t) {
                     const uint32_t* tri = indices.data() + 3 * size_t(t);
-                    if (!mayCoverPixelCentre(positionOf(vertices[tri[0]]), positionOf(vertices[tri[1]]),
-                                             positionOf(vertices[tri[2]]), view))
+                    const glm::vec3 p0 = positionOf(vertices[tri[0]]), p1 = positionOf(vertices[tri[1]]),
+                                    p2 = positionOf(vertices[tri[2]]);
+                    if (samePosition(p0, p1) || samePosition(p1, p2) || samePosition(p2, p0) ||
+                        !mayCover(pixelOf(tri[0]), pixelOf(tri[1]), pixelOf(tri[2]), view))
                         continue;
                     std::memcpy(out + 3 * size_t(kept++), tri, 3 * sizeof(uint32_t));
                 }
