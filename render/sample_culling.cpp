@@ -32,9 +32,15 @@ Pixel project(const glm::vec3& p, const SampleView& view) {
     return {x, y, true};
 }
 
-// A chunk whose triangles read more slots than this per triangle (not a layout's runs of
-// sub-faces) projects each triangle's corners on their own instead of its slots first.
+// A chunk whose triangles read a run of more slots than this per triangle (coarse macro faces
+// read their members' corners, far apart) does not project the run first.
 constexpr uint32_t kMostSlotsPerTriangle = 4;
+// Projections remembered by slot (slot modulo this) by such a chunk.
+constexpr uint32_t kRecentProjections = 4096;
+struct RecentProjection {
+    uint32_t slot = UINT32_MAX;
+    Pixel pixel;
+};
 
 // At most this many pixel centres near a triangle are tested one by one; a larger one is kept.
 constexpr int kMostCentres = 16;
@@ -166,6 +172,7 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
     std::atomic<uint64_t> tested{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, dirty.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
         std::vector<Pixel> projected;
+        std::vector<RecentProjection> recent;
         for (size_t k = range.begin(); k < range.end(); ++k) {
             const uint32_t c = dirty[k];
             const uint32_t begin = c * chunkTriangles, end = std::min(begin + chunkTriangles, triangles);
@@ -174,17 +181,22 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
                 culling.chunkSlotMin[c] = *low;
                 culling.chunkSlotMax[c] = *high;
             }
-            // A chunk's triangles read a narrow run of slots, each about six times: projected
-            // once each, first.
+            // Each slot is read by about six triangles: projected once. A chunk of single faces
+            // reads a narrow run of slots, projected first; one with coarse macro faces (whose
+            // triangles read their members' corners, far apart) remembers recent projections.
             const uint32_t slotMin = culling.chunkSlotMin[c], slots = culling.chunkSlotMax[c] - slotMin + 1;
-            if (slots <= kMostSlotsPerTriangle * (end - begin)) {
+            const bool narrow = slots <= kMostSlotsPerTriangle * (end - begin);
+            if (narrow) {
                 projected.resize(slots);
                 for (uint32_t k = 0; k < slots; ++k) projected[k] = project(positionOf(vertices[slotMin + k]), view);
             } else {
-                projected.clear();
+                recent.assign(kRecentProjections, RecentProjection{});
             }
             auto pixelOf = [&](uint32_t slot) {
-                return projected.empty() ? project(positionOf(vertices[slot]), view) : projected[slot - slotMin];
+                if (narrow) return projected[slot - slotMin];
+                RecentProjection& r = recent[slot % kRecentProjections];
+                if (r.slot != slot) r = {slot, project(positionOf(vertices[slot]), view)};
+                return r.pixel;
             };
             uint32_t* out = culledIndices + 3 * size_t(begin);
             uint32_t kept = 0, seen = 0;
