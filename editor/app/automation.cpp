@@ -495,7 +495,7 @@ void Automation::measureStep(EditorApp& app) {
             Document& doc = *app.doc;
             std::vector<uint32_t> vertices = selectedVertices(doc.selection, doc.planned->cage());
             if (vertices.empty()) vertices = {0};
-            const float step = 0.002f * computeBounds(doc.planned->cage()).diagonal() *
+            const float step = 0.002f * cageExtent(doc).bounds.diagonal() *
                                (((app.frame - m.firstFrame) / 20) % 2 == 0 ? 1.0f : -1.0f);
             MoveVertices move{vertices, {}, m.dragStarted};
             for (uint32_t v : vertices) move.positions.push_back(doc.planned->cage().positions[v] + glm::vec3(0, step, 0));

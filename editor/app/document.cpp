@@ -225,6 +225,7 @@ void noteHistoryStep(Document& doc, const std::string& description, const EditRe
 // The same with the revisions the renderer and pickers watch, for any change to the cage.
 void noteChange(Document& doc, const std::string& description, const EditReport& report, uint64_t frame) {
     ++doc.positionRevision;
+    doc.lastMove = PositionStep{};  // applyEdit records a drag step after this
     if (report.replannedFaces > 0 || report.topologyChanged) {
         ++doc.planRevision;
         accumulateReport(doc.unsyncedPlanChange, report);
@@ -383,6 +384,19 @@ Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
     doc.animationNote = settleFrameForEdit(doc);
     const std::string name = describeEdit(edit);
     const size_t before = doc.history.position(), sizeBefore = doc.history.size();
+    // A move of vertices alone (not through animation keys, which may move others) is a step
+    // that consumers can follow vertex by vertex: the moved vertices and where they were.
+    std::optional<PositionStep> moveStep;
+    if (const auto* move = std::get_if<MoveVertices>(&edit); move && !hasVertexKeys(activeObject(doc))) {
+        moveStep.emplace();
+        moveStep->vertices = move->vertices;
+        std::sort(moveStep->vertices.begin(), moveStep->vertices.end());
+        moveStep->vertices.erase(std::unique(moveStep->vertices.begin(), moveStep->vertices.end()), moveStep->vertices.end());
+        const Cage& cage = doc.planned->cage();
+        for (uint32_t v : moveStep->vertices)
+            if (v < cage.vertexCount()) moveStep->before.push_back(cage.positions[v]);
+        if (moveStep->before.size() != moveStep->vertices.size()) moveStep.reset();  // refused below
+    }
     std::optional<TopologyEdit> topology;
     Result<EditReport> report = std::visit(
         [&](const auto& e) -> Result<EditReport> {
@@ -403,6 +417,10 @@ Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
     // A drag merged into the previous entry reports only its last step; the history keeps the
     // entry's name.
     noteChange(doc, name, *report, frame);
+    if (moveStep) {
+        moveStep->from = doc.positionRevision - 1;
+        doc.lastMove = std::move(*moveStep);
+    }
     if (topology) selectResult(doc, *topology);
     return report;
 }
@@ -618,9 +636,23 @@ const Displacement& displacementOf(const Document& doc) {
     return doc.activeObject < doc.scene.objects.size() ? activeObject(doc).displacement : kNone;
 }
 
+const CageExtent& cageExtent(const Document& doc) {
+    CageExtent& extent = doc.extent;
+    if (extent.revision == doc.positionRevision && extent.cage == doc.editedCageRevision) return extent;
+    const Cage& cage = doc.planned->cage();
+    const PositionStep& step = doc.lastMove;
+    if (extent.cage == doc.editedCageRevision && extent.revision == step.from && doc.positionRevision == step.from + 1)
+        carryExtent(extent, cage, doc.planned->topology(), step);
+    else
+        extent = measureCage(cage);
+    extent.revision = doc.positionRevision;
+    extent.cage = doc.editedCageRevision;
+    return extent;
+}
+
 Bounds documentBounds(const Document& doc) {
     if (!doc.planned) return Bounds{glm::vec3(-1), glm::vec3(1)};
-    const Bounds active = computeBounds(doc.planned->cage());
+    const Bounds active = cageExtent(doc).bounds;
     Bounds out{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
     for (uint32_t i = 0; i < doc.scene.objects.size() && i < doc.otherCageOfObject.size(); ++i) {
         const SceneObject& o = doc.scene.objects[i];

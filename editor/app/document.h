@@ -28,6 +28,8 @@
 #include "plans/planned_cage.h"
 #include "scene/scene.h"
 
+#include "cage_extent.h"
+
 namespace qp::editor {
 
 // Move, rotate and scale all arrive as new absolute positions. A drag sends one per frame with
@@ -129,6 +131,12 @@ struct Document {
     uint64_t positionRevision = 0;
     uint64_t planRevision = 0;
     uint64_t topologyRevision = 0;
+    // The latest change of positions when it was a move of some vertices and nothing else (a drag
+    // step): consumers one revision behind update those vertices instead of comparing every
+    // position (PositionStep::from is the revision it started from; ~0 after any other change).
+    PositionStep lastMove;
+    // The edited cage's extent, computed when first asked for at a revision (cageExtent).
+    mutable CageExtent extent;
     Selection selection;
     std::optional<LastEdit> lastEdit;
 
@@ -201,6 +209,8 @@ const SceneObject& activeObject(const Document& document);
 const Displacement& displacementOf(const Document& document);
 // The world bounds of every visible object (the active cage's when nothing else is set up).
 Bounds documentBounds(const Document& document);
+// The edited cage's bounds and mean edge length (cage_extent.h), carried through drag steps.
+const CageExtent& cageExtent(const Document& document);
 
 // Plans the cage of `scene`'s first object (or of the object it instances) into a new document (planning runs in parallel; can take seconds).
 // `planCache`: the persistent plan cache to copy plans from before building any (core/plans/plan_cache.h).

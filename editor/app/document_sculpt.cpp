@@ -166,7 +166,7 @@ Result<EditReport> clearSculptMask(Document& doc, uint64_t frame) {
 
 glm::vec3 mirrorCentreOf(const Document& doc) {
     if (doc.sculptSamples) return doc.sculptSamples->centre();
-    const Bounds bounds = computeBounds(doc.planned->cage());
+    const Bounds& bounds = cageExtent(doc).bounds;
     return 0.5f * (bounds.min + bounds.max);
 }
 

@@ -132,15 +132,6 @@ float pixelsPerUnit(const glm::mat4& projection, uint32_t viewportHeight) {
     return 0.5f * float(viewportHeight) * std::abs(projection[1][1]);
 }
 
-float averageEdgeLength(const Cage& cage) {
-    double total = 0.0;
-    uint32_t edges = 0;
-    for (uint32_t f = 0; f < cage.faceCount(); ++f)
-        for (uint32_t k = 0, n = cage.faceSize(f); k < n; ++k, ++edges)
-            total += glm::length(cage.positions[cage.faceBegin(f)[k]] - cage.positions[cage.faceBegin(f)[(k + 1) % n]]);
-    return edges ? float(total / edges) : 1.0f;
-}
-
 // The scene's view settings become the editor's (after a load).
 void applySceneView(EditorApp& app) {
     const Scene& scene = app.doc->scene;
@@ -198,7 +189,7 @@ void adoptFinishedLoad(EditorApp& app) {
     app.autosavedOnce = false;
     applySceneView(app);
     const Cage& cage = app.doc->planned->cage();
-    app.tools.extrudeDistance = 0.5f * averageEdgeLength(cage);
+    app.tools.extrudeDistance = 0.5f * cageExtent(*app.doc).meanEdgeLength();
     app.tools.sculpt.resolution = defaultDisplacementResolution(app.doc->planned->subfaceCount());
     app.ui.status = (request.fromRecovery ? "Restored unsaved work" : "Opened " + request.path) + " (" +
                     std::to_string(cage.faceCount()) + " faces, " + std::to_string(app.doc->database->size()) +
@@ -297,17 +288,13 @@ bool navigating(const EditorApp& app) {
 uint32_t chooseFactor(EditorApp& app, uint32_t i) {
     if (app.tessellation.mode == TessellationMode::Uniform) return uint32_t(std::clamp(app.tessellation.factor, 1, 64));
     if (!app.doc->planned) return 1;
-    const Cage& cage = app.doc->planned->cage();
-    if (app.edgeLengthRevision != app.doc->positionRevision + (app.doc->planRevision << 32)) {
-        app.averageEdgeLength = averageEdgeLength(cage);
-        app.edgeLengthRevision = app.doc->positionRevision + (app.doc->planRevision << 32);
-    }
-    const Bounds bounds = computeBounds(cage);
+    const CageExtent& extent = cageExtent(*app.doc);
+    const Bounds& bounds = extent.bounds;
     const glm::vec3 centre = 0.5f * (bounds.min + bounds.max);
     const ViewportState& v = app.viewports[i];
     const float ppu = pixelsPerUnit(projectionMatrix(v.renderCamera), v.rect.extent.height);
     const float depth = v.renderCamera.orthographic ? 1.0f : std::max(glm::length(centre - v.renderCamera.eye), 1e-4f);
-    const float wanted = app.averageEdgeLength * ppu / depth / std::max(app.tessellation.pixelsPerEdge, 1.0f);
+    const float wanted = extent.meanEdgeLength() * ppu / depth / std::max(app.tessellation.pixelsPerEdge, 1.0f);
     const double subfaces = std::max<double>(app.doc->planned->subfaceCount(), 1.0);
     const double budget = std::sqrt(kAdaptiveTriangleBudget / (2.0 * subfaces * double(app.viewports.size())));
     return uint32_t(std::clamp<double>(std::ceil(wanted), 1.0, std::clamp(std::floor(budget), 1.0, 64.0)));

@@ -224,8 +224,6 @@ struct EditorApp {
     DisplaySettings display;         // shading, grid, up axis (always set once a document is adopted)
     bool frameAfterLayout = false;   // Ctrl+1/2/4: frame the model in the new viewports once they are laid out
     std::string plansPath = "auto";  // the plans scheme's path option (auto: the fastest here)
-    float averageEdgeLength = 1.0f;  // for the adaptive factor
-    uint64_t edgeLengthRevision = ~0ull;
     Drag drag;
     std::optional<ExtrudeSession> extrude;  // the interactive extrude in progress (extrude_tool.h)
     ToolSettings tools;

@@ -34,7 +34,7 @@ float typedDistance(const std::string& typed) {
 float mouseDistance(const EditorApp& app, const ExtrudeSession& s, glm::vec2 cursor) {
     const ViewportState& v = app.viewports[std::min<size_t>(s.viewport, app.viewports.size() - 1)];
     const PickView view{v.viewProjection, glm::vec2(float(v.rect.extent.width), float(v.rect.extent.height))};
-    const float length = 0.1f * std::max(computeBounds(app.doc->planned->cage()).diagonal(), 1e-3f);
+    const float length = 0.1f * std::max(cageExtent(*app.doc).bounds.diagonal(), 1e-3f);
     const PickView::Projected a = view.project(s.anchor), b = view.project(s.anchor + length * s.normal);
     glm::vec2 perUnit = (b.pixel - a.pixel) / length;
     // Seen end-on (or from behind the near plane) the normal has no usable screen direction:

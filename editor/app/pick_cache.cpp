@@ -214,6 +214,6 @@ const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64
     return *c.displaced;
 }
 
-float pickTolerance(const Document& doc) { return std::max(computeBounds(doc.planned->cage()).diagonal(), 1e-6f); }
+float pickTolerance(const Document& doc) { return std::max(cageExtent(doc).bounds.diagonal(), 1e-6f); }
 
 }  // namespace qp::editor

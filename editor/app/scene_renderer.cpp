@@ -112,7 +112,7 @@ std::vector<LineVertex> overlayLines(const Document& doc) {
     const PlannedCage& planned = *doc.planned;
     const Cage& cage = planned.cage();
     const Topology& topology = planned.topology();
-    const float size = 0.012f * std::max(computeBounds(cage).diagonal(), 1e-3f);
+    const float size = 0.012f * std::max(cageExtent(doc).bounds.diagonal(), 1e-3f);
     const Selection& s = doc.selection;
     if (s.mode == SelectionMode::Vertex && cage.vertexCount() <= 20000)
         for (const glm::vec3& p : cage.positions) cross(lines, p, 0.25f * size, kVertexDotColor);
@@ -492,7 +492,11 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     const bool newPositions = newPlans || r.positionRevision != doc.positionRevision;
     const bool newHidden = newPlans || r.hiddenRevision != doc.hiddenRevision;
     std::vector<uint32_t> moved;
-    if (newPositions && !newDocument && !planChange.topologyChanged && r.positions.size() == cage.positions.size())
+    // One drag step behind: its vertices; further behind, those whose positions differ.
+    const bool oneStep = !newDocument && r.positionRevision == doc.lastMove.from &&
+                         doc.positionRevision == doc.lastMove.from + 1 && r.positions.size() == cage.positions.size();
+    if (oneStep) moved = doc.lastMove.vertices;
+    else if (newPositions && !newDocument && !planChange.topologyChanged && r.positions.size() == cage.positions.size())
         moved = movedVertices(r.positions, cage.positions);
     const std::string overlay = selectionKey(doc);
 
@@ -602,7 +606,10 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
         if (Status s = syncLineSet(ctx, r.creaseLines, r.creaseLineCount, lines.creased, lines.changedCreased, lines.wholeCreased);
             !s)
             return s;
-        r.positions = cage.positions;
+        if (oneStep)
+            for (uint32_t v : moved) r.positions[v] = cage.positions[v];
+        else
+            r.positions = cage.positions;
     }
     if (newHidden) {
         r.hiddenSubfaces = hiddenSubfacesOf(doc);

@@ -10,7 +10,8 @@
 // once per frame: tag and topology edits go to Scheme::updatePlans (a scheme that cannot take
 // one in place is rebuilt); an instance whose viewport switches scheme or closes is parked and
 // reused when it is asked for again while the plans are as they were; vertex moves alone go
-// to Scheme::updateMoved with the vertices that moved (found by diffing positions), so a drag
+// to Scheme::updateMoved with the vertices that moved (a drag step's own list when the renderer
+// is one step behind, Document::lastMove; else found by diffing positions), so a drag
 // re-evaluates only what it touched; camera-only frames do no scheme work at all. Anything a
 // frame in flight may read is rewritten only after the queue is idle, so a frame with changes
 // drains the pipeline once; frames without keep the frames-in-flight overlap.

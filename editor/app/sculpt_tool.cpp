@@ -13,7 +13,7 @@ namespace qp::editor {
 
 namespace {
 
-float modelDiagonal(const EditorApp& app) { return std::max(computeBounds(app.doc->planned->cage()).diagonal(), 1e-6f); }
+float modelDiagonal(const EditorApp& app) { return std::max(cageExtent(*app.doc).bounds.diagonal(), 1e-6f); }
 
 bool canSculpt(EditorApp& app) {
     if (app.doc->planned && !app.loader.busy()) return true;

@@ -94,3 +94,33 @@ TEST_F(SceneRendererTest, AFailedUpdateInPlaceRebuildsForTheEditedCageAndSaysSo)
     const glm::vec3 corner = planned.cage().positions[planned.cage().faceBegin(lastFace)[0]];
     EXPECT_LT(glm::length(lastCorner(view, planned) - corner), 1e-5f);
 }
+
+// A drag: one step behind, the renderer takes the step's vertices (Document::lastMove) instead
+// of comparing every position; two steps behind it compares. Either way the instance shows the
+// moved cage and the renderer's copy of the positions is the cage's.
+TEST_F(SceneRendererTest, DragStepsReachTheInstanceWithTheirVerticesAlone) {
+    const PluginCatalog catalog = loadPlugins(QUADPLAN_PLUGIN_DIR);
+    sync(catalog, "plans");
+    const glm::vec3 start = doc->planned->cage().positions[7], other = doc->planned->cage().positions[20];
+    auto expectShowsTheCage = [&](const std::string& what) {
+        EXPECT_EQ(renderer.positions, doc->planned->cage().positions) << what;
+        for (uint32_t s = 0; s < doc->planned->subfaceCount(); ++s) {
+            const SampleRequest request{s, 0.25f, 0.5f};
+            SurfacePoint point;
+            ASSERT_TRUE(renderer.views[0].instance->evaluate({&request, 1}, {&point, 1}).ok());
+            const LimitSample exact = doc->planned->evaluate(s, 0.25f, 0.5f);
+            ASSERT_LT(glm::length(point.position - exact.position), 1e-5f) << what << ", sub-face " << s;
+        }
+    };
+    for (int step = 0; step < 3; ++step) {
+        ASSERT_TRUE(applyEdit(*doc, MoveVertices{{7}, {start + glm::vec3(0.0f, 0.1f * float(step + 1), 0.0f)}, step > 0}, 1).ok());
+        sync(catalog, "plans");
+        EXPECT_EQ(renderer.views[0].updatedVertices, 1u);
+        expectShowsTheCage("drag step " + std::to_string(step));
+    }
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{7}, {start}, true}, 2).ok());
+    ASSERT_TRUE(applyEdit(*doc, MoveVertices{{20}, {other + glm::vec3(0.2f, 0.0f, 0.0f)}, false}, 3).ok());
+    sync(catalog, "plans");
+    EXPECT_EQ(renderer.views[0].updatedVertices, 2u) << "two steps behind: both moved vertices, found by comparing";
+    expectShowsTheCage("two steps at once");
+}
