@@ -78,7 +78,6 @@ bool samePosition(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&
 
 glm::vec3 positionOf(const GridVertex& v) { return {v.position[0], v.position[1], v.position[2]}; }
 
-
 // Index ranges (first index, count; empty: all) as sorted triangle ranges [first, end).
 std::vector<std::pair<uint32_t, uint32_t>> drawnTriangles(std::span<const std::pair<uint32_t, uint32_t>> ranges,
                                                           uint32_t triangles) {
@@ -112,6 +111,7 @@ std::vector<std::pair<uint32_t, uint32_t>> differingTriangles(const std::vector<
     }
     return differing;
 }
+
 }  // namespace
 
 bool mayCoverPixelCentre(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const SampleView& view) {
@@ -188,7 +188,7 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
             const bool narrow = slots <= kMostSlotsPerTriangle * (end - begin);
             if (narrow) {
                 projected.resize(slots);
-                for (uint32_t k = 0; k < slots; ++k) projected[k] = project(positionOf(vertices[slotMin + k]), view);
+                for (uint32_t i = 0; i < slots; ++i) projected[i] = project(positionOf(vertices[slotMin + i]), view);
             } else {
                 recent.assign(kRecentProjections, RecentProjection{});
             }

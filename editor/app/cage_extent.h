@@ -28,9 +28,13 @@ namespace qp::editor {
 // A drag step: from position revision `from` to from + 1 these vertices (sorted, each once)
 // moved from `before`, and nothing else changed.
 struct PositionStep {
-    uint64_t from = ~0ull;
+    static constexpr uint64_t kNone = ~0ull;
+    uint64_t from = kNone;
     std::vector<uint32_t> vertices;
     std::vector<glm::vec3> before;
+
+    // Whether it leads from what a consumer saw (`seen`) to the present (`now`).
+    bool leads(uint64_t seen, uint64_t now) const { return from != kNone && seen == from && now == from + 1; }
 };
 
 struct CageExtent {

@@ -641,7 +641,7 @@ const CageExtent& cageExtent(const Document& doc) {
     if (extent.revision == doc.positionRevision && extent.cage == doc.editedCageRevision) return extent;
     const Cage& cage = doc.planned->cage();
     const PositionStep& step = doc.lastMove;
-    if (extent.cage == doc.editedCageRevision && extent.revision == step.from && doc.positionRevision == step.from + 1)
+    if (extent.cage == doc.editedCageRevision && step.leads(extent.revision, doc.positionRevision))
         carryExtent(extent, cage, doc.planned->topology(), step);
     else
         extent = measureCage(cage);

@@ -133,7 +133,7 @@ struct Document {
     uint64_t topologyRevision = 0;
     // The latest change of positions when it was a move of some vertices and nothing else (a drag
     // step): consumers one revision behind update those vertices instead of comparing every
-    // position (PositionStep::from is the revision it started from; ~0 after any other change).
+    // position (PositionStep::from is the revision it started from; kNone after any other change).
     PositionStep lastMove;
     // The edited cage's extent, computed when first asked for at a revision (cageExtent).
     mutable CageExtent extent;

@@ -493,8 +493,8 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
     const bool newHidden = newPlans || r.hiddenRevision != doc.hiddenRevision;
     std::vector<uint32_t> moved;
     // One drag step behind: its vertices; further behind, those whose positions differ.
-    const bool oneStep = !newDocument && r.positionRevision == doc.lastMove.from &&
-                         doc.positionRevision == doc.lastMove.from + 1 && r.positions.size() == cage.positions.size();
+    const bool oneStep = !newDocument && doc.lastMove.leads(r.positionRevision, doc.positionRevision) &&
+                         r.positions.size() == cage.positions.size();
     if (oneStep) moved = doc.lastMove.vertices;
     else if (newPositions && !newDocument && !planChange.topologyChanged && r.positions.size() == cage.positions.size())
         moved = movedVertices(r.positions, cage.positions);

@@ -69,9 +69,9 @@ TEST(CageExtent, TheDocumentRecordsDragStepsAndFollowsThem) {
     }
     // Any other change drops the step: consumers compare positions again.
     ASSERT_TRUE(undoEdit(doc, 2).ok());
-    EXPECT_EQ(doc.lastMove.from, ~0ull);
+    EXPECT_EQ(doc.lastMove.from, PositionStep::kNone);
     expectSameExtent(cageExtent(doc), measureCage(doc.planned->cage()), "undone");
     const uint32_t* quad = doc.planned->cage().faceBegin(2);
     ASSERT_TRUE(applyEdit(doc, SetEdgeSharpness{{{std::min(quad[0], quad[1]), std::max(quad[0], quad[1]), 2.0f}}}, 3).ok());
-    EXPECT_EQ(doc.lastMove.from, ~0ull);
+    EXPECT_EQ(doc.lastMove.from, PositionStep::kNone);
 }
