@@ -193,10 +193,8 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
 
     // Faces hidden and shown again (a hole made and undone): only the chunks whose drawn
     // triangles changed are tested again, and the picture is still the one with every drawn
-    // triangle drawn.
-    PlanView holed = framed;
-    // Faces drawn alone: hiding a member of a coarse macro face breaks it up (a new layout,
-    // everything tested again).
+    // triangle drawn. Faces drawn alone: hiding a member of a coarse macro face breaks it up
+    // (a new layout, everything tested again).
     const uint32_t drawnCount = uint32_t(buffers.data.subfaces.size());
     const GridFactors& factors = buffers.gridLayout.factors;
     auto drawnAlone = [&](uint32_t d) {
@@ -212,6 +210,7 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
             }
     ASSERT_EQ(holes.size(), 4u);
     const size_t layoutTriangles = buffers.gridLayout.indices.size() / 3;
+    PlanView holed = framed;
     holed.hiddenDrawn = holes;
     for (const PlanView& v : {holed, framed}) {
         const std::vector<uint8_t> culled = draw(*image, whole, buffers, planned, v, true);
