@@ -1,7 +1,6 @@
 #include "cage_lines.h"
 
 #include <algorithm>
-#include <limits>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -69,19 +68,12 @@ void rebuildCageLines(CageLines& lines, const Cage& cage, const Topology& topolo
         std::nth_element(lengths.begin(), percentile, lengths.end());
         lines.longPlainEdge = *percentile;
     }
-    lines.boundsMin = glm::vec3(std::numeric_limits<float>::infinity());
-    lines.boundsMax = -lines.boundsMin;
-    for (const std::vector<LineVertex>* set : {&lines.plain, &lines.creased})
-        for (const LineVertex& v : *set) {
-            lines.boundsMin = glm::min(lines.boundsMin, v.position);
-            lines.boundsMax = glm::max(lines.boundsMax, v.position);
-        }
 }
 
-bool plainLinesReadable(const CageLines& lines, const glm::mat4& viewProjection, const glm::vec3& eye,
-                        float pixelsPerUnit) {
-    if (lines.plain.empty() || !(lines.boundsMin.x <= lines.boundsMax.x)) return true;
-    const glm::vec3 nearest = glm::clamp(eye, lines.boundsMin, lines.boundsMax);
+bool plainLinesReadable(const CageLines& lines, const Bounds& cageBounds, const glm::mat4& viewProjection,
+                        const glm::vec3& eye, float pixelsPerUnit) {
+    if (lines.plain.empty() || !(cageBounds.min.x <= cageBounds.max.x)) return true;
+    const glm::vec3 nearest = glm::clamp(eye, cageBounds.min, cageBounds.max);
     // Clip w is the depth along the view for a perspective camera, 1 for an orthographic one:
     // pixelsPerUnit / w is the scale at that point either way.
     const float w = (viewProjection * glm::vec4(nearest, 1.0f)).w;

@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 
 #include "line_pass.h"
+#include "mesh/cage.h"
 #include "mesh/topology.h"
 
 namespace qp::editor {
@@ -25,9 +26,8 @@ struct CageLines {
     std::vector<uint32_t> changedPlain, changedCreased;
     bool wholePlain = true, wholeCreased = true;
     // For plainLinesReadable, as of the last rebuild: the 90th percentile of the plain edges'
-    // lengths, and the box of every line's ends.
+    // lengths.
     float longPlainEdge = 0.0f;
-    glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
 };
 
 // Plain edges must draw this long, in pixels, near the eye for plain lines to be drawn: 2-pixel
@@ -36,12 +36,13 @@ inline constexpr float kReadableEdgePixels = 8.0f;
 
 // Whether the plain lines are worth drawing in a view (`viewProjection`, `eye` and
 // `pixelsPerUnit` as plan_pass.h's DrawView has them): the longer plain edges (longPlainEdge)
-// would draw at least kReadableEdgePixels long at the point of the lines' box nearest the eye.
+// would draw at least kReadableEdgePixels long at the point of the cage's box (`cageBounds`)
+// nearest the eye.
 // Denser than that, plain lines only darken the surface under them, and on lavapipe a million
 // faces' two million lines cost more than the surface (docs/editor.md). Creased lines are
 // always drawn; an eye inside the box always sees plain lines.
-bool plainLinesReadable(const CageLines& lines, const glm::mat4& viewProjection, const glm::vec3& eye,
-                        float pixelsPerUnit);
+bool plainLinesReadable(const CageLines& lines, const Bounds& cageBounds, const glm::mat4& viewProjection,
+                        const glm::vec3& eye, float pixelsPerUnit);
 
 // Every edge that `shown` accepts (an empty function: every edge), in edge order.
 void rebuildCageLines(CageLines& lines, const Cage& cage, const Topology& topology,

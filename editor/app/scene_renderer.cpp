@@ -610,6 +610,7 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
             for (uint32_t v : moved) r.positions[v] = cage.positions[v];
         else
             r.positions = cage.positions;
+        r.cageBounds = cageExtent(doc).bounds;
     }
     if (newHidden) {
         r.hiddenSubfaces = hiddenSubfacesOf(doc);
@@ -688,7 +689,7 @@ void recordScene(VkCommandBuffer cmd, SceneRenderer& r, uint32_t slot, const Ren
             recordLines(cmd, r.lines, area, v.worldViewProjection, r.gridLines, r.gridLineCount, kGridLineWidth);
         const glm::mat4 cageView = withDepthBias(v.viewProjection, kCageDepthBias);
         const bool plainLines =
-            options.denseCage || plainLinesReadable(r.cageLineCache, v.viewProjection, v.eye, v.pixelsPerUnit);
+            options.denseCage || plainLinesReadable(r.cageLineCache, r.cageBounds, v.viewProjection, v.eye, v.pixelsPerUnit);
         r.plainLinesHidden[i] = options.cage && r.cageLineCount > 0 && !plainLines;
         if (options.cage && plainLines && r.cageLineCount > 0)
             recordLines(cmd, r.lines, area, cageView, r.cageLines, r.cageLineCount, kCageLineWidth);

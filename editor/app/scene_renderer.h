@@ -169,6 +169,7 @@ struct SceneRenderer {
     LinePass lines;
     MeshPass heatPass;
     CageLines cageLineCache;  // what cageLines and creaseLines hold
+    Bounds cageBounds;        // the edited cage's as last synced (plainLinesReadable)
     Buffer cageLines, creaseLines, overlayLines, gridLines;
     uint32_t cageLineCount = 0, creaseLineCount = 0, overlayLineCount = 0, gridLineCount = 0;
     std::optional<UpAxis> gridUp;  // what the grid was made for (with gridBounds); empty: not made

@@ -92,7 +92,6 @@ TEST(CageLines, EdgesNotShownStayOutThroughMovesAndTags) {
     EXPECT_TRUE(lines.creased.empty());
 }
 
-
 // Plain lines are drawn while the cage's longer edges draw 8 px or more where the cage comes
 // nearest the eye: a grid of unit edges seen from near, from far, from inside its box, head-on
 // orthographic; creased lines are not the rule's business.
@@ -102,24 +101,25 @@ TEST(CageLines, PlainLinesAreReadableOnlyWhereTheEdgesDrawLongEnough) {
     CageLines lines;
     rebuildCageLines(lines, cage, topology, {});
     EXPECT_NEAR(lines.longPlainEdge, 1.0f, 0.05f);
+    const Bounds box = computeBounds(cage);
     const float pixelsPerUnit = 600.0f;  // a 600-pixel-high view, 90 degrees vertically
     auto perspective = [&](glm::vec3 eye) {
         glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, 0.01f, 1000.0f);
         return projection * glm::lookAt(eye, glm::vec3(5, 5, 0), glm::vec3(0, 1, 0));
     };
     const glm::vec3 near(5, 5, 20), far(5, 5, 200);  // 30 px an edge, 3 px
-    EXPECT_TRUE(plainLinesReadable(lines, perspective(near), near, pixelsPerUnit));
-    EXPECT_FALSE(plainLinesReadable(lines, perspective(far), far, pixelsPerUnit));
+    EXPECT_TRUE(plainLinesReadable(lines, box, perspective(near), near, pixelsPerUnit));
+    EXPECT_FALSE(plainLinesReadable(lines, box, perspective(far), far, pixelsPerUnit));
     // Far from the middle, but the box's corner is near the eye: its edges draw long.
     const glm::vec3 besideCorner(11, 11, 5);
-    EXPECT_TRUE(plainLinesReadable(lines, perspective(besideCorner), besideCorner, pixelsPerUnit));
+    EXPECT_TRUE(plainLinesReadable(lines, box, perspective(besideCorner), besideCorner, pixelsPerUnit));
     const glm::vec3 inside(5, 5, 0.1f);  // in the (flat, bumped) box
-    EXPECT_TRUE(plainLinesReadable(lines, perspective(inside), inside, pixelsPerUnit));
+    EXPECT_TRUE(plainLinesReadable(lines, box, perspective(inside), inside, pixelsPerUnit));
     // Orthographic: w is 1 everywhere, so the scale alone decides.
     const glm::mat4 ortho = glm::ortho(-5.0f, 5.0f, -5.0f, 5.0f, 0.1f, 100.0f) *
                             glm::lookAt(glm::vec3(5, 5, 50), glm::vec3(5, 5, 0), glm::vec3(0, 1, 0));
-    EXPECT_TRUE(plainLinesReadable(lines, ortho, glm::vec3(5, 5, 50), 60.0f));
-    EXPECT_FALSE(plainLinesReadable(lines, ortho, glm::vec3(5, 5, 50), 6.0f));
+    EXPECT_TRUE(plainLinesReadable(lines, box, ortho, glm::vec3(5, 5, 50), 60.0f));
+    EXPECT_FALSE(plainLinesReadable(lines, box, ortho, glm::vec3(5, 5, 50), 6.0f));
 }
 
 }  // namespace
