@@ -25,7 +25,14 @@ Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
         const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
         before.assign(grid, grid + (oldOffset.empty() ? 0 : oldOffset.back()));
     }
-    if (Status s = installGridLayout(ctx, pass, buffers, std::move(layout)); !s) return s;
+    // Installing a layout tests every triangle again; the kept sub-faces' results are carried below.
+    SampleCulling culling = std::move(buffers.sampleCulling);
+    const Status installed = installGridLayout(ctx, pass, buffers, std::move(layout));
+    std::swap(culling, buffers.sampleCulling);
+    if (!installed) {
+        invalidateSampleCulling(buffers.sampleCulling);
+        return installed;
+    }
     const GridLayout& now = buffers.gridLayout;
     const std::vector<uint32_t>& newOffset = now.subfaceOffset;
     auto* slots = static_cast<GridVertex*>(buffers.grid.data);
@@ -43,6 +50,8 @@ Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
         if (oldOf[d] != UINT32_MAX && newOffset[d] <= oldOffset[oldOf[d]]) move(d);
     for (uint32_t d = count; d-- > 0;)
         if (oldOf[d] != UINT32_MAX && newOffset[d] > oldOffset[oldOf[d]]) move(d);
+
+    carrySampleCulling(buffers.sampleCulling, oldLayout, now, oldOf);
 
     // The CPU path's displacement frames follow their slots (a dab re-displaces from them).
     if (!buffers.gridFrames.components.empty()) {

@@ -131,6 +131,46 @@ void markSlotsChanged(SampleCulling& culling, const GridLayout& layout, std::spa
     }
 }
 
+void carrySampleCulling(SampleCulling& culling, const GridLayout& before, const GridLayout& after,
+                        std::span<const uint32_t> oldOf) {
+    auto coarseMacros = [](const GridLayout& layout) {
+        const std::vector<uint32_t>& resolution = layout.factors.macroResolution;
+        return std::any_of(resolution.begin(), resolution.end(), [](uint32_t r) { return r != 0; });
+    };
+    const uint32_t oldTriangles = before.indexOffset.empty() ? 0 : before.indexOffset.back() / 3;
+    if (!culling.valid || !culling.changedSlots.empty() || culling.triangleMayCover.size() != oldTriangles ||
+        coarseMacros(before) || coarseMacros(after))
+        return invalidateSampleCulling(culling);
+    const std::vector<uint8_t> carried = std::move(culling.triangleMayCover);
+    const uint32_t triangles = uint32_t(after.indices.size() / 3);
+    culling.triangleMayCover.assign(triangles, 0);
+    std::vector<uint32_t> renewed;  // drawn sub-faces laid out anew: tested at the next update
+    for (uint32_t d = 0; d < uint32_t(oldOf.size()); ++d) {
+        const uint32_t old = oldOf[d];
+        const uint32_t count = (after.indexOffset[d + 1] - after.indexOffset[d]) / 3;
+        // Single faces of one factor have the same triangles over their own slots.
+        if (old != UINT32_MAX && before.factors.subfaceFactor[old] == after.factors.subfaceFactor[d] &&
+            (before.indexOffset[old + 1] - before.indexOffset[old]) / 3 == count)
+            std::memcpy(culling.triangleMayCover.data() + after.indexOffset[d] / 3, carried.data() + before.indexOffset[old] / 3, count);
+        else
+            renewed.push_back(d);
+    }
+    markSlotsChanged(culling, after, renewed);
+    if (!culling.valid) return;  // too many to list
+    // Each chunk's slot bounds over its new triangles; its kept triangles are written again.
+    const uint32_t chunks = (triangles + culling.chunkTriangles - 1) / culling.chunkTriangles;
+    culling.chunkKept.assign(chunks, 0);
+    culling.chunkSlotMin.assign(chunks, 0);
+    culling.chunkSlotMax.assign(chunks, 0);
+    tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
+        const uint32_t begin = c * culling.chunkTriangles, end = std::min(begin + culling.chunkTriangles, triangles);
+        const auto [low, high] = std::minmax_element(after.indices.begin() + 3 * size_t(begin), after.indices.begin() + 3 * size_t(end));
+        culling.chunkSlotMin[c] = *low;
+        culling.chunkSlotMax[c] = *high;
+    });
+    culling.rewriteAll = true;
+}
+
 std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& culling, const GridLayout& layout,
                                                                const GridVertex* vertices, const SampleView& view,
                                                                std::span<const std::pair<uint32_t, uint32_t>> drawnRanges,
@@ -140,33 +180,39 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
     const uint32_t chunkTriangles = culling.chunkTriangles;
     assert(chunkTriangles > 0);
     const uint32_t chunks = (triangles + chunkTriangles - 1) / chunkTriangles;
-    const bool everything = !culling.valid || !(culling.view == view) || culling.chunkKept.size() != chunks;
+    const bool everything = !culling.valid || !(culling.view == view) || culling.chunkKept.size() != chunks ||
+                            culling.triangleMayCover.size() != triangles;
     // Triangle ranges drawn: [first, end) in triangles, sorted.
     const std::vector<std::pair<uint32_t, uint32_t>> drawn = drawnTriangles(drawnRanges, triangles);
-    std::vector<uint32_t> dirty;
+    // Per chunk: 2 tested and written, 1 written from the kept results, 0 as it is.
+    std::vector<char> work(chunks, everything ? 2 : 0);
     if (everything) {
         culling.chunkKept.assign(chunks, 0);
         culling.chunkSlotMin.assign(chunks, 0);
         culling.chunkSlotMax.assign(chunks, 0);
+        culling.triangleMayCover.assign(triangles, 0);
         culling.view = view;
-        dirty.resize(chunks);
-        for (uint32_t c = 0; c < chunks; ++c) dirty[c] = c;
     } else {
-        std::vector<char> marked(chunks, 0);
+        // Carried through a relayout: every chunk's triangles moved (the drawn ranges kept are
+        // the old layout's). Else faces hidden or shown (a hole made or filled): the chunks where
+        // what is drawn changed.
+        if (culling.rewriteAll) std::fill(work.begin(), work.end(), 1);
+        else
+            for (const auto& [first, end] : differingTriangles(drawnTriangles(culling.drawnRanges, triangles), drawn))
+                std::fill(work.begin() + first / chunkTriangles, work.begin() + (end - 1) / chunkTriangles + 1, 1);
         for (uint32_t c = 0; c < chunks; ++c)
             for (const auto& [first, end] : culling.changedSlots)
                 if (first <= culling.chunkSlotMax[c] && culling.chunkSlotMin[c] < end) {
-                    marked[c] = 1;
+                    work[c] = 2;
                     break;
                 }
-        // Faces hidden or shown (a hole made or filled): the chunks where what is drawn changed.
-        for (const auto& [first, end] : differingTriangles(drawnTriangles(culling.drawnRanges, triangles), drawn))
-            std::fill(marked.begin() + first / chunkTriangles, marked.begin() + (end - 1) / chunkTriangles + 1, 1);
-        for (uint32_t c = 0; c < chunks; ++c)
-            if (marked[c]) dirty.push_back(c);
     }
+    std::vector<uint32_t> dirty;
+    for (uint32_t c = 0; c < chunks; ++c)
+        if (work[c]) dirty.push_back(c);
     culling.drawnRanges.assign(drawnRanges.begin(), drawnRanges.end());
     culling.changedSlots.clear();
+    culling.rewriteAll = false;
     culling.valid = true;
 
     std::atomic<uint64_t> tested{0};
@@ -181,42 +227,43 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
                 culling.chunkSlotMin[c] = *low;
                 culling.chunkSlotMax[c] = *high;
             }
-            // Each slot is read by about six triangles: projected once. A chunk of single faces
-            // reads a narrow run of slots, projected first; one with coarse macro faces (whose
-            // triangles read their members' corners, far apart) remembers recent projections.
-            const uint32_t slotMin = culling.chunkSlotMin[c], slots = culling.chunkSlotMax[c] - slotMin + 1;
-            const bool narrow = slots <= kMostSlotsPerTriangle * (end - begin);
-            if (narrow) {
-                projected.resize(slots);
-                for (uint32_t i = 0; i < slots; ++i) projected[i] = project(positionOf(vertices[slotMin + i]), view);
-            } else {
-                recent.assign(kRecentProjections, RecentProjection{});
-            }
-            auto pixelOf = [&](uint32_t slot) {
-                if (narrow) return projected[slot - slotMin];
-                RecentProjection& r = recent[slot % kRecentProjections];
-                if (r.slot != slot) r = {slot, project(positionOf(vertices[slot]), view)};
-                return r.pixel;
-            };
-            uint32_t* out = culledIndices + 3 * size_t(begin);
-            uint32_t kept = 0, seen = 0;
-            auto run = std::lower_bound(drawn.begin(), drawn.end(), begin,
-                                        [](const std::pair<uint32_t, uint32_t>& r, uint32_t t) { return r.second <= t; });
-            for (; run != drawn.end() && run->first < end; ++run) {
-                const uint32_t from = std::max(run->first, begin), to = std::min(run->second, end);
-                seen += to - from;
-                for (uint32_t t = from; t < to; ++t) {
+            if (work[c] == 2) {
+                // Each slot is read by about six triangles: projected once. A chunk of single faces
+                // reads a narrow run of slots, projected first; one with coarse macro faces (whose
+                // triangles read their members' corners, far apart) remembers recent projections.
+                const uint32_t slotMin = culling.chunkSlotMin[c], slots = culling.chunkSlotMax[c] - slotMin + 1;
+                const bool narrow = slots <= kMostSlotsPerTriangle * (end - begin);
+                if (narrow) {
+                    projected.resize(slots);
+                    for (uint32_t i = 0; i < slots; ++i) projected[i] = project(positionOf(vertices[slotMin + i]), view);
+                } else {
+                    recent.assign(kRecentProjections, RecentProjection{});
+                }
+                auto pixelOf = [&](uint32_t slot) {
+                    if (narrow) return projected[slot - slotMin];
+                    RecentProjection& r = recent[slot % kRecentProjections];
+                    if (r.slot != slot) r = {slot, project(positionOf(vertices[slot]), view)};
+                    return r.pixel;
+                };
+                for (uint32_t t = begin; t < end; ++t) {
                     const uint32_t* tri = indices.data() + 3 * size_t(t);
                     const glm::vec3 p0 = positionOf(vertices[tri[0]]), p1 = positionOf(vertices[tri[1]]),
                                     p2 = positionOf(vertices[tri[2]]);
-                    if (samePosition(p0, p1) || samePosition(p1, p2) || samePosition(p2, p0) ||
-                        !mayCover(pixelOf(tri[0]), pixelOf(tri[1]), pixelOf(tri[2]), view))
-                        continue;
-                    std::memcpy(out + 3 * size_t(kept++), tri, 3 * sizeof(uint32_t));
+                    culling.triangleMayCover[t] = !(samePosition(p0, p1) || samePosition(p1, p2) || samePosition(p2, p0)) &&
+                                                  mayCover(pixelOf(tri[0]), pixelOf(tri[1]), pixelOf(tri[2]), view);
                 }
+                tested += end - begin;
             }
+            // The drawn triangles that may cover a centre, at the chunk's own place.
+            uint32_t* out = culledIndices + 3 * size_t(begin);
+            uint32_t kept = 0;
+            auto run = std::lower_bound(drawn.begin(), drawn.end(), begin,
+                                        [](const std::pair<uint32_t, uint32_t>& r, uint32_t t) { return r.second <= t; });
+            for (; run != drawn.end() && run->first < end; ++run)
+                for (uint32_t t = std::max(run->first, begin), to = std::min(run->second, end); t < to; ++t)
+                    if (culling.triangleMayCover[t])
+                        std::memcpy(out + 3 * size_t(kept++), indices.data() + 3 * size_t(t), 3 * sizeof(uint32_t));
             culling.chunkKept[c] = kept;
-            tested += seen;
         }
     });
     culling.testedTriangles = tested;

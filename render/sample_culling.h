@@ -20,10 +20,19 @@
 // Incremental. The triangles are tested in chunks of kChunkTriangles consecutive triangles of
 // the layout's index buffer (about 100 chunks at a million faces, drawn as that many ranges);
 // each chunk's kept triangles are written at the chunk's own place in the culled index buffer,
-// so a chunk is tested again alone. Everything is tested again when the view, the viewport or
-// the layout's triangles change; after a vertex move or a displacement dab only the chunks that
-// read a changed slot, and after faces are hidden or shown (the drawn ranges change: a hole
-// made or filled) only the chunks whose drawn triangles changed.
+// so a chunk is tested again alone. A test result is kept per triangle, drawn or not, so a chunk
+// can also be written again without testing it. Everything is tested again when the view or
+// the viewport changes, or the triangles change in a way not carried (below); after a vertex
+// move or a displacement dab only the chunks that read a changed slot are tested, and after
+// faces are hidden or shown (a hole made or filled) the chunks whose drawn triangles changed
+// are written again from their results.
+//
+// Carried through a relayout (carrySampleCulling): a topology or hole edit renumbers the drawn
+// sub-faces and shifts their slots and triangles (grid_relayout.h carryGrid). A kept sub-face's
+// triangles are its old ones over its moved slots, whose values moved with them: their results
+// follow them, and only the triangles of sub-faces laid out anew are tested (their slots count
+// as changed). Every chunk is then written again (its triangles moved), which reads the results
+// and the indices but projects nothing.
 //
 // When. The renderer (plan_pass.h, recordGrid) uses it for CPU grids denser than
 // kMinTrianglesPerPixel and without a displacement, where it pays (docs/renderer.md).
@@ -74,9 +83,13 @@ struct SampleCulling {
     // Per chunk: triangles kept (written from index 3 * chunkTriangles * chunk on), and the
     // lowest and highest slot its triangles read (a changed slot outside cannot concern it).
     std::vector<uint32_t> chunkKept, chunkSlotMin, chunkSlotMax;
+    // Per triangle of the layout, drawn or not: 1 when it may cover a pixel centre of `view`.
+    std::vector<uint8_t> triangleMayCover;
     // Slot ranges [first, end) written since the chunks were tested.
     std::vector<std::pair<uint32_t, uint32_t>> changedSlots;
-    uint64_t keptTriangles = 0, testedTriangles = 0;  // of the drawn triangles; tested: this update
+    bool rewriteAll = false;  // the triangles moved (carried): every chunk is written again
+    uint64_t keptTriangles = 0;    // of the drawn triangles
+    uint64_t testedTriangles = 0;  // in this update, drawn or not
     bool inUse = false;                               // the last frame drew the culled triangles
 };
 
@@ -88,6 +101,16 @@ inline void invalidateSampleCulling(SampleCulling& culling) {
 
 // The slots of the drawn sub-faces `drawn` were written (their vertices moved or were displaced).
 void markSlotsChanged(SampleCulling& culling, const GridLayout& layout, std::span<const uint32_t> drawn);
+
+// The grid was laid out anew from `before` to `after`, the slots of every kept sub-face moved
+// with their values (`oldOf`: drawn index in `after` -> in `before`, UINT32_MAX for one laid out
+// anew; grid_relayout.h carryGrid): the results follow the kept sub-faces' triangles, and the
+// others' slots count as changed. Reads `before`'s factors and index offsets only (carryGrid
+// has recycled its other tables). Tests everything again at the next update instead when the
+// culling was not up to date, coarse macro faces are drawn on either side, or too many
+// sub-faces are new.
+void carrySampleCulling(SampleCulling& culling, const GridLayout& before, const GridLayout& after,
+                        std::span<const uint32_t> oldOf);
 
 // Brings the culled triangles up to date for `view`, drawing the index ranges `drawnRanges`
 // (first index, count; empty: all) of `layout.indices` over `vertices` (the grid, one per slot).
