@@ -101,9 +101,10 @@ Result<bool> relayoutGridKeepingSlots(const VulkanContext& ctx, PlanPass& pass, 
     if (Status s = carryGrid(ctx, pass, buffers, factors, oldOf); !s) return s.error();
     buffers.gridEvaluator = evaluator;
     if (evaluator == GridEvaluator::Cpu) {
-        evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, changed, withDependents(buffers.gridLayout, changed),
-                          static_cast<GridVertex*>(buffers.grid.data), buffers.displacement,
-                          buffers.displacement ? &buffers.gridFrames : nullptr);
+        const std::vector<uint32_t> copying = withDependents(buffers.gridLayout, changed);
+        evaluateGridOnCpu(planned, buffers.data, buffers.gridLayout, changed, copying, static_cast<GridVertex*>(buffers.grid.data),
+                          buffers.displacement, buffers.displacement ? &buffers.gridFrames : nullptr);
+        markSlotsChanged(buffers.sampleCulling, buffers.gridLayout, copying);  // the carried culling tests them again
     } else {
         buffers.pendingGridSubfaces = changed;  // recordGrid evaluates them
     }

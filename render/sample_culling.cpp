@@ -138,18 +138,26 @@ void carrySampleCulling(SampleCulling& culling, const GridLayout& before, const 
         return std::any_of(resolution.begin(), resolution.end(), [](uint32_t r) { return r != 0; });
     };
     const uint32_t oldTriangles = before.indexOffset.empty() ? 0 : before.indexOffset.back() / 3;
-    if (!culling.valid || !culling.changedSlots.empty() || culling.triangleMayCover.size() != oldTriangles ||
-        coarseMacros(before) || coarseMacros(after))
+    if (!culling.valid || culling.triangleMayCover.size() != oldTriangles || coarseMacros(before) || coarseMacros(after))
         return invalidateSampleCulling(culling);
+    // Slots written since the last test (a move before the relayout), in the old numbering: their
+    // sub-faces are tested again in the new one.
+    const std::vector<uint32_t>& oldOffset = before.subfaceOffset;
+    std::vector<char> written(oldOffset.size() - 1, 0);
+    for (const auto& [first, end] : culling.changedSlots)
+        for (size_t o = size_t(std::upper_bound(oldOffset.begin(), oldOffset.end(), first) - oldOffset.begin()) - 1;
+             o < written.size() && oldOffset[o] < end; ++o)
+            written[o] = 1;
+    culling.changedSlots.clear();
     const std::vector<uint8_t> carried = std::move(culling.triangleMayCover);
     const uint32_t triangles = uint32_t(after.indices.size() / 3);
     culling.triangleMayCover.assign(triangles, 0);
-    std::vector<uint32_t> renewed;  // drawn sub-faces laid out anew: tested at the next update
+    std::vector<uint32_t> renewed;  // drawn sub-faces laid out anew or written: tested at the next update
     for (uint32_t d = 0; d < uint32_t(oldOf.size()); ++d) {
         const uint32_t old = oldOf[d];
         const uint32_t count = (after.indexOffset[d + 1] - after.indexOffset[d]) / 3;
         // Single faces of one factor have the same triangles over their own slots.
-        if (old != UINT32_MAX && before.factors.subfaceFactor[old] == after.factors.subfaceFactor[d] &&
+        if (old != UINT32_MAX && !written[old] && before.factors.subfaceFactor[old] == after.factors.subfaceFactor[d] &&
             (before.indexOffset[old + 1] - before.indexOffset[old]) / 3 == count)
             std::memcpy(culling.triangleMayCover.data() + after.indexOffset[d] / 3, carried.data() + before.indexOffset[old] / 3, count);
         else

@@ -105,9 +105,10 @@ void markSlotsChanged(SampleCulling& culling, const GridLayout& layout, std::spa
 // The grid was laid out anew from `before` to `after`, the slots of every kept sub-face moved
 // with their values (`oldOf`: drawn index in `after` -> in `before`, UINT32_MAX for one laid out
 // anew; grid_relayout.h carryGrid): the results follow the kept sub-faces' triangles, and the
-// others' slots count as changed. Reads `before`'s factors and index offsets only (carryGrid
-// has recycled its other tables). Tests everything again at the next update instead when the
-// culling was not up to date, coarse macro faces are drawn on either side, or too many
+// others' slots count as changed, as do those of sub-faces whose slots were written since the
+// last update (`changedSlots`, in the old numbering). Reads `before`'s factors and offsets only
+// (carryGrid has recycled its other tables). Tests everything again at the next update instead
+// when the culling was not up to date, coarse macro faces are drawn on either side, or too many
 // sub-faces are new.
 void carrySampleCulling(SampleCulling& culling, const GridLayout& before, const GridLayout& after,
                         std::span<const uint32_t> oldOf);

@@ -309,3 +309,60 @@ TEST_F(SampleCullingFixture, TopologyEditsCarryTheResultsOfKeptFaces) {
     destroyPlanBuffers(ctx, buffers);
     destroyOffscreenTarget(ctx, *image);
 }
+
+// Screen-adaptive factors: a vertex pulled toward the camera raises its sub-faces' factors, and
+// the grid is laid out again keeping the others (relayoutGridKeepingSlots): their results are
+// carried, the re-evaluated sub-faces tested, and the picture stays the one with every triangle
+// drawn. A second vertex, elsewhere, moves a few pixels across the view in the same frame: its
+// sub-faces keep their factors, and their slots, written before the relayout, are tested again.
+TEST_F(SampleCullingFixture, AdaptiveRelayoutsCarryTheResultsOfKeptFaces) {
+    Result<OffscreenTarget> image = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(image.ok()) << image.error().message;
+    PlanDatabase db;
+    Result<PlannedCage> created = PlannedCage::create(makeBenchmarkCage(20000, 3), db, {}, "generated");
+    ASSERT_TRUE(created.ok()) << created.error().message;
+    PlannedCage& planned = *created;
+    Result<PlanBuffers> uploaded = uploadPlans(ctx, planned, MacroChoice::Off, true);
+    ASSERT_TRUE(uploaded.ok()) << uploaded.error().message;
+    PlanBuffers buffers = std::move(uploaded).value();
+    ASSERT_TRUE(bindPlanBuffers(ctx, pass, buffers).ok());
+    buffers.sampleCulling.chunkTriangles = 1024;
+    buffers.sampleCulling.minTrianglesPerPixel = 0.0f;
+    const PlanView framed = test::framedPlanView(planned.cage(), kSize);
+    const VkRect2D whole{{0, 0}, {kSize, kSize}};
+    draw(*image, whole, buffers, planned, framed, true);
+
+    const Bounds bounds = computeBounds(planned.cage());
+    const glm::vec3 eye = glm::vec3(glm::inverse(framed.viewProjection) * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f) /
+                                    (glm::inverse(framed.viewProjection) * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f)).w);
+    uint32_t relayouts = 0;
+    const uint32_t vertices = planned.cage().vertexCount();
+    const glm::vec3 across = glm::normalize(glm::vec3(glm::inverse(framed.viewProjection) * glm::vec4(1.0f, 0.0f, 0.0f, 0.0f)));
+    for (uint32_t v : {vertices / 3, vertices / 2, 2 * vertices / 3}) {
+        const GridFactors before = buffers.gridLayout.factors;
+        // Facing the camera (a vertex on the far side could hide what a stale result leaves out):
+        // the one nearest the eye among the sixth of the vertices after v.
+        uint32_t aside = (v + vertices / 6) % vertices;
+        for (uint32_t k = 1; k < vertices / 6; ++k) {
+            const uint32_t w = (v + vertices / 6 + k) % vertices;
+            if (glm::length(planned.cage().positions[w] - eye) < glm::length(planned.cage().positions[aside] - eye)) aside = w;
+        }
+        const glm::vec3 from = planned.cage().positions[v];
+        const std::vector<glm::vec3> to = {from + 0.08f * bounds.diagonal() * glm::normalize(eye - from),
+                                           planned.cage().positions[aside] + 0.01f * bounds.diagonal() * across};
+        const std::vector<uint32_t> moved{v, aside};
+        ASSERT_TRUE(planned.moveVertices(moved, to).ok());
+        ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordMovedVertices(cmd, pass, buffers, planned, moved); }).ok());
+        const std::vector<uint8_t> culled = draw(*image, whole, buffers, planned, framed, true);
+        const uint64_t triangles = buffers.gridLayout.indices.size() / 3;
+        if (buffers.gridLayout.factors.subfaceFactor != before.subfaceFactor) {
+            ++relayouts;
+            EXPECT_LT(buffers.sampleCulling.testedTriangles, triangles / 4) << "vertex " << v << ": the kept faces' results are carried";
+        }
+        const std::vector<uint8_t> all = draw(*image, whole, buffers, planned, framed, false);
+        EXPECT_EQ(differingBytes(all, culled), 0u) << "vertex " << v;
+    }
+    EXPECT_GT(relayouts, 0u) << "a vertex pulled toward the camera raises some factors";
+    destroyPlanBuffers(ctx, buffers);
+    destroyOffscreenTarget(ctx, *image);
+}
