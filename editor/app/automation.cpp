@@ -463,6 +463,7 @@ void Automation::writeFrameTimings(EditorApp& app) {
             const FrameSample& shown = samples[samples.size() - 1 - age];
             const FrameSample& next = samples[samples.size() - age];
             line["cpu_ms"] = shown.cpuMs;
+            line["device_wait_ms"] = shown.deviceWaitMs;
             line["interval_ms"] = next.intervalMs;
             line["scene_drawn"] = shown.sceneDrawn;
         } else {

@@ -413,8 +413,10 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     int w = 0, h = 0;
     glfwGetFramebufferSize(app.window, &w, &h);
     const uint32_t slot = app.swapchain.slot;
-    // The CPU time leaves out the wait for a free frame slot and image (the GPU's or the display's pace).
-    double cpuMs = msSince(frameStart);
+    // The CPU time leaves out the wait for a free frame slot and image (the GPU's or the display's
+    // pace), and the sync's wait for earlier frames on the device.
+    const double deviceWaitMs = app.renderer.lastDeviceWaitMs;
+    double cpuMs = msSince(frameStart) - deviceWaitMs;
     Result<std::optional<SwapchainFrame>> begun = beginFrame(app.ctx, app.swapchain, uint32_t(w), uint32_t(h));
     const Clock::time_point recordStart = Clock::now();
     if (!begun) return begun.error();
@@ -477,6 +479,7 @@ Status drawFrame(EditorApp& app, Clock::time_point frameStart) {
     sample.culled = std::any_of(draws.begin(), draws.end(), [](const ViewportDraw& d) { return d.cull != CullMethod::None; });
     sample.coarse = std::any_of(draws.begin(), draws.end(), [](const ViewportDraw& d) { return d.navigating; });
     sample.cpuMs = cpuMs + msSince(recordStart);
+    sample.deviceWaitMs = deviceWaitMs;
     sample.intervalMs = app.frame == 0 ? 0.0 : std::chrono::duration<double, std::milli>(frameStart - app.lastFrameStart).count();
     app.lastFrameStart = frameStart;
     if (app.lastEditFrame.frame + 1 == app.frame) app.lastEditFrame.intervalMs = sample.intervalMs;

@@ -12,12 +12,15 @@
 namespace qp::editor {
 
 struct FrameSample {
-    double cpuMs = 0.0;       // the frame's work up to submission, without waiting for a frame slot
+    // The frame's work up to submission, without waiting for a frame slot or for the device to
+    // finish earlier frames before buffers change (deviceWaitMs).
+    double cpuMs = 0.0;
     double gpuMs = -1.0;      // device time of the frame's commands; < 0 while unknown
     double intervalMs = 0.0;  // since the previous frame started (includes waiting for input)
     bool sceneDrawn = false;  // the 3D viewports were drawn (not copied from the scene cache)
     bool culled = false;      // some viewport culled (DrawView::cull)
     bool coarse = false;      // drawn coarse while the camera moved (progressive refinement)
+    double deviceWaitMs = 0.0;  // left out of cpuMs
 };
 
 struct FrameStats {

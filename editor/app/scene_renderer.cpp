@@ -482,6 +482,7 @@ void destroySceneRenderer(const VulkanContext& ctx, SceneRenderer& r) {
 Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog& catalog, const Document& doc,
                  uint64_t generation, std::span<const SchemeRequest> requests, std::span<const uint32_t> changedSamples,
                  const EditReport& planChange, const DisplayOptions& display) {
+    r.lastDeviceWaitMs = 0.0;
     if (!doc.planned) return success();
     const Cage& cage = doc.planned->cage();
     const bool newDocument = r.generation != generation;
@@ -526,8 +527,10 @@ Status syncScene(const VulkanContext& ctx, SceneRenderer& r, const PluginCatalog
         return success();
     }
 
-    const auto start = Clock::now();
+    const auto waitStart = Clock::now();
     VK_CHECK(vkQueueWaitIdle(ctx.queue));
+    r.lastDeviceWaitMs = msSince(waitStart);
+    const auto start = Clock::now();
     // The cage's lines drawn anew (a topology edit renumbers every edge) on another core while
     // the viewports update: they share nothing but the document, which neither changes.
     const Topology& topology = doc.planned->topology();

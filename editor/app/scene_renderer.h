@@ -187,6 +187,9 @@ struct SceneRenderer {
     CageFeatures features;     // of the cage the last build saw (analyzeCage)
     bool featuresStale = true;  // the plans changed since: analysed again before the next build
     double lastSyncMs = 0.0;  // scheme updates, heat maps and line buffers of the last change
+    // The last sync's wait for the device to finish earlier frames before it changed their
+    // buffers (0 when nothing changed): idle time, left out of the frame's CPU time.
+    double lastDeviceWaitMs = 0.0;
     // Per frame-in-flight slot: statistics queries and what they were recorded for.
     VkQueryPool statistics[kFramesInFlight] = {};
     uint32_t recordedViewports[kFramesInFlight] = {};
