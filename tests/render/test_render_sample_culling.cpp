@@ -102,6 +102,17 @@ struct SampleCullingFixture : test::PlanPassTest {
         return std::move(buffers).value();
     }
 
+    // Single faces only (a coarse macro face's triangles are chosen again after a relayout,
+    // which tests everything), small chunks, culled at any density.
+    PlanBuffers uploadSingleFaces(const PlannedCage& planned) {
+        Result<PlanBuffers> buffers = uploadPlans(ctx, planned, MacroChoice::Off, true);
+        EXPECT_TRUE(buffers.ok()) << buffers.error().message;
+        EXPECT_TRUE(bindPlanBuffers(ctx, pass, *buffers).ok());
+        buffers->sampleCulling.chunkTriangles = 1024;
+        buffers->sampleCulling.minTrianglesPerPixel = 0.0f;
+        return std::move(buffers).value();
+    }
+
     std::vector<uint8_t> draw(const OffscreenTarget& image, VkRect2D area, PlanBuffers& buffers, const PlannedCage& planned,
                               PlanView view, bool sampleCulling, bool expectCulled = true,
                               TessellationSettings settings = {0, 4.0f}) {
@@ -250,14 +261,7 @@ TEST_F(SampleCullingFixture, TopologyEditsCarryTheResultsOfKeptFaces) {
     Result<PlannedCage> created = PlannedCage::create(makeBenchmarkCage(20000, 3), db, {}, "generated");
     ASSERT_TRUE(created.ok()) << created.error().message;
     PlannedCage& planned = *created;
-    // Single faces only: a coarse macro face's triangles are chosen again after a topology edit
-    // (writeGridIndices), which tests everything.
-    Result<PlanBuffers> uploaded = uploadPlans(ctx, planned, MacroChoice::Off, true);
-    ASSERT_TRUE(uploaded.ok()) << uploaded.error().message;
-    PlanBuffers buffers = std::move(uploaded).value();
-    ASSERT_TRUE(bindPlanBuffers(ctx, pass, buffers).ok());
-    buffers.sampleCulling.chunkTriangles = 1024;
-    buffers.sampleCulling.minTrianglesPerPixel = 0.0f;
+    PlanBuffers buffers = uploadSingleFaces(planned);
     const PlanView framed = test::framedPlanView(planned.cage(), kSize);
     const VkRect2D whole{{0, 0}, {kSize, kSize}};
     // Uniform factors: the next frame's factors are known, and the grid is carried (adaptive
@@ -322,12 +326,7 @@ TEST_F(SampleCullingFixture, AdaptiveRelayoutsCarryTheResultsOfKeptFaces) {
     Result<PlannedCage> created = PlannedCage::create(makeBenchmarkCage(20000, 3), db, {}, "generated");
     ASSERT_TRUE(created.ok()) << created.error().message;
     PlannedCage& planned = *created;
-    Result<PlanBuffers> uploaded = uploadPlans(ctx, planned, MacroChoice::Off, true);
-    ASSERT_TRUE(uploaded.ok()) << uploaded.error().message;
-    PlanBuffers buffers = std::move(uploaded).value();
-    ASSERT_TRUE(bindPlanBuffers(ctx, pass, buffers).ok());
-    buffers.sampleCulling.chunkTriangles = 1024;
-    buffers.sampleCulling.minTrianglesPerPixel = 0.0f;
+    PlanBuffers buffers = uploadSingleFaces(planned);
     const PlanView framed = test::framedPlanView(planned.cage(), kSize);
     const VkRect2D whole{{0, 0}, {kSize, kSize}};
     draw(*image, whole, buffers, planned, framed, true);
