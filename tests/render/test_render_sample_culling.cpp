@@ -93,6 +93,23 @@ namespace {
 
 struct SampleCullingFixture : test::PlanPassTest {
     static constexpr uint32_t kSize = 256;
+    OffscreenTarget image;  // kSize square, what the tests draw into
+    PlanDatabase db;
+
+    void SetUp() override {
+        PlanPassTest::SetUp();
+        if (HasFatalFailure()) return;
+        Result<OffscreenTarget> created = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+        ASSERT_TRUE(created.ok()) << created.error().message;
+        image = *created;
+    }
+    void TearDown() override {
+        if (ctx.device) destroyOffscreenTarget(ctx, image);
+        PlanPassTest::TearDown();
+    }
+
+    // The generated 20k-face torus cage every test draws.
+    Result<PlannedCage> planGenerated() { return PlannedCage::create(makeBenchmarkCage(20000, 3), db, {}, "generated"); }
 
     // Planned for the CPU grid path only (PlanBuffers::gridCulledIndices exists then).
     PlanBuffers uploadForCpu(const PlannedCage& planned) {
@@ -113,17 +130,17 @@ struct SampleCullingFixture : test::PlanPassTest {
         return std::move(buffers).value();
     }
 
-    std::vector<uint8_t> draw(const OffscreenTarget& image, VkRect2D area, PlanBuffers& buffers, const PlannedCage& planned,
+    std::vector<uint8_t> draw(const OffscreenTarget& target, VkRect2D area, PlanBuffers& buffers, const PlannedCage& planned,
                               PlanView view, bool sampleCulling, bool expectCulled = true,
                               TessellationSettings settings = {0, 4.0f}) {
         view.sampleCulling = sampleCulling;
         EXPECT_TRUE(preparePlanFrame(ctx, pass, buffers, planned, DrawPath::CpuGrid, view, settings).ok());
         const Status drawn = submitAndWait(ctx, [&](VkCommandBuffer cmd) {
-            recordPlanFrame(cmd, pass, buffers, DrawPath::CpuGrid, subArea(renderTarget(image), area), view, settings);
+            recordPlanFrame(cmd, pass, buffers, DrawPath::CpuGrid, subArea(renderTarget(target), area), view, settings);
         });
         EXPECT_TRUE(drawn.ok()) << drawn.error().message;
         EXPECT_EQ(buffers.sampleCulling.inUse, sampleCulling && expectCulled);
-        Result<std::vector<uint8_t>> rgba = readPixels(ctx, image);
+        Result<std::vector<uint8_t>> rgba = readPixels(ctx, target);
         EXPECT_TRUE(rgba.ok());
         return rgba.ok() ? *rgba : std::vector<uint8_t>{};
     }
@@ -139,18 +156,14 @@ size_t differingBytes(const std::vector<uint8_t>& a, const std::vector<uint8_t>&
 }  // namespace
 
 TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
-    Result<OffscreenTarget> image = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
-    ASSERT_TRUE(image.ok()) << image.error().message;
-    const Cage cage = makeBenchmarkCage(20000, 3);
-    PlanDatabase db;
-    Result<PlannedCage> created = PlannedCage::create(cage, db, {}, "generated");
+    Result<PlannedCage> created = planGenerated();
     ASSERT_TRUE(created.ok()) << created.error().message;
     PlannedCage& planned = *created;
     PlanBuffers buffers = uploadForCpu(planned);
     buffers.sampleCulling.chunkTriangles = 1024;  // so that a move's chunks are a small part of the grid
     buffers.sampleCulling.minTrianglesPerPixel = 0.0f;  // culled at any density (the gate is tested below)
 
-    const PlanView framed = test::framedPlanView(cage, kSize);
+    const PlanView framed = test::framedPlanView(planned.cage(), kSize);
     const VkRect2D whole{{0, 0}, {kSize, kSize}};
     struct Case {
         std::string name;
@@ -162,7 +175,7 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
     // A viewport inside the image, off its origin and not square (the editor's split views).
     cases.push_back({"sub-viewport", framed, VkRect2D{{37, 21}, {150, 201}}});
     // Close up, the near plane through the model: triangles behind the eye and crossing it.
-    const Bounds bounds = computeBounds(cage);
+    const Bounds bounds = computeBounds(planned.cage());
     RenderCamera close = frameBounds(bounds.min, bounds.max, 1.0f);
     close.eye = close.target + 0.4f * (close.eye - close.target);  // the planes stay: the near one cuts the cage
     PlanView inside = framed;
@@ -177,8 +190,8 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
     cases.push_back({"hidden faces", hidden, whole});
 
     for (const Case& c : cases) {
-        const std::vector<uint8_t> all = draw(*image, c.area, buffers, planned, c.view, false);
-        const std::vector<uint8_t> culled = draw(*image, c.area, buffers, planned, c.view, true);
+        const std::vector<uint8_t> all = draw(image, c.area, buffers, planned, c.view, false);
+        const std::vector<uint8_t> culled = draw(image, c.area, buffers, planned, c.view, true);
         EXPECT_EQ(differingBytes(all, culled), 0u) << c.name;
         const uint64_t triangles = buffers.gridLayout.indices.size() / 3;
         EXPECT_LT(buffers.sampleCulling.keptTriangles, triangles) << c.name;
@@ -190,7 +203,7 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
 
     // Vertex moves: only the chunks that read a moved slot are tested again, and the picture is
     // still the one with every triangle drawn.
-    draw(*image, whole, buffers, planned, framed, true);
+    draw(image, whole, buffers, planned, framed, true);
     std::mt19937 random(11);
     std::uniform_int_distribution<uint32_t> pick(0, planned.cage().vertexCount() - 1);
     for (int round = 0; round < 4; ++round) {
@@ -199,10 +212,10 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
         for (uint32_t v : moved) to.push_back(planned.cage().positions[v] + 0.002f * bounds.diagonal() * glm::vec3(0.3f, 1.0f, -0.5f));
         ASSERT_TRUE(planned.moveVertices(moved, to).ok());
         ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordMovedVertices(cmd, pass, buffers, planned, moved); }).ok());
-        const std::vector<uint8_t> culled = draw(*image, whole, buffers, planned, framed, true);
+        const std::vector<uint8_t> culled = draw(image, whole, buffers, planned, framed, true);
         EXPECT_LT(buffers.sampleCulling.testedTriangles, buffers.gridLayout.indices.size() / 3 / 4)
             << "round " << round << ": a move tests the chunks around it, not the whole grid";
-        const std::vector<uint8_t> all = draw(*image, whole, buffers, planned, framed, false);
+        const std::vector<uint8_t> all = draw(image, whole, buffers, planned, framed, false);
         EXPECT_EQ(differingBytes(all, culled), 0u) << "after move " << round;
     }
 
@@ -228,14 +241,14 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
     PlanView holed = framed;
     holed.hiddenDrawn = holes;
     for (const PlanView& v : {holed, framed}) {
-        const std::vector<uint8_t> culled = draw(*image, whole, buffers, planned, v, true);
+        const std::vector<uint8_t> culled = draw(image, whole, buffers, planned, v, true);
         const uint64_t tested = buffers.sampleCulling.testedTriangles;
         ASSERT_EQ(buffers.gridLayout.indices.size() / 3, layoutTriangles) << "the same layout";
         EXPECT_EQ(tested, 0u) << (v.hiddenDrawn.empty() ? "showing" : "hiding") << " four faces tests no triangle again";
-        const std::vector<uint8_t> all = draw(*image, whole, buffers, planned, v, false);
+        const std::vector<uint8_t> all = draw(image, whole, buffers, planned, v, false);
         EXPECT_EQ(differingBytes(all, culled), 0u) << (v.hiddenDrawn.empty() ? "shown again" : "hidden");
     }
-    EXPECT_NE(differingBytes(draw(*image, whole, buffers, planned, holed, true), draw(*image, whole, buffers, planned, framed, true)),
+    EXPECT_NE(differingBytes(draw(image, whole, buffers, planned, holed, true), draw(image, whole, buffers, planned, framed, true)),
               0u)
         << "the hidden faces are visible in the framed view";
 
@@ -248,17 +261,13 @@ TEST_F(SampleCullingFixture, CulledFramesEqualEveryTriangleDrawnPixelForPixel) {
     EXPECT_LT(buffers.gridLayout.indices.size() / 3, size_t(large) * large);
     destroyOffscreenTarget(ctx, *largeImage);
     destroyPlanBuffers(ctx, buffers);
-    destroyOffscreenTarget(ctx, *image);
 }
 
 // Topology edits lay the grid out anew (grid_relayout.h carryGrid): the kept sub-faces' results
 // follow their triangles, only the new and re-evaluated ones are tested, and the picture stays
 // the one with every triangle drawn.
 TEST_F(SampleCullingFixture, TopologyEditsCarryTheResultsOfKeptFaces) {
-    Result<OffscreenTarget> image = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
-    ASSERT_TRUE(image.ok()) << image.error().message;
-    PlanDatabase db;
-    Result<PlannedCage> created = PlannedCage::create(makeBenchmarkCage(20000, 3), db, {}, "generated");
+    Result<PlannedCage> created = planGenerated();
     ASSERT_TRUE(created.ok()) << created.error().message;
     PlannedCage& planned = *created;
     PlanBuffers buffers = uploadSingleFaces(planned);
@@ -267,7 +276,7 @@ TEST_F(SampleCullingFixture, TopologyEditsCarryTheResultsOfKeptFaces) {
     // Uniform factors: the next frame's factors are known, and the grid is carried (adaptive
     // factors choose new sub-faces' segments by the view: the grid is laid out whole).
     const TessellationSettings uniform{2, 4.0f};
-    draw(*image, whole, buffers, planned, framed, true, true, uniform);
+    draw(image, whole, buffers, planned, framed, true, true, uniform);
 
     EditHistory history;
     auto extrude = [&](uint32_t face) -> Result<EditReport> {
@@ -302,16 +311,15 @@ TEST_F(SampleCullingFixture, TopologyEditsCarryTheResultsOfKeptFaces) {
         ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
                         recordSubfaceRefresh(cmd, pass, buffers, planned, updated->refresh);
                     }).ok());
-        const std::vector<uint8_t> culled = draw(*image, whole, buffers, planned, framed, true, true, uniform);
+        const std::vector<uint8_t> culled = draw(image, whole, buffers, planned, framed, true, true, uniform);
         const uint64_t triangles = buffers.gridLayout.indices.size() / 3;
         EXPECT_GT(buffers.sampleCulling.testedTriangles, 0u) << label << ": the new triangles are tested";
         EXPECT_LT(buffers.sampleCulling.testedTriangles, triangles / 4) << label << ": the kept faces' results are carried";
         EXPECT_LT(buffers.sampleCulling.keptTriangles, triangles) << label;
-        const std::vector<uint8_t> all = draw(*image, whole, buffers, planned, framed, false, true, uniform);
+        const std::vector<uint8_t> all = draw(image, whole, buffers, planned, framed, false, true, uniform);
         EXPECT_EQ(differingBytes(all, culled), 0u) << label;
     }
     destroyPlanBuffers(ctx, buffers);
-    destroyOffscreenTarget(ctx, *image);
 }
 
 // Screen-adaptive factors: a vertex pulled toward the camera raises its sub-faces' factors, and
@@ -320,16 +328,13 @@ TEST_F(SampleCullingFixture, TopologyEditsCarryTheResultsOfKeptFaces) {
 // drawn. A second vertex, elsewhere, moves a few pixels across the view in the same frame: its
 // sub-faces keep their factors, and their slots, written before the relayout, are tested again.
 TEST_F(SampleCullingFixture, AdaptiveRelayoutsCarryTheResultsOfKeptFaces) {
-    Result<OffscreenTarget> image = createOffscreenTarget(ctx, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
-    ASSERT_TRUE(image.ok()) << image.error().message;
-    PlanDatabase db;
-    Result<PlannedCage> created = PlannedCage::create(makeBenchmarkCage(20000, 3), db, {}, "generated");
+    Result<PlannedCage> created = planGenerated();
     ASSERT_TRUE(created.ok()) << created.error().message;
     PlannedCage& planned = *created;
     PlanBuffers buffers = uploadSingleFaces(planned);
     const PlanView framed = test::framedPlanView(planned.cage(), kSize);
     const VkRect2D whole{{0, 0}, {kSize, kSize}};
-    draw(*image, whole, buffers, planned, framed, true);
+    draw(image, whole, buffers, planned, framed, true);
 
     const Bounds bounds = computeBounds(planned.cage());
     const glm::vec3 eye = glm::vec3(glm::inverse(framed.viewProjection) * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f) /
@@ -352,16 +357,15 @@ TEST_F(SampleCullingFixture, AdaptiveRelayoutsCarryTheResultsOfKeptFaces) {
         const std::vector<uint32_t> moved{v, aside};
         ASSERT_TRUE(planned.moveVertices(moved, to).ok());
         ASSERT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { recordMovedVertices(cmd, pass, buffers, planned, moved); }).ok());
-        const std::vector<uint8_t> culled = draw(*image, whole, buffers, planned, framed, true);
+        const std::vector<uint8_t> culled = draw(image, whole, buffers, planned, framed, true);
         const uint64_t triangles = buffers.gridLayout.indices.size() / 3;
         if (buffers.gridLayout.factors.subfaceFactor != before.subfaceFactor) {
             ++relayouts;
             EXPECT_LT(buffers.sampleCulling.testedTriangles, triangles / 4) << "vertex " << v << ": the kept faces' results are carried";
         }
-        const std::vector<uint8_t> all = draw(*image, whole, buffers, planned, framed, false);
+        const std::vector<uint8_t> all = draw(image, whole, buffers, planned, framed, false);
         EXPECT_EQ(differingBytes(all, culled), 0u) << "vertex " << v;
     }
     EXPECT_GT(relayouts, 0u) << "a vertex pulled toward the camera raises some factors";
     destroyPlanBuffers(ctx, buffers);
-    destroyOffscreenTarget(ctx, *image);
 }
