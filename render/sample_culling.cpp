@@ -138,7 +138,8 @@ void carrySampleCulling(SampleCulling& culling, const GridLayout& before, const 
         return std::any_of(resolution.begin(), resolution.end(), [](uint32_t r) { return r != 0; });
     };
     const uint32_t oldTriangles = before.indexOffset.empty() ? 0 : before.indexOffset.back() / 3;
-    if (!culling.valid || culling.triangleMayCover.size() != oldTriangles || coarseMacros(before) || coarseMacros(after))
+    if (!culling.valid || before.subfaceOffset.empty() || culling.triangleMayCover.size() != oldTriangles ||
+        coarseMacros(before) || coarseMacros(after))
         return invalidateSampleCulling(culling);
     // Slots written since the last test (a move before the relayout), in the old numbering: their
     // sub-faces are tested again in the new one.
