@@ -25,13 +25,9 @@ Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers,
         const GridVertex* grid = static_cast<const GridVertex*>(buffers.grid.data);
         before.assign(grid, grid + (oldOffset.empty() ? 0 : oldOffset.back()));
     }
-    // Installing a layout tests every triangle again; the kept sub-faces' results are carried below.
-    SampleCulling culling = std::move(buffers.sampleCulling);
-    const Status installed = installGridLayout(ctx, pass, buffers, std::move(layout));
-    std::swap(culling, buffers.sampleCulling);
-    if (!installed) {
+    if (Status s = installGridLayout(ctx, pass, buffers, std::move(layout)); !s) {
         invalidateSampleCulling(buffers.sampleCulling);
-        return installed;
+        return s;
     }
     const GridLayout& now = buffers.gridLayout;
     const std::vector<uint32_t>& newOffset = now.subfaceOffset;

@@ -72,6 +72,7 @@ Status prepareGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffer
     if (Status s = installGridLayout(ctx, pass, buffers, buildGridLayout(buffers.data, std::move(factors))); !s) return s;
     buffers.gridEvaluator = GridEvaluator::None;
     buffers.pendingGridSubfaces.clear();
+    invalidateSampleCulling(buffers.sampleCulling);
     return success();
 }
 
@@ -97,7 +98,6 @@ Status installGridLayout(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& 
     uploadVector(buffers.subfaceGrid, subfaceGrid);
     uploadVector(buffers.gridIndices, layout.indices);
     buffers.gridLayout = std::move(layout);
-    invalidateSampleCulling(buffers.sampleCulling);
     return bindPlanBuffers(ctx, pass, buffers);
 }
 

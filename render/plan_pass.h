@@ -247,8 +247,9 @@ Status prepareGrid(const VulkanContext& context, PlanPass& pass, PlanBuffers& bu
 Status prepareGrid(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, GridFactors factors);
 
 // Makes `layout` (built for buffers.data) the grid's, growing and filling the layout buffers,
-// and leaves the grid's vertices as they are (the caller fills what changed; prepareGrid drops
-// them). May replace buffers: the device must be done with them.
+// and leaves the grid's vertices and the sample culling as they are (the caller brings both up
+// to date: prepareGrid drops them, carryGrid carries them). May replace buffers: the device must
+// be done with them.
 Status installGridLayout(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, GridLayout layout);
 // Uploads buffers.gridLayout's triangles alone (after writeGridIndices: the slots unchanged),
 // growing the index buffer when needed. The device must be done with it.
