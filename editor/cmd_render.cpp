@@ -78,6 +78,7 @@ int runRender(const RenderArgs& args) {
                 // 0 from the scheme means the tessellator chose the count at draw time: unknown.
                 {"triangles", drawStats->triangles > 0 ? nlohmann::json(drawStats->triangles) : nlohmann::json(nullptr)},
                 {"sample_culled", drawStats->sampleCulledTriangles},
+                {"facing_away", drawStats->facingAwayTriangles},
                 {"cull", cullJson(view.cull, *drawStats)}};
             std::printf("%s\n", out.dump(1).c_str());
         } else {
@@ -85,6 +86,8 @@ int runRender(const RenderArgs& args) {
                                                              : "triangle count set by the tessellator at draw time";
             if (drawStats->sampleCulledTriangles)
                 triangles += ", " + std::to_string(drawStats->sampleCulledTriangles) + " of them covering no pixel centre left out";
+            if (drawStats->facingAwayTriangles)
+                triangles += ", " + std::to_string(drawStats->facingAwayTriangles) + " facing away behind the front left out";
             const std::string objects = scene.objects.size() == 1 ? ""
                                         : std::to_string(scene.objects.size()) + " objects, " +
                                               std::to_string(planned.cages.size()) + " cages, ";

@@ -95,6 +95,7 @@ Result<DrawStats> recordScene(VkCommandBuffer cmd, SceneSchemes& schemes, const 
             total.cull += drawn->cull;
             total.cullMilliseconds += drawn->cullMilliseconds;
             total.sampleCulledTriangles += drawn->sampleCulledTriangles;
+            total.facingAwayTriangles += drawn->facingAwayTriangles;
         }
     }
     if (!trianglesKnown) total.triangles = 0;  // the tessellator chose some counts at draw time

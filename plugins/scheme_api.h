@@ -204,6 +204,9 @@ struct DrawStats {
     // Of `triangles`, those the draw left out because they cover no pixel centre (plans' CPU
     // grid, render/sample_culling.h): the density is `triangles`, the rasteriser saw the rest.
     uint64_t sampleCulledTriangles = 0;
+    // Of `triangles`, those left out as facing away behind the surface's front side (plans' CPU
+    // grid under a back-patch cull method, render/sample_culling.h); not in sampleCulledTriangles.
+    uint64_t facingAwayTriangles = 0;
     DrawnBy drawnBy = DrawnBy::Unknown;
     // DrawView::cull: what the tests culled (patches and triangles above leave the culled ones
     // out) and the CPU time they took this frame (bounds built after an update included).

@@ -74,8 +74,10 @@ std::vector<uint32_t> cullForView(const PatchCullSet& set, bool closed, std::spa
                                   const DrawView& view, DrawStats& stats) {
     if (view.cull == CullMethod::None) return {};
     const auto start = std::chrono::steady_clock::now();
+    // Hidden faces open the surface: what lies behind them shows its back side.
+    const bool backPatch = closed && view.hiddenSubfaces.empty();
     std::vector<uint32_t> culled = cullPatches(set, view.cull, view.viewProjection,
-                                               homogeneousEye(view.viewProjection, view.eye), closed, margins, &stats.cull);
+                                               homogeneousEye(view.viewProjection, view.eye), backPatch, margins, &stats.cull);
     stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return culled;
 }

@@ -71,7 +71,7 @@ Status replaceMesh(const VulkanContext& context, GpuMesh& mesh, std::span<const 
 // ---- Culling (DrawView::cull) ----------------------------------------------------------------
 
 // The entries of `set` culled for `view` (sorted), their counts and the time taken into `stats`.
-// `closed`: closedOutwardSurface of the cage (back-patch tests apply); `margins` as cullPatches.
+// `closed`: closedOutwardSurface of the cage (back-patch tests apply unless the view hides faces); `margins` as cullPatches.
 std::vector<uint32_t> cullForView(const PatchCullSet& set, bool closed, std::span<const float> margins,
                                   const DrawView& view, DrawStats& stats);
 

@@ -301,12 +301,19 @@ void recordGrid(VkCommandBuffer cmd, const PlanPass& pass, PlanBuffers& buffers,
     const double pixels = double(target.area.extent.width) * double(target.area.extent.height);
     // Not with a displacement: sculpting dabs all over a dense grid re-test many chunks a frame,
     // and the editor's sculpt frames were slower with it (docs/renderer.md).
+    const bool dense = double(buffers.gridLayout.indices.size() / 3) > culling.minTrianglesPerPixel * pixels;
     culling.inUse = view.sampleCulling && buffers.gridEvaluator == GridEvaluator::Cpu && !buffers.displacement &&
                     indexBytes > 0 && buffers.gridCulledIndices.size >= indexBytes && buffers.gridCulledIndices.data &&
-                    double(buffers.gridLayout.indices.size() / 3) > culling.minTrianglesPerPixel * pixels;
+                    (dense || view.backFacesHidden);
     if (!culling.inUse) return recordTriangles(cmd, pass, buffers.grid.buffer, whole, whole, target, view);
-    const SampleView sampleView{view.viewProjection, target.area.offset.x, target.area.offset.y, target.area.extent.width,
-                                target.area.extent.height};
+    const SampleView sampleView{view.viewProjection,
+                                target.area.offset.x,
+                                target.area.offset.y,
+                                target.area.extent.width,
+                                target.area.extent.height,
+                                dense,
+                                view.backFacesHidden,
+                                view.backFacesHidden ? view.eye : glm::vec4(0.0f)};
     std::vector<std::pair<uint32_t, uint32_t>> draws =
         updateSampleCulling(culling, buffers.gridLayout, static_cast<const GridVertex*>(buffers.grid.data), sampleView, ranges,
                             static_cast<uint32_t*>(buffers.gridCulledIndices.data));

@@ -203,6 +203,12 @@ struct PlanView {
     // The CPU grid path leaves out the triangles that cover no pixel centre (sample_culling.h);
     // the picture is the same either way.
     bool sampleCulling = true;
+    // The surface hides its back side from this view (closed, outward, seen from outside, the
+    // near plane clear of it; the scheme's culling decides): the CPU grid path then also leaves
+    // out triangles facing away from `eye` (object space, homogeneous) behind facing ones
+    // (sample_culling.h). The picture is the same either way.
+    bool backFacesHidden = false;
+    glm::vec4 eye{0.0f};
     bool capture = false;              // tessellated path: record every evaluated vertex
     bool clear = true;                 // false: draw over what target.area holds (later objects of a scene)
     // The studio lights (plan_lighting.glsl), unit vectors toward them in the cage's coordinates:

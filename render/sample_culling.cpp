@@ -112,7 +112,40 @@ std::vector<std::pair<uint32_t, uint32_t>> differingTriangles(const std::vector<
     return differing;
 }
 
+// Per triangle of `layout`: 1 when it faces away from `eye` and none of its corners (by the
+// evaluated slot each shows) is a corner of a triangle that does not (sample_culling.h, "Facing
+// away"). Every triangle counts, drawn or not: one more kept is never wrong.
+std::vector<uint8_t> facingAwayBehindFront(const GridLayout& layout, const GridVertex* vertices, const glm::vec4& eye) {
+    const std::vector<uint32_t>& indices = layout.indices;
+    const size_t triangles = indices.size() / 3;
+    std::vector<uint8_t> away(triangles, 0);
+    std::vector<uint8_t> cornerOfFacing(layout.slotCount(), 0);  // per evaluated slot
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles, 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t t = range.begin(); t < range.end(); ++t) {
+            const uint32_t* tri = indices.data() + 3 * t;
+            away[t] = facesAwayFrom(positionOf(vertices[tri[0]]), positionOf(vertices[tri[1]]), positionOf(vertices[tri[2]]), eye);
+            if (!away[t])
+                for (int k = 0; k < 3; ++k) std::atomic_ref<uint8_t>(cornerOfFacing[layout.source[tri[k]]]).store(1, std::memory_order_relaxed);
+        }
+    });
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles, 4096), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t t = range.begin(); t < range.end(); ++t) {
+            const uint32_t* tri = indices.data() + 3 * t;
+            if (away[t] && (cornerOfFacing[layout.source[tri[0]]] || cornerOfFacing[layout.source[tri[1]]] ||
+                            cornerOfFacing[layout.source[tri[2]]]))
+                away[t] = 0;
+        }
+    });
+    return away;
+}
+
 }  // namespace
+
+bool facesAwayFrom(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec4& eye) {
+    const glm::dvec3 pa(a), e = glm::dvec3(glm::dvec3(eye)) - pa * double(eye.w);
+    const glm::dvec3 normal = glm::cross(glm::dvec3(b) - pa, glm::dvec3(c) - pa);
+    return glm::dot(normal, e) < -kFacingMargin * glm::length(normal) * glm::length(e);
+}
 
 bool mayCoverPixelCentre(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const SampleView& view) {
     if (samePosition(a, b) || samePosition(b, c) || samePosition(c, a)) return false;
@@ -138,7 +171,7 @@ void carrySampleCulling(SampleCulling& culling, const GridLayout& before, const 
         return std::any_of(resolution.begin(), resolution.end(), [](uint32_t r) { return r != 0; });
     };
     const uint32_t oldTriangles = before.indexOffset.empty() ? 0 : before.indexOffset.back() / 3;
-    if (!culling.valid || before.subfaceOffset.empty() || culling.triangleMayCover.size() != oldTriangles ||
+    if (!culling.valid || before.subfaceOffset.empty() || culling.triangleResult.size() != oldTriangles ||
         coarseMacros(before) || coarseMacros(after))
         return invalidateSampleCulling(culling);
     // Slots written since the last test (a move before the relayout), in the old numbering: their
@@ -150,9 +183,9 @@ void carrySampleCulling(SampleCulling& culling, const GridLayout& before, const 
              o < written.size() && oldOffset[o] < end; ++o)
             written[o] = 1;
     culling.changedSlots.clear();
-    const std::vector<uint8_t> carried = std::move(culling.triangleMayCover);
+    const std::vector<uint8_t> carried = std::move(culling.triangleResult);
     const uint32_t triangles = uint32_t(after.indices.size() / 3);
-    culling.triangleMayCover.assign(triangles, 0);
+    culling.triangleResult.assign(triangles, 0);
     std::vector<uint32_t> renewed;  // drawn sub-faces laid out anew or written: tested at the next update
     for (uint32_t d = 0; d < uint32_t(oldOf.size()); ++d) {
         const uint32_t old = oldOf[d];
@@ -160,7 +193,7 @@ void carrySampleCulling(SampleCulling& culling, const GridLayout& before, const 
         // Single faces of one factor have the same triangles over their own slots.
         if (old != UINT32_MAX && !written[old] && before.factors.subfaceFactor[old] == after.factors.subfaceFactor[d] &&
             (before.indexOffset[old + 1] - before.indexOffset[old]) / 3 == count)
-            std::memcpy(culling.triangleMayCover.data() + after.indexOffset[d] / 3, carried.data() + before.indexOffset[old] / 3, count);
+            std::memcpy(culling.triangleResult.data() + after.indexOffset[d] / 3, carried.data() + before.indexOffset[old] / 3, count);
         else
             renewed.push_back(d);
     }
@@ -169,6 +202,7 @@ void carrySampleCulling(SampleCulling& culling, const GridLayout& before, const 
     // Each chunk's slot bounds over its new triangles; its kept triangles are written again.
     const uint32_t chunks = (triangles + culling.chunkTriangles - 1) / culling.chunkTriangles;
     culling.chunkKept.assign(chunks, 0);
+    culling.chunkFacingAway.assign(chunks, 0);
     culling.chunkSlotMin.assign(chunks, 0);
     culling.chunkSlotMax.assign(chunks, 0);
     tbb::parallel_for(uint32_t(0), chunks, [&](uint32_t c) {
@@ -189,17 +223,22 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
     const uint32_t chunkTriangles = culling.chunkTriangles;
     assert(chunkTriangles > 0);
     const uint32_t chunks = (triangles + chunkTriangles - 1) / chunkTriangles;
+    // With back faces hidden a triangle's result depends on its neighbours': any change tests everything.
     const bool everything = !culling.valid || !(culling.view == view) || culling.chunkKept.size() != chunks ||
-                            culling.triangleMayCover.size() != triangles;
+                            culling.triangleResult.size() != triangles ||
+                            (view.backFacesHidden && (culling.rewriteAll || !culling.changedSlots.empty() ||
+                                                      !std::equal(drawnRanges.begin(), drawnRanges.end(),
+                                                                  culling.drawnRanges.begin(), culling.drawnRanges.end())));
     // Triangle ranges drawn: [first, end) in triangles, sorted.
     const std::vector<std::pair<uint32_t, uint32_t>> drawn = drawnTriangles(drawnRanges, triangles);
     // Per chunk: 2 tested and written, 1 written from the kept results, 0 as it is.
     std::vector<char> work(chunks, everything ? 2 : 0);
     if (everything) {
         culling.chunkKept.assign(chunks, 0);
+        culling.chunkFacingAway.assign(chunks, 0);
         culling.chunkSlotMin.assign(chunks, 0);
         culling.chunkSlotMax.assign(chunks, 0);
-        culling.triangleMayCover.assign(triangles, 0);
+        culling.triangleResult.assign(triangles, 0);
         culling.view = view;
     } else {
         // Carried through a relayout: every chunk's triangles moved (the drawn ranges kept are
@@ -224,6 +263,8 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
     culling.rewriteAll = false;
     culling.valid = true;
 
+    const std::vector<uint8_t> hiddenFacingAway = view.backFacesHidden ? facingAwayBehindFront(layout, vertices, view.eye)
+                                                                       : std::vector<uint8_t>{};
     std::atomic<uint64_t> tested{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, dirty.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
         std::vector<Pixel> projected;
@@ -242,10 +283,10 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
                 // triangles read their members' corners, far apart) remembers recent projections.
                 const uint32_t slotMin = culling.chunkSlotMin[c], slots = culling.chunkSlotMax[c] - slotMin + 1;
                 const bool narrow = slots <= kMostSlotsPerTriangle * (end - begin);
-                if (narrow) {
+                if (view.testPixelCentres && narrow) {
                     projected.resize(slots);
                     for (uint32_t i = 0; i < slots; ++i) projected[i] = project(positionOf(vertices[slotMin + i]), view);
-                } else {
+                } else if (view.testPixelCentres) {
                     recent.assign(kRecentProjections, RecentProjection{});
                 }
                 auto pixelOf = [&](uint32_t slot) {
@@ -258,30 +299,38 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
                     const uint32_t* tri = indices.data() + 3 * size_t(t);
                     const glm::vec3 p0 = positionOf(vertices[tri[0]]), p1 = positionOf(vertices[tri[1]]),
                                     p2 = positionOf(vertices[tri[2]]);
-                    culling.triangleMayCover[t] = !(samePosition(p0, p1) || samePosition(p1, p2) || samePosition(p2, p0)) &&
-                                                  mayCover(pixelOf(tri[0]), pixelOf(tri[1]), pixelOf(tri[2]), view);
+                    const bool covers = !(samePosition(p0, p1) || samePosition(p1, p2) || samePosition(p2, p0)) &&
+                                        (!view.testPixelCentres || mayCover(pixelOf(tri[0]), pixelOf(tri[1]), pixelOf(tri[2]), view));
+                    culling.triangleResult[t] = !covers                                       ? SampleCulling::kCoversNothing
+                                                : !hiddenFacingAway.empty() && hiddenFacingAway[t] ? SampleCulling::kHiddenFacingAway
+                                                                                               : SampleCulling::kCovers;
                 }
                 tested += end - begin;
             }
             // The drawn triangles that may cover a centre, at the chunk's own place.
             uint32_t* out = culledIndices + 3 * size_t(begin);
-            uint32_t kept = 0;
+            uint32_t kept = 0, away = 0;
             auto run = std::lower_bound(drawn.begin(), drawn.end(), begin,
                                         [](const std::pair<uint32_t, uint32_t>& r, uint32_t t) { return r.second <= t; });
             for (; run != drawn.end() && run->first < end; ++run)
                 for (uint32_t t = std::max(run->first, begin), to = std::min(run->second, end); t < to; ++t)
-                    if (culling.triangleMayCover[t])
+                    if (culling.triangleResult[t] == SampleCulling::kCovers)
                         std::memcpy(out + 3 * size_t(kept++), indices.data() + 3 * size_t(t), 3 * sizeof(uint32_t));
+                    else
+                        away += culling.triangleResult[t] == SampleCulling::kHiddenFacingAway;
             culling.chunkKept[c] = kept;
+            culling.chunkFacingAway[c] = away;
         }
     });
     culling.testedTriangles = tested;
 
     std::vector<std::pair<uint32_t, uint32_t>> draws;
     culling.keptTriangles = 0;
+    culling.facingAwayTriangles = 0;
     for (uint32_t c = 0; c < chunks; ++c) {
         const uint32_t kept = culling.chunkKept[c];
         culling.keptTriangles += kept;
+        culling.facingAwayTriangles += culling.chunkFacingAway[c];
         if (!kept) continue;
         const uint32_t first = 3 * c * chunkTriangles;
         if (!draws.empty() && draws.back().first + draws.back().second == first) draws.back().second += 3 * kept;

@@ -34,8 +34,20 @@
 // as changed). Every chunk is then written again (its triangles moved), which reads the results
 // and the indices but projects nothing.
 //
+// Facing away (SampleView::backFacesHidden). On a closed surface whose normals point outward,
+// seen from outside with the near plane clear of it (the scheme's back-patch culling decides:
+// docs/culling.md), a triangle facing away from the eye is behind a facing one: the grid's
+// triangles make a closed mesh (shared edges bit for bit, grid_layout.h), so the ray from the eye
+// to a point of it entered the solid before, through a facing triangle nearer the eye. Such a
+// triangle is left out unless one of its corners is a corner of a triangle that does not face
+// away (by the evaluated slot it shows, across sub-faces): along the outline the two sheets meet
+// at depths the depth test may not tell apart, so the ring of facing-away triangles there stays.
+// Facing is decided in double precision with a margin (kFacingMargin); edge-on triangles count
+// as facing. A triangle's result then depends on its neighbours', so any change tests everything.
+//
 // When. The renderer (plan_pass.h, recordGrid) uses it for CPU grids denser than
-// kMinTrianglesPerPixel and without a displacement, where it pays (docs/renderer.md).
+// kMinTrianglesPerPixel and without a displacement, where it pays (docs/renderer.md), and for
+// every CPU grid whose back faces are hidden (coarser ones then test facing only).
 #pragma once
 
 #include <cstddef>
@@ -56,6 +68,15 @@ struct SampleView {
     glm::mat4 viewProjection{1.0f};
     int32_t x = 0, y = 0;
     uint32_t width = 0, height = 0;
+    // False: pixel centres are not looked for (a grid too coarse for that to pay, culled for
+    // facing away only); triangles with two corners at one position still go.
+    bool testPixelCentres = true;
+    // Triangles facing away from `eye` (object space, homogeneous: w = 0 for an orthographic
+    // view's direction toward the viewer; core/culling/patch_cull_set.h homogeneousEye) may be
+    // left out (above). Only when the surface is closed, outward, seen from outside and the near
+    // plane clear of it.
+    bool backFacesHidden = false;
+    glm::vec4 eye{0.0f};
     bool operator==(const SampleView&) const = default;
 };
 
@@ -67,6 +88,13 @@ inline constexpr uint32_t kChunkTriangles = 16384;    // SampleCulling::chunkTri
 // the renderer tests only grids with more triangles than the viewport has pixels.
 inline constexpr float kMinTrianglesPerPixel = 1.0f;
 inline constexpr size_t kMostChangedRanges = 65536;  // changed slot ranges kept before testing everything again
+// A triangle faces away when the cosine between its normal and the direction to the eye is below
+// minus this (computed in double: exact enough that the margin only keeps edge-on triangles).
+inline constexpr double kFacingMargin = 1e-4;
+
+// Whether the triangle a, b, c (object space, counter-clockwise seen from outside) faces away from
+// `eye` (SampleView::eye) by more than kFacingMargin.
+bool facesAwayFrom(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec4& eye);
 
 // Whether the triangle a, b, c (object space) may cover a pixel centre of `view` (see above).
 bool mayCoverPixelCentre(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const SampleView& view);
@@ -83,12 +111,15 @@ struct SampleCulling {
     // Per chunk: triangles kept (written from index 3 * chunkTriangles * chunk on), and the
     // lowest and highest slot its triangles read (a changed slot outside cannot concern it).
     std::vector<uint32_t> chunkKept, chunkSlotMin, chunkSlotMax;
-    // Per triangle of the layout, drawn or not: 1 when it may cover a pixel centre of `view`.
-    std::vector<uint8_t> triangleMayCover;
+    std::vector<uint32_t> chunkFacingAway;  // per chunk: drawn triangles left out as facing away
+    // Per triangle of the layout, drawn or not: kCovers when it is drawn for `view`, else why not.
+    std::vector<uint8_t> triangleResult;
+    static constexpr uint8_t kCoversNothing = 0, kCovers = 1, kHiddenFacingAway = 2;
     // Slot ranges [first, end) written since the chunks were tested.
     std::vector<std::pair<uint32_t, uint32_t>> changedSlots;
     bool rewriteAll = false;  // the triangles moved (carried): every chunk is written again
     uint64_t keptTriangles = 0;    // of the drawn triangles
+    uint64_t facingAwayTriangles = 0;  // of the drawn triangles: left out as facing away (the others covered nothing)
     uint64_t testedTriangles = 0;  // in this update, drawn or not
     bool inUse = false;                               // the last frame drew the culled triangles
 };

@@ -275,6 +275,21 @@ bool tangentPlanesBackFacing(const PatchCullSet& set, uint32_t entry, const glm:
     return true;
 }
 
+bool backSideHidden(const CullBox& bounds, const glm::mat4& viewProjection, const glm::vec4& eye) {
+    if (eye.w != 0.0f) {
+        const glm::vec3 e = glm::vec3(eye) / eye.w;
+        if (!glm::any(glm::lessThan(e, bounds.lo)) && !glm::any(glm::greaterThan(e, bounds.hi))) return false;
+    }
+    const CullFrustum frustum = frustumOf(viewProjection);
+    const glm::vec4& nearPlane = frustum.planes[4];
+    for (int corner = 0; corner < 8; ++corner) {
+        const glm::vec3 p(corner & 1 ? bounds.hi.x : bounds.lo.x, corner & 2 ? bounds.hi.y : bounds.lo.y,
+                          corner & 4 ? bounds.hi.z : bounds.lo.z);
+        if (!(glm::dot(glm::vec3(nearPlane), p) + nearPlane.w > 0.0f)) return false;
+    }
+    return true;
+}
+
 std::vector<uint32_t> cullPatches(const PatchCullSet& set, CullMethod method, const glm::mat4& viewProjection,
                                   const glm::vec4& eye, bool backPatch, std::span<const float> margins,
                                   CullCounts* counts) {
@@ -290,18 +305,7 @@ std::vector<uint32_t> cullPatches(const PatchCullSet& set, CullMethod method, co
     // A displaced surface (margins) is tested against the frustum only: the cones bound the
     // undisplaced surface's normals, and a displacement can turn pieces of it inside out.
     if (!margins.empty()) backPatch = false;
-    if (backPatch && method >= CullMethod::TCone) {
-        const CullBox all = set.bounds();
-        if (eye.w != 0.0f) {
-            const glm::vec3 e = glm::vec3(eye) / eye.w;
-            backPatch = glm::any(glm::lessThan(e, all.lo)) || glm::any(glm::greaterThan(e, all.hi));
-        }
-        const glm::vec4& nearPlane = frustum.planes[4];
-        for (int corner = 0; corner < 8 && backPatch; ++corner) {
-            const glm::vec3 p(corner & 1 ? all.hi.x : all.lo.x, corner & 2 ? all.hi.y : all.lo.y, corner & 4 ? all.hi.z : all.lo.z);
-            backPatch = glm::dot(glm::vec3(nearPlane), p) + nearPlane.w > 0.0f;
-        }
-    }
+    if (backPatch && method >= CullMethod::TCone) backPatch = backSideHidden(set.bounds(), viewProjection, eye);
     for (uint32_t s = 0; s < set.size(); ++s) {
         CullBox box = set.boxes[s];
         if (!(box.lo.x <= box.hi.x)) continue;

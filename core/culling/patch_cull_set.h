@@ -127,4 +127,8 @@ std::vector<uint32_t> cullPatches(const PatchCullSet& set, CullMethod method, co
                                   const glm::vec4& eye, bool backPatch, std::span<const float> margins = {},
                                   CullCounts* counts = nullptr);
 
+// Whether a closed surface inside `bounds` hides its own back side from this view: the eye is
+// outside the box and the near plane clear of it (what cullPatches asks before its back-patch tests).
+bool backSideHidden(const CullBox& bounds, const glm::mat4& viewProjection, const glm::vec4& eye);
+
 }  // namespace qp

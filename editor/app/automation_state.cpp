@@ -212,6 +212,7 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
             const ViewportCounts& counts = app.stats.viewportCounts[i];
             entry["triangles"] = counts.triangles, entry["patches"] = counts.patches;
             entry["sample_culled"] = counts.sampleCulled;
+            entry["facing_away"] = counts.facingAway;
             entry["culled"] = {{"tested", counts.cull.tested}, {"frustum", counts.cull.frustum},
                                {"back_facing", counts.cull.backFacing}, {"frustum_only", counts.cull.frustumOnly},
                                {"cull_ms", counts.cullMilliseconds}};

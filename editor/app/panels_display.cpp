@@ -125,6 +125,12 @@ void statsSection(EditorApp& app) {
                 ImGui::SetTooltip("The CPU grid leaves out triangles that cannot make a pixel: the picture is the same,\n"
                                   "the rasteriser does less (docs/renderer.md, sample culling).");
         }
+        if (counts.facingAway) {
+            ImGui::TextDisabled("  %llu of them face away behind the front: left out", (unsigned long long)counts.facingAway);
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip("With a back-patch cull method on a closed surface seen from outside, the CPU grid also\n"
+                                  "leaves out triangles facing away that no outline touches (docs/culling.md).");
+        }
         // After the triangle lines, whose "of them" reads the line above.
         if (i < kMaxViewports && app.renderer.plainLinesHidden[i]) {
             ImGui::TextDisabled("  uncreased cage edges left out: under %.0f px here", double(kReadableEdgePixels));

@@ -708,6 +708,7 @@ void addCullStats(ViewportCounts& counts, const DrawStats& drawn) {
     counts.cull += drawn.cull;
     counts.cullMilliseconds += drawn.cullMilliseconds;
     counts.sampleCulled += drawn.sampleCulledTriangles;
+    counts.facingAway += drawn.facingAwayTriangles;
 }
 
 std::vector<ViewportCounts> readViewportCounts(const VulkanContext& ctx, const SceneRenderer& r, uint32_t slot) {
@@ -722,12 +723,13 @@ std::vector<ViewportCounts> readViewportCounts(const VulkanContext& ctx, const S
                                   VK_QUERY_RESULT_64_BIT) == VK_SUCCESS) {
             // The device counts what reached it: the surface without the triangles sample culling
             // left out, the wireframe (drawn from every triangle) with them.
-            const uint64_t left = r.recordedCull[slot][i].sampleCulled;
+            const uint64_t left = r.recordedCull[slot][i].sampleCulled + r.recordedCull[slot][i].facingAway;
             c.triangles = (values[1] - std::min(values[1], (passes - 1) * left)) / passes + left;
             c.patches = r.recordedPatches[slot][i];
             c.cull = r.recordedCull[slot][i].cull;
             c.cullMilliseconds = r.recordedCull[slot][i].cullMilliseconds;
-            c.sampleCulled = left;
+            c.sampleCulled = r.recordedCull[slot][i].sampleCulled;
+            c.facingAway = r.recordedCull[slot][i].facingAway;
         }
         counts.push_back(c);
     }

@@ -159,9 +159,11 @@ struct ViewportCounts {
     CullCounts cull;              // every object the viewport drew (DrawStats::cull)
     double cullMilliseconds = 0.0;
     uint64_t sampleCulled = 0;    // of `triangles`: covering no pixel centre, left out (DrawStats::sampleCulledTriangles)
+    uint64_t facingAway = 0;      // of `triangles`: facing away behind the front, left out (DrawStats::facingAwayTriangles)
 };
 
-// Adds a draw's culling (DrawStats::cull, cullMilliseconds, sampleCulledTriangles) to a viewport's.
+// Adds a draw's culling (DrawStats::cull, cullMilliseconds, sampleCulledTriangles,
+// facingAwayTriangles) to a viewport's.
 void addCullStats(ViewportCounts& counts, const DrawStats& drawn);
 
 struct SceneRenderer {

@@ -262,6 +262,8 @@ public:
         culledDrawn_ = culledDrawnSubfaces(view, stats);
         planView.hiddenDrawn = hiddenDrawn_;
         planView.culledDrawn = culledDrawn_;
+        planView.backFacesHidden = backFacesHidden_;
+        planView.eye = homogeneousEye(view.viewProjection, view.eye);
         planView.shading = view.shading;
         planView.keepFactors = view.navigating;
         TessellationSettings tessellation{settings_.tessFactor, 8.0f};
@@ -308,7 +310,10 @@ public:
             const std::vector<uint32_t>& indexOffset = buffers_.gridLayout.indexOffset;
             for (const DrawnRun& run : drawnRuns(buffers_, skipped))
                 stats.triangles += (indexOffset[run.end] - indexOffset[run.begin]) / 3;
-            if (buffers_.sampleCulling.inUse) stats.sampleCulledTriangles = stats.triangles - buffers_.sampleCulling.keptTriangles;
+            if (buffers_.sampleCulling.inUse) {
+                stats.facingAwayTriangles = buffers_.sampleCulling.facingAwayTriangles;
+                stats.sampleCulledTriangles = stats.triangles - buffers_.sampleCulling.keptTriangles - stats.facingAwayTriangles;
+            }
         } else if (tessellation.uniformFactor > 0) {  // the tessellator's count at a uniform factor
             const std::vector<uint32_t> factors = uniformGridFactors(buffers_.data, tessellation.uniformFactor).subfaceFactor;
             for (uint32_t n : factors) stats.triangles += 2ull * n * n;
@@ -360,6 +365,7 @@ private:
     // changed (their time counts in this frame's).
     std::vector<uint32_t> culledDrawnSubfaces(const DrawView& view, DrawStats& stats) {
         if (view.culledSubfacesOut) view.culledSubfacesOut->clear();
+        backFacesHidden_ = false;
         if (view.cull == CullMethod::None) return {};
         const auto start = std::chrono::steady_clock::now();
         // A displaced surface is tested against the frustum only: boxes are all it needs.
@@ -387,6 +393,10 @@ private:
                     cullMargins_[s] = std::max(cullMargins_[s], std::abs(displacement_->samples[layout.padded[tile.offset + k]]));
             }
         }
+        // The grid's facing-away triangles go too where the back side cannot show (as for the
+        // back-patch tests: scheme_support.h cullForView).
+        backFacesHidden_ = view.cull >= CullMethod::TCone && closed_ && !displacement_ && view.hiddenSubfaces.empty() &&
+                           backSideHidden(cullBounds_->bounds(), view.viewProjection, homogeneousEye(view.viewProjection, view.eye));
         stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         std::vector<uint32_t> drawn;
         // Outlines (scheme_culling.h): the bounds hold the limit surface, the rasteriser draws its
@@ -435,6 +445,7 @@ private:
     std::vector<uint32_t> pendingRefresh_;  // sorted drawn sub-faces re-planned since the last frame
     std::vector<uint32_t> hiddenDrawn_;     // this draw's DrawView::hiddenSubfaces as drawn indices, and holes
     std::vector<uint32_t> culledDrawn_;     // this draw's culled sub-faces as drawn indices
+    bool backFacesHidden_ = false;          // this draw's view cannot see the back side (PlanView::backFacesHidden)
     std::optional<PatchCullSet> cullBounds_;  // built when first needed after a change
     CullAdjacency cullNeighbours_;          // sub-faces sharing a cage vertex (keepBesideDrawn)
     CullMethod cullDetail_ = CullMethod::None;  // what cullBounds_ serves (PatchCullLeaves::detail)

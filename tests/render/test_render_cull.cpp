@@ -33,6 +33,7 @@ struct Frame {
     uint64_t patches = 0;  // what the scheme drew: its patches, or its triangles when it draws no patches (uniform)
     CullCounts cull;
     std::vector<uint32_t> culledSubfaces;  // DrawView::culledSubfacesOut
+    uint64_t triangles = 0, facingAway = 0;  // DrawStats::triangles, facingAwayTriangles
 };
 
 // A scheme with its options (e.g. plans with path=grid).
@@ -53,7 +54,8 @@ struct Variant {
 // one instance: the cameras after the first as later objects of the same frame
 // (DrawView::sameFrame), each into its own target.
 std::vector<Frame> drawFrames(const VulkanContext& ctx, const PlannedCage& planned, const Variant& variant, CullMethod cull,
-                              std::span<const RenderCamera> cameras, const Displacement* displacement = nullptr) {
+                              std::span<const RenderCamera> cameras, const Displacement* displacement = nullptr,
+                              std::span<const uint32_t> hidden = {}) {
     constexpr uint32_t kSize = 160;
     std::vector<Frame> frames(cameras.size());
     std::vector<OffscreenTarget> targets;
@@ -79,10 +81,13 @@ std::vector<Frame> drawFrames(const VulkanContext& ctx, const PlannedCage& plann
                             view.cull = cull;
                             view.sameFrame = k > 0;
                             view.culledSubfacesOut = &frames[k].culledSubfaces;
+                            view.hiddenSubfaces = hidden;
                             Result<DrawStats> drawn = prepared->instance.record(cmd, renderTarget(targets[k]), view);
                             if (drawn) {
                                 frames[k].patches = drawn->patches ? drawn->patches : drawn->triangles;
                                 frames[k].cull = drawn->cull;
+                                frames[k].triangles = drawn->triangles;
+                                frames[k].facingAway = drawn->facingAwayTriangles;
                             }
                         }
                     }).ok());
@@ -98,8 +103,8 @@ std::vector<Frame> drawFrames(const VulkanContext& ctx, const PlannedCage& plann
 
 // One frame of `variant` through `camera`, culled by `cull`.
 Frame drawFrame(const VulkanContext& ctx, const PlannedCage& planned, const Variant& variant, CullMethod cull,
-                const RenderCamera& camera, const Displacement* displacement = nullptr) {
-    return drawFrames(ctx, planned, variant, cull, std::span<const RenderCamera>(&camera, 1), displacement)[0];
+                const RenderCamera& camera, const Displacement* displacement = nullptr, std::span<const uint32_t> hidden = {}) {
+    return drawFrames(ctx, planned, variant, cull, std::span<const RenderCamera>(&camera, 1), displacement, hidden)[0];
 }
 
 // Views: framing the model from six directions, one close up (part of the model off screen and
@@ -126,7 +131,9 @@ std::vector<RenderCamera> views(const Cage& cage) {
 
 // `closed`: the cage is closed and outward (back-patch tests apply), else only the frustum culls.
 // Per variant: every culled frame equals the unculled one; what is drawn never grows, shrinks
-// from tcone to ncone to pplane, and on a closed cage pplane draws less than 90%.
+// from tcone to ncone to pplane, and on a closed cage pplane draws less than 90%. Plans' CPU grid
+// also leaves out facing-away triangles there (sample_culling.h): with pplane it draws less than
+// two thirds of the triangles, and none is left out as facing away elsewhere.
 // `displacement` > 0: drawn with random displacement of that amplitude (times the cage's
 // diagonal; then only the frustum culls, with boxes grown by each tile's largest |D|).
 void expectSamePixelsFewerPatches(const Cage& cage, const std::string& name, bool closed, const std::vector<Variant>& variants,
@@ -145,12 +152,15 @@ void expectSamePixelsFewerPatches(const Cage& cage, const std::string& name, boo
     const std::vector<RenderCamera> cameras = views(cage);
     for (const Variant& variant : variants) {
         uint64_t drawn[5] = {};
+        uint64_t trianglesPlain = 0, trianglesPPlane = 0, facingAway = 0;
         for (size_t v = 0; v < cameras.size(); ++v) {
             const RenderCamera& camera = cameras[v];
             const Frame plain = drawFrame(*context, *planned, variant, CullMethod::None, camera, d);
             EXPECT_EQ(plain.cull.tested, 0u) << variant.name();
             EXPECT_TRUE(plain.culledSubfaces.empty()) << variant.name();
             drawn[0] += plain.patches;
+            trianglesPlain += plain.triangles;
+            EXPECT_EQ(plain.facingAway, 0u) << variant.name();
             int k = 1;
             for (CullMethod method : {CullMethod::Frustum, CullMethod::TCone, CullMethod::NCone, CullMethod::PPlane}) {
                 const Frame culled = drawFrame(*context, *planned, variant, method, camera, d);
@@ -167,6 +177,8 @@ void expectSamePixelsFewerPatches(const Cage& cage, const std::string& name, boo
                 EXPECT_TRUE(std::is_sorted(culled.culledSubfaces.begin(), culled.culledSubfaces.end())) << variant.name();
                 EXPECT_TRUE(culled.culledSubfaces.empty() || culled.culledSubfaces.back() < planned->subfaceCount());
                 drawn[k++] += culled.patches;
+                facingAway += culled.facingAway;
+                if (method == CullMethod::PPlane) trianglesPPlane += culled.triangles - culled.facingAway;
             }
         }
         EXPECT_LE(drawn[1], drawn[0]) << variant.name();
@@ -175,6 +187,12 @@ void expectSamePixelsFewerPatches(const Cage& cage, const std::string& name, boo
         EXPECT_LE(drawn[4], drawn[3]) << variant.name();
         if (d) {
             EXPECT_LT(drawn[1], drawn[0]) << name << ", " << variant.name() << ": the frustum culls the close-up's hidden part";
+        }
+        const bool cpuPlans = variant.scheme == "plans" && variant.name().find("path=cpu") != std::string::npos;
+        if (closed && cpuPlans && !d) {
+            EXPECT_LT(trianglesPPlane, trianglesPlain * 2 / 3) << name << ": facing-away triangles are left out";
+        } else {
+            EXPECT_EQ(facingAway, 0u) << name << ", " << variant.name() << ": no triangle is left out as facing away";
         }
         if (closed && variant.backCulls) {
             EXPECT_LT(drawn[4], drawn[0] * 9 / 10) << name << ", " << variant.name() << ": pplane culls";
@@ -230,6 +248,34 @@ TEST(PlanCulling, OpenGridCullsOnlyByTheFrustum) {
 
 TEST(PlanCulling, InsideOutTorusCullsOnlyByTheFrustum) {
     expectSamePixelsFewerPatches(insideOutTorus(), "inside-out torus", false, kPlanPaths);
+}
+
+// Faces the editor hides open the surface: the back side shows through them, so nothing is culled
+// as facing away (patches or triangles) while any is hidden, and the pictures stay the unculled ones.
+TEST(PlanCulling, HiddenFacesShowTheBackSideBehindThem) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(fineTorus(), database, PlanOptions{}, "torus");
+    ASSERT_TRUE(planned.ok());
+    // Two bands around the tube (sub-faces are faces here, 36 to a ring): the views look into them.
+    std::vector<uint32_t> hidden;
+    for (uint32_t s = 0; s < planned->subfaceCount(); ++s)
+        if (s % 18 < 6) hidden.push_back(s);
+    const std::vector<RenderCamera> cameras = views(planned->cage());
+    for (const Variant& variant : kPlanPaths)
+        for (size_t v = 0; v < cameras.size(); ++v) {
+            const Frame plain = drawFrame(*context, *planned, variant, CullMethod::None, cameras[v], nullptr, hidden);
+            const Frame culled = drawFrame(*context, *planned, variant, CullMethod::PPlane, cameras[v], nullptr, hidden);
+            size_t differing = 0;
+            for (size_t i = 0; i < plain.pixels.size() && i < culled.pixels.size(); ++i) differing += plain.pixels[i] != culled.pixels[i];
+            EXPECT_TRUE(culled.pixels.size() == plain.pixels.size() && differing == 0)
+                << variant.name() << ", view " << v << ": " << differing << " channel values differ";
+            EXPECT_EQ(culled.cull.backFacing, 0u) << variant.name() << ", view " << v;
+            EXPECT_EQ(culled.facingAway, 0u) << variant.name() << ", view " << v;
+        }
+    EXPECT_EQ(test::describeMessages(*context), "");
+    destroyContext(*context);
 }
 
 TEST(SchemeCulling, ClosedTorusDrawsTheSamePixelsWithFewerPatches) {

@@ -24,6 +24,7 @@ struct CulledInstance {
     const VulkanContext& ctx;
     PreparedScheme prepared;
     OffscreenTarget target;
+    uint64_t facingAway = 0;  // the last frame's DrawStats::facingAwayTriangles
 
     // The frame's pixels and the sub-faces it drew.
     std::pair<std::vector<uint8_t>, uint64_t> draw(const RenderCamera& camera, CullMethod cull) {
@@ -36,6 +37,7 @@ struct CulledInstance {
         EXPECT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) { drawn = prepared.instance.record(cmd, renderTarget(target), view); }).ok());
         Result<std::vector<uint8_t>> pixels = readPixels(ctx, target);
         EXPECT_TRUE(pixels.ok() && drawn.ok());
+        facingAway = drawn ? drawn->facingAwayTriangles : 0;
         return {pixels ? *pixels : std::vector<uint8_t>{}, drawn ? drawn->patches : 0};
     }
 };
@@ -73,25 +75,32 @@ TEST(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
         const auto before = instance.draw(camera, CullMethod::PPlane);
         EXPECT_LT(before.second, instance.draw(camera, CullMethod::None).second) << path << ": pplane culls the far side";
 
-        // Shear the far side of the torus sideways, out past the silhouette: patches that faced
-        // away when the bounds were built now face the eye. (Pulling it through the near side
-        // instead would turn a piece inside out, which back-patch culling cannot handle:
-        // docs/culling.md.)
+        // Move the far side of the torus sideways, out past the silhouette: patches that faced
+        // away when the bounds were built now face the eye. Whole cross-sections of the tube move
+        // (the torus has 24 of 12 vertices: vertex j * 24 + i is in cross-section i): moving only
+        // their far vertices turns the tube inside out where the near ones stay, and pulling the
+        // far side through the near side does too, which back-facing culling cannot handle
+        // (docs/culling.md; the facing-away triangles there showed).
         std::vector<uint32_t> moved;
         std::vector<glm::vec3> positions;
         const glm::vec3 toEye = glm::normalize(camera.eye - camera.target);
         const glm::vec3 sideways = 3.0f * glm::normalize(glm::cross(toEye, glm::vec3(0, 1, 0)));
-        for (uint32_t v = 0; v < planned->cage().vertexCount(); ++v) {
-            const glm::vec3 p = planned->cage().positions[v];
-            if (glm::dot(p - camera.target, toEye) < -0.3f) {
-                moved.push_back(v);
-                positions.push_back(p + sideways);
-            }
+        constexpr uint32_t kColumns = 24, kRows = 12;
+        ASSERT_EQ(planned->cage().vertexCount(), kColumns * kRows);
+        for (uint32_t i = 0; i < kColumns; ++i) {
+            glm::vec3 centre(0.0f);
+            for (uint32_t j = 0; j < kRows; ++j) centre += planned->cage().positions[j * kColumns + i] / float(kRows);
+            if (glm::dot(centre - camera.target, toEye) < -0.3f)
+                for (uint32_t j = 0; j < kRows; ++j) {
+                    moved.push_back(j * kColumns + i);
+                    positions.push_back(planned->cage().positions[j * kColumns + i] + sideways);
+                }
         }
         ASSERT_FALSE(moved.empty());
         ASSERT_TRUE(planned->moveVertices(moved, positions).ok());
         ASSERT_TRUE(instance.prepared.instance.updateMoved(moved).ok());
         const auto movedCulled = instance.draw(camera, CullMethod::PPlane);
+        if (std::string(path) == "cpu") EXPECT_GT(instance.facingAway, 0u) << "the CPU grid tests its moved triangles' facing again";
         EXPECT_EQ(differing(movedCulled.first, instance.draw(camera, CullMethod::None).first), 0u) << path << ": after the move";
 
         // A hole opens the surface: back sides show through it, so only the frustum may cull.

@@ -89,6 +89,22 @@ TEST(SampleCulling, KeepsEveryTriangleThatCoversAPixelCentre) {
     EXPECT_TRUE(mayCoverPixelCentre({1.6f, 1.6f, 0}, {2.4f, 1.6f, 0}, {2.0f, 2.4f, 0}, behind));
 }
 
+// A counter-clockwise triangle in the plane z = 1000 (its normal +z, far from the origin so the
+// edges are small beside the coordinates) faces away from eyes below it, perspective (w = 1) or
+// orthographic (w = 0: the direction toward the viewer); seen edge-on, or nearly, it does not.
+TEST(SampleCulling, TrianglesFaceAwayOnlyFromEyesBehindTheirPlane) {
+    const glm::vec3 a{1000.0f, 1000.0f, 1000.0f}, b{1000.01f, 1000.0f, 1000.0f}, c{1000.0f, 1000.01f, 1000.0f};
+    EXPECT_FALSE(facesAwayFrom(a, b, c, {1000.0f, 1000.0f, 1005.0f, 1.0f}));
+    EXPECT_TRUE(facesAwayFrom(a, b, c, {1000.0f, 1000.0f, 995.0f, 1.0f}));
+    EXPECT_TRUE(facesAwayFrom(a, c, b, {1000.0f, 1000.0f, 1005.0f, 1.0f})) << "the other winding";
+    EXPECT_FALSE(facesAwayFrom(a, b, c, {0.0f, 0.0f, 1.0f, 0.0f}));
+    EXPECT_TRUE(facesAwayFrom(a, b, c, {0.0f, 0.3f, -1.0f, 0.0f}));
+    EXPECT_FALSE(facesAwayFrom(a, b, c, {1.0f, 0.0f, 0.0f, 0.0f})) << "edge-on";
+    EXPECT_FALSE(facesAwayFrom(a, b, c, {1.0f, 0.0f, -0.5f * float(kFacingMargin), 0.0f})) << "within the margin";
+    EXPECT_TRUE(facesAwayFrom(a, b, c, {1.0f, 0.0f, -2.0f * float(kFacingMargin), 0.0f}));
+    EXPECT_FALSE(facesAwayFrom(a, a, c, {0.0f, 0.0f, -1.0f, 0.0f})) << "a degenerate triangle faces nowhere";
+}
+
 namespace {
 
 struct SampleCullingFixture : test::PlanPassTest {
