@@ -112,31 +112,35 @@ std::vector<std::pair<uint32_t, uint32_t>> differingTriangles(const std::vector<
     return differing;
 }
 
-// Per triangle of `layout`: 1 when it faces away from `eye` and none of its corners (by the
-// evaluated slot each shows) is a corner of a triangle that does not (sample_culling.h, "Facing
-// away"). Every triangle counts, drawn or not: one more kept is never wrong.
-std::vector<uint8_t> facingAwayBehindFront(const GridLayout& layout, const GridVertex* vertices, const glm::vec4& eye) {
+// What facingAway says of a triangle.
+enum class Facing : uint8_t { Shown, HiddenAway, NotDrawn };
+
+// Per triangle of `layout`: NotDrawn outside `drawn` (triangle ranges), HiddenAway when it faces
+// away from `eye` and none of its corners (by the evaluated slot each shows) is a corner of a
+// drawn triangle that does not (sample_culling.h, "Facing away"), else Shown.
+std::vector<Facing> facingAway(const GridLayout& layout, const GridVertex* vertices, const glm::vec4& eye,
+                               const std::vector<std::pair<uint32_t, uint32_t>>& drawn) {
     const std::vector<uint32_t>& indices = layout.indices;
-    const size_t triangles = indices.size() / 3;
-    std::vector<uint8_t> away(triangles, 0);
-    std::vector<uint8_t> cornerOfFacing(layout.slotCount(), 0);  // per evaluated slot
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles, 4096), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t t = range.begin(); t < range.end(); ++t) {
-            const uint32_t* tri = indices.data() + 3 * t;
-            away[t] = facesAwayFrom(positionOf(vertices[tri[0]]), positionOf(vertices[tri[1]]), positionOf(vertices[tri[2]]), eye);
-            if (!away[t])
-                for (int k = 0; k < 3; ++k) std::atomic_ref<uint8_t>(cornerOfFacing[layout.source[tri[k]]]).store(1, std::memory_order_relaxed);
-        }
+    std::vector<Facing> facing(indices.size() / 3, Facing::NotDrawn);
+    std::vector<uint8_t> cornerOfShown(layout.slotCount(), 0);  // per evaluated slot
+    auto overDrawn = [&](auto&& visit) {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, drawn.size(), 1), [&](const tbb::blocked_range<size_t>& runs) {
+            for (size_t r = runs.begin(); r < runs.end(); ++r)
+                for (uint32_t t = drawn[r].first; t < drawn[r].second; ++t) visit(t, indices.data() + 3 * size_t(t));
+        });
+    };
+    overDrawn([&](uint32_t t, const uint32_t* tri) {
+        const bool away = facesAwayFrom(positionOf(vertices[tri[0]]), positionOf(vertices[tri[1]]), positionOf(vertices[tri[2]]), eye);
+        facing[t] = away ? Facing::HiddenAway : Facing::Shown;
+        if (!away)
+            for (int k = 0; k < 3; ++k) std::atomic_ref<uint8_t>(cornerOfShown[layout.source[tri[k]]]).store(1, std::memory_order_relaxed);
     });
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles, 4096), [&](const tbb::blocked_range<size_t>& range) {
-        for (size_t t = range.begin(); t < range.end(); ++t) {
-            const uint32_t* tri = indices.data() + 3 * t;
-            if (away[t] && (cornerOfFacing[layout.source[tri[0]]] || cornerOfFacing[layout.source[tri[1]]] ||
-                            cornerOfFacing[layout.source[tri[2]]]))
-                away[t] = 0;
-        }
+    overDrawn([&](uint32_t t, const uint32_t* tri) {
+        if (facing[t] == Facing::HiddenAway &&
+            (cornerOfShown[layout.source[tri[0]]] || cornerOfShown[layout.source[tri[1]]] || cornerOfShown[layout.source[tri[2]]]))
+            facing[t] = Facing::Shown;
     });
-    return away;
+    return facing;
 }
 
 }  // namespace
@@ -263,8 +267,9 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
     culling.rewriteAll = false;
     culling.valid = true;
 
-    const std::vector<uint8_t> hiddenFacingAway = view.backFacesHidden ? facingAwayBehindFront(layout, vertices, view.eye)
-                                                                       : std::vector<uint8_t>{};
+    // With back faces hidden (and so everything tested) the facing goes first: triangles it leaves
+    // out, and those not drawn, need no pixel centres.
+    const std::vector<Facing> facing = view.backFacesHidden ? facingAway(layout, vertices, view.eye, drawn) : std::vector<Facing>{};
     std::atomic<uint64_t> tested{0};
     tbb::parallel_for(tbb::blocked_range<size_t>(0, dirty.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
         std::vector<Pixel> projected;
@@ -296,14 +301,17 @@ std::vector<std::pair<uint32_t, uint32_t>> updateSampleCulling(SampleCulling& cu
                     return r.pixel;
                 };
                 for (uint32_t t = begin; t < end; ++t) {
+                    if (!facing.empty() && facing[t] != Facing::Shown) {
+                        culling.triangleResult[t] = facing[t] == Facing::HiddenAway ? SampleCulling::kHiddenFacingAway
+                                                                                    : SampleCulling::kCoversNothing;
+                        continue;
+                    }
                     const uint32_t* tri = indices.data() + 3 * size_t(t);
                     const glm::vec3 p0 = positionOf(vertices[tri[0]]), p1 = positionOf(vertices[tri[1]]),
                                     p2 = positionOf(vertices[tri[2]]);
                     const bool covers = !(samePosition(p0, p1) || samePosition(p1, p2) || samePosition(p2, p0)) &&
                                         (!view.testPixelCentres || mayCover(pixelOf(tri[0]), pixelOf(tri[1]), pixelOf(tri[2]), view));
-                    culling.triangleResult[t] = !covers                                       ? SampleCulling::kCoversNothing
-                                                : !hiddenFacingAway.empty() && hiddenFacingAway[t] ? SampleCulling::kHiddenFacingAway
-                                                                                               : SampleCulling::kCovers;
+                    culling.triangleResult[t] = covers ? SampleCulling::kCovers : SampleCulling::kCoversNothing;
                 }
                 tested += end - begin;
             }

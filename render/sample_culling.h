@@ -43,7 +43,8 @@
 // away (by the evaluated slot it shows, across sub-faces): along the outline the two sheets meet
 // at depths the depth test may not tell apart, so the ring of facing-away triangles there stays.
 // Facing is decided in double precision with a margin (kFacingMargin); edge-on triangles count
-// as facing. A triangle's result then depends on its neighbours', so any change tests everything.
+// as facing. A triangle's result then depends on its neighbours', so any change tests everything
+// (the drawn triangles only; facing first, so those left out look for no pixel centre).
 //
 // When. The renderer (plan_pass.h, recordGrid) uses it for CPU grids denser than
 // kMinTrianglesPerPixel and without a displacement, where it pays (docs/renderer.md), and for
