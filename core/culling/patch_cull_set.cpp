@@ -78,8 +78,13 @@ const char* cullMethodName(CullMethod method) {
 glm::vec4 homogeneousEye(const glm::mat4& m, const glm::vec3& eyePoint) {
     const glm::vec4 lastRow(m[0][3], m[1][3], m[2][3], m[3][3]);
     if (lastRow.x != 0.0f || lastRow.y != 0.0f || lastRow.z != 0.0f) return glm::vec4(eyePoint, 1.0f);
-    // Orthographic: depth grows away from the viewer along row 2.
-    return glm::vec4(-glm::normalize(glm::vec3(m[0][2], m[1][2], m[2][2])), 0.0f);
+    // Orthographic: the rays run along the direction that changes neither clip x nor clip y, and
+    // toward the viewer depth (row 2) falls. Not row 2 itself: under an object's non-uniform scale
+    // or shear the depth gradient is not the rays' direction.
+    const glm::vec3 row0(m[0][0], m[1][0], m[2][0]), row1(m[0][1], m[1][1], m[2][1]), row2(m[0][2], m[1][2], m[2][2]);
+    glm::vec3 toViewer = glm::cross(row0, row1);
+    if (glm::dot(row2, toViewer) > 0.0f) toViewer = -toViewer;
+    return glm::vec4(glm::normalize(toViewer), 0.0f);
 }
 
 NormalCone gregoryNormalCone(const std::array<glm::vec3, 20>& g) {

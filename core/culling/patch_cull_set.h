@@ -25,7 +25,8 @@ std::optional<CullMethod> parseCullMethod(std::string_view name);  // none, frus
 const char* cullMethodName(CullMethod method);
 
 // The homogeneous eye of a view: (eye, 1) for a perspective view-projection, the direction
-// towards the viewer (w = 0) for an orthographic one (its last row is (0, 0, 0, 1)).
+// towards the viewer (w = 0) along its rays for an orthographic one (its last row is (0, 0, 0, 1)),
+// also under an object's non-uniform scale or shear.
 glm::vec4 homogeneousEye(const glm::mat4& viewProjection, const glm::vec3& eyePoint);
 
 // A cone holding every true normal (the blend weights' derivatives included) of a Gregory patch

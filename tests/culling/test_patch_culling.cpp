@@ -293,3 +293,19 @@ TEST(PatchCulling, NormalConeOfTangentsHoldsAcuteAndObtuseFrames) {
     }
     EXPECT_GT(obtuse, 50u);
 }
+
+// The homogeneous eye of an orthographic view runs along its rays in the object's coordinates, also
+// when the object is stretched and mirrored (the depth gradient does not then); a perspective view's
+// is the eye point given.
+TEST(PatchCulling, HomogeneousEyeFollowsTheRaysUnderAnyObjectTransform) {
+    const glm::mat4 view = glm::lookAt(glm::vec3(3, 2, 5), glm::vec3(0), glm::vec3(0, 1, 0));
+    const glm::mat4 ortho = glm::orthoRH_ZO(-2.0f, 2.0f, -2.0f, 2.0f, 0.1f, 20.0f);
+    const glm::mat4 object = glm::scale(glm::rotate(glm::mat4(1.0f), 0.7f, glm::vec3(0, 0, 1)), glm::vec3(3.0f, -0.5f, 1.0f));
+    const glm::vec4 eye = homogeneousEye(ortho * view * object, glm::vec3(0));
+    EXPECT_EQ(eye.w, 0.0f);
+    // Toward the viewer in the world, brought into the object's coordinates.
+    const glm::vec3 expected = glm::normalize(glm::vec3(glm::inverse(object) * glm::vec4(glm::normalize(glm::vec3(3, 2, 5)), 0.0f)));
+    EXPECT_NEAR(glm::dot(glm::vec3(eye), expected), 1.0f, 1e-5f);
+    const glm::mat4 perspective = glm::perspectiveRH_ZO(0.8f, 1.0f, 0.1f, 20.0f);
+    EXPECT_EQ(homogeneousEye(perspective * view * object, glm::vec3(1, 2, 3)), glm::vec4(1, 2, 3, 1));
+}

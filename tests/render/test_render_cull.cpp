@@ -8,6 +8,8 @@
 #include <cmath>
 #include <random>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "camera.h"
 #include "displacement/displacement.h"
 #include "offscreen_target.h"
@@ -55,7 +57,7 @@ struct Variant {
 // (DrawView::sameFrame), each into its own target.
 std::vector<Frame> drawFrames(const VulkanContext& ctx, const PlannedCage& planned, const Variant& variant, CullMethod cull,
                               std::span<const RenderCamera> cameras, const Displacement* displacement = nullptr,
-                              std::span<const uint32_t> hidden = {}) {
+                              std::span<const uint32_t> hidden = {}, const glm::mat4& worldFromObject = glm::mat4(1.0f)) {
     constexpr uint32_t kSize = 160;
     std::vector<Frame> frames(cameras.size());
     std::vector<OffscreenTarget> targets;
@@ -75,8 +77,10 @@ std::vector<Frame> drawFrames(const VulkanContext& ctx, const PlannedCage& plann
         EXPECT_TRUE(submitAndWait(ctx, [&](VkCommandBuffer cmd) {
                         for (size_t k = 0; k < cameras.size(); ++k) {
                             DrawView view;
-                            view.viewProjection = viewProjection(cameras[k]);
-                            view.eye = cameras[k].eye;
+                            // Placed by worldFromObject, as a scene's object is (scheme_host.h objectView).
+                            view.viewProjection = viewProjection(cameras[k]) * worldFromObject;
+                            view.eye = glm::vec3(glm::inverse(worldFromObject) * glm::vec4(cameras[k].eye, 1.0f));
+                            view.worldFromObject = glm::mat3(worldFromObject);
                             view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(cameras[k]), kSize);
                             view.cull = cull;
                             view.sameFrame = k > 0;
@@ -103,8 +107,10 @@ std::vector<Frame> drawFrames(const VulkanContext& ctx, const PlannedCage& plann
 
 // One frame of `variant` through `camera`, culled by `cull`.
 Frame drawFrame(const VulkanContext& ctx, const PlannedCage& planned, const Variant& variant, CullMethod cull,
-                const RenderCamera& camera, const Displacement* displacement = nullptr, std::span<const uint32_t> hidden = {}) {
-    return drawFrames(ctx, planned, variant, cull, std::span<const RenderCamera>(&camera, 1), displacement, hidden)[0];
+                const RenderCamera& camera, const Displacement* displacement = nullptr, std::span<const uint32_t> hidden = {},
+                const glm::mat4& worldFromObject = glm::mat4(1.0f)) {
+    return drawFrames(ctx, planned, variant, cull, std::span<const RenderCamera>(&camera, 1), displacement, hidden,
+                      worldFromObject)[0];
 }
 
 // Views: framing the model from six directions, one close up (part of the model off screen and
@@ -274,6 +280,37 @@ TEST(PlanCulling, HiddenFacesShowTheBackSideBehindThem) {
             EXPECT_EQ(culled.cull.backFacing, 0u) << variant.name() << ", view " << v;
             EXPECT_EQ(culled.facingAway, 0u) << variant.name() << ", view " << v;
         }
+    EXPECT_EQ(test::describeMessages(*context), "");
+    destroyContext(*context);
+}
+
+// An object mirrored and stretched by its transform (a scene's object): the facing is judged in
+// the cage's own coordinates, where a mirror leaves sides as they are, so its facing-away
+// triangles still go and nothing visible with them.
+TEST(PlanCulling, MirroredAndStretchedObjectsLeaveOutTheirFacingAwayTriangles) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(fineTorus(), database, PlanOptions{}, "torus");
+    ASSERT_TRUE(planned.ok());
+    const glm::mat4 mirrored = glm::scale(glm::rotate(glm::mat4(1.0f), 0.4f, glm::vec3(1, 0, 0)), glm::vec3(1.3f, -1.0f, 0.6f));
+    // The cameras frame the placed torus (its cage's corners through the transform).
+    Cage placed = planned->cage();
+    for (glm::vec3& p : placed.positions) p = glm::vec3(mirrored * glm::vec4(p, 1.0f));
+    const std::vector<RenderCamera> cameras = views(placed);
+    uint64_t facingAway = 0;
+    for (size_t v = 0; v < cameras.size(); ++v) {
+        const Variant cpu{"plans", {{"path", "cpu"}}};
+        const Frame plain = drawFrame(*context, *planned, cpu, CullMethod::None, cameras[v], nullptr, {}, mirrored);
+        const Frame culled = drawFrame(*context, *planned, cpu, CullMethod::PPlane, cameras[v], nullptr, {}, mirrored);
+        size_t differing = 0;
+        for (size_t i = 0; i < plain.pixels.size() && i < culled.pixels.size(); ++i) differing += plain.pixels[i] != culled.pixels[i];
+        EXPECT_TRUE(!plain.pixels.empty() && culled.pixels.size() == plain.pixels.size() && differing == 0)
+            << "view " << v << ": " << differing << " channel values differ";
+        facingAway += culled.facingAway;
+        if (v < 6) EXPECT_GT(culled.facingAway, culled.triangles / 4) << "view " << v << " frames the whole torus";
+    }
+    EXPECT_GT(facingAway, 0u);
     EXPECT_EQ(test::describeMessages(*context), "");
     destroyContext(*context);
 }
