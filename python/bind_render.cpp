@@ -75,6 +75,10 @@ py::array_t<uint8_t> finishImage(RendererHandle& handle, const RenderedImage& im
     handle.lastStats = py::dict();
     handle.lastStats["patches"] = image.draw.patches;
     handle.lastStats["triangles"] = image.draw.triangles;
+    // Of the triangles, those the CPU grid left out (render/sample_culling.h): covering no pixel
+    // centre, and facing away behind the front under a back-patch cull method.
+    handle.lastStats["sample_culled"] = image.draw.sampleCulledTriangles;
+    handle.lastStats["facing_away"] = image.draw.facingAwayTriangles;
     py::dict culled;
     culled["tested"] = image.draw.cull.tested;
     culled["frustum"] = image.draw.cull.frustum;
@@ -182,7 +186,7 @@ installed with this module).
              },
              py::arg("scene"), "What each scheme approximates or refuses on the scene's cage (`quadplan schemes CAGE`).")
         .def_property_readonly("last_stats", [](RendererHandle& h) { return h.lastStats; },
-                               "The last render's patches, triangles, culled patches (tested, frustum, back_facing, frustum_only, cull_ms) and the scheme's approximations.")
+                               "The last render's patches, triangles (sample_culled and facing_away of them left out), culled patches (tested, frustum, back_facing, frustum_only, cull_ms) and the scheme's approximations.")
         .def("__repr__", [](RendererHandle& h) {
             return h.renderer ? "<quadplan.Renderer on " + h.renderer->deviceName() + ">" : std::string("<quadplan.Renderer (closed)>");
         });
