@@ -378,11 +378,13 @@ private:
             cullStale_.clear();
             closed_ = closedOutwardSurface(planned_->cage(), planned_->topology());
             cullMargins_.clear();
+            cullBox_ = cullBounds_->bounds();
         } else if (!cullStale_.empty()) {
             updateSubfaceCullBounds(*cullBounds_, *planned_, cullStale_, cullDetail_);
             cullStale_.clear();
             // Moves can turn a piece inside out, and holes open the surface.
             closed_ = closedOutwardSurface(planned_->cage(), planned_->topology());
+            cullBox_ = cullBounds_->bounds();
         }
         if (displacement_ && cullMargins_.empty()) {  // every box grows by its tile's largest |D|
             cullMargins_.assign(planned_->subfaceCount(), 0.0f);
@@ -396,7 +398,7 @@ private:
         // The grid's facing-away triangles go too where the back side cannot show (as for the
         // back-patch tests: scheme_support.h cullForView).
         backFacesHidden_ = view.cull >= CullMethod::TCone && closed_ && !displacement_ && view.hiddenSubfaces.empty() &&
-                           backSideHidden(cullBounds_->bounds(), view.viewProjection, homogeneousEye(view.viewProjection, view.eye));
+                           backSideHidden(cullBox_, view.viewProjection, homogeneousEye(view.viewProjection, view.eye));
         stats.cullMilliseconds += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         std::vector<uint32_t> drawn;
         // Outlines (scheme_culling.h): the bounds hold the limit surface, the rasteriser draws its
@@ -447,6 +449,7 @@ private:
     std::vector<uint32_t> culledDrawn_;     // this draw's culled sub-faces as drawn indices
     bool backFacesHidden_ = false;          // this draw's view cannot see the back side (PlanView::backFacesHidden)
     std::optional<PatchCullSet> cullBounds_;  // built when first needed after a change
+    CullBox cullBox_;                       // the box of every entry of cullBounds_
     CullAdjacency cullNeighbours_;          // sub-faces sharing a cage vertex (keepBesideDrawn)
     CullMethod cullDetail_ = CullMethod::None;  // what cullBounds_ serves (PatchCullLeaves::detail)
     std::vector<uint32_t> cullStale_;       // sorted sub-faces whose bounds changed since
