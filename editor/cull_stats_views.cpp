@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "offscreen_target.h"
+#include "scene/planned_scene.h"
 #include "scheme_support.h"
 #include "vk_commands.h"
 
@@ -161,6 +162,10 @@ Result<ViewMeasurement> measureView(HeadlessScene& h, CullStatsRig& rig, const S
     ViewMeasurement out;
     const RenderTarget target = renderTarget(*h.target);
     std::vector<uint8_t> unculled;
+    // A hair: 1e-4 of the scene's size (not of the eye's distance from the origin, which a small
+    // model far from it would make larger than the model).
+    const Bounds bounds = sceneBounds(scene, planned);
+    const glm::vec3 hair(1e-4f * glm::length(bounds.max - bounds.min));
     for (size_t m = 0; m < out.methods.size(); ++m) {
         DrawView culled = view;
         culled.cull = m == 0 ? CullMethod::None : kMeasuredCullMethods[m - 1];
@@ -168,7 +173,6 @@ Result<ViewMeasurement> measureView(HeadlessScene& h, CullStatsRig& rig, const S
         // patch tests, plans' triangle tests) runs in every timed frame, as while the camera
         // moves; the last frame, whose pixels are compared, sees the view itself.
         DrawView moved = culled;
-        const glm::vec3 hair(1e-4f * std::max(1.0f, glm::length(view.eye)));
         moved.viewProjection = view.viewProjection * glm::translate(glm::mat4(1.0f), hair);
         moved.eye = view.eye - hair;
         uint32_t k = 0;  // the frame being recorded: 0 the warm-up, `repeats` the last

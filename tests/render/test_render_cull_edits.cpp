@@ -100,7 +100,9 @@ TEST(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
         ASSERT_TRUE(planned->moveVertices(moved, positions).ok());
         ASSERT_TRUE(instance.prepared.instance.updateMoved(moved).ok());
         const auto movedCulled = instance.draw(camera, CullMethod::PPlane);
-        if (std::string(path) == "cpu") EXPECT_GT(instance.facingAway, 0u) << "the CPU grid tests its moved triangles' facing again";
+        if (std::string(path) == "cpu") {
+            EXPECT_GT(instance.facingAway, 0u) << "the CPU grid tests its moved triangles' facing again";
+        }
         EXPECT_EQ(differing(movedCulled.first, instance.draw(camera, CullMethod::None).first), 0u) << path << ": after the move";
 
         // A hole opens the surface: back sides show through it, so only the frustum may cull.
