@@ -83,6 +83,12 @@ HistoryEntryInfo EditHistory::entry(size_t index) const {
     return {e.name, e.report, entryBytes(e)};
 }
 
+bool EditHistory::keepsPositions(size_t index) const {
+    const Payload& p = entries_.at(index).payload;
+    return std::holds_alternative<EdgeTags>(p) || std::holds_alternative<VertexTags>(p) || std::holds_alternative<Holes>(p) ||
+           std::holds_alternative<Method>(p);
+}
+
 void EditHistory::clear() {
     entries_.clear();
     position_ = 0;

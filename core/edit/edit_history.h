@@ -77,6 +77,9 @@ public:
     size_t size() const { return entries_.size(); }
     size_t position() const { return position_; }  // entries [0, position) are applied
     HistoryEntryInfo entry(size_t index) const;
+    // Whether doing, undoing or redoing entry `index` leaves every position where it was (tag,
+    // hole and crease-method entries), so consumers need not look for moved vertices.
+    bool keepsPositions(size_t index) const;
     size_t bytes() const;
     // The memory budget; lowering it drops the oldest applied entries at once (never the newest).
     size_t budget() const { return budget_; }

@@ -24,8 +24,8 @@
 
 namespace qp::editor {
 
-// A drag step: from position revision `from` to from + 1 these vertices (sorted, each once)
-// moved from `before`, and nothing else changed.
+// A step of the positions: from position revision `from` to from + 1 these vertices (sorted,
+// each once) moved from `before`, and no other did (a drag step; none for a tag edit).
 struct PositionStep {
     static constexpr uint64_t kNone = ~0ull;
     uint64_t from = kNone;

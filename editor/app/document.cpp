@@ -223,9 +223,14 @@ void noteHistoryStep(Document& doc, const std::string& description, const EditRe
 }
 
 // The same with the revisions the renderer and pickers watch, for any change to the cage.
-void noteChange(Document& doc, const std::string& description, const EditReport& report, uint64_t frame) {
+// `positionsKept`: the change moved no vertex (a tag edit, or its undo or redo), recorded as a
+// step of none so that consumers need not compare every position; applyEdit records a drag
+// step after this.
+void noteChange(Document& doc, const std::string& description, const EditReport& report, uint64_t frame,
+                bool positionsKept = false) {
     ++doc.positionRevision;
-    doc.lastMove = PositionStep{};  // applyEdit records a drag step after this
+    doc.lastMove = PositionStep{};
+    if (positionsKept) doc.lastMove.from = doc.positionRevision - 1;
     if (report.replannedFaces > 0 || report.topologyChanged) {
         ++doc.planRevision;
         accumulateReport(doc.unsyncedPlanChange, report);
@@ -416,7 +421,9 @@ Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
     forgetUnreachableSave(doc, move && move->continueDrag, before, sizeBefore);
     // A drag merged into the previous entry reports only its last step; the history keeps the
     // entry's name.
-    noteChange(doc, name, *report, frame);
+    const bool tagEdit = std::holds_alternative<SetEdgeSharpness>(edit) || std::holds_alternative<SetVertexSharpness>(edit) ||
+                         std::holds_alternative<SetHoles>(edit) || std::holds_alternative<SetCreaseMethod>(edit);
+    noteChange(doc, name, *report, frame, tagEdit);
     if (moveStep) {
         moveStep->from = doc.positionRevision - 1;
         doc.lastMove = std::move(*moveStep);
@@ -439,9 +446,12 @@ namespace {
 
 // Undoes (back) or redoes the next history entry on the cage it was made on: edit mode moves to
 // that object's cage first when it is another (Blender's undo across objects).
-Result<EditReport> historyStep(Document& doc, bool back) {
+// `positionsKept` tells whether the step moved no vertex of the cage edited before it.
+Result<EditReport> historyStep(Document& doc, bool back, bool& positionsKept) {
     const size_t entry = back ? doc.history.position() - 1 : doc.history.position();
+    const uint64_t cageBefore = doc.editedCageRevision;
     if (Status moved = editCageOfTag(doc, doc.history.tag(entry)); !moved) return moved.error();
+    positionsKept = doc.editedCageRevision == cageBefore && doc.history.keepsPositions(entry);
     return back ? doc.history.undo(*doc.planned) : doc.history.redo(*doc.planned);
 }
 
@@ -451,9 +461,10 @@ Result<EditReport> undoEdit(Document& doc, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
     if (!doc.history.canUndo()) return Error{"nothing to undo"};
     const std::string name = doc.history.entry(doc.history.position() - 1).name;
-    Result<EditReport> report = historyStep(doc, true);
+    bool positionsKept = false;
+    Result<EditReport> report = historyStep(doc, true, positionsKept);
     if (!report) return report;
-    noteChange(doc, "undo " + name, *report, frame);
+    noteChange(doc, "undo " + name, *report, frame, positionsKept);
     pruneSelection(doc);
     return report;
 }
@@ -462,9 +473,10 @@ Result<EditReport> redoEdit(Document& doc, uint64_t frame) {
     if (!doc.planned) return Error{"no cage is open"};
     if (!doc.history.canRedo()) return Error{"nothing to redo"};
     const std::string name = doc.history.entry(doc.history.position()).name;
-    Result<EditReport> report = historyStep(doc, false);
+    bool positionsKept = false;
+    Result<EditReport> report = historyStep(doc, false, positionsKept);
     if (!report) return report;
-    noteChange(doc, "redo " + name, *report, frame);
+    noteChange(doc, "redo " + name, *report, frame, positionsKept);
     pruneSelection(doc);
     return report;
 }
@@ -476,12 +488,15 @@ Result<EditReport> jumpToHistory(Document& doc, size_t position, uint64_t frame)
                      std::to_string(position) + " does not exist"};
     if (position == doc.history.position()) return EditReport{};
     EditReport total;
+    bool positionsKept = true;
     while (doc.history.position() != position) {
-        Result<EditReport> step = historyStep(doc, position < doc.history.position());
+        bool stepKept = false;
+        Result<EditReport> step = historyStep(doc, position < doc.history.position(), stepKept);
         if (!step) return step;
+        positionsKept = positionsKept && stepKept;
         accumulateReport(total, *step);
     }
-    noteChange(doc, "jump to history position " + std::to_string(position), total, frame);
+    noteChange(doc, "jump to history position " + std::to_string(position), total, frame, positionsKept);
     pruneSelection(doc);
     return total;
 }

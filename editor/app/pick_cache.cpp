@@ -107,10 +107,9 @@ void resetIfStale(PickCache& c, const Document& doc, uint64_t generation) {
 
 const CageRaycaster& cageRaycaster(PickCache& c, const Document& doc, uint64_t generation) {
     resetIfStale(c, doc, generation);
-    if (!c.cage || c.cageRevision != doc.positionRevision) {
-        c.cage.emplace(doc.planned->cage());
-        c.cageRevision = doc.positionRevision;
-    }
+    const bool noneMoved = doc.lastMove.leads(c.cageRevision, doc.positionRevision) && doc.lastMove.vertices.empty();
+    if (!c.cage || (c.cageRevision != doc.positionRevision && !noneMoved)) c.cage.emplace(doc.planned->cage());
+    c.cageRevision = doc.positionRevision;
     return *c.cage;
 }
 
@@ -125,6 +124,7 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
     resetIfStale(c, doc, generation);
     const auto start = std::chrono::steady_clock::now();
     const std::vector<glm::vec3>& positions = doc.planned->cage().positions;
+    const bool oneStep = doc.lastMove.leads(c.limitRevision, doc.positionRevision) && c.limitPositions.size() == positions.size();
     if (!c.limit) {
         c.limit.emplace(*doc.planned, LimitPicker::resolutionFor(doc.planned->subfaceCount()));
         ++c.limitBuilds;
@@ -133,7 +133,7 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
         c.replanned.clear();
     } else if (c.limitRevision != doc.positionRevision || !c.replanned.empty()) {
         EditReport changed;  // the sub-faces whose control points or plans changed
-        changed.updatedSubfaceList = c.index.touched(movedVertices(c.limitPositions, positions));
+        changed.updatedSubfaceList = c.index.touched(oneStep ? doc.lastMove.vertices : movedVertices(c.limitPositions, positions));
         changed.updatedSubfaceList.insert(changed.updatedSubfaceList.end(), c.replanned.begin(), c.replanned.end());
         std::sort(changed.updatedSubfaceList.begin(), changed.updatedSubfaceList.end());
         changed.updatedSubfaceList.erase(std::unique(changed.updatedSubfaceList.begin(), changed.updatedSubfaceList.end()),
@@ -144,7 +144,10 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
     } else {
         return *c.limit;
     }
-    c.limitPositions = positions;
+    if (oneStep)
+        for (uint32_t v : doc.lastMove.vertices) c.limitPositions[v] = positions[v];
+    else
+        c.limitPositions = positions;
     c.limitRevision = doc.positionRevision;
     c.lastLimitMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return *c.limit;
@@ -181,6 +184,8 @@ const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64
     const Displacement& displacement = displacementOf(doc);
     const std::vector<glm::vec3>& positions = doc.planned->cage().positions;
     const auto start = std::chrono::steady_clock::now();
+    const bool oneStep =
+        doc.lastMove.leads(c.displacedRevision, doc.positionRevision) && c.displacedPositions.size() == positions.size();
     // A new layout (new, resampled, cleared displacement), a lost picker, or changes the
     // document no longer lists (the picker fell far behind): sample everything.
     const bool rebuild = !c.displaced || c.displacedLayout != doc.displacementRevision ||
@@ -194,7 +199,8 @@ const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64
         const bool painted = c.displacedSampleRevision != doc.sampleRevision;
         if (!moved && !painted) return *c.displaced;
         if (moved) {  // the limit surface changed under these sub-faces
-            std::vector<uint32_t> stale = c.index.touched(movedVertices(c.displacedPositions, positions));
+            std::vector<uint32_t> stale =
+                c.index.touched(oneStep ? doc.lastMove.vertices : movedVertices(c.displacedPositions, positions));
             stale.insert(stale.end(), c.displacedReplanned.begin(), c.displacedReplanned.end());
             sortUnique(stale);
             c.displacedReplanned.clear();
@@ -205,7 +211,10 @@ const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64
             if (!samples.empty()) c.displaced->updateSamples(*doc.planned, displacement, samples);
         }
     }
-    if (c.displacedRevision != doc.positionRevision) c.displacedPositions = positions;
+    if (oneStep)
+        for (uint32_t v : doc.lastMove.vertices) c.displacedPositions[v] = positions[v];
+    else if (c.displacedRevision != doc.positionRevision)
+        c.displacedPositions = positions;
     c.displacedSampleStream = sampleStreamEnd(doc);
     c.displacedRevision = doc.positionRevision;
     c.displacedLayout = doc.displacementRevision;

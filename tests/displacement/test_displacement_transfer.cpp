@@ -61,7 +61,9 @@ void expectKeptBitForBit(const DisplacementTransfer& transfer, const Displacemen
             for (int i = -1; i <= n; ++i) {
                 const uint32_t a = std::bit_cast<uint32_t>(next.samples[next.layout.sampleAt(s, i, j)]);
                 const uint32_t b = std::bit_cast<uint32_t>(old.samples[old.layout.sampleAt(from, i, j)]);
-                if (i >= 0 && i < n && j >= 0 && j < n) ASSERT_EQ(a, b) << "sub-face " << s << " cell " << i << ", " << j;
+                if (i >= 0 && i < n && j >= 0 && j < n) {
+                    ASSERT_EQ(a, b) << "sub-face " << s << " cell " << i << ", " << j;
+                }
                 blockKept &= a == b;
             }
         whole += blockKept;

@@ -67,11 +67,32 @@ TEST(CageExtent, TheDocumentRecordsDragStepsAndFollowsThem) {
         ASSERT_EQ(doc.lastMove.before.size(), 1u);
         expectSameExtent(cageExtent(doc), measureCage(doc.planned->cage()), "drag step " + std::to_string(step));
     }
-    // Any other change drops the step: consumers compare positions again.
+    // Other changes of the positions drop the step: consumers compare positions again.
     ASSERT_TRUE(undoEdit(doc, 2).ok());
     EXPECT_EQ(doc.lastMove.from, PositionStep::kNone);
     expectSameExtent(cageExtent(doc), measureCage(doc.planned->cage()), "undone");
+    // Tag edits, and their undo and redo, are steps of no vertex.
     const uint32_t* quad = doc.planned->cage().faceBegin(2);
+    const std::vector<glm::vec3> positions = doc.planned->cage().positions;
+    auto expectNoneMoved = [&](const std::string& what) {
+        EXPECT_EQ(doc.lastMove.from, doc.positionRevision - 1) << what;
+        EXPECT_TRUE(doc.lastMove.vertices.empty()) << what;
+        EXPECT_EQ(doc.planned->cage().positions, positions) << what;
+        expectSameExtent(cageExtent(doc), measureCage(doc.planned->cage()), what);
+    };
     ASSERT_TRUE(applyEdit(doc, SetEdgeSharpness{{{std::min(quad[0], quad[1]), std::max(quad[0], quad[1]), 2.0f}}}, 3).ok());
+    expectNoneMoved("crease");
+    ASSERT_TRUE(applyEdit(doc, SetVertexSharpness{{{quad[2], 3.0f}}}, 4).ok());
+    expectNoneMoved("corner");
+    ASSERT_TRUE(undoEdit(doc, 5).ok());
+    expectNoneMoved("corner undone");
+    ASSERT_TRUE(redoEdit(doc, 6).ok());
+    expectNoneMoved("corner redone");
+    ASSERT_TRUE(jumpToHistory(doc, 1, 7).ok());
+    expectNoneMoved("back to the crease");
+    // A jump across a move is not one.
+    ASSERT_TRUE(applyEdit(doc, MoveVertices{{5}, {start + glm::vec3(1.0f, 0.0f, 0.0f)}, false}, 8).ok());
+    ASSERT_TRUE(jumpToHistory(doc, 0, 9).ok());
     EXPECT_EQ(doc.lastMove.from, PositionStep::kNone);
+    expectSameExtent(cageExtent(doc), measureCage(doc.planned->cage()), "before the drag");
 }

@@ -94,8 +94,9 @@ struct PlanUpdateTest : ::testing::Test {
                                   const TessellationSettings& settings, const std::vector<uint32_t>& refresh) {
         const std::vector<uint8_t> inPlace = draw(pass, buffers, planned, path, settings, &refresh);
         PlanBuffers fresh = upload(freshPass, planned, buffers.data.hostEvaluation);
-        if (buffers.data.hostEvaluation)
+        if (buffers.data.hostEvaluation) {
             EXPECT_LE(buffers.controlPoints.size, 16u) << "host evaluation keeps no device control points, edits included";
+        }
         const std::vector<uint8_t> rebuilt = draw(freshPass, fresh, planned, path, settings);
         EXPECT_TRUE(inPlace == rebuilt) << "the picture differs from the edited cage uploaded again";
         ASSERT_EQ(buffers.data.subfaces.size(), fresh.data.subfaces.size());
