@@ -249,11 +249,22 @@ void writeGridIndices(const GpuPlanData& data, GridLayout& layout) {
     });
 }
 
-GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLayout recycled) {
-    GridLayout layout = std::move(recycled);
+namespace {
+
+// Per sub-face, the other sub-faces it copies from: its corners' and edges' owners.
+constexpr uint32_t kMaxOwners = 16;
+using OwnerList = std::array<uint32_t, kMaxOwners>;
+
+void addOwner(OwnerList& owners, uint32_t& ownerCount, uint32_t owner) {
+    if (std::find(owners.data(), owners.data() + ownerCount, owner) != owners.data() + ownerCount) return;
+    assert(ownerCount < kMaxOwners);
+    owners[ownerCount++] = owner;
+}
+
+// Offsets and the per-slot tables sized for `factors`.
+void layOutOffsets(const GridFactors& factors, uint32_t count, GridLayout& layout) {
     layout.maxFactor = 0;
     layout.uniformRequest = 0;
-    const uint32_t count = uint32_t(data.subfaces.size());
     layout.subfaceOffset.resize(count + 1);
     layout.subfaceOffset[0] = 0;
     for (uint32_t d = 0; d < count; ++d) {
@@ -263,38 +274,73 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLay
     }
     layout.source.resize(layout.slotCount());
     layout.slotSubface.resize(layout.slotCount());
+}
 
-    // Per sub-face, the other sub-faces it copies from: its corners' and edges' owners.
-    constexpr uint32_t kMaxOwners = 16;
-    // Only the first ownerCount[d] of each are read: left uninitialised (1.3 MB at 20k sub-faces).
-    const auto owners = std::make_unique_for_overwrite<std::array<uint32_t, kMaxOwners>[]>(count);
-    std::vector<uint32_t> ownerCount(count, 0);
-    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 64), [&](const tbb::blocked_range<uint32_t>& range) {
-        for (uint32_t d = range.begin(); d != range.end(); ++d) {
-            const uint32_t n = factors.subfaceFactor[d], side = n + 1, base = layout.subfaceOffset[d];
-            std::fill(layout.slotSubface.begin() + base, layout.slotSubface.begin() + base + side * side, d);
-            for (uint32_t slot = base; slot < base + side * side; ++slot) layout.source[slot] = slot;
-            for (uint32_t e = 0; e < 4; ++e) {
-                const uint32_t pieces = edgePieces(data, factors, d, e);
-                assert(pieces >= 1 && n % pieces == 0 && "a sub-face's factor is a multiple of its edges' pieces");
-                for (uint32_t i = 0; i <= n; ++i) {
-                    const GridPlace here = edgePlace(d, e, i, n);
-                    const uint32_t j = (2 * i * pieces + n) / (2 * n);  // nearest edge vertex (ties: the later one)
-                    const GridPlace owner = edgeVertexOwnerPlace(data, factors, d, e, j, pieces);
-                    const uint32_t ownerSide = factors.subfaceFactor[owner.drawn] + 1;
-                    layout.source[base + here.y * side + here.x] = layout.subfaceOffset[owner.drawn] + owner.y * ownerSide + owner.x;
-                    if (owner.drawn == d) continue;
-                    auto* list = owners[d].data();
-                    if (std::find(list, list + ownerCount[d], owner.drawn) != list + ownerCount[d]) continue;
-                    assert(ownerCount[d] < kMaxOwners);
-                    list[ownerCount[d]++] = owner.drawn;
-                }
-            }
+// Sub-face d's slots, each boundary slot from the place its owner evaluates.
+void layOutSubface(const GpuPlanData& data, const GridFactors& factors, uint32_t d, GridLayout& layout, OwnerList& owners,
+                   uint32_t& ownerCount) {
+    const uint32_t n = factors.subfaceFactor[d], side = n + 1, base = layout.subfaceOffset[d];
+    std::fill(layout.slotSubface.begin() + base, layout.slotSubface.begin() + base + side * side, d);
+    for (uint32_t slot = base; slot < base + side * side; ++slot) layout.source[slot] = slot;
+    for (uint32_t e = 0; e < 4; ++e) {
+        const uint32_t pieces = edgePieces(data, factors, d, e);
+        assert(pieces >= 1 && n % pieces == 0 && "a sub-face's factor is a multiple of its edges' pieces");
+        for (uint32_t i = 0; i <= n; ++i) {
+            const GridPlace here = edgePlace(d, e, i, n);
+            const uint32_t j = (2 * i * pieces + n) / (2 * n);  // nearest edge vertex (ties: the later one)
+            const GridPlace owner = edgeVertexOwnerPlace(data, factors, d, e, j, pieces);
+            const uint32_t ownerSide = factors.subfaceFactor[owner.drawn] + 1;
+            layout.source[base + here.y * side + here.x] = layout.subfaceOffset[owner.drawn] + owner.y * ownerSide + owner.x;
+            if (owner.drawn != d) addOwner(owners, ownerCount, owner.drawn);
         }
-    });
-    for ([[maybe_unused]] uint32_t s : layout.source) assert(layout.source[s] == s && "copies come from evaluated slots");
+    }
+}
 
-    // Invert "d copies from o" into the CSR of o's dependents, in ascending order.
+// Where a carried sub-face's slots went (new first slot minus old), by its number in `before`;
+// kNotCarried for the others.
+constexpr int64_t kNotCarried = INT64_MIN;
+
+// Sub-face d's slots as `before` had them for sub-face `old`, renumbered: d is laid out as `old`
+// was and its owners are the same sub-faces, so each copy points at the same place of the same
+// owner, wherever that owner's slots went (`shift`). False (nothing to use) when an owner was
+// not carried, whose places may have moved.
+bool carrySubface(const GridLayout& before, std::span<const int64_t> shift, std::span<const uint32_t> newOf, uint32_t d,
+                  uint32_t old, GridLayout& layout, OwnerList& owners, uint32_t& ownerCount) {
+    const uint32_t oldBase = before.subfaceOffset[old], size = before.subfaceOffset[old + 1] - oldBase;
+    const uint32_t base = layout.subfaceOffset[d], n = before.factors.subfaceFactor[old];
+    assert(layout.subfaceOffset[d + 1] - base == size && size == (n + 1) * (n + 1) && "a carried sub-face keeps its factor");
+    auto carry = [&](uint32_t local) {
+        const uint32_t from = before.source[oldBase + local];
+        if (from - oldBase < size) {  // its own slot (itself, or where an edge snaps)
+            layout.source[base + local] = base + (from - oldBase);
+            return true;
+        }
+        const uint32_t oldOwner = before.slotSubface[from];
+        if (shift[oldOwner] == kNotCarried) return false;
+        layout.source[base + local] = uint32_t(int64_t(from) + shift[oldOwner]);
+        addOwner(owners, ownerCount, newOf[oldOwner]);
+        return true;
+    };
+    std::fill(layout.slotSubface.begin() + base, layout.slotSubface.begin() + base + size, d);
+    // Copies lie on the boundary: rows 0 and n, columns 0 and n; the rest evaluate themselves.
+    for (uint32_t y = 0; y <= n; ++y) {
+        const uint32_t row = y * (n + 1);
+        if (y == 0 || y == n) {
+            for (uint32_t x = 0; x <= n; ++x)
+                if (!carry(row + x)) return false;
+            continue;
+        }
+        if (!carry(row) || !carry(row + n)) return false;
+        for (uint32_t x = 1; x < n; ++x) layout.source[base + row + x] = base + row + x;
+    }
+    return true;
+}
+
+// The dependents (the inverse of "d copies from o", in ascending order) and the triangles.
+void finishLayout(const GpuPlanData& data, GridFactors factors, const OwnerList* owners, const std::vector<uint32_t>& ownerCount,
+                  GridLayout& layout) {
+    const uint32_t count = uint32_t(data.subfaces.size());
+    for ([[maybe_unused]] uint32_t s : layout.source) assert(layout.source[s] == s && "copies come from evaluated slots");
     layout.dependentOffsets.assign(count + 1, 0);
     for (uint32_t d = 0; d < count; ++d)
         for (uint32_t k = 0; k < ownerCount[d]; ++k) ++layout.dependentOffsets[owners[d][k] + 1];
@@ -306,6 +352,50 @@ GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLay
     layout.factors = std::move(factors);
     // The triangles last: a coarse macro face's vertices are the slots that evaluate them.
     writeGridIndices(data, layout);
+}
+
+}  // namespace
+
+GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLayout recycled) {
+    GridLayout layout = std::move(recycled);
+    const uint32_t count = uint32_t(data.subfaces.size());
+    layOutOffsets(factors, count, layout);
+    // Only the first ownerCount[d] of each are read: left uninitialised (1.3 MB at 20k sub-faces).
+    const auto owners = std::make_unique_for_overwrite<OwnerList[]>(count);
+    std::vector<uint32_t> ownerCount(count, 0);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 64), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t d = range.begin(); d != range.end(); ++d) layOutSubface(data, factors, d, layout, owners[d], ownerCount[d]);
+    });
+    finishLayout(data, std::move(factors), owners.get(), ownerCount, layout);
+    return layout;
+}
+
+GridLayout carryGridLayout(const GpuPlanData& data, GridFactors factors, const GridLayout& before,
+                           std::span<const uint32_t> oldOf, std::span<const char> ownersChanged, GridLayout recycled) {
+    GridLayout layout = std::move(recycled);
+    const uint32_t count = uint32_t(data.subfaces.size());
+    assert(oldOf.size() == count && (ownersChanged.empty() || ownersChanged.size() == count));
+    const size_t oldCount = before.subfaceOffset.empty() ? 0 : before.subfaceOffset.size() - 1;
+    std::vector<uint32_t> newOf(oldCount, UINT32_MAX);
+    for (uint32_t d = 0; d < count; ++d)
+        if (oldOf[d] != UINT32_MAX) newOf[oldOf[d]] = d;
+    layOutOffsets(factors, count, layout);
+    std::vector<int64_t> shift(oldCount, kNotCarried);
+    for (uint32_t d = 0; d < count; ++d)
+        if (oldOf[d] != UINT32_MAX) shift[oldOf[d]] = int64_t(layout.subfaceOffset[d]) - int64_t(before.subfaceOffset[oldOf[d]]);
+    const auto owners = std::make_unique_for_overwrite<OwnerList[]>(count);
+    std::vector<uint32_t> ownerCount(count, 0);
+    tbb::parallel_for(tbb::blocked_range<uint32_t>(0, count, 256), [&](const tbb::blocked_range<uint32_t>& range) {
+        for (uint32_t d = range.begin(); d != range.end(); ++d) {
+            const uint32_t old = oldOf[d];
+            if (old != UINT32_MAX && (ownersChanged.empty() || !ownersChanged[d]) &&
+                carrySubface(before, shift, newOf, d, old, layout, owners[d], ownerCount[d]))
+                continue;
+            ownerCount[d] = 0;
+            layOutSubface(data, factors, d, layout, owners[d], ownerCount[d]);
+        }
+    });
+    finishLayout(data, std::move(factors), owners.get(), ownerCount, layout);
     return layout;
 }
 

@@ -108,6 +108,17 @@ struct GridLayout {
 // so a relayout after each edit neither allocates nor clears the grid's tables.
 GridLayout buildGridLayout(const GpuPlanData& data, GridFactors factors, GridLayout recycled = {});
 
+// buildGridLayout's result, taking what it can from `before`, a layout of the tables before a
+// change (a topology or hole edit that renumbered the drawn sub-faces, or factors changed for
+// some): `oldOf` maps each drawn sub-face to its number in `before`, or UINT32_MAX where it is new
+// or laid out otherwise; a mapped one must keep its factor and every edge's pieces. A mapped
+// sub-face whose edges' and corners' owners are the same sub-faces as before (`ownersChanged[d]`
+// false; empty: true of every one) and whose owners are all mapped copies from the same places
+// as before, renumbered: a pass over its boundary slots instead of looking up each owner's place.
+GridLayout carryGridLayout(const GpuPlanData& data, GridFactors factors, const GridLayout& before,
+                           std::span<const uint32_t> oldOf, std::span<const char> ownersChanged = {},
+                           GridLayout recycled = {});
+
 // The triangles (indexOffset, indices) for layout.factors, the slots as they are: what a change
 // of the macro faces alone (GridFactors::macroSpanPieces, macroResolution) lays out again.
 void writeGridIndices(const GpuPlanData& data, GridLayout& layout);

@@ -7,16 +7,20 @@
 namespace qp {
 
 Status carryGrid(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buffers, GridFactors factors,
-                 const std::vector<uint32_t>& oldOf) {
+                 const std::vector<uint32_t>& oldOf, std::span<const char> ownersChanged) {
     GridLayout oldLayout = std::move(buffers.gridLayout);
     const std::vector<uint32_t>& oldOffset = oldLayout.subfaceOffset;
-    // Only the old offsets are read below: the new layout takes the old tables' memory.
+    // The new layout reads the old one's slot tables and writes into those the relayout before
+    // left (PlanBuffers::spareSlotTables), and takes the old triangles' memory: nothing is
+    // allocated or cleared afresh after each edit.
     GridLayout spare;
-    spare.source = std::move(oldLayout.source);
-    spare.slotSubface = std::move(oldLayout.slotSubface);
+    spare.source = std::move(buffers.spareSlotTables.source);
+    spare.slotSubface = std::move(buffers.spareSlotTables.slotSubface);
     spare.indices = std::move(oldLayout.indices);
     spare.dependents = std::move(oldLayout.dependents);
-    GridLayout layout = buildGridLayout(buffers.data, std::move(factors), std::move(spare));
+    GridLayout layout = carryGridLayout(buffers.data, std::move(factors), oldLayout, oldOf, ownersChanged, std::move(spare));
+    buffers.spareSlotTables.source = std::move(oldLayout.source);
+    buffers.spareSlotTables.slotSubface = std::move(oldLayout.slotSubface);
     layout.uniformRequest = oldLayout.uniformRequest;
     // The vertices move inside the grid buffer when the new layout fits it, else through a copy.
     const bool inPlace = VkDeviceSize(layout.slotCount()) * sizeof(GridVertex) <= buffers.grid.size;

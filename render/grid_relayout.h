@@ -17,9 +17,10 @@ namespace qp {
 // The grid laid out for `factors`, the evaluated vertices (and displacement frames) of kept
 // sub-faces moved to their new slots. `oldOf`: drawn index now -> before, or UINT32_MAX for a
 // sub-face whose slots are not kept (new, or laid out differently): its factor and every edge's
-// pieces must be unchanged for a kept one.
+// pieces must be unchanged for a kept one. `ownersChanged` (empty: none): kept sub-faces whose
+// edges or corners now have another owner (grid_layout.h carryGridLayout).
 Status carryGrid(const VulkanContext& context, PlanPass& pass, PlanBuffers& buffers, GridFactors factors,
-                 const std::vector<uint32_t>& oldOf);
+                 const std::vector<uint32_t>& oldOf, std::span<const char> ownersChanged = {});
 
 // When the grid is evaluated and a few sub-faces change factors: carries the others into the
 // layout for `factors` and evaluates the changed ones and the neighbours that copy from them (on

@@ -82,6 +82,9 @@ struct PlanBuffers {
 
     // Grid paths (prepareGrid): the layout and its buffers.
     GridLayout gridLayout;
+    // The slot tables (source, slotSubface) of the layout before the last relayout kept slots
+    // (grid_relayout.h carryGrid): the next one writes into them while it reads the current ones.
+    GridLayout spareSlotTables;
     Buffer subfaceGrid;             // per drawn sub-face: grid factor n, first slot
     Buffer grid, gridSource, slotSubface, gridIndices;
     // The CPU grid's triangles that may cover a pixel centre, chunk by chunk (sample_culling.h;

@@ -238,7 +238,7 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
                     same &= factors.segmentPieces[b.edges[e].secondHalf] == layout.factors.segmentPieces[ob.edges[e].secondHalf];
             }
         }
-        grid = same ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf) : dropGrid(buffers, update);
+        grid = same ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf, ownersChanged) : dropGrid(buffers, update);
     } else if (!layout.subfaceOffset.empty()) {
         GridFactors factors;
         factors.segmentPieces.assign(data.segments.size(), 0);
@@ -264,7 +264,7 @@ Status repackDrawnSet(const VulkanContext& ctx, PlanPass& pass, PlanBuffers& buf
                 else known &= n % pieces == 0;
             }
         }
-        grid = known ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf) : dropGrid(buffers, update);
+        grid = known ? carryGrid(ctx, pass, buffers, std::move(factors), oldOf, ownersChanged) : dropGrid(buffers, update);
     }
 
     ringUsers.wait();

@@ -111,6 +111,15 @@ struct PlanUpdateTest : ::testing::Test {
             ASSERT_EQ(buffers.gridLayout.slotCount(), fresh.gridLayout.slotCount());
             EXPECT_EQ(std::memcmp(buffers.grid.data, fresh.grid.data, fresh.gridLayout.slotCount() * sizeof(GridVertex)), 0)
                 << "the grid updated in place differs from a full evaluation";
+            // The layout carried through the edit (grid_relayout.h) is the one laid out whole.
+            const GridLayout &carried = buffers.gridLayout, &whole = fresh.gridLayout;
+            EXPECT_EQ(carried.factors, whole.factors);
+            EXPECT_EQ(carried.subfaceOffset, whole.subfaceOffset);
+            EXPECT_EQ(carried.source, whole.source) << "copy sources";
+            EXPECT_EQ(carried.slotSubface, whole.slotSubface);
+            EXPECT_EQ(carried.indices, whole.indices);
+            EXPECT_EQ(carried.dependentOffsets, whole.dependentOffsets);
+            EXPECT_EQ(carried.dependents, whole.dependents);
         }
         if (path != DrawPath::CpuGrid && buffers.controlPointLevel == fresh.controlPointLevel) {
             for (uint32_t d = 0; d < fresh.data.subfaces.size(); ++d)

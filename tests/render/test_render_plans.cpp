@@ -604,6 +604,73 @@ TEST(GridLayout, RecycledTablesGiveTheSameLayout) {
     }
 }
 
+void expectSameLayout(const GridLayout& carried, const GridLayout& whole) {
+    EXPECT_EQ(carried.factors, whole.factors);
+    EXPECT_EQ(carried.subfaceOffset, whole.subfaceOffset);
+    EXPECT_EQ(carried.source, whole.source);
+    EXPECT_EQ(carried.slotSubface, whole.slotSubface);
+    EXPECT_EQ(carried.indices, whole.indices);
+    EXPECT_EQ(carried.indexOffset, whole.indexOffset);
+    EXPECT_EQ(carried.dependentOffsets, whole.dependentOffsets);
+    EXPECT_EQ(carried.dependents, whole.dependents);
+    EXPECT_EQ(carried.maxFactor, whole.maxFactor);
+}
+
+// A layout carried from another (grid_layout.h carryGridLayout) equals the layout built whole:
+// screen-adaptive factors chosen again for a closer look (the sub-faces whose factors or edges
+// changed laid out anew, the others and their copies carried), and sub-faces said to have new
+// owners laid out anew among carried ones, in the tables of another layout.
+TEST(GridLayout, CarriedLayoutsEqualLayoutsBuiltWhole) {
+    PlanDatabase db;
+    {
+        PlannedCage planned = planCage(test::makeTorus(24, 12), db);
+        const GpuPlanData data = packPlans(planned);
+        const std::vector<glm::vec4> points = boundaryPointPositions(planned);
+        const PlanView view = test::framedPlanView(planned.cage(), 256);
+        const uint32_t count = uint32_t(data.subfaces.size());
+        const GridFactors far = adaptiveGridFactors(data, points, AdaptiveView{view.viewProjection, view.pixelsPerUnit, 24.0f});
+        const GridFactors near =
+            adaptiveGridFactors(data, points, AdaptiveView{view.viewProjection, view.pixelsPerUnit, 12.0f}, &far);
+        const std::vector<uint32_t> changed = subfacesWithNewFactors(data, far, near);
+        ASSERT_FALSE(changed.empty());
+        ASSERT_LT(changed.size(), count) << "some sub-faces keep their slots";
+        std::vector<uint32_t> oldOf(count);
+        std::iota(oldOf.begin(), oldOf.end(), 0u);
+        for (uint32_t d : changed) oldOf[d] = UINT32_MAX;
+        SCOPED_TRACE("adaptive factors chosen again");
+        expectSameLayout(carryGridLayout(data, near, buildGridLayout(data, far), oldOf), buildGridLayout(data, near));
+
+        // A face deleted: the later sub-faces renumbered, the faces around it re-planned (only
+        // they may see new owners: plan_update.cpp).
+        const GridLayout before = buildGridLayout(data, uniformGridFactors(data, 3));
+        Result<EditReport> removed = planned.removeFace(count / 2);
+        ASSERT_TRUE(removed.ok()) << removed.error().message;
+        const GpuPlanData after = packPlans(planned);
+        ASSERT_EQ(after.subfaces.size(), planned.subfaceCount()) << "every sub-face is drawn";
+        const std::vector<uint32_t>& previous = removed->previousSubfaceOf;  // kNewElement is UINT32_MAX
+        std::vector<char> replanned(after.subfaces.size(), 0);
+        for (uint32_t f : removed->replannedFaceList)
+            for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) replanned[s] = 1;
+        ASSERT_NE(std::count(previous.begin(), previous.end(), count / 2 + 1), 0) << "later sub-faces renumbered";
+        SCOPED_TRACE("a face deleted");
+        expectSameLayout(carryGridLayout(after, uniformGridFactors(after, 3), before, previous, replanned),
+                         buildGridLayout(after, uniformGridFactors(after, 3)));
+    }
+    PlannedCage planned = planCage(featureCage(), db);
+    const GpuPlanData data = packPlans(planned);
+    const uint32_t count = uint32_t(data.subfaces.size());
+    // The same factors, every third sub-face with new owners, in the tables of a coarser layout.
+    const GridLayout uniform = buildGridLayout(data, uniformGridFactors(data, 4));
+    std::vector<uint32_t> all(count);
+    std::iota(all.begin(), all.end(), 0u);
+    std::vector<char> ownersChanged(count, 0);
+    for (uint32_t d = 0; d < count; d += 3) ownersChanged[d] = 1;
+    SCOPED_TRACE("owners changed, recycled tables");
+    expectSameLayout(
+        carryGridLayout(data, uniformGridFactors(data, 4), uniform, all, ownersChanged, buildGridLayout(data, uniformGridFactors(data, 2))),
+        uniform);
+}
+
 // Ownership as gpu_plans.h defines it, checked against the tables packSubfaces builds on all
 // cores: segments are numbered in the order of their first use (non-quad sub-faces first, then
 // quads, each in drawing order, edges 0-3, a split edge's first half before its second) and
@@ -667,7 +734,9 @@ TEST(GpuPlans, RingUsersWithoutPackedRings) {
             other.back() = other.front();  // one vertex twice, one missing
             EXPECT_FALSE(ringUsersMatch(host, d, other));
             other.back() = (ring.front() + 1) % vertexCount;
-            if (std::find(ring.begin(), ring.end(), other.back()) == ring.end()) EXPECT_FALSE(ringUsersMatch(host, d, other));
+            if (std::find(ring.begin(), ring.end(), other.back()) == ring.end()) {
+                EXPECT_FALSE(ringUsersMatch(host, d, other));
+            }
             other.pop_back();
             EXPECT_FALSE(ringUsersMatch(host, d, other)) << "a shorter ring";
         }
