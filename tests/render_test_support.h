@@ -20,6 +20,13 @@ namespace qp::test {
 
 constexpr const char* kLavapipeIcd = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
 
+// Plans a test cage (the test fails when it cannot).
+inline PlannedCage planCage(const Cage& cage, PlanDatabase& database) {
+    Result<PlannedCage> planned = PlannedCage::create(cage, database, {}, "test cage");
+    EXPECT_TRUE(planned.ok()) << planned.error().message;
+    return std::move(planned).value();
+}
+
 // Points `options` (and the loader) at the tests' device: lavapipe, or QUADPLAN_VK_DEVICE.
 inline Status selectTestDevice(ContextOptions& options) {
     if (const char* device = std::getenv("QUADPLAN_VK_DEVICE"); device && device[0]) {

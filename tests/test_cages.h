@@ -107,4 +107,14 @@ inline Cage makeMixedGrid() {
     return out;
 }
 
+// EVs, an n-gon next to quads, semi-sharp and infinite creases, a corner, a hole, a boundary.
+inline Cage makeFeatureCage() {
+    Cage cage = makeMixedGrid();
+    for (uint32_t x = 15; x < 19; ++x) cage.setEdgeSharpness(x, x + 1, 2.5f);  // an interior grid line
+    cage.setEdgeSharpness(12, 13, kInfiniteSharpness);
+    cage.setVertexSharpness(24, 3.0f);
+    cage.setHole(0, true);
+    return cage;
+}
+
 }  // namespace qp::test

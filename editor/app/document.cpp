@@ -123,16 +123,24 @@ Result<TopologyEdit> operation(const Document& doc, const MakeFace& e) {
     return makeFace(doc.planned->cage(), doc.planned->topology(), e.vertices);
 }
 
+// What a topology edit suggests selecting afterwards (TopologyEdit's result lists).
+struct SuggestedSelection {
+    std::vector<uint32_t> vertices;
+    std::vector<EdgeKey> edges;
+    std::vector<uint32_t> faces;
+};
+
 // With displacement the entry carries it to the new cage (displaced_topology_edit.h); an
 // extrude by a distance is made in place, the sculpt projected, and then moved out.
 template <class Op>
-Result<EditReport> performTopology(Document& doc, const Op& op, const std::string& name, TopologyEdit* applied) {
+Result<EditReport> performTopology(Document& doc, const Op& op, const std::string& name, SuggestedSelection* suggested) {
     // A stroke's record and samples cache belong to the displacement's layout, which the edit
     // replaces.
     if (strokeActive(doc)) return Error{"finish the stroke first"};
     Result<TopologyEdit> edit = operation(doc, op);
     if (!edit) return edit.error();
-    *applied = *edit;  // the result selection is read after the history takes the edit
+    // Read after the history takes the edit (a copy of the whole edit would copy the cage).
+    *suggested = {edit->resultVertices, edit->resultEdges, edit->resultFaces};
     const bool keyed = hasVertexKeys(activeObject(doc));
     Displacement& displacement = activeObject(doc).displacement;
     if (displacement.empty()) {
@@ -156,21 +164,21 @@ Result<EditReport> performTopology(Document& doc, const Op& op, const std::strin
 
 // After a topology edit: what the operation suggests, in the current mode when it has
 // elements of that mode, else converted from what it has.
-void selectResult(Document& doc, const TopologyEdit& edit) {
+void selectResult(Document& doc, const SuggestedSelection& suggested) {
     const Cage& cage = doc.planned->cage();
     const Topology& topology = doc.planned->topology();
     Selection result;
     const SelectionMode mode = doc.selection.mode;
-    if (mode == SelectionMode::Face && !edit.resultFaces.empty()) {
-        result.mode = mode, result.faces = edit.resultFaces;
-    } else if (mode == SelectionMode::Edge && !edit.resultEdges.empty()) {
-        result.mode = mode, result.edges = edit.resultEdges;
-    } else if (mode == SelectionMode::Vertex && !edit.resultVertices.empty()) {
-        result.mode = mode, result.vertices = edit.resultVertices;
+    if (mode == SelectionMode::Face && !suggested.faces.empty()) {
+        result.mode = mode, result.faces = suggested.faces;
+    } else if (mode == SelectionMode::Edge && !suggested.edges.empty()) {
+        result.mode = mode, result.edges = suggested.edges;
+    } else if (mode == SelectionMode::Vertex && !suggested.vertices.empty()) {
+        result.mode = mode, result.vertices = suggested.vertices;
     } else {
-        if (!edit.resultFaces.empty()) result.mode = SelectionMode::Face, result.faces = edit.resultFaces;
-        else if (!edit.resultEdges.empty()) result.mode = SelectionMode::Edge, result.edges = edit.resultEdges;
-        else result.mode = SelectionMode::Vertex, result.vertices = edit.resultVertices;
+        if (!suggested.faces.empty()) result.mode = SelectionMode::Face, result.faces = suggested.faces;
+        else if (!suggested.edges.empty()) result.mode = SelectionMode::Edge, result.edges = suggested.edges;
+        else result.mode = SelectionMode::Vertex, result.vertices = suggested.vertices;
         result = convertSelection(result, mode, cage, topology);
     }
     doc.selection = std::move(result);
@@ -402,7 +410,7 @@ Result<EditReport> applyEdit(Document& doc, const Edit& edit, uint64_t frame) {
             if (v < cage.vertexCount()) moveStep->before.push_back(cage.positions[v]);
         if (moveStep->before.size() != moveStep->vertices.size()) moveStep.reset();  // refused below
     }
-    std::optional<TopologyEdit> topology;
+    std::optional<SuggestedSelection> topology;
     Result<EditReport> report = std::visit(
         [&](const auto& e) -> Result<EditReport> {
             using T = std::decay_t<decltype(e)>;

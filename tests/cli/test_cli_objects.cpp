@@ -96,8 +96,9 @@ TEST(CliObjects, RenderDrawsEveryObjectUnderItsTransform) {
             }
         EXPECT_GT(covered, size_t(240 * 160 / 10)) << scheme << ": three cubes should cover a tenth of the image";
         EXPECT_LT(differing, covered / 100) << scheme << ": " << differing << " of " << covered << " pixels differ";
-        if (scheme == "plans" && uniformScale)
+        if (scheme == "plans" && uniformScale) {
             EXPECT_LT(shadedDifferently, covered / 100) << shadedDifferently << " of " << covered << " pixels shaded differently";
+        }
         fs::remove(a);
         fs::remove(b);
     }

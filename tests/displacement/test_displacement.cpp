@@ -98,7 +98,9 @@ TEST(DisplacementTiles, GradientVanishesAtIrregularCornersAndTheyShareOneValue) 
                     EXPECT_EQ(v.dv, 0.0f) << name;
                 }
         }
-        if (name != "grid") EXPECT_GT(shared, 0u) << name << ": has irregular corners";
+        if (name != "grid") {
+            EXPECT_GT(shared, 0u) << name << ": has irregular corners";
+        }
     }
     // The grid's interior vertices are regular: no shared sample there.
     const Displacement grid = randomDisplacement(test::makeGrid(3), 4, 11);
@@ -147,7 +149,9 @@ TEST(DisplacementTiles, SharedEdgesAndCornersGiveTheSameBitsFromEverySide) {
                         ASSERT_EQ(bits(a.value), bits(b.value));
                         ASSERT_EQ(bits(a.du), bits(b.du));
                         ASSERT_EQ(bits(a.dv), bits(b.dv));
-                        if (i > 0 && i < 8 && j > 0 && j < 8) ASSERT_EQ(bits(fast.inside(u, v).value), bits(a.value));
+                        if (i > 0 && i < 8 && j > 0 && j < 8) {
+                            ASSERT_EQ(bits(fast.inside(u, v).value), bits(a.value));
+                        }
                     }
             }
         }

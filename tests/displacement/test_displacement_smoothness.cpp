@@ -108,9 +108,10 @@ TEST(DisplacementSmoothness, DisplacedNormalsAgreeAcrossEverySharedEdgeOfTheShar
         for (uint32_t v = 0; v < cage->vertexCount(); ++v)  // interior: as many faces as edges
             valence2 |= topology.vertexEdgeCount(v) == 2 && topology.vertexFaceOffsets[v + 1] - topology.vertexFaceOffsets[v] == 2;
         ++cages;
-        if (!valence2)
+        if (!valence2) {
             EXPECT_LT(agreement.excess, 0.1f) << path.stem() << ": displaced normals differ by " << agreement.excess
                                               << " degrees more than the limit surface's across an edge";
+        }
         RecordProperty(path.stem().string(), std::string(valence2 ? "(interior valence 2) " : "") + std::to_string(agreement.excess) + " degrees at " +
                                                  std::to_string(agreement.points) + " points, " +
                                                  std::to_string(agreement.creased) + " on creases");

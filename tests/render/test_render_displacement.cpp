@@ -56,12 +56,6 @@ std::vector<std::pair<std::string, Cage>> displacementCages() {
     return {{"mixed grid", std::move(features)}, {"subdivided cube", test::makeSubdividedCube()}};
 }
 
-PlannedCage planCage(const Cage& cage, PlanDatabase& db) {
-    Result<PlannedCage> planned = PlannedCage::create(cage, db, {}, "test cage");
-    EXPECT_TRUE(planned.ok()) << planned.error().message;
-    return std::move(planned).value();
-}
-
 // The reference: s + D N of the limit surface at (sub-face, u, v), N the unit normal of
 // du x dv, at sub-face corners where those vanish a step inside (the renderers' rule,
 // cornerDerivativesVanish: at some extraordinary vertices the corner has none).
@@ -216,7 +210,7 @@ void checkDisplacedGrid(const PlannedCage& planned, const Displacement& d, const
 TEST_F(DisplacementRender, GridPathsDrawTheDisplacedSurfaceWatertight) {
     for (auto& [name, cage] : displacementCages()) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         const float diagonal = computeBounds(planned.cage()).diagonal();
         const Displacement d = randomDisplacement(planned, 8, 0.01f * diagonal, 17);
         PlanBuffers buffers = upload(planned, d);
@@ -240,7 +234,7 @@ TEST_F(DisplacementRender, GridPathsDrawTheDisplacedSurfaceWatertight) {
 TEST_F(DisplacementRender, GridFactorsRiseOnlyWhereTheDisplacementIsNotZero) {
     for (auto& [name, cage] : displacementCages()) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         const float diagonal = computeBounds(planned.cage()).diagonal();
         Displacement d = makeDisplacement(planned.cage(), planned.topology(), 16);
         const SculptSamples samples = SculptSamples::build(planned, d.layout);
@@ -278,7 +272,7 @@ TEST_F(DisplacementRender, GridFactorsRiseOnlyWhereTheDisplacementIsNotZero) {
 TEST_F(DisplacementRender, TessellatedPathDrawsTheDisplacedSurfaceWatertight) {
     for (auto& [name, cage] : displacementCages()) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         const float diagonal = computeBounds(planned.cage()).diagonal();
         const Displacement d = randomDisplacement(planned, 8, 0.01f * diagonal, 23);
         PlanBuffers buffers = upload(planned, d);
@@ -340,7 +334,7 @@ TEST_F(DisplacementRender, TessellatedPathDrawsTheDisplacedSurfaceWatertight) {
 TEST_F(DisplacementRender, DabUpdatesExactlyWhatAFullEvaluationWould) {
     for (auto& [name, cage] : displacementCages()) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         const float diagonal = computeBounds(planned.cage()).diagonal();
         Displacement d = randomDisplacement(planned, 8, 0.002f * diagonal, 5);
         const SculptSamples samples = SculptSamples::build(planned, d.layout);
@@ -385,7 +379,7 @@ TEST_F(DisplacementRender, AStrokeReachingNewTilesRelaysTheGridKeepingWhatIsEval
         for (bool gpu : {true, false}) {
             const std::string what = name + (gpu ? ", compute shader" : ", CPU evaluator");
             PlanDatabase db;
-            PlannedCage planned = planCage(cage, db);
+            PlannedCage planned = test::planCage(cage, db);
             const float diagonal = computeBounds(planned.cage()).diagonal();
             Displacement d = makeDisplacement(planned.cage(), planned.topology(), 8);
             const SculptSamples samples = SculptSamples::build(planned, d.layout);
@@ -455,7 +449,7 @@ TEST_F(DisplacementRender, LargeBrushStrokesOnTheCpuGridEqualAFullEvaluationBitF
                               {BrushKind::Lower, 0.12f, 0.05f, MirrorAxis::Y},     {BrushKind::Erase, 0.2f, 0.3f, MirrorAxis::None}};
     for (auto& [name, cage] : displacementCages()) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         const float diagonal = computeBounds(planned.cage()).diagonal();
         Displacement d = randomDisplacement(planned, 8, 0.002f * diagonal, 9);
         const SculptSamples samples = SculptSamples::build(planned, d.layout);
@@ -509,7 +503,7 @@ TEST_F(DisplacementRender, ExtraordinaryCornersAreDisplacedAlongTheLimitNormal) 
                                                   {"benchmark cage", makeBenchmarkCage(300, 3)}};
     for (const auto& [name, cage] : cages) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         const std::vector<glm::dvec3> exact = exactVertexNormals(planned.cage());
         const Topology& topology = planned.topology();
         const float diagonal = computeBounds(planned.cage()).diagonal();
@@ -562,7 +556,7 @@ TEST(DisplacementSchemes, CpuMeshSchemesAreDisplacedAndWatertight) {
     const PluginCatalog catalog = loadPlugins(QUADPLAN_PLUGIN_DIR);
     for (auto& [name, cage] : displacementCages()) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         const float diagonal = computeBounds(planned.cage()).diagonal();
         const Displacement d = randomDisplacement(planned, 8, 0.01f * diagonal, 31);
         for (const char* schemeName : {"uniform", "osd-fas", "acc1", "acc2", "pn", "stam"}) {
@@ -621,7 +615,7 @@ TEST(DisplacementSchemes, CpuMeshSchemesAreDisplacedAndWatertight) {
 TEST_F(DisplacementRender, ASchemeWithoutDisplacementIsDrawnWithoutItAndWarns) {
     const PluginCatalog catalog = loadPlugins(QUADPLAN_TEST_PLUGIN_DIR);
     PlanDatabase db;
-    PlannedCage planned = planCage(test::makeSubdividedCube(), db);
+    PlannedCage planned = test::planCage(test::makeSubdividedCube(), db);
     const Displacement d = randomDisplacement(planned, 4, 0.01f, 3);
     const GpuContext gpu{&ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
     const CageFeatures features = analyzeCage(planned.cage(), planned.topology());

@@ -80,12 +80,6 @@ struct LargeBuffers : ::testing::Test {
     }
 };
 
-PlannedCage planCage(const Cage& cage, PlanDatabase& database) {
-    Result<PlannedCage> planned = PlannedCage::create(cage, database, {}, "test cage");
-    EXPECT_TRUE(planned.ok()) << planned.error().message;
-    return std::move(planned).value();
-}
-
 double coverage(const std::vector<uint8_t>& rgba) {
     size_t covered = 0;
     for (size_t i = 0; i < rgba.size(); i += 4) covered += std::memcmp(&rgba[i], rgba.data(), 3) != 0;
@@ -102,7 +96,7 @@ TEST_F(LargeBuffers, ByAddressDrawsWhatStorageBuffersDraw) {
     mixed.setHole(0, true);
     for (const Cage& cage : {mixed, test::makeSubdividedCube()}) {
         PlanDatabase database;
-        const PlannedCage planned = planCage(cage, database);
+        const PlannedCage planned = test::planCage(cage, database);
         const auto bound = drawEveryPath(planned, false), addressed = drawEveryPath(planned, true);
         ASSERT_EQ(bound.size(), 3u);
         ASSERT_EQ(addressed.size(), 3u);
@@ -119,7 +113,7 @@ TEST_F(LargeBuffers, ByAddressDrawsWhatStorageBuffersDraw) {
 // the by-address variant, and the compute shader's grid agrees with the CPU evaluator's.
 TEST_F(LargeBuffers, AGridLargerThanTheStorageBufferRangeRenders) {
     PlanDatabase database;
-    const PlannedCage planned = planCage(makeBenchmarkCage(1500, 1), database);
+    const PlannedCage planned = test::planCage(makeBenchmarkCage(1500, 1), database);
     Result<PlanPass> pass = createPlanPass(ctx, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM);
     Result<PlanBuffers> uploaded = uploadPlans(ctx, planned);
     ASSERT_TRUE(pass.ok() && uploaded.ok());

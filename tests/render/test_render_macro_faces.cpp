@@ -32,12 +32,6 @@ constexpr uint32_t kImageSize = 320;
 
 struct MacroFixture : test::PlanPassTest {};
 
-PlannedCage planCage(const Cage& cage, PlanDatabase& db) {
-    Result<PlannedCage> planned = PlannedCage::create(cage, db, {}, "test cage");
-    EXPECT_TRUE(planned.ok()) << planned.error().message;
-    return std::move(planned).value();
-}
-
 // The layout's triangles over the slots that evaluate their vertices: degenerate ones (two
 // corners one vertex, as snapping makes) dropped, each undirected edge counted with its
 // direction. On a closed, consistently wound surface every edge is crossed as often one way as
@@ -77,7 +71,7 @@ TEST_F(MacroFixture, CoarseMacroFacesKeepClosedCagesClosed) {
     for (auto& [name, cage] : closedCages()) {
         for (MacroChoice choice : {MacroChoice::Rectangles, MacroChoice::Quartets, MacroChoice::Blocks}) {
             PlanDatabase db;
-            PlannedCage planned = planCage(cage, db);
+            PlannedCage planned = test::planCage(cage, db);
             PlanBuffers buffers = upload(planned);
             buffers.data.macros.choice = choice;
             rebuildMacroGrid(planned, buffers.data);
@@ -114,7 +108,7 @@ TEST_F(MacroFixture, FarViewsDrawCoarseMacroFacesOnBothGridPaths) {
     ASSERT_TRUE(target.ok()) << target.error().message;
     const Cage cage = test::makeTorus(96, 40);
     PlanDatabase db;
-    PlannedCage planned = planCage(cage, db);
+    PlannedCage planned = test::planCage(cage, db);
     PlanBuffers buffers = upload(planned);
     // Factors as for a view ten times farther (fewer pixels per unit), drawn framed so that the
     // picture shows the coarse macro faces.
@@ -151,7 +145,7 @@ TEST_F(MacroFixture, FarViewsDrawCoarseMacroFacesOnBothGridPaths) {
 TEST_F(MacroFixture, HiddenMembersAndCullingKeepFacesDrawn) {
     const Cage cage = test::makeSubdividedCube(8);
     PlanDatabase db;
-    PlannedCage planned = planCage(cage, db);
+    PlannedCage planned = test::planCage(cage, db);
     PlanBuffers buffers = upload(planned);
     const MacroGrid& macros = buffers.data.macros;
     ASSERT_EQ(macros.faces.size(), 6u);  // one per side of the cube (test_macro_faces.cpp)
@@ -190,7 +184,7 @@ TEST_F(MacroFixture, HiddenMembersAndCullingKeepFacesDrawn) {
 TEST_F(MacroFixture, AChangeOfMacroFacesAloneRewritesOnlyTheTriangles) {
     const Cage cage = test::makeTorus(48, 40);
     PlanDatabase db;
-    PlannedCage planned = planCage(cage, db);
+    PlannedCage planned = test::planCage(cage, db);
     PlanBuffers buffers = upload(planned);
     auto minified = [&](uint32_t minify) {
         GridFactors factors = uniformGridFactors(buffers.data, 1);
@@ -219,7 +213,7 @@ TEST_F(MacroFixture, AChangeOfMacroFacesAloneRewritesOnlyTheTriangles) {
 TEST_F(MacroFixture, AdaptiveFactorsAfterADragEqualAFullPass) {
     const Cage cage = makeBenchmarkCage(2000, 4);
     PlanDatabase db;
-    PlannedCage planned = planCage(cage, db);
+    PlannedCage planned = test::planCage(cage, db);
     PlanBuffers buffers = upload(planned);
     const PlanView view = test::framedPlanView(cage, kImageSize);
     const TessellationSettings adaptive{0, 3.0f};
@@ -253,7 +247,7 @@ TEST_F(MacroFixture, AdaptiveFactorsAfterADragEqualAFullPass) {
 TEST_F(MacroFixture, MovingFramesKeepTheFactorsOfTheirFirstFrame) {
     const Cage cage = test::makeTorus(48, 40);
     PlanDatabase db;
-    PlannedCage planned = planCage(cage, db);
+    PlannedCage planned = test::planCage(cage, db);
     PlanBuffers buffers = upload(planned);
     const TessellationSettings adaptive{0, 3.0f};
     auto prepare = [&](PlanView view) {
@@ -302,7 +296,7 @@ TEST_F(MacroFixture, MovingFramesKeepTheFactorsOfTheirFirstFrame) {
 TEST_F(MacroFixture, TopologyEditsLeaveMacroFacesToTheFirstFrameThatDrawsThem) {
     const Cage cage = test::makeTorus(48, 40);
     PlanDatabase db;
-    PlannedCage planned = planCage(cage, db);
+    PlannedCage planned = test::planCage(cage, db);
     PlanBuffers buffers = upload(planned);
     ASSERT_FALSE(buffers.data.macros.faces.empty());
     const PlanView far = [&] {  // far enough for coarse macro faces

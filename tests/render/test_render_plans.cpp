@@ -81,27 +81,11 @@ struct Fixture : test::PlanPassTest {
     }
 };
 
-PlannedCage planCage(const Cage& cage, PlanDatabase& db) {
-    Result<PlannedCage> planned = PlannedCage::create(cage, db, {}, "test cage");
-    EXPECT_TRUE(planned.ok()) << planned.error().message;
-    return std::move(planned).value();
-}
-
-// EVs, an n-gon next to quads, semi-sharp and infinite creases, a corner, a hole, a boundary.
-Cage featureCage() {
-    Cage cage = test::makeMixedGrid();
-    for (uint32_t x = 15; x < 19; ++x) cage.setEdgeSharpness(x, x + 1, 2.5f);  // an interior grid line
-    cage.setEdgeSharpness(12, 13, kInfiniteSharpness);
-    cage.setVertexSharpness(24, 3.0f);
-    cage.setHole(0, true);
-    return cage;
-}
-
 std::vector<std::pair<std::string, Cage>> testCages() {
     // A hole where a triangle was: the quad beside it keeps its edge whole (no n-gon meets it).
     Cage holeNgon = test::makeMixedGrid();
     holeNgon.setHole(holeNgon.faceCount() - 2, true);
-    std::vector<std::pair<std::string, Cage>> cages = {{"features", featureCage()},
+    std::vector<std::pair<std::string, Cage>> cages = {{"features", test::makeFeatureCage()},
                                                        {"subdivided cube", test::makeSubdividedCube()},
                                                        {"n-gon hole", std::move(holeNgon)}};
     if (test::haveSharedShapes())
@@ -223,7 +207,7 @@ TEST_F(Fixture, GridNormalsAtExtraordinaryCornersKeepTheirPrecisionOnTheDevice) 
 TEST_F(Fixture, GridPathsMatchCpuAndAreWatertight) {
     for (auto& [name, cage] : testCages()) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         PlanBuffers buffers = upload(planned);
         PlanView view = frame(planned);
         std::vector<std::pair<std::string, GridFactors>> layouts;
@@ -316,7 +300,7 @@ void checkTessellated(Fixture& f, const PlannedCage& planned, PlanBuffers& buffe
 TEST_F(Fixture, TessellatedPathMatchesCpuAndIsWatertight) {
     for (auto& [name, cage] : testCages()) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         PlanBuffers buffers = upload(planned);
         ASSERT_TRUE(enableCapture(ctx, buffers, 2'000'000).ok());
         ASSERT_TRUE(bindPlanBuffers(ctx, pass, buffers).ok());
@@ -372,7 +356,7 @@ TEST_F(Fixture, SplitDrawsMatchTheGridPathOnALargeCage) {
     Result<Cage> car = loadObj((test::sharedShapesDir() / "catmark_car.obj").string());
     ASSERT_TRUE(car.ok());
     PlanDatabase db;
-    PlannedCage planned = planCage(*car, db);
+    PlannedCage planned = test::planCage(*car, db);
     PlanBuffers buffers = upload(planned);
     // 1,575 patches at factor 16 are 7 draws of at most 226 (lavapipe corrupts 228 and more).
     EXPECT_EQ(patchesPerDraw(16), 226u);
@@ -403,7 +387,7 @@ TEST_F(Fixture, SplitDrawsMatchTheGridPathOnALargeCage) {
 // same pixels.
 TEST_F(Fixture, ColourModesAndWireframeDraw) {
     PlanDatabase db;
-    PlannedCage planned = planCage(featureCage(), db);
+    PlannedCage planned = test::planCage(test::makeFeatureCage(), db);
     PlanBuffers buffers = upload(planned);
     PlanView view = frame(planned);
     const TessellationSettings settings{0, 6.0f};
@@ -439,7 +423,7 @@ TEST_F(Fixture, ColourModesAndWireframeDraw) {
 // hardware encodes, and in a UNORM target, where the shaders do.
 TEST_F(Fixture, SrgbAndUnormTargetsStoreTheSamePicture) {
     PlanDatabase db;
-    PlannedCage planned = planCage(featureCage(), db);
+    PlannedCage planned = test::planCage(test::makeFeatureCage(), db);
     PlanView view = frame(planned);
     view.wireframe = true;
     const std::vector<LineVertex> cage = cageLines(planned.cage());
@@ -491,7 +475,7 @@ TEST_F(Fixture, MovedVerticesUpdateExactlyWhatAFullEvaluationWould) {
     }
     for (auto& [name, cage] : cages) {
         PlanDatabase db;
-        PlannedCage planned = planCage(cage, db);
+        PlannedCage planned = test::planCage(cage, db);
         PlanBuffers buffers = upload(planned);
         const PlanView view = frame(planned);
         const float step = 0.03f * computeBounds(planned.cage()).diagonal();
@@ -549,136 +533,14 @@ TEST_F(Fixture, MovedVerticesUpdateExactlyWhatAFullEvaluationWould) {
     }
 }
 
-// The layout's bookkeeping, without a device: sources are evaluated slots, and the dependents
-// of a sub-face are exactly the other sub-faces holding copies of its slots.
-TEST(GridLayout, SourcesAndDependentsAgreeWithTheCopies) {
-    PlanDatabase db;
-    PlannedCage planned = planCage(featureCage(), db);
-    const GpuPlanData data = packPlans(planned);
-    for (uint32_t factor : {1u, 4u, 9u}) {
-        const GridLayout layout = buildGridLayout(data, uniformGridFactors(data, factor));
-        std::set<std::pair<uint32_t, uint32_t>> copies;  // (owner, copier)
-        for (uint32_t slot = 0; slot < layout.slotCount(); ++slot) {
-            const uint32_t source = layout.source[slot];
-            ASSERT_EQ(layout.source[source], source) << "slot " << slot << " copies a copy";
-            if (layout.slotSubface[source] != layout.slotSubface[slot])
-                copies.insert({layout.slotSubface[source], layout.slotSubface[slot]});
-        }
-        std::set<std::pair<uint32_t, uint32_t>> listed;
-        for (uint32_t d = 0; d < data.subfaces.size(); ++d)
-            for (uint32_t k = layout.dependentOffsets[d]; k < layout.dependentOffsets[d + 1]; ++k)
-                listed.insert({d, layout.dependents[k]});
-        EXPECT_EQ(listed, copies) << "factor " << factor;
-        EXPECT_FALSE(copies.empty());
-        const uint32_t first = copies.begin()->first;
-        const std::vector<uint32_t> closure = withDependents(layout, std::span(&first, 1));
-        for (auto [owner, copier] : copies)
-            if (owner == first) {
-                EXPECT_TRUE(std::binary_search(closure.begin(), closure.end(), copier));
-            }
-    }
-}
-
-// A layout built in the arrays of another (relayouts recycle the old tables) equals one built
-// from nothing, whether the other was larger or smaller.
-TEST(GridLayout, RecycledTablesGiveTheSameLayout) {
-    PlanDatabase db;
-    PlannedCage planned = planCage(featureCage(), db);
-    const GpuPlanData data = packPlans(planned);
-    for (auto [factor, other] : {std::pair{4u, 9u}, std::pair{9u, 2u}, std::pair{3u, 3u}}) {
-        const GridLayout fresh = buildGridLayout(data, uniformGridFactors(data, factor));
-        GridLayout recycled = buildGridLayout(data, uniformGridFactors(data, other));
-        recycled.uniformRequest = other;
-        const GridLayout reused = buildGridLayout(data, uniformGridFactors(data, factor), std::move(recycled));
-        SCOPED_TRACE("factor " + std::to_string(factor) + " in the tables of " + std::to_string(other));
-        EXPECT_EQ(reused.factors, fresh.factors);
-        EXPECT_EQ(reused.subfaceOffset, fresh.subfaceOffset);
-        EXPECT_EQ(reused.source, fresh.source);
-        EXPECT_EQ(reused.slotSubface, fresh.slotSubface);
-        EXPECT_EQ(reused.indices, fresh.indices);
-        EXPECT_EQ(reused.indexOffset, fresh.indexOffset);
-        EXPECT_EQ(reused.dependentOffsets, fresh.dependentOffsets);
-        EXPECT_EQ(reused.dependents, fresh.dependents);
-        EXPECT_EQ(reused.maxFactor, fresh.maxFactor);
-        EXPECT_EQ(reused.uniformRequest, fresh.uniformRequest);
-    }
-}
-
-void expectSameLayout(const GridLayout& carried, const GridLayout& whole) {
-    EXPECT_EQ(carried.factors, whole.factors);
-    EXPECT_EQ(carried.subfaceOffset, whole.subfaceOffset);
-    EXPECT_EQ(carried.source, whole.source);
-    EXPECT_EQ(carried.slotSubface, whole.slotSubface);
-    EXPECT_EQ(carried.indices, whole.indices);
-    EXPECT_EQ(carried.indexOffset, whole.indexOffset);
-    EXPECT_EQ(carried.dependentOffsets, whole.dependentOffsets);
-    EXPECT_EQ(carried.dependents, whole.dependents);
-    EXPECT_EQ(carried.maxFactor, whole.maxFactor);
-}
-
-// A layout carried from another (grid_layout.h carryGridLayout) equals the layout built whole:
-// screen-adaptive factors chosen again for a closer look (the sub-faces whose factors or edges
-// changed laid out anew, the others and their copies carried), and sub-faces said to have new
-// owners laid out anew among carried ones, in the tables of another layout.
-TEST(GridLayout, CarriedLayoutsEqualLayoutsBuiltWhole) {
-    PlanDatabase db;
-    {
-        PlannedCage planned = planCage(test::makeTorus(24, 12), db);
-        const GpuPlanData data = packPlans(planned);
-        const std::vector<glm::vec4> points = boundaryPointPositions(planned);
-        const PlanView view = test::framedPlanView(planned.cage(), 256);
-        const uint32_t count = uint32_t(data.subfaces.size());
-        const GridFactors far = adaptiveGridFactors(data, points, AdaptiveView{view.viewProjection, view.pixelsPerUnit, 24.0f});
-        const GridFactors near =
-            adaptiveGridFactors(data, points, AdaptiveView{view.viewProjection, view.pixelsPerUnit, 12.0f}, &far);
-        const std::vector<uint32_t> changed = subfacesWithNewFactors(data, far, near);
-        ASSERT_FALSE(changed.empty());
-        ASSERT_LT(changed.size(), count) << "some sub-faces keep their slots";
-        std::vector<uint32_t> oldOf(count);
-        std::iota(oldOf.begin(), oldOf.end(), 0u);
-        for (uint32_t d : changed) oldOf[d] = UINT32_MAX;
-        SCOPED_TRACE("adaptive factors chosen again");
-        expectSameLayout(carryGridLayout(data, near, buildGridLayout(data, far), oldOf), buildGridLayout(data, near));
-
-        // A face deleted: the later sub-faces renumbered, the faces around it re-planned (only
-        // they may see new owners: plan_update.cpp).
-        const GridLayout before = buildGridLayout(data, uniformGridFactors(data, 3));
-        Result<EditReport> removed = planned.removeFace(count / 2);
-        ASSERT_TRUE(removed.ok()) << removed.error().message;
-        const GpuPlanData after = packPlans(planned);
-        ASSERT_EQ(after.subfaces.size(), planned.subfaceCount()) << "every sub-face is drawn";
-        const std::vector<uint32_t>& previous = removed->previousSubfaceOf;  // kNewElement is UINT32_MAX
-        std::vector<char> replanned(after.subfaces.size(), 0);
-        for (uint32_t f : removed->replannedFaceList)
-            for (uint32_t s = planned.firstSubface(f); s < planned.firstSubface(f + 1); ++s) replanned[s] = 1;
-        ASSERT_NE(std::count(previous.begin(), previous.end(), count / 2 + 1), 0) << "later sub-faces renumbered";
-        SCOPED_TRACE("a face deleted");
-        expectSameLayout(carryGridLayout(after, uniformGridFactors(after, 3), before, previous, replanned),
-                         buildGridLayout(after, uniformGridFactors(after, 3)));
-    }
-    PlannedCage planned = planCage(featureCage(), db);
-    const GpuPlanData data = packPlans(planned);
-    const uint32_t count = uint32_t(data.subfaces.size());
-    // The same factors, every third sub-face with new owners, in the tables of a coarser layout.
-    const GridLayout uniform = buildGridLayout(data, uniformGridFactors(data, 4));
-    std::vector<uint32_t> all(count);
-    std::iota(all.begin(), all.end(), 0u);
-    std::vector<char> ownersChanged(count, 0);
-    for (uint32_t d = 0; d < count; d += 3) ownersChanged[d] = 1;
-    SCOPED_TRACE("owners changed, recycled tables");
-    expectSameLayout(
-        carryGridLayout(data, uniformGridFactors(data, 4), uniform, all, ownersChanged, buildGridLayout(data, uniformGridFactors(data, 2))),
-        uniform);
-}
-
 // Ownership as gpu_plans.h defines it, checked against the tables packSubfaces builds on all
 // cores: segments are numbered in the order of their first use (non-quad sub-faces first, then
 // quads, each in drawing order, edges 0-3, a split edge's first half before its second) and
 // owned by that first user; a boundary point is owned by the first sub-face with it as a corner.
 TEST(GpuPlans, SegmentsAndPointsBelongToTheirFirstUser) {
     PlanDatabase db;
-    for (const Cage& cage : {featureCage(), test::makeSubdividedCube()}) {
-        PlannedCage planned = planCage(cage, db);
+    for (const Cage& cage : {test::makeFeatureCage(), test::makeSubdividedCube()}) {
+        PlannedCage planned = test::planCage(cage, db);
         const GpuPlanData data = packPlans(planned);
         auto isQuad = [&](uint32_t d) {
             const uint32_t subface = data.subfaces[d].subface;
@@ -717,8 +579,8 @@ TEST(GpuPlans, SegmentsAndPointsBelongToTheirFirstUser) {
 // unchanged ring (in any order) from a changed one.
 TEST(GpuPlans, RingUsersWithoutPackedRings) {
     PlanDatabase db;
-    for (const Cage& cage : {featureCage(), test::makeSubdividedCube()}) {
-        PlannedCage planned = planCage(cage, db);
+    for (const Cage& cage : {test::makeFeatureCage(), test::makeSubdividedCube()}) {
+        PlannedCage planned = test::planCage(cage, db);
         const GpuPlanData packed = packPlans(planned), host = packPlans(planned, true);
         EXPECT_TRUE(host.rings.empty());
         EXPECT_EQ(host.ringEntries, packed.rings.size());
@@ -748,7 +610,7 @@ TEST(GpuPlans, RingUsersWithoutPackedRings) {
 // pure red background. Adaptive factors from an off-centre eye, so neighbours differ.
 TEST_F(Fixture, ClosedSurfaceSeenFromInsideHasNoCracks) {
     PlanDatabase db;
-    PlannedCage planned = planCage(test::makeSubdividedCube(), db);
+    PlannedCage planned = test::planCage(test::makeSubdividedCube(), db);
     PlanBuffers buffers = upload(planned);
     RenderCamera camera;
     camera.eye = {0.45f, 0.35f, 0.3f};
@@ -783,26 +645,4 @@ TEST_F(Fixture, ClosedSurfaceSeenFromInsideHasNoCracks) {
             }
     }
     destroyPlanBuffers(ctx, buffers);
-}
-
-// Adaptive factors after any earlier layout still nest: every edge's pieces divide its
-// sub-face's factor (a uniform layout's odd pieces must not be kept by the hysteresis).
-TEST(GridLayout, AdaptiveFactorsNestWhateverCameBefore) {
-    PlanDatabase db;
-    PlannedCage planned = planCage(featureCage(), db);
-    const GpuPlanData data = packPlans(planned);
-    const std::vector<glm::vec4> points = boundaryPointPositions(planned);
-    Bounds bounds = computeBounds(planned.cage());
-    RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
-    camera.eye = camera.target + 0.4f * (camera.eye - camera.target);
-    const AdaptiveView view{viewProjection(camera), pixelsPerUnit(projectionMatrix(camera), 320), 6.0f};
-    for (uint32_t before : {3u, 5u, 8u, 12u}) {
-        const GridFactors uniform = uniformGridFactors(data, before);
-        const GridFactors adaptive = adaptiveGridFactors(data, points, view, &uniform);
-        for (uint32_t d = 0; d < data.subfaces.size(); ++d)
-            for (const GpuEdgeRef& r : data.boundaries[d].edges) {
-                const uint32_t pieces = adaptive.segmentPieces[r.segment] * ((r.flags & 2) ? 2 : 1);
-                EXPECT_EQ(adaptive.subfaceFactor[d] % pieces, 0u) << "after uniform " << before << ", drawn sub-face " << d;
-            }
-    }
 }
