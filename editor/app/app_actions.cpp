@@ -97,6 +97,8 @@ bool bakeTo(EditorApp& app, const std::string& path) {
     return true;
 }
 
+void finishAutosave(EditorApp& app) { app.autosaver.waitAndDiscard(); }
+
 void adoptFinishedJob(EditorApp& app) {
     std::optional<Result<std::string>> done = app.job.take();
     if (!done) return;
@@ -139,6 +141,7 @@ void continuePending(EditorApp& app) {
     app.ui.continuePendingAfterSave = false;
     if (pending.kind == PendingAction::None) return;
     // The changes were saved or deliberately dropped: the autosave has nothing left to protect.
+    finishAutosave(app);
     removeRecovery(app.recoveryDir);
     if (pending.kind == PendingAction::Quit) app.running = false;
     if (pending.kind == PendingAction::Open) startLoad(app, LoadRequest{pending.path});
@@ -156,6 +159,7 @@ bool saveTo(EditorApp& app, const std::string& path) {
                            ". Your changes are kept (still unsaved): use File > Save As to save them somewhere else.");
         return false;
     }
+    finishAutosave(app);
     removeRecovery(app.recoveryDir);
     app.ui.status = "Saved " + path;
     return true;
@@ -163,6 +167,7 @@ bool saveTo(EditorApp& app, const std::string& path) {
 
 void stopOnFatalError(EditorApp& app, const std::string& message) {
     std::string rescued;
+    finishAutosave(app);
     if (app.doc->dirty && app.doc->planned) {
         const Status written = writeRecovery(app.recoveryDir, sceneToSave(*app.doc), RecoveryInfo{app.doc->path, localTimeNow()});
         rescued = written ? "; the unsaved changes were written to " + app.recoveryDir +
@@ -180,6 +185,7 @@ void restoreRecovery(EditorApp& app) {
         app.ui.recovery->restoreWhenIdle = true;
         return;
     }
+    finishAutosave(app);
     LoadRequest request{app.recoveryDir};
     request.fromRecovery = true;
     request.recoveredSource = app.ui.recovery->source;
@@ -188,6 +194,7 @@ void restoreRecovery(EditorApp& app) {
 }
 
 void discardRecovery(EditorApp& app) {
+    finishAutosave(app);
     removeRecovery(app.recoveryDir);
     app.ui.recovery.reset();
     app.ui.status = "Discarded the recovered work";

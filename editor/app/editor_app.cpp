@@ -200,27 +200,35 @@ void adoptFinishedLoad(EditorApp& app) {
     if (app.ui.recovery && app.ui.recovery->restoreWhenIdle) restoreRecovery(app);
 }
 
+// Every autosaveSeconds while there are unsaved changes, the scene is copied here and written on
+// the autosaver's thread; its outcome shows in the status line when it is done.
 void autosave(EditorApp& app) {
+    if (std::optional<Result<std::string>> done = app.autosaver.take()) {
+        if (*done) {
+            app.ui.status = done->value();
+        } else {
+            app.ui.status = "Autosave failed: " + done->error().message;
+            app.autosavedOnce = false;  // tried again at the next interval
+        }
+    }
     const Document& doc = *app.doc;
-    if (!doc.dirty || !doc.planned || app.recoveryDir.empty()) return;
+    if (!doc.dirty || !doc.planned || app.recoveryDir.empty() || app.autosaver.busy()) return;
     // The displacement and scene revisions only grow, so their sum changes whenever one does.
     const uint64_t displacement = doc.displacementRevision + doc.sampleRevision + doc.sceneRevision;
     const bool changed = !app.autosavedOnce || app.autosavedPositionRevision != doc.positionRevision ||
                          app.autosavedPlanRevision != doc.planRevision || app.autosavedDisplacementRevision != displacement;
     const double since = std::chrono::duration<double>(Clock::now() - app.lastAutosave).count();
     if (!changed || since < app.options.autosaveSeconds) return;
-    Scene scene = sceneToSave(doc);
-    Status written = writeRecovery(app.recoveryDir, scene, RecoveryInfo{doc.path, localTimeNow()});
+    app.autosaver.start([scene = sceneToSave(doc), directory = app.recoveryDir,
+                         info = RecoveryInfo{doc.path, localTimeNow()}](const auto&) -> Result<std::string> {
+        if (Status written = writeRecovery(directory, scene, info); !written) return written.error();
+        return "Autosaved to " + directory;
+    });
     app.lastAutosave = Clock::now();
-    if (!written) {
-        app.ui.status = "Autosave failed: " + written.error().message;
-        return;
-    }
     app.autosavedOnce = true;
     app.autosavedPositionRevision = doc.positionRevision;
     app.autosavedPlanRevision = doc.planRevision;
     app.autosavedDisplacementRevision = displacement;
-    app.ui.status = "Autosaved to " + app.recoveryDir;
 }
 
 void updateTitle(EditorApp& app) {
