@@ -197,6 +197,10 @@ bool Automation::execute(EditorApp& app, const AutomationCommand& c) {
         requestQuit(app);
         return false;
     }
+    if (n == "autosave") {  // this frame's autosave starts at once (when there are unsaved changes)
+        app.lastAutosave = std::chrono::steady_clock::time_point{};
+        return false;
+    }
     // A tool that refuses stops the script: its message is the status line.
     auto tool = [&](bool ok) {
         if (!ok) fail(c, app.ui.status.empty() ? app.ui.errorMessage : app.ui.status);

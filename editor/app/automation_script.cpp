@@ -34,6 +34,7 @@ const std::vector<CommandSpec> kCommands = {
     {"save", {}, {}},
     {"save-as", {Arg::Text}, {}},
     {"quit", {}, {}},
+    {"autosave", {}, {}},
     {"select-vertex", {Arg::Int}, {Arg::Word}},
     {"select-edge", {Arg::Int, Arg::Int}, {}},
     {"clear-selection", {}, {}},

@@ -73,6 +73,7 @@ json objectsState(EditorApp& app) {
 
 void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     const Document& doc = *app.doc;
+    const bool autosaveWriting = app.autosaver.busy();  // before the slow parts of the dump below
     json state;
     state["frame"] = app.frame;
     // Whether the last frame drew the 3D coarse while the camera moved (progressive refinement).
@@ -322,7 +323,8 @@ void Automation::dumpState(EditorApp& app, const AutomationCommand& c) {
     state["show_help"] = app.ui.showHelp;
     state["recovery"] = {{"directory", app.recoveryDir},
                          {"offered", app.ui.recovery.has_value()},
-                         {"file_exists", findRecovery(app.recoveryDir).has_value()}};
+                         {"file_exists", findRecovery(app.recoveryDir).has_value()},
+                         {"writing", autosaveWriting}};
     state["validation_messages"] = validationMessageCount(app.ctx);
     state["device"] = app.ctx.deviceName;
     if (Status s = writeFileAtomically(c.args[0], state.dump(1) + "\n"); !s) fail(c, s.error().message);

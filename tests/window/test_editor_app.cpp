@@ -489,6 +489,28 @@ TEST_F(EditorWindow, OffersAutosavedWorkAfterACrash) {
     EXPECT_FALSE(fs::exists(dir / "recovery" / "autosave.json"));
 }
 
+// The autosave is written off the UI thread: the frame after the one that starts it runs while
+// the large cage is still being written, and the files come out whole.
+TEST_F(EditorWindow, AutosavesALargeCageWithoutFreezing) {
+    const Cage big = makeBenchmarkCage(40000, 7);
+    ASSERT_TRUE(saveObj(big, (dir / "big.obj").string()).ok());
+    EditorProcess editor;
+    start(editor,
+          "wait-idle\nselect-vertex 10\nmove-selection 0 0.02 0\nwait-frames 2\nautosave\ndump-state a0.json\n"
+          "wait-file never 600\n",
+          (dir / "big.obj").string(), {"--autosave-seconds", "3600"});
+    const json a0 = waitForState(editor, "a0.json");
+    EXPECT_TRUE(a0["dirty"].get<bool>());
+    EXPECT_TRUE(a0["recovery"]["writing"].get<bool>()) << "the frame after the autosave started waited for its write";
+    ASSERT_TRUE(waitForFile(dir / "recovery" / "autosave-info.json", editor, 60.0)) << editor.output();
+    editor.kill();
+    Result<Scene> written = loadScene((dir / "recovery" / "autosave.json").string());
+    ASSERT_TRUE(written.ok()) << written.error().message;
+    ASSERT_EQ(written->objects.size(), 1u);
+    EXPECT_EQ(written->objects[0].cage.faceCount(), big.faceCount());
+    EXPECT_NEAR(written->objects[0].cage.positions[10].y, vertexOf(a0, 10).y, 1e-5f) << "the edit is in the autosave";
+}
+
 // Opening a large cage plans it off the UI thread: frames keep coming (with a progress bar)
 // until the new document takes over.
 TEST_F(EditorWindow, LoadsALargeCageWithoutFreezing) {
