@@ -511,6 +511,23 @@ TEST_F(EditorWindow, AutosavesALargeCageWithoutFreezing) {
     EXPECT_NEAR(written->objects[0].cage.positions[10].y, vertexOf(a0, 10).y, 1e-5f) << "the edit is in the autosave";
 }
 
+// Discarding the changes (quit, Discard changes) while an autosave is still being written waits
+// for it before removing the recovery files: none are left to be offered at the next start.
+TEST_F(EditorWindow, DiscardingDuringAnAutosaveLeavesNoRecovery) {
+    const Cage big = makeBenchmarkCage(40000, 7);
+    ASSERT_TRUE(saveObj(big, (dir / "big.obj").string()).ok());
+    EditorProcess editor;
+    start(editor,
+          "wait-idle\nselect-vertex 10\nmove-selection 0 0.02 0\nwait-frames 2\nautosave\ndump-state a0.json\n"
+          "quit\nclick-button Discard changes\n",
+          (dir / "big.obj").string(), {"--autosave-seconds", "3600"});
+    const json a0 = waitForState(editor, "a0.json");
+    expectCleanExit(editor);
+    EXPECT_TRUE(a0["recovery"]["writing"].get<bool>()) << "the autosave was no longer being written";
+    EXPECT_FALSE(fs::exists(dir / "recovery" / "autosave.json"));
+    EXPECT_FALSE(fs::exists(dir / "recovery" / "autosave-info.json"));
+}
+
 // Opening a large cage plans it off the UI thread: frames keep coming (with a progress bar)
 // until the new document takes over.
 TEST_F(EditorWindow, LoadsALargeCageWithoutFreezing) {
