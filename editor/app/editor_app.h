@@ -216,9 +216,9 @@ struct EditorApp {
     std::chrono::steady_clock::time_point lastAutosave;
     uint64_t autosavedPositionRevision = 0, autosavedPlanRevision = 0, autosavedDisplacementRevision = 0;
     bool autosavedOnce = false;
-    // Writes the autosave off the UI thread (formatting a 100k-face scene took 0.7 s there, a
-    // million faces several seconds): it holds its own copy of the scene. Whatever removes or
-    // writes the recovery files waits for it first (finishAutosave).
+    // Writes the autosave off the UI thread (formatting and writing a 100k-face scene took 0.7 s
+    // there): it holds its own copy of the scene. Whatever removes or writes the recovery files
+    // waits for it first (finishAutosave).
     BackgroundWork<std::string> autosaver;
 
     ViewCamera sharedCamera;
