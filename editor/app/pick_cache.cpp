@@ -105,6 +105,25 @@ void resetIfStale(PickCache& c, const Document& doc, uint64_t generation) {
 
 }  // namespace
 
+namespace {
+
+// The vertices that moved since revision `seen`, whose positions `copy` holds, with `copy`
+// brought up to date: the document's position step when it leads from there (the moved
+// vertices alone), else every position compared.
+std::vector<uint32_t> catchUpPositions(const Document& doc, uint64_t seen, std::vector<glm::vec3>& copy) {
+    const std::vector<glm::vec3>& positions = doc.planned->cage().positions;
+    if (seen == doc.positionRevision && copy.size() == positions.size()) return {};
+    if (doc.lastMove.leads(seen, doc.positionRevision) && copy.size() == positions.size()) {
+        for (uint32_t v : doc.lastMove.vertices) copy[v] = positions[v];
+        return doc.lastMove.vertices;
+    }
+    std::vector<uint32_t> moved = movedVertices(copy, positions);
+    copy = positions;
+    return moved;
+}
+
+}  // namespace
+
 const CageRaycaster& cageRaycaster(PickCache& c, const Document& doc, uint64_t generation) {
     resetIfStale(c, doc, generation);
     const bool noneMoved = doc.lastMove.leads(c.cageRevision, doc.positionRevision) && doc.lastMove.vertices.empty();
@@ -123,17 +142,16 @@ void noteTopologyChange(PickCache& c, const Document& doc, const EditReport& cha
 const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t generation) {
     resetIfStale(c, doc, generation);
     const auto start = std::chrono::steady_clock::now();
-    const std::vector<glm::vec3>& positions = doc.planned->cage().positions;
-    const bool oneStep = doc.lastMove.leads(c.limitRevision, doc.positionRevision) && c.limitPositions.size() == positions.size();
     if (!c.limit) {
         c.limit.emplace(*doc.planned, LimitPicker::resolutionFor(doc.planned->subfaceCount()));
         ++c.limitBuilds;
         c.limitPlans = plansAndRotations(*doc.planned);
         c.limitRings = ringHashes(*doc.planned);
         c.replanned.clear();
+        c.limitPositions = doc.planned->cage().positions;
     } else if (c.limitRevision != doc.positionRevision || !c.replanned.empty()) {
         EditReport changed;  // the sub-faces whose control points or plans changed
-        changed.updatedSubfaceList = c.index.touched(oneStep ? doc.lastMove.vertices : movedVertices(c.limitPositions, positions));
+        changed.updatedSubfaceList = c.index.touched(catchUpPositions(doc, c.limitRevision, c.limitPositions));
         changed.updatedSubfaceList.insert(changed.updatedSubfaceList.end(), c.replanned.begin(), c.replanned.end());
         std::sort(changed.updatedSubfaceList.begin(), changed.updatedSubfaceList.end());
         changed.updatedSubfaceList.erase(std::unique(changed.updatedSubfaceList.begin(), changed.updatedSubfaceList.end()),
@@ -144,10 +162,6 @@ const LimitPicker& limitPicker(PickCache& c, const Document& doc, uint64_t gener
     } else {
         return *c.limit;
     }
-    if (oneStep)
-        for (uint32_t v : doc.lastMove.vertices) c.limitPositions[v] = positions[v];
-    else
-        c.limitPositions = positions;
     c.limitRevision = doc.positionRevision;
     c.lastLimitMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return *c.limit;
@@ -182,10 +196,7 @@ void sortUnique(std::vector<uint32_t>& list) {
 const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64_t generation) {
     resetIfStale(c, doc, generation);
     const Displacement& displacement = displacementOf(doc);
-    const std::vector<glm::vec3>& positions = doc.planned->cage().positions;
     const auto start = std::chrono::steady_clock::now();
-    const bool oneStep =
-        doc.lastMove.leads(c.displacedRevision, doc.positionRevision) && c.displacedPositions.size() == positions.size();
     // A new layout (new, resampled, cleared displacement), a lost picker, or changes the
     // document no longer lists (the picker fell far behind): sample everything.
     const bool rebuild = !c.displaced || c.displacedLayout != doc.displacementRevision ||
@@ -194,13 +205,13 @@ const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64
         c.displaced.emplace(*doc.planned, displacement);
         ++c.displacedBuilds;
         c.displacedReplanned.clear();
+        c.displacedPositions = doc.planned->cage().positions;
     } else {
         const bool moved = c.displacedRevision != doc.positionRevision || !c.displacedReplanned.empty();
         const bool painted = c.displacedSampleRevision != doc.sampleRevision;
         if (!moved && !painted) return *c.displaced;
         if (moved) {  // the limit surface changed under these sub-faces
-            std::vector<uint32_t> stale =
-                c.index.touched(oneStep ? doc.lastMove.vertices : movedVertices(c.displacedPositions, positions));
+            std::vector<uint32_t> stale = c.index.touched(catchUpPositions(doc, c.displacedRevision, c.displacedPositions));
             stale.insert(stale.end(), c.displacedReplanned.begin(), c.displacedReplanned.end());
             sortUnique(stale);
             c.displacedReplanned.clear();
@@ -211,10 +222,6 @@ const DisplacedPicker& displacedPicker(PickCache& c, const Document& doc, uint64
             if (!samples.empty()) c.displaced->updateSamples(*doc.planned, displacement, samples);
         }
     }
-    if (oneStep)
-        for (uint32_t v : doc.lastMove.vertices) c.displacedPositions[v] = positions[v];
-    else if (c.displacedRevision != doc.positionRevision)
-        c.displacedPositions = positions;
     c.displacedSampleStream = sampleStreamEnd(doc);
     c.displacedRevision = doc.positionRevision;
     c.displacedLayout = doc.displacementRevision;

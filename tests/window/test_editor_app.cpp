@@ -107,6 +107,17 @@ protected:
         editor.start(args, dir, environment(), dir / "editor.log");
     }
 
+    // A 40k-face cage opened and vertex 10 moved, an autosave started (the automation's
+    // `autosave`) and the state dumped in the next frame (a0.json), then `then`. Returns the cage.
+    Cage startAutosaveOfALargeCage(EditorProcess& editor, const std::string& then) {
+        const Cage big = makeBenchmarkCage(40000, 7);
+        EXPECT_TRUE(saveObj(big, (dir / "big.obj").string()).ok());
+        start(editor,
+              "wait-idle\nselect-vertex 10\nmove-selection 0 0.02 0\nwait-frames 2\nautosave\ndump-state a0.json\n" + then,
+              (dir / "big.obj").string(), {"--autosave-seconds", "3600"});
+        return big;
+    }
+
     json waitForState(EditorProcess& editor, const std::string& name) {
         EXPECT_TRUE(waitForFile(dir / name, editor, kRunSeconds)) << name << " never came; editor output:\n"
                                                                   << editor.output();
@@ -492,13 +503,8 @@ TEST_F(EditorWindow, OffersAutosavedWorkAfterACrash) {
 // The autosave is written off the UI thread: the frame after the one that starts it runs while
 // the large cage is still being written, and the files come out whole.
 TEST_F(EditorWindow, AutosavesALargeCageWithoutFreezing) {
-    const Cage big = makeBenchmarkCage(40000, 7);
-    ASSERT_TRUE(saveObj(big, (dir / "big.obj").string()).ok());
     EditorProcess editor;
-    start(editor,
-          "wait-idle\nselect-vertex 10\nmove-selection 0 0.02 0\nwait-frames 2\nautosave\ndump-state a0.json\n"
-          "wait-file never 600\n",
-          (dir / "big.obj").string(), {"--autosave-seconds", "3600"});
+    const Cage big = startAutosaveOfALargeCage(editor, "wait-file never 600\n");
     const json a0 = waitForState(editor, "a0.json");
     EXPECT_TRUE(a0["dirty"].get<bool>());
     EXPECT_TRUE(a0["recovery"]["writing"].get<bool>()) << "the frame after the autosave started waited for its write";
@@ -514,13 +520,8 @@ TEST_F(EditorWindow, AutosavesALargeCageWithoutFreezing) {
 // Discarding the changes (quit, Discard changes) while an autosave is still being written waits
 // for it before removing the recovery files: none are left to be offered at the next start.
 TEST_F(EditorWindow, DiscardingDuringAnAutosaveLeavesNoRecovery) {
-    const Cage big = makeBenchmarkCage(40000, 7);
-    ASSERT_TRUE(saveObj(big, (dir / "big.obj").string()).ok());
     EditorProcess editor;
-    start(editor,
-          "wait-idle\nselect-vertex 10\nmove-selection 0 0.02 0\nwait-frames 2\nautosave\ndump-state a0.json\n"
-          "quit\nclick-button Discard changes\n",
-          (dir / "big.obj").string(), {"--autosave-seconds", "3600"});
+    startAutosaveOfALargeCage(editor, "quit\nclick-button Discard changes\n");
     const json a0 = waitForState(editor, "a0.json");
     expectCleanExit(editor);
     EXPECT_TRUE(a0["recovery"]["writing"].get<bool>()) << "the autosave was no longer being written";
