@@ -1,9 +1,9 @@
 // quadplan cull-stats (issue 20): culling measured by drawing. From views on a sphere around a
 // cage or scene, the scheme draws every frame unculled and with each method (DrawView::cull);
 // per method the share of patches culled, the frame time against the unculled frame, and the
-// two promises checked: no culled sub-face owns a pixel of the unculled ID buffer
-// (visible_culled) and the culled picture is the unculled one (differing_pixels). A promise
-// broken is an error: exit status 3.
+// two promises checked: no culled part (patch or sub-face, cull_stats_views.h) owns a pixel of the
+// unculled ID buffer (visible_culled) and the culled picture is the unculled one
+// (differing_pixels). A promise broken is an error: exit status 3.
 #include <algorithm>
 #include <cstdio>
 #include <numeric>
@@ -59,7 +59,7 @@ double mean(const std::vector<double>& values) {
 struct Broken {
     uint32_t view = 0;
     glm::vec3 eye{0.0f}, target{0.0f};
-    VisibleCulled subface;  // pixels 0: no culled sub-face showed in this view
+    VisibleCulled part;  // pixels 0: no culled part showed in this view
     uint64_t differingPixels = 0;
 };
 
@@ -67,7 +67,7 @@ struct Broken {
 struct MethodSummary {
     std::vector<double> fractions, frameMs, gpuMs, triangles, facingAway, cullMs;
     CullCounts counts;
-    uint64_t differingPixels = 0, culledSubfaces = 0, visibleCulled = 0;
+    uint64_t differingPixels = 0, culledParts = 0, visibleCulled = 0;
     std::vector<Broken> broken;
 
     void add(const MethodInView& m, uint32_t view, const RenderCamera& camera) {
@@ -81,9 +81,9 @@ struct MethodSummary {
         counts.tested += c.tested, counts.frustum += c.frustum, counts.backFacing += c.backFacing;
         counts.frustumOnly += c.frustumOnly;
         differingPixels += m.differingPixels;
-        culledSubfaces += m.culledSubfaces;
-        visibleCulled += m.visibleCulledSubfaces.size();
-        for (const VisibleCulled& v : m.visibleCulledSubfaces) broken.push_back({view, camera.eye, camera.target, v, 0});
+        culledParts += m.culledParts;
+        visibleCulled += m.visibleCulledParts.size();
+        for (const VisibleCulled& v : m.visibleCulledParts) broken.push_back({view, camera.eye, camera.target, v, 0});
         if (m.differingPixels > 0) broken.push_back({view, camera.eye, camera.target, {}, m.differingPixels});
     }
 };
@@ -91,7 +91,8 @@ struct MethodSummary {
 // Every view's measurements, and what the report says about the setting.
 struct Measured {
     std::vector<MethodSummary> summaries = std::vector<MethodSummary>(1 + kMeasuredCullMethods.size());  // [0]: unculled
-    std::vector<double> visibleSubfaces;  // per view
+    std::vector<double> visibleParts;  // per view
+    std::string idParts = "sub-faces";  // what the ID buffers number: "patches", "sub-faces" or both
     std::string device, drawnBy = "?";
     bool closed = true;  // every cage a closed outward surface (closed_surface.h)
     std::vector<std::string> objectNames;
@@ -107,10 +108,10 @@ nlohmann::ordered_json brokenJson(const std::vector<Broken>& broken, const Measu
     nlohmann::ordered_json out = nlohmann::ordered_json::array();
     for (const Broken& b : broken) {
         nlohmann::ordered_json entry = {{"view", b.view}, {"camera", cameraText(b)}};
-        if (b.subface.pixels > 0) {
-            entry["object"] = measured.objectNames[b.subface.object];
-            entry["subface"] = b.subface.subface;
-            entry["pixels"] = b.subface.pixels;
+        if (b.part.pixels > 0) {
+            entry["object"] = measured.objectNames[b.part.object];
+            entry[b.part.patch ? "patch" : "subface"] = b.part.part;
+            entry["pixels"] = b.part.pixels;
         } else {
             entry["differing_pixels"] = b.differingPixels;
         }
@@ -122,11 +123,11 @@ nlohmann::ordered_json brokenJson(const std::vector<Broken>& broken, const Measu
 // Each broken promise on stderr, with the camera that shows it.
 void printBroken(CullMethod method, const std::vector<Broken>& broken, const Measured& measured) {
     for (const Broken& b : broken) {
-        if (b.subface.pixels > 0)
-            std::fprintf(stderr, "error: %s culled sub-face %u of object \"%s\" in view %u (--camera %s), which owns %u pixels "
+        if (b.part.pixels > 0)
+            std::fprintf(stderr, "error: %s culled %s %u of object \"%s\" in view %u (--camera %s), which owns %u pixels "
                                  "of the unculled ID buffer\n",
-                         cullMethodName(method), b.subface.subface, measured.objectNames[b.subface.object].c_str(), b.view,
-                         cameraText(b).c_str(), b.subface.pixels);
+                         cullMethodName(method), b.part.patch ? "patch" : "sub-face", b.part.part,
+                         measured.objectNames[b.part.object].c_str(), b.view, cameraText(b).c_str(), b.part.pixels);
         else
             std::fprintf(stderr, "error: %s: view %u (--camera %s) differs from the unculled frame in %llu pixels\n",
                          cullMethodName(method), b.view, cameraText(b).c_str(), (unsigned long long)b.differingPixels);
@@ -141,7 +142,7 @@ int report(const CullStatsArgs& args, const Measured& measured) {
         patches = std::max<uint64_t>(patches, summaries[m].counts.tested / std::max<uint64_t>(1, args.views));
         differing += summaries[m].differingPixels;
         visible += summaries[m].visibleCulled;
-        checked += summaries[m].culledSubfaces;
+        checked += summaries[m].culledParts;
     }
     nlohmann::ordered_json methods;
     for (size_t m = 1; m < summaries.size(); ++m) {
@@ -160,7 +161,7 @@ int report(const CullStatsArgs& args, const Measured& measured) {
             {"frustum", s.counts.frustum},
             {"back_facing", s.counts.backFacing},
             {"frustum_only", s.counts.frustumOnly},
-            {"culled_subfaces", s.culledSubfaces},
+            {"culled_parts", s.culledParts},
             {"visible_culled", s.visibleCulled},
             {"differing_pixels", s.differingPixels},
             {"broken", brokenJson(s.broken, measured)}};
@@ -174,8 +175,8 @@ int report(const CullStatsArgs& args, const Measured& measured) {
             {"file", inputName(args)}, {"scheme", args.scheme}, {"path", measured.drawnBy}, {"tess", args.tess},
             {"size", args.size}, {"device", measured.device}, {"views", args.views}, {"repeats", args.repeats},
             {"objects", measured.objectNames.size()}, {"closed", measured.closed}, {"patches", patches},
-            {"visible_subfaces", mean(measured.visibleSubfaces)},
-            {"visible_culled", visible}, {"culled_subfaces", checked},
+            {"id_parts", measured.idParts}, {"visible_parts", mean(measured.visibleParts)},
+            {"visible_culled", visible}, {"culled_parts", checked},
             {"differing_pixels", differing}, {"timing", timing},
             {"unculled", {{"frame_ms", mean(none.frameMs)}, {"gpu_ms", mean(none.gpuMs)}, {"triangles", mean(none.triangles)}}},
             {"methods", methods}};
@@ -199,17 +200,19 @@ int report(const CullStatsArgs& args, const Measured& measured) {
                         j["gpu_ratio"].get<double>(), j["cull_ms"].get<double>());
         }
         std::printf("(%s)\n", timing);
-        // The ID buffer numbers sub-faces: a scheme that culls parts of a sub-face (osd-fas' Far
-        // patches) has only its wholly culled sub-faces checked; the pictures' comparison
-        // covers the rest.
-        std::printf("visible_culled: %llu of %llu sub-faces culled whole (over every view and method) own a pixel of "
-                    "their object's unculled ID buffer, in which %.1f sub-faces a view own pixels\n",
-                    (unsigned long long)visible, (unsigned long long)checked, mean(measured.visibleSubfaces));
+        // Numbering sub-faces, the ID buffer checks the sub-faces culled whole: a scheme that culls
+        // patches inside a sub-face without saying what it draws per patch (acc1, acc2 and pn on
+        // the tess path of a refined cage) has the rest covered by the pictures' comparison.
+        const char* culledParts = measured.idParts == "sub-faces" ? "sub-faces culled whole" : measured.idParts.c_str();
+        std::printf("visible_culled: %llu of %llu %s (over every view and method) own a pixel of their object's unculled "
+                    "ID buffer, in which %.1f %s a view own pixels\n",
+                    (unsigned long long)visible, (unsigned long long)checked, culledParts, mean(measured.visibleParts),
+                    measured.idParts.c_str());
         std::printf("differing_pixels: %llu (culled frames against unculled ones)\n", (unsigned long long)differing);
     }
     if (visible > 0 || differing > 0) {
-        std::fprintf(stderr, "error: culling showed in the picture: %llu visible sub-faces culled, %llu pixels differ\n",
-                     (unsigned long long)visible, (unsigned long long)differing);
+        std::fprintf(stderr, "error: culling showed in the picture: %llu visible %s culled, %llu pixels differ\n",
+                     (unsigned long long)visible, measured.idParts.c_str(), (unsigned long long)differing);
         return 3;
     }
     return 0;
@@ -245,6 +248,9 @@ int runCullStats(const CullStatsArgs& args) {
     if (!h.problem.empty()) return destroyHeadlessScene(h, args.validate, fail(h.problem));
     Result<CullStatsRig> rig = createCullStatsRig(h, scene, planned, args.tess);
     if (!rig) return destroyHeadlessScene(h, args.validate, fail(rig.error().message));
+    const auto numbersPatches = [](const PartIdMesh& parts) { return parts.patches; };
+    if (!rig->meshes.empty() && std::all_of(rig->meshes.begin(), rig->meshes.end(), numbersPatches)) measured.idParts = "patches";
+    else if (std::any_of(rig->meshes.begin(), rig->meshes.end(), numbersPatches)) measured.idParts = "patches and sub-faces";
 
     measured.device = h.ctx.deviceName;
     int status = 0;
@@ -257,7 +263,7 @@ int runCullStats(const CullStatsArgs& args) {
             break;
         }
         for (size_t m = 0; m < measured.summaries.size(); ++m) measured.summaries[m].add(view->methods[m], v, cameras[v]);
-        measured.visibleSubfaces.push_back(double(view->visibleSubfaces));
+        measured.visibleParts.push_back(double(view->visibleParts));
         measured.drawnBy = drawnByName(view->methods[0].draw.drawnBy);
     }
     if (status == 0) status = report(args, measured);

@@ -15,12 +15,24 @@ namespace qp::cli {
 
 namespace {
 
-// The ID mesh of one cage: the scheme's own surface on the grid it draws (buildSubfaceGrid at its
-// factor; displacedSchemeMesh's grids for a displaced object), each vertex numbered by its
-// sub-face. Neither builder shares a vertex between sub-faces, so every triangle has one number.
+// The ID mesh's vertices of one cage (PartIdMesh): the scheme's drawn patches where it gives them,
+// else its surface on the grid it draws (buildSubfaceGrid at its factor; displacedSchemeMesh's
+// grids for a displaced object), each vertex numbered by its sub-face. No builder shares a vertex
+// between parts, so every triangle has one number.
 Result<std::vector<IdVertex>> idVertices(const SchemeInstance& scheme, const PlannedCage& cage, const Displacement& displacement,
-                                         uint32_t factor, std::vector<uint32_t>& indices) {
+                                         uint32_t factor, std::vector<uint32_t>& indices, PartIdMesh& parts) {
     std::vector<IdVertex> vertices;
+    Result<PatchTriangles> patches = scheme.drawnPatches();
+    if (!patches) return patches.error();
+    if (!patches->indices.empty()) {
+        parts.patches = true;
+        parts.parts = patches->patchCount;
+        vertices.resize(patches->positions.size());
+        for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = {patches->positions[i], patches->patchOfVertex[i]};
+        indices = std::move(patches->indices);
+        return vertices;
+    }
+    parts.parts = cage.subfaceCount();
     if (!displacement.empty()) {
         Result<DisplacedMesh> mesh =
             displacedSchemeMesh(scheme.scheme(), cage, displacement, displacedGridFactor(cage, displacement, factor));
@@ -52,40 +64,43 @@ uint64_t differingPixels(const std::vector<uint8_t>& a, const std::vector<uint8_
     return count;
 }
 
-// Per sub-face of `cage`, the pixels it owns in `object`'s ID buffer.
-Result<std::vector<uint32_t>> pixelsPerSubface(HeadlessScene& h, const CullStatsRig& rig, uint32_t cage, const DrawView& object,
-                                               uint32_t subfaceCount) {
-    std::vector<uint32_t> owns(subfaceCount, 0);
-    if (rig.meshes[cage].indexCount == 0) return owns;
+// Per part of `cage`'s ID mesh, the pixels it owns in `object`'s ID buffer.
+Result<std::vector<uint32_t>> pixelsPerPart(HeadlessScene& h, const CullStatsRig& rig, uint32_t cage, const DrawView& object) {
+    const PartIdMesh& parts = rig.meshes[cage];
+    std::vector<uint32_t> owns(parts.parts, 0);
+    if (parts.mesh.indexCount == 0) return owns;
     const RenderTarget target = renderTarget(*h.target);
     if (Status drawn = submitAndWait(h.ctx, [&](VkCommandBuffer cmd) {
-            recordIdPass(cmd, rig.pass, target, object.viewProjection, true, rig.meshes[cage]);
+            recordIdPass(cmd, rig.pass, target, object.viewProjection, true, parts.mesh);
         });
         !drawn)
         return drawn.error();
     Result<std::vector<uint8_t>> pixels = readPixels(h.ctx, *h.target);
     if (!pixels) return pixels.error();
     for (size_t i = 0; i < pixels->size(); i += 4)
-        if (const uint32_t id = decodeId(pixels->data() + i); id < subfaceCount) ++owns[id];
+        if (const uint32_t id = decodeId(pixels->data() + i); id < owns.size()) ++owns[id];
     return owns;
 }
 
-// Each object drawn alone with each method, the sub-faces it reports culled checked against the
-// object's ID buffer (objects without a cage of their own use their source's).
-Status checkCulledSubfaces(HeadlessScene& h, CullStatsRig& rig, const Scene& scene, const PlannedScene& planned,
-                           const DrawView& view, ViewMeasurement& out) {
+// Each object drawn alone with each method, the parts it reports culled (patches or sub-faces,
+// as its ID mesh numbers them) checked against the object's ID buffer (objects without a cage of
+// their own use their source's).
+Status checkCulledParts(HeadlessScene& h, CullStatsRig& rig, const Scene& scene, const PlannedScene& planned,
+                        const DrawView& view, ViewMeasurement& out) {
     const RenderTarget target = renderTarget(*h.target);
     for (uint32_t o = 0; o < scene.objects.size(); ++o) {
         if (!scene.objects[o].visible) continue;
         const uint32_t cage = planned.cageOfObject[o];
         DrawView object = objectView(view, scene.objects[o].transform);
-        Result<std::vector<uint32_t>> owns = pixelsPerSubface(h, rig, cage, object, planned.cages[cage].subfaceCount());
+        Result<std::vector<uint32_t>> owns = pixelsPerPart(h, rig, cage, object);
         if (!owns) return owns.error();
-        out.visibleSubfaces += uint64_t(owns->size() - size_t(std::count(owns->begin(), owns->end(), 0u)));
+        out.visibleParts += uint64_t(owns->size() - size_t(std::count(owns->begin(), owns->end(), 0u)));
+        const bool patches = rig.meshes[cage].patches;
         for (size_t m = 0; m < kMeasuredCullMethods.size(); ++m) {
             std::vector<uint32_t> culled;
             object.cull = kMeasuredCullMethods[m];
-            object.culledSubfacesOut = &culled;
+            object.culledSubfacesOut = patches ? nullptr : &culled;
+            object.culledPatchesOut = patches ? &culled : nullptr;
             Result<DrawStats> drawn = DrawStats{};
             if (Status submitted = submitAndWait(h.ctx, [&](VkCommandBuffer cmd) {
                     drawn = h.schemes->cages[cage].instance.record(cmd, target, object);
@@ -94,9 +109,9 @@ Status checkCulledSubfaces(HeadlessScene& h, CullStatsRig& rig, const Scene& sce
                 return submitted;
             if (!drawn) return drawn.error();
             MethodInView& result = out.methods[1 + m];
-            result.culledSubfaces += culled.size();
-            for (uint32_t s : culled)
-                if (s < owns->size() && (*owns)[s] > 0) result.visibleCulledSubfaces.push_back({o, s, (*owns)[s]});
+            result.culledParts += culled.size();
+            for (uint32_t part : culled)
+                if (part < owns->size() && (*owns)[part] > 0) result.visibleCulledParts.push_back({o, part, patches, (*owns)[part]});
         }
     }
     return success();
@@ -129,14 +144,16 @@ Result<CullStatsRig> createCullStatsRig(HeadlessScene& h, const Scene& scene, co
     rig.timer = *timer;
     for (uint32_t c = 0; c < planned.cages.size(); ++c) {
         const PlannedCage& cage = planned.cages[c];
-        if (cage.subfaceCount() > kMaxId + 1) {
-            destroyCullStatsRig(h.ctx, rig);
-            return Error{"the cage has " + std::to_string(cage.subfaceCount()) + " sub-faces; an ID buffer holds at most " +
-                         std::to_string(kMaxId + 1)};
-        }
         std::vector<uint32_t> indices;
+        PartIdMesh parts;
         Result<std::vector<IdVertex>> vertices = idVertices(h.schemes->cages[c].instance, cage,
-                                                            scene.objects[planned.objectOfCage[c]].displacement, tessFactor, indices);
+                                                            scene.objects[planned.objectOfCage[c]].displacement, tessFactor,
+                                                            indices, parts);
+        if (vertices && parts.parts > kMaxId + 1) {
+            destroyCullStatsRig(h.ctx, rig);
+            return Error{"the cage has " + std::to_string(parts.parts) + (parts.patches ? " patches" : " sub-faces") +
+                         "; an ID buffer holds at most " + std::to_string(kMaxId + 1)};
+        }
         Result<IdMesh> mesh = !vertices              ? Result<IdMesh>(vertices.error())
                               : vertices->empty()    ? Result<IdMesh>(IdMesh{})
                                                      : uploadIdMesh(h.ctx, *vertices, indices);
@@ -144,14 +161,15 @@ Result<CullStatsRig> createCullStatsRig(HeadlessScene& h, const Scene& scene, co
             destroyCullStatsRig(h.ctx, rig);
             return Error{"cannot build the ID buffer's mesh: " + mesh.error().message};
         }
-        rig.meshes.push_back(*mesh);
+        parts.mesh = *mesh;
+        rig.meshes.push_back(parts);
     }
     return rig;
 }
 
 void destroyCullStatsRig(const VulkanContext& ctx, CullStatsRig& rig) {
-    for (IdMesh& mesh : rig.meshes)
-        if (mesh.indexCount) destroyIdMesh(ctx, mesh);
+    for (PartIdMesh& parts : rig.meshes)
+        if (parts.mesh.indexCount) destroyIdMesh(ctx, parts.mesh);
     rig.meshes.clear();
     if (rig.timer.pool) destroyGpuTimer(ctx, rig.timer);
     destroyIdPass(ctx, rig.pass);
@@ -193,7 +211,7 @@ Result<ViewMeasurement> measureView(HeadlessScene& h, CullStatsRig& rig, const S
         if (m == 0) unculled = std::move(*pixels);
         else result.differingPixels = differingPixels(unculled, *pixels);
     }
-    if (Status checked = checkCulledSubfaces(h, rig, scene, planned, view, out); !checked) return checked.error();
+    if (Status checked = checkCulledParts(h, rig, scene, planned, view, out); !checked) return checked.error();
     return out;
 }
 

@@ -61,7 +61,7 @@
 
 namespace qp {
 
-inline constexpr uint32_t kSchemeApiVersion = 11;
+inline constexpr uint32_t kSchemeApiVersion = 12;
 
 // ---- What a cage asks of a scheme ---------------------------------------------------------
 
@@ -170,6 +170,10 @@ struct DrawView {
     // sub-face drawn as several patches counts when all of them were culled): `quadplan
     // cull-stats` checks them against an ID buffer of the unculled frame.
     std::vector<uint32_t>* culledSubfacesOut = nullptr;
+    // When set for a scheme whose Scheme::drawnPatches() gives triangles, record() writes here
+    // the patches it culled this frame (sorted, in that numbering): `quadplan cull-stats` checks
+    // each against an ID buffer of those triangles.
+    std::vector<uint32_t>* culledPatchesOut = nullptr;
     // A scheme that writes its triangles on the host may leave out those that cover no pixel
     // centre of target.area (plans' CPU grid: render/sample_culling.h). The picture is the same;
     // false draws every triangle (benchmarks compare the two).
@@ -230,6 +234,16 @@ struct SurfacePoint {
     glm::vec3 normal{0.0f};
     glm::vec3 du{0.0f}, dv{0.0f};  // zero when hasDerivatives is false
     bool hasDerivatives = false;
+};
+
+// The triangles record() draws for the unculled frame, each vertex numbered by the patch
+// (culling entry) it belongs to; no vertex is shared between patches, so every triangle has one
+// number. For the ID buffer of `quadplan cull-stats` (render/id_pass.h).
+struct PatchTriangles {
+    std::vector<glm::vec3> positions;
+    std::vector<uint32_t> patchOfVertex;  // parallel to positions
+    std::vector<uint32_t> indices;        // three per triangle
+    uint32_t patchCount = 0;
 };
 
 // What a tag or topology edit did to the planned cage a scheme was built for (PlannedCage is
@@ -294,6 +308,13 @@ public:
     // concurrently from several threads on disjoint spans.
     virtual void evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const = 0;
     virtual SchemeStats stats() const = 0;
+    // A scheme whose culling leaves out patches smaller than a sub-face (osd-fas' Far patches
+    // next to an extraordinary vertex) gives the triangles it draws, numbered by patch, so that
+    // every culled patch can be checked against an ID buffer of them (DrawView::culledPatchesOut).
+    // On a tessellator path: the same patches tessellated on the host as close to the
+    // tessellator as it can. None (the default): the ID buffer numbers sub-faces, and only the
+    // sub-faces a scheme culls whole are checked against it.
+    virtual Result<PatchTriangles> drawnPatches() const { return PatchTriangles{}; }
     // Colour modes record() understands; the first is the default ("shading").
     virtual std::vector<std::string> colorModes() const { return {"shading"}; }
     virtual void destroyGpu() = 0;

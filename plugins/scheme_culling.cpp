@@ -184,17 +184,20 @@ std::vector<float> displacementMargins(const Displacement& displacement) {
 std::vector<uint32_t> cullPatchesForView(PatchCulling& culling, const PatchBounds& patches, const DrawView& view,
                                          DrawStats& stats) {
     if (view.culledSubfacesOut) view.culledSubfacesOut->clear();
+    if (view.culledPatchesOut) view.culledPatchesOut->clear();
     if (view.cull == CullMethod::None) return {};
     ensureBounds(culling, false, patches, nullptr, stats);
     const std::vector<uint32_t> culled =
         keepBesideDrawn(cullForView(*culling.bounds, culling.closed, {}, view, stats), culling.patchNeighbours, *culling.bounds, view, stats);
     if (view.culledSubfacesOut) *view.culledSubfacesOut = whollyCulledSubfaces(culling.cover, culled);
+    if (view.culledPatchesOut) *view.culledPatchesOut = culled;
     return culled;
 }
 
 std::vector<uint32_t> cullSubfacesForView(PatchCulling& culling, const PatchBounds& patches,
                                           const Displacement* displacement, const DrawView& view, DrawStats& stats) {
     if (view.culledSubfacesOut) view.culledSubfacesOut->clear();
+    if (view.culledPatchesOut) view.culledPatchesOut->clear();
     stats.patches = patches.count;
     if (view.cull == CullMethod::None) return {};
     ensureBounds(culling, true, patches, displacement, stats);

@@ -101,7 +101,8 @@ struct PatchCulling {
 };
 // The patches `view` culls (sorted; none without DrawView::cull), from one entry per patch; the
 // counts into stats.cull and the time (building the bounds included) into
-// stats.cullMilliseconds; *view.culledSubfacesOut (when set) gets the sub-faces wholly culled.
+// stats.cullMilliseconds; *view.culledSubfacesOut (when set) gets the sub-faces wholly culled,
+// *view.culledPatchesOut the culled patches.
 std::vector<uint32_t> cullPatchesForView(PatchCulling& culling, const PatchBounds& patches, const DrawView& view,
                                          DrawStats& stats);
 // The same per sub-face (the grid paths), boxes grown by `displacement`'s margins when it is set

@@ -229,6 +229,10 @@ Result<SchemeStats> SchemeInstance::stats() const {
     return guarded(name(), "statistics", [&]() -> Result<SchemeStats> { return scheme_->stats(); });
 }
 
+Result<PatchTriangles> SchemeInstance::drawnPatches() const {
+    return guarded(name(), "drawnPatches", [&]() -> Result<PatchTriangles> { return scheme_->drawnPatches(); });
+}
+
 Result<std::vector<std::string>> SchemeInstance::colorModes() const {
     return guarded(name(), "colorModes", [&]() -> Result<std::vector<std::string>> { return scheme_->colorModes(); });
 }

@@ -83,6 +83,7 @@ public:
     // All requests, in parallel (scheme_support.h: evaluateParallel).
     Status evaluate(std::span<const SampleRequest> requests, std::span<SurfacePoint> out) const;
     Result<SchemeStats> stats() const;
+    Result<PatchTriangles> drawnPatches() const;  // Scheme::drawnPatches
     Result<std::vector<std::string>> colorModes() const;
     Status destroyGpu();  // does nothing when no GPU part exists
 

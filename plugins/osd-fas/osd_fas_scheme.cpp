@@ -26,6 +26,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <optional>
 
 #include <glm/vec3.hpp>
 
@@ -246,6 +247,32 @@ public:
             const FasSample s = evaluateFas(patches_, requests[i].subface, requests[i].u, requests[i].v);
             out[i] = surfacePoint(s.position, s.du, s.dv);
         }
+    }
+
+    // The CPU path's own mesh: the triangles it draws, bit for bit. The tess path keeps no host
+    // tessellation at its factor, so the same patches are laid out again at it (F / 2^d segments
+    // at depth d, as fasUniformLevels gives the tessellator): the same lattice points, the
+    // triangles of a transition edge and of the tessellator's outer ring joined differently.
+    Result<PatchTriangles> drawnPatches() const override {
+        // Displaced, culling is per sub-face; the tessellator's screen-adaptive levels follow the view.
+        if (displacement_ || (haveTess_ && settings_.adaptivePixels > 0.0f)) return PatchTriangles{};
+        std::optional<FasPatches> laidOut;
+        if (haveTess_) {
+            Result<FasPatches> built = buildFasPatches(planned_->cage(), settings_.planDepth, std::min(settings_.tessFactor, 64u));
+            if (!built) return built.error();
+            laidOut = std::move(*built);
+            updateFasPoints(*laidOut, planned_->cage().positions);
+        }
+        const FasPatches& drawn = laidOut ? *laidOut : patches_;
+        PatchTriangles out;
+        std::vector<glm::vec3> normals;
+        tessellateFas(drawn, out.positions, normals);
+        out.patchOfVertex.resize(out.positions.size());
+        for (uint32_t p = 0; p < drawn.layout.size(); ++p)
+            std::fill_n(out.patchOfVertex.begin() + drawn.layout[p].firstVertex, drawn.layout[p].vertexCount, p);
+        out.indices = drawn.indices;
+        out.patchCount = uint32_t(drawn.layout.size());
+        return out;
     }
 
     SchemeStats stats() const override {

@@ -1,6 +1,7 @@
 // Culling through the real executable (issue 20): `cull-stats` on a small closed torus keeps
 // both promises (no culled sub-face owns a pixel of the unculled ID buffer, culled pictures equal
-// unculled ones), its back-patch methods cull in order and pplane culls; on an open grid nothing
+// unculled ones), its back-patch methods cull in order and pplane culls; osd-fas has its culled
+// Far patches checked against an ID buffer of patches; on an open grid nothing
 // is culled as facing away. `render --json` and `compare --json` report what a frame culled.
 // Bad input gets a clear message.
 #include <filesystem>
@@ -50,7 +51,8 @@ TEST(CliCullStats, ClosedTorusKeepsThePromisesAndCullsInOrder) {
         EXPECT_EQ(out["views"], 4);
         EXPECT_EQ(out["patches"], 288) << "24 x 12 quads, one sub-face each";
         EXPECT_TRUE(out["closed"].get<bool>());
-        EXPECT_GT(out["visible_subfaces"].get<double>(), 0.0) << "the ID buffer shows the surface";
+        EXPECT_EQ(out["id_parts"], "sub-faces") << "plans culls whole sub-faces";
+        EXPECT_GT(out["visible_parts"].get<double>(), 0.0) << "the ID buffer shows the surface";
         EXPECT_EQ(out["visible_culled"], 0) << path;
         EXPECT_EQ(out["differing_pixels"], 0) << path;
         const json& m = out["methods"];
@@ -67,6 +69,22 @@ TEST(CliCullStats, ClosedTorusKeepsThePromisesAndCullsInOrder) {
         EXPECT_LT(m["pplane"]["triangles"].get<double>(), out["unculled"]["triangles"].get<double>());
     }
     fs::remove(torus);
+}
+
+// osd-fas culls Far patches, many inside a sub-face next to an extraordinary vertex: its ID
+// buffer numbers them (Scheme::drawnPatches), so every culled patch is checked, on both paths.
+TEST(CliCullStats, OsdFasHasEveryCulledPatchChecked) {
+    const std::string cube = savedCage(qp::test::makeSubdividedCube(3), "cube.obj");
+    for (const std::string path : {"cpu", "tess"}) {
+        const json out = cullStats(cube, "--scheme osd-fas --path " + path);
+        ASSERT_TRUE(out.is_object()) << path;
+        EXPECT_EQ(out["id_parts"], "patches") << path;
+        EXPECT_GT(out["visible_parts"].get<double>(), 54.0) << path << ": more patches than the cube's 54 faces show";
+        EXPECT_GT(out["methods"]["pplane"]["culled_parts"].get<uint64_t>(), 0u) << path;
+        EXPECT_EQ(out["visible_culled"], 0) << path;
+        EXPECT_EQ(out["differing_pixels"], 0) << path;
+    }
+    fs::remove(cube);
 }
 
 TEST(CliCullStats, OpenGridCullsNothingAsFacingAway) {

@@ -12,6 +12,7 @@
 
 #include "camera.h"
 #include "displacement/displacement.h"
+#include "id_pass.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
 #include "plans/planned_cage.h"
@@ -378,6 +379,101 @@ TEST(SchemeCulling, ObjectsOfOneFrameEachDrawTheirOwnCulledPatches) {
         }
         EXPECT_NE(culled[0].culledSubfaces, culled[1].culledSubfaces) << variant.name();
     }
+    EXPECT_EQ(test::describeMessages(*context), "");
+    destroyContext(*context);
+}
+
+// osd-fas culls Far patches, which next to an extraordinary vertex are smaller than a sub-face,
+// so `cull-stats` checks them against an ID buffer of the triangles it draws per patch
+// (Scheme::drawnPatches). On the CPU path those are the drawn triangles themselves: their ID
+// buffer covers exactly the pixels the unculled frame covers, and no patch that owns a pixel of it
+// is culled, while more patches are culled than make up whole sub-faces. On the tess path the
+// same patches are laid out on the host (one triangle list a patch, every patch numbered).
+TEST(SchemeCulling, OsdFasGivesTheTrianglesItDrawsPerPatch) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(test::makeSubdividedCube(3), database, PlanOptions{}, "subdivided cube");
+    ASSERT_TRUE(planned.ok());
+    constexpr uint32_t kSize = 160;
+    Result<IdPass> idPass = createIdPass(*context, VK_NULL_HANDLE);
+    ASSERT_TRUE(idPass.ok()) << idPass.error().message;
+    for (const char* path : {"cpu", "tess"}) {
+        SchemeSettings settings;
+        settings.tessFactor = 8;
+        settings.options = {{"path", path}};
+        const GpuContext gpu{&*context, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+        Result<PreparedScheme> prepared = prepareScheme(catalog(), "osd-fas", *planned,
+                                                        analyzeCage(planned->cage(), planned->topology()), settings, gpu, "cube");
+        ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+        Result<PatchTriangles> patches = prepared->instance.drawnPatches();
+        ASSERT_TRUE(patches.ok()) << patches.error().message;
+        Result<SchemeStats> stats = prepared->instance.stats();
+        ASSERT_TRUE(stats.ok());
+        EXPECT_EQ(patches->patchCount, stats->patches) << path;
+        EXPECT_GT(patches->patchCount, planned->subfaceCount()) << path << ": Far patches halve toward each corner";
+        ASSERT_EQ(patches->patchOfVertex.size(), patches->positions.size());
+        ASSERT_FALSE(patches->indices.empty());
+        for (size_t i = 0; i < patches->indices.size(); i += 3) {
+            const uint32_t a = patches->indices[i], b = patches->indices[i + 1], c = patches->indices[i + 2];
+            ASSERT_TRUE(a < patches->positions.size() && b < patches->positions.size() && c < patches->positions.size());
+            EXPECT_TRUE(patches->patchOfVertex[a] == patches->patchOfVertex[b] && patches->patchOfVertex[a] == patches->patchOfVertex[c])
+                << path << ": triangle " << i / 3 << " joins two patches";
+        }
+        std::vector<IdVertex> vertices(patches->positions.size());
+        for (size_t i = 0; i < vertices.size(); ++i) vertices[i] = {patches->positions[i], patches->patchOfVertex[i]};
+        Result<IdMesh> mesh = uploadIdMesh(*context, vertices, patches->indices);
+        ASSERT_TRUE(mesh.ok()) << mesh.error().message;
+        Result<OffscreenTarget> target = createOffscreenTarget(*context, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+        ASSERT_TRUE(target.ok());
+        uint64_t culledPatches = 0, culledWholeSubfaces = 0;
+        for (const RenderCamera& camera : views(planned->cage())) {
+            DrawView view;
+            view.viewProjection = viewProjection(camera);
+            view.eye = camera.eye;
+            view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kSize);
+            auto draw = [&](CullMethod cull, std::vector<uint32_t>* culled, std::vector<uint32_t>* culledSubfaces) {
+                view.cull = cull;
+                view.culledPatchesOut = culled;
+                view.culledSubfacesOut = culledSubfaces;
+                EXPECT_TRUE(submitAndWait(*context, [&](VkCommandBuffer cmd) {
+                                EXPECT_TRUE(prepared->instance.record(cmd, renderTarget(*target), view).ok());
+                            }).ok());
+                Result<std::vector<uint8_t>> pixels = readPixels(*context, *target);
+                return pixels ? *pixels : std::vector<uint8_t>{};
+            };
+            const std::vector<uint8_t> picture = draw(CullMethod::None, nullptr, nullptr);
+            std::vector<uint32_t> culled, culledSubfaces;
+            EXPECT_EQ(draw(CullMethod::PPlane, &culled, &culledSubfaces), picture) << path;
+            culledPatches += culled.size();
+            culledWholeSubfaces += culledSubfaces.size();
+            EXPECT_TRUE(std::is_sorted(culled.begin(), culled.end()));
+            ASSERT_TRUE(submitAndWait(*context, [&](VkCommandBuffer cmd) {
+                            recordIdPass(cmd, *idPass, renderTarget(*target), view.viewProjection, true, *mesh);
+                        }).ok());
+            Result<std::vector<uint8_t>> ids = readPixels(*context, *target);
+            ASSERT_TRUE(ids.ok() && ids->size() == picture.size());
+            std::vector<uint32_t> owns(patches->patchCount, 0);
+            // The background is the colour of a corner the model leaves free (every view frames it).
+            ASSERT_EQ(decodeId(ids->data()), kNoId);
+            size_t coverageDiffers = 0;
+            for (size_t i = 0; i < ids->size(); i += 4) {
+                const uint32_t id = decodeId(ids->data() + i);
+                if (id != kNoId) ++owns[id];
+                const bool surface = !std::equal(picture.begin() + i, picture.begin() + i + 3, picture.begin());
+                coverageDiffers += surface != (id != kNoId);
+            }
+            if (std::string(path) == "cpu") {
+                EXPECT_EQ(coverageDiffers, 0u) << "the ID buffer covers what the scheme draws, pixel for pixel";
+            }
+            for (uint32_t p : culled) EXPECT_EQ(owns[p], 0u) << path << ": culled patch " << p << " shows";
+        }
+        EXPECT_GT(culledPatches, 4 * culledWholeSubfaces) << path << ": most culled patches lie in sub-faces partly drawn";
+        destroyIdMesh(*context, *mesh);
+        destroyOffscreenTarget(*context, *target);
+        EXPECT_TRUE(prepared->instance.destroyGpu().ok());
+    }
+    destroyIdPass(*context, *idPass);
     EXPECT_EQ(test::describeMessages(*context), "");
     destroyContext(*context);
 }
