@@ -18,13 +18,39 @@ namespace {
 // infinitely sharp crease).
 uint32_t creaseBit(uint32_t edge) { return edge == 0 ? 1u : edge == 1 ? 2u : edge == 2 ? 4u : 8u; }
 
-void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, const glm::vec3* control) {
+std::array<glm::vec3, 20> gather20(const glm::vec3* control, const uint32_t* from) {
+    std::array<glm::vec3, 20> g;
+    for (uint32_t k = 0; k < 20; ++k) g[k] = control[from[k]];
+    return g;
+}
+
+// Where the Gregory patch of a Terminal or Extraordinary node starts in plan.points.
+const uint32_t* gregoryPoints(const Plan& plan, const PlanNode& node) {
     const uint32_t* points = &plan.points[node.first];
-    auto gather20 = [&](const uint32_t* from) {
-        std::array<glm::vec3, 20> g;
-        for (uint32_t k = 0; k < 20; ++k) g[k] = control[from[k]];
-        return g;
-    };
+    return node.kind == NodeKind::Terminal ? points + kTerminalPointsPerLevel * node.levels : points;
+}
+
+// Whether the back-patch tests can ever cull the sub-face: each needs every leaf facing away, so
+// not when a leaf has no cone (a semi-sharp crease) or a Gregory leaf's cone is unbounded. Then
+// the entry's other leaves are read for their boxes only: their cones would join an unbounded
+// union and their tangent planes would never be reached (the Gregory leaf fails first), so the
+// results are the same without them, and near an extraordinary vertex a plan has 3 Bézier leaves
+// a level, 1.3 KB of tangent planes each.
+bool backTestable(const Plan& plan, const glm::vec3* control) {
+    for (const PlanNode& node : plan.nodes) {
+        if (node.kind == NodeKind::Crease && node.sharpness < kInfiniteSharpness) return false;
+        if ((node.kind == NodeKind::Terminal || node.kind == NodeKind::Extraordinary) &&
+            !gregoryNormalCone(gather20(control, gregoryPoints(plan, node))).bounded)
+            return false;
+    }
+    return true;
+}
+
+// The leaves of `node`; with `boxesOnly` its Bézier leaves give their boxes only (backTestable).
+void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, const glm::vec3* control, bool boxesOnly) {
+    const uint32_t* points = &plan.points[node.first];
+    const CullMethod detail = out.detail;
+    if (boxesOnly) out.detail = std::min(detail, CullMethod::Frustum);
     auto gather16 = [&](auto index) {
         BicubicPoints p;
         for (uint32_t k = 0; k < 16; ++k) p[k] = control[index(k)];
@@ -58,14 +84,17 @@ void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, const
             }
         // The Gregory patch at the bottom, evaluated in the node's own frame (plan_eval.cpp
         // un-mirrors its parameters): not reversed.
-        addGregoryLeaf(out, gather20(points + kTerminalPointsPerLevel * node.levels), false);
+        out.detail = detail;
+        addGregoryLeaf(out, gather20(control, gregoryPoints(plan, node)), false);
         break;
     }
     case NodeKind::Extraordinary:
-        addGregoryLeaf(out, gather20(points), false);
+        out.detail = detail;
+        addGregoryLeaf(out, gather20(control, gregoryPoints(plan, node)), false);
         break;
     case NodeKind::Internal: break;
     }
+    out.detail = detail;
 }
 
 
@@ -79,8 +108,9 @@ std::vector<PatchCullLeaves> gatherLeaves(const PlannedCage& planned, std::span<
         const Plan& plan = planned.database().plan(planned.subfacePlan(s));
         std::vector<glm::vec3> scratch;  // the leaves read every control point
         const std::span<const glm::vec3> control = planned.controlPointsFor(s, kMaxPlanDepth, scratch);
+        const bool boxesOnly = detail >= CullMethod::TCone && !backTestable(plan, control.data());
         for (const PlanNode& node : plan.nodes)
-            if (node.kind != NodeKind::Internal) addLeaf(out[k], plan, node, control.data());
+            if (node.kind != NodeKind::Internal) addLeaf(out[k], plan, node, control.data(), boxesOnly);
     });
     return out;
 }

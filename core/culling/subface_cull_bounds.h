@@ -16,7 +16,8 @@
 //                  no polynomial normal patch, so its ncone is that cone and pplane tests the
 //                  leaf with it.
 // A sub-face with a semi-sharp crease leaf cannot be back-patch culled: its cones are unbounded
-// and it has no leaf tests.
+// and it has no leaf tests. Nor can one whose Gregory leaf's cone is unbounded: its other leaves
+// keep their boxes only (no cones, no tangent planes), which the tests would never read.
 #pragma once
 
 #include "culling/patch_cull_set.h"

@@ -3,6 +3,7 @@
 // culls a sub-face with a point facing the eye.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -181,4 +182,35 @@ TEST(SubfaceCullBounds, GregoryConeHoldsTheTrueNormals) {
             }
     }
     EXPECT_GT(bounded, 50u);  // the test exercises the cone (wide splits leave it unbounded)
+}
+
+// A sub-face that no back-patch test can cull (a Gregory leaf with an unbounded cone, or a
+// semi-sharp crease leaf without a cone) keeps no tangent planes: its other leaves give their
+// boxes only. The benchmark cage has both kinds; the boxes still hold the whole surface
+// (BoxesAndConesHoldTheSampledSurface) and what can be culled keeps its planes.
+TEST(SubfaceCullBounds, SubfacesNoTestCanCullKeepNoTangentPlanes) {
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(makeBenchmarkCage(2000, 4), database, PlanOptions{}, "benchmark cage");
+    ASSERT_TRUE(planned) << planned.error().message;
+    const PatchCullSet bounds = buildSubfaceCullBounds(*planned);
+    uint32_t untestable = 0, withPlanes = 0;
+    for (uint32_t s = 0; s < bounds.size(); ++s) {
+        const bool unboundedGregory =
+            std::any_of(bounds.gregories.begin() + bounds.gregoryOffsets[s], bounds.gregories.begin() + bounds.gregoryOffsets[s + 1],
+                        [](const GregoryCullLeaf& leaf) { return !leaf.cone.bounded; });
+        const bool coneless = bounds.boxes[s].lo.x <= bounds.boxes[s].hi.x && !bounds.tcones[s].bounded &&
+                              bounds.gregoryOffsets[s] == bounds.gregoryOffsets[s + 1] &&
+                              bounds.planeOffsets[s] == bounds.planeOffsets[s + 1];
+        const uint32_t planes = bounds.planeOffsets[s + 1] - bounds.planeOffsets[s];
+        if (unboundedGregory || coneless) {
+            ++untestable;
+            EXPECT_EQ(planes, 0u) << "sub-face " << s;
+            EXPECT_FALSE(bounds.tcones[s].bounded || bounds.ncones[s].bounded) << "sub-face " << s;
+        }
+        withPlanes += planes > 0;
+    }
+    EXPECT_GT(untestable, 0u) << "the cage has sub-faces no test can cull";
+    EXPECT_GT(withPlanes, bounds.size() / 2) << "the regular sub-faces keep theirs";
+    RecordProperty("sub-faces", std::to_string(untestable) + " untestable, " + std::to_string(withPlanes) + " with planes of " +
+                                    std::to_string(bounds.size()));
 }
