@@ -100,7 +100,7 @@ struct Measured {
 
 std::string cameraText(const Broken& b) {
     char text[160];
-    std::snprintf(text, sizeof text, "%g,%g,%g,%g,%g,%g", b.eye.x, b.eye.y, b.eye.z, b.target.x, b.target.y, b.target.z);
+    std::snprintf(text, sizeof text, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g", b.eye.x, b.eye.y, b.eye.z, b.target.x, b.target.y, b.target.z);
     return text;
 }
 
