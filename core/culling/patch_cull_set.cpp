@@ -130,6 +130,20 @@ void addBezierLeaf(PatchCullLeaves& out, const BicubicPoints& bezier, bool rever
     out.planes.push_back(planes);
 }
 
+void addSmallBezierLeaf(PatchCullLeaves& out, const BicubicPoints& bezier, bool reversed) {
+    const CullBox box = boxOf(bezier);
+    grow(out.box, box);
+    if (out.detail < CullMethod::TCone) return;
+    NormalCone t = tangentCone(bezier);
+    if (reversed) t.axis = -t.axis;
+    out.tcones.push_back(t);
+    if (out.detail < CullMethod::NCone) return;
+    NormalCone n = normalPatchCone(bezier);
+    if (reversed) n.axis = -n.axis;
+    out.ncones.push_back(n);
+    if (out.detail >= CullMethod::PPlane) out.coneLeaves.push_back({n, box});
+}
+
 void addGregoryLeaf(PatchCullLeaves& out, const std::array<glm::vec3, 20>& g, bool reversed) {
     CullBox box{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
     for (const glm::vec3& p : g) grow(box, CullBox{p, p});
@@ -139,7 +153,7 @@ void addGregoryLeaf(PatchCullLeaves& out, const std::array<glm::vec3, 20>& g, bo
     if (reversed) cone.axis = -cone.axis;
     out.tcones.push_back(cone);
     if (out.detail >= CullMethod::NCone) out.ncones.push_back(cone);
-    if (out.detail >= CullMethod::PPlane) out.gregories.push_back({cone, box});
+    if (out.detail >= CullMethod::PPlane) out.coneLeaves.push_back({cone, box});
 }
 
 void addConelessBox(PatchCullLeaves& out, const CullBox& box) {
@@ -211,7 +225,7 @@ void appendAbsentPatch(PatchCullSet& set) {
     set.ncones.push_back(NormalCone{});
     set.origins.push_back(glm::vec3(0.0f));
     set.planeOffsets.push_back(uint32_t(set.planes.size()));
-    set.gregoryOffsets.push_back(uint32_t(set.gregories.size()));
+    set.coneLeafOffsets.push_back(uint32_t(set.coneLeaves.size()));
     set.flatOffsets.push_back(uint32_t(set.flats.size()));
 }
 
@@ -226,11 +240,11 @@ void appendPatch(PatchCullSet& set, const PatchCullLeaves& leaves, const glm::ve
     set.ncones[entry] = unionOf(leaves.ncones);
     set.planes.insert(set.planes.end(), leaves.planes.begin(), leaves.planes.end());
     set.planeOffsets[entry + 1] = uint32_t(set.planes.size());
-    for (GregoryCullLeaf leaf : leaves.gregories) {
+    for (ConeCullLeaf leaf : leaves.coneLeaves) {
         leaf.box = CullBox{leaf.box.lo + origin, leaf.box.hi + origin};
-        set.gregories.push_back(leaf);
+        set.coneLeaves.push_back(leaf);
     }
-    set.gregoryOffsets[entry + 1] = uint32_t(set.gregories.size());
+    set.coneLeafOffsets[entry + 1] = uint32_t(set.coneLeaves.size());
     set.flats.insert(set.flats.end(), leaves.flats.begin(), leaves.flats.end());
     set.flatOffsets[entry + 1] = uint32_t(set.flats.size());
 }
@@ -239,8 +253,8 @@ void replacePatches(PatchCullSet& set, std::span<const uint32_t> entries, std::s
                     std::span<const glm::vec3> origins) {
     PatchCullSet out;
     out.boxes.reserve(set.size()), out.tcones.reserve(set.size()), out.ncones.reserve(set.size());
-    out.origins.reserve(set.size()), out.planeOffsets.reserve(set.size() + 1), out.gregoryOffsets.reserve(set.size() + 1);
-    out.planes.reserve(set.planes.size()), out.gregories.reserve(set.gregories.size());
+    out.origins.reserve(set.size()), out.planeOffsets.reserve(set.size() + 1), out.coneLeafOffsets.reserve(set.size() + 1);
+    out.planes.reserve(set.planes.size()), out.coneLeaves.reserve(set.coneLeaves.size());
     size_t next = 0;
     for (uint32_t e = 0; e < set.size(); ++e) {
         if (next < entries.size() && entries[next] == e) {
@@ -254,9 +268,9 @@ void replacePatches(PatchCullSet& set, std::span<const uint32_t> entries, std::s
         out.origins.push_back(set.origins[e]);
         out.planes.insert(out.planes.end(), set.planes.begin() + set.planeOffsets[e], set.planes.begin() + set.planeOffsets[e + 1]);
         out.planeOffsets.push_back(uint32_t(out.planes.size()));
-        out.gregories.insert(out.gregories.end(), set.gregories.begin() + set.gregoryOffsets[e],
-                             set.gregories.begin() + set.gregoryOffsets[e + 1]);
-        out.gregoryOffsets.push_back(uint32_t(out.gregories.size()));
+        out.coneLeaves.insert(out.coneLeaves.end(), set.coneLeaves.begin() + set.coneLeafOffsets[e],
+                             set.coneLeaves.begin() + set.coneLeafOffsets[e + 1]);
+        out.coneLeafOffsets.push_back(uint32_t(out.coneLeaves.size()));
         out.flats.insert(out.flats.end(), set.flats.begin() + set.flatOffsets[e], set.flats.begin() + set.flatOffsets[e + 1]);
         out.flatOffsets.push_back(uint32_t(out.flats.size()));
     }
@@ -265,11 +279,11 @@ void replacePatches(PatchCullSet& set, std::span<const uint32_t> entries, std::s
 
 bool tangentPlanesBackFacing(const PatchCullSet& set, uint32_t entry, const glm::vec4& eye) {
     const uint32_t first = set.planeOffsets[entry], last = set.planeOffsets[entry + 1];
-    const uint32_t firstGregory = set.gregoryOffsets[entry], lastGregory = set.gregoryOffsets[entry + 1];
+    const uint32_t firstCone = set.coneLeafOffsets[entry], lastCone = set.coneLeafOffsets[entry + 1];
     const uint32_t firstFlat = set.flatOffsets[entry], lastFlat = set.flatOffsets[entry + 1];
-    if (first == last && firstGregory == lastGregory && firstFlat == lastFlat) return false;
-    for (uint32_t k = firstGregory; k < lastGregory; ++k)
-        if (!backFacing(set.gregories[k].cone, set.gregories[k].box, eye)) return false;
+    if (first == last && firstCone == lastCone && firstFlat == lastFlat) return false;
+    for (uint32_t k = firstCone; k < lastCone; ++k)
+        if (!backFacing(set.coneLeaves[k].cone, set.coneLeaves[k].box, eye)) return false;
     // The planes are relative to the entry's origin: move the eye there (a direction stays).
     const glm::vec4 relative(glm::vec3(eye) - eye.w * set.origins[entry], eye.w);
     // A flat triangle's plane is a one-coefficient tangent-plane function.
@@ -325,7 +339,7 @@ std::vector<uint32_t> cullPatches(const PatchCullSet& set, CullMethod method, co
         if (method < CullMethod::TCone) continue;
         // Entries without any back-patch test (coneless ones have no cone and no leaf tests).
         const bool testable = set.tcones[s].bounded || set.ncones[s].bounded ||
-                              set.planeOffsets[s] != set.planeOffsets[s + 1] || set.gregoryOffsets[s] != set.gregoryOffsets[s + 1] ||
+                              set.planeOffsets[s] != set.planeOffsets[s + 1] || set.coneLeafOffsets[s] != set.coneLeafOffsets[s + 1] ||
                               set.flatOffsets[s] != set.flatOffsets[s + 1];
         if (!backPatch || !testable) {
             ++count.frustumOnly;

@@ -33,7 +33,10 @@ glm::vec4 homogeneousEye(const glm::mat4& viewProjection, const glm::vec3& eyePo
 // (20 points in patch_basis.h's order); unbounded when its tangents spread too far.
 NormalCone gregoryNormalCone(const std::array<glm::vec3, 20>& points);
 
-struct GregoryCullLeaf {
+// A leaf pplane tests by its cone: a Gregory patch (it has no polynomial normal patch), or a
+// small Bézier patch whose 81 tangent-plane coefficients would cost more than they cull
+// (addSmallBezierLeaf).
+struct ConeCullLeaf {
     NormalCone cone;
     CullBox box;  // in the set's coordinates (PatchCullLeaves: relative to the entry's origin)
 };
@@ -47,12 +50,15 @@ struct PatchCullLeaves {
     CullBox box{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
     std::vector<NormalCone> tcones, ncones;
     std::vector<TangentPlanes> planes;
-    std::vector<GregoryCullLeaf> gregories;
+    std::vector<ConeCullLeaf> coneLeaves;
     std::vector<glm::vec4> flats;  // flat triangles' planes (n, n . corner): g = n . E - (n . corner) w
     bool coneless = false;  // a leaf without a cone: no back-patch test for the entry
 };
 // A Bézier patch; `reversed`: its (u, v) frame is mirrored, so its normals flip.
 void addBezierLeaf(PatchCullLeaves& leaves, const BicubicPoints& bezier, bool reversed);
+// The same, with pplane testing it by its ncone instead of its tangent planes (1.3 KB a leaf):
+// for the small leaves deep in a plan's quadtree, nearly flat, where the two tests differ little.
+void addSmallBezierLeaf(PatchCullLeaves& leaves, const BicubicPoints& bezier, bool reversed);
 // A Gregory patch (20 points in patch_basis.h's order; `reversed` as above).
 void addGregoryLeaf(PatchCullLeaves& leaves, const std::array<glm::vec3, 20>& points, bool reversed);
 // A part known only by a box holding it (its normals unbounded).
@@ -83,8 +89,8 @@ struct PatchCullSet {
     std::vector<glm::vec3> origins;          // per entry: what its tangent planes are relative to
     std::vector<uint32_t> planeOffsets{0};   // CSR: entry -> its Bézier leaves' tangent planes
     std::vector<TangentPlanes> planes;
-    std::vector<uint32_t> gregoryOffsets{0};  // CSR: entry -> its Gregory leaves
-    std::vector<GregoryCullLeaf> gregories;
+    std::vector<uint32_t> coneLeafOffsets{0};  // CSR: entry -> its cone leaves
+    std::vector<ConeCullLeaf> coneLeaves;
     std::vector<uint32_t> flatOffsets{0};  // CSR: entry -> its flat triangles' planes (relative to its origin)
     std::vector<glm::vec4> flats;
 
@@ -100,7 +106,7 @@ void appendAbsentPatch(PatchCullSet& set);
 void replacePatches(PatchCullSet& set, std::span<const uint32_t> entries, std::span<const PatchCullLeaves> leaves,
                     std::span<const glm::vec3> origins);
 
-// pplane for an entry: every Bézier leaf back-facing by its tangent planes, every Gregory leaf
+// pplane for an entry: every Bézier leaf back-facing by its tangent planes, every cone leaf
 // by its cone and every flat triangle by its plane (false when it has no leaf tests).
 bool tangentPlanesBackFacing(const PatchCullSet& set, uint32_t entry, const glm::vec4& eye);
 

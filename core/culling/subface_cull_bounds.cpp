@@ -46,11 +46,31 @@ bool backTestable(const Plan& plan, const glm::vec3* control) {
     return true;
 }
 
-// The leaves of `node`; with `boxesOnly` its Bézier leaves give their boxes only (backTestable).
-void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, const glm::vec3* control, bool boxesOnly) {
+// Bézier leaves deeper in the quadtree than this (a sixteenth of the sub-face's side and less)
+// are tested by pplane with their ncone (addSmallBezierLeaf): near an extraordinary vertex or a
+// crease a plan has 3 leaves a level down to depth 6, and their tangent planes (1.3 KB each) made
+// the bounds of a 100,000-face cage 2 GB.
+constexpr uint32_t kTangentPlaneDepth = 2;
+
+// The depth of every node of `plan` in its quadtree (the root 0).
+void nodeDepths(const Plan& plan, std::vector<uint32_t>& depth) {
+    depth.assign(plan.nodes.size(), 0);
+    for (size_t i = 0; i < plan.nodes.size(); ++i)
+        if (plan.nodes[i].kind == NodeKind::Internal)
+            for (uint32_t child = 0; child < 4; ++child) depth[plan.nodes[i].first + child] = depth[i] + 1;
+}
+
+// The leaves of `node` at quadtree depth `depth`; with `boxesOnly` its Bézier leaves give their
+// boxes only (backTestable).
+void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, uint32_t depth, const glm::vec3* control,
+             bool boxesOnly) {
     const uint32_t* points = &plan.points[node.first];
     const CullMethod detail = out.detail;
     if (boxesOnly) out.detail = std::min(detail, CullMethod::Frustum);
+    auto addBezier = [&](const BicubicPoints& bezier, bool reversed, uint32_t leafDepth) {
+        if (leafDepth > kTangentPlaneDepth) addSmallBezierLeaf(out, bezier, reversed);
+        else addBezierLeaf(out, bezier, reversed);
+    };
     auto gather16 = [&](auto index) {
         BicubicPoints p;
         for (uint32_t k = 0; k < 16; ++k) p[k] = control[index(k)];
@@ -58,13 +78,13 @@ void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, const
     };
     switch (node.kind) {
     case NodeKind::Regular:
-        addBezierLeaf(out, bsplineToBezier(withPhantoms(gather16([&](uint32_t k) { return points[k]; }), node.boundaryMask)),
-                      false);
+        addBezier(bsplineToBezier(withPhantoms(gather16([&](uint32_t k) { return points[k]; }), node.boundaryMask)), false,
+                  depth);
         break;
     case NodeKind::Crease: {
         const BicubicPoints real = gather16([&](uint32_t k) { return points[k]; });
         if (node.sharpness >= kInfiniteSharpness)
-            addBezierLeaf(out, bsplineToBezier(withPhantoms(real, node.boundaryMask | creaseBit(node.edge))), false);
+            addBezier(bsplineToBezier(withPhantoms(real, node.boundaryMask | creaseBit(node.edge))), false, depth);
         else
             addSemiSharpCreaseLeaf(out, real, node.boundaryMask, creaseBit(node.edge));
         break;
@@ -76,11 +96,11 @@ void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, const
         for (uint32_t level = 0; level < node.levels; ++level)
             for (const auto& quadrant : kQuadrants) {
                 const uint32_t qx = quadrant[0], qy = quadrant[1];
-                addBezierLeaf(out, bsplineToBezier(gather16([&](uint32_t k) {
-                                  const uint32_t gx = qx + k % 4, gy = qy + k / 4;
-                                  return points[kTerminalPointsPerLevel * level + gy * 5 + gx - 1];
-                              })),
-                              mirrorU != mirrorV);
+                addBezier(bsplineToBezier(gather16([&](uint32_t k) {
+                              const uint32_t gx = qx + k % 4, gy = qy + k / 4;
+                              return points[kTerminalPointsPerLevel * level + gy * 5 + gx - 1];
+                          })),
+                          mirrorU != mirrorV, depth + 1 + level);
             }
         // The Gregory patch at the bottom, evaluated in the node's own frame (plan_eval.cpp
         // un-mirrors its parameters): not reversed.
@@ -109,8 +129,13 @@ std::vector<PatchCullLeaves> gatherLeaves(const PlannedCage& planned, std::span<
         std::vector<glm::vec3> scratch;  // the leaves read every control point
         const std::span<const glm::vec3> control = planned.controlPointsFor(s, kMaxPlanDepth, scratch);
         const bool boxesOnly = detail >= CullMethod::TCone && !backTestable(plan, control.data());
-        for (const PlanNode& node : plan.nodes)
-            if (node.kind != NodeKind::Internal) addLeaf(out[k], plan, node, control.data(), boxesOnly);
+        std::vector<uint32_t> depth;
+        nodeDepths(plan, depth);
+        for (size_t n = 0; n < plan.nodes.size(); ++n)
+            if (plan.nodes[n].kind != NodeKind::Internal) addLeaf(out[k], plan, plan.nodes[n], depth[n], control.data(), boxesOnly);
+        // A small leaf's unbounded cone fails pplane as a Gregory leaf's does: no planes needed.
+        if (std::any_of(out[k].coneLeaves.begin(), out[k].coneLeaves.end(), [](const ConeCullLeaf& leaf) { return !leaf.cone.bounded; }))
+            out[k].planes.clear();
     });
     return out;
 }

@@ -196,10 +196,10 @@ TEST(SubfaceCullBounds, SubfacesNoTestCanCullKeepNoTangentPlanes) {
     uint32_t untestable = 0, withPlanes = 0;
     for (uint32_t s = 0; s < bounds.size(); ++s) {
         const bool unboundedGregory =
-            std::any_of(bounds.gregories.begin() + bounds.gregoryOffsets[s], bounds.gregories.begin() + bounds.gregoryOffsets[s + 1],
-                        [](const GregoryCullLeaf& leaf) { return !leaf.cone.bounded; });
+            std::any_of(bounds.coneLeaves.begin() + bounds.coneLeafOffsets[s], bounds.coneLeaves.begin() + bounds.coneLeafOffsets[s + 1],
+                        [](const ConeCullLeaf& leaf) { return !leaf.cone.bounded; });
         const bool coneless = bounds.boxes[s].lo.x <= bounds.boxes[s].hi.x && !bounds.tcones[s].bounded &&
-                              bounds.gregoryOffsets[s] == bounds.gregoryOffsets[s + 1] &&
+                              bounds.coneLeafOffsets[s] == bounds.coneLeafOffsets[s + 1] &&
                               bounds.planeOffsets[s] == bounds.planeOffsets[s + 1];
         const uint32_t planes = bounds.planeOffsets[s + 1] - bounds.planeOffsets[s];
         if (unboundedGregory || coneless) {
