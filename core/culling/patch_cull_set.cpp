@@ -224,63 +224,114 @@ void appendAbsentPatch(PatchCullSet& set) {
     set.tcones.push_back(NormalCone{});
     set.ncones.push_back(NormalCone{});
     set.origins.push_back(glm::vec3(0.0f));
-    set.planeOffsets.push_back(uint32_t(set.planes.size()));
-    set.coneLeafOffsets.push_back(uint32_t(set.coneLeaves.size()));
-    set.flatOffsets.push_back(uint32_t(set.flats.size()));
+    set.planeRanges.push_back({});
+    set.coneLeafRanges.push_back({});
+    set.flatRanges.push_back({});
 }
+
+namespace {
+
+// Writes `values` into `array` at `range` when it holds exactly as many, else at the end.
+template <class T, class Values>
+void place(std::vector<T>& array, LeafRange& range, const Values& values) {
+    if (range.count != values.size()) range = LeafRange{uint32_t(array.size()), uint32_t(values.size())};
+    if (range.first == array.size()) array.insert(array.end(), values.begin(), values.end());
+    else std::copy(values.begin(), values.end(), array.begin() + range.first);
+}
+
+// Entry `entry` from its leaves (relative to `origin`), its leaves written over its old ones
+// where they fit.
+void setPatch(PatchCullSet& set, uint32_t entry, const PatchCullLeaves& leaves, const glm::vec3& origin) {
+    set.boxes[entry] = CullBox{glm::vec3(INFINITY), glm::vec3(-INFINITY)};
+    set.tcones[entry] = set.ncones[entry] = NormalCone{};
+    set.origins[entry] = glm::vec3(0.0f);
+    const bool withLeaves = leaves.box.lo.x <= leaves.box.hi.x && !leaves.coneless;
+    if (leaves.box.lo.x <= leaves.box.hi.x) {
+        set.boxes[entry] = CullBox{leaves.box.lo + origin, leaves.box.hi + origin};
+        set.origins[entry] = origin;
+    }
+    if (withLeaves) {
+        set.tcones[entry] = unionOf(leaves.tcones);
+        set.ncones[entry] = unionOf(leaves.ncones);
+    }
+    std::vector<ConeCullLeaf> cones;
+    if (withLeaves)
+        for (ConeCullLeaf leaf : leaves.coneLeaves) {
+            leaf.box = CullBox{leaf.box.lo + origin, leaf.box.hi + origin};
+            cones.push_back(leaf);
+        }
+    const std::span<const TangentPlanes> planes = withLeaves ? std::span<const TangentPlanes>(leaves.planes) : std::span<const TangentPlanes>();
+    const std::span<const glm::vec4> flats = withLeaves ? std::span<const glm::vec4>(leaves.flats) : std::span<const glm::vec4>();
+    place(set.planes, set.planeRanges[entry], planes);
+    place(set.coneLeaves, set.coneLeafRanges[entry], cones);
+    place(set.flats, set.flatRanges[entry], flats);
+}
+
+// The leaves the entries name, in entry order, and nothing else (when more than half of an
+// array's leaves are no longer named).
+template <class T>
+void compactLeaves(std::vector<T>& array, std::vector<LeafRange>& ranges) {
+    size_t named = 0;
+    for (const LeafRange& r : ranges) named += r.count;
+    if (2 * named >= array.size()) return;
+    std::vector<T> kept;
+    kept.reserve(named);
+    for (LeafRange& r : ranges) {
+        const uint32_t first = uint32_t(kept.size());
+        kept.insert(kept.end(), array.begin() + r.first, array.begin() + r.first + r.count);
+        r.first = first;
+    }
+    array = std::move(kept);
+}
+
+void compactSet(PatchCullSet& set) {
+    compactLeaves(set.planes, set.planeRanges);
+    compactLeaves(set.coneLeaves, set.coneLeafRanges);
+    compactLeaves(set.flats, set.flatRanges);
+}
+
+}  // namespace
 
 void appendPatch(PatchCullSet& set, const PatchCullLeaves& leaves, const glm::vec3& origin) {
     appendAbsentPatch(set);
-    if (!(leaves.box.lo.x <= leaves.box.hi.x)) return;
-    const uint32_t entry = set.size() - 1;
-    set.boxes[entry] = CullBox{leaves.box.lo + origin, leaves.box.hi + origin};
-    set.origins[entry] = origin;
-    if (leaves.coneless) return;
-    set.tcones[entry] = unionOf(leaves.tcones);
-    set.ncones[entry] = unionOf(leaves.ncones);
-    set.planes.insert(set.planes.end(), leaves.planes.begin(), leaves.planes.end());
-    set.planeOffsets[entry + 1] = uint32_t(set.planes.size());
-    for (ConeCullLeaf leaf : leaves.coneLeaves) {
-        leaf.box = CullBox{leaf.box.lo + origin, leaf.box.hi + origin};
-        set.coneLeaves.push_back(leaf);
-    }
-    set.coneLeafOffsets[entry + 1] = uint32_t(set.coneLeaves.size());
-    set.flats.insert(set.flats.end(), leaves.flats.begin(), leaves.flats.end());
-    set.flatOffsets[entry + 1] = uint32_t(set.flats.size());
+    setPatch(set, set.size() - 1, leaves, origin);
 }
 
 void replacePatches(PatchCullSet& set, std::span<const uint32_t> entries, std::span<const PatchCullLeaves> leaves,
                     std::span<const glm::vec3> origins) {
+    for (size_t k = 0; k < entries.size(); ++k) setPatch(set, entries[k], leaves[k], origins[k]);
+    compactSet(set);
+}
+
+void renumberPatches(PatchCullSet& set, std::span<const uint32_t> previousOf) {
     PatchCullSet out;
-    out.boxes.reserve(set.size()), out.tcones.reserve(set.size()), out.ncones.reserve(set.size());
-    out.origins.reserve(set.size()), out.planeOffsets.reserve(set.size() + 1), out.coneLeafOffsets.reserve(set.size() + 1);
-    out.planes.reserve(set.planes.size()), out.coneLeaves.reserve(set.coneLeaves.size());
-    size_t next = 0;
-    for (uint32_t e = 0; e < set.size(); ++e) {
-        if (next < entries.size() && entries[next] == e) {
-            appendPatch(out, leaves[next], origins[next]);
-            ++next;
+    const size_t count = previousOf.size();
+    out.boxes.reserve(count), out.tcones.reserve(count), out.ncones.reserve(count), out.origins.reserve(count);
+    out.planeRanges.reserve(count), out.coneLeafRanges.reserve(count), out.flatRanges.reserve(count);
+    for (uint32_t previous : previousOf) {
+        if (previous >= set.size()) {
+            appendAbsentPatch(out);
             continue;
         }
-        out.boxes.push_back(set.boxes[e]);
-        out.tcones.push_back(set.tcones[e]);
-        out.ncones.push_back(set.ncones[e]);
-        out.origins.push_back(set.origins[e]);
-        out.planes.insert(out.planes.end(), set.planes.begin() + set.planeOffsets[e], set.planes.begin() + set.planeOffsets[e + 1]);
-        out.planeOffsets.push_back(uint32_t(out.planes.size()));
-        out.coneLeaves.insert(out.coneLeaves.end(), set.coneLeaves.begin() + set.coneLeafOffsets[e],
-                             set.coneLeaves.begin() + set.coneLeafOffsets[e + 1]);
-        out.coneLeafOffsets.push_back(uint32_t(out.coneLeaves.size()));
-        out.flats.insert(out.flats.end(), set.flats.begin() + set.flatOffsets[e], set.flats.begin() + set.flatOffsets[e + 1]);
-        out.flatOffsets.push_back(uint32_t(out.flats.size()));
+        out.boxes.push_back(set.boxes[previous]);
+        out.tcones.push_back(set.tcones[previous]);
+        out.ncones.push_back(set.ncones[previous]);
+        out.origins.push_back(set.origins[previous]);
+        out.planeRanges.push_back(set.planeRanges[previous]);
+        out.coneLeafRanges.push_back(set.coneLeafRanges[previous]);
+        out.flatRanges.push_back(set.flatRanges[previous]);
     }
+    out.planes = std::move(set.planes);
+    out.coneLeaves = std::move(set.coneLeaves);
+    out.flats = std::move(set.flats);
     set = std::move(out);
+    compactSet(set);
 }
 
 bool tangentPlanesBackFacing(const PatchCullSet& set, uint32_t entry, const glm::vec4& eye) {
-    const uint32_t first = set.planeOffsets[entry], last = set.planeOffsets[entry + 1];
-    const uint32_t firstCone = set.coneLeafOffsets[entry], lastCone = set.coneLeafOffsets[entry + 1];
-    const uint32_t firstFlat = set.flatOffsets[entry], lastFlat = set.flatOffsets[entry + 1];
+    const uint32_t first = set.planeRanges[entry].first, last = first + set.planeRanges[entry].count;
+    const uint32_t firstCone = set.coneLeafRanges[entry].first, lastCone = firstCone + set.coneLeafRanges[entry].count;
+    const uint32_t firstFlat = set.flatRanges[entry].first, lastFlat = firstFlat + set.flatRanges[entry].count;
     if (first == last && firstCone == lastCone && firstFlat == lastFlat) return false;
     for (uint32_t k = firstCone; k < lastCone; ++k)
         if (!backFacing(set.coneLeaves[k].cone, set.coneLeaves[k].box, eye)) return false;
@@ -338,9 +389,8 @@ std::vector<uint32_t> cullPatches(const PatchCullSet& set, CullMethod method, co
         }
         if (method < CullMethod::TCone) continue;
         // Entries without any back-patch test (coneless ones have no cone and no leaf tests).
-        const bool testable = set.tcones[s].bounded || set.ncones[s].bounded ||
-                              set.planeOffsets[s] != set.planeOffsets[s + 1] || set.coneLeafOffsets[s] != set.coneLeafOffsets[s + 1] ||
-                              set.flatOffsets[s] != set.flatOffsets[s + 1];
+        const bool testable = set.tcones[s].bounded || set.ncones[s].bounded || set.planeRanges[s].count != 0 ||
+                              set.coneLeafRanges[s].count != 0 || set.flatRanges[s].count != 0;
         if (!backPatch || !testable) {
             ++count.frustumOnly;
             continue;

@@ -83,15 +83,24 @@ BicubicPoints withPhantoms(BicubicPoints bspline, uint32_t boundaryMask);
 void addSemiSharpCreaseLeaf(PatchCullLeaves& leaves, const BicubicPoints& bspline, uint32_t boundaryMask,
                             uint32_t creaseBit);
 
+// Where an entry's leaves lie in one of the set's leaf arrays.
+struct LeafRange {
+    uint32_t first = 0, count = 0;
+};
+
+// The leaf arrays are shared by the entries, each naming its ranges, so that an edit replaces or
+// renumbers a few entries without moving the others' leaves (hundreds of MB on a large cage):
+// replaced leaves that no longer fit go to the end, and the arrays are compacted once more than
+// half of what they hold is no longer named.
 struct PatchCullSet {
     std::vector<CullBox> boxes;              // per entry (lo > hi: no surface, never tested)
     std::vector<NormalCone> tcones, ncones;  // per entry
     std::vector<glm::vec3> origins;          // per entry: what its tangent planes are relative to
-    std::vector<uint32_t> planeOffsets{0};   // CSR: entry -> its Bézier leaves' tangent planes
+    std::vector<LeafRange> planeRanges;      // per entry: its Bézier leaves' tangent planes
+    std::vector<LeafRange> coneLeafRanges;   // per entry: its cone leaves
+    std::vector<LeafRange> flatRanges;       // per entry: its flat triangles' planes (relative to its origin)
     std::vector<TangentPlanes> planes;
-    std::vector<uint32_t> coneLeafOffsets{0};  // CSR: entry -> its cone leaves
     std::vector<ConeCullLeaf> coneLeaves;
-    std::vector<uint32_t> flatOffsets{0};  // CSR: entry -> its flat triangles' planes (relative to its origin)
     std::vector<glm::vec4> flats;
 
     uint32_t size() const { return uint32_t(boxes.size()); }
@@ -102,9 +111,15 @@ struct PatchCullSet {
 void appendPatch(PatchCullSet& set, const PatchCullLeaves& leaves, const glm::vec3& origin);
 void appendAbsentPatch(PatchCullSet& set);
 // Replaces entries `entries` (sorted, unique) by new leaves (parallel to them; an empty box makes
-// an absent entry), in one pass over the set.
+// an absent entry): in the room the entry had when they fit (a moved sub-face keeps its plan),
+// else at the end of the leaf arrays.
 void replacePatches(PatchCullSet& set, std::span<const uint32_t> entries, std::span<const PatchCullLeaves> leaves,
                     std::span<const glm::vec3> origins);
+
+// Renumbers the entries (a topology edit): entry k becomes the entry previousOf[k] was, an absent
+// one where previousOf[k] names none (UINT32_MAX), for the caller to replace. The leaves stay
+// where they are.
+void renumberPatches(PatchCullSet& set, std::span<const uint32_t> previousOf);
 
 // pplane for an entry: every Bézier leaf back-facing by its tangent planes, every cone leaf
 // by its cone and every flat triangle by its plane (false when it has no leaf tests).

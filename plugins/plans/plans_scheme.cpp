@@ -155,7 +155,7 @@ public:
     }
 
     Result<PlanUpdate> updatePlans(const PlanChange& change) override {
-        if (change.topologyChanged) cullBounds_.reset();
+        if (change.topologyChanged) renumberCullBounds(change);
         else staleCullBounds(change.subfaces);
         if (!haveBuffers_ || (change.topologyChanged && change.previousSubfaceOf.empty())) return PlanUpdate::Rebuild;
         std::span<const uint32_t> changed = change.subfaces;
@@ -376,12 +376,15 @@ private:
             cullNeighbours_ = subfaceAdjacency(*planned_);
             cullDetail_ = detail;
             cullStale_.clear();
+            cullRenumbered_ = false;
             closed_ = closedOutwardSurface(planned_->cage(), planned_->topology());
             cullMargins_.clear();
             cullBox_ = cullBounds_->bounds();
-        } else if (!cullStale_.empty()) {
+        } else if (!cullStale_.empty() || cullRenumbered_) {
             updateSubfaceCullBounds(*cullBounds_, *planned_, cullStale_, cullDetail_);
             cullStale_.clear();
+            if (cullRenumbered_) cullNeighbours_ = subfaceAdjacency(*planned_);
+            cullRenumbered_ = false;
             // Moves can turn a piece inside out, and holes open the surface.
             closed_ = closedOutwardSurface(planned_->cage(), planned_->topology());
             cullBox_ = cullBounds_->bounds();
@@ -413,6 +416,27 @@ private:
         if (view.culledSubfacesOut) *view.culledSubfacesOut = culled;
         std::sort(drawn.begin(), drawn.end());
         return drawn;
+    }
+
+    // A topology edit renumbered the sub-faces: the kept ones keep their bounds (unless a move
+    // or tag edit had left them stale), the next culled frame builds the re-planned and new ones
+    // and the neighbours again (at 100,000 faces the bounds take seconds to build whole).
+    void renumberCullBounds(const PlanChange& change) {
+        if (!cullBounds_ || change.previousSubfaceOf.size() != planned_->subfaceCount()) {
+            cullBounds_.reset();
+            return;
+        }
+        std::vector<uint32_t> previousOf(change.previousSubfaceOf.begin(), change.previousSubfaceOf.end());
+        std::vector<uint32_t> stale(change.subfaces.begin(), change.subfaces.end());
+        for (uint32_t s = 0; s < previousOf.size(); ++s) {
+            if (std::binary_search(cullStale_.begin(), cullStale_.end(), previousOf[s])) previousOf[s] = UINT32_MAX;
+            if (previousOf[s] == UINT32_MAX) stale.push_back(s);
+        }
+        std::sort(stale.begin(), stale.end());
+        stale.erase(std::unique(stale.begin(), stale.end()), stale.end());
+        renumberPatches(*cullBounds_, previousOf);
+        cullStale_ = std::move(stale);
+        cullRenumbered_ = true;
     }
 
     // Sub-faces (sorted) whose bounds the next culled frame rebuilds.
@@ -449,6 +473,7 @@ private:
     std::vector<uint32_t> culledDrawn_;     // this draw's culled sub-faces as drawn indices
     bool backFacesHidden_ = false;          // this draw's view cannot see the back side (PlanView::backFacesHidden)
     std::optional<PatchCullSet> cullBounds_;  // built when first needed after a change
+    bool cullRenumbered_ = false;             // a topology edit renumbered cullBounds_: neighbours anew
     CullBox cullBox_;                       // the box of every entry of cullBounds_
     CullAdjacency cullNeighbours_;          // sub-faces sharing a cage vertex (keepBesideDrawn)
     CullMethod cullDetail_ = CullMethod::None;  // what cullBounds_ serves (PatchCullLeaves::detail)

@@ -195,13 +195,12 @@ TEST(SubfaceCullBounds, SubfacesNoTestCanCullKeepNoTangentPlanes) {
     const PatchCullSet bounds = buildSubfaceCullBounds(*planned);
     uint32_t untestable = 0, withPlanes = 0;
     for (uint32_t s = 0; s < bounds.size(); ++s) {
-        const bool unboundedGregory =
-            std::any_of(bounds.coneLeaves.begin() + bounds.coneLeafOffsets[s], bounds.coneLeaves.begin() + bounds.coneLeafOffsets[s + 1],
-                        [](const ConeCullLeaf& leaf) { return !leaf.cone.bounded; });
-        const bool coneless = bounds.boxes[s].lo.x <= bounds.boxes[s].hi.x && !bounds.tcones[s].bounded &&
-                              bounds.coneLeafOffsets[s] == bounds.coneLeafOffsets[s + 1] &&
-                              bounds.planeOffsets[s] == bounds.planeOffsets[s + 1];
-        const uint32_t planes = bounds.planeOffsets[s + 1] - bounds.planeOffsets[s];
+        const LeafRange cones = bounds.coneLeafRanges[s];
+        const bool unboundedGregory = std::any_of(bounds.coneLeaves.begin() + cones.first, bounds.coneLeaves.begin() + cones.first + cones.count,
+                                                  [](const ConeCullLeaf& leaf) { return !leaf.cone.bounded; });
+        const uint32_t planes = bounds.planeRanges[s].count;
+        const bool coneless = bounds.boxes[s].lo.x <= bounds.boxes[s].hi.x && !bounds.tcones[s].bounded && cones.count == 0 &&
+                              planes == 0;
         if (unboundedGregory || coneless) {
             ++untestable;
             EXPECT_EQ(planes, 0u) << "sub-face " << s;

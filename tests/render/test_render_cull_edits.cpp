@@ -1,11 +1,15 @@
 // Culling across edits (plans keeps its culling bounds between frames, core/culling/subface_cull_bounds.h
-// updateSubfaceCullBounds): after vertex moves and a hole, a culled frame of the same instance
-// still draws exactly the pixels of its unculled frame.
+// updateSubfaceCullBounds): after vertex moves, a hole and topology edits, a culled frame of the
+// same instance still draws exactly the pixels of its unculled frame.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <functional>
+#include <tuple>
 
 #include "camera.h"
+#include "edit/edit_history.h"
+#include "mesh/topology_edits.h"
 #include "offscreen_target.h"
 #include "plan_pass.h"
 #include "plans/planned_cage.h"
@@ -122,6 +126,89 @@ TEST(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
         std::vector<glm::vec3> back;
         for (const glm::vec3& p : positions) back.push_back(p - sideways);
         ASSERT_TRUE(planned->moveVertices(moved, back).ok());
+        EXPECT_TRUE(instance.prepared.instance.destroyGpu().ok());
+    }
+    destroyOffscreenTarget(*context, *target);
+    EXPECT_EQ(test::describeMessages(*context), "");
+    destroyContext(*context);
+}
+
+// Topology edits (an extrude, its undo, a delete) renumber the sub-faces: plans carries the
+// kept ones' bounds through the renumbering and builds only the new and re-planned ones. Each
+// culled frame after an edit draws the pixels of its unculled one and culls exactly the
+// sub-faces a fresh instance of the edited cage culls.
+TEST(PlanCullingEdits, TopologyEditsCarryTheBoundsOfKeptSubfaces) {
+    Result<VulkanContext> context = test::createTestContext();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    const PluginCatalog catalog = loadPlugins(QUADPLAN_PLUGIN_DIR);
+    PlanDatabase database;
+    Result<PlannedCage> planned = PlannedCage::create(test::makeTorus(24, 12), database, PlanOptions{}, "torus");
+    ASSERT_TRUE(planned.ok());
+    const Bounds bounds = computeBounds(planned->cage());
+    RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+    camera.eye = camera.target + glm::length(camera.eye - camera.target) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.6f));
+    Result<OffscreenTarget> target = createOffscreenTarget(*context, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+    ASSERT_TRUE(target.ok());
+    const GpuContext gpu{&*context, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
+    auto prepare = [&](const char* path) {
+        SchemeSettings settings;
+        settings.options = {{"path", path}};
+        return prepareScheme(catalog, "plans", *planned, analyzeCage(planned->cage(), planned->topology()), settings, gpu, "torus");
+    };
+    // The sub-faces a culled frame of `instance` culls.
+    auto culledBy = [&](SchemeInstance& instance) {
+        DrawView view;
+        view.viewProjection = viewProjection(camera);
+        view.eye = camera.eye;
+        view.pixelsPerUnit = pixelsPerUnit(projectionMatrix(camera), kSize);
+        view.cull = CullMethod::PPlane;
+        std::vector<uint32_t> culled;
+        view.culledSubfacesOut = &culled;
+        EXPECT_TRUE(submitAndWait(*context, [&](VkCommandBuffer cmd) { EXPECT_TRUE(instance.record(cmd, renderTarget(*target), view).ok()); }).ok());
+        return culled;
+    };
+    for (const char* path : {"cpu", "tess"}) {
+        Result<PreparedScheme> prepared = prepare(path);
+        ASSERT_TRUE(prepared.ok()) << prepared.error().message;
+        CulledInstance instance{*context, std::move(*prepared), *target};
+        EXPECT_LT(instance.draw(camera, CullMethod::PPlane).second, instance.draw(camera, CullMethod::None).second) << path;
+        EditHistory history;
+        const uint32_t farFace = 5 * 24 + 3;  // on the tube's far side from this camera: its bounds change
+        // Each edit, and whether the surface is closed after it (a deleted face opens it: only the
+        // frustum may cull then, and from a framing view it culls nothing).
+        std::vector<std::tuple<std::string, std::function<Result<EditReport>()>, bool>> edits = {
+            {"extrude", [&] {
+                 Result<TopologyEdit> edit = extrudeFaces(planned->cage(), planned->topology(), std::vector<uint32_t>{farFace}, 0.3f);
+                 if (!edit) return Result<EditReport>(edit.error());
+                 return history.applyTopologyEdit(*planned, "extrude", std::move(edit).value());
+             }, true},
+            {"undo", [&] { return history.undo(*planned); }, true},
+            {"delete", [&] {
+                 Result<TopologyEdit> edit = deleteFaces(planned->cage(), planned->topology(), std::vector<uint32_t>{2}, false);
+                 if (!edit) return Result<EditReport>(edit.error());
+                 return history.applyTopologyEdit(*planned, "delete", std::move(edit).value());
+             }, false},
+            {"undo the delete", [&] { return history.undo(*planned); }, true},
+        };
+        for (auto& [label, edit, closed] : edits) {
+            Result<EditReport> report = edit();
+            ASSERT_TRUE(report.ok() && report->topologyChanged) << label;
+            std::vector<uint32_t> subfaces = report->updatedSubfaceList;
+            for (uint32_t f : report->replannedFaceList)
+                for (uint32_t s = planned->firstSubface(f); s < planned->firstSubface(f + 1); ++s) subfaces.push_back(s);
+            std::sort(subfaces.begin(), subfaces.end());
+            subfaces.erase(std::unique(subfaces.begin(), subfaces.end()), subfaces.end());
+            Result<PlanUpdate> updated = instance.prepared.instance.updatePlans(PlanChange{subfaces, true, report->previousSubfaceOf});
+            ASSERT_TRUE(updated.ok() && *updated == PlanUpdate::Updated) << path << ", " << label;
+            const std::vector<uint32_t> carried = culledBy(instance.prepared.instance);
+            const auto culledFrame = instance.draw(camera, CullMethod::PPlane);
+            EXPECT_EQ(differing(culledFrame.first, instance.draw(camera, CullMethod::None).first), 0u) << path << ", " << label;
+            Result<PreparedScheme> fresh = prepare(path);
+            ASSERT_TRUE(fresh.ok());
+            EXPECT_EQ(carried, culledBy(fresh->instance)) << path << ", " << label << ": the carried bounds cull as fresh ones";
+            EXPECT_EQ(carried.empty(), !closed) << path << ", " << label;
+            EXPECT_TRUE(fresh->instance.destroyGpu().ok());
+        }
         EXPECT_TRUE(instance.prepared.instance.destroyGpu().ok());
     }
     destroyOffscreenTarget(*context, *target);
