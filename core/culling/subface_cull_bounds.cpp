@@ -140,6 +140,21 @@ std::vector<PatchCullLeaves> gatherLeaves(const PlannedCage& planned, std::span<
     return out;
 }
 
+// Bézier leaves of `plan` that keep tangent planes (no deeper than kTangentPlaneDepth).
+uint32_t planeLeaves(const Plan& plan) {
+    std::vector<uint32_t> depth;
+    nodeDepths(plan, depth);
+    uint32_t count = 0;
+    for (size_t n = 0; n < plan.nodes.size(); ++n) {
+        const PlanNode& node = plan.nodes[n];
+        if (node.kind == NodeKind::Regular || (node.kind == NodeKind::Crease && node.sharpness >= kInfiniteSharpness))
+            count += depth[n] <= kTangentPlaneDepth;
+        if (node.kind == NodeKind::Terminal)
+            for (uint32_t level = 0; level < node.levels; ++level) count += 3 * (depth[n] + 1 + level <= kTangentPlaneDepth);
+    }
+    return count;
+}
+
 std::vector<glm::vec3> originsOf(const PlannedCage& planned, std::span<const uint32_t> subfaces) {
     std::vector<glm::vec3> out;
     out.reserve(subfaces.size());
@@ -159,6 +174,18 @@ PatchCullSet buildSubfaceCullBounds(const PlannedCage& planned, CullMethod detai
         else appendAbsentPatch(out);
     }
     return out;
+}
+
+uint64_t tangentPlaneBytes(const PlannedCage& planned) {
+    std::vector<uint32_t> leavesOfPlan(planned.database().size(), UINT32_MAX);  // each plan counted once
+    uint64_t leaves = 0;
+    for (uint32_t s = 0; s < planned.subfaceCount(); ++s) {
+        if (!planned.hasSurface(s)) continue;
+        uint32_t& count = leavesOfPlan[planned.subfacePlan(s)];
+        if (count == UINT32_MAX) count = planeLeaves(planned.database().plan(planned.subfacePlan(s)));
+        leaves += count;
+    }
+    return leaves * sizeof(TangentPlanes);
 }
 
 void updateSubfaceCullBounds(PatchCullSet& set, const PlannedCage& planned, std::span<const uint32_t> subfaces,

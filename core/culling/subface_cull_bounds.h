@@ -28,6 +28,10 @@ namespace qp {
 // One entry per sub-face (those without a surface are absent entries), with what methods up to
 // `detail` read (PatchCullLeaves::detail).
 PatchCullSet buildSubfaceCullBounds(const PlannedCage& planned, CullMethod detail = CullMethod::PPlane);
+// What the tangent planes of buildSubfaceCullBounds(planned, PPlane) take, at most (every sub-face
+// counted as testable): 1.3 KB a Bézier leaf no deeper than depth 2 of its plan's quadtree. A
+// caller compares it with the memory there is before asking for them.
+uint64_t tangentPlaneBytes(const PlannedCage& planned);
 // Rebuilds the entries of `subfaces` (sorted, unique) after their control points or plans changed.
 void updateSubfaceCullBounds(PatchCullSet& set, const PlannedCage& planned, std::span<const uint32_t> subfaces,
                              CullMethod detail = CullMethod::PPlane);

@@ -42,6 +42,7 @@
 #include "draw_path.h"
 #include "mesh/closed_surface.h"
 #include "plan_pass.h"
+#include "plans/memory_estimate.h"
 #include "plan_update.h"
 #include "scheme_api.h"
 #include "scheme_culling.h"
@@ -369,9 +370,17 @@ private:
         if (view.cull == CullMethod::None) return {};
         const auto start = std::chrono::steady_clock::now();
         // A displaced surface is tested against the frustum only: boxes are all it needs.
-        const CullMethod detail = displacement_ ? CullMethod::Frustum : view.cull;
+        CullMethod detail = displacement_ ? CullMethod::Frustum : view.cull;
+        if (detail == CullMethod::PPlane && planesTooLarge_) detail = CullMethod::NCone;
         if (cullBounds_ && cullDetail_ < detail) cullBounds_.reset();
         if (!cullBounds_) {
+            // pplane's tangent planes (1.3 KB a leaf) may not fit beside a very large cage: then
+            // it takes ncone's answers, which are conservative too and cull less.
+            if (view.cull == CullMethod::PPlane && !displacement_) {
+                const uint64_t available = availableMemoryBytes();
+                planesTooLarge_ = available > 0 && tangentPlaneBytes(*planned_) > available / 2;
+                detail = planesTooLarge_ ? CullMethod::NCone : CullMethod::PPlane;
+            }
             cullBounds_ = buildSubfaceCullBounds(*planned_, detail);
             cullNeighbours_ = subfaceAdjacency(*planned_);
             cullDetail_ = detail;
@@ -474,6 +483,7 @@ private:
     bool backFacesHidden_ = false;          // this draw's view cannot see the back side (PlanView::backFacesHidden)
     std::optional<PatchCullSet> cullBounds_;  // built when first needed after a change
     bool cullRenumbered_ = false;             // a topology edit renumbered cullBounds_: neighbours anew
+    bool planesTooLarge_ = false;             // pplane culls as ncone: its planes would not fit in memory
     CullBox cullBox_;                       // the box of every entry of cullBounds_
     CullAdjacency cullNeighbours_;          // sub-faces sharing a cage vertex (keepBesideDrawn)
     CullMethod cullDetail_ = CullMethod::None;  // what cullBounds_ serves (PatchCullLeaves::detail)

@@ -213,3 +213,22 @@ TEST(SubfaceCullBounds, SubfacesNoTestCanCullKeepNoTangentPlanes) {
     RecordProperty("sub-faces", std::to_string(untestable) + " untestable, " + std::to_string(withPlanes) + " with planes of " +
                                     std::to_string(bounds.size()));
 }
+
+// The estimate a caller checks before asking for pplane's bounds holds what they take: exactly
+// the planes kept when every sub-face can be culled (the regular torus), at least them otherwise.
+TEST(SubfaceCullBounds, TangentPlaneBytesBoundWhatTheBoundsKeep) {
+    for (const Case& c : cases()) {
+        PlanDatabase database;
+        Result<PlannedCage> planned = PlannedCage::create(c.cage, database, PlanOptions{}, c.name);
+        ASSERT_TRUE(planned) << planned.error().message;
+        const PatchCullSet bounds = buildSubfaceCullBounds(*planned);
+        uint64_t kept = 0;
+        for (const LeafRange& range : bounds.planeRanges) kept += uint64_t(range.count) * sizeof(TangentPlanes);
+        const uint64_t estimate = tangentPlaneBytes(*planned);
+        EXPECT_GE(estimate, kept) << c.name;
+        if (c.name == "regular torus") {
+            EXPECT_EQ(estimate, kept) << c.name;
+            EXPECT_EQ(estimate, uint64_t(planned->subfaceCount()) * sizeof(TangentPlanes)) << "one leaf a sub-face";
+        }
+    }
+}
