@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include <glm/geometric.hpp>
 
@@ -113,17 +114,26 @@ NormalCone gregoryNormalCone(const std::array<glm::vec3, 20>& g) {
     return normalConeOfTangents(gregoryTangentCone(alongU, perturbation), gregoryTangentCone(alongV, perturbation));
 }
 
-void addBezierLeaf(PatchCullLeaves& out, const BicubicPoints& bezier, bool reversed) {
+namespace {
+
+// A Bézier leaf's box and, as far as out.detail reads them, its cones; its ncone when made.
+std::optional<NormalCone> addBezierBounds(PatchCullLeaves& out, const BicubicPoints& bezier, bool reversed) {
     grow(out.box, boxOf(bezier));
-    if (out.detail < CullMethod::TCone) return;
+    if (out.detail < CullMethod::TCone) return std::nullopt;
     NormalCone t = tangentCone(bezier);
     if (reversed) t.axis = -t.axis;
     out.tcones.push_back(t);
-    if (out.detail < CullMethod::NCone) return;
+    if (out.detail < CullMethod::NCone) return std::nullopt;
     NormalCone n = normalPatchCone(bezier);
     if (reversed) n.axis = -n.axis;
     out.ncones.push_back(n);
-    if (out.detail < CullMethod::PPlane) return;
+    return n;
+}
+
+}  // namespace
+
+void addBezierLeaf(PatchCullLeaves& out, const BicubicPoints& bezier, bool reversed) {
+    if (!addBezierBounds(out, bezier, reversed) || out.detail < CullMethod::PPlane) return;
     TangentPlanes planes = tangentPlanesOf(bezier);
     if (reversed)
         for (glm::vec4& p : planes) p = -p;
@@ -131,17 +141,8 @@ void addBezierLeaf(PatchCullLeaves& out, const BicubicPoints& bezier, bool rever
 }
 
 void addSmallBezierLeaf(PatchCullLeaves& out, const BicubicPoints& bezier, bool reversed) {
-    const CullBox box = boxOf(bezier);
-    grow(out.box, box);
-    if (out.detail < CullMethod::TCone) return;
-    NormalCone t = tangentCone(bezier);
-    if (reversed) t.axis = -t.axis;
-    out.tcones.push_back(t);
-    if (out.detail < CullMethod::NCone) return;
-    NormalCone n = normalPatchCone(bezier);
-    if (reversed) n.axis = -n.axis;
-    out.ncones.push_back(n);
-    if (out.detail >= CullMethod::PPlane) out.coneLeaves.push_back({n, box});
+    const std::optional<NormalCone> ncone = addBezierBounds(out, bezier, reversed);
+    if (ncone && out.detail >= CullMethod::PPlane) out.coneLeaves.push_back({*ncone, boxOf(bezier)});
 }
 
 void addGregoryLeaf(PatchCullLeaves& out, const std::array<glm::vec3, 20>& g, bool reversed) {

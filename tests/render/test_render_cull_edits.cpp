@@ -54,6 +54,14 @@ size_t differing(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
     return count;
 }
 
+// The cage framed from above and aside (the torus's far side faces away from it).
+RenderCamera obliqueCamera(const Cage& cage) {
+    const Bounds bounds = computeBounds(cage);
+    RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
+    camera.eye = camera.target + glm::length(camera.eye - camera.target) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.6f));
+    return camera;
+}
+
 }  // namespace
 
 TEST(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
@@ -63,9 +71,7 @@ TEST(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
     PlanDatabase database;
     Result<PlannedCage> planned = PlannedCage::create(test::makeTorus(24, 12), database, PlanOptions{}, "torus");
     ASSERT_TRUE(planned.ok());
-    const Bounds bounds = computeBounds(planned->cage());
-    RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
-    camera.eye = camera.target + glm::length(camera.eye - camera.target) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.6f));
+    const RenderCamera camera = obliqueCamera(planned->cage());
     Result<OffscreenTarget> target = createOffscreenTarget(*context, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
     ASSERT_TRUE(target.ok());
     for (const char* path : {"cpu", "grid", "tess"}) {
@@ -144,9 +150,7 @@ TEST(PlanCullingEdits, TopologyEditsCarryTheBoundsOfKeptSubfaces) {
     PlanDatabase database;
     Result<PlannedCage> planned = PlannedCage::create(test::makeTorus(24, 12), database, PlanOptions{}, "torus");
     ASSERT_TRUE(planned.ok());
-    const Bounds bounds = computeBounds(planned->cage());
-    RenderCamera camera = frameBounds(bounds.min, bounds.max, 1.0f);
-    camera.eye = camera.target + glm::length(camera.eye - camera.target) * glm::normalize(glm::vec3(0.3f, 1.0f, 0.6f));
+    const RenderCamera camera = obliqueCamera(planned->cage());
     Result<OffscreenTarget> target = createOffscreenTarget(*context, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
     ASSERT_TRUE(target.ok());
     const GpuContext gpu{&*context, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
