@@ -51,6 +51,7 @@ bool backTestable(const Plan& plan, const glm::vec3* control) {
 // crease a plan has 3 leaves a level down to depth 6, and their tangent planes (1.3 KB each) made
 // the bounds of a 100,000-face cage 2 GB.
 constexpr uint32_t kTangentPlaneDepth = 2;
+bool keepsTangentPlanes(uint32_t leafDepth) { return leafDepth <= kTangentPlaneDepth; }
 
 // The depth of every node of `plan` in its quadtree (the root 0).
 void nodeDepths(const Plan& plan, std::vector<uint32_t>& depth) {
@@ -68,8 +69,8 @@ void addLeaf(PatchCullLeaves& out, const Plan& plan, const PlanNode& node, uint3
     const CullMethod detail = out.detail;
     if (boxesOnly) out.detail = std::min(detail, CullMethod::Frustum);
     auto addBezier = [&](const BicubicPoints& bezier, bool reversed, uint32_t leafDepth) {
-        if (leafDepth > kTangentPlaneDepth) addSmallBezierLeaf(out, bezier, reversed);
-        else addBezierLeaf(out, bezier, reversed);
+        if (keepsTangentPlanes(leafDepth)) addBezierLeaf(out, bezier, reversed);
+        else addSmallBezierLeaf(out, bezier, reversed);
     };
     auto gather16 = [&](auto index) {
         BicubicPoints p;
@@ -140,7 +141,7 @@ std::vector<PatchCullLeaves> gatherLeaves(const PlannedCage& planned, std::span<
     return out;
 }
 
-// Bézier leaves of `plan` that keep tangent planes (no deeper than kTangentPlaneDepth).
+// Bézier leaves of `plan` that keep tangent planes (addLeaf's rule).
 uint32_t planeLeaves(const Plan& plan) {
     std::vector<uint32_t> depth;
     nodeDepths(plan, depth);
@@ -148,9 +149,9 @@ uint32_t planeLeaves(const Plan& plan) {
     for (size_t n = 0; n < plan.nodes.size(); ++n) {
         const PlanNode& node = plan.nodes[n];
         if (node.kind == NodeKind::Regular || (node.kind == NodeKind::Crease && node.sharpness >= kInfiniteSharpness))
-            count += depth[n] <= kTangentPlaneDepth;
+            count += keepsTangentPlanes(depth[n]);
         if (node.kind == NodeKind::Terminal)
-            for (uint32_t level = 0; level < node.levels; ++level) count += 3 * (depth[n] + 1 + level <= kTangentPlaneDepth);
+            for (uint32_t level = 0; level < node.levels; ++level) count += 3 * keepsTangentPlanes(depth[n] + 1 + level);
     }
     return count;
 }
