@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <optional>
 #include <tuple>
 
 #include "camera.h"
@@ -62,24 +63,49 @@ RenderCamera obliqueCamera(const Cage& cage) {
     return camera;
 }
 
-}  // namespace
-
-TEST(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
-    Result<VulkanContext> context = test::createTestContext();
-    ASSERT_TRUE(context.ok()) << context.error().message;
-    const PluginCatalog catalog = loadPlugins(QUADPLAN_PLUGIN_DIR);
-    PlanDatabase database;
-    Result<PlannedCage> planned = PlannedCage::create(test::makeTorus(24, 12), database, PlanOptions{}, "torus");
-    ASSERT_TRUE(planned.ok());
-    const RenderCamera camera = obliqueCamera(planned->cage());
-    Result<OffscreenTarget> target = createOffscreenTarget(*context, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
-    ASSERT_TRUE(target.ok());
-    for (const char* path : {"cpu", "grid", "tess"}) {
+// A closed 24 x 12 torus, planned, a device and a target to draw it into, and a camera from which
+// its far side faces away.
+class PlanCullingEdits : public ::testing::Test {
+protected:
+    void SetUp() override {
+        Result<VulkanContext> created = test::createTestContext();
+        ASSERT_TRUE(created.ok()) << created.error().message;
+        context.emplace(std::move(created).value());
+        Result<PlannedCage> torus = PlannedCage::create(test::makeTorus(24, 12), database, PlanOptions{}, "torus");
+        ASSERT_TRUE(torus.ok());
+        planned.emplace(std::move(torus).value());
+        camera = obliqueCamera(planned->cage());
+        Result<OffscreenTarget> createdTarget = createOffscreenTarget(*context, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
+        ASSERT_TRUE(createdTarget.ok());
+        target = *createdTarget;
+    }
+    void TearDown() override {
+        if (!context) return;
+        if (target) destroyOffscreenTarget(*context, *target);
+        EXPECT_EQ(test::describeMessages(*context), "");
+        destroyContext(*context);
+    }
+    // plans on draw path `path`, for the torus as it is now.
+    Result<PreparedScheme> prepare(const char* path) {
         SchemeSettings settings;
         settings.options = {{"path", path}};
         const GpuContext gpu{&*context, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
-        Result<PreparedScheme> prepared =
-            prepareScheme(catalog, "plans", *planned, analyzeCage(planned->cage(), planned->topology()), settings, gpu, "torus");
+        return prepareScheme(catalog, "plans", *planned, analyzeCage(planned->cage(), planned->topology()), settings, gpu, "torus");
+    }
+
+    std::optional<VulkanContext> context;
+    const PluginCatalog catalog = loadPlugins(QUADPLAN_PLUGIN_DIR);
+    PlanDatabase database;
+    std::optional<PlannedCage> planned;
+    RenderCamera camera;
+    std::optional<OffscreenTarget> target;
+};
+
+}  // namespace
+
+TEST_F(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
+    for (const char* path : {"cpu", "grid", "tess"}) {
+        Result<PreparedScheme> prepared = prepare(path);
         ASSERT_TRUE(prepared.ok()) << prepared.error().message;
         CulledInstance instance{*context, std::move(*prepared), *target};
         const auto before = instance.draw(camera, CullMethod::PPlane);
@@ -134,31 +160,13 @@ TEST(PlanCullingEdits, MovesAndAHoleKeepCulledFramesExact) {
         ASSERT_TRUE(planned->moveVertices(moved, back).ok());
         EXPECT_TRUE(instance.prepared.instance.destroyGpu().ok());
     }
-    destroyOffscreenTarget(*context, *target);
-    EXPECT_EQ(test::describeMessages(*context), "");
-    destroyContext(*context);
 }
 
 // Topology edits (an extrude, its undo, a delete) renumber the sub-faces: plans carries the
 // kept ones' bounds through the renumbering and builds only the new and re-planned ones. Each
 // culled frame after an edit draws the pixels of its unculled one and culls exactly the
 // sub-faces a fresh instance of the edited cage culls.
-TEST(PlanCullingEdits, TopologyEditsCarryTheBoundsOfKeptSubfaces) {
-    Result<VulkanContext> context = test::createTestContext();
-    ASSERT_TRUE(context.ok()) << context.error().message;
-    const PluginCatalog catalog = loadPlugins(QUADPLAN_PLUGIN_DIR);
-    PlanDatabase database;
-    Result<PlannedCage> planned = PlannedCage::create(test::makeTorus(24, 12), database, PlanOptions{}, "torus");
-    ASSERT_TRUE(planned.ok());
-    const RenderCamera camera = obliqueCamera(planned->cage());
-    Result<OffscreenTarget> target = createOffscreenTarget(*context, kSize, kSize, VK_FORMAT_R8G8B8A8_UNORM);
-    ASSERT_TRUE(target.ok());
-    const GpuContext gpu{&*context, VK_NULL_HANDLE, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_D32_SFLOAT};
-    auto prepare = [&](const char* path) {
-        SchemeSettings settings;
-        settings.options = {{"path", path}};
-        return prepareScheme(catalog, "plans", *planned, analyzeCage(planned->cage(), planned->topology()), settings, gpu, "torus");
-    };
+TEST_F(PlanCullingEdits, TopologyEditsCarryTheBoundsOfKeptSubfaces) {
     // The sub-faces a culled frame of `instance` culls.
     auto culledBy = [&](SchemeInstance& instance) {
         DrawView view;
@@ -215,7 +223,4 @@ TEST(PlanCullingEdits, TopologyEditsCarryTheBoundsOfKeptSubfaces) {
         }
         EXPECT_TRUE(instance.prepared.instance.destroyGpu().ok());
     }
-    destroyOffscreenTarget(*context, *target);
-    EXPECT_EQ(test::describeMessages(*context), "");
-    destroyContext(*context);
 }
